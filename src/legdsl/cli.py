@@ -1,0 +1,120 @@
+"""The ``legdsl`` command line.
+
+User mistakes (``LegError``) are printed as ``file:line:col`` with the line and
+a caret, and exit with status 2. Anything else is a bug in legdsl: it is
+reported as such (with the traceback under ``--debug``) and exits with 70.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import traceback
+from collections.abc import Callable, Sequence
+
+from . import __version__
+from .errors import LegError
+
+EXIT_USER_ERROR = 2
+EXIT_INTERNAL = 70
+
+Command = Callable[[argparse.Namespace], int]
+_COMMANDS: dict[str, Command] = {}
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from .checker import check_file
+
+    failed = False
+    for path in args.files:
+        try:
+            models = check_file(path)
+        except LegError as e:
+            print(e.render(), file=sys.stderr)
+            failed = True
+            continue
+        for m in models:
+            ctl = (
+                f", controllers: {', '.join(c.name for c in m.controllers)}"
+                if m.controllers
+                else ""
+            )
+            print(f"{path}: creature '{m.name}' is well-formed ({m.nv} DOF{ctl})")
+    return EXIT_USER_ERROR if failed else 0
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    from .checker import check_model
+    from .describe import describe_model
+
+    print(describe_model(check_model(args.file, args.creature)), end="")
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="legdsl",
+        description="Compile and run physically simulated legged creatures described in .leg files.",
+        epilog="Example: legdsl check creatures/kangaroo.leg && legdsl show creatures/kangaroo.leg",
+    )
+    p.add_argument("--version", action="version", version=f"legdsl {__version__}")
+    p.add_argument(
+        "--debug", action="store_true", help="show Python tracebacks for internal errors"
+    )
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    c = sub.add_parser(
+        "check",
+        help="check .leg files and report every mistake",
+        description="Parse and check .leg files; every mistake is reported as file:line:col "
+        "with the line and a caret. Exit status 0 when all files are well-formed, 2 otherwise.",
+        epilog="Example: legdsl check creatures/*.leg",
+    )
+    c.add_argument("files", nargs="+", metavar="FILE", help=".leg files to check")
+    _COMMANDS["check"] = _cmd_check
+
+    s = sub.add_parser(
+        "show",
+        help="print a creature's link tree, degrees of freedom, legs and contacts",
+        description="Print the link tree of a creature as an indented tree with each joint's "
+        "type and coordinates, the total DOF and mass, its legs, contacts, actuators and controllers.",
+        epilog="Example: legdsl show creatures/kangaroo.leg",
+    )
+    s.add_argument("file", metavar="FILE", help="a .leg file")
+    s.add_argument("--creature", help="which creature, if the file has several")
+    _COMMANDS["show"] = _cmd_show
+
+    for register in _EXTRA_COMMANDS:
+        register(sub, _COMMANDS)
+    return p
+
+
+# Later pipeline stages add their subcommands here (compile, run, export ...).
+_EXTRA_COMMANDS: list[Callable[[argparse._SubParsersAction, dict[str, Command]], None]] = []
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        return _COMMANDS[args.command](args)
+    except LegError as e:
+        print(e.render(), file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        print("legdsl: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # a bug in legdsl, not in the user's file
+        if args.debug:
+            traceback.print_exc()
+        else:
+            print(
+                f"legdsl: internal error ({type(e).__name__}: {e}); this is a bug in legdsl, "
+                "not in your file. Run again with --debug for the traceback.",
+                file=sys.stderr,
+            )
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())

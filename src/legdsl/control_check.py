@@ -1,0 +1,465 @@
+"""Check controller blocks: every name they use must resolve.
+
+What a name in a controller expression can be, and which members (``.x``)
+each kind of thing has, is listed here once; docs/language.md repeats it for
+people. The meaning of the expressions (their lowering to code) comes later
+in the pipeline; this stage guarantees that they refer to real things.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from . import ast
+from .checker import did_you_mean
+from .errors import Diagnostics, Span
+from .model import Controller, Model
+
+LEG_MEMBERS = (
+    "length", "rate", "touching", "stance_time", "flight_time",
+    "foot_x", "foot_y", "foot_z", "foot_vx", "foot_vy", "foot_vz",
+)  # fmt: skip
+BODY_MEMBERS = (
+    "x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "roll_rate", "pitch_rate", "yaw_rate",
+)  # fmt: skip
+CONTACT_MEMBERS = ("x", "y", "z", "vx", "vy", "vz", "touching")
+COM_MEMBERS = ("x", "y", "z", "vx", "vy", "vz")
+COORD_MEMBERS = ("value", "rate")
+ACTUATOR_MEMBERS = {
+    "spring": (("k", "b", "rest"), ("force",)),
+    "servo": (("kp", "kv", "setpoint"), ("force",)),
+    "force": (("force",), ()),
+}  # kind -> (settable, read-only)
+
+BUILTIN_VALUES = ("time", "time_in_state", "pi", "g", "total_mass")
+# name -> number of arguments (None: any number, at least one)
+BUILTIN_FUNCTIONS: dict[str, int | None] = {
+    "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
+    "sqrt": 1, "abs": 1, "exp": 1, "log": 1, "sign": 1,
+    "min": None, "max": None, "clamp": 3, "select": 3,
+    "liftoff": 1, "touchdown": 1,
+}  # fmt: skip
+EVENT_FUNCTIONS = ("liftoff", "touchdown")
+
+
+@dataclass(frozen=True)
+class Ref:
+    """What a name or member refers to, as far as checking needs to know."""
+
+    kind: str  # leg, role, body, contact, coord, actuator, com, value, unknown
+    detail: str = ""  # actuator kind, or the leg/role name
+    settable: bool = False
+
+
+class ControllerChecker:
+    def __init__(
+        self,
+        decl: ast.ControllerDecl,
+        model: Model,
+        library: dict[str, ast.ActionDef],
+        diag: Diagnostics,
+    ):
+        self.decl = decl
+        self.model = model
+        self.diag = diag
+        self.actions = dict(library)
+        self.global_refs: dict[str, Ref] = {}
+        self.leg_aliases = {leg.name: dict(leg.aliases) for leg in model.legs}
+        self.roles: dict[str, tuple[str, ...]] = {}
+
+    def err(self, span: Span, message: str) -> None:
+        self.diag.error(span, message)
+
+    # ---------------------------------------------------------- scope
+    def creature_refs(self) -> dict[str, Ref]:
+        m = self.model
+        refs: dict[str, Ref] = {}
+        for b in m.bodies:
+            refs[b.name] = Ref("body", b.name)
+        for j in m.joints:
+            for d in j.dofs:
+                refs[d.name] = Ref("coord", d.name)
+        for a in m.actuators:
+            refs[a.name] = Ref("actuator", a.kind)
+        for c in m.contacts:
+            refs[c.name] = Ref("contact", c.name)
+        for leg in m.legs:
+            refs[leg.name] = Ref("leg", leg.name)
+        for name in BUILTIN_VALUES:
+            refs[name] = Ref("value")
+        refs["com"] = Ref("com")
+        return refs
+
+    def check(self) -> Controller | None:
+        d = self.decl
+        refs = self.creature_refs()
+        own: dict[str, Span] = {}
+
+        def define(ident: ast.Ident, ref: Ref) -> None:
+            if ident.name in own:
+                self.err(
+                    ident.span,
+                    f"'{ident.name}' is defined twice in controller '{d.name.name}' (first at {own[ident.name]})",
+                )
+                return
+            if ident.name in refs and ident.name not in own:
+                self.err(
+                    ident.span,
+                    f"'{ident.name}' is already a name of creature '{self.model.name}'; choose another name",
+                )
+                return
+            own[ident.name] = ident.span
+            refs[ident.name] = ref
+
+        inputs: list[tuple[str, float]] = []
+        params: list[tuple[str, float]] = []
+        signals: list[ast.SignalDecl] = []
+        tables: list[ast.TableDecl] = []
+        starts: list[ast.StartDecl] = []
+        for item in d.items:
+            if isinstance(item, ast.InputDecl | ast.ParamDecl):
+                define(item.name, Ref("value"))
+                value = self.constant(item.value)
+                if value is not None:
+                    (inputs if isinstance(item, ast.InputDecl) else params).append(
+                        (item.name.name, value)
+                    )
+            elif isinstance(item, ast.SignalDecl):
+                define(item.name, Ref("value"))
+                signals.append(item)
+            elif isinstance(item, ast.RolesDecl):
+                for role in item.roles:
+                    define(role.name, Ref("role", role.name.name))
+                    legs = []
+                    for leg in role.legs:
+                        if leg.name not in self.leg_aliases:
+                            self.err(
+                                leg.span,
+                                f"unknown leg '{leg.name}'{did_you_mean(leg.name, self.leg_aliases)}; roles are bound to legs declared with 'leg NAME {{ ... }}'",
+                            )
+                        else:
+                            legs.append(leg.name)
+                    self.roles[role.name.name] = tuple(legs)
+            elif isinstance(item, ast.ActionDef):
+                if item.name.name in self.actions and self.actions[item.name.name] is not item:
+                    prior = self.actions[item.name.name]
+                    if prior.span.file == item.span.file:
+                        self.err(
+                            item.name.span,
+                            f"action '{item.name.name}' is defined twice (first at {prior.name.span})",
+                        )
+                self.actions[item.name.name] = item
+            elif isinstance(item, ast.TableDecl):
+                tables.append(item)
+            elif isinstance(item, ast.StartDecl):
+                starts.append(item)
+
+        records = self.collect_records(tables)
+        for name, span in records.items():
+            if name not in refs:
+                refs[name] = Ref("value")
+            elif refs[name].kind != "value" or name in BUILTIN_VALUES:
+                self.err(
+                    span,
+                    f"'record {name}' would hide the {refs[name].kind} '{name}'; choose another name",
+                )
+        self.global_refs = refs
+
+        for sig in signals:
+            self.expr(sig.value, refs, {})
+        for action in self.actions.values():
+            self.action_body(action)
+
+        if not tables:
+            self.err(
+                d.name.span,
+                f"controller '{d.name.name}' needs a state table: 'table {{ state NAME on EVENT: actions ... }}'",
+            )
+            return None
+        for extra in tables[1:]:
+            self.err(extra.span, "a controller has one table")
+        rows = tables[0].rows
+        states: dict[str, ast.Row] = {}
+        for row in rows:
+            if row.state.name in states:
+                self.err(
+                    row.state.span,
+                    f"state '{row.state.name}' appears twice in the table (first at {states[row.state.name].state.span})",
+                )
+                continue
+            states[row.state.name] = row
+        for row in rows:
+            self.expr(row.event, refs, {}, event=True)
+            self.stmts(row.actions, refs, {})
+        if not rows:
+            self.err(tables[0].span, "the table has no states")
+            return None
+        start = rows[0].state.name
+        for s in starts[1:]:
+            self.err(s.span, "'start' may be given once")
+        if starts:
+            if starts[0].state.name not in states:
+                self.err(
+                    starts[0].state.span,
+                    f"unknown state '{starts[0].state.name}'{did_you_mean(starts[0].state.name, states)}; the table has {', '.join(states)}",
+                )
+            else:
+                start = starts[0].state.name
+        used_actions = tuple(sorted(self.actions.values(), key=lambda a: a.name.name))
+        return Controller(
+            name=d.name.name,
+            inputs=tuple(inputs),
+            params=tuple(params),
+            signals=tuple(signals),
+            roles=tuple(self.roles.items()),
+            start=start,
+            states=tuple(states),
+            actions=used_actions,
+            rows=rows,
+            records=tuple(records),
+            span=d.span,
+        )
+
+    def constant(self, expr: ast.Expr) -> float | None:
+        """Inputs and parameters are constants: a number with a unit, possibly negated."""
+        node, sign = expr, 1.0
+        while isinstance(node, ast.EUnary) and node.op == "-":
+            node, sign = node.operand, -sign
+        if isinstance(node, ast.EQuantity):
+            return sign * node.quantity.value
+        self.err(
+            expr.span,
+            "an input or parameter is a number with its unit, e.g. '1.5 m/s'; use a 'signal' for an expression",
+        )
+        return None
+
+    def collect_records(self, tables: list[ast.TableDecl]) -> dict[str, Span]:
+        found: dict[str, Span] = {}
+
+        def walk(stmts: tuple[ast.Stmt, ...]) -> None:
+            for s in stmts:
+                if isinstance(s, ast.RecordStmt):
+                    found.setdefault(s.name.name, s.name.span)
+
+        for t in tables:
+            for row in t.rows:
+                walk(row.actions)
+        for action in self.actions.values():
+            walk(action.body)
+        return found
+
+    # ---------------------------------------------------------- statements
+    def action_body(self, action: ast.ActionDef) -> None:
+        local: dict[str, Ref] = {}
+        for p in action.params:
+            if p.name in local:
+                self.err(p.span, f"parameter '{p.name}' is listed twice")
+            local[p.name] = Ref("unknown")
+        self.stmts(action.body, self.global_refs, local)
+
+    def stmts(
+        self, stmts: tuple[ast.Stmt, ...], refs: dict[str, Ref], local: dict[str, Ref]
+    ) -> None:
+        local = dict(local)
+        for s in stmts:
+            if isinstance(s, ast.AssignStmt):
+                self.expr(s.value, refs, local)
+                ref = self.path(s.target, refs, local)
+                if ref is not None and ref.kind != "unknown" and not ref.settable:
+                    last = s.target[-1]
+                    self.err(
+                        last.span,
+                        f"'{'.'.join(t.name for t in s.target)}' cannot be set; a controller sets actuator inputs: spring k, b, rest; servo kp, kv, setpoint; force force",
+                    )
+            elif isinstance(s, ast.SwapStmt):
+                for ident in (s.first, s.second):
+                    ref = local.get(ident.name) or refs.get(ident.name)
+                    if ref is None or ref.kind not in ("role", "unknown"):
+                        self.err(
+                            ident.span,
+                            f"'swap' exchanges two roles; '{ident.name}' is not a role"
+                            + did_you_mean(ident.name, self.roles),
+                        )
+            elif isinstance(s, ast.RecordStmt):
+                self.expr(s.value, refs, local)
+            elif isinstance(s, ast.LetStmt):
+                self.expr(s.value, refs, local)
+                local[s.name.name] = Ref("value")
+            elif isinstance(s, ast.InvokeStmt):
+                for a in s.args:
+                    self.expr(a, refs, local)
+                action = self.actions.get(s.action.name)
+                if action is None:
+                    self.err(
+                        s.action.span,
+                        f"unknown action '{s.action.name}'{did_you_mean(s.action.name, self.actions)}; define it with 'action {s.action.name}(...) {{ ... }}' or 'use' a library that has it",
+                    )
+                elif len(action.params) != len(s.args):
+                    self.err(
+                        s.span,
+                        f"action '{s.action.name}' takes {len(action.params)} argument(s), got {len(s.args)}",
+                    )
+
+    def path(
+        self, idents: tuple[ast.Ident, ...], refs: dict[str, Ref], local: dict[str, Ref]
+    ) -> Ref | None:
+        first = idents[0]
+        ref = local.get(first.name) or refs.get(first.name)
+        if ref is None:
+            self.unknown_name(first, refs, local)
+            return None
+        for ident in idents[1:]:
+            ref = self.member(ref, ident)
+            if ref is None:
+                return None
+        return ref
+
+    # ---------------------------------------------------------- expressions
+    def unknown_name(self, ident: ast.Ident, refs: dict[str, Ref], local: dict[str, Ref]) -> None:
+        self.err(
+            ident.span, f"unknown name '{ident.name}'{did_you_mean(ident.name, [*refs, *local])}"
+        )
+
+    def expr(
+        self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
+    ) -> Ref | None:
+        if isinstance(e, ast.EQuantity):
+            return Ref("value")
+        if isinstance(e, ast.EName):
+            ref = local.get(e.ident.name) or refs.get(e.ident.name)
+            if ref is None:
+                self.unknown_name(e.ident, refs, local)
+            return ref
+        if isinstance(e, ast.EAttr):
+            base = self.expr(e.base, refs, local)
+            return self.member(base, e.attr) if base is not None else None
+        if isinstance(e, ast.EUnary):
+            self.expr(e.operand, refs, local, event)
+            return Ref("value")
+        if isinstance(e, ast.EBinary):
+            self.expr(e.left, refs, local, event)
+            self.expr(e.right, refs, local, event)
+            return Ref("value")
+        # a call
+        name = e.func.name
+        if name not in BUILTIN_FUNCTIONS:
+            hint = (
+                " (actions are statements, not values)"
+                if name in self.actions
+                else did_you_mean(name, BUILTIN_FUNCTIONS)
+            )
+            self.err(e.func.span, f"unknown function '{name}'{hint}")
+            return None
+        arity = BUILTIN_FUNCTIONS[name]
+        if (arity is not None and len(e.args) != arity) or (arity is None and not e.args):
+            self.err(
+                e.span,
+                f"{name}() takes {arity if arity is not None else 'one or more'} argument(s), got {len(e.args)}",
+            )
+        if name in EVENT_FUNCTIONS:
+            if not event:
+                self.err(e.func.span, f"{name}() is an event: it belongs after 'on' in a table row")
+            for a in e.args:
+                ref = self.expr(a, refs, local)
+                if ref is not None and ref.kind not in ("leg", "role", "contact", "unknown"):
+                    self.err(a.span, f"{name}() takes a leg, a role or a contact")
+            return Ref("value")
+        for a in e.args:
+            self.expr(a, refs, local, event)
+        return Ref("value")
+
+    def member(self, base: Ref, attr: ast.Ident) -> Ref | None:
+        name = attr.name
+        if base.kind == "unknown":
+            return Ref("unknown")
+        if base.kind in ("leg", "role"):
+            legs = (base.detail,) if base.kind == "leg" else self.roles.get(base.detail, ())
+            if name in LEG_MEMBERS:
+                return Ref("value")
+            targets = []
+            for leg in legs:
+                aliases = self.leg_aliases.get(leg, {})
+                if name not in aliases:
+                    choices = [*LEG_MEMBERS, *aliases]
+                    what = f"leg '{leg}'" + (
+                        f" (in role '{base.detail}')" if base.kind == "role" else ""
+                    )
+                    self.err(
+                        attr.span,
+                        f"{what} has no member '{name}'{did_you_mean(name, choices)}; a leg has {', '.join(LEG_MEMBERS)} and its aliases",
+                    )
+                    return None
+                targets.append(aliases[name])
+            if not targets:
+                return Ref("unknown")
+            return self.global_refs.get(targets[0], Ref("unknown"))
+        table = {
+            "body": BODY_MEMBERS,
+            "contact": CONTACT_MEMBERS,
+            "com": COM_MEMBERS,
+            "coord": COORD_MEMBERS,
+        }
+        if base.kind in table:
+            if name not in table[base.kind]:
+                self.err(
+                    attr.span,
+                    f"a {base.kind if base.kind != 'coord' else 'joint coordinate'} has no member '{name}'{did_you_mean(name, table[base.kind])}; it has {', '.join(table[base.kind])}",
+                )
+                return None
+            return Ref("value")
+        if base.kind == "actuator":
+            settable, readable = ACTUATOR_MEMBERS[base.detail]
+            if name in settable:
+                return Ref("value", settable=True)
+            if name in readable:
+                return Ref("value")
+            self.err(
+                attr.span,
+                f"a {base.detail} actuator has no '{name}'{did_you_mean(name, settable + readable)}; it has {', '.join(settable + readable)}",
+            )
+            return None
+        self.err(attr.span, f"a number has no member '{name}'")
+        return None
+
+
+def check_controllers(
+    tree: ast.SourceFile, models: list[Model], library: list[ast.ActionDef], diag: Diagnostics
+) -> list[Model]:
+    """Attach each controller of the file to its creature."""
+    by_name = {m.name: m for m in models}
+    lib = {a.name.name: a for a in library}
+    attached: dict[str, list[Controller]] = {m.name: [] for m in models}
+    seen: dict[str, Span] = {}
+    for decl in tree.controllers:
+        if decl.creature is not None:
+            model = by_name.get(decl.creature.name)
+            if model is None:
+                if tree.creatures and decl.creature.name not in {
+                    c.name.name for c in tree.creatures
+                }:
+                    diag.error(
+                        decl.creature.span,
+                        f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
+                    )
+                continue
+        elif len(models) == 1:
+            model = models[0]
+        else:
+            if models:
+                diag.error(
+                    decl.name.span,
+                    "this file has several creatures: say which one, as in 'controller run for biped { ... }'",
+                )
+            continue
+        key = f"{model.name}/{decl.name.name}"
+        if key in seen:
+            diag.error(
+                decl.name.span,
+                f"controller '{decl.name.name}' is defined twice (first at {seen[key]})",
+            )
+            continue
+        seen[key] = decl.name.span
+        checked = ControllerChecker(decl, model, lib, diag).check()
+        if checked is not None:
+            attached[model.name].append(checked)
+    return [replace(m, controllers=tuple(attached[m.name])) for m in models]

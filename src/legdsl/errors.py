@@ -1,0 +1,93 @@
+"""Source positions and the two kinds of error.
+
+A ``LegError`` is the user's mistake: it carries one or more diagnostics, each
+with a span into a ``.leg`` file, and the CLI prints them and exits 2.
+An ``InternalError`` is ours: it is never caught by the CLI's user-error path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True, order=True)
+class Span:
+    """A region of a source file; lines and columns count from 1, ``end_col`` is exclusive."""
+
+    file: str
+    line: int
+    col: int
+    end_line: int
+    end_col: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.col}"
+
+
+# A span for things that come from no file (built-in defaults, synthesised nodes).
+NOWHERE = Span("<builtin>", 0, 0, 0, 0)
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    span: Span
+    message: str
+
+    def render(self, sources: dict[str, str] | None = None) -> str:
+        """``file:line:col: message``, then the source line and a caret under the span."""
+        head = f"{self.span}: error: {self.message}"
+        text = (sources or {}).get(self.span.file)
+        if text is None or self.span.line <= 0:
+            return head
+        lines = text.splitlines()
+        if self.span.line > len(lines):
+            return head
+        line = lines[self.span.line - 1].expandtabs(1)
+        start = max(self.span.col, 1)
+        if self.span.end_line == self.span.line and self.span.end_col > start:
+            width = self.span.end_col - start
+        else:
+            width = max(len(line) - start + 1, 1)
+        width = max(1, min(width, max(len(line) - start + 1, 1)))
+        caret = " " * (start - 1) + "^" + "~" * (width - 1)
+        return f"{head}\n    {line}\n    {caret}"
+
+
+@dataclass
+class LegError(Exception):
+    """One or more mistakes in the user's input, sorted by position."""
+
+    diagnostics: list[Diagnostic]
+    sources: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.diagnostics = sorted(
+            self.diagnostics, key=lambda d: (d.span.file, d.span.line, d.span.col, d.message)
+        )
+        super().__init__(self.render())
+
+    @classmethod
+    def at(cls, span: Span, message: str, sources: dict[str, str] | None = None) -> LegError:
+        return cls([Diagnostic(span, message)], dict(sources or {}))
+
+    def render(self) -> str:
+        return "\n".join(d.render(self.sources) for d in self.diagnostics)
+
+
+class InternalError(Exception):
+    """A bug in legdsl, not in the user's input."""
+
+
+class Diagnostics:
+    """Collects every mistake found in a pass so that all are reported at once."""
+
+    def __init__(self, sources: dict[str, str]):
+        self.sources = sources
+        self.items: list[Diagnostic] = []
+
+    def error(self, span: Span, message: str) -> None:
+        self.items.append(Diagnostic(span, message))
+
+    def raise_if_any(self) -> None:
+        if self.items:
+            raise LegError(list(dict.fromkeys(self.items)), self.sources)

@@ -1,0 +1,415 @@
+"""Parse .leg text into the syntax tree of ``legdsl.ast``.
+
+The grammar is ``grammar/legdsl.lark``. Syntax errors become a ``LegError``
+with the position, what was found and what was expected; common slips get a
+friendlier sentence from ``grammar/friendly_errors.toml`` (lark's
+example-matched errors).
+"""
+
+from __future__ import annotations
+
+import functools
+import tomllib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from lark import Lark, Token, Transformer, Tree, v_args
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from . import ast
+from .errors import Diagnostic, LegError, Span
+from .units import DIMENSIONLESS, Quantity, parse_unit
+
+_PACKAGE_GRAMMAR = Path(__file__).parent / "grammar"
+_SOURCE_GRAMMAR = Path(__file__).resolve().parents[2] / "grammar"
+
+
+def grammar_dir() -> Path:
+    """Where the grammar files are: inside the installed package, or the source tree."""
+    for candidate in (_PACKAGE_GRAMMAR, _SOURCE_GRAMMAR):
+        if (candidate / "legdsl.lark").is_file():
+            return candidate
+    raise FileNotFoundError("legdsl.lark not found in the package or the source tree")
+
+
+@functools.cache
+def _lark() -> Lark:
+    text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
+    return Lark(text, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+
+
+@functools.cache
+def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """(message, example inputs) pairs from grammar/friendly_errors.toml."""
+    data = tomllib.loads((grammar_dir() / "friendly_errors.toml").read_text(encoding="utf-8"))
+    return tuple((e["message"], tuple(e["examples"])) for e in data["error"])
+
+
+# ------------------------------------------------------------ spans and values
+def _span(file: str, meta: Any) -> Span:
+    return Span(file, meta.line, meta.column, meta.end_line, meta.end_column)
+
+
+def _tspan(file: str, tok: Token) -> Span:
+    assert tok.line is not None and tok.column is not None
+    return Span(file, tok.line, tok.column, tok.end_line or tok.line, tok.end_column or tok.column)
+
+
+def _quantity(text: str) -> Quantity:
+    number = text.rstrip()
+    unit = ""
+    for i, ch in enumerate(text):
+        if ch in " \t" or (ch.isalpha() and ch not in "eE"):
+            number, unit = text[:i], text[i:].strip()
+            break
+        if ch in "eE" and not (
+            i + 1 < len(text) and (text[i + 1].isdigit() or text[i + 1] in "+-")
+        ):
+            number, unit = text[:i], text[i:].strip()
+            break
+    if not unit:
+        return Quantity(float(number), DIMENSIONLESS, unitless=True)
+    factor, dim = parse_unit(unit)
+    return Quantity(float(number) * factor, dim)
+
+
+@v_args(meta=True)
+class _ToAst(Transformer):
+    """Parse tree to AST; every node gets the span of what it was written as."""
+
+    def __init__(self, file: str):
+        super().__init__()
+        self.file = file
+
+    def _id(self, tok: Token) -> ast.Ident:
+        return ast.Ident(str(tok), _tspan(self.file, tok))
+
+    def _s(self, meta: Any) -> Span:
+        return _span(self.file, meta)
+
+    # values
+    def quantity(self, meta: Any, c: list[Any]) -> ast.Number:
+        return ast.Number(_quantity(str(c[0])), str(c[0]), self._s(meta))
+
+    def name(self, meta: Any, c: list[Any]) -> ast.NameValue:
+        return ast.NameValue(self._id(c[0]))
+
+    def neg(self, meta: Any, c: list[Any]) -> ast.Neg:
+        return ast.Neg(c[0], self._s(meta))
+
+    def string(self, meta: Any, c: list[Any]) -> ast.String:
+        return ast.String(str(c[0])[1:-1], self._s(meta))
+
+    def vector(self, meta: Any, c: list[Any]) -> ast.Vector:
+        unit = c[-1]
+        items = tuple(c[:-1])
+        return ast.Vector(
+            items,
+            str(unit) if unit is not None else None,
+            _tspan(self.file, unit) if unit is not None else None,
+            self._s(meta),
+        )
+
+    def call(self, meta: Any, c: list[Any]) -> ast.Call:
+        return ast.Call(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def args(self, meta: Any, c: list[Any]) -> list[ast.Arg]:
+        return list(c)
+
+    def pos_arg(self, meta: Any, c: list[Any]) -> ast.Arg:
+        return ast.Arg(None, c[0], self._s(meta))
+
+    def kw_arg(self, meta: Any, c: list[Any]) -> ast.Arg:
+        return ast.Arg(self._id(c[0]), c[1], self._s(meta))
+
+    # properties
+    def assign(self, meta: Any, c: list[Any]) -> ast.Assign:
+        return ast.Assign(self._id(c[0]), c[1], self._s(meta))
+
+    def pval_one(self, meta: Any, c: list[Any]) -> ast.One:
+        return ast.One(c[0], self._s(meta))
+
+    def pval_range(self, meta: Any, c: list[Any]) -> ast.Range:
+        return ast.Range(c[0], c[1], self._s(meta))
+
+    def pval_list(self, meta: Any, c: list[Any]) -> ast.Many:
+        return ast.Many(tuple(c), self._s(meta))
+
+    def pval_assigns(self, meta: Any, c: list[Any]) -> ast.Assigns:
+        return ast.Assigns(tuple(c), self._s(meta))
+
+    def prop(self, meta: Any, c: list[Any]) -> ast.Prop:
+        return ast.Prop(self._id(c[0]), c[1], self._s(meta))
+
+    # creature
+    def planar(self, meta: Any, c: list[Any]) -> ast.Flag:
+        return ast.Flag("planar", self._s(meta))
+
+    def spatial(self, meta: Any, c: list[Any]) -> ast.Flag:
+        return ast.Flag("spatial", self._s(meta))
+
+    def attach_free(self, meta: Any, c: list[Any]) -> ast.AttachFree:
+        return ast.AttachFree(self._s(meta))
+
+    def attach_fixed(self, meta: Any, c: list[Any]) -> ast.AttachFixed:
+        return ast.AttachFixed(c[0], self._s(meta))
+
+    def attach_joint(self, meta: Any, c: list[Any]) -> ast.AttachJoint:
+        return ast.AttachJoint(self._id(c[0]), self._id(c[1]), self._id(c[2]), c[3], self._s(meta))
+
+    def body(self, meta: Any, c: list[Any]) -> ast.BodyDecl:
+        return ast.BodyDecl(self._id(c[0]), c[1], tuple(c[2:]), self._s(meta))
+
+    def actuator(self, meta: Any, c: list[Any]) -> ast.ActuatorDecl:
+        return ast.ActuatorDecl(
+            self._id(c[0]), self._id(c[1]), self._id(c[2]), tuple(c[3] or ()), self._s(meta)
+        )
+
+    def contact(self, meta: Any, c: list[Any]) -> ast.ContactDecl:
+        return ast.ContactDecl(self._id(c[0]), self._id(c[1]), c[2], self._s(meta))
+
+    def leg(self, meta: Any, c: list[Any]) -> ast.LegDecl:
+        return ast.LegDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    def block(self, meta: Any, c: list[Any]) -> ast.BlockDecl:
+        return ast.BlockDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    def creature(self, meta: Any, c: list[Any]) -> ast.CreatureDecl:
+        return ast.CreatureDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    # expressions
+    def e_quantity(self, meta: Any, c: list[Any]) -> ast.EQuantity:
+        return ast.EQuantity(_quantity(str(c[0])), str(c[0]), self._s(meta))
+
+    def e_name(self, meta: Any, c: list[Any]) -> ast.EName:
+        return ast.EName(self._id(c[0]))
+
+    def e_call(self, meta: Any, c: list[Any]) -> ast.ECall:
+        return ast.ECall(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def exprs(self, meta: Any, c: list[Any]) -> list[Any]:
+        return list(c)
+
+    def attr(self, meta: Any, c: list[Any]) -> ast.EAttr:
+        return ast.EAttr(c[0], self._id(c[1]), self._s(meta))
+
+    def uneg(self, meta: Any, c: list[Any]) -> ast.EUnary:
+        return ast.EUnary("-", c[0], self._s(meta))
+
+    def not_op(self, meta: Any, c: list[Any]) -> ast.EUnary:
+        return ast.EUnary("not", c[0], self._s(meta))
+
+    def _bin(op: str) -> Callable[..., ast.EBinary]:  # type: ignore[misc]  # noqa: N805
+        def method(self: _ToAst, meta: Any, c: list[Any]) -> ast.EBinary:
+            return ast.EBinary(op, c[0], c[1], self._s(meta))
+
+        return method
+
+    add, sub, mul, div, pow = _bin("+"), _bin("-"), _bin("*"), _bin("/"), _bin("^")
+    lt, gt, le, ge, eq, ne = _bin("<"), _bin(">"), _bin("<="), _bin(">="), _bin("=="), _bin("!=")
+    and_op, or_op = _bin("and"), _bin("or")
+
+    # controller
+    def input(self, meta: Any, c: list[Any]) -> ast.InputDecl:
+        return ast.InputDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def param(self, meta: Any, c: list[Any]) -> ast.ParamDecl:
+        return ast.ParamDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def signal(self, meta: Any, c: list[Any]) -> ast.SignalDecl:
+        return ast.SignalDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def role_one(self, meta: Any, c: list[Any]) -> ast.RoleDecl:
+        return ast.RoleDecl(self._id(c[0]), (self._id(c[1]),), self._s(meta))
+
+    def role_group(self, meta: Any, c: list[Any]) -> ast.RoleDecl:
+        return ast.RoleDecl(self._id(c[0]), tuple(self._id(t) for t in c[1:]), self._s(meta))
+
+    def roles(self, meta: Any, c: list[Any]) -> ast.RolesDecl:
+        return ast.RolesDecl(tuple(c), self._s(meta))
+
+    def start_state(self, meta: Any, c: list[Any]) -> ast.StartDecl:
+        return ast.StartDecl(self._id(c[0]), self._s(meta))
+
+    def stmts(self, meta: Any, c: list[Any]) -> tuple[Any, ...]:
+        return tuple(x for x in c if x is not None)
+
+    def target(self, meta: Any, c: list[Any]) -> tuple[ast.Ident, ...]:
+        return tuple(self._id(t) for t in c)
+
+    def assign_stmt(self, meta: Any, c: list[Any]) -> ast.AssignStmt:
+        return ast.AssignStmt(c[0], c[1], self._s(meta))
+
+    def swap_stmt(self, meta: Any, c: list[Any]) -> ast.SwapStmt:
+        return ast.SwapStmt(self._id(c[0]), self._id(c[1]), self._s(meta))
+
+    def record_stmt(self, meta: Any, c: list[Any]) -> ast.RecordStmt:
+        return ast.RecordStmt(self._id(c[0]), c[1], self._s(meta))
+
+    def let_stmt(self, meta: Any, c: list[Any]) -> ast.LetStmt:
+        return ast.LetStmt(self._id(c[0]), c[1], self._s(meta))
+
+    def invoke_stmt(self, meta: Any, c: list[Any]) -> ast.InvokeStmt:
+        return ast.InvokeStmt(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def action_def(self, meta: Any, c: list[Any]) -> ast.ActionDef:
+        params = tuple(self._id(t) for t in c[1:-1] if t is not None)
+        return ast.ActionDef(self._id(c[0]), params, c[-1], self._s(meta))
+
+    def row(self, meta: Any, c: list[Any]) -> ast.Row:
+        return ast.Row(self._id(c[0]), c[1], c[2], self._s(meta))
+
+    def table(self, meta: Any, c: list[Any]) -> ast.TableDecl:
+        return ast.TableDecl(tuple(c), self._s(meta))
+
+    def controller(self, meta: Any, c: list[Any]) -> ast.ControllerDecl:
+        creature = self._id(c[1]) if c[1] is not None else None
+        return ast.ControllerDecl(self._id(c[0]), creature, tuple(c[2:]), self._s(meta))
+
+    def use(self, meta: Any, c: list[Any]) -> ast.UseDecl:
+        text = str(c[0])
+        return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
+
+
+# ------------------------------------------------------------- syntax errors
+_TOKEN_WORDS = {
+    "NAME": "a name",
+    "QUANTITY": "a number",
+    "UNIT": "a unit",
+    "STRING": "a string",
+    "$END": "the end of the file",
+}
+
+
+def _describe_expected(expected: set[str]) -> str:
+    lark = _lark()
+    words = set()
+    for name in expected:
+        if name in _TOKEN_WORDS:
+            words.add(_TOKEN_WORDS[name])
+            continue
+        try:
+            pattern = lark.get_terminal(name).pattern
+        except KeyError:
+            continue
+        if pattern.type == "str":
+            words.add(f"'{pattern.value}'")
+    ordered = sorted(words, key=lambda w: (not w.startswith("'"), w))
+    if not ordered:
+        return ""
+    if len(ordered) > 8:
+        ordered = ordered[:8] + ["..."]
+    return "expected " + ", ".join(ordered)
+
+
+def _found(token: Token) -> str:
+    if token.type == "$END":
+        return "the end of the file"
+    kind = _TOKEN_WORDS.get(token.type, "").removeprefix("a ")
+    return f"{kind} '{token}'" if kind else f"'{token}'"
+
+
+def _unknown_unit_before(text: str, pos: int) -> tuple[str, int] | None:
+    """The word just before ``pos`` when it directly follows a number, as ``kgs`` in ``5 kgs``."""
+    before = text[:pos].rstrip(" \t")
+    end = len(before)
+    start = end
+    while start > 0 and (before[start - 1].isalnum() or before[start - 1] == "_"):
+        start -= 1
+    word = before[start:end]
+    if not word or not (word[0].isalpha() or word[0] == "_"):
+        return None
+    gap = text[:start].rstrip(" \t")
+    if gap and (gap[-1].isdigit() or gap[-1] == ".") and "\n" not in text[len(gap) : start]:
+        return word, start
+    return None
+
+
+def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
+    line, col = err.line, err.column
+    if isinstance(err, UnexpectedEOF) or (
+        isinstance(err, UnexpectedToken) and err.token.type == "$END"
+    ):
+        lines = text.splitlines() or [""]
+        line, col = len(lines), len(lines[-1]) + 1
+        span = Span(file, line, col, line, col + 1)
+    elif isinstance(err, UnexpectedToken):
+        span = _tspan(file, err.token)
+    else:
+        span = Span(file, line, col, line, col + 1)
+
+    friendly = None
+    if isinstance(err, UnexpectedToken | UnexpectedEOF):
+        try:
+            friendly = err.match_examples(
+                _lark().parse,
+                {msg: list(examples) for msg, examples in friendly_errors()},
+                use_accepts=True,
+            )
+        except Exception:  # matching is a nicety; never let it hide the real error
+            friendly = None
+    unit = None
+    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None:
+        unit = _unknown_unit_before(text, err.token.start_pos)
+
+    if friendly:
+        message = friendly
+    elif unit is not None:
+        word, start = unit
+        line = text.count("\n", 0, start) + 1
+        col = start - (text.rfind("\n", 0, start) + 1) + 1
+        span = Span(file, line, col, line, col + len(word))
+        message = (
+            f"'{word}' is not a unit legdsl knows; write the unit right after the number "
+            "with known symbols (kg, g, m, cm, mm, s, ms, N, J, W, Hz, rad, deg, rev), "
+            "e.g. '5 m/s' or '60 N*m/rad'"
+        )
+    elif isinstance(err, UnexpectedToken):
+        expected = _describe_expected(set(err.accepts or err.expected))
+        message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
+    elif isinstance(err, UnexpectedCharacters):
+        message = f"unexpected character '{err.char}'"
+        if err.char == ";":
+            message += "; ';' separates actions in a controller only"
+    else:
+        expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
+        message = "unexpected end of the file" + (f"; {expected}" if expected else "")
+    return LegError([Diagnostic(span, message)], {file: text})
+
+
+def parse(text: str, file: str = "<string>") -> ast.SourceFile:
+    """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
+    try:
+        tree = _lark().parse(text)
+    except UnexpectedInput as err:
+        raise _syntax_error(file, text, err) from None
+    return _build(tree, file, text)
+
+
+def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
+    items = _ToAst(file).transform(tree).children
+    lines = text.splitlines() or [""]
+    span = Span(file, 1, 1, len(lines), len(lines[-1]) + 1)
+    return ast.SourceFile(
+        path=file,
+        creatures=tuple(i for i in items if isinstance(i, ast.CreatureDecl)),
+        controllers=tuple(i for i in items if isinstance(i, ast.ControllerDecl)),
+        actions=tuple(i for i in items if isinstance(i, ast.ActionDef)),
+        uses=tuple(i for i in items if isinstance(i, ast.UseDecl)),
+        span=span,
+    )
+
+
+def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
+    """Read and parse a file; returns the tree and the text (for error rendering)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise LegError.at(Span(str(path), 0, 0, 0, 0), f"no such file: {path}") from None
+    except UnicodeDecodeError as e:
+        raise LegError.at(
+            Span(str(path), 1, 1, 1, 2), f"the file is not UTF-8 text ({e.reason})"
+        ) from None
+    return parse(text, str(path)), text

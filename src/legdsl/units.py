@@ -1,0 +1,115 @@
+"""Units: parsing unit strings, dimensions, and conversion to SI.
+
+A dimension is a tuple of exponents over (mass, length, time, angle). Angle is
+kept as its own dimension so that a linear spring (N/m) on a revolute joint,
+or a length where an angle belongs, is caught; ``rad`` is its SI unit and
+``deg`` converts to it.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+Dim = tuple[int, int, int, int]  # exponents of kg, m, s, rad
+
+DIMENSIONLESS: Dim = (0, 0, 0, 0)
+
+# symbol -> (factor to SI, dimension)
+UNITS: dict[str, tuple[float, Dim]] = {
+    "kg": (1.0, (1, 0, 0, 0)),
+    "g": (1e-3, (1, 0, 0, 0)),
+    "m": (1.0, (0, 1, 0, 0)),
+    "cm": (1e-2, (0, 1, 0, 0)),
+    "mm": (1e-3, (0, 1, 0, 0)),
+    "km": (1e3, (0, 1, 0, 0)),
+    "s": (1.0, (0, 0, 1, 0)),
+    "ms": (1e-3, (0, 0, 1, 0)),
+    "min": (60.0, (0, 0, 1, 0)),
+    "Hz": (1.0, (0, 0, -1, 0)),
+    "N": (1.0, (1, 1, -2, 0)),
+    "kN": (1e3, (1, 1, -2, 0)),
+    "J": (1.0, (1, 2, -2, 0)),
+    "W": (1.0, (1, 2, -3, 0)),
+    "rad": (1.0, (0, 0, 0, 1)),
+    "deg": (math.pi / 180.0, (0, 0, 0, 1)),
+    "rev": (2.0 * math.pi, (0, 0, 0, 1)),
+}
+
+# Names for the dimensions a property may ask for, with an example unit for messages.
+KINDS: dict[str, tuple[Dim, str]] = {
+    "dimensionless": (DIMENSIONLESS, "no unit"),
+    "mass": ((1, 0, 0, 0), "kg"),
+    "length": ((0, 1, 0, 0), "m"),
+    "time": ((0, 0, 1, 0), "s"),
+    "angle": ((0, 0, 0, 1), "deg"),
+    "velocity": ((0, 1, -1, 0), "m/s"),
+    "angular velocity": ((0, 0, -1, 1), "rad/s"),
+    "acceleration": ((0, 1, -2, 0), "m/s^2"),
+    "force": ((1, 1, -2, 0), "N"),
+    "torque": ((1, 2, -2, 0), "N*m"),
+    "moment of inertia": ((1, 2, 0, 0), "kg*m^2"),
+    "linear stiffness": ((1, 0, -2, 0), "N/m"),
+    "linear damping": ((1, 0, -1, 0), "N*s/m"),
+    "angular stiffness": ((1, 2, -2, -1), "N*m/rad"),
+    "angular damping": ((1, 2, -1, -1), "N*m*s/rad"),
+    "frequency": ((0, 0, -1, 0), "Hz"),
+}
+
+_ATOM = re.compile(r"([A-Za-z]+)(?:\^(-?\d+))?")
+
+
+class UnitError(ValueError):
+    """A unit string that names no known unit."""
+
+
+def parse_unit(text: str) -> tuple[float, Dim]:
+    """Parse ``N*m*s/rad`` into (factor to SI, dimension); ``/`` divides the next atom only."""
+    factor = 1.0
+    dim = [0, 0, 0, 0]
+    sign = 1
+    pos = 0
+    while pos < len(text):
+        match = _ATOM.match(text, pos)
+        if not match or match.group(1) not in UNITS:
+            bad = match.group(1) if match else text[pos:]
+            raise UnitError(f"unknown unit '{bad}'")
+        scale, base = UNITS[match.group(1)]
+        power = sign * int(match.group(2) or 1)
+        factor *= scale**power
+        for i in range(4):
+            dim[i] += base[i] * power
+        pos = match.end()
+        if pos < len(text):
+            sign = 1 if text[pos] == "*" else -1
+            pos += 1
+    return factor, (dim[0], dim[1], dim[2], dim[3])
+
+
+def unit_pattern() -> str:
+    """A regular expression for a unit string made of the known unit symbols."""
+    names = "|".join(sorted(UNITS, key=len, reverse=True))
+    atom = rf"(?:{names})(?:\^-?\d+)?(?![A-Za-z0-9_])"
+    return rf"{atom}(?:[*/]{atom})*"
+
+
+def describe(dim: Dim) -> str:
+    """A human name for a dimension, e.g. 'linear stiffness (N/m)'."""
+    for name, (kind_dim, example) in KINDS.items():
+        if kind_dim == dim:
+            return name if name == "dimensionless" else f"{name} ({example})"
+    parts = []
+    for symbol, exp in zip(("kg", "m", "s", "rad"), dim, strict=True):
+        if exp:
+            parts.append(symbol if exp == 1 else f"{symbol}^{exp}")
+    return "*".join(parts) or "dimensionless"
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A number converted to SI, with its dimension; ``unitless`` when written without a unit."""
+
+    value: float
+    dim: Dim
+    unitless: bool = False
