@@ -84,13 +84,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--creature", help="which creature, if the file has several")
     _COMMANDS["show"] = _cmd_show
 
-    for register in _EXTRA_COMMANDS:
-        register(sub, _COMMANDS)
     return p
-
-
-# Later pipeline stages add their subcommands here (compile, run, export ...).
-_EXTRA_COMMANDS: list[Callable[[argparse._SubParsersAction, dict[str, Command]], None]] = []
 
 
 def main(argv: Sequence[str] | None = None) -> int:
