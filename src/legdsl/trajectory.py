@@ -1,0 +1,168 @@
+"""A recorded run: the arrays the simulator writes and every later tool reads.
+
+A run directory holds ``trajectory.npz`` (this dataclass, one row per recorded
+sample), ``trajectory.csv`` (the same samples for people, with units in the
+column names) and ``run.json`` (inputs, parameters, events, status).
+
+Shapes: N samples, NQ/NV coordinates, NC contacts, NL legs.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ARRAYS = (
+    "t", "q", "v", "contact", "force", "com", "com_vel", "root_pos", "root_rpy",
+    "leg_length", "leg_spring_energy", "kinetic", "potential", "elastic", "state", "speed_command",
+)  # fmt: skip
+
+
+@dataclass
+class Trajectory:
+    t: np.ndarray  # (N,) s
+    q: np.ndarray  # (N, NQ) generalized positions (m, rad; quaternion for a 3D root)
+    v: np.ndarray  # (N, NV) generalized velocities
+    contact: np.ndarray  # (N, NC) int8: 1 while the contact touches the ground
+    force: np.ndarray  # (N, NC, 3) N: world ground-reaction force on each contact
+    com: np.ndarray  # (N, 3) m: centre of mass
+    com_vel: np.ndarray  # (N, 3) m/s
+    root_pos: np.ndarray  # (N, 3) m: origin of the root body frame
+    root_rpy: np.ndarray  # (N, 3) rad: roll, pitch, yaw of the root body (planar: pitch only)
+    leg_length: np.ndarray  # (N, NL) m: hip point (first leg joint) to foot contact
+    leg_spring_energy: np.ndarray  # (N, NL) J: elastic energy in each leg's spring actuators
+    kinetic: np.ndarray  # (N,) J
+    potential: np.ndarray  # (N,) J: gravitational, zero at z = 0
+    elastic: np.ndarray  # (N,) J: all actuator springs and ground springs
+    state: np.ndarray  # (N,) int16: index into state_names, -1 without a controller
+    speed_command: np.ndarray  # (N,) m/s: commanded forward speed, NaN without one
+    q_names: tuple[str, ...] = ()
+    v_names: tuple[str, ...] = ()
+    contact_names: tuple[str, ...] = ()
+    leg_names: tuple[str, ...] = ()
+    leg_feet: tuple[int, ...] = ()  # for each leg, the index of its foot in contact_names
+    state_names: tuple[str, ...] = ()
+    total_mass: float = 0.0
+    gravity: float = 9.81  # magnitude, m/s^2
+    planar: bool = True
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
+
+    def head(self, n: int) -> Trajectory:
+        """The first ``n`` samples (used to keep what was recorded when a run stops early)."""
+        cut = {f.name: getattr(self, f.name)[:n] for f in fields(self) if f.name in ARRAYS}
+        meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
+        return Trajectory(**cut, **meta)
+
+    # ------------------------------------------------------------ files
+    def save(self, directory: Path) -> None:
+        """Write trajectory.npz and trajectory.csv into ``directory`` (byte-identical for equal data)."""
+        directory.mkdir(parents=True, exist_ok=True)
+        arrays = {name: getattr(self, name) for name in ARRAYS}
+        meta = {
+            "q_names": list(self.q_names),
+            "v_names": list(self.v_names),
+            "contact_names": list(self.contact_names),
+            "leg_names": list(self.leg_names),
+            "leg_feet": list(self.leg_feet),
+            "state_names": list(self.state_names),
+            "total_mass": self.total_mass,
+            "gravity": self.gravity,
+            "planar": self.planar,
+        }
+        arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
+        _atomic_write(directory / "trajectory.npz", _npz_bytes(arrays))
+        _atomic_write(directory / "trajectory.csv", self.csv_text().encode())
+
+    @classmethod
+    def load(cls, directory: Path) -> Trajectory:
+        with np.load(directory / "trajectory.npz") as data:
+            arrays = {name: data[name] for name in ARRAYS}
+            meta = json.loads(bytes(data["meta"]).decode())
+        for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet", "state_names"):
+            meta[key] = tuple(meta[key])
+        return cls(**arrays, **meta)
+
+    def csv_text(self) -> str:
+        """One row per sample; column names carry their units."""
+        cols: list[tuple[str, np.ndarray]] = [("t [s]", self.t)]
+        for i, name in enumerate(self.q_names):
+            cols.append((f"q.{name}", self.q[:, i]))
+        for i, name in enumerate(self.v_names):
+            cols.append((f"v.{name}", self.v[:, i]))
+        for i, name in enumerate(self.contact_names):
+            cols.append((f"{name}.contact", self.contact[:, i]))
+            for j, axis in enumerate("xyz"):
+                cols.append((f"{name}.f{axis} [N]", self.force[:, i, j]))
+        for j, axis in enumerate("xyz"):
+            cols.append((f"com.{axis} [m]", self.com[:, j]))
+        for j, axis in enumerate("xyz"):
+            cols.append((f"com.v{axis} [m/s]", self.com_vel[:, j]))
+        for j, name in enumerate(("roll", "pitch", "yaw")):
+            cols.append((f"root.{name} [rad]", self.root_rpy[:, j]))
+        for i, name in enumerate(self.leg_names):
+            cols.append((f"{name}.length [m]", self.leg_length[:, i]))
+        cols += [
+            ("kinetic [J]", self.kinetic),
+            ("potential [J]", self.potential),
+            ("elastic [J]", self.elastic),
+            ("state", self.state),
+            ("speed_command [m/s]", self.speed_command),
+        ]
+        buf = io.StringIO()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow([c[0] for c in cols])
+        for row in range(len(self)):
+            writer.writerow([_fmt(c[1][row]) for c in cols])
+        return buf.getvalue()
+
+
+def _fmt(value: Any) -> str:
+    x = float(value)
+    if math.isnan(x):
+        return ""
+    return repr(int(x)) if x.is_integer() and abs(x) < 1e15 else f"{x:.9g}"
+
+
+def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)  # zip entries carry a fixed 1980 date: equal data, equal bytes
+    return buf.getvalue()
+
+
+def _atomic_write(path: Path, data: bytes) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_bytes(data)
+    tmp.replace(path)
+
+
+def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory:
+    """Preallocated arrays for ``n`` samples (the recorder fills them and cuts with ``head``)."""
+    return Trajectory(
+        t=np.zeros(n),
+        q=np.zeros((n, nq)),
+        v=np.zeros((n, nv)),
+        contact=np.zeros((n, nc), dtype=np.int8),
+        force=np.zeros((n, nc, 3)),
+        com=np.zeros((n, 3)),
+        com_vel=np.zeros((n, 3)),
+        root_pos=np.zeros((n, 3)),
+        root_rpy=np.zeros((n, 3)),
+        leg_length=np.zeros((n, nl)),
+        leg_spring_energy=np.zeros((n, nl)),
+        kinetic=np.zeros(n),
+        potential=np.zeros(n),
+        elastic=np.zeros(n),
+        state=np.full(n, -1, dtype=np.int16),
+        speed_command=np.full(n, np.nan),
+        **meta,
+    )
