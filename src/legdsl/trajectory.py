@@ -135,7 +135,7 @@ def _fmt(value: Any) -> str:
 
 def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
     buf = io.BytesIO()
-    np.savez(buf, **arrays)  # zip entries carry a fixed 1980 date: equal data, equal bytes
+    np.savez(buf, **arrays)  # type: ignore[arg-type]  # zip entries carry a fixed 1980 date: equal data, equal bytes
     return buf.getvalue()
 
 
