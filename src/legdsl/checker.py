@@ -1087,6 +1087,11 @@ class CreatureChecker:
                 tangent = sd
             else:
                 torsion = sd
+        if any(t.kind == "slope" for t in terrain) and len(terrain) > 1:
+            self.err(
+                block.name.span,
+                "a slope is the whole ground: it cannot be combined with other terrain",
+            )
         for key in ("normal", "tangent"):
             if key not in seen:
                 self.err(block.name.span, f"the ground needs '{key} ...': {_GROUND_HELP[key]}")
@@ -1136,16 +1141,21 @@ class CreatureChecker:
                 },
                 ("x0", "x1", "height") if self.planar else ("x0", "x1", "y0", "y1", "height"),
             ),
+            # The whole ground tilted about y, rising towards +x.
+            "slope": ({"angle": "angle"}, ("angle",)),
         }
         if call.func.name not in kinds:
             self.err(
                 call.func.span,
-                f"unknown terrain '{call.func.name}'{did_you_mean(call.func.name, kinds)}; use step(x = ..., height = ...) or box(x0 = ..., x1 = ..., height = ...)",
+                f"unknown terrain '{call.func.name}'{did_you_mean(call.func.name, kinds)}; use step(x = ..., height = ...), box(x0 = ..., x1 = ..., height = ...) or slope(angle = ...)",
             )
             return None
         arg_kinds, required = kinds[call.func.name]
         args = self.kwargs_signed(call, arg_kinds, required)
         if args is None:
+            return None
+        if call.func.name == "slope" and not abs(args["angle"]) < math.radians(80):
+            self.err(call.span, "a slope's angle must be between -80 deg and 80 deg")
             return None
         if call.func.name == "box":
             if args["x1"] <= args["x0"] or args.get("y1", 1.0) <= args.get("y0", 0.0):
@@ -1295,7 +1305,7 @@ _GROUND_HELP = {
     "normal": "the vertical spring: 'normal spring(k = 1.2e4 N/m, b = 150 N*s/m)' or the paw pad of eq. (6): 'normal pad(k = 250 N, thickness = 1 cm, b = 100 N*s/m)'",
     "tangent": "the tangential springs: 'tangent spring(k = 8e3 N/m, b = 120 N*s/m)'",
     "torsion": "the torsional spring about the normal: 'torsion spring(k = 5 N*m/rad, b = 0.5 N*m*s/rad)'",
-    "terrain": "terrain features: 'terrain step(x = 2 m, height = 0.1 m)' or 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)'",
+    "terrain": "terrain features: 'terrain step(x = 2 m, height = 0.1 m)' or 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)' or 'terrain slope(angle = 10 deg)'",
 }
 
 
