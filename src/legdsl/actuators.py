@@ -29,6 +29,21 @@ SETTABLE = {
 }
 
 
+def setting_kind(key: str, rotary: bool) -> str:
+    """The physical kind (a key of ``units.KINDS``) of an actuator setting on a rotary or sliding joint."""
+    linear, angular = {
+        "k": ("linear stiffness", "angular stiffness"),
+        "kp": ("linear stiffness", "angular stiffness"),
+        "b": ("linear damping", "angular damping"),
+        "kv": ("linear damping", "angular damping"),
+        "rest": ("length", "angle"),
+        "setpoint": ("length", "angle"),
+        "force": ("force", "torque"),
+        "max": ("force", "torque"),
+    }[key]
+    return angular if rotary else linear
+
+
 @dataclass
 class ActuatorState:
     """One actuator's live settings and the coordinate it drives."""

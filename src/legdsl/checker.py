@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from . import ast
+from .actuators import setting_kind
 from .errors import Diagnostics, LegError, Span
 from .model import (
     Actuator,
@@ -897,13 +898,8 @@ class CreatureChecker:
             return None
         rotary = dof.motion == "hinge"
         kinds = {
-            "k": "angular stiffness" if rotary else "linear stiffness",
-            "b": "angular damping" if rotary else "linear damping",
-            "kp": "angular stiffness" if rotary else "linear stiffness",
-            "kv": "angular damping" if rotary else "linear damping",
-            "rest": "angle" if rotary else "length",
-            "setpoint": "angle" if rotary else "length",
-            "max": "torque" if rotary else "force",
+            key: setting_kind(key, rotary)
+            for key in ("k", "b", "kp", "kv", "rest", "setpoint", "max")
         }
         joint_desc = f"{'revolute' if rotary else 'sliding'} coordinate '{dof.name}'"
         params: dict[str, float] = {}

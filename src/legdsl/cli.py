@@ -13,9 +13,11 @@ import traceback
 from collections.abc import Callable, Sequence
 
 from . import __version__
-from .errors import LegError
+from .errors import LegError, UsageError
 
 EXIT_USER_ERROR = 2
+EXIT_DIVERGED = 3
+EXIT_FELL = 4
 EXIT_INTERNAL = 70
 
 Command = Callable[[argparse.Namespace], int]
@@ -51,6 +53,57 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_run(args: argparse.Namespace) -> int:
+    import math
+    from pathlib import Path
+
+    from .checker import check_model
+    from .runner import apply_settings, load_dynamics, summary, write_run
+    from .simulate import RunOptions, Simulation
+
+    source = Path(args.file)
+    model = check_model(source, args.creature)
+    if args.controller is not None:
+        raise UsageError(
+            f"--controller {args.controller}: controllers are not runnable in this version of "
+            "legdsl yet (their semantics come with the controller stage); run without --controller"
+        )
+    options = RunOptions(
+        duration=args.time,
+        dt=args.dt,
+        integrator=args.integrator,
+        control_dt=args.control_dt,
+        record_rate=args.record_rate,
+        fall_height=args.fall_height,
+        fall_tilt=math.radians(args.fall_tilt),
+        drop=args.drop,
+    )
+    dynamics = load_dynamics(model, source, Path(args.generated), log=sys.stderr)
+    sim = Simulation(model, dynamics, options)
+    settings = apply_settings(sim, args.set)
+    result = sim.run(_progress if sys.stderr.isatty() else None)
+    out = Path(args.out) if args.out else Path("runs") / model.name
+    write_run(out, model, options, result, {"settings": settings})
+    print(summary(model, result))
+    print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
+    if result.status == "diverged":
+        print(f"legdsl: {result.message}", file=sys.stderr)
+        return EXIT_DIVERGED
+    if result.status == "fell":
+        print(
+            f"legdsl: the creature fell at t = {result.sim_time:.3f} s: {result.message}",
+            file=sys.stderr,
+        )
+        return EXIT_FELL
+    return 0
+
+
+def _progress(t: float, total: float) -> None:
+    from .runner import _progress_bar
+
+    _progress_bar(t, total)
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -84,6 +137,77 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--creature", help="which creature, if the file has several")
     _COMMANDS["show"] = _cmd_show
 
+    r = sub.add_parser(
+        "run",
+        help="simulate a creature and record its motion",
+        description="Compile the creature if its generated module is missing or stale, simulate it "
+        "with its actuators and ground contact, and write trajectory.npz, trajectory.csv and run.json "
+        "into the output directory. Exit status: 0 ok, 2 a mistake in the input, "
+        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell.",
+        epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
+    )
+    r.add_argument("file", metavar="FILE", help="a .leg file")
+    r.add_argument("--creature", help="which creature, if the file has several")
+    r.add_argument("--controller", help="the controller to run (a later stage)")
+    r.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set an actuator input, e.g. --set hip_servo.setpoint=10deg (repeatable)",
+    )
+    r.add_argument(
+        "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
+    )
+    r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
+    r.add_argument(
+        "--dt",
+        type=float,
+        default=0.0004,
+        help="integration step in s (default 0.0004, the paper's)",
+    )
+    r.add_argument(
+        "--integrator",
+        choices=("euler", "rk4"),
+        default="euler",
+        help="semi-implicit Euler (default) or RK4",
+    )
+    r.add_argument(
+        "--control-dt", type=float, default=0.002, help="control interval in s (default 0.002)"
+    )
+    r.add_argument(
+        "--record-rate",
+        type=float,
+        default=200.0,
+        help="samples per second to record (default 200; 0 records every step)",
+    )
+    r.add_argument(
+        "--drop",
+        type=float,
+        metavar="H",
+        help="start with the lowest foot H metres above the ground",
+    )
+    r.add_argument(
+        "--fall-height",
+        type=float,
+        metavar="Z",
+        help="the root below Z metres is a fall (default 30%% of its starting height)",
+    )
+    r.add_argument(
+        "--fall-tilt",
+        type=float,
+        default=60.0,
+        metavar="DEG",
+        help="the root tilted beyond DEG degrees is a fall (default 60)",
+    )
+    r.add_argument(
+        "--generated",
+        default="generated",
+        metavar="DIR",
+        help="where generated modules live (default generated/)",
+    )
+    _COMMANDS["run"] = _cmd_run
+
     return p
 
 
@@ -94,6 +218,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _COMMANDS[args.command](args)
     except LegError as e:
         print(e.render(), file=sys.stderr)
+        return EXIT_USER_ERROR
+    except UsageError as e:
+        print(f"legdsl: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)

@@ -74,6 +74,10 @@ class LegError(Exception):
         return "\n".join(d.render(self.sources) for d in self.diagnostics)
 
 
+class UsageError(Exception):
+    """A mistake on the command line (not in a .leg file): one line, exit status 2."""
+
+
 class InternalError(Exception):
     """A bug in legdsl, not in the user's input."""
 

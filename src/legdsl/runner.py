@@ -1,0 +1,190 @@
+"""``legdsl run``: make sure the generated module is current, simulate, write the run directory.
+
+The run directory gets ``trajectory.npz`` and ``trajectory.csv`` (see
+``legdsl.trajectory``) and ``run.json``: every input, parameter and option,
+the legdsl version, the events (touchdowns, liftoffs, state changes), the
+status and its message.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import math
+import re
+import sys
+from dataclasses import asdict, fields, is_dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from . import __version__
+from .actuators import SETTABLE, setting_kind
+from .errors import UsageError
+from .model import Model
+from .simulate import RunOptions, RunResult, Simulation
+from .units import KINDS, Dim, UnitError, parse_unit
+
+
+def model_fingerprint(model: Model) -> str:
+    """A hash of what the dynamics depend on: the tree, the contacts, gravity (not spans or comments)."""
+
+    def clean(obj: Any) -> Any:
+        if is_dataclass(obj) and not isinstance(obj, type):
+            return {f.name: clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
+        if isinstance(obj, tuple | list):
+            return [clean(x) for x in obj]
+        return obj
+
+    payload = {
+        "legdsl": __version__,
+        "planar": model.planar,
+        "gravity": model.gravity,
+        "bodies": clean(model.bodies),
+        "joints": clean(model.joints),
+        "contacts": clean(model.contacts),
+    }
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def import_module_file(path: Path, name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def load_dynamics(model: Model, source: Path, generated: Path, log: Any = None) -> ModuleType:
+    """The creature's generated dynamics module, compiled first if missing or stale."""
+    path = generated / model.name / "dynamics.py"
+    fingerprint = model_fingerprint(model)
+    if path.is_file():
+        module = import_module_file(path, f"legdsl_generated_{model.name}_dynamics")
+        if getattr(module, "MODEL_FINGERPRINT", None) == fingerprint:
+            return module
+        reason = "stale"
+    else:
+        reason = "missing"
+    from .driver import compile_model, write_generated
+
+    if log is not None:
+        print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
+    write_generated(compile_model(source), generated)
+    return import_module_file(path, f"legdsl_generated_{model.name}_dynamics_new")
+
+
+def parse_setting(text: str) -> tuple[str, float, Dim | None]:
+    """``NAME=VALUE`` with an optional unit right after the number (``hip_servo.setpoint=10deg``)."""
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise UsageError(f"--set {text!r}: write NAME=VALUE, e.g. --set hip_servo.setpoint=10deg")
+    match = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*", value)
+    if match is None:
+        raise UsageError(f"--set {text!r}: {value!r} is not a number with an optional unit")
+    magnitude, unit = float(match.group(1)), match.group(2)
+    if not unit:
+        return name.strip(), magnitude, None
+    try:
+        factor, dim = parse_unit(unit)
+    except UnitError as e:
+        raise UsageError(f"--set {text!r}: {e}") from None
+    return name.strip(), magnitude * factor, dim
+
+
+def apply_settings(sim: Simulation, texts: list[str]) -> dict[str, float]:
+    """Apply ``--set ACTUATOR.SETTING=VALUE`` options to a simulation; returns them in SI."""
+    by_name = {a.name: a for a in sim.model.actuators}
+    applied = {}
+    for text in texts:
+        name, value, dim = parse_setting(text)
+        actuator, _, key = name.partition(".")
+        if actuator not in by_name or not key:
+            example = next(iter(by_name), "hip_servo")
+            raise UsageError(
+                f"--set {name}: name an actuator setting such as {example}.{SETTABLE[by_name[example].kind][0] if by_name else 'setpoint'} "
+                f"(actuators: {', '.join(by_name) or 'none'})"
+            )
+        a = by_name[actuator]
+        if key not in SETTABLE[a.kind]:
+            raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
+        kind = setting_kind(key, a.rotary)
+        want, example_unit = KINDS[kind]
+        if dim is None and value != 0:
+            raise UsageError(f"--set {name}: give a unit, e.g. {name}={value:g}{example_unit}")
+        if dim is not None and dim != want:
+            raise UsageError(f"--set {name}: expected a {kind} ({example_unit})")
+        sim.actuators.by_name[actuator].set(key, value)
+        applied[name] = value
+    return applied
+
+
+def _progress_bar(t: float, total: float) -> None:
+    width = 30
+    frac = min(1.0, t / total) if total > 0 else 1.0
+    bar = "#" * int(frac * width) + "." * (width - int(frac * width))
+    end = "\n" if frac >= 1.0 else ""
+    print(f"\r[{bar}] {t:6.2f} / {total:.2f} s", end=end, file=sys.stderr, flush=True)
+
+
+def write_run(
+    out: Path, model: Model, options: RunOptions, result: RunResult, extra: dict[str, Any]
+) -> None:
+    """Write trajectory.npz, trajectory.csv and run.json into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    result.trajectory.save(out)
+    info = {
+        "legdsl": __version__,
+        "source": model.source,
+        "creature": model.name,
+        "options": asdict(options),
+        **extra,
+        "status": result.status,
+        "message": result.message,
+        "steps": result.steps,
+        "sim_time": round(result.sim_time, 9),
+        "samples": len(result.trajectory),
+        "events": result.events,
+    }
+    text = json.dumps(info, indent=2, sort_keys=False, default=_json_default) + "\n"
+    tmp = out / "run.json.tmp"
+    tmp.write_text(text)
+    tmp.replace(out / "run.json")
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def summary(model: Model, result: RunResult) -> str:
+    """The table printed after a run."""
+    tr = result.trajectory
+    touchdowns = sum(1 for e in result.events if e["kind"] == "touchdown")
+    liftoffs = sum(1 for e in result.events if e["kind"] == "liftoff")
+    rows = [
+        ("creature", f"{model.name} ({model.nv} DOF)"),
+        ("status", result.status + (f": {result.message}" if result.message else "")),
+        ("simulated", f"{result.sim_time:.3f} s in {result.steps} steps"),
+        ("wall time", f"{result.wall_time:.2f} s (real-time factor {result.real_time_factor:.2f})"),
+        ("samples", str(len(tr))),
+        ("touchdowns / liftoffs", f"{touchdowns} / {liftoffs}"),
+    ]
+    if len(tr):
+        energy0 = tr.kinetic[0] + tr.potential[0] + tr.elastic[0]
+        energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]
+        rows += [
+            ("final root position", "(" + ", ".join(f"{x:.3f}" for x in tr.root_pos[-1]) + ") m"),
+            ("mean forward speed", f"{_mean_speed(tr):.3f} m/s"),
+            ("total energy start -> end", f"{energy0:.3f} J -> {energy1:.3f} J"),
+        ]
+    width = max(len(r[0]) for r in rows)
+    return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def _mean_speed(tr: Any) -> float:
+    if len(tr) < 2 or tr.t[-1] <= tr.t[0]:
+        return 0.0
+    return float((tr.com[-1, 0] - tr.com[0, 0]) / (tr.t[-1] - tr.t[0]))
