@@ -58,7 +58,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .checker import check_model
-    from .runner import apply_settings, load_dynamics, summary, write_run
+    from .runner import apply_settings, load_dynamics, progress_bar, summary, write_run
     from .simulate import RunOptions, Simulation
 
     source = Path(args.file)
@@ -81,7 +81,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     dynamics = load_dynamics(model, source, Path(args.generated), log=sys.stderr)
     sim = Simulation(model, dynamics, options)
     settings = apply_settings(sim, args.set)
-    result = sim.run(_progress if sys.stderr.isatty() else None)
+    result = sim.run(progress_bar if sys.stderr.isatty() else None)
     out = Path(args.out) if args.out else Path("runs") / model.name
     write_run(out, model, options, result, {"settings": settings})
     print(summary(model, result))
@@ -96,12 +96,6 @@ def _cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
-
-
-def _progress(t: float, total: float) -> None:
-    from .runner import _progress_bar
-
-    _progress_bar(t, total)
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -120,7 +120,7 @@ def apply_settings(sim: Simulation, texts: list[str]) -> dict[str, float]:
     return applied
 
 
-def _progress_bar(t: float, total: float) -> None:
+def progress_bar(t: float, total: float) -> None:
     width = 30
     frac = min(1.0, t / total) if total > 0 else 1.0
     bar = "#" * int(frac * width) + "." * (width - int(frac * width))
