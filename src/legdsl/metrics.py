@@ -157,7 +157,7 @@ class GaitMetrics:
         """The averaged rows as text, with units."""
         head = (
             f"gait metrics from {self.t_from:.3f} s to {self.t_to:.3f} s: "
-            f"{self.n_strides} strides (reference: {self.reference})"
+            f"{self.n_strides} stride{'' if self.n_strides == 1 else 's'} (reference: {self.reference})"
         )
         lines = [head]
         if self.note:
@@ -165,8 +165,8 @@ class GaitMetrics:
         width = max([len(s.label) for s in self.summaries] + [8])
         lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
         for s in self.summaries:
-            value = _num(s.value) + (" (max)" if s.how == "max" else "")
-            lines.append(f"{s.label:<{width}}  {value:>10}  {_num(s.std):>10}  {s.n:>4}")
+            spread = "(peak)" if s.how == "max" else _num(s.std)  # a maximum has no spread
+            lines.append(f"{s.label:<{width}}  {_num(s.value):>10}  {spread:>10}  {s.n:>4}")
         return "\n".join(lines) + "\n"
 
 
@@ -634,7 +634,8 @@ def _summaries(
         _stat("stride_length", "stride length (m)", ps["length"]),
         _stat("flight_duration", "flight duration (s)", [f.duration for f in flights]),
     ]
-    for name in sorted({f.before for f in flights}):
+    landings = sorted({f.before for f in flights})
+    for name in landings if len(landings) > 1 else []:  # one kind of flight: the row above
         rows.append(
             _stat(
                 f"flight_duration_before_{name}",
