@@ -327,6 +327,17 @@ def test_run_without_touchdowns_reports_no_strides(case: str) -> None:
     json.dumps(m.to_dict(), allow_nan=False)
 
 
+def test_a_leg_without_a_recorded_foot_has_no_stances() -> None:
+    tr = biped_run()
+    tr.leg_feet = (0, -1)  # the right leg's foot is not in contact_names
+    m = compute_metrics(tr)
+    assert m.n_strides == 9
+    assert m.summary("stance_duration_right").n == 0
+    assert m.value("stance_duration_left") == pytest.approx(0.120, abs=1e-9)
+    with pytest.raises(MetricsError, match="no leg, group or contact named .nobody."):
+        compute_metrics(tr, leg="nobody")
+
+
 # ---------------------------------------------------------------- friction and elastic energy
 
 

@@ -345,7 +345,7 @@ def compute_metrics(
 def _units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[_Unit]:
     legs = list(tr.leg_names)
     if legs:
-        units = [_Unit(n, "leg", (tr.leg_feet[i],), (i,)) for i, n in enumerate(legs)]
+        units = [_Unit(n, "leg", _foot(tr, i), (i,)) for i, n in enumerate(legs)]
     else:  # a run without legs: each contact stands for itself
         units = [_Unit(n, "contact", (i,), ()) for i, n in enumerate(tr.contact_names)]
     taken = {u.name for u in units}
@@ -358,8 +358,15 @@ def _units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[_Unit]:
         if name in taken:
             raise MetricsError(f"group {name!r} has the name of a leg")
         idx = tuple(legs.index(m) for m in members)
-        units.append(_Unit(name, "group", tuple(tr.leg_feet[i] for i in idx), idx))
+        units.append(_Unit(name, "group", sum((_foot(tr, i) for i in idx), ()), idx))
     return units
+
+
+def _foot(tr: Trajectory, leg: int) -> tuple[int, ...]:
+    """The contact index of a leg's foot; none if the recording names no valid foot for it."""
+    feet = tr.leg_feet
+    ok = leg < len(feet) and 0 <= feet[leg] < len(tr.contact_names)
+    return (feet[leg],) if ok else ()
 
 
 def _reference(tr: Trajectory, units: list[_Unit], leg: str | None) -> tuple[str, tuple[int, ...]]:
