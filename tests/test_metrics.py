@@ -375,6 +375,17 @@ def test_friction_needed_peak_and_peak_away_from_touchdown_and_liftoff() -> None
     assert f.samples == 98 * 5
     assert m.value("friction_toe") == pytest.approx(1.9)
     assert m.value("friction_interior_toe") == pytest.approx(0.52)
+    assert m.summary("friction_toe").n == 5
+
+
+def test_friction_of_a_contact_that_never_pushes_is_not_a_number() -> None:
+    tr = _friction_run()
+    tr.force[:] = 0.0
+    m = compute_metrics(tr)
+    (f,) = m.friction
+    assert math.isnan(f.peak) and math.isnan(f.peak_interior)
+    assert f.samples == 0 and f.skipped == 100 * 5
+    assert m.summary("friction_toe").n == 0
 
 
 def test_friction_edge_is_exactly_ten_samples_at_one_khz() -> None:

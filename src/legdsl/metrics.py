@@ -89,7 +89,8 @@ class Friction:
     contact: str
     peak: float  # max |F_t| / F_n over every usable stance sample
     peak_interior: float  # the same without the first and last ``edge`` seconds of each stance
-    stance_peaks: list[float]
+    stance_peaks: list[float]  # per complete stance (NaN if no sample was usable)
+    stance_peaks_interior: list[float]
     samples: int  # stance samples used
     skipped: int  # stance samples left out because the normal force was below the floor
     edge: float = FRICTION_EDGE  # s left out at each end of a stance for ``peak_interior``
@@ -597,6 +598,7 @@ def _friction(
         peak=_nanmax(peaks),
         peak_interior=_nanmax(interior_peaks),
         stance_peaks=peaks,
+        stance_peaks_interior=interior_peaks,
         samples=used,
         skipped=skipped,
         edge=edge,
@@ -717,7 +719,8 @@ def _summaries(
 
 
 def _friction_rows(f: Friction) -> list[Summary]:
-    n = len(f.stance_peaks)
+    n = sum(math.isfinite(p) for p in f.stance_peaks)  # stances with a usable sample
+    n_in = sum(math.isfinite(p) for p in f.stance_peaks_interior)
     label = f"friction coefficient needed, {f.contact}"
     away = f"past first/last {f.edge * 1000:g} ms"
     return [
@@ -727,7 +730,7 @@ def _friction_rows(f: Friction) -> list[Summary]:
             f"{label}, {away} (-)",
             f.peak_interior,
             math.nan,
-            n,
+            n_in,
             "max",
         ),
     ]
