@@ -8,9 +8,11 @@ reported as such (with the traceback under ``--debug``) and exits with 70.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import traceback
 from collections.abc import Callable, Sequence
+from pathlib import Path
 
 from . import __version__
 from .errors import LegError, UsageError
@@ -95,6 +97,40 @@ def _cmd_run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return EXIT_FELL
+    return 0
+
+
+def _cmd_metrics(args: argparse.Namespace) -> int:
+    from .metrics import MetricsError, compute_metrics, parse_groups, write_json
+    from .trajectory import Trajectory
+
+    run = Path(args.dir)
+    if not (run / "trajectory.npz").is_file():
+        print(f"legdsl metrics: error: no trajectory.npz in {run}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    try:
+        trajectory = Trajectory.load(run)
+    except (OSError, KeyError, ValueError) as e:  # a damaged or foreign file, not our bug
+        print(f"legdsl metrics: error: cannot read {run / 'trajectory.npz'}: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    try:
+        metrics = compute_metrics(
+            trajectory,
+            t_from=args.t_from,
+            t_to=args.t_to,
+            leg=args.leg,
+            groups=parse_groups(args.group),
+            joint=args.joint,
+            against=args.against,
+        )
+    except MetricsError as e:
+        print(f"legdsl metrics: error: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    write_json(metrics, run / "metrics.json")
+    if args.json:
+        print(json.dumps(metrics.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(metrics.table(), end="")
     return 0
 
 
@@ -201,6 +237,61 @@ def _parser() -> argparse.ArgumentParser:
         help="where generated modules live (default generated/)",
     )
     _COMMANDS["run"] = _cmd_run
+
+    m = sub.add_parser(
+        "metrics",
+        help="gait metrics of a recorded run, as in Table 2 of the paper",
+        description="Measure a recorded run (DIR/trajectory.npz): stride duration and length, "
+        "flight and stance durations, pitch and roll magnitude, change of leg length, speed "
+        "and its error, peak vertical acceleration, the friction coefficient that would have "
+        "prevented slipping and the elastic energy recirculated per step. Strides run from one "
+        "touchdown of the reference foot to the next; only complete strides inside the window "
+        "count. Prints a table (or JSON) and writes DIR/metrics.json. See docs/metrics.md.",
+        epilog="Example: legdsl metrics runs/kangaroo --from 3 --joint tail_base --against hip",
+    )
+    m.add_argument("dir", metavar="DIR", help="a run directory holding trajectory.npz")
+    m.add_argument(
+        "--from",
+        dest="t_from",
+        type=float,
+        default=0.0,
+        metavar="T",
+        help="start of the window in s (default 0)",
+    )
+    m.add_argument(
+        "--to",
+        dest="t_to",
+        type=float,
+        default=None,
+        metavar="T",
+        help="end of the window in s (default: the end of the run)",
+    )
+    m.add_argument(
+        "--leg",
+        metavar="NAME",
+        help="reference leg (or virtual leg, or contact) whose touchdowns delimit strides "
+        "(default: the first leg)",
+    )
+    m.add_argument(
+        "--group",
+        action="append",
+        default=[],
+        metavar="NAME=LEG,LEG",
+        help="a virtual leg: the union of the contacts of these legs, e.g. front=fl,fr "
+        "(repeat for each virtual leg)",
+    )
+    m.add_argument(
+        "--joint",
+        metavar="NAME",
+        help="also the per-stride magnitude (peak to peak, deg) of this coordinate, e.g. tail_base",
+    )
+    m.add_argument(
+        "--against",
+        metavar="NAME",
+        help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
+    )
+    m.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    _COMMANDS["metrics"] = _cmd_metrics
 
     return p
 
