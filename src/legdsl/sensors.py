@@ -147,6 +147,8 @@ class Sensors:
             pos, vel = self._feet(sim, cache)
             axis = "xyz".index(member[-1])
             return float(vel[i][axis] if member.startswith("v") else pos[i][axis])
+        if kind == "act":
+            return float(sim.actuators.by_name[name].get(member))
         if kind == "body":
             return self._body(sim, cache, self.body_index[name], member)
         if kind == "leg":
