@@ -32,7 +32,8 @@ def num(value: float) -> Expr:
 def fold(expr: Expr) -> Expr:
     """Whole-valued floats that arithmetic produced (1.0, -2.0) become exact integers, fractions floats."""
     expr = sympy.sympify(expr)
-    numbers = {f: Integer(int(f)) for f in expr.atoms(Float) if f == int(f)}
+    # (float(f), not f: sympy's Float(1.0) == 1 is False)
+    numbers = {f: Integer(int(f)) for f in expr.atoms(Float) if float(f).is_integer()}
     # fractions such as 1/2 print and run as floats
     numbers |= {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
     return expr.xreplace(numbers) if numbers else expr
@@ -146,6 +147,7 @@ class Block:
         live = _drop_dead(self._statements, outs)
         if cse:
             live = _common_subexpressions(live)
+        live, outs = _inline_cheap(live, outs)
         return self._number(live, outs)
 
     def _number(self, body: list[Assign | Comment], outputs: list[Expr]) -> Program:
@@ -161,7 +163,9 @@ class Block:
         unpacks = [u for s, u in self._inputs.items() if s in needed]
         unpacks.sort(key=lambda u: (ARRAYS.index(u.array), u.index))
         statements: list[Statement] = [*unpacks]
-        for st in body:
+        for k, st in enumerate(body):
+            if isinstance(st, Comment) and not isinstance(_at(body, k + 1), Assign):
+                continue  # a heading over nothing
             if isinstance(st, Assign):
                 statements.append(
                     Assign(rename.get(st.target, st.target), st.value.xreplace(rename))
@@ -169,6 +173,10 @@ class Block:
             else:
                 statements.append(st)
         return Program(tuple(statements), tuple(o.xreplace(rename) for o in outputs))
+
+
+def _at(body: list[Assign | Comment], k: int) -> Assign | Comment | None:
+    return body[k] if k < len(body) else None
 
 
 def _symbols_of(exprs: Iterable[Expr]) -> set[Symbol]:
@@ -196,6 +204,23 @@ def _drop_dead(statements: list[Assign | Comment], outputs: list[Expr]) -> list[
     return kept
 
 
+def _inline_cheap(
+    body: list[Assign | Comment], outputs: list[Expr]
+) -> tuple[list[Assign | Comment], list[Expr]]:
+    """Put temporaries whose value is just ``-t3`` or ``2*x`` back where they are used."""
+    inline: dict[Symbol, Expr] = {}
+    out: list[Assign | Comment] = []
+    for st in body:
+        if isinstance(st, Assign):
+            value = fold(st.value.xreplace(inline)) if inline else st.value
+            if is_cheap(value) and st.target.name.startswith("_"):
+                inline[st.target] = value
+                continue
+            st = Assign(st.target, value)
+        out.append(st)
+    return out, [fold(o.xreplace(inline)) for o in outputs]
+
+
 def _cse_names() -> Iterator[Symbol]:
     n = 0
     while True:
@@ -217,12 +242,21 @@ def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Commen
     )
     if not shared:
         return body
-    value_at = dict(zip(where, reduced, strict=True))
+    # Pieces such as -x cost more as a line of their own than inline: put them back.
+    inline: dict[Symbol, Expr] = {}
+    kept: list[tuple[Symbol, Expr]] = []
+    for sym, expr in shared:
+        expr = expr.xreplace(inline)
+        if is_cheap(expr):
+            inline[sym] = expr
+        else:
+            kept.append((sym, expr))
+    value_at = {i: fold(v.xreplace(inline)) for i, v in zip(where, reduced, strict=True)}
     # A piece that is the whole value of an assignment takes that assignment's name.
     alias = {
         v: targets[i] for i, v in value_at.items() if v.is_Symbol and v.name.startswith("_cse")
     }
-    pieces = [(alias.get(s, s), e.xreplace(alias)) for s, e in shared]
+    pieces = [(alias.get(s, s), fold(e.xreplace(alias))) for s, e in kept]
     value_at = {i: v.xreplace(alias) for i, v in value_at.items()}
     # Where each piece is first needed: directly, or through a later piece that uses it.
     first_use = {s: len(body) for s, _ in pieces}
