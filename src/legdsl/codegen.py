@@ -105,16 +105,9 @@ def _layout(model: Model) -> list[tuple[str, str, str, str]]:
                 )
             continue
         for dof in joint.dofs:
-            unit = "rad" if dof.motion == "hinge" else "m"
+            unit, how = ("rad", "hinge about") if dof.motion == "hinge" else ("m", "slide along")
             axis = ", ".join(f"{c:g}" for c in dof.axis)
-            rows.append(
-                (
-                    f"q[{dof.q_index}]",
-                    dof.name,
-                    unit,
-                    f"{dof.motion} of {joint.name} along ({axis})",
-                )
-            )
+            rows.append((f"q[{dof.q_index}]", dof.name, unit, f"{joint.name}: {how} ({axis})"))
     for joint in model.joints:
         if joint.is_free_3d:
             for k, name in enumerate(("vx", "vy", "vz")):
