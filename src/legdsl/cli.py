@@ -134,6 +134,41 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_compile(args: argparse.Namespace) -> int:
+    import time
+    from pathlib import Path
+
+    from .driver import compile_file, write_generated
+
+    if args.all == bool(args.files):
+        print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
+        return EXIT_USER_ERROR
+    files = sorted(Path("creatures").glob("*.leg")) if args.all else [Path(f) for f in args.files]
+    if not files:
+        print(
+            "legdsl compile --all: no creatures/*.leg here; run it from the project root",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+
+    def progress(message: str) -> None:
+        print(f"legdsl: {message}", file=sys.stderr, flush=True)
+
+    failed = False
+    for path in files:
+        start = time.perf_counter()
+        try:
+            compiled = compile_file(path, progress)
+        except LegError as e:
+            print(e.render(), file=sys.stderr)
+            failed = True
+            continue
+        for c in compiled:
+            where = write_generated(c, args.out)
+            progress(f"{c.name}: wrote {where}/ ({time.perf_counter() - start:.2f} s in all)")
+    return EXIT_USER_ERROR if failed else 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -292,6 +327,25 @@ def _parser() -> argparse.ArgumentParser:
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
     _COMMANDS["metrics"] = _cmd_metrics
+
+    k = sub.add_parser(
+        "compile",
+        help="generate the equations of motion of creatures as Python modules",
+        description="Lower each creature through sympy (articulated-body dynamics, bias forces, "
+        "mass matrix, contact kinematics) and write generated/NAME/dynamics.py, replacing the "
+        "directory only once the new one is complete. Progress goes to stderr. --all compiles "
+        "creatures/*.leg and is the command that updates the golden files.",
+        epilog="Example: legdsl compile creatures/kangaroo.leg  (or: legdsl compile --all)",
+    )
+    k.add_argument("files", nargs="*", metavar="FILE", help=".leg files to compile")
+    k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
+    k.add_argument(
+        "--out",
+        default="generated",
+        metavar="DIR",
+        help="where to write NAME/ (default: generated)",
+    )
+    _COMMANDS["compile"] = _cmd_compile
 
     return p
 
