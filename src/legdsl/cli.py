@@ -256,7 +256,7 @@ def _parser() -> argparse.ArgumentParser:
         "--fall-height",
         type=float,
         metavar="Z",
-        help="the root below Z metres is a fall (default 30%% of its starting height)",
+        help="the root below Z metres is a fall (default 30%% of its height over its feet at the start)",
     )
     r.add_argument(
         "--fall-tilt",
