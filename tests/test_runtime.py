@@ -80,7 +80,9 @@ def test_spring_mass_bounce_period_and_eq2_apex(hopper) -> None:
     predicted = (strain + total_mass * g * tr.com[mid, 2] + kinetic) / (total_mass * g)
     flight = (tr.t > lift[0]) & (tr.t < touch[1])
     assert tr.com[flight, 2].max() == pytest.approx(predicted, rel=0.01)
-    assert predicted == pytest.approx(tr.com[0, 2], rel=0.01)  # and energy came back: the drop height
+    assert predicted == pytest.approx(
+        tr.com[0, 2], rel=0.01
+    )  # and energy came back: the drop height
 
 
 def test_same_inputs_give_byte_identical_trajectories(hopper, tmp_path: Path) -> None:
