@@ -60,16 +60,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .checker import check_model
-    from .runner import apply_settings, load_dynamics, progress_bar, summary, write_run
+    from .controller import StateMachine
+    from .runner import (
+        load_controller,
+        load_dynamics,
+        progress_bar,
+        sort_settings,
+        summary,
+        write_run,
+    )
     from .simulate import RunOptions, Simulation
 
     source = Path(args.file)
     model = check_model(source, args.creature)
-    if args.controller is not None:
-        raise UsageError(
-            f"--controller {args.controller}: controllers are not runnable in this version of "
-            "legdsl yet (their semantics come with the controller stage); run without --controller"
-        )
     options = RunOptions(
         duration=args.time,
         dt=args.dt,
@@ -80,12 +83,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
         fall_tilt=math.radians(args.fall_tilt),
         drop=args.drop,
     )
-    dynamics = load_dynamics(model, source, Path(args.generated), log=sys.stderr)
-    sim = Simulation(model, dynamics, options)
-    settings = apply_settings(sim, args.set)
+    generated = Path(args.generated)
+    dynamics = load_dynamics(model, source, generated, log=sys.stderr)
+    control = None
+    if args.controller is not None:
+        control = load_controller(model, args.controller, source, generated, log=sys.stderr)
+    settings = sort_settings(args.set, model, control)
+    machine = None
+    if control is not None:
+        machine = StateMachine(model, control, settings.inputs, settings.params, settings.schedule)
+    sim = Simulation(model, dynamics, options, machine)
+    for name, value in settings.actuators.items():
+        actuator, _, key = name.partition(".")
+        sim.actuators.by_name[actuator].set(key, value)
     result = sim.run(progress_bar if sys.stderr.isatty() else None)
     out = Path(args.out) if args.out else Path("runs") / model.name
-    write_run(out, model, options, result, {"settings": settings})
+    extra = {"controller": args.controller, "settings": settings.as_json()}
+    if machine is not None:
+        extra["inputs"] = machine.initial_inputs
+        extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
+    write_run(out, model, options, result, extra)
     print(summary(model, result))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if result.status == "diverged":
@@ -213,13 +230,14 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
     r.add_argument("--creature", help="which creature, if the file has several")
-    r.add_argument("--controller", help="the controller to run (a later stage)")
+    r.add_argument("--controller", metavar="NAME", help="run this controller of the creature")
     r.add_argument(
         "--set",
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="set an actuator input, e.g. --set hip_servo.setpoint=10deg (repeatable)",
+        help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
+        "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
     )
     r.add_argument(
         "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"

@@ -32,7 +32,9 @@ class RunOptions:
     integrator: str = "euler"  # semi-implicit Euler, or "rk4"
     control_dt: float = 0.002  # "usually a few ms" (Figure 2)
     record_rate: float = 200.0  # samples per second; 0 records every step
-    fall_height: float | None = None  # root below this is a fall; default 30% of its height over its feet
+    fall_height: float | None = (
+        None  # root below this is a fall; default 30% of its height over its feet
+    )
     fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall
     drop: float | None = None  # start with the lowest contact this high above the ground
 
@@ -291,7 +293,9 @@ class Simulation:
         height = limit if limit is not None else 0.3 * start_height if start_height > 0 else None
         above = pos[2] - self._ground_under(pos)
         if height is not None and above < height:
-            self.message = f"the root fell to {above:.3g} m above the ground (the limit is {height:.3g} m)"
+            self.message = (
+                f"the root fell to {above:.3g} m above the ground (the limit is {height:.3g} m)"
+            )
             return "fell"
         if tilt > self.options.fall_tilt:
             self.message = (
@@ -390,15 +394,19 @@ class Simulation:
             progress(self.t, opts.duration)
         return RunResult(
             trajectory=traj.head(recorded),
-            events=[
-                {"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events
-            ],
+            events=self._all_events(),
             status=status,
             message=self.message,
             steps=steps,
             wall_time=wall,
             sim_time=self.t,
         )
+
+    def _all_events(self) -> list[dict[str, Any]]:
+        """Contact events and the controller's state changes, in time order."""
+        events = [{"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events]
+        events += list(getattr(self.controller, "events", []))
+        return sorted(events, key=lambda e: e["t"])
 
     def _empty(self, capacity: int) -> Trajectory:
         m = self.model
