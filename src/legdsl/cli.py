@@ -186,6 +186,20 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     return EXIT_USER_ERROR if failed else 0
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plot import first_leg_joints, plot_run
+
+    run = Path(args.dir)
+    if not (run / "trajectory.npz").is_file():
+        raise UsageError(
+            f"no trajectory.npz in {run}: give the directory a run wrote (legdsl run --out DIR)"
+        )
+    out = Path(args.output) if args.output else run / "figure6.png"
+    plot_run(run, out, first_leg_joints(run), args.t_from, args.t_to)
+    print(f"wrote {out}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -364,6 +378,22 @@ def _parser() -> argparse.ArgumentParser:
         help="where to write NAME/ (default: generated)",
     )
     _COMMANDS["compile"] = _cmd_compile
+
+    pl = sub.add_parser(
+        "plot",
+        help="draw a run like Figure 6 of the paper (PNG)",
+        description="Draw body height, body pitch, forward speed against its command and the "
+        "joint angles of the first leg over time, with every stance phase of that leg between "
+        "dashed lines (Figure 6 of Raibert & Hodgins 1991). Writes DIR/figure6.png by default.",
+        epilog="Example: legdsl plot runs/kangaroo --from 3 --to 4",
+    )
+    pl.add_argument("dir", metavar="DIR", help="a run directory (legdsl run --out DIR)")
+    pl.add_argument("-o", "--output", metavar="FILE.png", help="where to write the picture")
+    pl.add_argument(
+        "--from", dest="t_from", type=float, default=0.0, metavar="T", help="start time (s)"
+    )
+    pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
+    _COMMANDS["plot"] = _cmd_plot
 
     return p
 
