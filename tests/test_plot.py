@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import CREATURES
+
 from legdsl.cli import main
 from legdsl.plot import stance_phases
 from legdsl.trajectory import empty
@@ -36,8 +36,9 @@ def test_stance_phases_bracket_every_support(tmp_path: Path) -> None:
 
     tr = Trajectory.load(_run(tmp_path))
     phases = stance_phases(tr, 0)
-    assert len(phases) == 4
-    for k, (start, stop) in enumerate(phases):
+    assert len(phases) == 5
+    assert phases[-1] == (1.0, 1.0)  # a stance that begins at the last sample ends with the run
+    for k, (start, stop) in enumerate(phases[:-1]):
         assert start == pytest.approx(0.25 * k, abs=1e-3)
         assert stop - start == pytest.approx(0.1, abs=2e-3)
 
