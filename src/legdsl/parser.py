@@ -8,9 +8,12 @@ example-matched errors).
 
 from __future__ import annotations
 
+import difflib
 import functools
+import re
 import tomllib
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +22,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from . import ast
 from .errors import Diagnostic, LegError, Span
-from .units import DIMENSIONLESS, Quantity, parse_unit
+from .units import DIMENSIONLESS, UNITS, Quantity, UnitError, parse_unit, unit_pattern
 
 _PACKAGE_GRAMMAR = Path(__file__).parent / "grammar"
 _SOURCE_GRAMMAR = Path(__file__).resolve().parents[2] / "grammar"
@@ -40,10 +43,14 @@ def _lark() -> Lark:
 
 
 @functools.cache
+def _friendly_entries() -> tuple[dict[str, Any], ...]:
+    data = tomllib.loads((grammar_dir() / "friendly_errors.toml").read_text(encoding="utf-8"))
+    return tuple(data["error"])
+
+
 def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
     """(message, example inputs) pairs from grammar/friendly_errors.toml."""
-    data = tomllib.loads((grammar_dir() / "friendly_errors.toml").read_text(encoding="utf-8"))
-    return tuple((e["message"], tuple(e["examples"])) for e in data["error"])
+    return tuple((e["message"], tuple(e["examples"])) for e in _friendly_entries())
 
 
 # ------------------------------------------------------------ spans and values
@@ -305,66 +312,225 @@ def _describe_expected(expected: set[str]) -> str:
 
 def _found(token: Token) -> str:
     if token.type == "$END":
-        return "the end of the file"
+        return "end of the file"
     kind = _TOKEN_WORDS.get(token.type, "").removeprefix("a ")
     return f"{kind} '{token}'" if kind else f"'{token}'"
 
 
-def _unknown_unit_before(text: str, pos: int) -> tuple[str, int] | None:
-    """The word just before ``pos`` when it directly follows a number, as ``kgs`` in ``5 kgs``."""
-    before = text[:pos].rstrip(" \t")
-    end = len(before)
-    start = end
-    while start > 0 and (before[start - 1].isalnum() or before[start - 1] == "_"):
-        start -= 1
-    word = before[start:end]
-    if not word or not (word[0].isalpha() or word[0] == "_"):
+@dataclass(frozen=True)
+class _ErrorContext:
+    """Where the parser stopped: its LALR state stack, the token it could not take, the next one."""
+
+    stack: tuple[int, ...]
+    token: str
+    next_token: str
+
+
+def _error_context(err: UnexpectedInput, text: str) -> _ErrorContext | None:
+    stack = getattr(err.state, "state_stack", None)
+    if not stack:
         return None
-    gap = text[:start].rstrip(" \t")
-    if gap and (gap[-1].isdigit() or gap[-1] == ".") and "\n" not in text[len(gap) : start]:
-        return word, start
+    if isinstance(err, UnexpectedToken):
+        if err.token.type == "$END":
+            return _ErrorContext(tuple(stack), "$END", "$END")
+        end = err.token.end_pos
+        token = err.token.type
+    elif isinstance(err, UnexpectedCharacters):
+        end = (err.pos_in_stream or 0) + 1
+        token = f"char {err.char}"
+    else:
+        return None
+    return _ErrorContext(tuple(stack), token, _token_type_at(text, end or 0))
+
+
+_NEXT_TOKEN = re.compile(
+    r'(?:\s|#[^\n]*)*(?:(?P<name>[A-Za-z_]\w*)|(?P<number>\.?\d)|(?P<string>")|(?P<op>[<>=!]=|\S))?'
+)
+
+
+@functools.cache
+def _literal_terminals() -> dict[str, str]:
+    """Keyword and punctuation text -> terminal name, e.g. 'on' -> 'ON', ';' -> 'SEMICOLON'."""
+    return {t.pattern.value: t.name for t in _lark().terminals if t.pattern.type == "str"}
+
+
+def _token_type_at(text: str, pos: int) -> str:
+    """The kind of the token at ``pos`` (after blanks and comments), named as lark names it."""
+    m = _NEXT_TOKEN.match(text, pos)
+    if m is None or m.lastgroup is None:
+        return "$END"
+    if m.lastgroup == "number":
+        return "QUANTITY"
+    if m.lastgroup == "string":
+        return "STRING"
+    word = m.group(m.lastgroup)
+    return _literal_terminals().get(word, "NAME" if m.lastgroup == "name" else f"char {word}")
+
+
+@functools.cache
+def _friendly_table() -> tuple[tuple[tuple[str, _ErrorContext], ...], str | None]:
+    """(message, context) of every example, and the message for a '{' left open at the end."""
+    table = []
+    at_end = None
+    for entry in _friendly_entries():
+        if entry.get("at_end_with_open_brace") and at_end is None:
+            at_end = entry["message"]
+        for example in entry["examples"]:
+            try:
+                _lark().parse(example)
+            except UnexpectedInput as e:
+                context = _error_context(e, example)
+                if context is not None:
+                    table.append((entry["message"], context))
+    return tuple(table), at_end
+
+
+def _friendly(context: _ErrorContext) -> str | None:
+    """The message of the example that failed the same way: in the same parser state on the
+    same kind of token. Ties go to the example whose parse stack agrees deepest, then to one
+    followed by the same kind of token, then to the first written."""
+    best, best_score = None, (-1, False)
+    for message, example in _friendly_table()[0]:
+        if example.stack[-1] != context.stack[-1] or example.token != context.token:
+            continue
+        depth = 0
+        for a, b in zip(reversed(example.stack), reversed(context.stack), strict=False):
+            if a != b:
+                break
+            depth += 1
+        score = (depth, example.next_token == context.next_token)
+        if score > best_score:
+            best, best_score = message, score
+    return best
+
+
+def _mask(text: str) -> str:
+    """``text`` with comments and strings blanked out (same length, same line breaks)."""
+    return re.sub(r'"[^"\n]*"|#[^\n]*', lambda m: " " * len(m.group()), text)
+
+
+def _open_brace(text: str) -> bool:
+    depth = 0
+    for ch in _mask(text):
+        if ch == "{":
+            depth += 1
+        elif ch == "}":
+            depth = max(depth - 1, 0)
+    return depth > 0
+
+
+# A number and the word written after it on the same line, as '5 kgs' or '2 m/sec'.
+_NUMBER_AND_WORD = re.compile(
+    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_][^\s,;:(){}\[\]=<>!#\"]*)"
+)
+_UNIT_NAMES = {
+    "sec", "secs", "second", "seconds", "meter", "meters", "metre", "metres",
+    "kilogram", "kilograms", "kilo", "kilos", "gram", "grams", "degree", "degrees",
+    "radian", "radians", "newton", "newtons", "joule", "joules", "watt", "watts",
+    "hertz", "minute", "minutes", "hour", "hours", "hr", "h", "inch", "in", "ft",
+    "lb", "lbs", "mph", "kph", "kmh", "mps", "rpm",
+}  # fmt: skip
+_UNIT_RUN = re.compile(rf"(?:{'|'.join(sorted(UNITS, key=len, reverse=True))})+\d*")
+
+
+def _looks_like_unit(word: str) -> bool:
+    """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
+    if any(ch in "*/^." or not ch.isascii() for ch in word):
+        return True
+    lower = word.lower()
+    return (
+        lower in _UNIT_NAMES
+        or lower.rstrip("s") in {u.lower() for u in UNITS}
+        or _UNIT_RUN.fullmatch(word) is not None
+        or bool(difflib.get_close_matches(word, list(UNITS), n=1, cutoff=0.8))
+    )
+
+
+def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
+    """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
+    found = None
+    for m in _NUMBER_AND_WORD.finditer(_mask(text), 0, pos + 1):
+        if m.start(1) <= pos:
+            found = m
+    if found is None:
+        return None
+    word, start, end = found.group(1), found.start(1), found.end(1)
+    if end < pos and not re.fullmatch(r"\s*(?:[A-Za-z_]\w*\s*)?", text[end:pos]):
+        return None
+    try:
+        parse_unit(word)
+    except UnitError:
+        return (word, start) if _looks_like_unit(word) else None
     return None
 
 
+def _spaced_unit(text: str, token: Token) -> bool:
+    """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
+    if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
+        return False
+    before = _mask(text)[: token.start_pos]
+    if not before or before[-1] not in " \t":
+        return False
+    return (
+        re.search(
+            rf"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*{unit_pattern()}[ \t]+$", before
+        )
+        is not None
+    )
+
+
+def _offset_span(file: str, text: str, start: int, length: int) -> Span:
+    line = text.count("\n", 0, start) + 1
+    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    return Span(file, line, col, line, col + length)
+
+
 def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
-    line, col = err.line, err.column
-    if isinstance(err, UnexpectedEOF) or (
+    at_end = isinstance(err, UnexpectedEOF) or (
         isinstance(err, UnexpectedToken) and err.token.type == "$END"
-    ):
-        lines = text.splitlines() or [""]
-        line, col = len(lines), len(lines[-1]) + 1
+    )
+    if at_end:
+        # Just after the last thing written (lark's end token borrows its position).
+        token = getattr(err, "token", None)
+        if token is not None and token.end_line is not None and token.end_column is not None:
+            line, col = token.end_line, token.end_column
+        else:
+            line = text.count("\n") + 1
+            col = len(text) - (text.rfind("\n") + 1) + 1
         span = Span(file, line, col, line, col + 1)
     elif isinstance(err, UnexpectedToken):
         span = _tspan(file, err.token)
     else:
-        span = Span(file, line, col, line, col + 1)
+        span = Span(file, err.line, err.column, err.line, err.column + 1)
 
-    friendly = None
-    if isinstance(err, UnexpectedToken | UnexpectedEOF):
-        try:
-            friendly = err.match_examples(
-                _lark().parse,
-                {msg: list(examples) for msg, examples in friendly_errors()},
-                use_accepts=True,
-            )
-        except Exception:  # matching is a nicety; never let it hide the real error
-            friendly = None
-    unit = None
-    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None:
-        unit = _unknown_unit_before(text, err.token.start_pos)
+    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None and not at_end:
+        pos = err.token.start_pos
+    elif isinstance(err, UnexpectedCharacters):
+        pos = err.pos_in_stream
+    else:
+        pos = None
+    unit = _bad_unit(text, pos) if pos is not None else None
+    context = _error_context(err, text)
+    friendly = _friendly(context) if context is not None else None
+    unclosed = _friendly_table()[1]
+    if friendly is None and at_end and unclosed is not None and _open_brace(text):
+        friendly = unclosed
 
-    if friendly:
-        message = friendly
-    elif unit is not None:
+    if unit is not None:
         word, start = unit
-        line = text.count("\n", 0, start) + 1
-        col = start - (text.rfind("\n", 0, start) + 1) + 1
-        span = Span(file, line, col, line, col + len(word))
+        span = _offset_span(file, text, start, len(word))
+        symbols = ", ".join(UNITS)
         message = (
-            f"'{word}' is not a unit legdsl knows; write the unit right after the number "
-            "with known symbols (kg, g, m, cm, mm, s, ms, N, J, W, Hz, rad, deg, rev), "
-            "e.g. '5 m/s' or '60 N*m/rad'"
+            f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
+            f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
         )
+        close = difflib.get_close_matches(word, list(UNITS), n=1, cutoff=0.6)
+        if close:
+            message += f"; did you mean '{close[0]}'?"
+    elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
+        message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
+    elif friendly is not None:
+        message = friendly
     elif isinstance(err, UnexpectedToken):
         expected = _describe_expected(set(err.accepts or err.expected))
         message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
@@ -389,7 +555,7 @@ def parse(text: str, file: str = "<string>") -> ast.SourceFile:
 
 def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
     items = _ToAst(file).transform(tree).children
-    lines = text.splitlines() or [""]
+    lines = text.split("\n")
     span = Span(file, 1, 1, len(lines), len(lines[-1]) + 1)
     return ast.SourceFile(
         path=file,
@@ -405,11 +571,22 @@ def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
     """Read and parse a file; returns the tree and the text (for error rendering)."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        data = p.read_bytes()
     except FileNotFoundError:
         raise LegError.at(Span(str(path), 0, 0, 0, 0), f"no such file: {path}") from None
-    except UnicodeDecodeError as e:
+    except OSError as e:
         raise LegError.at(
-            Span(str(path), 1, 1, 1, 2), f"the file is not UTF-8 text ({e.reason})"
+            Span(str(path), 0, 0, 0, 0), f"cannot read {path}: {e.strerror}"
         ) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        line_start = data.rfind(b"\n", 0, e.start) + 1
+        col = len(data[line_start : e.start].decode("utf-8", errors="replace")) + 1
+        raise LegError.at(
+            Span(str(path), line, col, line, col + 1), f"the file is not UTF-8 text ({e.reason})"
+        ) from None
+    # Line ends as Python's text mode reads them: \r\n and a lone \r are \n.
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
     return parse(text, str(path)), text
