@@ -34,7 +34,7 @@ from .model import (
     Vec3,
 )
 from .parser import parse_file
-from .units import KINDS, describe
+from .units import KINDS, Dim, describe, parse_unit
 
 STDLIB = Path(__file__).parent / "stdlib"
 
@@ -100,6 +100,9 @@ class CreatureChecker:
             self.err(value.span, f"{what} must be a number with a unit of {_unit_hint(kind)}")
             return None
         q = node.quantity
+        if not math.isfinite(q.value):
+            self.err(node.span, f"'{node.text}' is too large a number")
+            return None
         want = KINDS[kind][0]
         if q.unitless:
             if kind != "dimensionless" and q.value != 0.0:
@@ -110,11 +113,7 @@ class CreatureChecker:
                 return None
             return sign * q.value
         if q.dim != want:
-            self.err(
-                node.span,
-                f"{what} is a {kind} ({_unit_hint(kind)}), but '{node.text}' is "
-                f"{'a ' if q.dim != (0, 0, 0, 0) else ''}{describe(q.dim)}",
-            )
+            self.err(node.span, _wrong_dimension(what, kind, node.text, q.dim))
             return None
         return sign * q.value
 
@@ -133,15 +132,10 @@ class CreatureChecker:
             )
             return None
         if value.unit is not None:
-            from .units import parse_unit
-
             factor, dim = parse_unit(value.unit)
             if dim != KINDS[kind][0]:
                 assert value.unit_span is not None
-                self.err(
-                    value.unit_span,
-                    f"{what} is a {kind} ({_unit_hint(kind)}), but '{value.unit}' is {describe(dim)}",
-                )
+                self.err(value.unit_span, _wrong_dimension(what, kind, value.unit, dim))
                 return None
             out = []
             for item in value.items:
@@ -149,6 +143,9 @@ class CreatureChecker:
                     item, "dimensionless", f"a component of {what} (the unit is after ')')"
                 )
                 if v is None:
+                    return None
+                if not math.isfinite(v * factor):
+                    self.err(item.span, f"{what} is too large")
                     return None
                 out.append(v * factor)
             return tuple(out)
@@ -553,7 +550,7 @@ class CreatureChecker:
         if kind not in SHAPES:
             self.err(
                 value.func.span,
-                f"unknown shape '{kind}'{did_you_mean(kind, SHAPES)}; use one of {', '.join(SHAPES)}",
+                f"unknown shape '{kind}'; use one of {', '.join(SHAPES)}{did_you_mean(kind, SHAPES)}",
             )
             return default
         keys = SHAPES[kind]
@@ -565,30 +562,39 @@ class CreatureChecker:
         if len(positional) > len(keys):
             self.err(value.span, f"{kind}() takes {len(keys)} sizes ({', '.join(keys)})")
             return default
+        given: set[str] = set()  # written, even if wrong (then reported on its own)
         for key, arg in zip(keys, positional, strict=False):
+            given.add(key)
             v = self.scalar(arg.value, "length", f"{kind} size '{key}'")
             if v is not None:
                 params[key] = v
         for arg in value.args:
             if arg.keyword is None:
                 continue
-            if arg.keyword.name == "center":
-                center = self.point(arg.value, "the shape centre") or center
-            elif arg.keyword.name in keys:
-                v = self.scalar(arg.value, "length", f"{kind} size '{arg.keyword.name}'")
-                if v is not None:
-                    params[arg.keyword.name] = v
-            else:
+            name = arg.keyword.name
+            if name not in (*keys, "center"):
                 self.err(
                     arg.keyword.span,
-                    f"{kind}() has no argument '{arg.keyword.name}'; it takes {', '.join(keys)} and center",
+                    f"{kind}() has no argument '{name}'; it takes {', '.join(keys)} and center",
                 )
+                continue
+            if name in given:
+                self.err(arg.keyword.span, f"'{name}' is given twice")
+                continue
+            given.add(name)
+            if name == "center":
+                center = self.point(arg.value, "the shape centre") or center
+            else:
+                v = self.scalar(arg.value, "length", f"{kind} size '{name}'")
+                if v is not None:
+                    params[name] = v
         for key, v in params.items():
             if v <= 0:
                 self.err(value.span, f"{kind} size '{key}' must be positive")
-        missing = [k for k in keys if k not in params]
+        missing = [k for k in keys if k not in given]
         if missing:
             self.err(value.span, f"{kind}() needs {', '.join(missing)}")
+        if missing or any(k not in params or params[k] <= 0 for k in keys):
             return default
         if kind == "box" and self.planar:
             params["y"] = min(params["x"], params["z"])
@@ -618,8 +624,8 @@ class CreatureChecker:
             if kind not in JOINT_KINDS:
                 self.err(
                     attach.kind.span,
-                    f"unknown joint kind '{kind}'{did_you_mean(kind, JOINT_KINDS)}; "
-                    f"use one of {', '.join(JOINT_KINDS)}",
+                    f"unknown joint kind '{kind}'; use one of {', '.join(JOINT_KINDS)}"
+                    + did_you_mean(kind, JOINT_KINDS),
                 )
                 kind = "fixed"
             if self.planar and kind in ("gimbal", "ball"):
@@ -638,7 +644,10 @@ class CreatureChecker:
         if kind == "free":
             coord_names = ["x", "z", "pitch"] if self.planar else []
         elif kind in ("gimbal", "ball"):
-            coord_names = [f"{name}_{_axis_suffix(a, i)}" for i, a in enumerate(axes)]
+            suffixes = [_axis_suffix(a, i) for i, a in enumerate(axes)]
+            if len(set(suffixes)) < len(suffixes):  # e.g. axes x, y, x: number them all
+                suffixes = [str(i + 1) for i in range(len(axes))]
+            coord_names = [f"{name}_{s}" for s in suffixes]
         elif kind in ("revolute", "prismatic"):
             coord_names = [name]
         else:
@@ -883,8 +892,8 @@ class CreatureChecker:
         if kind not in ACTUATOR_ARGS:
             self.err(
                 decl.kind.span,
-                f"unknown actuator kind '{kind}'{did_you_mean(kind, [*ACTUATOR_ARGS, 'torque'])}; "
-                "use spring (eq. 1), servo (eq. 5), force or torque",
+                f"unknown actuator kind '{kind}'; use spring (eq. 1), servo (eq. 5), force or torque"
+                + did_you_mean(kind, [*ACTUATOR_ARGS, "torque"]),
             )
             return None
         dof = dofs.get(decl.coordinate.name)
@@ -907,6 +916,7 @@ class CreatureChecker:
         }
         joint_desc = f"{'revolute' if rotary else 'sliding'} coordinate '{dof.name}'"
         params: dict[str, float] = {}
+        given: set[str] = set()  # written, even if wrong (then reported on its own)
         limit = None
         for arg in decl.args:
             if arg.keyword is None:
@@ -922,6 +932,10 @@ class CreatureChecker:
                     f"a {kind} has no '{key}'; it takes {', '.join(ACTUATOR_ARGS[kind])}{did_you_mean(key, ACTUATOR_ARGS[kind])}",
                 )
                 continue
+            if key in given:
+                self.err(arg.keyword.span, f"'{key}' is given twice")
+                continue
+            given.add(key)
             want = kinds[key]
             wrong = self.wrong_motion(arg.value, want)
             if wrong:
@@ -944,7 +958,7 @@ class CreatureChecker:
                 params[key] = v
         required = {"spring": ("k",), "servo": ("kp",), "force": ()}[kind]
         for key in required:
-            if key not in params:
+            if key not in given:
                 self.err(
                     decl.kind.span,
                     f"a {kind} needs '{key}', e.g. {kind}({key} = ... {_unit_hint(kinds[key])})",
@@ -1044,7 +1058,7 @@ class CreatureChecker:
                     )
                 continue
             if not isinstance(value, ast.Call):
-                self.err(p.value.span, _GROUND_HELP[key])
+                self.err(p.value.span, _ground_help(key))
                 continue
             if key == "terrain":
                 t = self.terrain(value)
@@ -1068,7 +1082,7 @@ class CreatureChecker:
                     normal = Pad(args["k"], args["thickness"], args.get("b", 0.0))
                 continue
             if value.func.name != "spring":
-                self.err(value.func.span, _GROUND_HELP[key])
+                self.err(value.func.span, _ground_help(key))
                 continue
             args = self.kwargs(
                 value,
@@ -1089,7 +1103,8 @@ class CreatureChecker:
                 torsion = sd
         for key in ("normal", "tangent"):
             if key not in seen:
-                self.err(block.name.span, f"the ground needs '{key} ...': {_GROUND_HELP[key]}")
+                what, forms = _GROUND_HELP[key]
+                self.err(block.name.span, f"the ground needs {what}: {forms}")
         if normal is None or tangent is None:
             return None
         return Ground(normal, tangent, torsion, friction, tuple(terrain), block.span)
@@ -1098,6 +1113,7 @@ class CreatureChecker:
         self, call: ast.Call, kinds: dict[str, str], required: tuple[str, ...]
     ) -> dict[str, float] | None:
         out: dict[str, float] = {}
+        given: set[str] = set()
         ok = True
         for arg in call.args:
             if arg.keyword is None or arg.keyword.name not in kinds:
@@ -1108,6 +1124,11 @@ class CreatureChecker:
                 )
                 ok = False
                 continue
+            if arg.keyword.name in given:
+                self.err(arg.keyword.span, f"'{arg.keyword.name}' is given twice")
+                ok = False
+                continue
+            given.add(arg.keyword.name)
             v = self.scalar(arg.value, kinds[arg.keyword.name], f"'{arg.keyword.name}'")
             if v is None:
                 ok = False
@@ -1140,7 +1161,7 @@ class CreatureChecker:
         if call.func.name not in kinds:
             self.err(
                 call.func.span,
-                f"unknown terrain '{call.func.name}'{did_you_mean(call.func.name, kinds)}; use step(x = ..., height = ...) or box(x0 = ..., x1 = ..., height = ...)",
+                f"unknown terrain '{call.func.name}'; use step(x = ..., height = ...) or box(x0 = ..., x1 = ..., height = ...){did_you_mean(call.func.name, kinds)}",
             )
             return None
         arg_kinds, required = kinds[call.func.name]
@@ -1164,6 +1185,9 @@ class CreatureChecker:
                 self.err(
                     arg.span, f"{call.func.name}() takes {', '.join(k + ' = ...' for k in kinds)}"
                 )
+                return None
+            if arg.keyword.name in out:
+                self.err(arg.keyword.span, f"'{arg.keyword.name}' is given twice")
                 return None
             v = self.scalar(arg.value, kinds[arg.keyword.name], f"'{arg.keyword.name}'")
             if v is None:
@@ -1246,7 +1270,7 @@ class CreatureChecker:
                 elif ident.name not in contact_by:
                     self.err(
                         ident.span,
-                        f"unknown contact '{ident.name}'{did_you_mean(ident.name, contact_by)}; declare it with 'contact {ident.name} on BODY at tip'",
+                        f"unknown contact '{ident.name}'; declare it with 'contact {ident.name} on BODY at tip'{did_you_mean(ident.name, contact_by)}",
                     )
                 else:
                     foot = ident.name
@@ -1264,7 +1288,7 @@ class CreatureChecker:
                     if target.name not in referable:
                         self.err(
                             target.span,
-                            f"unknown name '{target.name}'{did_you_mean(target.name, referable)}; an alias names an actuator, joint, coordinate, contact or body",
+                            f"unknown name '{target.name}'; an alias names an actuator, joint, coordinate, contact or body{did_you_mean(target.name, referable)}",
                         )
                         continue
                     aliases.append((item.target.name, target.name))
@@ -1291,12 +1315,44 @@ class CreatureChecker:
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
 
 
+# What each ground property is, and how it is written.
 _GROUND_HELP = {
-    "normal": "the vertical spring: 'normal spring(k = 1.2e4 N/m, b = 150 N*s/m)' or the paw pad of eq. (6): 'normal pad(k = 250 N, thickness = 1 cm, b = 100 N*s/m)'",
-    "tangent": "the tangential springs: 'tangent spring(k = 8e3 N/m, b = 120 N*s/m)'",
-    "torsion": "the torsional spring about the normal: 'torsion spring(k = 5 N*m/rad, b = 0.5 N*m*s/rad)'",
-    "terrain": "terrain features: 'terrain step(x = 2 m, height = 0.1 m)' or 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)'",
+    "normal": (
+        "the vertical spring",
+        "'normal spring(k = 1.2e4 N/m, b = 150 N*s/m)' or the paw pad of eq. (6), 'normal pad(k = 250 N, thickness = 1 cm, b = 100 N*s/m)'",
+    ),
+    "tangent": ("the tangential springs", "'tangent spring(k = 8e3 N/m, b = 120 N*s/m)'"),
+    "torsion": (
+        "the torsional spring about the normal",
+        "'torsion spring(k = 5 N*m/rad, b = 0.5 N*m*s/rad)'",
+    ),
+    "terrain": (
+        "a terrain feature",
+        "'terrain step(x = 2 m, height = 0.1 m)' or 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)'",
+    ),
 }
+
+
+def _ground_help(key: str) -> str:
+    what, forms = _GROUND_HELP[key]
+    return f"write {what} as {forms}"
+
+
+def _wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
+    """'mass is a mass (kg), but '3 m' is a length (m)'."""
+    for name, (kind_dim, example) in KINDS.items():
+        if kind_dim == dim:
+            found = (
+                "dimensionless"
+                if name == "dimensionless"
+                else f"{_article(name)} {name} ({example})"
+            )
+            break
+    else:
+        found = f"in {describe(dim)}"
+    if kind == "dimensionless":
+        return f"{what} takes no unit, but '{written}' is {found}"
+    return f"{what} is {_article(kind)} {kind} ({_unit_hint(kind)}), but '{written}' is {found}"
 
 
 def _coord_kind(motion: str, rate: bool) -> str:
