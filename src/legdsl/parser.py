@@ -367,41 +367,82 @@ def _token_type_at(text: str, pos: int) -> str:
     return _literal_terminals().get(word, "NAME" if m.lastgroup == "name" else f"char {word}")
 
 
+@dataclass(frozen=True)
+class _FriendlyTable:
+    # (message, where its example failed, the kinds of token it also stands for)
+    examples: tuple[tuple[str, _ErrorContext, frozenset[str]], ...]
+    on_token: dict[str, str]  # token kind -> message, whatever the parser state
+    at_end_with_open_brace: str | None
+
+
 @functools.cache
-def _friendly_table() -> tuple[tuple[tuple[str, _ErrorContext], ...], str | None]:
-    """(message, context) of every example, and the message for a '{' left open at the end."""
-    table = []
+def _friendly_table() -> _FriendlyTable:
+    examples = []
+    on_token: dict[str, str] = {}
     at_end = None
     for entry in _friendly_entries():
+        message = entry["message"]
         if entry.get("at_end_with_open_brace") and at_end is None:
-            at_end = entry["message"]
+            at_end = message
+        if "on_token" in entry:
+            on_token.setdefault(_token_type_at(entry["on_token"], 0), message)
+        tokens = frozenset(_token_type_at(t, 0) for t in entry.get("tokens", ()))
         for example in entry["examples"]:
             try:
                 _lark().parse(example)
             except UnexpectedInput as e:
                 context = _error_context(e, example)
                 if context is not None:
-                    table.append((entry["message"], context))
-    return tuple(table), at_end
+                    examples.append((message, context, tokens | {context.token}))
+    return _FriendlyTable(tuple(examples), on_token, at_end)
 
 
-def _friendly(context: _ErrorContext) -> str | None:
-    """The message of the example that failed the same way: in the same parser state on the
-    same kind of token. Ties go to the example whose parse stack agrees deepest, then to one
-    followed by the same kind of token, then to the first written."""
-    best, best_score = None, (-1, False)
-    for message, example in _friendly_table()[0]:
-        if example.stack[-1] != context.stack[-1] or example.token != context.token:
+def _friendly(context: _ErrorContext, open_brace: bool) -> str | None:
+    """The message for a syntax error, from grammar/friendly_errors.toml, if one fits.
+
+    First the examples that failed the same way: in the same parser state on the same kind
+    of token (or one of the kinds their entry lists). Among those, the ones whose parse stack
+    is most like the error's, then the ones followed by the same kind of token; if they
+    disagree on the message, none is given. Then the entries that apply to a kind of token
+    wherever it comes, and to the end of the file inside an open '{'.
+    """
+    table = _friendly_table()
+    best_score: tuple[int, bool] | None = None
+    best: set[str] = set()
+    for message, example, tokens in table.examples:
+        if example.stack[-1] != context.stack[-1] or context.token not in tokens:
             continue
-        depth = 0
-        for a, b in zip(reversed(example.stack), reversed(context.stack), strict=False):
-            if a != b:
-                break
-            depth += 1
-        score = (depth, example.next_token == context.next_token)
-        if score > best_score:
-            best, best_score = message, score
-    return best
+        # Likeness: the states of the example's stack that the error's stack also has, in
+        # order, less those it lacks. A subsequence rather than a common top of stack, so
+        # that an operator that differs ('<' for '>') does not hide the context around it.
+        common = _common_subsequence(example.stack, context.stack)
+        score = (2 * common - len(example.stack), example.next_token == context.next_token)
+        if best_score is None or score > best_score:
+            best, best_score = {message}, score
+        elif score == best_score:
+            best.add(message)
+    if len(best) == 1:
+        return best.pop()
+    if best:  # examples of different slips fit equally well: better say nothing special
+        return None
+    if context.token in table.on_token:
+        return table.on_token[context.token]
+    if context.token == "$END" and open_brace:
+        return table.at_end_with_open_brace
+    return None
+
+
+def _common_subsequence(a: tuple[int, ...], b: tuple[int, ...]) -> int:
+    """The length of the longest common subsequence of two parse stacks."""
+    row = [0] * (len(b) + 1)
+    for x in a:
+        prev_diag = 0
+        for j, y in enumerate(b):
+            prev_diag, row[j + 1] = (
+                row[j + 1],
+                (prev_diag + 1 if x == y else max(row[j + 1], row[j])),
+            )
+    return row[-1]
 
 
 def _mask(text: str) -> str:
@@ -423,35 +464,74 @@ def _open_brace(text: str) -> bool:
 _NUMBER_AND_WORD = re.compile(
     r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_][^\s,;:(){}\[\]=<>!#\"]*)"
 )
-_UNIT_NAMES = {
-    "sec", "secs", "second", "seconds", "meter", "meters", "metre", "metres",
-    "kilogram", "kilograms", "kilo", "kilos", "gram", "grams", "degree", "degrees",
-    "radian", "radians", "newton", "newtons", "joule", "joules", "watt", "watts",
-    "hertz", "minute", "minutes", "hour", "hours", "hr", "h", "inch", "in", "ft",
-    "lb", "lbs", "mph", "kph", "kmh", "mps", "rpm",
+# Units spelt out, or from elsewhere, in the singular (a final 's' is dropped before
+# looking), with the symbol to suggest instead (None: no such unit in legdsl).
+_UNIT_NAMES: dict[str, str | None] = {
+    "sec": "s", "second": "s", "msec": "ms", "millisecond": "ms", "minute": "min",
+    "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
+    "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
+    "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
+    "degree": "deg", "radian": "rad", "revolution": "rev",
+    "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
+    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": None,
 }  # fmt: skip
-_UNIT_RUN = re.compile(rf"(?:{'|'.join(sorted(UNITS, key=len, reverse=True))})+\d*")
+_UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
+_UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
+_UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
+
+
+def _plain_unit(word: str) -> str:
+    return word.replace("²", "^2").replace("³", "^3").replace("·", "*").replace(".", "*")
 
 
 def _looks_like_unit(word: str) -> bool:
     """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
-    if any(ch in "*/^." or not ch.isascii() for ch in word):
-        return True
-    lower = word.lower()
-    return (
-        lower in _UNIT_NAMES
-        or lower.rstrip("s") in {u.lower() for u in UNITS}
-        or _UNIT_RUN.fullmatch(word) is not None
-        or bool(difflib.get_close_matches(word, list(UNITS), n=1, cutoff=0.8))
+    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
+    return bool(parts) and all(
+        p.lower().removesuffix("s") in _UNIT_NAMES
+        or p.lower().removesuffix("s") in _UNIT_BY_LOWER
+        or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
+        for p in parts
     )
+
+
+def _suggest_unit(word: str) -> str | None:
+    """A unit legdsl knows for a misspelt one: 'kgs' -> 'kg', 'm/sec' -> 'm/s', 'Nm' -> 'N*m'."""
+    out = []
+    for part in re.split(r"([*/^])", _plain_unit(word)):
+        singular = part.lower().removesuffix("s")
+        if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
+            out.append(part)
+        elif singular in _UNIT_NAMES:
+            symbol = _UNIT_NAMES[singular]
+            if symbol is None:
+                return None
+            out.append(symbol)
+        elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
+            out.append(_UNIT_BY_LOWER[singular])
+        elif _UNIT_RUN.fullmatch(part):
+            out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
+        else:
+            close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
+            if not close:
+                return None
+            out.append(close[0])
+    suggestion = "".join(out)
+    try:
+        parse_unit(suggestion)
+    except UnitError:
+        return None
+    return suggestion if suggestion != word else None
 
 
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
     found = None
-    for m in _NUMBER_AND_WORD.finditer(_mask(text), 0, pos + 1):
-        if m.start(1) <= pos:
-            found = m
+    for m in _NUMBER_AND_WORD.finditer(_mask(text)):
+        if m.start(1) > pos:
+            break
+        found = m
     if found is None:
         return None
     word, start, end = found.group(1), found.start(1), found.end(1)
@@ -511,10 +591,7 @@ def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         pos = None
     unit = _bad_unit(text, pos) if pos is not None else None
     context = _error_context(err, text)
-    friendly = _friendly(context) if context is not None else None
-    unclosed = _friendly_table()[1]
-    if friendly is None and at_end and unclosed is not None and _open_brace(text):
-        friendly = unclosed
+    friendly = _friendly(context, _open_brace(text)) if context is not None else None
 
     if unit is not None:
         word, start = unit
@@ -524,9 +601,9 @@ def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
             f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
             f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
         )
-        close = difflib.get_close_matches(word, list(UNITS), n=1, cutoff=0.6)
-        if close:
-            message += f"; did you mean '{close[0]}'?"
+        suggestion = _suggest_unit(word)
+        if suggestion:
+            message += f"; did you mean '{suggestion}'?"
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
     elif friendly is not None:
@@ -536,8 +613,6 @@ def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
     elif isinstance(err, UnexpectedCharacters):
         message = f"unexpected character '{err.char}'"
-        if err.char == ";":
-            message += "; ';' separates actions in a controller only"
     else:
         expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
         message = "unexpected end of the file" + (f"; {expected}" if expected else "")
