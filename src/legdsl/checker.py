@@ -408,7 +408,7 @@ class CreatureChecker:
         if "mass" not in props:
             self.err(decl.name.span, f"body '{name}' needs a mass, e.g. 'mass 1.5 kg'")
         else:
-            m = self.one_scalar(props["mass"], "mass", "mass")
+            m = self.one_scalar(props["mass"], "mass", "the mass")
             if m is not None and m <= 0:
                 self.err(props["mass"].value.span, f"the mass of body '{name}' must be positive")
             elif m is not None:
@@ -416,7 +416,7 @@ class CreatureChecker:
 
         length = None
         if "length" in props:
-            length = self.one_scalar(props["length"], "length", "length")
+            length = self.one_scalar(props["length"], "length", "the link length")
             if length is not None and length <= 0:
                 self.err(props["length"].value.span, "a link length must be positive")
                 length = None

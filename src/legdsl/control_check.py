@@ -275,7 +275,7 @@ class ControllerChecker:
                     last = s.target[-1]
                     self.err(
                         last.span,
-                        f"'{'.'.join(t.name for t in s.target)}' cannot be set; a controller sets actuator inputs: spring k, b, rest; servo kp, kv, setpoint; force force",
+                        f"'{'.'.join(t.name for t in s.target)}' cannot be set; a controller sets actuator inputs: k, b, rest of a spring; kp, kv, setpoint of a servo; force of a force or torque actuator",
                     )
             elif isinstance(s, ast.SwapStmt):
                 for ident in (s.first, s.second):
