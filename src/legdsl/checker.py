@@ -502,7 +502,7 @@ class CreatureChecker:
                 )
                 return fallback
             mat = np.array(rows)
-            if not np.allclose(mat, mat.T, rtol=1e-9, atol=1e-12):
+            if not np.allclose(mat / _scale(mat), mat.T / _scale(mat), rtol=1e-9, atol=1e-12):
                 self.err(value.span, f"the inertia matrix of body '{name}' must be symmetric")
                 return fallback
         else:
@@ -510,7 +510,11 @@ class CreatureChecker:
             if diag is None:
                 return fallback
             mat = np.diag(diag)
-        eig = np.linalg.eigvalsh(mat)
+        with np.errstate(over="ignore"):
+            eig = np.linalg.eigvalsh(mat / _scale(mat)) * _scale(mat)
+        if not np.isfinite(eig).all():
+            self.err(value.span, f"the inertia of body '{name}' is too large")
+            return fallback
         if eig.min() <= 0:
             self.err(
                 value.span,
@@ -519,7 +523,7 @@ class CreatureChecker:
             )
             return fallback
         a, b, c = sorted(eig)
-        if a + b < c * (1 - 1e-9):
+        if a / c + b / c < 1 - 1e-9:
             self.err(
                 value.span,
                 f"the inertia of body '{name}' breaks the triangle inequality: principal moments "
@@ -1355,6 +1359,11 @@ def _wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
     return f"{what} is {_article(kind)} {kind} ({_unit_hint(kind)}), but '{written}' is {found}"
 
 
+def _scale(mat: np.ndarray) -> float:
+    """The largest magnitude in a matrix (1 if all zero): divide by it to compute safely."""
+    return float(np.abs(mat).max()) or 1.0
+
+
 def _coord_kind(motion: str, rate: bool) -> str:
     if motion == "hinge":
         return "angular velocity" if rate else "angle"
@@ -1420,11 +1429,14 @@ def load_uses(
 ) -> list[ast.ActionDef]:
     """Named actions from the file itself and the files it ``use``s (the standard library by name)."""
     actions = list(tree.actions)
+    loaded = {Path(tree.path).resolve()}  # a file used twice, or itself, adds nothing
     for use in tree.uses:
         if use.target.endswith(".leg") or "/" in use.target:
             path = Path(tree.path).parent / use.target
         else:
             path = STDLIB / f"{use.target}.leg"
+        if path.is_file() and path.resolve() in loaded:
+            continue
         if not path.is_file():
             known = sorted(p.stem for p in STDLIB.glob("*.leg"))
             diag.error(
@@ -1438,6 +1450,7 @@ def load_uses(
             diag.items.extend(e.diagnostics)
             sources.update(e.sources)
             continue
+        loaded.add(path.resolve())
         sources[lib.path] = text
         actions.extend(lib.actions)
     return actions
