@@ -688,20 +688,22 @@ class CreatureChecker:
         joint = Joint(name, kind, parent, body.name, origin, dofs, q_start, nq, v_start, nv, span)
         return joint, list(initial), list(rates)
 
-    def location(self, value: ast.Value, parent: Body | None) -> Vec3:
+    def location(self, value: ast.Value, parent: Body | None, contact: bool = False) -> Vec3:
+        """A joint's location in its parent's frame, or a contact's point in its body's frame."""
+        what, whose = ("contact point", "body") if contact else ("joint location", "parent body")
         if isinstance(value, ast.NameValue):
             if value.ident.name != "tip":
                 self.err(
                     value.span,
-                    "a joint location is a point such as (0.1 m, 0 m) or 'tip' (the parent's link end)",
+                    f"a {what} is a point such as (0.1 m, 0 m) or 'tip' (the {whose}'s link end)",
                 )
                 return (0.0, 0.0, 0.0)
             if parent is None:
                 return (0.0, 0.0, 0.0)
             if parent.length is None:
-                self.err(value.span, f"'at tip' needs a length on the parent body '{parent.name}'")
+                self.err(value.span, f"'at tip' needs a length on the {whose} '{parent.name}'")
             return parent.tip
-        return self.point(value, "the joint location") or (0.0, 0.0, 0.0)
+        return self.point(value, f"the {what}") or (0.0, 0.0, 0.0)
 
     def joint_axes(
         self, decl: ast.BodyDecl, props: dict[str, ast.Prop], kind: str, body: Body
@@ -1016,9 +1018,9 @@ class CreatureChecker:
                 f"contact '{decl.name.name}' is on an unknown body '{decl.body.name}'{did_you_mean(decl.body.name, bodies)}",
             )
             return None
-        point = self.location(decl.at, body) if decl.at is not None else (0.0, 0.0, 0.0)
-        if isinstance(decl.at, ast.NameValue) and decl.at.ident.name == "tip":
-            point = body.tip
+        point = (
+            self.location(decl.at, body, contact=True) if decl.at is not None else (0.0, 0.0, 0.0)
+        )
         return Contact(decl.name.name, body.name, point, decl.span)
 
     # ---------------------------------------------------------- ground
