@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 from legdsl.checker import check_file
-from legdsl.parser import friendly_errors
+from legdsl.syntax_errors import friendly_errors
 from legdsl.units import UNITS
 
 ROOT = Path(__file__).resolve().parents[1]

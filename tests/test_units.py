@@ -10,14 +10,14 @@ import pytest
 
 from legdsl.checker import check_model
 from legdsl.errors import LegError
-from legdsl.parser import _lark
+from legdsl.lalr import lark_parser
 from legdsl.units import KINDS, UNITS, UnitError, describe, parse_unit, unit_pattern
 
 ANGLE = KINDS["angle"][0]
 
 
 def terminal(name: str) -> str:
-    pattern = _lark().get_terminal(name).pattern
+    pattern = lark_parser().get_terminal(name).pattern
     assert pattern.type == "re"
     return str(pattern.value)
 
