@@ -9,6 +9,7 @@ import pytest
 
 from legdsl.checker import check_model
 from legdsl.cli import main
+from legdsl.errors import LegError
 
 GOOD = Path(__file__).parent / "good"
 
@@ -47,3 +48,36 @@ def test_crlf_and_cr_line_ends_read_as_newlines(tmp_path: Path) -> None:
         path = tmp_path / name
         path.write_bytes(text.replace("\n", ending).encode("utf-8"))
         assert check_model(path).nv == 5
+
+
+def test_byte_order_mark_is_skipped_and_control_characters_are_named(tmp_path: Path) -> None:
+    text = "creature a {\n  planar\n  body b free { mass 1 kg  inertia 1 kg*m^2 }\n}\n"
+    bom = tmp_path / "bom.leg"
+    bom.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    assert check_model(bom).nv == 3
+    nul = tmp_path / "nul.leg"
+    nul.write_bytes(text.replace("planar", "planar\x00").encode("utf-8"))
+    with pytest.raises(LegError) as info:
+        check_model(nul)
+    (d,) = info.value.diagnostics
+    assert (d.span.line, d.span.col, d.message) == (2, 9, "unexpected character 'U+0000'")
+
+
+def test_a_file_that_is_not_utf8_is_reported_at_the_bad_byte(tmp_path: Path) -> None:
+    path = tmp_path / "latin1.leg"
+    path.write_bytes(b"creature a {\n  planar # caf\xe9\n}\n")
+    with pytest.raises(LegError) as info:
+        check_model(path)
+    (d,) = info.value.diagnostics
+    assert (d.span.line, d.span.col) == (2, 15)
+    assert d.message.startswith("the file is not UTF-8 text")
+
+
+def test_unreadable_paths_are_user_errors(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["check", str(tmp_path), str(tmp_path / "missing.leg")]) == 2
+    err = capsys.readouterr().err
+    assert f"{tmp_path}: error: cannot read {tmp_path}: " in err  # a directory
+    assert f"{tmp_path / 'missing.leg'}: error: no such file" in err
+    assert "internal error" not in err

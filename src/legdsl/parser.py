@@ -284,7 +284,7 @@ def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
             Span(str(path), 0, 0, 0, 0), f"cannot read {path}: {e.strerror}"
         ) from None
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark some editors write is no text
     except UnicodeDecodeError as e:
         line = data.count(b"\n", 0, e.start) + 1
         line_start = data.rfind(b"\n", 0, e.start) + 1

@@ -365,7 +365,8 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         expected = _describe_expected(set(err.accepts or err.expected))
         message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
     elif isinstance(err, UnexpectedCharacters):
-        message = f"unexpected character '{err.char}'"
+        char = err.char if err.char.isprintable() else f"U+{ord(err.char):04X}"
+        message = f"unexpected character '{char}'"
     else:
         expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
         message = "unexpected end of the file" + (f"; {expected}" if expected else "")
