@@ -277,7 +277,17 @@ class InvokeStmt:
     span: Span
 
 
-Stmt = AssignStmt | SwapStmt | RecordStmt | LetStmt | InvokeStmt
+@dataclass(frozen=True)
+class PlaceStmt:
+    """``place LEG at (x = ..., z = ...) using SERVO, ...``: set servo setpoints so the foot lands there."""
+
+    leg: Ident
+    goals: tuple[tuple[Ident, Expr], ...]
+    servos: tuple[tuple[Ident, ...], ...]
+    span: Span
+
+
+Stmt = AssignStmt | SwapStmt | RecordStmt | LetStmt | InvokeStmt | PlaceStmt
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from .model import Controller, Model
 
 LEG_MEMBERS = (
     "length", "rate", "touching", "stance_time", "flight_time",
-    "foot_x", "foot_y", "foot_z", "foot_vx", "foot_vy", "foot_vz",
+    "foot_x", "foot_y", "foot_z", "foot_vx", "foot_vy", "foot_vz", "hip_x", "hip_y", "hip_z",
 )  # fmt: skip
 BODY_MEMBERS = (
     "x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "roll_rate", "pitch_rate", "yaw_rate",
@@ -305,6 +305,45 @@ class ControllerChecker:
                         s.span,
                         f"action '{s.action.name}' takes {len(action.params)} argument(s), got {len(s.args)}",
                     )
+            elif isinstance(s, ast.PlaceStmt):
+                self.place(s, refs, local)
+
+    def place(self, s: ast.PlaceStmt, refs: dict[str, Ref], local: dict[str, Ref]) -> None:
+        """``place LEG at (x = .., z = ..) using SERVO, ..``: a leg, known axes, one servo per goal."""
+        leg = local.get(s.leg.name) or refs.get(s.leg.name)
+        if leg is None:
+            self.unknown_name(s.leg, refs, local)
+        elif leg.kind not in ("leg", "role", "unknown"):
+            self.err(
+                s.leg.span,
+                f"'place' moves the foot of a leg or role; '{s.leg.name}' is a {leg.kind}",
+            )
+        axes = ("x", "z") if self.model.planar else ("x", "y", "z")
+        seen: set[str] = set()
+        for name, value in s.goals:
+            self.expr(value, refs, local)
+            if name.name not in axes:
+                self.err(
+                    name.span,
+                    f"'place' sets the foot's offset from the hip along {' and '.join(axes)}; "
+                    f"'{name.name}' is not one of them{did_you_mean(name.name, axes)}",
+                )
+            elif name.name in seen:
+                self.err(name.span, f"'{name.name}' is given twice")
+            seen.add(name.name)
+        for path in s.servos:
+            ref = self.path(path, refs, local)
+            if ref is not None and ref.kind not in ("unknown",) and ref.detail != "servo":
+                self.err(
+                    path[-1].span,
+                    f"'place ... using' names servos whose setpoints it sets; "
+                    f"'{'.'.join(i.name for i in path)}' is not a servo actuator",
+                )
+        if len(s.servos) != len(s.goals):
+            self.err(
+                s.span,
+                f"'place' needs one servo per goal: {len(s.goals)} goal(s), {len(s.servos)} servo(s)",
+            )
 
     def path(
         self, idents: tuple[ast.Ident, ...], refs: dict[str, Ref], local: dict[str, Ref]

@@ -59,6 +59,9 @@ def render_control(
         "actions": [],
     }
     settings = []
+    places: list[
+        tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]
+    ] = []
     for (b, s), event in sorted(lc.events.items()):
         state = lc.states[s]
         fn = _program(f"event_{state}_{b}", [event], lc, let=False)
@@ -77,12 +80,16 @@ def render_control(
         )
         tables["entries"].append(((b, s), fn.name))
         targets = [f"{st.actuator}.{st.key}" for st in body.settings]
-        fn = _program(f"action_{state}_{b}", [st.value for st in body.settings], lc)
+        targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
+        goals = [g for p in body.places for g in p.goals]
+        fn = _program(f"action_{state}_{b}", [st.value for st in body.settings] + goals, lc)
         functions.append(
             (fn, f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}.")
         )
         tables["actions"].append(((b, s), fn.name))
         settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
+        if body.places:
+            places.append(((b, s), tuple((p.leg, p.axes, p.servos) for p in body.places)))
     bindings = [
         "; ".join(f"{role} = {', '.join(legs)}" for role, legs in binding)
         for binding in lc.bindings
@@ -104,4 +111,5 @@ def render_control(
         functions=[(fn, doc, function_body(fn)) for fn, doc in functions],
         tables=tables,
         settings=settings,
+        places=places,
     )

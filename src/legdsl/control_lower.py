@@ -74,11 +74,22 @@ class Setting:
 
 
 @dataclass(frozen=True)
+class Place:
+    """A kinematic solve: the servos' setpoints such that the leg's foot sits at ``goals`` from its hip."""
+
+    leg: str
+    axes: tuple[str, ...]
+    goals: tuple[Expr, ...]
+    servos: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class StateBody:
-    """What one state does under one binding: once on entry (records), and every tick (settings)."""
+    """What one state does under one binding: once on entry (records), and every tick (settings, places)."""
 
     records: tuple[tuple[str, Expr], ...]
     settings: tuple[Setting, ...]
+    places: tuple[Place, ...] = ()
 
 
 @dataclass
@@ -177,8 +188,9 @@ class Lowerer:
                 events[(b, s)] = self.boolean(row.event, _Env(dict(binding)))
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
-                self.statements(row.actions, _Env(dict(binding)), records, settings)
-                bodies[(b, s)] = StateBody(tuple(records), tuple(settings))
+                places: list[Place] = []
+                self.statements(row.actions, _Env(dict(binding)), records, settings, places)
+                bodies[(b, s)] = StateBody(tuple(records), tuple(settings), tuple(places))
         return LoweredController(
             name=self.ctl.name,
             creature=self.model.name,
@@ -200,6 +212,7 @@ class Lowerer:
         env: _Env,
         records: list[tuple[str, Expr]],
         settings: list[Setting],
+        places: list[Place],
     ) -> None:
         for s in stmts:
             if isinstance(s, ast.SwapStmt):
@@ -215,7 +228,27 @@ class Lowerer:
             elif isinstance(s, ast.InvokeStmt):
                 action = self.actions[s.action.name]
                 inner = _Env(env.binding, self._bind_params(action, s, env))
-                self.statements(action.body, inner, records, settings)
+                self.statements(action.body, inner, records, settings, places)
+            elif isinstance(s, ast.PlaceStmt):
+                places.extend(self.place(s, env))
+
+    def place(self, s: ast.PlaceStmt, env: _Env) -> list[Place]:
+        """One solve per leg of the role (each foot placed from its own hip)."""
+        legs = self.name(s.leg, env)
+        if not isinstance(legs, Legs):
+            raise InternalError(f"place of {s.leg.name}")
+        axes = tuple(name.name for name, _ in s.goals)
+        goals = tuple(self.value(value, env) for _, value in s.goals)
+        per_leg: list[list[str]] = [[] for _ in legs.legs]
+        for path in s.servos:
+            for k, (thing, _) in enumerate(
+                self.targets((*path, ast.Ident("setpoint", path[-1].span)), env)
+            ):
+                per_leg[k].append(thing.name)
+        return [
+            Place(leg, axes, goals, tuple(servos))
+            for leg, servos in zip(legs.legs, per_leg, strict=True)
+        ]
 
     def _bind_params(
         self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env

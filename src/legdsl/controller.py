@@ -8,7 +8,9 @@ lowered math as plain functions and tables (see ``legdsl.control_codegen``):
     EVENTS[(binding, state)](s, u, p, r, tis) -> bool      the condition to enter ``state``
     ENTRIES[(binding, state)](s, u, p, r, tis) -> list      new values of RECORDS
     SETTINGS[(binding, state)] -> ((actuator, key), ...)
-    ACTIONS[(binding, state)](s, u, p, r, tis) -> list       one value per SETTINGS entry
+    PLACES[(binding, state)] -> ((leg, axes, servos), ...)   kinematic solves (``place``)
+    ACTIONS[(binding, state)](s, u, p, r, tis) -> list       one value per SETTINGS entry,
+                                                             then the goals of the PLACES
 
 where ``s`` are the sensor values in SENSORS order, ``u`` the inputs, ``p``
 the parameters, ``r`` the records and ``tis`` the time in the current state.
@@ -24,6 +26,7 @@ from types import ModuleType
 from typing import Any
 
 from .errors import UsageError
+from .kinematics import FootPlacer
 from .model import Model
 from .sensors import Sensors
 
@@ -48,6 +51,7 @@ class StateMachine:
     ):
         self.module = module
         self.sensors = Sensors(model)
+        self.placer = FootPlacer(model)
         self.state_names: tuple[str, ...] = module.STATE_NAMES
         self.input_names = tuple(module.INPUTS)
         self.param_names = tuple(module.PARAMS)
@@ -126,5 +130,13 @@ class StateMachine:
                 self._enter(nxt, t, s)
         key = (self.binding, self.state_index)
         outputs = m.ACTIONS[key](s, self.inputs, self.params, self.records, t - self.entered_at)
-        for (actuator, setting), value in zip(m.SETTINGS[key], outputs, strict=True):
+        targets = m.SETTINGS[key]
+        for (actuator, setting), value in zip(targets, outputs, strict=False):
             sim.actuators.by_name[actuator].set(setting, value)
+        goals = iter(outputs[len(targets) :])
+        for leg, axes, servos in m.PLACES.get(key, ()):
+            wanted = [next(goals) for _ in axes]
+            for servo, value in zip(
+                servos, self.placer.solve(sim, leg, axes, wanted, servos), strict=True
+            ):
+                sim.actuators.by_name[servo].set("setpoint", value)

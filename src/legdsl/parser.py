@@ -8,6 +8,7 @@ errors become a ``LegError`` with the position and friendly words
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +50,14 @@ def _quantity(text: str) -> Quantity:
         return Quantity(float(number), DIMENSIONLESS, unitless=True)
     factor, dim = parse_unit(unit)
     return Quantity(float(number) * factor, dim)
+
+
+@dataclass(frozen=True)
+class _Goal:
+    """One ``NAME = expr`` of a place statement, while the statement is being built."""
+
+    name: ast.Ident
+    value: ast.Expr
 
 
 @v_args(meta=True)
@@ -229,6 +238,14 @@ class _ToAst(Transformer):
 
     def invoke_stmt(self, meta: Any, c: list[Any]) -> ast.InvokeStmt:
         return ast.InvokeStmt(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def goal(self, meta: Any, c: list[Any]) -> _Goal:
+        return _Goal(self._id(c[0]), c[1])
+
+    def place_stmt(self, meta: Any, c: list[Any]) -> ast.PlaceStmt:
+        goals = tuple((g.name, g.value) for g in c[1:] if isinstance(g, _Goal))
+        servos = tuple(t for t in c[1:] if not isinstance(t, _Goal))
+        return ast.PlaceStmt(self._id(c[0]), goals, servos, self._s(meta))
 
     def action_def(self, meta: Any, c: list[Any]) -> ast.ActionDef:
         params = tuple(self._id(t) for t in c[1:-1] if t is not None)

@@ -187,6 +187,10 @@ class Sensors:
             dv = [feet_vel[foot][k] - hip_vel[k] for k in range(3)]
             return (d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2]) / length if length > 0 else 0.0
         com, com_vel = self._com(sim, cache)
+        if member in ("hip_x", "hip_y", "hip_z"):
+            hip = self._poses(sim, cache)[self.leg_hip[name]][0]
+            rel = (hip[0] - com[0], hip[1] - com[1], hip[2] - com[2])
+            return self._to_heading(sim, cache, rel)["xyz".index(member[-1])]
         if member in ("foot_x", "foot_y", "foot_z"):
             rel = (feet[foot][0] - com[0], feet[foot][1] - com[1], feet[foot][2] - com[2])
             return self._to_heading(sim, cache, rel)["xyz".index(member[-1])]
