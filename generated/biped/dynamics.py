@@ -4,7 +4,9 @@
 
 Written by `legdsl compile creatures/biped.leg`; docs/compiler.md explains the
 algorithms (ABA, RNEA, CRBA unrolled over the link tree). SI units, world z
-up, plain floats and the math module only. tau has the layout of v.
+up, plain floats and the math module only. tau has the layout of v. A
+joint's hinges and slides apply in order, each along an axis of the frame
+the ones before it moved (as MuJoCo does with several joints in one body).
 
 State layout:
 
