@@ -1,13 +1,61 @@
 from __future__ import annotations
 
+import functools
+import types
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pytest
 
+if TYPE_CHECKING:
+    from legdsl.driver import Compiled
+    from legdsl.model import Model
+
 ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
+GENERATED = ROOT / "generated"
+SHIPPED = ("kangaroo", "biped", "quadruped")
 
 
 @pytest.fixture
 def creatures_dir() -> Path:
     return CREATURES
+
+
+def load_module(text: str, name: str) -> types.ModuleType:
+    """A generated module from its text, without writing it anywhere."""
+    module = types.ModuleType(name)
+    exec(compile(text, f"<generated {name}>", "exec"), module.__dict__)
+    return module
+
+
+@functools.cache
+def compiled_creature(name: str) -> Compiled:
+    """A shipped creature compiled once per test session (compiling takes seconds)."""
+    from legdsl.driver import compile_model
+
+    return compile_model(CREATURES / f"{name}.leg")
+
+
+@functools.cache
+def shipped_model(name: str) -> Model:
+    from legdsl.checker import check_model
+
+    return check_model(CREATURES / f"{name}.leg")
+
+
+@functools.cache
+def shipped_dynamics(name: str) -> types.ModuleType:
+    """The checked-in golden module: the numeric tests back the goldens (test_goldens keeps
+    them equal to what the compiler prints now)."""
+    return load_module((GENERATED / name / "dynamics.py").read_text(encoding="utf-8"), name)
+
+
+def compile_text(tmp_path: Path, text: str) -> tuple[Model, types.ModuleType]:
+    """Compile .leg text written to a temporary file; the model and the loaded dynamics module."""
+    from legdsl.driver import compile_model
+
+    path = tmp_path / "creature.leg"
+    path.write_text(text, encoding="utf-8")
+    compiled = compile_model(path)
+    return compiled.model, load_module(compiled.text("dynamics.py"), compiled.name)

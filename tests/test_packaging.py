@@ -22,6 +22,7 @@ def test_wheel_carries_grammar_and_parses_outside_the_tree(tmp_path: Path) -> No
     names = zipfile.ZipFile(wheel).namelist()
     assert "legdsl/grammar/legdsl.lark" in names
     assert "legdsl/grammar/friendly_errors.toml" in names
+    assert "legdsl/templates/dynamics.py.j2" in names  # the generated-module skeleton
 
     target = tmp_path / "site"
     subprocess.run(

@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from sympy import Expr, Float, Integer, Pow, Rational
-from sympy.printing.precedence import PRECEDENCE, precedence
+from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.pycode import PythonCodePrinter
 
 # Powers up to this exponent are printed as repeated multiplication.
@@ -32,18 +32,6 @@ class LegPrinter(PythonCodePrinter):
     def _print_Rational(self, expr: Rational) -> str:
         return repr(float(expr))
 
-    def _print_Half(self, expr: Rational) -> str:
-        return "0.5"
-
-    def _print_One(self, expr: Integer) -> str:
-        return "1.0"
-
-    def _print_NegativeOne(self, expr: Integer) -> str:
-        return "-1.0"
-
-    def _print_Zero(self, expr: Integer) -> str:
-        return "0.0"
-
     def _print_Pow(self, expr: Pow, rational: bool = False) -> str:
         base, exp = expr.as_base_exp()
         if exp.is_Integer and 1 < abs(int(exp)) <= MAX_UNROLLED_POWER:
@@ -58,17 +46,11 @@ class LegPrinter(PythonCodePrinter):
             return f"1/math.sqrt({self._print(base)})"
         return f"{self.parenthesize(base, PRECEDENCE['Pow'], strict=True)}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
 
-    def doprint_expr(self, expr: Expr) -> str:
-        """One expression, with no assignment around it."""
-        return str(self.doprint(expr))
+
+_PRINTER = LegPrinter()
 
 
 def print_expr(expr: Expr) -> str:
-    return _PRINTER.doprint_expr(expr)
-
-
-def needs_parens(expr: Expr) -> bool:
-    return bool(precedence(expr) < PRECEDENCE["Atom"])
-
-
-_PRINTER = LegPrinter()
+    """One expression as Python source (fractions as floats: they run as floats anyway)."""
+    fractions = {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
+    return str(_PRINTER.doprint(expr.xreplace(fractions) if fractions else expr))

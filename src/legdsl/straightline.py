@@ -73,6 +73,13 @@ Statement = Unpack | Assign | Comment
 # The arrays a generated function unpacks, in the order it unpacks them.
 ARRAYS = ("q", "v", "tau", "s", "u", "p", "r")  # dynamics inputs, then control inputs
 
+# Temporaries are named with this mark until they are numbered: no identifier contains it.
+TEMPORARY = "#"
+
+
+def is_temporary(sym: Symbol) -> bool:
+    return bool(sym.name.startswith(TEMPORARY))
+
 
 def python_name(wanted: str, taken: set[str]) -> str:
     """``wanted`` if it is a free Python identifier, else ``wanted_``, ``wanted_2``, ..."""
@@ -133,7 +140,7 @@ class Block:
         if known is not None:
             return known
         self._count += 1
-        sym = Symbol(f"_tmp{self._count}")  # renamed in finish(); no user name starts with _tmp
+        sym = Symbol(f"{TEMPORARY}{self._count}")  # numbered t1, t2, ... in finish()
         self._statements.append(Assign(sym, expr))
         self._known[expr] = sym
         return sym
@@ -154,7 +161,7 @@ class Block:
         rename: dict[Symbol, Symbol] = {}
         n = 0
         for st in body:
-            if isinstance(st, Assign) and st.target.name.startswith("_"):
+            if isinstance(st, Assign) and is_temporary(st.target):
                 n += 1
                 while f"t{n}" in self._taken:
                     n += 1
@@ -213,7 +220,7 @@ def _inline_cheap(
     for st in body:
         if isinstance(st, Assign):
             value = fold(st.value.xreplace(inline)) if inline else st.value
-            if is_cheap(value) and st.target.name.startswith("_"):
+            if is_cheap(value) and is_temporary(st.target):
                 inline[st.target] = value
                 continue
             st = Assign(st.target, value)
@@ -225,7 +232,7 @@ def _cse_names() -> Iterator[Symbol]:
     n = 0
     while True:
         n += 1
-        yield Symbol(f"_cse{n}")
+        yield Symbol(f"{TEMPORARY}cse{n}")
 
 
 def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Comment]:
@@ -253,9 +260,11 @@ def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Commen
             kept.append((sym, expr))
     value_at = {i: fold(v.xreplace(inline)) for i, v in zip(where, reduced, strict=True)}
     # A piece that is the whole value of an assignment takes that assignment's name.
-    alias = {
-        v: targets[i] for i, v in value_at.items() if v.is_Symbol and v.name.startswith("_cse")
-    }
+    pieces_named = {s for s, _ in kept}
+    alias: dict[Symbol, Symbol] = {}
+    for i, v in value_at.items():
+        if v in pieces_named:
+            alias.setdefault(v, targets[i])
     pieces = [(alias.get(s, s), fold(e.xreplace(alias))) for s, e in kept]
     value_at = {i: v.xreplace(alias) for i, v in value_at.items()}
     # Where each piece is first needed: directly, or through a later piece that uses it.

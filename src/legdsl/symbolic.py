@@ -16,7 +16,7 @@ from typing import TypeAlias
 from sympy import Expr, Integer, Symbol
 
 from . import recursions
-from .linktree import RESERVED, Node, Tree, build_nodes, vec
+from .linktree import RESERVED, Node, Tree, build_nodes, rigid_inertia, vec
 from .model import Model
 from .spatial import EYE, ZERO, Mat, Vec, add, column, cross, dot, let_vec, matvec, scale, sub
 from .straightline import Block, Statement, num
@@ -262,8 +262,6 @@ def _center_of_mass_velocity(tree: Tree) -> Nested:
 
 
 def _kinetic_energy(tree: Tree) -> Nested:
-    from .linktree import rigid_inertia
-
     total: Expr = Integer(0)
     for node in tree.nodes:
         if node.body is None:

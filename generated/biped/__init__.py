@@ -1,0 +1,1 @@
+"""Generated code for the creature 'biped' (legdsl compile); do not edit."""

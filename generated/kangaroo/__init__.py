@@ -1,0 +1,1 @@
+"""Generated code for the creature 'kangaroo' (legdsl compile); do not edit."""

@@ -1,0 +1,1 @@
+"""Generated code for the creature 'quadruped' (legdsl compile); do not edit."""
