@@ -133,6 +133,27 @@ def test_angular_jacobians_turn_the_contact_bodies(name: str) -> None:
 
 
 @pytest.mark.parametrize("name", SHIPPED)
+def test_body_velocities_are_rates_of_the_body_poses(name: str) -> None:
+    dyn = shipped_dynamics(name)
+    q, v, _ = random_state(name, 7)
+
+    def origins(qq: list[float]) -> np.ndarray:
+        return np.array([origin for origin, _ in dyn.body_poses(qq)])
+
+    def rotations(qq: list[float]) -> np.ndarray:
+        return np.array([np.reshape(rot, (3, 3)) for _, rot in dyn.body_poses(qq)])
+
+    velocities = dyn.body_velocities(q, v)
+    linear = np.array([lin for lin, _ in velocities])
+    assert_close(linear, derivative(dyn, origins, q, v), 1e-8, "body origin velocities")
+    rot, rate = rotations(q), derivative(dyn, rotations, q, v)
+    for k, (_, angular) in enumerate(velocities):
+        spin = rate[k] @ rot[k].T  # skew(world angular velocity)
+        omega = np.array([spin[2, 1], spin[0, 2], spin[1, 0]])
+        assert_close(np.array(angular), omega, 1e-8, f"angular velocity of {dyn.BODY_NAMES[k]}")
+
+
+@pytest.mark.parametrize("name", SHIPPED)
 def test_poses_mass_centre_and_energies_agree(name: str) -> None:
     dyn = shipped_dynamics(name)
     model = shipped_model(name)

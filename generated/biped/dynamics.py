@@ -1930,6 +1930,199 @@ def body_poses(q):
     ]
 
 
+def body_velocities(q, v):
+    """Per body in BODY_NAMES order: (world velocity of its frame origin, world angular velocity)."""
+    x = q[0]
+    y = q[1]
+    z = q[2]
+    qw = q[3]
+    qx = q[4]
+    qy = q[5]
+    qz = q[6]
+    hip_l_x = q[7]
+    hip_l_y = q[8]
+    leg_l = q[10]
+    hip_r_x = q[11]
+    hip_r_y = q[12]
+    leg_r = q[14]
+    vx = v[0]
+    vy = v[1]
+    vz = v[2]
+    wx = v[3]
+    wy = v[4]
+    wz = v[5]
+    qd_hip_l_x = v[6]
+    qd_hip_l_y = v[7]
+    qd_hip_l_z = v[8]
+    qd_leg_l = v[9]
+    qd_hip_r_x = v[10]
+    qd_hip_r_y = v[11]
+    qd_hip_r_z = v[12]
+    qd_leg_r = v[13]
+    # trunk
+    t1 = qx*qx
+    t2 = qy*qy
+    t3 = qz*qz
+    t4 = t2 + t3
+    qscale = 2.0/(qw*qw + t1 + t4)
+    t5 = -qscale*t4 + 1.0
+    t6 = qw*qz
+    t7 = qscale*(qx*qy - t6)
+    t8 = qw*qy
+    t9 = qscale*(qx*qz + t8)
+    t10 = qscale*(qx*qy + t6)
+    t11 = -qscale*(t1 + t3) + 1.0
+    t12 = qw*qx
+    t13 = qscale*(qy*qz - t12)
+    t14 = qscale*(qx*qz - t8)
+    t15 = qscale*(qy*qz + t12)
+    t16 = -qscale*(t1 + t2) + 1.0
+    t17 = t5*wx + t7*wy + t9*wz
+    t18 = t10*wx + t11*wy + t13*wz
+    t19 = t14*wx + t15*wy + t16*wz
+    # thigh_l
+    c_hip_l_y = math.cos(hip_l_y)
+    s_hip_l_y = math.sin(hip_l_y)
+    c_hip_l_x = math.cos(hip_l_x)
+    s_hip_l_x = math.sin(hip_l_x)
+    t20 = 0.072*t7 + x
+    t21 = 0.072*t11 + y
+    t22 = 0.072*t15 + z
+    t23 = c_hip_l_x*t7 + s_hip_l_x*t9
+    t24 = c_hip_l_x*t9 - s_hip_l_x*t7
+    t25 = c_hip_l_x*t11 + s_hip_l_x*t13
+    t26 = c_hip_l_x*t13 - s_hip_l_x*t11
+    t27 = c_hip_l_x*t15 + s_hip_l_x*t16
+    t28 = c_hip_l_x*t16 - s_hip_l_x*t15
+    t29 = c_hip_l_y*t24 + s_hip_l_y*t5
+    t30 = c_hip_l_y*t26 + s_hip_l_y*t10
+    t31 = c_hip_l_y*t28 + s_hip_l_y*t14
+    t32 = t20 - x
+    t33 = t21 - y
+    t34 = t22 - z
+    t35 = t10*t34 - t14*t33
+    t36 = t14*t32 - t34*t5
+    t37 = -t10*t32 + t33*t5
+    t38 = t11*t34 - t15*t33
+    t39 = t15*t32 - t34*t7
+    t40 = -t11*t32 + t33*t7
+    t41 = t13*t34 - t16*t33
+    t42 = t16*t32 - t34*t9
+    t43 = -t13*t32 + t33*t9
+    t44 = t35*wx + t38*wy + t41*wz + vx
+    t45 = t36*wx + t39*wy + t42*wz + vy
+    t46 = t37*wx + t40*wy + t43*wz + vz
+    t47 = qd_hip_l_x*t5 + qd_hip_l_y*t23 + qd_hip_l_z*t29 + t17
+    t48 = qd_hip_l_x*t10 + qd_hip_l_y*t25 + qd_hip_l_z*t30 + t18
+    t49 = qd_hip_l_x*t14 + qd_hip_l_y*t27 + qd_hip_l_z*t31 + t19
+    # shank_l
+    t50 = -leg_l - 0.2
+    t51 = t20 + t29*t50
+    t52 = t21 + t30*t50
+    t53 = t22 + t31*t50
+    t54 = -t20 + t51
+    t55 = -t21 + t52
+    t56 = -t22 + t53
+    t57 = t30*t56 - t31*t55
+    t58 = -t29*t56 + t31*t54
+    t59 = t29*t55 - t30*t54
+    t60 = t25*t56 - t27*t55
+    t61 = -t23*t56 + t27*t54
+    t62 = t23*t55 - t25*t54
+    t63 = t10*t56 - t14*t55
+    t64 = t14*t54 - t5*t56
+    t65 = -t10*t54 + t5*t55
+    t66 = t51 - x
+    t67 = t52 - y
+    t68 = t53 - z
+    t69 = t10*t68 - t14*t67
+    t70 = t14*t66 - t5*t68
+    t71 = -t10*t66 + t5*t67
+    t72 = t11*t68 - t15*t67
+    t73 = t15*t66 - t68*t7
+    t74 = -t11*t66 + t67*t7
+    t75 = t13*t68 - t16*t67
+    t76 = t16*t66 - t68*t9
+    t77 = -t13*t66 + t67*t9
+    t78 = qd_hip_l_x*t63 + qd_hip_l_y*t60 + qd_hip_l_z*t57 - qd_leg_l*t29 + t69*wx + t72*wy + t75*wz + vx
+    t79 = qd_hip_l_x*t64 + qd_hip_l_y*t61 + qd_hip_l_z*t58 - qd_leg_l*t30 + t70*wx + t73*wy + t76*wz + vy
+    t80 = qd_hip_l_x*t65 + qd_hip_l_y*t62 + qd_hip_l_z*t59 - qd_leg_l*t31 + t71*wx + t74*wy + t77*wz + vz
+    # thigh_r
+    c_hip_r_y = math.cos(hip_r_y)
+    s_hip_r_y = math.sin(hip_r_y)
+    c_hip_r_x = math.cos(hip_r_x)
+    s_hip_r_x = math.sin(hip_r_x)
+    t81 = -0.072*t7 + x
+    t82 = -0.072*t11 + y
+    t83 = -0.072*t15 + z
+    t84 = c_hip_r_x*t7 + s_hip_r_x*t9
+    t85 = c_hip_r_x*t9 - s_hip_r_x*t7
+    t86 = c_hip_r_x*t11 + s_hip_r_x*t13
+    t87 = c_hip_r_x*t13 - s_hip_r_x*t11
+    t88 = c_hip_r_x*t15 + s_hip_r_x*t16
+    t89 = c_hip_r_x*t16 - s_hip_r_x*t15
+    t90 = c_hip_r_y*t85 + s_hip_r_y*t5
+    t91 = c_hip_r_y*t87 + s_hip_r_y*t10
+    t92 = c_hip_r_y*t89 + s_hip_r_y*t14
+    t93 = t81 - x
+    t94 = t82 - y
+    t95 = t83 - z
+    t96 = t10*t95 - t14*t94
+    t97 = t14*t93 - t5*t95
+    t98 = -t10*t93 + t5*t94
+    t99 = t11*t95 - t15*t94
+    t100 = t15*t93 - t7*t95
+    t101 = -t11*t93 + t7*t94
+    t102 = t13*t95 - t16*t94
+    t103 = t16*t93 - t9*t95
+    t104 = -t13*t93 + t9*t94
+    t105 = t102*wz + t96*wx + t99*wy + vx
+    t106 = t100*wy + t103*wz + t97*wx + vy
+    t107 = t101*wy + t104*wz + t98*wx + vz
+    t108 = qd_hip_r_x*t5 + qd_hip_r_y*t84 + qd_hip_r_z*t90 + t17
+    t109 = qd_hip_r_x*t10 + qd_hip_r_y*t86 + qd_hip_r_z*t91 + t18
+    t110 = qd_hip_r_x*t14 + qd_hip_r_y*t88 + qd_hip_r_z*t92 + t19
+    # shank_r
+    t111 = -leg_r - 0.2
+    t112 = t111*t90 + t81
+    t113 = t111*t91 + t82
+    t114 = t111*t92 + t83
+    t115 = t112 - t81
+    t116 = t113 - t82
+    t117 = t114 - t83
+    t118 = -t116*t92 + t117*t91
+    t119 = t115*t92 - t117*t90
+    t120 = -t115*t91 + t116*t90
+    t121 = -t116*t88 + t117*t86
+    t122 = t115*t88 - t117*t84
+    t123 = -t115*t86 + t116*t84
+    t124 = t10*t117 - t116*t14
+    t125 = t115*t14 - t117*t5
+    t126 = -t10*t115 + t116*t5
+    t127 = t112 - x
+    t128 = t113 - y
+    t129 = t114 - z
+    t130 = t10*t129 - t128*t14
+    t131 = t127*t14 - t129*t5
+    t132 = -t10*t127 + t128*t5
+    t133 = t11*t129 - t128*t15
+    t134 = t127*t15 - t129*t7
+    t135 = -t11*t127 + t128*t7
+    t136 = -t128*t16 + t129*t13
+    t137 = t127*t16 - t129*t9
+    t138 = -t127*t13 + t128*t9
+    t139 = qd_hip_r_x*t124 + qd_hip_r_y*t121 + qd_hip_r_z*t118 - qd_leg_r*t90 + t130*wx + t133*wy + t136*wz + vx
+    t140 = qd_hip_r_x*t125 + qd_hip_r_y*t122 + qd_hip_r_z*t119 - qd_leg_r*t91 + t131*wx + t134*wy + t137*wz + vy
+    t141 = qd_hip_r_x*t126 + qd_hip_r_y*t123 + qd_hip_r_z*t120 - qd_leg_r*t92 + t132*wx + t135*wy + t138*wz + vz
+    return [
+        ((vx, vy, vz), (t17, t18, t19)),
+        ((t44, t45, t46), (t47, t48, t49)),
+        ((t78, t79, t80), (t47, t48, t49)),
+        ((t105, t106, t107), (t108, t109, t110)),
+        ((t139, t140, t141), (t108, t109, t110)),
+    ]
+
+
 def center_of_mass(q):
     """World position of the whole creature's mass centre."""
     x = q[0]

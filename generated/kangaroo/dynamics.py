@@ -39,11 +39,11 @@ NV = 10
 Q_NAMES = ('x', 'z', 'pitch', 'hip', 'knee', 'ankle', 'tail_base', 'tail_mid', 'tail_tip', 'neck')
 V_NAMES = ('x', 'z', 'pitch', 'hip', 'knee', 'ankle', 'tail_base', 'tail_mid', 'tail_tip', 'neck')
 BODY_NAMES = ('trunk', 'thigh', 'shin', 'foot', 'tail1', 'tail2', 'tail3', 'head')
-CONTACT_NAMES = ('toe',)
+CONTACT_NAMES = ('toe', 'tail_end')
 GRAVITY = (0.0, 0.0, -9.81)
 TOTAL_MASS = 6.808999999999999
 # What the equations depend on; the runtime recompiles when its model hashes differently.
-MODEL_FINGERPRINT = "2770793eb6f40068"
+MODEL_FINGERPRINT = "6c7f861b8dd791b5"
 
 
 def mass_matrix(q):
@@ -795,6 +795,9 @@ def contact_positions(q):
     hip = q[3]
     knee = q[4]
     ankle = q[5]
+    tail_base = q[6]
+    tail_mid = q[7]
+    tail_tip = q[8]
     # toe
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
@@ -822,7 +825,32 @@ def contact_positions(q):
     t16 = c_ankle*t12 + s_ankle*t11
     t17 = t13 - 0.174*t15
     t18 = t14 - 0.174*t16
-    return [(t17, 0.0, t18)]
+    # tail_end
+    c_tail_tip = math.cos(tail_tip)
+    s_tail_tip = math.sin(tail_tip)
+    c_tail_mid = math.cos(tail_mid)
+    s_tail_mid = math.sin(tail_mid)
+    c_tail_base = math.cos(tail_base)
+    s_tail_base = math.sin(tail_base)
+    t19 = -0.2*c_pitch + x
+    t20 = 0.2*s_pitch + z
+    t21 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t22 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t23 = t19 - 0.166*t21
+    t24 = t20 + 0.166*t22
+    t25 = c_tail_mid*t21
+    t26 = -s_tail_mid*t22 + t25
+    t27 = s_tail_mid*t21
+    t28 = c_tail_mid*t22 + t27
+    t29 = -c_tail_mid*t22 - t27
+    t30 = -s_tail_mid*t22 + t25
+    t31 = t23 - 0.166*t26
+    t32 = t24 - 0.166*t29
+    t33 = c_tail_tip*t26 - s_tail_tip*t28
+    t34 = c_tail_tip*t29 - s_tail_tip*t30
+    t35 = t31 - 0.166*t33
+    t36 = t32 - 0.166*t34
+    return [(t17, 0.0, t18), (t35, 0.0, t36)]
 
 
 def contact_velocities(q, v):
@@ -833,12 +861,18 @@ def contact_velocities(q, v):
     hip = q[3]
     knee = q[4]
     ankle = q[5]
+    tail_base = q[6]
+    tail_mid = q[7]
+    tail_tip = q[8]
     qd_x = v[0]
     qd_z = v[1]
     qd_pitch = v[2]
     qd_hip = v[3]
     qd_knee = v[4]
     qd_ankle = v[5]
+    qd_tail_base = v[6]
+    qd_tail_mid = v[7]
+    qd_tail_tip = v[8]
     # toe
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
@@ -876,7 +910,42 @@ def contact_velocities(q, v):
     t26 = t18 - z
     t27 = qd_ankle*t20 + qd_hip*t24 + qd_knee*t22 + qd_pitch*t26 + qd_x
     t28 = -qd_ankle*t19 - qd_hip*t23 - qd_knee*t21 - qd_pitch*t25 + qd_z
-    return [(t27, 0.0, t28)]
+    # tail_end
+    c_tail_tip = math.cos(tail_tip)
+    s_tail_tip = math.sin(tail_tip)
+    c_tail_mid = math.cos(tail_mid)
+    s_tail_mid = math.sin(tail_mid)
+    c_tail_base = math.cos(tail_base)
+    s_tail_base = math.sin(tail_base)
+    t29 = -0.2*c_pitch + x
+    t30 = 0.2*s_pitch + z
+    t31 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t32 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t33 = t29 - 0.166*t31
+    t34 = t30 + 0.166*t32
+    t35 = c_tail_mid*t31
+    t36 = -s_tail_mid*t32 + t35
+    t37 = s_tail_mid*t31
+    t38 = c_tail_mid*t32 + t37
+    t39 = -c_tail_mid*t32 - t37
+    t40 = -s_tail_mid*t32 + t35
+    t41 = t33 - 0.166*t36
+    t42 = t34 - 0.166*t39
+    t43 = c_tail_tip*t36 - s_tail_tip*t38
+    t44 = c_tail_tip*t39 - s_tail_tip*t40
+    t45 = t41 - 0.166*t43
+    t46 = t42 - 0.166*t44
+    t47 = -t41 + t45
+    t48 = -t42 + t46
+    t49 = -t33 + t45
+    t50 = -t34 + t46
+    t51 = -t29 + t45
+    t52 = -t30 + t46
+    t53 = t45 - x
+    t54 = t46 - z
+    t55 = qd_pitch*t54 + qd_tail_base*t52 + qd_tail_mid*t50 + qd_tail_tip*t48 + qd_x
+    t56 = -qd_pitch*t53 - qd_tail_base*t51 - qd_tail_mid*t49 - qd_tail_tip*t47 + qd_z
+    return [(t27, 0.0, t28), (t55, 0.0, t56)]
 
 
 def contact_jacobians(q):
@@ -887,6 +956,9 @@ def contact_jacobians(q):
     hip = q[3]
     knee = q[4]
     ankle = q[5]
+    tail_base = q[6]
+    tail_mid = q[7]
+    tail_tip = q[8]
     # toe
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
@@ -922,11 +994,49 @@ def contact_jacobians(q):
     t24 = t18 - t2
     t25 = t17 - x
     t26 = t18 - z
+    # tail_end
+    c_tail_tip = math.cos(tail_tip)
+    s_tail_tip = math.sin(tail_tip)
+    c_tail_mid = math.cos(tail_mid)
+    s_tail_mid = math.sin(tail_mid)
+    c_tail_base = math.cos(tail_base)
+    s_tail_base = math.sin(tail_base)
+    t27 = -0.2*c_pitch + x
+    t28 = 0.2*s_pitch + z
+    t29 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t30 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t31 = t27 - 0.166*t29
+    t32 = t28 + 0.166*t30
+    t33 = c_tail_mid*t29
+    t34 = -s_tail_mid*t30 + t33
+    t35 = s_tail_mid*t29
+    t36 = c_tail_mid*t30 + t35
+    t37 = -c_tail_mid*t30 - t35
+    t38 = -s_tail_mid*t30 + t33
+    t39 = t31 - 0.166*t34
+    t40 = t32 - 0.166*t37
+    t41 = c_tail_tip*t34 - s_tail_tip*t36
+    t42 = c_tail_tip*t37 - s_tail_tip*t38
+    t43 = t39 - 0.166*t41
+    t44 = t40 - 0.166*t42
+    t45 = -t39 + t43
+    t46 = -t40 + t44
+    t47 = -t31 + t43
+    t48 = -t32 + t44
+    t49 = -t27 + t43
+    t50 = -t28 + t44
+    t51 = t43 - x
+    t52 = t44 - z
     return [
         [
             [1.0, 0.0, t26, t24, t22, t20, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 1.0, -t25, -t23, -t21, -t19, 0.0, 0.0, 0.0, 0.0],
+        ],
+        [
+            [1.0, 0.0, t52, 0.0, 0.0, 0.0, t50, t48, t46, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, -t51, 0.0, 0.0, 0.0, -t49, -t47, -t45, 0.0],
         ],
     ]
 
@@ -937,6 +1047,11 @@ def contact_angular_jacobians(q):
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         ],
     ]
@@ -1027,6 +1142,124 @@ def body_poses(q):
         ((t23, 0.0, t24), (t26, 0.0, t28, 0.0, 1.0, 0.0, t29, 0.0, t30)),
         ((t31, 0.0, t32), (t33, 0.0, t34, 0.0, 1.0, 0.0, t35, 0.0, t36)),
         ((t37, 0.0, t38), (t39, 0.0, t40, 0.0, 1.0, 0.0, -t40, 0.0, t39)),
+    ]
+
+
+def body_velocities(q, v):
+    """Per body in BODY_NAMES order: (world velocity of its frame origin, world angular velocity)."""
+    x = q[0]
+    z = q[1]
+    pitch = q[2]
+    hip = q[3]
+    knee = q[4]
+    tail_base = q[6]
+    tail_mid = q[7]
+    qd_x = v[0]
+    qd_z = v[1]
+    qd_pitch = v[2]
+    qd_hip = v[3]
+    qd_knee = v[4]
+    qd_ankle = v[5]
+    qd_tail_base = v[6]
+    qd_tail_mid = v[7]
+    qd_tail_tip = v[8]
+    qd_neck = v[9]
+    # trunk
+    c_pitch = math.cos(pitch)
+    s_pitch = math.sin(pitch)
+    # thigh
+    c_hip = math.cos(hip)
+    s_hip = math.sin(hip)
+    t1 = -0.11*c_pitch + x
+    t2 = 0.11*s_pitch + z
+    t3 = c_hip*c_pitch - s_hip*s_pitch
+    t4 = c_hip*s_pitch + c_pitch*s_hip
+    t5 = t1 - x
+    t6 = t2 - z
+    t7 = qd_pitch*t6 + qd_x
+    t8 = -qd_pitch*t5 + qd_z
+    t9 = qd_hip + qd_pitch
+    # shin
+    c_knee = math.cos(knee)
+    s_knee = math.sin(knee)
+    t10 = t1 - 0.13*t4
+    t11 = t2 - 0.13*t3
+    t12 = c_knee*t4 + s_knee*t3
+    t13 = c_knee*t3 - s_knee*t4
+    t14 = -t1 + t10
+    t15 = t11 - t2
+    t16 = t10 - x
+    t17 = t11 - z
+    t18 = qd_hip*t15 + qd_pitch*t17 + qd_x
+    t19 = -qd_hip*t14 - qd_pitch*t16 + qd_z
+    t20 = qd_knee + t9
+    # foot
+    t21 = t10 - 0.26*t12
+    t22 = t11 - 0.26*t13
+    t23 = -t10 + t21
+    t24 = -t11 + t22
+    t25 = -t1 + t21
+    t26 = -t2 + t22
+    t27 = t21 - x
+    t28 = t22 - z
+    t29 = qd_hip*t26 + qd_knee*t24 + qd_pitch*t28 + qd_x
+    t30 = -qd_hip*t25 - qd_knee*t23 - qd_pitch*t27 + qd_z
+    t31 = qd_ankle + t20
+    # tail1
+    c_tail_base = math.cos(tail_base)
+    s_tail_base = math.sin(tail_base)
+    t32 = -0.2*c_pitch + x
+    t33 = 0.2*s_pitch + z
+    t34 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t35 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t36 = t32 - x
+    t37 = t33 - z
+    t38 = qd_pitch*t37 + qd_x
+    t39 = -qd_pitch*t36 + qd_z
+    t40 = qd_pitch + qd_tail_base
+    # tail2
+    c_tail_mid = math.cos(tail_mid)
+    s_tail_mid = math.sin(tail_mid)
+    t41 = t32 - 0.166*t34
+    t42 = t33 + 0.166*t35
+    t43 = c_tail_mid*t34 - s_tail_mid*t35
+    t44 = -c_tail_mid*t35 - s_tail_mid*t34
+    t45 = -t32 + t41
+    t46 = -t33 + t42
+    t47 = t41 - x
+    t48 = t42 - z
+    t49 = qd_pitch*t48 + qd_tail_base*t46 + qd_x
+    t50 = -qd_pitch*t47 - qd_tail_base*t45 + qd_z
+    t51 = qd_tail_mid + t40
+    # tail3
+    t52 = t41 - 0.166*t43
+    t53 = t42 - 0.166*t44
+    t54 = -t41 + t52
+    t55 = -t42 + t53
+    t56 = -t32 + t52
+    t57 = -t33 + t53
+    t58 = t52 - x
+    t59 = t53 - z
+    t60 = qd_pitch*t59 + qd_tail_base*t57 + qd_tail_mid*t55 + qd_x
+    t61 = -qd_pitch*t58 - qd_tail_base*t56 - qd_tail_mid*t54 + qd_z
+    t62 = qd_tail_tip + t51
+    # head
+    t63 = 0.21*c_pitch + x
+    t64 = -0.21*s_pitch + z
+    t65 = t63 - x
+    t66 = t64 - z
+    t67 = qd_pitch*t66 + qd_x
+    t68 = -qd_pitch*t65 + qd_z
+    t69 = qd_neck + qd_pitch
+    return [
+        ((qd_x, 0.0, qd_z), (0.0, qd_pitch, 0.0)),
+        ((t7, 0.0, t8), (0.0, t9, 0.0)),
+        ((t18, 0.0, t19), (0.0, t20, 0.0)),
+        ((t29, 0.0, t30), (0.0, t31, 0.0)),
+        ((t38, 0.0, t39), (0.0, t40, 0.0)),
+        ((t49, 0.0, t50), (0.0, t51, 0.0)),
+        ((t60, 0.0, t61), (0.0, t62, 0.0)),
+        ((t67, 0.0, t68), (0.0, t69, 0.0)),
     ]
 
 

@@ -52,6 +52,7 @@ API_NAMES = (
     "contact_jacobians",
     "contact_angular_jacobians",
     "body_poses",
+    "body_velocities",
     "center_of_mass",
     "center_of_mass_velocity",
     "kinetic_energy",

@@ -64,6 +64,7 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
         ("contact_jacobians", ("q",), _contact_jacobians),
         ("contact_angular_jacobians", ("q",), _contact_angular_jacobians),
         ("body_poses", ("q",), _body_poses),
+        ("body_velocities", ("q", "v"), _body_velocities),
         ("center_of_mass", ("q",), _center_of_mass),
         ("center_of_mass_velocity", ("q", "v"), _center_of_mass_velocity),
         ("kinetic_energy", ("q", "v"), _kinetic_energy),
@@ -239,6 +240,19 @@ def _body_poses(tree: Tree) -> Nested:
         tree.block.note(body.name)
         rot, origin = tree.world(_carrier(tree, body.name))
         out.append((origin, tuple(e for row in rot for e in row)))
+    return out
+
+
+def _body_velocities(tree: Tree) -> Nested:
+    v = _velocities(tree)
+    out: list[Nested] = []
+    for body in tree.model.bodies:
+        tree.block.note(body.name)
+        i = _carrier(tree, body.name)
+        origin = tree.world(i)[1]
+        linear = _times(_point_jacobian(tree, i, origin), v, tree)
+        angular = _times(_angular_jacobian(tree, i), v, tree)
+        out.append((linear, angular))
     return out
 
 
