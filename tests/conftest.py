@@ -14,7 +14,7 @@ if TYPE_CHECKING:
 ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
 GENERATED = ROOT / "generated"
-SHIPPED = ("kangaroo", "biped", "quadruped")
+SHIPPED = ("kangaroo", "biped", "quadruped", "hopper")
 
 
 @pytest.fixture

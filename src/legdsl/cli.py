@@ -187,7 +187,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .plot import first_leg_joints, plot_run
+    from .plot import first_leg_angles, plot_run
 
     run = Path(args.dir)
     if not (run / "trajectory.npz").is_file():
@@ -195,7 +195,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             f"no trajectory.npz in {run}: give the directory a run wrote (legdsl run --out DIR)"
         )
     out = Path(args.output) if args.output else run / "figure6.png"
-    plot_run(run, out, first_leg_joints(run), args.t_from, args.t_to)
+    plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
     return 0
 

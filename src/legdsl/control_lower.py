@@ -33,7 +33,7 @@ from sympy import Expr, Symbol
 
 from . import ast
 from .control_check import BUILTIN_FUNCTIONS, LEG_MEMBERS
-from .errors import InternalError
+from .errors import InternalError, LegError
 from .model import Controller, Model
 
 Binding = tuple[tuple[str, tuple[str, ...]], ...]  # role -> legs, sorted by role
@@ -238,6 +238,12 @@ class Lowerer:
         if not isinstance(legs, Legs):
             raise InternalError(f"place of {s.leg.name}")
         axes = tuple(name.name for name, _ in s.goals)
+        if self.model.planar and "y" in axes:
+            raise LegError.at(
+                s.span,
+                f"creature '{self.model.name}' is planar: 'place' can set x and z only, not y "
+                "(this action is for 3D creatures)",
+            )
         goals = tuple(self.value(value, env) for _, value in s.goals)
         per_leg: list[list[str]] = [[] for _ in legs.legs]
         for path in s.servos:
@@ -375,6 +381,11 @@ class Lowerer:
             if name == "touchdown":
                 return sympy.Or(*[f > 0.5 for f in flags])
             return sympy.And(*[f < 0.5 for f in flags])
+        if name == "select":
+            condition = self.boolean(e.args[0], env)
+            return sympy.Piecewise(
+                (self.value(e.args[1], env), condition), (self.value(e.args[2], env), True)
+            )
         args = [self.value(a, env) for a in e.args]
         if name not in _FUNCTIONS or name not in BUILTIN_FUNCTIONS:
             raise InternalError(f"function {name}")

@@ -66,7 +66,7 @@ class StateMachine:
         self.inputs = [float((inputs or {}).get(n, v)) for n, v in module.INPUTS.items()]
         self.params = tuple(float((params or {}).get(n, v)) for n, v in module.PARAMS.items())
         self.schedule = sorted(schedule or [], key=lambda c: c.t)
-        self.records = [math.nan] * len(module.RECORDS)
+        self.records = [0.0] * len(module.RECORDS)  # a record is 0 until first recorded
         self.state_index = module.START
         self.binding = 0
         self.entered_at = 0.0

@@ -32,19 +32,10 @@ def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
     return phases
 
 
-def leg_coordinates(tr: Trajectory, joints: tuple[str, ...]) -> list[str]:
-    """The coordinates of a leg's joints that are angles (gimbal parts included)."""
-    names = []
-    for name in tr.q_names:
-        if any(name == j or name.startswith(j + "_") for j in joints):
-            names.append(name)
-    return names
-
-
 def plot_run(
     run: Path,
     out: Path,
-    leg_joints: tuple[str, ...] | None = None,
+    angles: tuple[str, ...] = (),
     t_from: float = 0.0,
     t_to: float | None = None,
 ) -> Path:
@@ -74,7 +65,7 @@ def plot_run(
         speed.legend(loc="lower right", fontsize=8)
     speed.set_ylabel("forward speed (m/s)")
 
-    names = leg_coordinates(tr, leg_joints) if leg_joints else []
+    names = [n for n in angles if n in tr.q_names]
     for k, name in enumerate(names):
         column = tr.q_names.index(name)
         style = LINE_STYLES[k % len(LINE_STYLES)]
@@ -104,8 +95,8 @@ def plot_run(
     return out
 
 
-def first_leg_joints(run: Path) -> tuple[str, ...] | None:
-    """The joints of the run's first leg, read back from its creature's .leg file."""
+def first_leg_angles(run: Path) -> tuple[str, ...]:
+    """The hinge coordinates of the run's first leg, read back from its creature's .leg file."""
     import json
 
     from .checker import check_model
@@ -113,6 +104,9 @@ def first_leg_joints(run: Path) -> tuple[str, ...] | None:
     info = json.loads((run / "run.json").read_text())
     source = Path(info["source"])
     if not source.is_file():
-        return None
+        return ()
     model = check_model(source, info.get("creature"))
-    return model.legs[0].joints if model.legs else None
+    if not model.legs:
+        return ()
+    joints = model.legs[0].joints
+    return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")

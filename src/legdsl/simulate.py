@@ -91,6 +91,7 @@ class Simulation:
         )
         self.free3d = model.joints[0].is_free_3d
         self.t = 0.0
+        self.steps_taken = 0  # time is steps * dt: no drift from adding dt up
         self.q = [float(x) for x in model.q0]
         self.v = [float(x) for x in model.v0]
         self.events: list[ContactEvent] = []
@@ -104,7 +105,6 @@ class Simulation:
         self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
         if options.drop is not None:
             self._lift_to(options.drop)
-        self.time_in_state = 0.0
 
     # ------------------------------------------------------------ setup
     def _springs_of(self, joints: tuple[str, ...]) -> tuple[str, ...]:
@@ -245,8 +245,8 @@ class Simulation:
             ]
             self._normalise(q)
         self.q, self.v = q, v
-        self.t += dt
-        self.time_in_state += dt
+        self.steps_taken += 1
+        self.t = self.steps_taken * dt
         if self.ground is not None:
             pos = self.dyn.contact_positions(q)
             vel = self.dyn.contact_velocities(q, v)

@@ -1,0 +1,1 @@
+"""Generated code for the creature 'hopper' (legdsl compile); do not edit."""

@@ -1,0 +1,162 @@
+"""Controllers: lowering (roles, swaps, actions), the kinematic solve, and a hopper that hops at speed."""
+
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CREATURES, ROOT
+
+from legdsl.checker import check_model
+from legdsl.cli import main
+from legdsl.control_lower import lower_controller
+from legdsl.controller import InputChange, StateMachine
+from legdsl.kinematics import FootPlacer
+from legdsl.metrics import compute_metrics
+from legdsl.runner import load_controller, load_dynamics
+from legdsl.simulate import RunOptions, Simulation
+
+HOPPER = CREATURES / "hopper.leg"
+FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")
+
+TWO_LEGS = """
+creature walker {
+  planar
+  body trunk free { mass 10 kg  inertia 0.5 kg*m^2  initial x = 0 m, z = 1.0 m }
+  body a_leg on trunk via prismatic a { length 0.5 m  com 0.25 m  mass 0.5 kg  inertia 0.01 kg*m^2 }
+  body b_leg on trunk via prismatic b { length 0.5 m  com 0.25 m  mass 0.5 kg  inertia 0.01 kg*m^2 }
+  contact a_toe on a_leg at tip
+  contact b_toe on b_leg at tip
+  leg left { joints a  foot a_toe  alias spring = a_spring }
+  leg right { joints b  foot b_toe  alias spring = b_spring }
+  actuator a_spring on a spring(k = 2000 N/m, rest = 0 m)
+  actuator b_spring on b spring(k = 2000 N/m, rest = 0 m)
+  ground { normal spring(k = 2e5 N/m, b = 20 N*s/m)  tangent spring(k = 1e5 N/m, b = 100 N*s/m) }
+}
+controller run {
+  param push = 2 cm
+  roles active = left, idle = right
+  action shorten(leg) { leg.spring.rest = -5 cm }
+  table {
+    state FLIGHT on liftoff(active): swap active idle; active.spring.rest = 0 m; shorten(idle)
+    state STANCE on touchdown(active): record landed = time; active.spring.rest = push
+  }
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A copy of the checked-in generated modules, so that tests never write into the repo."""
+    target = tmp_path_factory.mktemp("generated")
+    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
+    return target
+
+
+def test_roles_are_specialised_per_binding_and_swapped_on_entry(tmp_path: Path) -> None:
+    source = tmp_path / "walker.leg"
+    source.write_text(TWO_LEGS)
+    model = check_model(source)
+    lowered = lower_controller(model, model.controllers[0])
+    assert lowered.bindings == (
+        (("active", ("left",)), ("idle", ("right",))),
+        (("active", ("right",)), ("idle", ("left",))),
+    )
+    flight, stance = 0, 1
+    assert lowered.after_entry[(0, flight)] == 1 and lowered.after_entry[(1, flight)] == 0
+    assert lowered.after_entry[(0, stance)] == 0  # no swap on entering STANCE
+    # FLIGHT under binding 1 (active = right after the swap): the right leg extends, the left shortens.
+    settings = {(s.actuator, s.key): float(s.value) for s in lowered.bodies[(1, flight)].settings}
+    assert settings == {("b_spring", "rest"): 0.0, ("a_spring", "rest"): -0.05}
+    # The event of STANCE while waiting under binding 0 watches the left foot only.
+    assert {str(x) for x in lowered.events[(0, stance)].free_symbols} == {"leg_left_touching"}
+    assert [name for name, _ in lowered.bodies[(0, stance)].records] == ["landed"]
+
+
+def _hop(generated: Path, time: float, **inputs: float) -> tuple[Simulation, object]:
+    model = check_model(HOPPER)
+    dyn = load_dynamics(model, HOPPER, generated)
+    control = load_controller(model, "hop", HOPPER, generated)
+    schedule = inputs.pop("schedule", None)
+    machine = StateMachine(model, control, inputs, schedule=schedule)  # type: ignore[arg-type]
+    sim = Simulation(model, dyn, RunOptions(duration=time), machine)
+    return sim, sim.run()
+
+
+def test_the_hopper_cycles_through_figure_4_and_hops(generated: Path) -> None:
+    _, result = _hop(generated, 3.0)
+    assert result.status == "ok", result.message
+    states = [e["state"] for e in result.events if e["kind"] == "state"]
+    assert len(states) >= 16
+    start = states.index("FLIGHT")
+    for k, state in enumerate(states[start:]):
+        assert state == FIGURE_4[k % 5], f"state {k} is {state}"
+    flights = result.trajectory.contact[:, 0] == 0
+    assert flights.any() and (~flights).any()
+
+
+@pytest.mark.parametrize("speed", [0.5, 1.0])
+def test_the_hopper_holds_the_commanded_speed(generated: Path, speed: float) -> None:
+    _, result = _hop(generated, 8.0, speed=speed)
+    assert result.status == "ok", result.message
+    metrics = compute_metrics(result.trajectory, t_from=3.0)
+    measured = metrics.value("running_speed")
+    assert measured == pytest.approx(speed, rel=0.05)
+
+
+def test_a_speed_schedule_changes_the_command_during_the_run(generated: Path) -> None:
+    sim, result = _hop(generated, 9.0, speed=0.5, schedule=[InputChange(4.0, "speed", 1.0)])
+    assert result.status == "ok", result.message
+    tr = result.trajectory
+    assert np.all(tr.speed_command[tr.t < 4.0] == 0.5) and np.all(
+        tr.speed_command[tr.t >= 4.0] == 1.0
+    )
+    after = compute_metrics(tr, t_from=6.0)
+    assert after.value("running_speed") == pytest.approx(1.0, rel=0.05)
+
+
+def test_place_puts_the_foot_where_it_was_asked(generated: Path) -> None:
+    model = check_model(HOPPER)
+    dyn = load_dynamics(model, HOPPER, generated)
+    sim = Simulation(model, dyn, RunOptions())
+    placer = FootPlacer(model, iterations=4)
+    goal = 0.2  # the foot 20 cm ahead of the hip
+    setpoint = placer.solve(sim, "main", ("x",), [goal], ("hip_servo",))[0]
+    sim.q[model.dofs[3].q_index] = setpoint  # put the hip where the servo will take it
+    foot = dyn.contact_positions(sim.q)[0]
+    hip = dyn.body_poses(sim.q)[1][0]
+    assert foot[0] - hip[0] == pytest.approx(goal, abs=1e-9)
+    assert setpoint == pytest.approx(-math.asin(goal / 0.8), abs=1e-9)  # a straight 0.8 m leg
+
+
+def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(
+    tmp_path: Path, generated: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = ["run", str(HOPPER), "--controller", "hop", "--generated", str(generated)]
+    assert main([*args, "--set", "sped=1m/s", "--time", "0.1"]) == 2
+    assert "no input or parameter 'sped'" in capsys.readouterr().err
+    assert main([*args, "--controller", "trot", "--time", "0.1"]) == 2
+    out = tmp_path / "run"
+    code = main(
+        [
+            *args,
+            "--set",
+            "speed=0.5m/s",
+            "--set",
+            "speed=1m/s@0.5s",
+            "--time",
+            "1",
+            "--out",
+            str(out),
+        ]
+    )
+    assert code == 0
+    import json
+
+    info = json.loads((out / "run.json").read_text())
+    assert info["inputs"]["speed"] == 0.5
+    assert info["settings"]["schedule"] == [{"t": 0.5, "input": "speed", "value": 1.0}]
+    assert any(e["kind"] == "state" for e in info["events"])
