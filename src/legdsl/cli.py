@@ -86,6 +86,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     write_run(out, model, options, result, {"settings": settings})
     print(summary(model, result))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
+    if args.animate:
+        from .animate import animate_result
+
+        animate_result(out, model, result, dynamics)
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -200,7 +204,17 @@ def _parser() -> argparse.ArgumentParser:
         metavar="DIR",
         help="where generated modules live (default generated/)",
     )
+    r.add_argument(
+        "--animate",
+        action="store_true",
+        help="also write the HTML player, DIR/animation.html (see legdsl animate)",
+    )
     _COMMANDS["run"] = _cmd_run
+
+    from .animate import add_animate_parser, add_export_motion_parser
+
+    _COMMANDS["animate"] = add_animate_parser(sub)
+    _COMMANDS["export-motion"] = add_export_motion_parser(sub)
 
     return p
 
