@@ -189,7 +189,7 @@ def load_motion(
         run.model,
         run.trajectory,
         kinematics,
-        events=run.info.get("events", []),
+        events=run.info.get("events"),
         fps=fps,
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
@@ -333,10 +333,10 @@ def footprints(
     kinematics: Kinematics,
     events: list[dict[str, Any]] | None,
 ) -> tuple[Footprint, ...]:
-    """Where each contact touched down: from the run's events, else from the contact flags."""
+    """Where each contact touched down: from the run's events, or without any from the contact flags."""
     names = [c.name for c in model.contacts]
     touchdowns: list[tuple[float, int]] = []
-    if events:
+    if events is not None:
         touchdowns = [
             (float(e["t"]), names.index(e["contact"]))
             for e in events
