@@ -46,8 +46,8 @@ view.appendChild(renderer.domElement);
 
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef0f3);
-scene.fog = new THREE.Fog(0xeef0f3, 2.5 * data.distance, 7 * data.distance);
-const camera = new THREE.PerspectiveCamera(35, 1, 0.01, 500);
+scene.fog = new THREE.Fog(0xeef0f3, 1.5 * data.distance, 4.5 * data.distance);
+const camera = new THREE.PerspectiveCamera(35, 1, 0.05, 500);
 camera.up.set(0, 0, 1);
 
 scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8a80, 1.9));
@@ -58,23 +58,43 @@ const shadowBox = 1.5 * data.size;
 Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: 0.1, far: 20 * data.size + 10 });
 scene.add(sun, sun.target);
 
-// Ground and terrain.
-const groundMaterial = new THREE.MeshStandardMaterial({ color: 0xd9d9d6, roughness: 1 });
-const terrainMaterial = new THREE.MeshStandardMaterial({ color: 0xc2c2bc, roughness: 1 });
+// Ground and terrain. The ground's grid is a texture rather than lines: it is
+// filtered into a plain tone far away, and no line ever crosses the camera.
 const [gx0, gx1, gy0, gy1] = data.ground.extent;
+function gridTexture(step) {
+  const n = 512;
+  const canvas = document.createElement("canvas");
+  canvas.width = canvas.height = n;
+  const g = canvas.getContext("2d");
+  g.fillStyle = "#d9d9d6";
+  g.fillRect(0, 0, n, n);
+  const stroke = (color, width, at) => {
+    g.strokeStyle = color;
+    g.lineWidth = width;
+    g.beginPath();
+    for (const a of at) { g.moveTo(a, 0); g.lineTo(a, n); g.moveTo(0, a); g.lineTo(n, a); }
+    g.stroke();
+  };
+  stroke("#b8b8b2", 3, [n / 4, n / 2, (3 * n) / 4]); // every step
+  stroke("#98988f", 6, [0, n]); // every fourth step, half at each edge
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.wrapS = texture.wrapT = THREE.RepeatWrapping;
+  texture.colorSpace = THREE.SRGBColorSpace;
+  texture.anisotropy = renderer.capabilities.getMaxAnisotropy();
+  const cell = 4 * step; // metres per texture tile
+  texture.repeat.set((gx1 - gx0) / cell, (gy1 - gy0) / cell);
+  texture.offset.set(gx0 / cell, gy0 / cell); // tile edges on multiples of the cell
+  return texture;
+}
+const groundMaterial = new THREE.MeshStandardMaterial({ map: gridTexture(data.ground.grid), roughness: 1 });
+const terrainMaterial = new THREE.MeshStandardMaterial({ color: 0xc2c2bc, roughness: 1 });
 const ground = new THREE.Group();
 const slope = data.ground.terrain.find((t) => t.kind === "slope");
 {
   const plane = new THREE.Mesh(new THREE.PlaneGeometry(gx1 - gx0, gy1 - gy0), groundMaterial);
   plane.position.set((gx0 + gx1) / 2, (gy0 + gy1) / 2, 0);
   plane.receiveShadow = true;
-  const step = data.ground.grid;
-  const size = Math.max(gx1 - gx0, gy1 - gy0);
-  const divisions = Math.round(size / step);
-  const grid = new THREE.GridHelper(divisions * step, divisions, 0x9c9c96, 0xb2b2ac);
-  grid.rotation.x = Math.PI / 2;
-  grid.position.set(Math.round((gx0 + gx1) / 2 / step) * step, Math.round((gy0 + gy1) / 2 / step) * step, 0.0005);
-  ground.add(plane, grid);
+  ground.add(plane);
   if (slope) ground.rotation.y = -slope.angle;
 }
 scene.add(ground);
@@ -358,7 +378,11 @@ const api = {
     return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   },
   bodyPosition: (i) => links[i].position.toArray(),
+  // A point given in body i's frame, in world coordinates.
+  bodyPoint: (i, p) => new THREE.Vector3(...p).applyMatrix4(links[i].matrixWorld).toArray(),
   setView(v) { Object.assign(orbit, v); draw(); },
+  scene, // for poking at from a browser console
+  redraw: () => draw(),
   getView: () => ({ ...orbit }),
 };
 window.legdsl = api;
