@@ -78,7 +78,8 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         from .video import render_video, stderr_progress
 
         video = Path(args.video)
-        size = parse_size(args.size)
+        # GIFs compress poorly (every frame moves with the camera): smaller by default.
+        size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
         if video.suffix.lower() not in (".mp4", ".gif"):
             raise UsageError(f"--video {video}: write an .mp4 or a .gif")
         fps = args.fps or 30.0
@@ -136,7 +137,11 @@ def add_animate_parser(sub: Any) -> Command:
         help="frames per second: stored in the player (default 60; it interpolates between "
         "them) or rendered into the video (default 30)",
     )
-    a.add_argument("--size", default="960x540", help="video size in pixels (default 960x540)")
+    a.add_argument(
+        "--size",
+        metavar="WxH",
+        help="video size in pixels (default 960x540 for .mp4, 640x360 for .gif)",
+    )
     a.add_argument(
         "--overlays",
         default=",".join(OVERLAY_NAMES),
