@@ -8,9 +8,11 @@ reported as such (with the traceback under ``--debug``) and exits with 70.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import traceback
 from collections.abc import Callable, Sequence
+from pathlib import Path
 
 from . import __version__
 from .errors import LegError, UsageError
@@ -100,6 +102,75 @@ def _cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
+
+
+def _cmd_metrics(args: argparse.Namespace) -> int:
+    from .metrics import MetricsError, compute_metrics, parse_groups, write_json
+    from .trajectory import Trajectory
+
+    run = Path(args.dir)
+    if not (run / "trajectory.npz").is_file():
+        print(f"legdsl metrics: error: no trajectory.npz in {run}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    try:
+        trajectory = Trajectory.load(run)
+    except (OSError, KeyError, ValueError) as e:  # a damaged or foreign file, not our bug
+        print(f"legdsl metrics: error: cannot read {run / 'trajectory.npz'}: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    try:
+        metrics = compute_metrics(
+            trajectory,
+            t_from=args.t_from,
+            t_to=args.t_to,
+            leg=args.leg,
+            groups=parse_groups(args.group),
+            joint=args.joint,
+            against=args.against,
+        )
+    except MetricsError as e:
+        print(f"legdsl metrics: error: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    write_json(metrics, run / "metrics.json")
+    if args.json:
+        print(json.dumps(metrics.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(metrics.table(), end="")
+    return 0
+
+
+def _cmd_compile(args: argparse.Namespace) -> int:
+    import time
+    from pathlib import Path
+
+    from .driver import compile_file, write_generated
+
+    if args.all == bool(args.files):
+        print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
+        return EXIT_USER_ERROR
+    files = sorted(Path("creatures").glob("*.leg")) if args.all else [Path(f) for f in args.files]
+    if not files:
+        print(
+            "legdsl compile --all: no creatures/*.leg here; run it from the project root",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+
+    def progress(message: str) -> None:
+        print(f"legdsl: {message}", file=sys.stderr, flush=True)
+
+    failed = False
+    for path in files:
+        start = time.perf_counter()
+        try:
+            compiled = compile_file(path, progress)
+        except LegError as e:
+            print(e.render(), file=sys.stderr)
+            failed = True
+            continue
+        for c in compiled:
+            where = write_generated(c, args.out)
+            progress(f"{c.name}: wrote {where}/ ({time.perf_counter() - start:.2f} s in all)")
+    return EXIT_USER_ERROR if failed else 0
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -210,6 +281,80 @@ def _parser() -> argparse.ArgumentParser:
         help="also write the HTML player, DIR/animation.html (see legdsl animate)",
     )
     _COMMANDS["run"] = _cmd_run
+
+    m = sub.add_parser(
+        "metrics",
+        help="gait metrics of a recorded run, as in Table 2 of the paper",
+        description="Measure a recorded run (DIR/trajectory.npz): stride duration and length, "
+        "flight and stance durations, pitch and roll magnitude, change of leg length, speed "
+        "and its error, peak vertical acceleration, the friction coefficient that would have "
+        "prevented slipping and the elastic energy recirculated per step. Strides run from one "
+        "touchdown of the reference foot to the next; only complete strides inside the window "
+        "count. Prints a table (or JSON) and writes DIR/metrics.json. See docs/metrics.md.",
+        epilog="Example: legdsl metrics runs/kangaroo --from 3 --joint tail_base --against hip",
+    )
+    m.add_argument("dir", metavar="DIR", help="a run directory holding trajectory.npz")
+    m.add_argument(
+        "--from",
+        dest="t_from",
+        type=float,
+        default=0.0,
+        metavar="T",
+        help="start of the window in s (default 0)",
+    )
+    m.add_argument(
+        "--to",
+        dest="t_to",
+        type=float,
+        default=None,
+        metavar="T",
+        help="end of the window in s (default: the end of the run)",
+    )
+    m.add_argument(
+        "--leg",
+        metavar="NAME",
+        help="reference leg (or virtual leg, or contact) whose touchdowns delimit strides "
+        "(default: the first leg)",
+    )
+    m.add_argument(
+        "--group",
+        action="append",
+        default=[],
+        metavar="NAME=LEG,LEG",
+        help="a virtual leg: the union of the contacts of these legs, e.g. front=fl,fr "
+        "(repeat for each virtual leg)",
+    )
+    m.add_argument(
+        "--joint",
+        metavar="NAME",
+        help="also the per-stride magnitude (peak to peak, deg) of this coordinate, e.g. tail_base",
+    )
+    m.add_argument(
+        "--against",
+        metavar="NAME",
+        help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
+    )
+    m.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    _COMMANDS["metrics"] = _cmd_metrics
+
+    k = sub.add_parser(
+        "compile",
+        help="generate the equations of motion of creatures as Python modules",
+        description="Lower each creature through sympy (articulated-body dynamics, bias forces, "
+        "mass matrix, contact kinematics) and write generated/NAME/dynamics.py, replacing the "
+        "directory only once the new one is complete. Progress goes to stderr. --all compiles "
+        "creatures/*.leg and is the command that updates the golden files.",
+        epilog="Example: legdsl compile creatures/kangaroo.leg  (or: legdsl compile --all)",
+    )
+    k.add_argument("files", nargs="*", metavar="FILE", help=".leg files to compile")
+    k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
+    k.add_argument(
+        "--out",
+        default="generated",
+        metavar="DIR",
+        help="where to write NAME/ (default: generated)",
+    )
+    _COMMANDS["compile"] = _cmd_compile
 
     from .animate import add_animate_parser, add_export_motion_parser
 

@@ -1,0 +1,277 @@
+"""Straight-line programs: the body of one generated function, built step by step.
+
+The symbolic algorithms do their arithmetic on sympy expressions. After each
+step they pass every result through ``Block.let``, which keeps numbers and
+plain symbols inline and names anything bigger with a fresh temporary (or
+reuses the temporary of an identical expression). Expressions therefore stay
+small, constants stay folded, and the code grows linearly with the link tree.
+
+``Block.finish`` then drops every assignment that no output needs, runs
+sympy's ``cse`` over what is left, and numbers the temporaries ``t1, t2, ...``
+in the order they are assigned, so the result does not depend on how many
+temporaries were made and thrown away, nor on the hash seed.
+"""
+
+from __future__ import annotations
+
+import keyword
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+
+import sympy
+from sympy import Expr, Float, Integer, Rational, Symbol
+
+
+def num(value: float) -> Expr:
+    """A model number as a sympy constant; whole numbers become exact so that 0 and 1 fold."""
+    if value == int(value) and abs(value) < 2**53:
+        return Integer(int(value))
+    return Float(value)
+
+
+def fold(expr: Expr) -> Expr:
+    """Whole-valued floats that arithmetic produced (1.0, -2.0) become exact integers, fractions floats."""
+    expr = sympy.sympify(expr)
+    # (float(f), not f: sympy's Float(1.0) == 1 is False)
+    numbers = {f: Integer(int(f)) for f in expr.atoms(Float) if float(f).is_integer()}
+    # fractions such as 1/2 print and run as floats
+    numbers |= {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
+    return expr.xreplace(numbers) if numbers else expr
+
+
+def is_cheap(expr: Expr) -> bool:
+    """Numbers, symbols and ``number * symbol`` are cheaper inline than as a temporary."""
+    if expr.is_Atom:
+        return True
+    return bool(
+        expr.is_Mul and len(expr.args) == 2 and expr.args[0].is_Number and expr.args[1].is_Symbol
+    )
+
+
+@dataclass(frozen=True)
+class Unpack:
+    """``target = array[index]``: an input coordinate under its own name."""
+
+    target: Symbol
+    array: str
+    index: int
+
+
+@dataclass(frozen=True)
+class Assign:
+    target: Symbol
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Comment:
+    text: str
+
+
+Statement = Unpack | Assign | Comment
+
+# The arrays a generated function unpacks, in the order it unpacks them.
+ARRAYS = ("q", "v", "tau")
+
+
+def python_name(wanted: str, taken: set[str]) -> str:
+    """``wanted`` if it is a free Python identifier, else ``wanted_``, ``wanted_2``, ..."""
+    name = wanted + "_" if keyword.iskeyword(wanted) else wanted
+    base, n = name, 1
+    while name in taken:
+        n += 1
+        name = f"{base}_{n}"
+    taken.add(name)
+    return name
+
+
+@dataclass(frozen=True)
+class Program:
+    """A finished function body: statements, and the outputs in terms of their targets."""
+
+    statements: tuple[Statement, ...]
+    outputs: tuple[Expr, ...]
+
+
+class Block:
+    """Collects the statements of one function. Names in ``reserved`` are never used for locals."""
+
+    def __init__(self, reserved: Iterable[str] = ()):
+        self._taken = set(reserved)
+        self._inputs: dict[Symbol, Unpack] = {}
+        self._statements: list[Assign | Comment] = []
+        self._known: dict[Expr, Symbol] = {}
+        self._count = 0
+
+    def input(self, wanted: str, array: str, index: int) -> Symbol:
+        """A local that unpacks ``array[index]``; only unpacked if some output needs it."""
+        for sym, unpack in self._inputs.items():
+            if (unpack.array, unpack.index) == (array, index):
+                return sym
+        sym = Symbol(python_name(wanted, self._taken))
+        self._inputs[sym] = Unpack(sym, array, index)
+        return sym
+
+    def define(self, wanted: str, expr: Expr) -> Expr:
+        """Like ``let``, but under a chosen name such as ``c_hip`` (if the value is new)."""
+        expr = fold(expr)
+        if is_cheap(expr):
+            return expr
+        if expr in self._known:
+            return self._known[expr]
+        sym = Symbol(python_name(wanted, self._taken))
+        self._statements.append(Assign(sym, expr))
+        self._known[expr] = sym
+        return sym
+
+    def let(self, expr: Expr) -> Expr:
+        """The value of ``expr`` as something cheap to use again: itself or a temporary."""
+        expr = fold(expr)
+        if is_cheap(expr):
+            return expr
+        known = self._known.get(expr)
+        if known is not None:
+            return known
+        self._count += 1
+        sym = Symbol(f"_tmp{self._count}")  # renamed in finish(); no user name starts with _tmp
+        self._statements.append(Assign(sym, expr))
+        self._known[expr] = sym
+        return sym
+
+    def note(self, text: str) -> None:
+        """A comment before the statements that follow (dropped if all of them are dead)."""
+        self._statements.append(Comment(text))
+
+    def finish(self, outputs: Iterable[Expr], cse: bool = True) -> Program:
+        outs = [fold(o) for o in outputs]
+        live = _drop_dead(self._statements, outs)
+        if cse:
+            live = _common_subexpressions(live)
+        live, outs = _inline_cheap(live, outs)
+        return self._number(live, outs)
+
+    def _number(self, body: list[Assign | Comment], outputs: list[Expr]) -> Program:
+        rename: dict[Symbol, Symbol] = {}
+        n = 0
+        for st in body:
+            if isinstance(st, Assign) and st.target.name.startswith("_"):
+                n += 1
+                while f"t{n}" in self._taken:
+                    n += 1
+                rename[st.target] = Symbol(f"t{n}")
+        needed = _symbols_of([*(s.value for s in body if isinstance(s, Assign)), *outputs])
+        unpacks = [u for s, u in self._inputs.items() if s in needed]
+        unpacks.sort(key=lambda u: (ARRAYS.index(u.array), u.index))
+        statements: list[Statement] = [*unpacks]
+        for k, st in enumerate(body):
+            if isinstance(st, Comment) and not isinstance(_at(body, k + 1), Assign):
+                continue  # a heading over nothing
+            if isinstance(st, Assign):
+                statements.append(
+                    Assign(rename.get(st.target, st.target), st.value.xreplace(rename))
+                )
+            else:
+                statements.append(st)
+        return Program(tuple(statements), tuple(o.xreplace(rename) for o in outputs))
+
+
+def _at(body: list[Assign | Comment], k: int) -> Assign | Comment | None:
+    return body[k] if k < len(body) else None
+
+
+def _symbols_of(exprs: Iterable[Expr]) -> set[Symbol]:
+    out: set[Symbol] = set()
+    for e in exprs:
+        out |= e.free_symbols
+    return out
+
+
+def _drop_dead(statements: list[Assign | Comment], outputs: list[Expr]) -> list[Assign | Comment]:
+    """Keep the assignments some output depends on, and the comments heading kept ones."""
+    needed = _symbols_of(outputs)
+    kept: list[Assign | Comment] = []
+    heading_used = False
+    for st in reversed(statements):
+        if isinstance(st, Assign):
+            if st.target in needed:
+                needed |= st.value.free_symbols
+                kept.append(st)
+                heading_used = True
+        elif heading_used:
+            kept.append(st)
+            heading_used = False
+    kept.reverse()
+    return kept
+
+
+def _inline_cheap(
+    body: list[Assign | Comment], outputs: list[Expr]
+) -> tuple[list[Assign | Comment], list[Expr]]:
+    """Put temporaries whose value is just ``-t3`` or ``2*x`` back where they are used."""
+    inline: dict[Symbol, Expr] = {}
+    out: list[Assign | Comment] = []
+    for st in body:
+        if isinstance(st, Assign):
+            value = fold(st.value.xreplace(inline)) if inline else st.value
+            if is_cheap(value) and st.target.name.startswith("_"):
+                inline[st.target] = value
+                continue
+            st = Assign(st.target, value)
+        out.append(st)
+    return out, [fold(o.xreplace(inline)) for o in outputs]
+
+
+def _cse_names() -> Iterator[Symbol]:
+    n = 0
+    while True:
+        n += 1
+        yield Symbol(f"_cse{n}")
+
+
+def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Comment]:
+    """sympy's cse across the whole body; each shared piece is assigned just before its first use."""
+    where = [i for i, st in enumerate(body) if isinstance(st, Assign)]
+    targets = {i: st.target for i, st in enumerate(body) if isinstance(st, Assign)}
+    if not where:
+        return body
+    shared, reduced = sympy.cse(
+        [st.value for st in body if isinstance(st, Assign)],
+        symbols=_cse_names(),
+        order="none",
+        list=True,
+    )
+    if not shared:
+        return body
+    # Pieces such as -x cost more as a line of their own than inline: put them back.
+    inline: dict[Symbol, Expr] = {}
+    kept: list[tuple[Symbol, Expr]] = []
+    for sym, expr in shared:
+        expr = expr.xreplace(inline)
+        if is_cheap(expr):
+            inline[sym] = expr
+        else:
+            kept.append((sym, expr))
+    value_at = {i: fold(v.xreplace(inline)) for i, v in zip(where, reduced, strict=True)}
+    # A piece that is the whole value of an assignment takes that assignment's name.
+    alias = {
+        v: targets[i] for i, v in value_at.items() if v.is_Symbol and v.name.startswith("_cse")
+    }
+    pieces = [(alias.get(s, s), fold(e.xreplace(alias))) for s, e in kept]
+    value_at = {i: v.xreplace(alias) for i, v in value_at.items()}
+    # Where each piece is first needed: directly, or through a later piece that uses it.
+    first_use = {s: len(body) for s, _ in pieces}
+    for i in reversed(where):
+        for s in value_at[i].free_symbols & first_use.keys():
+            first_use[s] = i
+    for s, e in reversed(pieces):
+        for used in e.free_symbols & first_use.keys():
+            first_use[used] = min(first_use[used], first_use[s])
+    out: list[Assign | Comment] = []
+    for i, st in enumerate(body):
+        if isinstance(st, Comment):
+            out.append(st)
+            continue
+        out += [Assign(s, e) for s, e in pieces if first_use[s] == i]
+        if value_at[i] != st.target:  # not already assigned as a piece
+            out.append(Assign(st.target, value_at[i]))
+    return out

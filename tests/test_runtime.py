@@ -1,0 +1,133 @@
+"""The simulation runtime on small creatures whose motion is known analytically."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from runtime_helpers import compile_text, run
+
+# A 10 kg mass on a massless-looking spring leg: the paper's one-legged hopper reduced to
+# its spring-mass core. The ground is 100 times stiffer than the leg (in series with it).
+HOPPER = """
+creature hopper {
+  planar
+  gravity 9.81 m/s^2
+  body mass free { mass 10 kg  inertia 0.5 kg*m^2  initial x = 0 m, z = 1.0 m }
+  body leg on mass via prismatic slide {
+    length 0.5 m  com 0.5 m  mass 0.01 kg  inertia 1e-6 kg*m^2
+  }
+  contact foot on leg at tip
+  actuator spring on slide spring(k = 2000 N/m, b = 0 N*s/m, rest = 0 m)
+  ground {
+    normal spring(k = 2e5 N/m, b = 20 N*s/m)
+    tangent spring(k = 1e5 N/m, b = 100 N*s/m)
+  }
+}
+"""
+
+SLED = """
+creature sled {
+  planar
+  body block free { mass 1 kg  inertia 0.01 kg*m^2  initial x = 0 m, z = 0.001 m }
+  contact corner on block at (0 m, 0 m)
+  ground {
+    normal spring(k = 1e4 N/m, b = 40 N*s/m)
+    tangent spring(k = 1e4 N/m, b = 40 N*s/m)
+    friction 0.5
+    terrain slope(angle = ANGLE)
+  }
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def hopper(tmp_path_factory: pytest.TempPathFactory):
+    return compile_text(HOPPER, tmp_path_factory.mktemp("hopper"), "hopper")
+
+
+def _events(result, kind: str) -> list[float]:
+    return [e["t"] for e in result.events if e["kind"] == kind]
+
+
+def test_spring_mass_bounce_period_and_eq2_apex(hopper) -> None:
+    model, dyn = hopper
+    sim, result = run(model, dyn, duration=2.2, dt=1e-4, integrator="rk4", record_rate=0)
+    assert result.status == "ok"
+    touch, lift = _events(result, "touchdown"), _events(result, "liftoff")
+    assert len(touch) >= 3 and len(lift) >= 2
+
+    # Analytic: compression y'' = g - w^2 y from y = 0, y' = v0 at touchdown.
+    mass, g = 10.0, 9.81
+    k = 1.0 / (1.0 / 2000.0 + 1.0 / 2e5)  # leg and ground springs in series
+    w = math.sqrt(k / mass)
+    v0 = math.sqrt(2 * g * 0.5)  # the foot starts 0.5 m above the ground
+    stance = (math.pi + 2 * math.atan2(g / w**2, v0 / w)) / w
+    period = stance + 2 * v0 / g
+    assert lift[0] - touch[0] == pytest.approx(stance, rel=0.01)
+    assert touch[1] - touch[0] == pytest.approx(period, rel=0.01)
+
+    # Eq. (2): in mid-stance, (strain + elevation + kinetic energy) / Mg predicts the next apex.
+    tr = result.trajectory
+    mid = np.searchsorted(tr.t, 0.5 * (touch[1] + lift[1]))
+    total_mass = tr.total_mass
+    strain = tr.elastic[mid]  # the leg spring and the ground springs
+    kinetic = tr.kinetic[mid]
+    predicted = (strain + total_mass * g * tr.com[mid, 2] + kinetic) / (total_mass * g)
+    after = (tr.t > lift[1]) & (tr.t < touch[2])
+    assert tr.com[after, 2].max() == pytest.approx(predicted, rel=0.01)
+
+
+def test_same_inputs_give_byte_identical_trajectories(hopper, tmp_path: Path) -> None:
+    model, dyn = hopper
+    for name in ("a", "b"):
+        _, result = run(model, dyn, duration=0.6)
+        result.trajectory.save(tmp_path / name)
+    assert (tmp_path / "a" / "trajectory.npz").read_bytes() == (
+        tmp_path / "b" / "trajectory.npz"
+    ).read_bytes()
+    assert (tmp_path / "a" / "trajectory.csv").read_text() == (
+        tmp_path / "b" / "trajectory.csv"
+    ).read_text()
+
+
+def test_divergence_stops_with_time_state_and_cause_and_keeps_the_record(hopper) -> None:
+    model, dyn = hopper
+    _, result = run(model, dyn, duration=2.0, dt=0.004, control_dt=0.004)
+    assert result.status == "diverged"
+    assert "t = " in result.message and "Likely cause" in result.message
+    assert "too large for the contact stiffness" in result.message
+    assert "z=" in result.message  # the state is printed by coordinate name
+    assert len(result.trajectory) > 0 and result.trajectory.t[-1] < 2.0
+    assert np.isfinite(result.trajectory.q).all()
+
+
+def test_a_tipped_hopper_is_reported_as_a_fall(hopper) -> None:
+    model, dyn = hopper
+    from legdsl.simulate import RunOptions, Simulation
+
+    sim = Simulation(model, dyn, RunOptions(duration=5.0))
+    sim.q[2] = 0.3  # pitched 17 degrees: it lands on a slant leg and topples
+    result = sim.run()
+    assert result.status == "fell"
+    assert "tilted" in result.message or "fell below" in result.message
+    assert result.sim_time < 5.0
+
+
+@pytest.mark.parametrize(("angle", "slips"), [(15.0, False), (35.0, True)])
+def test_friction_cone_on_a_slope(tmp_path: Path, angle: float, slips: bool) -> None:
+    model, dyn = compile_text(SLED.replace("ANGLE", f"{angle} deg"), tmp_path, "sled")
+    _, result = run(model, dyn, duration=1.0, dt=2e-4, integrator="rk4")
+    assert result.status == "ok"
+    tr = result.trajectory
+    a = math.radians(angle)
+    along = tr.root_pos[:, 0] * math.cos(a) + tr.root_pos[:, 2] * math.sin(a)
+    slid = along[0] - along[-1]
+    if slips:
+        # Sliding down with acceleration g (sin a - mu cos a), give or take the settling.
+        expected = 0.5 * 9.81 * (math.sin(a) - 0.5 * math.cos(a)) * tr.t[-1] ** 2
+        assert slid == pytest.approx(expected, rel=0.1)
+    else:
+        assert abs(slid) < 2e-3  # held by the tangential spring, a millimetre at most
