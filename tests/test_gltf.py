@@ -45,7 +45,7 @@ def accessor(doc: dict, blob: bytes, index: int) -> np.ndarray:
 
 @pytest.fixture(scope="module", params=["kangaroo", "quadruped"])
 def exported(request, tmp_path_factory) -> tuple[Motion, Path]:
-    motion = creature_motion(request.param, tmp_path_factory.mktemp(request.param))
+    motion = creature_motion(request.param, tmp_path_factory.mktemp(request.param) / "run")
     path = tmp_path_factory.mktemp("glb") / f"{request.param}.glb"
     size = write_gltf(motion, path)
     assert size == path.stat().st_size > 0

@@ -11,8 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from anim_runs import creature_motion
+from standin import ModelKinematics, synthetic_run
 
-from legdsl.motion import Motion
+from legdsl.checker import check_model
+from legdsl.motion import Motion, load_motion
 from legdsl.player import THREE_VERSION, _inline_safe, player_html, three_module, write_player
 
 
@@ -28,9 +30,17 @@ def f32(text: str) -> np.ndarray:
     return np.frombuffer(base64.b64decode(text), dtype="<f4")
 
 
+_RUN: list[Path] = []
+
+
 @pytest.fixture(scope="module")
 def quadruped(tmp_path_factory) -> Motion:
-    return creature_motion("quadruped", tmp_path_factory.mktemp("quadruped"))
+    _RUN.append(tmp_path_factory.mktemp("quadruped") / "run")
+    return creature_motion("quadruped", _RUN[-1])
+
+
+def quadruped_events() -> list[dict]:
+    return list(json.loads((_RUN[-1] / "run.json").read_text())["events"])
 
 
 def test_the_page_loads_nothing_from_outside(quadruped: Motion) -> None:
@@ -57,7 +67,9 @@ def test_the_data_is_the_motion(quadruped: Motion) -> None:
     assert [b["name"] for b in data["bodies"]] == [b.name for b in quadruped.bodies]
     assert data["bodies"][0]["color"] == "#708040"  # the trunk's colour in quadruped.leg
     assert data["overlays"] == ["forces", "com"]
-    assert len(data["footprints"]) == len(quadruped.footprints) == 4
+    touchdowns = [e for e in quadruped_events() if e["kind"] == "touchdown"]
+    assert len(data["footprints"]) == len(quadruped.footprints) == len(touchdowns) > 0
+    assert [fp[0] for fp in data["footprints"]] == pytest.approx([e["t"] for e in touchdowns])
     assert data["planar"] is False and data["size"] > 0.5
 
 
@@ -76,7 +88,11 @@ def test_text_that_would_close_a_script_is_refused() -> None:
 
 
 def test_a_ten_second_run_stays_small(tmp_path: Path) -> None:
-    motion = creature_motion("quadruped", tmp_path / "run", duration=10.0)
+    # The size depends on the frames, links and contacts only: a made-up run will do.
+    source = Path(__file__).resolve().parents[1] / "creatures" / "quadruped.leg"
+    model = check_model(source)
+    synthetic_run(model, source, tmp_path / "run", duration=10.0)
+    motion = load_motion(tmp_path / "run", kinematics=ModelKinematics(model))
     size = write_player(motion, tmp_path / "player.html")
     assert size == (tmp_path / "player.html").stat().st_size
     assert motion.frames == 601  # 60 fps

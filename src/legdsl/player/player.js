@@ -54,6 +54,8 @@ scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8a80, 1.9));
 const sun = new THREE.DirectionalLight(0xffffff, 1.8);
 sun.castShadow = true;
 sun.shadow.mapSize.set(1024, 1024);
+sun.shadow.bias = -0.0005; // no shadow acne on flat faces lit at a grazing angle
+sun.shadow.normalBias = 0.01 * data.size;
 const shadowBox = 1.5 * data.size;
 Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: 0.1, far: 20 * data.size + 10 });
 scene.add(sun, sun.target);
@@ -135,14 +137,30 @@ const overlays = {
   com: { label: "COM trail", on: data.overlays.includes("com") },
 };
 
-const arrowColor = 0xd2401e;
+// Force arrows: a shaft and a cone along +y (three's cylinder axis), turned
+// to the force and scaled to its size; drawn over everything.
+const arrowMaterial = new THREE.MeshBasicMaterial({ color: 0xd2401e, depthTest: false });
+const shaftGeometry = new THREE.CylinderGeometry(1, 1, 1, 12).translate(0, 0.5, 0);
+const headGeometry = new THREE.ConeGeometry(1, 1, 16).translate(0, 0.5, 0);
 const arrows = [];
 for (let c = 0; c < nContacts; c++) {
-  const arrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, arrowColor);
+  const arrow = new THREE.Group();
+  const shaft = new THREE.Mesh(shaftGeometry, arrowMaterial);
+  const head = new THREE.Mesh(headGeometry, arrowMaterial);
+  shaft.renderOrder = head.renderOrder = 20;
+  arrow.add(shaft, head);
   arrow.visible = false;
-  arrow.traverse((o) => { if (o.material) { o.material.depthTest = false; o.renderOrder = 20; } });
   scene.add(arrow);
   arrows.push(arrow);
+}
+const yAxis = new THREE.Vector3(0, 1, 0);
+function pointArrow(arrow, length) {
+  const [shaft, head] = arrow.children;
+  const headLength = Math.min(0.35 * length, 0.1 * data.size);
+  const radius = Math.min(0.012 * data.size, 0.15 * headLength); // short arrows get thin
+  shaft.scale.set(radius, length - headLength, radius);
+  head.position.set(0, length - headLength, 0);
+  head.scale.set(2.6 * radius, headLength, 2.6 * radius);
 }
 const arrowPerNewton = (0.6 * data.size) / data.weight; // the creature's weight is 0.6 sizes long
 
@@ -251,9 +269,8 @@ function draw() {
     arrow.visible = overlays.forces.on && length > 1e-3 * data.size;
     if (arrow.visible) {
       arrow.position.set(mix(contactPos, i, j, a, 0), mix(contactPos, i, j, a, 1), mix(contactPos, i, j, a, 2));
-      arrow.setDirection(force.normalize());
-      const head = Math.min(0.3 * length, 0.12 * data.size);
-      arrow.setLength(length, head, 0.6 * head);
+      arrow.quaternion.setFromUnitVectors(yAxis, force.normalize());
+      pointArrow(arrow, length);
     }
   }
   for (const mesh of footprints) mesh.visible = overlays.footprints.on && mesh.userData.t <= time + 1e-9;
@@ -370,7 +387,14 @@ const api = {
   pause: () => setPlaying(false),
   isPlaying: () => playing,
   setRate(r) { rate.value = String(r); },
-  setOverlay(name, on) { overlays[name].on = on; document.getElementById(`overlay-${name}`).checked = on; draw(); },
+  setOverlay(name, on) { api.setOverlays({ [name]: on }); },
+  setOverlays(settings) {
+    for (const [name, on] of Object.entries(settings)) {
+      overlays[name].on = on;
+      document.getElementById(`overlay-${name}`).checked = on;
+    }
+    draw();
+  },
   // Where a world point is drawn, in CSS pixels of the page.
   project(x, y, z) {
     const p = new THREE.Vector3(x, y, z).project(camera);
