@@ -105,3 +105,11 @@ def test_side_outlines() -> None:
     assert capsule[:, 0].min() == pytest.approx(-0.04) and capsule[:, 0].max() == pytest.approx(
         0.44
     )
+
+
+def test_box_faces_can_be_split_into_a_grid() -> None:
+    box = CASES[0][1]
+    fine = body_mesh(box, box_divisions=4)
+    assert len(fine.indices) == 6 * 4 * 4 * 2 and len(body_mesh(box).indices) == 12
+    assert volume(fine) == pytest.approx(0.4 * 0.2 * 0.1)
+    assert np.allclose(fine.bounds[0], body_mesh(box).bounds[0])

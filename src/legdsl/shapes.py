@@ -64,7 +64,7 @@ def _basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _grid_triangles(rows: int, cols: int) -> np.ndarray:
-    """Triangles of a (rows+1) x (cols+1) vertex grid, wrapped in the column direction."""
+    """Triangles of a row-major (rows+1) x (cols+1) vertex grid, facing along rows x columns."""
     tris = []
     for i in range(rows):
         for j in range(cols):
@@ -112,8 +112,10 @@ def _cap(b: _Builder, centre: np.ndarray, radius: float, pole: np.ndarray) -> No
     b.add(centre + radius * dirs, dirs, tri)
 
 
-def _box(b: _Builder, centre: np.ndarray, size: np.ndarray) -> None:
+def _box(b: _Builder, centre: np.ndarray, size: np.ndarray, divisions: int) -> None:
+    """Six faces, each a ``divisions`` x ``divisions`` grid of quads."""
     half = size / 2
+    steps = np.linspace(-1.0, 1.0, divisions + 1)
     for axis in range(3):
         for sign in (-1.0, 1.0):
             n = np.zeros(3)
@@ -121,13 +123,15 @@ def _box(b: _Builder, centre: np.ndarray, size: np.ndarray) -> None:
             u_axis, w_axis = (axis + 1) % 3, (axis + 2) % 3
             if sign < 0:
                 u_axis, w_axis = w_axis, u_axis
-            corners = []
-            for cu, cw in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-                p = centre + n * half
-                p[u_axis] += cu * half[u_axis]
-                p[w_axis] += cw * half[w_axis]
-                corners.append(p)
-            b.add(np.array(corners), np.tile(n, (4, 1)), np.array([(0, 1, 2), (0, 2, 3)]))
+            points = []
+            for cw in steps:  # rows along w, columns along u
+                for cu in steps:
+                    p = centre + n * half
+                    p[u_axis] += cu * half[u_axis]
+                    p[w_axis] += cw * half[w_axis]
+                    points.append(p)
+            tri = _grid_triangles(divisions, divisions)
+            b.add(np.array(points), np.tile(n, (len(points), 1)), tri)
 
 
 def _sphere(b: _Builder, centre: np.ndarray, radius: float) -> None:
@@ -136,15 +140,19 @@ def _sphere(b: _Builder, centre: np.ndarray, radius: float) -> None:
     _cap(b, centre, radius, -z)
 
 
-def body_mesh(body: Body) -> Mesh:
-    """The body's shape as a triangle mesh in its frame."""
+def body_mesh(body: Body, box_divisions: int = 1) -> Mesh:
+    """The body's shape as a triangle mesh in its frame.
+
+    ``box_divisions`` splits each box face into a grid: more triangles, which
+    a renderer that sorts triangles back to front (the 3D video) orders better.
+    """
     shape = body.shape
     b = _Builder()
     centre = np.array(shape.center, dtype=float)
     tip = np.array(body.tip, dtype=float)
     origin = np.zeros(3)
     if shape.kind == "box":
-        _box(b, centre, np.array([shape.get("x"), shape.get("y"), shape.get("z")]))
+        _box(b, centre, np.array([shape.get("x"), shape.get("y"), shape.get("z")]), box_divisions)
     elif shape.kind == "sphere" or not np.any(tip):
         radius = shape.get("r") if shape.kind in ("sphere", "capsule", "cylinder") else None
         _sphere(b, centre if shape.kind == "sphere" else origin, radius or shape.get("r0"))

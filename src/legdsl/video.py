@@ -137,7 +137,7 @@ class _SideView(_View):
         ax.add_collection(self.ticks)
         self.trail = ax.plot([], [], color=TRAIL, lw=1.5, zorder=30)[0]
         self.com_marker = ax.plot([], [], "o", color=TRAIL, ms=5, zorder=31)[0]
-        self.prints = ax.scatter([], [], s=36, marker="_", linewidths=3, zorder=5)
+        self.prints = ax.scatter([], [], s=160, marker="_", linewidths=5, zorder=5)
         self.arrows = [
             ax.annotate(
                 "",
@@ -275,7 +275,7 @@ class _PerspectiveView(_View):
         ax.set_xlim(0, width)
         ax.set_ylim(0, height)
         self.camera = _Camera(-math.pi / 3, 0.33, self.distance, width, height)
-        self.meshes: list[Mesh] = [body_mesh(b) for b in motion.bodies]
+        self.meshes: list[Mesh] = [body_mesh(b, box_divisions=4) for b in motion.bodies]
         self.colors = [np.array(hex_rgb(b.color)) for b in motion.bodies]
         self.ground = PolyCollection([], facecolors=GROUND, edgecolors="none", zorder=0)
         self.grid = LineCollection([], colors="#b2b2ac", linewidths=0.7, zorder=1)
@@ -284,7 +284,8 @@ class _PerspectiveView(_View):
         )
         self.prints = PolyCollection([], edgecolors="none", alpha=0.8, zorder=3)
         self.trail = LineCollection([], colors=TRAIL, linewidths=1.6, zorder=50)
-        self.solids = PolyCollection([], linewidths=0.35, zorder=10)
+        # Edges in the face colour, wide enough to close the antialiasing seams between triangles.
+        self.solids = PolyCollection([], linewidths=0.9, zorder=10)
         self.forces = LineCollection([], colors=FORCE, linewidths=2.2, zorder=60)
         for artist in (
             self.ground,
@@ -357,7 +358,6 @@ class _PerspectiveView(_View):
         # Terrain blocks and the creature, sorted back to front together.
         faces: list[tuple[float, np.ndarray, Any]] = []
         shadows: list[np.ndarray] = []
-        view_dir = cam.rot[2]
         for mesh, color, p, r in zip(
             self.meshes, self.colors, snap.positions, snap.rotations, strict=True
         ):
@@ -365,7 +365,8 @@ class _PerspectiveView(_View):
             normals = mesh.normals @ r.T
             tris = world[mesh.indices]
             tri_normals = normals[mesh.indices].mean(axis=1)
-            facing = np.einsum("ij,j->i", tri_normals, view_dir) < 0
+            # Facing the camera: the normal points back along the line of sight (perspective).
+            facing = np.einsum("ij,ij->i", tri_normals, tris.mean(axis=1) - cam.eye) < 0
             light = np.clip(tri_normals @ self.LIGHT, 0.0, 1.0)
             for tri, lit, front in zip(tris, light, facing, strict=True):
                 if front:
