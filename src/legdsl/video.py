@@ -486,7 +486,7 @@ def render_video(
     width, height = (size[0] // 2) * 2, (size[1] // 2) * 2
     plt = _import_pyplot()
     start = time.perf_counter()
-    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
+    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100, facecolor=SKY)
     ax = fig.add_axes((0, 0, 1, 1))
     ax.set_axis_off()
     ax.set_autoscale_on(False)
