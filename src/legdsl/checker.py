@@ -35,7 +35,7 @@ from .model import (
     Vec3,
 )
 from .parser import parse_file
-from .units import KINDS, describe
+from .units import KINDS, Dim, describe, parse_unit
 
 STDLIB = Path(__file__).parent / "stdlib"
 
@@ -101,6 +101,9 @@ class CreatureChecker:
             self.err(value.span, f"{what} must be a number with a unit of {_unit_hint(kind)}")
             return None
         q = node.quantity
+        if not math.isfinite(q.value):
+            self.err(node.span, f"'{node.text}' is too large a number")
+            return None
         want = KINDS[kind][0]
         if q.unitless:
             if kind != "dimensionless" and q.value != 0.0:
@@ -111,11 +114,7 @@ class CreatureChecker:
                 return None
             return sign * q.value
         if q.dim != want:
-            self.err(
-                node.span,
-                f"{what} is a {kind} ({_unit_hint(kind)}), but '{node.text}' is "
-                f"{'a ' if q.dim != (0, 0, 0, 0) else ''}{describe(q.dim)}",
-            )
+            self.err(node.span, _wrong_dimension(what, kind, node.text, q.dim))
             return None
         return sign * q.value
 
@@ -134,15 +133,10 @@ class CreatureChecker:
             )
             return None
         if value.unit is not None:
-            from .units import parse_unit
-
             factor, dim = parse_unit(value.unit)
             if dim != KINDS[kind][0]:
                 assert value.unit_span is not None
-                self.err(
-                    value.unit_span,
-                    f"{what} is a {kind} ({_unit_hint(kind)}), but '{value.unit}' is {describe(dim)}",
-                )
+                self.err(value.unit_span, _wrong_dimension(what, kind, value.unit, dim))
                 return None
             out = []
             for item in value.items:
@@ -150,6 +144,9 @@ class CreatureChecker:
                     item, "dimensionless", f"a component of {what} (the unit is after ')')"
                 )
                 if v is None:
+                    return None
+                if not math.isfinite(v * factor):
+                    self.err(item.span, f"{what} is too large")
                     return None
                 out.append(v * factor)
             return tuple(out)
@@ -412,7 +409,7 @@ class CreatureChecker:
         if "mass" not in props:
             self.err(decl.name.span, f"body '{name}' needs a mass, e.g. 'mass 1.5 kg'")
         else:
-            m = self.one_scalar(props["mass"], "mass", "mass")
+            m = self.one_scalar(props["mass"], "mass", "the mass")
             if m is not None and m <= 0:
                 self.err(props["mass"].value.span, f"the mass of body '{name}' must be positive")
             elif m is not None:
@@ -420,7 +417,7 @@ class CreatureChecker:
 
         length = None
         if "length" in props:
-            length = self.one_scalar(props["length"], "length", "length")
+            length = self.one_scalar(props["length"], "length", "the link length")
             if length is not None and length <= 0:
                 self.err(props["length"].value.span, "a link length must be positive")
                 length = None
@@ -506,7 +503,7 @@ class CreatureChecker:
                 )
                 return fallback
             mat = np.array(rows)
-            if not np.allclose(mat, mat.T, rtol=1e-9, atol=1e-12):
+            if not np.allclose(mat / _scale(mat), mat.T / _scale(mat), rtol=1e-9, atol=1e-12):
                 self.err(value.span, f"the inertia matrix of body '{name}' must be symmetric")
                 return fallback
         else:
@@ -514,7 +511,11 @@ class CreatureChecker:
             if diag is None:
                 return fallback
             mat = np.diag(diag)
-        eig = np.linalg.eigvalsh(mat)
+        with np.errstate(over="ignore"):
+            eig = np.linalg.eigvalsh(mat / _scale(mat)) * _scale(mat)
+        if not np.isfinite(eig).all():
+            self.err(value.span, f"the inertia of body '{name}' is too large")
+            return fallback
         if eig.min() <= 0:
             self.err(
                 value.span,
@@ -523,7 +524,7 @@ class CreatureChecker:
             )
             return fallback
         a, b, c = sorted(eig)
-        if a + b < c * (1 - 1e-9):
+        if a / c + b / c < 1 - 1e-9:
             self.err(
                 value.span,
                 f"the inertia of body '{name}' breaks the triangle inequality: principal moments "
@@ -554,7 +555,7 @@ class CreatureChecker:
         if kind not in SHAPES:
             self.err(
                 value.func.span,
-                f"unknown shape '{kind}'{did_you_mean(kind, SHAPES)}; use one of {', '.join(SHAPES)}",
+                f"unknown shape '{kind}'; use one of {', '.join(SHAPES)}{did_you_mean(kind, SHAPES)}",
             )
             return default
         keys = SHAPES[kind]
@@ -566,30 +567,39 @@ class CreatureChecker:
         if len(positional) > len(keys):
             self.err(value.span, f"{kind}() takes {len(keys)} sizes ({', '.join(keys)})")
             return default
+        given: set[str] = set()  # written, even if wrong (then reported on its own)
         for key, arg in zip(keys, positional, strict=False):
+            given.add(key)
             v = self.scalar(arg.value, "length", f"{kind} size '{key}'")
             if v is not None:
                 params[key] = v
         for arg in value.args:
             if arg.keyword is None:
                 continue
-            if arg.keyword.name == "center":
-                center = self.point(arg.value, "the shape centre") or center
-            elif arg.keyword.name in keys:
-                v = self.scalar(arg.value, "length", f"{kind} size '{arg.keyword.name}'")
-                if v is not None:
-                    params[arg.keyword.name] = v
-            else:
+            name = arg.keyword.name
+            if name not in (*keys, "center"):
                 self.err(
                     arg.keyword.span,
-                    f"{kind}() has no argument '{arg.keyword.name}'; it takes {', '.join(keys)} and center",
+                    f"{kind}() has no argument '{name}'; it takes {', '.join(keys)} and center",
                 )
+                continue
+            if name in given:
+                self.err(arg.keyword.span, f"'{name}' is given twice")
+                continue
+            given.add(name)
+            if name == "center":
+                center = self.point(arg.value, "the shape centre") or center
+            else:
+                v = self.scalar(arg.value, "length", f"{kind} size '{name}'")
+                if v is not None:
+                    params[name] = v
         for key, v in params.items():
             if v <= 0:
                 self.err(value.span, f"{kind} size '{key}' must be positive")
-        missing = [k for k in keys if k not in params]
+        missing = [k for k in keys if k not in given]
         if missing:
             self.err(value.span, f"{kind}() needs {', '.join(missing)}")
+        if missing or any(k not in params or params[k] <= 0 for k in keys):
             return default
         if kind == "box" and self.planar:
             params["y"] = min(params["x"], params["z"])
@@ -619,8 +629,8 @@ class CreatureChecker:
             if kind not in JOINT_KINDS:
                 self.err(
                     attach.kind.span,
-                    f"unknown joint kind '{kind}'{did_you_mean(kind, JOINT_KINDS)}; "
-                    f"use one of {', '.join(JOINT_KINDS)}",
+                    f"unknown joint kind '{kind}'; use one of {', '.join(JOINT_KINDS)}"
+                    + did_you_mean(kind, JOINT_KINDS),
                 )
                 kind = "fixed"
             if self.planar and kind in ("gimbal", "ball"):
@@ -639,7 +649,10 @@ class CreatureChecker:
         if kind == "free":
             coord_names = ["x", "z", "pitch"] if self.planar else []
         elif kind in ("gimbal", "ball"):
-            coord_names = [f"{name}_{_axis_suffix(a, i)}" for i, a in enumerate(axes)]
+            suffixes = [_axis_suffix(a, i) for i, a in enumerate(axes)]
+            if len(set(suffixes)) < len(suffixes):  # e.g. axes x, y, x: number them all
+                suffixes = [str(i + 1) for i in range(len(axes))]
+            coord_names = [f"{name}_{s}" for s in suffixes]
         elif kind in ("revolute", "prismatic"):
             coord_names = [name]
         else:
@@ -676,20 +689,22 @@ class CreatureChecker:
         joint = Joint(name, kind, parent, body.name, origin, dofs, q_start, nq, v_start, nv, span)
         return joint, list(initial), list(rates)
 
-    def location(self, value: ast.Value, parent: Body | None) -> Vec3:
+    def location(self, value: ast.Value, parent: Body | None, contact: bool = False) -> Vec3:
+        """A joint's location in its parent's frame, or a contact's point in its body's frame."""
+        what, whose = ("contact point", "body") if contact else ("joint location", "parent body")
         if isinstance(value, ast.NameValue):
             if value.ident.name != "tip":
                 self.err(
                     value.span,
-                    "a joint location is a point such as (0.1 m, 0 m) or 'tip' (the parent's link end)",
+                    f"a {what} is a point such as (0.1 m, 0 m) or 'tip' (the {whose}'s link end)",
                 )
                 return (0.0, 0.0, 0.0)
             if parent is None:
                 return (0.0, 0.0, 0.0)
             if parent.length is None:
-                self.err(value.span, f"'at tip' needs a length on the parent body '{parent.name}'")
+                self.err(value.span, f"'at tip' needs a length on the {whose} '{parent.name}'")
             return parent.tip
-        return self.point(value, "the joint location") or (0.0, 0.0, 0.0)
+        return self.point(value, f"the {what}") or (0.0, 0.0, 0.0)
 
     def joint_axes(
         self, decl: ast.BodyDecl, props: dict[str, ast.Prop], kind: str, body: Body
@@ -884,8 +899,8 @@ class CreatureChecker:
         if kind not in ACTUATOR_ARGS:
             self.err(
                 decl.kind.span,
-                f"unknown actuator kind '{kind}'{did_you_mean(kind, [*ACTUATOR_ARGS, 'torque'])}; "
-                "use spring (eq. 1), servo (eq. 5), force or torque",
+                f"unknown actuator kind '{kind}'; use spring (eq. 1), servo (eq. 5), force or torque"
+                + did_you_mean(kind, [*ACTUATOR_ARGS, "torque"]),
             )
             return None
         dof = dofs.get(decl.coordinate.name)
@@ -903,6 +918,7 @@ class CreatureChecker:
         }
         joint_desc = f"{'revolute' if rotary else 'sliding'} coordinate '{dof.name}'"
         params: dict[str, float] = {}
+        given: set[str] = set()  # written, even if wrong (then reported on its own)
         limit = None
         for arg in decl.args:
             if arg.keyword is None:
@@ -918,6 +934,10 @@ class CreatureChecker:
                     f"a {kind} has no '{key}'; it takes {', '.join(ACTUATOR_ARGS[kind])}{did_you_mean(key, ACTUATOR_ARGS[kind])}",
                 )
                 continue
+            if key in given:
+                self.err(arg.keyword.span, f"'{key}' is given twice")
+                continue
+            given.add(key)
             want = kinds[key]
             wrong = self.wrong_motion(arg.value, want)
             if wrong:
@@ -940,7 +960,7 @@ class CreatureChecker:
                 params[key] = v
         required = {"spring": ("k",), "servo": ("kp",), "force": ()}[kind]
         for key in required:
-            if key not in params:
+            if key not in given:
                 self.err(
                     decl.kind.span,
                     f"a {kind} needs '{key}', e.g. {kind}({key} = ... {_unit_hint(kinds[key])})",
@@ -994,9 +1014,9 @@ class CreatureChecker:
                 f"contact '{decl.name.name}' is on an unknown body '{decl.body.name}'{did_you_mean(decl.body.name, bodies)}",
             )
             return None
-        point = self.location(decl.at, body) if decl.at is not None else (0.0, 0.0, 0.0)
-        if isinstance(decl.at, ast.NameValue) and decl.at.ident.name == "tip":
-            point = body.tip
+        point = (
+            self.location(decl.at, body, contact=True) if decl.at is not None else (0.0, 0.0, 0.0)
+        )
         return Contact(decl.name.name, body.name, point, decl.span)
 
     # ---------------------------------------------------------- ground
@@ -1040,7 +1060,7 @@ class CreatureChecker:
                     )
                 continue
             if not isinstance(value, ast.Call):
-                self.err(p.value.span, _GROUND_HELP[key])
+                self.err(p.value.span, _ground_help(key))
                 continue
             if key == "terrain":
                 t = self.terrain(value)
@@ -1064,7 +1084,7 @@ class CreatureChecker:
                     normal = Pad(args["k"], args["thickness"], args.get("b", 0.0))
                 continue
             if value.func.name != "spring":
-                self.err(value.func.span, _GROUND_HELP[key])
+                self.err(value.func.span, _ground_help(key))
                 continue
             args = self.kwargs(
                 value,
@@ -1090,7 +1110,8 @@ class CreatureChecker:
             )
         for key in ("normal", "tangent"):
             if key not in seen:
-                self.err(block.name.span, f"the ground needs '{key} ...': {_GROUND_HELP[key]}")
+                what, forms = _GROUND_HELP[key]
+                self.err(block.name.span, f"the ground needs {what}: {forms}")
         if normal is None or tangent is None:
             return None
         return Ground(normal, tangent, torsion, friction, tuple(terrain), block.span)
@@ -1099,6 +1120,7 @@ class CreatureChecker:
         self, call: ast.Call, kinds: dict[str, str], required: tuple[str, ...]
     ) -> dict[str, float] | None:
         out: dict[str, float] = {}
+        given: set[str] = set()
         ok = True
         for arg in call.args:
             if arg.keyword is None or arg.keyword.name not in kinds:
@@ -1109,6 +1131,11 @@ class CreatureChecker:
                 )
                 ok = False
                 continue
+            if arg.keyword.name in given:
+                self.err(arg.keyword.span, f"'{arg.keyword.name}' is given twice")
+                ok = False
+                continue
+            given.add(arg.keyword.name)
             v = self.scalar(arg.value, kinds[arg.keyword.name], f"'{arg.keyword.name}'")
             if v is None:
                 ok = False
@@ -1143,7 +1170,7 @@ class CreatureChecker:
         if call.func.name not in kinds:
             self.err(
                 call.func.span,
-                f"unknown terrain '{call.func.name}'{did_you_mean(call.func.name, kinds)}; use step(x = ..., height = ...), box(x0 = ..., x1 = ..., height = ...) or slope(angle = ...)",
+                f"unknown terrain '{call.func.name}'; use step(x = ..., height = ...), box(x0 = ..., x1 = ..., height = ...) or slope(angle = ...){did_you_mean(call.func.name, kinds)}",
             )
             return None
         arg_kinds, required = kinds[call.func.name]
@@ -1170,6 +1197,9 @@ class CreatureChecker:
                 self.err(
                     arg.span, f"{call.func.name}() takes {', '.join(k + ' = ...' for k in kinds)}"
                 )
+                return None
+            if arg.keyword.name in out:
+                self.err(arg.keyword.span, f"'{arg.keyword.name}' is given twice")
                 return None
             v = self.scalar(arg.value, kinds[arg.keyword.name], f"'{arg.keyword.name}'")
             if v is None:
@@ -1252,7 +1282,7 @@ class CreatureChecker:
                 elif ident.name not in contact_by:
                     self.err(
                         ident.span,
-                        f"unknown contact '{ident.name}'{did_you_mean(ident.name, contact_by)}; declare it with 'contact {ident.name} on BODY at tip'",
+                        f"unknown contact '{ident.name}'; declare it with 'contact {ident.name} on BODY at tip'{did_you_mean(ident.name, contact_by)}",
                     )
                 else:
                     foot = ident.name
@@ -1270,7 +1300,7 @@ class CreatureChecker:
                     if target.name not in referable:
                         self.err(
                             target.span,
-                            f"unknown name '{target.name}'{did_you_mean(target.name, referable)}; an alias names an actuator, joint, coordinate, contact or body",
+                            f"unknown name '{target.name}'; an alias names an actuator, joint, coordinate, contact or body{did_you_mean(target.name, referable)}",
                         )
                         continue
                     aliases.append((item.target.name, target.name))
@@ -1297,12 +1327,49 @@ class CreatureChecker:
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
 
 
+# What each ground property is, and how it is written.
 _GROUND_HELP = {
-    "normal": "the vertical spring: 'normal spring(k = 1.2e4 N/m, b = 150 N*s/m)' or the paw pad of eq. (6): 'normal pad(k = 250 N, thickness = 1 cm, b = 100 N*s/m)'",
-    "tangent": "the tangential springs: 'tangent spring(k = 8e3 N/m, b = 120 N*s/m)'",
-    "torsion": "the torsional spring about the normal: 'torsion spring(k = 5 N*m/rad, b = 0.5 N*m*s/rad)'",
-    "terrain": "terrain features: 'terrain step(x = 2 m, height = 0.1 m)' or 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)' or 'terrain slope(angle = 10 deg)'",
+    "normal": (
+        "the vertical spring",
+        "'normal spring(k = 1.2e4 N/m, b = 150 N*s/m)' or the paw pad of eq. (6), 'normal pad(k = 250 N, thickness = 1 cm, b = 100 N*s/m)'",
+    ),
+    "tangent": ("the tangential springs", "'tangent spring(k = 8e3 N/m, b = 120 N*s/m)'"),
+    "torsion": (
+        "the torsional spring about the normal",
+        "'torsion spring(k = 5 N*m/rad, b = 0.5 N*m*s/rad)'",
+    ),
+    "terrain": (
+        "a terrain feature",
+        "'terrain step(x = 2 m, height = 0.1 m)', 'terrain box(x0 = 3 m, x1 = 3.3 m, height = 0.2 m)' or 'terrain slope(angle = 10 deg)'",
+    ),
 }
+
+
+def _ground_help(key: str) -> str:
+    what, forms = _GROUND_HELP[key]
+    return f"write {what} as {forms}"
+
+
+def _wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
+    """'mass is a mass (kg), but '3 m' is a length (m)'."""
+    for name, (kind_dim, example) in KINDS.items():
+        if kind_dim == dim:
+            found = (
+                "dimensionless"
+                if name == "dimensionless"
+                else f"{_article(name)} {name} ({example})"
+            )
+            break
+    else:
+        found = f"in {describe(dim)}"
+    if kind == "dimensionless":
+        return f"{what} takes no unit, but '{written}' is {found}"
+    return f"{what} is {_article(kind)} {kind} ({_unit_hint(kind)}), but '{written}' is {found}"
+
+
+def _scale(mat: np.ndarray) -> float:
+    """The largest magnitude in a matrix (1 if all zero): divide by it to compute safely."""
+    return float(np.abs(mat).max()) or 1.0
 
 
 def _coord_kind(motion: str, rate: bool) -> str:
@@ -1370,11 +1437,14 @@ def load_uses(
 ) -> list[ast.ActionDef]:
     """Named actions from the file itself and the files it ``use``s (the standard library by name)."""
     actions = list(tree.actions)
+    loaded = {Path(tree.path).resolve()}  # a file used twice, or itself, adds nothing
     for use in tree.uses:
         if use.target.endswith(".leg") or "/" in use.target:
             path = Path(tree.path).parent / use.target
         else:
             path = STDLIB / f"{use.target}.leg"
+        if path.is_file() and path.resolve() in loaded:
+            continue
         if not path.is_file():
             known = sorted(p.stem for p in STDLIB.glob("*.leg"))
             diag.error(
@@ -1388,6 +1458,7 @@ def load_uses(
             diag.items.extend(e.diagnostics)
             sources.update(e.sources)
             continue
+        loaded.add(path.resolve())
         sources[lib.path] = text
         actions.extend(lib.actions)
     return actions

@@ -60,16 +60,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .checker import check_model
-    from .runner import apply_settings, load_dynamics, progress_bar, summary, write_run
+    from .controller import StateMachine
+    from .runner import (
+        load_controller,
+        load_dynamics,
+        progress_bar,
+        sort_settings,
+        summary,
+        write_run,
+    )
     from .simulate import RunOptions, Simulation
 
     source = Path(args.file)
     model = check_model(source, args.creature)
-    if args.controller is not None:
-        raise UsageError(
-            f"--controller {args.controller}: controllers are not runnable in this version of "
-            "legdsl yet (their semantics come with the controller stage); run without --controller"
-        )
     options = RunOptions(
         duration=args.time,
         dt=args.dt,
@@ -80,12 +83,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
         fall_tilt=math.radians(args.fall_tilt),
         drop=args.drop,
     )
-    dynamics = load_dynamics(model, source, Path(args.generated), log=sys.stderr)
-    sim = Simulation(model, dynamics, options)
-    settings = apply_settings(sim, args.set)
+    generated = Path(args.generated)
+    dynamics = load_dynamics(model, source, generated, log=sys.stderr)
+    control = None
+    if args.controller is not None:
+        control = load_controller(model, args.controller, source, generated, log=sys.stderr)
+    settings = sort_settings(args.set, model, control)
+    machine = None
+    if control is not None:
+        machine = StateMachine(model, control, settings.inputs, settings.params, settings.schedule)
+    sim = Simulation(model, dynamics, options, machine)
+    for name, value in settings.actuators.items():
+        actuator, _, key = name.partition(".")
+        sim.actuators.by_name[actuator].set(key, value)
     result = sim.run(progress_bar if sys.stderr.isatty() else None)
     out = Path(args.out) if args.out else Path("runs") / model.name
-    write_run(out, model, options, result, {"settings": settings})
+    extra = {"controller": args.controller, "settings": settings.as_json()}
+    if machine is not None:
+        extra["inputs"] = machine.initial_inputs
+        extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
+    write_run(out, model, options, result, extra)
     print(summary(model, result))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
@@ -173,6 +190,20 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     return EXIT_USER_ERROR if failed else 0
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plot import first_leg_joints, plot_run
+
+    run = Path(args.dir)
+    if not (run / "trajectory.npz").is_file():
+        raise UsageError(
+            f"no trajectory.npz in {run}: give the directory a run wrote (legdsl run --out DIR)"
+        )
+    out = Path(args.output) if args.output else run / "figure6.png"
+    plot_run(run, out, first_leg_joints(run), args.t_from, args.t_to)
+    print(f"wrote {out}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -217,13 +248,14 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
     r.add_argument("--creature", help="which creature, if the file has several")
-    r.add_argument("--controller", help="the controller to run (a later stage)")
+    r.add_argument("--controller", metavar="NAME", help="run this controller of the creature")
     r.add_argument(
         "--set",
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="set an actuator input, e.g. --set hip_servo.setpoint=10deg (repeatable)",
+        help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
+        "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
     )
     r.add_argument(
         "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
@@ -260,7 +292,7 @@ def _parser() -> argparse.ArgumentParser:
         "--fall-height",
         type=float,
         metavar="Z",
-        help="the root below Z metres is a fall (default 30%% of its starting height)",
+        help="the root below Z metres is a fall (default 30%% of its height over its feet at the start)",
     )
     r.add_argument(
         "--fall-tilt",
@@ -355,6 +387,22 @@ def _parser() -> argparse.ArgumentParser:
         help="where to write NAME/ (default: generated)",
     )
     _COMMANDS["compile"] = _cmd_compile
+
+    pl = sub.add_parser(
+        "plot",
+        help="draw a run like Figure 6 of the paper (PNG)",
+        description="Draw body height, body pitch, forward speed against its command and the "
+        "joint angles of the first leg over time, with every stance phase of that leg between "
+        "dashed lines (Figure 6 of Raibert & Hodgins 1991). Writes DIR/figure6.png by default.",
+        epilog="Example: legdsl plot runs/kangaroo --from 3 --to 4",
+    )
+    pl.add_argument("dir", metavar="DIR", help="a run directory (legdsl run --out DIR)")
+    pl.add_argument("-o", "--output", metavar="FILE.png", help="where to write the picture")
+    pl.add_argument(
+        "--from", dest="t_from", type=float, default=0.0, metavar="T", help="start time (s)"
+    )
+    pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
+    _COMMANDS["plot"] = _cmd_plot
 
     from .animate import add_animate_parser, add_export_motion_parser
 

@@ -12,7 +12,7 @@ import jinja2
 import sympy
 
 from . import __version__
-from .model import Model
+from .model import Controller, Model
 from .printer import print_expr
 from .straightline import Assign, Comment, Unpack
 from .symbolic import Call, Function, Nested, SymbolicSystem
@@ -71,25 +71,43 @@ def function_body(function: Function) -> str:
     return "\n".join(lines)
 
 
+def _clean(obj: Any) -> Any:
+    """A dataclass tree as plain data, without source spans (so comments and layout don't count)."""
+    if is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: _clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
+    if isinstance(obj, tuple | list):
+        return [_clean(x) for x in obj]
+    return obj
+
+
+def _digest(payload: Any) -> str:
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
+
+
 def model_fingerprint(model: Model) -> str:
     """A hash of what the dynamics depend on (not spans or comments): the runtime's staleness check."""
+    return _digest(
+        {
+            "legdsl": __version__,
+            "planar": model.planar,
+            "gravity": model.gravity,
+            "bodies": _clean(model.bodies),
+            "joints": _clean(model.joints),
+            "contacts": _clean(model.contacts),
+        }
+    )
 
-    def clean(obj: Any) -> Any:
-        if is_dataclass(obj) and not isinstance(obj, type):
-            return {f.name: clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
-        if isinstance(obj, tuple | list):
-            return [clean(x) for x in obj]
-        return obj
 
-    payload = {
-        "legdsl": __version__,
-        "planar": model.planar,
-        "gravity": model.gravity,
-        "bodies": clean(model.bodies),
-        "joints": clean(model.joints),
-        "contacts": clean(model.contacts),
-    }
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
+def controller_fingerprint(model: Model, controller: Controller) -> str:
+    """A hash of what a control module depends on: the controller, the legs and actuators it drives."""
+    return _digest(
+        {
+            "model": model_fingerprint(model),
+            "legs": _clean(model.legs),
+            "actuators": _clean(model.actuators),
+            "controller": _clean(controller),
+        }
+    )
 
 
 def _layout(model: Model) -> list[tuple[str, str, str, str]]:

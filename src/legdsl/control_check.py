@@ -8,6 +8,7 @@ in the pipeline; this stage guarantees that they refer to real things.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from . import ast
@@ -116,6 +117,7 @@ class ControllerChecker:
         signals: list[ast.SignalDecl] = []
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
+        shadowed: list[ast.ActionDef] = []  # defined twice: both bodies are checked
         for item in d.items:
             if isinstance(item, ast.InputDecl | ast.ParamDecl):
                 define(item.name, Ref("value"))
@@ -135,7 +137,7 @@ class ControllerChecker:
                         if leg.name not in self.leg_aliases:
                             self.err(
                                 leg.span,
-                                f"unknown leg '{leg.name}'{did_you_mean(leg.name, self.leg_aliases)}; roles are bound to legs declared with 'leg NAME {{ ... }}'",
+                                f"unknown leg '{leg.name}'; roles are bound to legs declared with 'leg NAME {{ ... }}'{did_you_mean(leg.name, self.leg_aliases)}",
                             )
                         else:
                             legs.append(leg.name)
@@ -148,6 +150,7 @@ class ControllerChecker:
                             item.name.span,
                             f"action '{item.name.name}' is defined twice (first at {prior.name.span})",
                         )
+                        shadowed.append(prior)
                 self.actions[item.name.name] = item
             elif isinstance(item, ast.TableDecl):
                 tables.append(item)
@@ -167,7 +170,7 @@ class ControllerChecker:
 
         for sig in signals:
             self.expr(sig.value, refs, {})
-        for action in self.actions.values():
+        for action in [*shadowed, *self.actions.values()]:
             self.action_body(action)
 
         if not tables:
@@ -201,7 +204,7 @@ class ControllerChecker:
             if starts[0].state.name not in states:
                 self.err(
                     starts[0].state.span,
-                    f"unknown state '{starts[0].state.name}'{did_you_mean(starts[0].state.name, states)}; the table has {', '.join(states)}",
+                    f"unknown state '{starts[0].state.name}'; the table has {', '.join(states)}{did_you_mean(starts[0].state.name, states)}",
                 )
             else:
                 start = starts[0].state.name
@@ -225,6 +228,9 @@ class ControllerChecker:
         node, sign = expr, 1.0
         while isinstance(node, ast.EUnary) and node.op == "-":
             node, sign = node.operand, -sign
+        if isinstance(node, ast.EQuantity) and not math.isfinite(node.quantity.value):
+            self.err(node.span, f"'{node.text}' is too large a number")
+            return None
         if isinstance(node, ast.EQuantity):
             return sign * node.quantity.value
         self.err(
@@ -269,7 +275,7 @@ class ControllerChecker:
                     last = s.target[-1]
                     self.err(
                         last.span,
-                        f"'{'.'.join(t.name for t in s.target)}' cannot be set; a controller sets actuator inputs: spring k, b, rest; servo kp, kv, setpoint; force force",
+                        f"'{'.'.join(t.name for t in s.target)}' cannot be set; a controller sets actuator inputs: k, b, rest of a spring; kp, kv, setpoint of a servo; force of a force or torque actuator",
                     )
             elif isinstance(s, ast.SwapStmt):
                 for ident in (s.first, s.second):
@@ -292,7 +298,7 @@ class ControllerChecker:
                 if action is None:
                     self.err(
                         s.action.span,
-                        f"unknown action '{s.action.name}'{did_you_mean(s.action.name, self.actions)}; define it with 'action {s.action.name}(...) {{ ... }}' or 'use' a library that has it",
+                        f"unknown action '{s.action.name}'; define it with 'action {s.action.name}(...) {{ ... }}' or 'use' a library that has it{did_you_mean(s.action.name, self.actions)}",
                     )
                 elif len(action.params) != len(s.args):
                     self.err(
@@ -324,6 +330,8 @@ class ControllerChecker:
         self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
     ) -> Ref | None:
         if isinstance(e, ast.EQuantity):
+            if not math.isfinite(e.quantity.value):
+                self.err(e.span, f"'{e.text}' is too large a number")
             return Ref("value")
         if isinstance(e, ast.EName):
             ref = local.get(e.ident.name) or refs.get(e.ident.name)
@@ -386,7 +394,7 @@ class ControllerChecker:
                     )
                     self.err(
                         attr.span,
-                        f"{what} has no member '{name}'{did_you_mean(name, choices)}; a leg has {', '.join(LEG_MEMBERS)} and its aliases",
+                        f"{what} has no member '{name}'; a leg has {', '.join(LEG_MEMBERS)} and its aliases{did_you_mean(name, choices)}",
                     )
                     return None
                 targets.append(aliases[name])
@@ -403,7 +411,7 @@ class ControllerChecker:
             if name not in table[base.kind]:
                 self.err(
                     attr.span,
-                    f"a {base.kind if base.kind != 'coord' else 'joint coordinate'} has no member '{name}'{did_you_mean(name, table[base.kind])}; it has {', '.join(table[base.kind])}",
+                    f"a {base.kind if base.kind != 'coord' else 'joint coordinate'} has no member '{name}'; it has {', '.join(table[base.kind])}{did_you_mean(name, table[base.kind])}",
                 )
                 return None
             return Ref("value")
@@ -415,7 +423,7 @@ class ControllerChecker:
                 return Ref("value")
             self.err(
                 attr.span,
-                f"a {base.detail} actuator has no '{name}'{did_you_mean(name, settable + readable)}; it has {', '.join(settable + readable)}",
+                f"a {base.detail} actuator has no '{name}'; it has {', '.join(settable + readable)}{did_you_mean(name, settable + readable)}",
             )
             return None
         self.err(attr.span, f"a number has no member '{name}'")
@@ -427,7 +435,16 @@ def check_controllers(
 ) -> list[Model]:
     """Attach each controller of the file to its creature."""
     by_name = {m.name: m for m in models}
-    lib = {a.name.name: a for a in library}
+    lib: dict[str, ast.ActionDef] = {}
+    for a in library:
+        prior = lib.get(a.name.name)
+        if prior is not None and prior.span.file == a.span.file:
+            diag.error(
+                a.name.span,
+                f"action '{a.name.name}' is defined twice (first at {prior.name.span})",
+            )
+            continue
+        lib[a.name.name] = a
     attached: dict[str, list[Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
     for decl in tree.controllers:

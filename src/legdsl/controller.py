@@ -70,6 +70,11 @@ class StateMachine:
         self.events: list[dict[str, Any]] = []
         self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
 
+    @property
+    def initial_inputs(self) -> dict[str, float]:
+        """The inputs at t = 0 (before any scheduled change)."""
+        return dict(zip(self.input_names, self._history[0][1], strict=True))
+
     def speed_command(self, t: float) -> float:
         if "speed" not in self.input_names:
             return math.nan

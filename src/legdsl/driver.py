@@ -18,7 +18,9 @@ from pathlib import Path
 
 from . import ast
 from .checker import check_file
-from .codegen import render_dynamics, render_init
+from .codegen import controller_fingerprint, render_dynamics, render_init
+from .control_codegen import render_control
+from .control_lower import lower_controller
 from .errors import LegError, Span
 from .model import Model
 from .parser import parse_file
@@ -98,7 +100,17 @@ def _lower(
     say(f"{model.name}: lowered in {lowered:.2f} s; printing")
     start = time.perf_counter()
     source = source_label(model.source)
-    files = (("__init__.py", render_init(model)), ("dynamics.py", render_dynamics(system, source)))
+    files: tuple[tuple[str, str], ...] = (
+        ("__init__.py", render_init(model)),
+        ("dynamics.py", render_dynamics(system, source)),
+    )
+    for controller in model.controllers:
+        say(f"{model.name}: lowering controller {controller.name}")
+        lowered_controller = lower_controller(model, controller)
+        events = {row.state.name: _source_text(row.event.span) for row in controller.rows}
+        stamp = controller_fingerprint(model, controller)
+        text = render_control(lowered_controller, source, events, stamp)
+        files += ((f"control_{controller.name}.py", text),)
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")
@@ -110,6 +122,16 @@ def _lower(
         files,
         (*timings, ("lower", lowered), ("print", printed)),
     )
+
+
+def _source_text(span: Span) -> str:
+    """The text a span covers, on one line (for docstrings in generated code)."""
+    lines = Path(span.file).read_text(encoding="utf-8").splitlines()
+    if span.line == span.end_line:
+        return lines[span.line - 1][span.col - 1 : span.end_col - 1]
+    parts = [lines[span.line - 1][span.col - 1 :], *lines[span.line : span.end_line - 1]]
+    parts.append(lines[span.end_line - 1][: span.end_col - 1])
+    return " ".join(p.strip() for p in parts)
 
 
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:

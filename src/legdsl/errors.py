@@ -21,6 +21,8 @@ class Span:
     end_col: int
 
     def __str__(self) -> str:
+        if self.line <= 0:  # the whole file (one that cannot be read, say)
+            return self.file
         return f"{self.file}:{self.line}:{self.col}"
 
 
@@ -39,10 +41,10 @@ class Diagnostic:
         text = (sources or {}).get(self.span.file)
         if text is None or self.span.line <= 0:
             return head
-        lines = text.splitlines()
+        lines = text.split("\n")  # as the parser counts lines (not str.splitlines)
         if self.span.line > len(lines):
             return head
-        line = lines[self.span.line - 1].expandtabs(1)
+        line = lines[self.span.line - 1].rstrip("\r").expandtabs(1)
         start = max(self.span.col, 1)
         if self.span.end_line == self.span.line and self.span.end_col > start:
             width = self.span.end_col - start

@@ -1,49 +1,26 @@
 """Parse .leg text into the syntax tree of ``legdsl.ast``.
 
-The grammar is ``grammar/legdsl.lark``. Syntax errors become a ``LegError``
-with the position, what was found and what was expected; common slips get a
-friendlier sentence from ``grammar/friendly_errors.toml`` (lark's
-example-matched errors).
+The grammar is ``grammar/legdsl.lark`` (loaded by ``legdsl.lalr``). Syntax
+errors become a ``LegError`` with the position and friendly words
+(``legdsl.syntax_errors``).
 """
 
 from __future__ import annotations
 
-import functools
-import tomllib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from lark import Lark, Token, Transformer, Tree, v_args
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark import Token, Transformer, Tree, v_args
+from lark.exceptions import UnexpectedInput
 
 from . import ast
-from .errors import Diagnostic, LegError, Span
+from .errors import LegError, Span
+from .lalr import grammar_dir, lark_parser
+from .syntax_errors import syntax_error
 from .units import DIMENSIONLESS, Quantity, parse_unit
 
-_PACKAGE_GRAMMAR = Path(__file__).parent / "grammar"
-_SOURCE_GRAMMAR = Path(__file__).resolve().parents[2] / "grammar"
-
-
-def grammar_dir() -> Path:
-    """Where the grammar files are: inside the installed package, or the source tree."""
-    for candidate in (_PACKAGE_GRAMMAR, _SOURCE_GRAMMAR):
-        if (candidate / "legdsl.lark").is_file():
-            return candidate
-    raise FileNotFoundError("legdsl.lark not found in the package or the source tree")
-
-
-@functools.cache
-def _lark() -> Lark:
-    text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", propagate_positions=True, maybe_placeholders=True)
-
-
-@functools.cache
-def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
-    """(message, example inputs) pairs from grammar/friendly_errors.toml."""
-    data = tomllib.loads((grammar_dir() / "friendly_errors.toml").read_text(encoding="utf-8"))
-    return tuple((e["message"], tuple(e["examples"])) for e in data["error"])
+__all__ = ["grammar_dir", "parse", "parse_file"]
 
 
 # ------------------------------------------------------------ spans and values
@@ -272,124 +249,18 @@ class _ToAst(Transformer):
         return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
 
 
-# ------------------------------------------------------------- syntax errors
-_TOKEN_WORDS = {
-    "NAME": "a name",
-    "QUANTITY": "a number",
-    "UNIT": "a unit",
-    "STRING": "a string",
-    "$END": "the end of the file",
-}
-
-
-def _describe_expected(expected: set[str]) -> str:
-    lark = _lark()
-    words = set()
-    for name in expected:
-        if name in _TOKEN_WORDS:
-            words.add(_TOKEN_WORDS[name])
-            continue
-        try:
-            pattern = lark.get_terminal(name).pattern
-        except KeyError:
-            continue
-        if pattern.type == "str":
-            words.add(f"'{pattern.value}'")
-    ordered = sorted(words, key=lambda w: (not w.startswith("'"), w))
-    if not ordered:
-        return ""
-    if len(ordered) > 8:
-        ordered = ordered[:8] + ["..."]
-    return "expected " + ", ".join(ordered)
-
-
-def _found(token: Token) -> str:
-    if token.type == "$END":
-        return "the end of the file"
-    kind = _TOKEN_WORDS.get(token.type, "").removeprefix("a ")
-    return f"{kind} '{token}'" if kind else f"'{token}'"
-
-
-def _unknown_unit_before(text: str, pos: int) -> tuple[str, int] | None:
-    """The word just before ``pos`` when it directly follows a number, as ``kgs`` in ``5 kgs``."""
-    before = text[:pos].rstrip(" \t")
-    end = len(before)
-    start = end
-    while start > 0 and (before[start - 1].isalnum() or before[start - 1] == "_"):
-        start -= 1
-    word = before[start:end]
-    if not word or not (word[0].isalpha() or word[0] == "_"):
-        return None
-    gap = text[:start].rstrip(" \t")
-    if gap and (gap[-1].isdigit() or gap[-1] == ".") and "\n" not in text[len(gap) : start]:
-        return word, start
-    return None
-
-
-def _syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
-    line, col = err.line, err.column
-    if isinstance(err, UnexpectedEOF) or (
-        isinstance(err, UnexpectedToken) and err.token.type == "$END"
-    ):
-        lines = text.splitlines() or [""]
-        line, col = len(lines), len(lines[-1]) + 1
-        span = Span(file, line, col, line, col + 1)
-    elif isinstance(err, UnexpectedToken):
-        span = _tspan(file, err.token)
-    else:
-        span = Span(file, line, col, line, col + 1)
-
-    friendly = None
-    if isinstance(err, UnexpectedToken | UnexpectedEOF):
-        try:
-            friendly = err.match_examples(
-                _lark().parse,
-                {msg: list(examples) for msg, examples in friendly_errors()},
-                use_accepts=True,
-            )
-        except Exception:  # matching is a nicety; never let it hide the real error
-            friendly = None
-    unit = None
-    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None:
-        unit = _unknown_unit_before(text, err.token.start_pos)
-
-    if friendly:
-        message = friendly
-    elif unit is not None:
-        word, start = unit
-        line = text.count("\n", 0, start) + 1
-        col = start - (text.rfind("\n", 0, start) + 1) + 1
-        span = Span(file, line, col, line, col + len(word))
-        message = (
-            f"'{word}' is not a unit legdsl knows; write the unit right after the number "
-            "with known symbols (kg, g, m, cm, mm, s, ms, N, J, W, Hz, rad, deg, rev), "
-            "e.g. '5 m/s' or '60 N*m/rad'"
-        )
-    elif isinstance(err, UnexpectedToken):
-        expected = _describe_expected(set(err.accepts or err.expected))
-        message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
-    elif isinstance(err, UnexpectedCharacters):
-        message = f"unexpected character '{err.char}'"
-        if err.char == ";":
-            message += "; ';' separates actions in a controller only"
-    else:
-        expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
-        message = "unexpected end of the file" + (f"; {expected}" if expected else "")
-    return LegError([Diagnostic(span, message)], {file: text})
-
-
 def parse(text: str, file: str = "<string>") -> ast.SourceFile:
     """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
     try:
-        tree = _lark().parse(text)
+        tree = lark_parser().parse(text)
     except UnexpectedInput as err:
-        raise _syntax_error(file, text, err) from None
+        raise syntax_error(file, text, err) from None
     return _build(tree, file, text)
 
 
 def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
     items = _ToAst(file).transform(tree).children
-    lines = text.splitlines() or [""]
+    lines = text.split("\n")
     span = Span(file, 1, 1, len(lines), len(lines[-1]) + 1)
     return ast.SourceFile(
         path=file,
@@ -405,11 +276,22 @@ def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
     """Read and parse a file; returns the tree and the text (for error rendering)."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        data = p.read_bytes()
     except FileNotFoundError:
         raise LegError.at(Span(str(path), 0, 0, 0, 0), f"no such file: {path}") from None
-    except UnicodeDecodeError as e:
+    except OSError as e:
         raise LegError.at(
-            Span(str(path), 1, 1, 1, 2), f"the file is not UTF-8 text ({e.reason})"
+            Span(str(path), 0, 0, 0, 0), f"cannot read {path}: {e.strerror}"
         ) from None
+    try:
+        text = data.decode("utf-8-sig")  # a byte-order mark some editors write is no text
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        line_start = data.rfind(b"\n", 0, e.start) + 1
+        col = len(data[line_start : e.start].decode("utf-8", errors="replace")) + 1
+        raise LegError.at(
+            Span(str(path), line, col, line, col + 1), f"the file is not UTF-8 text ({e.reason})"
+        ) from None
+    # Line ends as Python's text mode reads them: \r\n and a lone \r are \n.
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
     return parse(text, str(path)), text

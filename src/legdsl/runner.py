@@ -8,44 +8,24 @@ status and its message.
 
 from __future__ import annotations
 
-import hashlib
 import importlib.util
 import json
 import math
 import re
 import sys
-from dataclasses import asdict, fields, is_dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from . import __version__
 from .actuators import SETTABLE, setting_kind
+from .codegen import controller_fingerprint, model_fingerprint
+from .controller import InputChange
 from .errors import UsageError
 from .model import Model
-from .simulate import RunOptions, RunResult, Simulation
+from .simulate import RunOptions, RunResult
 from .units import KINDS, Dim, UnitError, parse_unit
-
-
-def model_fingerprint(model: Model) -> str:
-    """A hash of what the dynamics depend on: the tree, the contacts, gravity (not spans or comments)."""
-
-    def clean(obj: Any) -> Any:
-        if is_dataclass(obj) and not isinstance(obj, type):
-            return {f.name: clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
-        if isinstance(obj, tuple | list):
-            return [clean(x) for x in obj]
-        return obj
-
-    payload = {
-        "legdsl": __version__,
-        "planar": model.planar,
-        "gravity": model.gravity,
-        "bodies": clean(model.bodies),
-        "joints": clean(model.joints),
-        "contacts": clean(model.contacts),
-    }
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def import_module_file(path: Path, name: str) -> ModuleType:
@@ -58,11 +38,41 @@ def import_module_file(path: Path, name: str) -> ModuleType:
 
 def load_dynamics(model: Model, source: Path, generated: Path, log: Any = None) -> ModuleType:
     """The creature's generated dynamics module, compiled first if missing or stale."""
-    path = generated / model.name / "dynamics.py"
-    fingerprint = model_fingerprint(model)
+    return _load(
+        model,
+        source,
+        generated,
+        "dynamics.py",
+        ("MODEL_FINGERPRINT", model_fingerprint(model)),
+        log,
+    )
+
+
+def load_controller(
+    model: Model, controller: str, source: Path, generated: Path, log: Any = None
+) -> ModuleType:
+    """The generated control module of one of the creature's controllers (compiled if needed)."""
+    names = [c.name for c in model.controllers]
+    if controller not in names:
+        raise UsageError(
+            f"--controller {controller}: creature '{model.name}' has no such controller "
+            f"(it has {', '.join(names) or 'none'})"
+        )
+    fingerprint = controller_fingerprint(model, model.controller(controller))
+    return _load(
+        model, source, generated, f"control_{controller}.py", ("FINGERPRINT", fingerprint), log
+    )
+
+
+def _load(
+    model: Model, source: Path, generated: Path, file: str, stamp: tuple[str, str], log: Any
+) -> ModuleType:
+    """Import ``generated/NAME/file`` if its fingerprint constant matches, else compile first."""
+    path = generated / model.name / file
+    label = f"legdsl_generated_{model.name}_{path.stem}"
     if path.is_file():
-        module = import_module_file(path, f"legdsl_generated_{model.name}_dynamics")
-        if getattr(module, "MODEL_FINGERPRINT", None) == fingerprint:
+        module = import_module_file(path, label)
+        if getattr(module, stamp[0], None) == stamp[1]:
             return module
         reason = "stale"
     else:
@@ -71,8 +81,8 @@ def load_dynamics(model: Model, source: Path, generated: Path, log: Any = None) 
 
     if log is not None:
         print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
-    write_generated(compile_model(source), generated)
-    return import_module_file(path, f"legdsl_generated_{model.name}_dynamics_new")
+    write_generated(compile_model(source, model.name), generated)
+    return import_module_file(path, label + "_new")
 
 
 def parse_setting(text: str) -> tuple[str, float, Dim | None]:
@@ -93,31 +103,78 @@ def parse_setting(text: str) -> tuple[str, float, Dim | None]:
     return name.strip(), magnitude * factor, dim
 
 
-def apply_settings(sim: Simulation, texts: list[str]) -> dict[str, float]:
-    """Apply ``--set ACTUATOR.SETTING=VALUE`` options to a simulation; returns them in SI."""
-    by_name = {a.name: a for a in sim.model.actuators}
-    applied = {}
+@dataclass
+class Settings:
+    """``--set`` options sorted by what they set (all values in SI)."""
+
+    actuators: dict[str, float]  # ACTUATOR.SETTING -> value, before the run
+    inputs: dict[str, float]  # controller inputs at t = 0
+    params: dict[str, float]  # controller parameters
+    schedule: list[InputChange]  # NAME=VALUE@T: an input changed during the run
+
+    def as_json(self) -> dict[str, Any]:
+        return {
+            "actuators": self.actuators,
+            "inputs": self.inputs,
+            "params": self.params,
+            "schedule": [{"t": c.t, "input": c.name, "value": c.value} for c in self.schedule],
+        }
+
+
+def sort_settings(texts: list[str], model: Model, control: ModuleType | None) -> Settings:
+    """Read ``--set`` options: ``ACTUATOR.SETTING=V``, ``INPUT=V``, ``PARAM=V`` or ``INPUT=V@T``."""
+    out = Settings({}, {}, {}, [])
     for text in texts:
+        at = None
+        if "@" in text:
+            text, _, when = text.rpartition("@")
+            _, seconds, dim = parse_setting(f"t={when}")
+            if dim not in (None, KINDS["time"][0]):
+                raise UsageError(f"--set ...@{when}: the time after '@' is in seconds, e.g. @4s")
+            at = seconds
         name, value, dim = parse_setting(text)
-        actuator, _, key = name.partition(".")
-        if actuator not in by_name or not key:
-            example = next(iter(by_name), "hip_servo")
+        if "." in name:
+            if at is not None:
+                raise UsageError(f"--set {text}@...: only controller inputs change during a run")
+            _check_actuator_setting(model, name, value, dim)
+            out.actuators[name] = value
+            continue
+        if control is None:
             raise UsageError(
-                f"--set {name}: name an actuator setting such as {example}.{SETTABLE[by_name[example].kind][0] if by_name else 'setpoint'} "
-                f"(actuators: {', '.join(by_name) or 'none'})"
+                f"--set {name}: '{name}' is a controller input; choose a controller with --controller"
             )
-        a = by_name[actuator]
-        if key not in SETTABLE[a.kind]:
-            raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
-        kind = setting_kind(key, a.rotary)
-        want, example_unit = KINDS[kind]
-        if dim is None and value != 0:
-            raise UsageError(f"--set {name}: give a unit, e.g. {name}={value:g}{example_unit}")
-        if dim is not None and dim != want:
-            raise UsageError(f"--set {name}: expected a {kind} ({example_unit})")
-        sim.actuators.by_name[actuator].set(key, value)
-        applied[name] = value
-    return applied
+        if name in control.INPUTS:
+            if at is None:
+                out.inputs[name] = value
+            else:
+                out.schedule.append(InputChange(at, name, value))
+        elif name in control.PARAMS and at is None:
+            out.params[name] = value
+        else:
+            known = ", ".join([*control.INPUTS, *control.PARAMS]) or "none"
+            raise UsageError(
+                f"--set {name}: controller {control.CONTROLLER} has no input or parameter {name!r} (it has {known})"
+            )
+    return out
+
+
+def _check_actuator_setting(model: Model, name: str, value: float, dim: Dim | None) -> None:
+    by_name = {a.name: a for a in model.actuators}
+    actuator, _, key = name.partition(".")
+    if actuator not in by_name or not key:
+        raise UsageError(
+            f"--set {name}: name an actuator setting such as ACTUATOR.setpoint "
+            f"(actuators: {', '.join(by_name) or 'none'})"
+        )
+    a = by_name[actuator]
+    if key not in SETTABLE[a.kind]:
+        raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
+    kind = setting_kind(key, a.rotary)
+    want, example_unit = KINDS[kind]
+    if dim is None and value != 0:
+        raise UsageError(f"--set {name}: give a unit, e.g. {name}={value:g}{example_unit}")
+    if dim is not None and dim != want:
+        raise UsageError(f"--set {name}: expected a {kind} ({example_unit})")
 
 
 def progress_bar(t: float, total: float) -> None:

@@ -32,7 +32,9 @@ class RunOptions:
     integrator: str = "euler"  # semi-implicit Euler, or "rk4"
     control_dt: float = 0.002  # "usually a few ms" (Figure 2)
     record_rate: float = 200.0  # samples per second; 0 records every step
-    fall_height: float | None = None  # root below this height is a fall; default 30% of its start
+    fall_height: float | None = (
+        None  # root below this is a fall; default 30% of its height over its feet
+    )
     fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall
     drop: float | None = None  # start with the lowest contact this high above the ground
 
@@ -267,6 +269,16 @@ class Simulation:
         pos, rot = self.dyn.body_poses(self.q)[0]
         return pos, rot
 
+    def _standing_height(self) -> float:
+        """How far the root stands above its lowest foot at the start (its own height if footless)."""
+        root = self._root_pose()[0]
+        if not self.contact_names:
+            return root[2] - self._ground_under(root)
+        return root[2] - min(p[2] for p in self.dyn.contact_positions(self.q))
+
+    def _ground_under(self, point: Vec) -> float:
+        return self.ground.height(point[0], point[1]) if self.ground is not None else 0.0
+
     def _check(self, start_height: float) -> str | None:
         """None while healthy; otherwise 'fell' (with self.message) or raises Divergence."""
         if not all(math.isfinite(x) for x in self.v) or not all(math.isfinite(x) for x in self.q):
@@ -277,9 +289,13 @@ class Simulation:
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))
         limit = self.options.fall_height
-        height = limit if limit is not None else 0.3 * start_height
-        if pos[2] < height:
-            self.message = f"the root fell below {height:.3g} m (it is at {pos[2]:.3g} m)"
+        # A root that starts at the level of its feet (a sled, a wheel) cannot fall lower.
+        height = limit if limit is not None else 0.3 * start_height if start_height > 0 else None
+        above = pos[2] - self._ground_under(pos)
+        if height is not None and above < height:
+            self.message = (
+                f"the root fell to {above:.3g} m above the ground (the limit is {height:.3g} m)"
+            )
             return "fell"
         if tilt > self.options.fall_tilt:
             self.message = (
@@ -330,7 +346,7 @@ class Simulation:
         capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
         traj = self._empty(capacity)
         control_every = max(1, int(round(opts.control_dt / opts.dt)))
-        start_height = self._root_pose()[0][2]
+        start_height = self._standing_height()
         self.message = ""
         status = "ok"
         recorded = 0
@@ -378,15 +394,19 @@ class Simulation:
             progress(self.t, opts.duration)
         return RunResult(
             trajectory=traj.head(recorded),
-            events=[
-                {"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events
-            ],
+            events=self._all_events(),
             status=status,
             message=self.message,
             steps=steps,
             wall_time=wall,
             sim_time=self.t,
         )
+
+    def _all_events(self) -> list[dict[str, Any]]:
+        """Contact events and the controller's state changes, in time order."""
+        events = [{"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events]
+        events += list(getattr(self.controller, "events", []))
+        return sorted(events, key=lambda e: e["t"])
 
     def _empty(self, capacity: int) -> Trajectory:
         m = self.model

@@ -71,7 +71,7 @@ class Comment:
 Statement = Unpack | Assign | Comment
 
 # The arrays a generated function unpacks, in the order it unpacks them.
-ARRAYS = ("q", "v", "tau")
+ARRAYS = ("q", "v", "tau", "s", "u", "p", "r")  # dynamics inputs, then control inputs
 
 
 def python_name(wanted: str, taken: set[str]) -> str:

@@ -70,21 +70,23 @@ def parse_unit(text: str) -> tuple[float, Dim]:
     dim = [0, 0, 0, 0]
     sign = 1
     pos = 0
-    while pos < len(text):
+    while True:
         match = _ATOM.match(text, pos)
         if not match or match.group(1) not in UNITS:
             bad = match.group(1) if match else text[pos:]
-            raise UnitError(f"unknown unit '{bad}'")
+            raise UnitError(f"unknown unit '{bad}'" if bad else f"a unit is missing in '{text}'")
         scale, base = UNITS[match.group(1)]
         power = sign * int(match.group(2) or 1)
         factor *= scale**power
         for i in range(4):
             dim[i] += base[i] * power
         pos = match.end()
-        if pos < len(text):
-            sign = 1 if text[pos] == "*" else -1
-            pos += 1
-    return factor, (dim[0], dim[1], dim[2], dim[3])
+        if pos == len(text):
+            return factor, (dim[0], dim[1], dim[2], dim[3])
+        if text[pos] not in "*/":
+            raise UnitError(f"unknown unit '{text[pos:]}'")
+        sign = 1 if text[pos] == "*" else -1
+        pos += 1
 
 
 def unit_pattern() -> str:

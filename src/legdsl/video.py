@@ -16,6 +16,7 @@ speed, ground-force arrows, footprints and the mass-centre trail.
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import shutil
 import subprocess
@@ -57,13 +58,11 @@ class VideoResult:
 
 
 def _import_pyplot() -> Any:
-    try:
-        import matplotlib
+    import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise UsageError("writing a video needs matplotlib: pip install 'legdsl[export]'") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -483,6 +482,8 @@ def render_video(
         raise UsageError(f"{path}: a video is written as .mp4 or .gif")
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise UsageError(FFMPEG_HINT)
+    if suffix == ".gif" and importlib.util.find_spec("PIL") is None:
+        raise UsageError("writing a .gif needs Pillow: pip install 'legdsl[export]'")
     width, height = (size[0] // 2) * 2, (size[1] // 2) * 2
     plt = _import_pyplot()
     start = time.perf_counter()

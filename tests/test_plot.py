@@ -1,0 +1,52 @@
+"""legdsl plot: the stance brackets and the picture of a run."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CREATURES
+
+from legdsl.cli import main
+from legdsl.plot import stance_phases
+from legdsl.trajectory import empty
+
+
+def _run(tmp_path: Path) -> Path:
+    n = 1001
+    tr = empty(
+        n, 3, 3, 1, 1, q_names=("x", "z", "pitch"), v_names=("x", "z", "pitch"),
+        contact_names=("toe",), leg_names=("main",), leg_feet=(0,), total_mass=1.0,
+    )  # fmt: skip
+    tr.t[:] = np.linspace(0.0, 1.0, n)
+    phase = (tr.t % 0.25) / 0.25
+    tr.contact[:, 0] = phase < 0.4  # stance 0.1 s of every 0.25 s, starting in stance
+    tr.com[:, 2] = 0.5 + 0.05 * np.sin(2 * np.pi * 4 * tr.t)
+    tr.save(tmp_path)
+    (tmp_path / "run.json").write_text(
+        json.dumps({"source": str(CREATURES / "kangaroo.leg"), "creature": "kangaroo"})
+    )
+    return tmp_path
+
+
+def test_stance_phases_bracket_every_support(tmp_path: Path) -> None:
+    from legdsl.trajectory import Trajectory
+
+    tr = Trajectory.load(_run(tmp_path))
+    phases = stance_phases(tr, 0)
+    assert len(phases) == 5
+    assert phases[-1] == (1.0, 1.0)  # a stance that begins at the last sample ends with the run
+    for k, (start, stop) in enumerate(phases[:-1]):
+        assert start == pytest.approx(0.25 * k, abs=1e-3)
+        assert stop - start == pytest.approx(0.1, abs=2e-3)
+
+
+def test_plot_writes_a_png(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run = _run(tmp_path)
+    assert main(["plot", str(run)]) == 0
+    png = run / "figure6.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert png.stat().st_size > 10_000
+    assert main(["plot", str(tmp_path / "nothing")]) == 2
