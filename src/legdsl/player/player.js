@@ -244,7 +244,9 @@ function frameAt(t) {
 const mix = (arr, i, j, a, k) => arr[i + k] + a * (arr[j + k] - arr[i + k]);
 
 function fmt(x, digits = 2) {
-  return Number.isFinite(x) ? x.toFixed(digits) : "\u2013";
+  if (!Number.isFinite(x)) return "\u2013";
+  const text = x.toFixed(digits);
+  return Number(text) === 0 ? (0).toFixed(digits) : text; // no "-0.00"
 }
 
 function draw() {
@@ -372,7 +374,7 @@ function resize() {
   camera.updateProjectionMatrix();
   requestRender();
 }
-window.addEventListener("resize", resize);
+new ResizeObserver(resize).observe(view); // the window, or the control bar wrapping
 
 // ------------------------------------------------------------------ scripting interface (tests, consoles)
 const api = {
