@@ -79,10 +79,6 @@ class Motion:
     def frames(self) -> int:
         return int(self.times.shape[0])
 
-    @property
-    def fps(self) -> float:
-        return (self.frames - 1) / self.duration if self.duration > 0 else DEFAULT_FPS
-
     def frame_at(self, t: float) -> int:
         """The last frame at or before ``t``."""
         return int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, self.frames - 1))

@@ -27,8 +27,7 @@ import numpy as np
 
 from .. import __version__
 from ..motion import Motion
-from ..shapes import body_mesh
-from ..shapes import hex_rgb as _hex_rgb
+from ..shapes import body_mesh, hex_rgb
 
 THREE_VERSION = "0.170.0"
 OVERLAYS = ("state", "speed", "forces", "footprints", "com")
@@ -82,7 +81,7 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
     bodies = []
     for body in motion.bodies:
         mesh = body_mesh(body)
-        r, g, b = _hex_rgb(body.color)
+        r, g, b = hex_rgb(body.color)
         bodies.append(
             {
                 "name": body.name,
