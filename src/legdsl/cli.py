@@ -105,6 +105,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     write_run(out, model, options, result, extra)
     print(summary(model, result))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
+    if args.animate:
+        from .animate import animate_result
+
+        animate_result(out, model, result, dynamics)
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -303,6 +307,11 @@ def _parser() -> argparse.ArgumentParser:
         metavar="DIR",
         help="where generated modules live (default generated/)",
     )
+    r.add_argument(
+        "--animate",
+        action="store_true",
+        help="also write the HTML player, DIR/animation.html (see legdsl animate)",
+    )
     _COMMANDS["run"] = _cmd_run
 
     m = sub.add_parser(
@@ -394,6 +403,11 @@ def _parser() -> argparse.ArgumentParser:
     )
     pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
     _COMMANDS["plot"] = _cmd_plot
+
+    from .animate import add_animate_parser, add_export_motion_parser
+
+    _COMMANDS["animate"] = add_animate_parser(sub)
+    _COMMANDS["export-motion"] = add_export_motion_parser(sub)
 
     return p
 

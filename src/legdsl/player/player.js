@@ -1,0 +1,417 @@
+// The legdsl run player: draws a recorded run with three.js, all data inline.
+// World frame as in legdsl: x forward, y left, z up. Poses are stored per frame
+// and body as (px, py, pz, qx, qy, qz, qw); the player interpolates between
+// frames (lerp / slerp), so slow motion stays smooth.
+
+const data = JSON.parse(document.getElementById("legdsl-data").textContent);
+const threeSource = document.getElementById("three-module").textContent;
+const THREE = await import(
+  URL.createObjectURL(new Blob([threeSource], { type: "text/javascript" }))
+);
+
+// ------------------------------------------------------------------ data
+function bytes(b64) {
+  const bin = atob(b64);
+  const out = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) out[i] = bin.charCodeAt(i);
+  return out.buffer;
+}
+const f32 = (b64) => new Float32Array(bytes(b64));
+const times = f32(data.times);
+const poses = f32(data.poses); // frames x bodies x 7
+const contactPos = f32(data.contactPositions); // frames x contacts x 3
+const forces = f32(data.forces); // frames x contacts x 3
+const com = f32(data.com); // frames x 3
+const speed = f32(data.speed);
+const speedCommand = f32(data.speedCommand);
+const state = new Int16Array(bytes(data.state));
+const nFrames = times.length;
+const nBodies = data.bodies.length;
+const nContacts = data.contacts.length;
+const duration = nFrames > 1 ? times[nFrames - 1] : 0;
+
+// ------------------------------------------------------------------ scene
+const view = document.getElementById("view");
+let renderer;
+try {
+  renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+} catch (err) {
+  document.getElementById("message").textContent = "This player needs WebGL, which this browser does not offer.";
+  throw err;
+}
+renderer.setPixelRatio(window.devicePixelRatio || 1);
+renderer.shadowMap.enabled = true;
+renderer.shadowMap.type = THREE.PCFSoftShadowMap;
+view.appendChild(renderer.domElement);
+
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0xeef0f3);
+scene.fog = new THREE.Fog(0xeef0f3, 1.5 * data.distance, 4.5 * data.distance);
+const camera = new THREE.PerspectiveCamera(35, 1, 0.05, 500);
+camera.up.set(0, 0, 1);
+
+scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8a80, 1.9));
+const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+sun.castShadow = true;
+sun.shadow.mapSize.set(1024, 1024);
+sun.shadow.bias = -0.0005; // no shadow acne on flat faces lit at a grazing angle
+sun.shadow.normalBias = 0.01 * data.size;
+const shadowBox = 1.5 * data.size;
+Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: 0.1, far: 20 * data.size + 10 });
+scene.add(sun, sun.target);
+
+// Ground and terrain. The ground's grid is a texture rather than lines: it is
+// filtered into a plain tone far away, and no line ever crosses the camera.
+const [gx0, gx1, gy0, gy1] = data.ground.extent;
+function gridTexture(step) {
+  const n = 512;
+  const canvas = document.createElement("canvas");
+  canvas.width = canvas.height = n;
+  const g = canvas.getContext("2d");
+  g.fillStyle = "#d9d9d6";
+  g.fillRect(0, 0, n, n);
+  const stroke = (color, width, at) => {
+    g.strokeStyle = color;
+    g.lineWidth = width;
+    g.beginPath();
+    for (const a of at) { g.moveTo(a, 0); g.lineTo(a, n); g.moveTo(0, a); g.lineTo(n, a); }
+    g.stroke();
+  };
+  stroke("#b8b8b2", 3, [n / 4, n / 2, (3 * n) / 4]); // every step
+  stroke("#98988f", 6, [0, n]); // every fourth step, half at each edge
+  const texture = new THREE.CanvasTexture(canvas);
+  texture.wrapS = texture.wrapT = THREE.RepeatWrapping;
+  texture.colorSpace = THREE.SRGBColorSpace;
+  texture.anisotropy = renderer.capabilities.getMaxAnisotropy();
+  const cell = 4 * step; // metres per texture tile
+  texture.repeat.set((gx1 - gx0) / cell, (gy1 - gy0) / cell);
+  texture.offset.set(gx0 / cell, gy0 / cell); // tile edges on multiples of the cell
+  return texture;
+}
+const groundMaterial = new THREE.MeshStandardMaterial({ map: gridTexture(data.ground.grid), roughness: 1 });
+const terrainMaterial = new THREE.MeshStandardMaterial({ color: 0xc2c2bc, roughness: 1 });
+const ground = new THREE.Group();
+const slope = data.ground.terrain.find((t) => t.kind === "slope");
+{
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry(gx1 - gx0, gy1 - gy0), groundMaterial);
+  plane.position.set((gx0 + gx1) / 2, (gy0 + gy1) / 2, 0);
+  plane.receiveShadow = true;
+  ground.add(plane);
+  if (slope) ground.rotation.y = -slope.angle;
+}
+scene.add(ground);
+for (const t of data.ground.terrain) {
+  let box = null;
+  if (t.kind === "step") box = [t.x, gx1, gy0, gy1, t.height];
+  if (t.kind === "box") box = [t.x0, t.x1, Math.max(t.y0, gy0), Math.min(t.y1, gy1), t.height];
+  if (!box) continue;
+  const [x0, x1, y0, y1, h] = box;
+  const mesh = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, h), terrainMaterial);
+  mesh.position.set((x0 + x1) / 2, (y0 + y1) / 2, h / 2);
+  mesh.receiveShadow = mesh.castShadow = true;
+  const edges = new THREE.LineSegments(new THREE.EdgesGeometry(mesh.geometry), new THREE.LineBasicMaterial({ color: 0x8c8c86 }));
+  mesh.add(edges);
+  scene.add(mesh);
+}
+
+// The creature.
+const links = data.bodies.map((b) => {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(f32(b.mesh.positions), 3));
+  geometry.setAttribute("normal", new THREE.BufferAttribute(f32(b.mesh.normals), 3));
+  geometry.setIndex(new THREE.BufferAttribute(new Uint32Array(bytes(b.mesh.indices)), 1));
+  const material = new THREE.MeshStandardMaterial({ color: b.color, roughness: 0.65, metalness: 0.0 });
+  const mesh = new THREE.Mesh(geometry, material);
+  mesh.name = b.name;
+  mesh.castShadow = mesh.receiveShadow = true;
+  scene.add(mesh);
+  return mesh;
+});
+
+// ------------------------------------------------------------------ overlays
+const overlays = {
+  state: { label: "state", on: data.overlays.includes("state") },
+  speed: { label: "speed", on: data.overlays.includes("speed") },
+  forces: { label: "forces", on: data.overlays.includes("forces") },
+  footprints: { label: "footprints", on: data.overlays.includes("footprints") },
+  com: { label: "COM trail", on: data.overlays.includes("com") },
+};
+
+// Force arrows: a shaft and a cone along +y (three's cylinder axis), turned
+// to the force and scaled to its size; drawn over everything.
+const arrowMaterial = new THREE.MeshBasicMaterial({ color: 0xd2401e, depthTest: false });
+const shaftGeometry = new THREE.CylinderGeometry(1, 1, 1, 12).translate(0, 0.5, 0);
+const headGeometry = new THREE.ConeGeometry(1, 1, 16).translate(0, 0.5, 0);
+const arrows = [];
+for (let c = 0; c < nContacts; c++) {
+  const arrow = new THREE.Group();
+  const shaft = new THREE.Mesh(shaftGeometry, arrowMaterial);
+  const head = new THREE.Mesh(headGeometry, arrowMaterial);
+  shaft.renderOrder = head.renderOrder = 20;
+  arrow.add(shaft, head);
+  arrow.visible = false;
+  scene.add(arrow);
+  arrows.push(arrow);
+}
+const yAxis = new THREE.Vector3(0, 1, 0);
+function pointArrow(arrow, length) {
+  const [shaft, head] = arrow.children;
+  const headLength = Math.min(0.35 * length, 0.1 * data.size);
+  const radius = Math.min(0.012 * data.size, 0.15 * headLength); // short arrows get thin
+  shaft.scale.set(radius, length - headLength, radius);
+  head.position.set(0, length - headLength, 0);
+  head.scale.set(2.6 * radius, headLength, 2.6 * radius);
+}
+const arrowPerNewton = (0.6 * data.size) / data.weight; // the creature's weight is 0.6 sizes long
+
+const footprintColors = [0x1f5fbf, 0x2a9d4b, 0xb8860b, 0x8e44ad, 0x16a085, 0xc0392b];
+const footprintGeometry = new THREE.CircleGeometry(0.06 * data.size, 24);
+const footprints = data.footprints.map(([t, c, x, y, z]) => {
+  const mesh = new THREE.Mesh(footprintGeometry, new THREE.MeshBasicMaterial({ color: footprintColors[c % footprintColors.length], transparent: true, opacity: 0.75, depthWrite: false }));
+  mesh.position.set(x, y, z + 0.002);
+  if (slope) mesh.rotation.y = -slope.angle;
+  mesh.userData.t = t;
+  scene.add(mesh);
+  return mesh;
+});
+
+const trailGeometry = new THREE.BufferGeometry();
+trailGeometry.setAttribute("position", new THREE.BufferAttribute(com, 3));
+const trail = new THREE.Line(trailGeometry, new THREE.LineBasicMaterial({ color: 0xc0208a, depthTest: false }));
+trail.renderOrder = 10;
+trail.frustumCulled = false;
+const comMarker = new THREE.Mesh(new THREE.SphereGeometry(0.03 * data.size, 16, 12), new THREE.MeshBasicMaterial({ color: 0xc0208a, depthTest: false }));
+comMarker.renderOrder = 11;
+scene.add(trail, comMarker);
+
+// ------------------------------------------------------------------ camera
+// The camera orbits a target that follows the mass centre horizontally, at
+// a fixed height: hops and drops show as motion on the screen.
+const lookHeight = data.lookHeight;
+const defaults = data.planar
+  ? { azimuth: -Math.PI / 2, elevation: 0.08, distance: data.distance }
+  : { azimuth: -Math.PI / 3, elevation: 0.33, distance: data.distance };
+const orbit = { ...defaults };
+const target = new THREE.Vector3();
+
+function placeCamera() {
+  const c = Math.cos(orbit.elevation);
+  camera.position.set(
+    target.x + orbit.distance * c * Math.cos(orbit.azimuth),
+    target.y + orbit.distance * c * Math.sin(orbit.azimuth),
+    target.z + orbit.distance * Math.sin(orbit.elevation),
+  );
+  camera.lookAt(target);
+  sun.position.set(target.x + 4 * data.size, target.y - 3 * data.size, target.z + 8 * data.size);
+  sun.target.position.copy(target);
+}
+
+let drag = null;
+renderer.domElement.addEventListener("pointerdown", (e) => {
+  drag = { x: e.clientX, y: e.clientY, azimuth: orbit.azimuth, elevation: orbit.elevation };
+  renderer.domElement.setPointerCapture(e.pointerId);
+});
+renderer.domElement.addEventListener("pointermove", (e) => {
+  if (!drag) return;
+  orbit.azimuth = drag.azimuth - (e.clientX - drag.x) * 0.008;
+  orbit.elevation = Math.min(1.5, Math.max(-0.2, drag.elevation + (e.clientY - drag.y) * 0.008));
+  requestRender();
+});
+renderer.domElement.addEventListener("pointerup", () => { drag = null; });
+renderer.domElement.addEventListener("wheel", (e) => {
+  e.preventDefault();
+  orbit.distance = Math.min(100, Math.max(0.2, orbit.distance * Math.exp(e.deltaY * 0.001)));
+  requestRender();
+}, { passive: false });
+renderer.domElement.addEventListener("dblclick", () => { Object.assign(orbit, defaults); requestRender(); });
+
+// ------------------------------------------------------------------ drawing a time
+const qa = new THREE.Quaternion();
+const qb = new THREE.Quaternion();
+let time = 0;
+
+function frameAt(t) {
+  // Index of the last frame at or before t, and the fraction towards the next.
+  if (nFrames < 2) return [0, 0];
+  let lo = 0, hi = nFrames - 1;
+  while (hi - lo > 1) {
+    const mid = (lo + hi) >> 1;
+    if (times[mid] <= t) lo = mid; else hi = mid;
+  }
+  const a = Math.min(1, Math.max(0, (t - times[lo]) / (times[lo + 1] - times[lo])));
+  return [lo, a];
+}
+const mix = (arr, i, j, a, k) => arr[i + k] + a * (arr[j + k] - arr[i + k]);
+
+function fmt(x, digits = 2) {
+  if (!Number.isFinite(x)) return "\u2013";
+  const text = x.toFixed(digits);
+  return Number(text) === 0 ? (0).toFixed(digits) : text; // no "-0.00"
+}
+
+function draw() {
+  const [f, a] = frameAt(time);
+  const g = Math.min(f + 1, nFrames - 1);
+  for (let b = 0; b < nBodies; b++) {
+    const i = (f * nBodies + b) * 7, j = (g * nBodies + b) * 7;
+    links[b].position.set(mix(poses, i, j, a, 0), mix(poses, i, j, a, 1), mix(poses, i, j, a, 2));
+    qa.set(poses[i + 3], poses[i + 4], poses[i + 5], poses[i + 6]);
+    qb.set(poses[j + 3], poses[j + 4], poses[j + 5], poses[j + 6]);
+    links[b].quaternion.slerpQuaternions(qa, qb, a);
+  }
+  const cx = mix(com, f * 3, g * 3, a, 0), cy = mix(com, f * 3, g * 3, a, 1), cz = mix(com, f * 3, g * 3, a, 2);
+  target.set(cx, data.planar ? 0 : cy, lookHeight);
+  placeCamera();
+
+  for (let c = 0; c < nContacts; c++) {
+    const i = (f * nContacts + c) * 3, j = (g * nContacts + c) * 3;
+    const force = new THREE.Vector3(mix(forces, i, j, a, 0), mix(forces, i, j, a, 1), mix(forces, i, j, a, 2));
+    const length = force.length() * arrowPerNewton;
+    const arrow = arrows[c];
+    arrow.visible = overlays.forces.on && length > 1e-3 * data.size;
+    if (arrow.visible) {
+      arrow.position.set(mix(contactPos, i, j, a, 0), mix(contactPos, i, j, a, 1), mix(contactPos, i, j, a, 2));
+      arrow.quaternion.setFromUnitVectors(yAxis, force.normalize());
+      pointArrow(arrow, length);
+    }
+  }
+  for (const mesh of footprints) mesh.visible = overlays.footprints.on && mesh.userData.t <= time + 1e-9;
+  trail.visible = comMarker.visible = overlays.com.on;
+  trailGeometry.setDrawRange(0, f + 1);
+  comMarker.position.set(cx, cy, cz);
+
+  renderer.render(scene, camera);
+  api.renders += 1;
+  updateHud(f);
+}
+
+// ------------------------------------------------------------------ HUD and controls
+const hud = document.getElementById("hud");
+const playButton = document.getElementById("play");
+const scrub = document.getElementById("scrub");
+const clock = document.getElementById("clock");
+const rate = document.getElementById("rate");
+const loop = document.getElementById("loop");
+scrub.max = String(duration);
+
+function escapeHtml(s) {
+  return String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
+}
+
+function updateHud(f) {
+  const lines = [`<div class="title">${escapeHtml(data.creature)}</div>`];
+  if (data.status !== "ok") lines.push(`<div class="bad">${escapeHtml(data.status)}: ${escapeHtml(data.message)}</div>`);
+  lines.push(`<div>t = ${time.toFixed(3)} s</div>`);
+  if (overlays.state.on) {
+    const s = state[f];
+    const name = s >= 0 && s < data.stateNames.length ? escapeHtml(data.stateNames[s]) : '<span class="dim">no controller</span>';
+    lines.push(`<div>state: <b id="state-name">${name}</b></div>`);
+  }
+  if (overlays.speed.on) {
+    const command = Number.isFinite(speedCommand[f]) ? `${fmt(speedCommand[f])} m/s` : '<span class="dim">none</span>';
+    lines.push(`<div>speed: ${fmt(speed[f])} m/s &middot; command: ${command}</div>`);
+  }
+  hud.innerHTML = lines.join("");
+  clock.textContent = `${time.toFixed(2)} / ${duration.toFixed(2)} s`;
+  scrub.value = String(time);
+  playButton.innerHTML = playing ? "&#10074;&#10074;" : "&#9654;";
+}
+
+const overlayBox = document.getElementById("overlays");
+for (const [key, o] of Object.entries(overlays)) {
+  const label = document.createElement("label");
+  const box = document.createElement("input");
+  box.type = "checkbox";
+  box.id = `overlay-${key}`;
+  box.checked = o.on;
+  box.addEventListener("change", () => { o.on = box.checked; requestRender(); });
+  label.append(box, ` ${o.label}`);
+  overlayBox.append(label);
+}
+
+let playing = false;
+let last = null;
+function setPlaying(on) {
+  playing = on && duration > 0;
+  if (playing && time >= duration) time = 0;
+  last = null;
+  requestRender();
+}
+playButton.addEventListener("click", () => setPlaying(!playing));
+scrub.addEventListener("input", () => { playing = false; time = Number(scrub.value); requestRender(); });
+window.addEventListener("keydown", (e) => {
+  if (e.target instanceof HTMLSelectElement) return;
+  if (e.code === "Space") { e.preventDefault(); setPlaying(!playing); }
+  const step = nFrames > 1 ? duration / (nFrames - 1) : 0;
+  if (e.code === "ArrowRight") { playing = false; time = Math.min(duration, time + step); requestRender(); }
+  if (e.code === "ArrowLeft") { playing = false; time = Math.max(0, time - step); requestRender(); }
+});
+
+let pending = false;
+function requestRender() {
+  if (pending) return;
+  pending = true;
+  requestAnimationFrame(tick);
+}
+function tick(now) {
+  pending = false;
+  if (playing) {
+    if (last !== null) time += ((now - last) / 1000) * Number(rate.value);
+    last = now;
+    if (time >= duration) {
+      if (loop.checked) time %= duration || 1;
+      else { time = duration; playing = false; }
+    }
+  }
+  draw();
+  if (playing) requestRender();
+}
+
+function resize() {
+  const w = view.clientWidth, h = view.clientHeight;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / Math.max(1, h);
+  camera.updateProjectionMatrix();
+  requestRender();
+}
+new ResizeObserver(resize).observe(view); // the window, or the control bar wrapping
+
+// ------------------------------------------------------------------ scripting interface (tests, consoles)
+const api = {
+  ready: false,
+  renders: 0,
+  duration,
+  frames: nFrames,
+  threeVersion: THREE.REVISION,
+  setTime(t) { playing = false; time = Math.min(duration, Math.max(0, t)); draw(); },
+  getTime: () => time,
+  play: () => setPlaying(true),
+  pause: () => setPlaying(false),
+  isPlaying: () => playing,
+  setRate(r) { rate.value = String(r); },
+  setOverlay(name, on) { api.setOverlays({ [name]: on }); },
+  setOverlays(settings) {
+    for (const [name, on] of Object.entries(settings)) {
+      overlays[name].on = on;
+      document.getElementById(`overlay-${name}`).checked = on;
+    }
+    draw();
+  },
+  // Where a world point is drawn, in CSS pixels of the page.
+  project(x, y, z) {
+    const p = new THREE.Vector3(x, y, z).project(camera);
+    const r = renderer.domElement.getBoundingClientRect();
+    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+  },
+  bodyPosition: (i) => links[i].position.toArray(),
+  // A point given in body i's frame, in world coordinates.
+  bodyPoint: (i, p) => new THREE.Vector3(...p).applyMatrix4(links[i].matrixWorld).toArray(),
+  setView(v) { Object.assign(orbit, v); draw(); },
+  scene, // for poking at from a browser console
+  redraw: () => draw(),
+  getView: () => ({ ...orbit }),
+};
+window.legdsl = api;
+resize();
+draw();
+api.ready = true;

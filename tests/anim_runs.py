@@ -1,0 +1,56 @@
+"""Short real runs of the shipped creatures for the animation tests.
+
+Each creature is run once per test session with ``legdsl run FILE --time 1
+--drop 0.1`` (a passive drop) into a session directory; a test gets its own
+copy of the run directory. Generated modules go to a session directory too,
+seeded from the checked-in ``generated/`` when there is one, so that a
+current module is not compiled again.
+"""
+
+from __future__ import annotations
+
+import atexit
+import shutil
+import tempfile
+from pathlib import Path
+
+from conftest import CREATURES, ROOT
+
+from legdsl.cli import main
+from legdsl.motion import Motion, load_motion
+
+_SESSION: Path | None = None
+_RUNS: dict[tuple[str, float], Path] = {}
+
+
+def session_dir() -> Path:
+    global _SESSION
+    if _SESSION is None:
+        _SESSION = Path(tempfile.mkdtemp(prefix="legdsl-anim-"))
+        atexit.register(shutil.rmtree, _SESSION, True)
+        if (ROOT / "generated").is_dir():
+            shutil.copytree(ROOT / "generated", _SESSION / "generated")
+    return _SESSION
+
+
+def generated_dir() -> Path:
+    return session_dir() / "generated"
+
+
+def creature_run(name: str, out: Path, duration: float = 1.0) -> Path:
+    """A copy, at ``out``, of a real run of creatures/NAME.leg dropped from 0.1 m."""
+    key = (name, duration)
+    if key not in _RUNS:
+        run = session_dir() / "runs" / f"{name}-{duration:g}"
+        status = main(
+            ["run", str(CREATURES / f"{name}.leg"), "--time", f"{duration:g}", "--drop", "0.1",
+             "--out", str(run), "--generated", str(generated_dir())]
+        )  # fmt: skip
+        assert status in (0, 4), f"legdsl run {name} exited with {status}"  # 4: it fell
+        _RUNS[key] = run
+    shutil.copytree(_RUNS[key], out)
+    return out
+
+
+def creature_motion(name: str, out: Path, duration: float = 1.0, fps: float = 60.0) -> Motion:
+    return load_motion(creature_run(name, out, duration), fps=fps, generated=generated_dir())

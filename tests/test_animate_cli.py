@@ -1,0 +1,116 @@
+"""The command line: legdsl animate, legdsl export-motion, and their mistakes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from anim_runs import creature_run, generated_dir
+from conftest import CREATURES
+
+from legdsl.cli import main
+
+
+@pytest.fixture
+def run_dir(tmp_path: Path) -> Path:
+    return creature_run("kangaroo", tmp_path / "run")
+
+
+def gen() -> list[str]:
+    return ["--generated", str(generated_dir())]
+
+
+def test_run_with_animate_writes_the_player(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "run"
+    argv = ["run", str(CREATURES / "biped.leg"), "--time", "0.2", "--out", str(out), "--animate"]
+    assert main(argv + gen()) == 0
+    page = out / "animation.html"
+    assert page.is_file() and '"creature":"biped"' in page.read_text()
+    assert f"animation: {page}" in capsys.readouterr().out
+
+
+def test_animate_writes_the_player_next_to_the_run(run_dir: Path, capsys) -> None:
+    assert main(["animate", str(run_dir), *gen()]) == 0
+    page = run_dir / "animation.html"
+    assert page.is_file() and page.read_text().startswith("<!DOCTYPE html>")
+    out = capsys.readouterr().out
+    assert str(page) in out and "KiB" in out
+
+
+def test_animate_to_a_file_with_chosen_overlays(run_dir: Path, tmp_path: Path) -> None:
+    page = tmp_path / "out" / "k.html"
+    assert (
+        main(
+            [
+                "animate",
+                str(run_dir),
+                "-o",
+                str(page),
+                "--overlays",
+                "forces,com",
+                "--fps",
+                "30",
+                *gen(),
+            ]
+        )
+        == 0
+    )
+    assert '"overlays":["forces","com"]' in page.read_text()
+
+
+def test_animate_a_video(run_dir: Path, tmp_path: Path, capsys) -> None:
+    gif = tmp_path / "k.gif"
+    assert (
+        main(
+            [
+                "animate",
+                str(run_dir),
+                "--video",
+                str(gif),
+                "--fps",
+                "10",
+                "--size",
+                "320x180",
+                *gen(),
+            ]
+        )
+        == 0
+    )
+    assert gif.is_file() and gif.read_bytes()[:6] == b"GIF89a"
+    assert "frames at 10 fps" in capsys.readouterr().out
+    assert not (run_dir / "animation.html").exists()  # a video alone unless -o is given
+
+
+def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
+    assert main(["export-motion", str(run_dir), *gen()]) == 0
+    assert (run_dir / "motion.glb").read_bytes()[:4] == b"glTF"
+    out = tmp_path / "k.gltf"
+    assert main(["export-motion", str(run_dir), "--format", "gltf", "-o", str(out), *gen()]) == 0
+    assert out.read_text().lstrip().startswith("{")
+    assert "8 links" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["animate", "{missing}"], "not a run directory"),
+        (["animate", "{run}", "--overlays", "force"], "unknown force"),
+        (["animate", "{run}", "--video", "x.gif", "--size", "big"], "WIDTHxHEIGHT"),
+        (["animate", "{run}", "--video", "x.webm"], ".mp4 or a .gif"),
+        (["animate", "{run}", "--fps", "0"], "--fps must be positive"),
+        (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),
+    ],
+)
+def test_mistakes_are_reported_with_status_2(
+    run_dir: Path, tmp_path: Path, capsys, args: list[str], message: str
+) -> None:
+    argv = [a.format(run=run_dir, missing=tmp_path / "missing") for a in args]
+    assert main(argv + gen()) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_help_has_examples(capsys) -> None:
+    for command in ("animate", "export-motion"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        assert "Example: legdsl" in capsys.readouterr().out

@@ -1,0 +1,124 @@
+"""glTF export: valid for the Khronos validator, and read back the same by independent readers."""
+
+from __future__ import annotations
+
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+from anim_runs import creature_motion
+from external_tools import validate_gltf
+
+from legdsl.gltf import write_gltf
+from legdsl.motion import Motion, quaternion_to_matrix
+
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+NUMPY_TYPES = {5126: np.float32, 5123: np.uint16, 5125: np.uint32}
+WIDTH = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}
+
+
+def read_glb(path: Path) -> tuple[dict, bytes]:
+    """The JSON and binary chunks of a GLB file, read by hand from the spec's layout."""
+    data = path.read_bytes()
+    magic, version, length = struct.unpack_from("<4sII", data, 0)
+    assert (magic, version, length) == (b"glTF", 2, len(data))
+    json_length, json_type = struct.unpack_from("<I4s", data, 12)
+    assert json_type == b"JSON"
+    doc = json.loads(data[20 : 20 + json_length])
+    bin_length, bin_type = struct.unpack_from("<I4s", data, 20 + json_length)
+    assert bin_type == b"BIN\0"
+    start = 28 + json_length
+    return doc, data[start : start + bin_length]
+
+
+def accessor(doc: dict, blob: bytes, index: int) -> np.ndarray:
+    acc = doc["accessors"][index]
+    view = doc["bufferViews"][acc["bufferView"]]
+    dtype = NUMPY_TYPES[acc["componentType"]]
+    count, width = acc["count"], WIDTH[acc["type"]]
+    offset = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
+    values = np.frombuffer(blob, dtype=dtype, count=count * width, offset=offset)
+    return values.reshape(count, width) if width > 1 else values
+
+
+@pytest.fixture(scope="module", params=["kangaroo", "quadruped"])
+def exported(request, tmp_path_factory) -> tuple[Motion, Path]:
+    motion = creature_motion(request.param, tmp_path_factory.mktemp(request.param) / "run")
+    path = tmp_path_factory.mktemp("glb") / f"{request.param}.glb"
+    size = write_gltf(motion, path)
+    assert size == path.stat().st_size > 0
+    return motion, path
+
+
+def test_the_khronos_validator_finds_no_issue(exported) -> None:
+    motion, path = exported
+    report = validate_gltf(path)
+    issues = report["issues"]
+    assert issues["numErrors"] == 0 and issues["numWarnings"] == 0, issues["messages"]
+    info = report["info"]
+    assert info["animationCount"] == 1
+    assert info["drawCallCount"] == len(motion.bodies)
+
+
+def test_trimesh_reads_the_link_tree_at_its_first_pose(exported) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    motion, path = exported
+    scene = trimesh.load(path, force="scene")
+    assert len(scene.geometry) == len(motion.bodies)
+    names = {b.name for b in motion.bodies}
+    assert names <= set(scene.graph.nodes)
+    for b, body in enumerate(motion.bodies):
+        matrix, _ = scene.graph.get(body.name)
+        assert np.allclose(matrix[:3, 3], Z_UP_TO_Y_UP @ motion.positions[0, b], atol=1e-5)
+        rot = Z_UP_TO_Y_UP @ quaternion_to_matrix(motion.quaternions[0, b])
+        assert np.allclose(matrix[:3, :3], rot, atol=1e-5)
+
+
+def test_the_animation_replays_the_run(exported) -> None:
+    motion, path = exported
+    doc, blob = read_glb(path)
+    (animation,) = doc["animations"]
+    nodes = doc["nodes"]
+    assert len(nodes) == len(motion.bodies) + 1  # the links and the creature's top node
+    inputs = {s["input"] for s in animation["samplers"]}
+    assert len(inputs) == 1
+    times = accessor(doc, blob, inputs.pop())
+    assert times[0] == 0.0
+    assert float(times[-1]) == pytest.approx(motion.duration, abs=1e-6)
+    assert len(times) == motion.frames
+    assert all(s["interpolation"] == "LINEAR" for s in animation["samplers"])
+
+    # Compose every node's animated local transform down the tree, at a middle keyframe.
+    k = motion.frames // 2
+    local = {i: np.eye(4) for i in range(len(nodes))}
+    for channel in animation["channels"]:
+        values = accessor(doc, blob, animation["samplers"][channel["sampler"]]["output"])[k]
+        node = channel["target"]["node"]
+        if channel["target"]["path"] == "translation":
+            local[node][:3, 3] = values
+        else:
+            local[node][:3, :3] = quaternion_to_matrix(values.astype(float))
+    top = np.eye(4)
+    top[:3, :3] = quaternion_to_matrix(np.array(nodes[0]["rotation"]))
+    world = {0: top}
+    for i, node in enumerate(nodes):  # parents come before children
+        for child in node.get("children", []):
+            world[child] = world[i] @ local[child]
+    for b, body in enumerate(motion.bodies):
+        node = next(i for i, n in enumerate(nodes) if n.get("name") == body.name)
+        assert np.allclose(world[node][:3, 3], Z_UP_TO_Y_UP @ motion.positions[k, b], atol=1e-5)
+        rot = Z_UP_TO_Y_UP @ quaternion_to_matrix(motion.quaternions[k, b])
+        assert np.allclose(world[node][:3, :3], rot, atol=1e-5)
+
+
+def test_gltf_json_with_embedded_buffer(exported, tmp_path: Path) -> None:
+    trimesh = pytest.importorskip("trimesh")
+    motion, _ = exported
+    path = tmp_path / "run.gltf"
+    write_gltf(motion, path, "gltf")
+    doc = json.loads(path.read_text())
+    assert doc["buffers"][0]["uri"].startswith("data:application/octet-stream;base64,")
+    assert len(trimesh.load(path, force="scene").geometry) == len(motion.bodies)
+    assert validate_gltf(path)["issues"]["numErrors"] == 0

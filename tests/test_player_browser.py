@@ -1,0 +1,113 @@
+"""The HTML player in headless Chromium: it loads without errors and draws the creature.
+
+For a short run of each shipped creature: open the player, check the
+console stays clean, move the time, and look at the pixels of screenshots
+(the creature's colour where its trunk is projected, the overlays on and
+off, a picture that changes as time advances). Set LEGDSL_SCREENSHOTS=DIR to
+keep the screenshots (docs/img/ holds the ones in docs/animation.md).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+from anim_runs import creature_motion
+from chromium import Chromium
+from external_tools import chromium
+from pixels import hue_mask, pixels
+
+from legdsl.player import write_player
+
+CREATURES = ("kangaroo", "biped", "quadruped")
+WIDTH, HEIGHT = 1000, 600
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Chromium]:
+    with Chromium(chromium(), WIDTH, HEIGHT) as c:
+        yield c
+
+
+def around(mask: np.ndarray, xy: list[float], radius: int) -> np.ndarray:
+    x, y = round(xy[0]), round(xy[1])
+    return mask[max(0, y - radius) : y + radius + 1, max(0, x - radius) : x + radius + 1]
+
+
+def keep(png: bytes, name: str, tmp_path: Path) -> None:
+    (tmp_path / name).write_bytes(png)
+    target = os.environ.get("LEGDSL_SCREENSHOTS")
+    if target:
+        Path(target).mkdir(parents=True, exist_ok=True)
+        shutil.copy(tmp_path / name, Path(target) / name)
+
+
+@pytest.mark.parametrize("name", CREATURES)
+def test_the_player_draws_and_plays_the_run(browser: Chromium, name: str, tmp_path: Path) -> None:
+    motion = creature_motion(name, tmp_path / "run")
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.events.clear()
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    assert browser.errors() == []
+    assert browser.evaluate("legdsl.threeVersion") == "170"
+    assert browser.evaluate("legdsl.frames") == motion.frames
+
+    # With every overlay off, the trunk's colour fills the place where its shape's centre is drawn.
+    trunk = motion.bodies[0]
+    centre = f"legdsl.project(...legdsl.bodyPoint(0, {list(trunk.shape.center)}))"
+    overlays = ("state", "speed", "forces", "footprints", "com")
+    browser.evaluate("legdsl.setOverlays({" + ", ".join(f"{o}: false" for o in overlays) + "})")
+    browser.evaluate("legdsl.setTime(0)")
+    first = browser.evaluate(centre)
+    bare = pixels(browser.screenshot())
+    assert bare.shape == (HEIGHT, WIDTH, 3)
+    near = around(hue_mask(bare, trunk.color or ""), first, 8)
+    assert near.mean() > 0.8, (
+        f"{name}: the trunk's colour covers {near.mean():.0%} around its centre"
+    )
+    assert hue_mask(bare, "#c0208a").sum() == 0  # no mass-centre trail drawn
+
+    # Later in the run the picture has changed: the creature has dropped, so its trunk
+    # is drawn lower on the screen (y grows downwards), and it is drawn there.
+    browser.evaluate(f"legdsl.setTime({0.6 * motion.duration})")
+    later_xy = browser.evaluate(centre)
+    later = pixels(browser.screenshot())
+    assert later_xy[1] > first[1] + 2
+    assert around(hue_mask(later, trunk.color or ""), later_xy, 6).mean() > 0.8
+    changed = np.abs(later - bare).max(axis=2) > 0.1
+    assert changed.mean() > 0.002
+
+    # The overlays on: the mass-centre trail and marker, the state in the HUD.
+    browser.evaluate("legdsl.setOverlays({" + ", ".join(f"{o}: true" for o in overlays) + "})")
+    png = browser.screenshot()
+    keep(png, f"player-{name}.png", tmp_path)
+    trail = hue_mask(pixels(png), "#c0208a").sum()
+    assert trail > 30
+    # The checkbox hides the trail again (the page's own control, not the scripting interface).
+    browser.evaluate(
+        "document.getElementById('overlay-com').click();"
+        " new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))"
+    )
+    # (A few antialiased pixels between a red arrow and a blue footprint may pass for magenta.)
+    assert hue_mask(pixels(browser.screenshot()), "#c0208a").sum() < 0.1 * trail
+    # A passive run has no controller states.
+    assert browser.evaluate("document.getElementById('state-name').textContent") == "no controller"
+
+    # Playing advances the time at the chosen rate.
+    browser.evaluate("document.getElementById('loop').checked = false")
+    browser.evaluate("legdsl.setTime(0); legdsl.setRate(0.25); legdsl.play()")
+    browser.wait_for("legdsl.getTime() > 0", timeout=10)
+    advanced, elapsed = browser.evaluate(
+        "(async () => { const t = legdsl.getTime(), w = performance.now();"
+        " await new Promise((r) => setTimeout(r, 600));"
+        " return [legdsl.getTime() - t, (performance.now() - w) / 1000]; })()"
+    )
+    browser.evaluate("legdsl.pause()")
+    assert 0.1 * elapsed < advanced < 0.4 * elapsed  # a quarter of real time, give or take a frame
+    assert browser.errors() == []

@@ -1,0 +1,83 @@
+"""Videos of runs: GIF through Pillow, mp4 through ffmpeg; the creature is in the picture."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from anim_runs import creature_motion
+from external_tools import ffmpeg
+from pixels import hue_mask
+
+from legdsl.errors import UsageError
+from legdsl.motion import Motion
+from legdsl.video import render_video
+
+
+@pytest.fixture(scope="module")
+def kangaroo(tmp_path_factory) -> Motion:
+    return creature_motion("kangaroo", tmp_path_factory.mktemp("kangaroo") / "run")
+
+
+@pytest.fixture(scope="module")
+def quadruped(tmp_path_factory) -> Motion:
+    return creature_motion("quadruped", tmp_path_factory.mktemp("quadruped") / "run")
+
+
+def test_a_gif_of_a_planar_creature(kangaroo: Motion, tmp_path: Path) -> None:
+    from PIL import Image
+
+    path = tmp_path / "k.gif"
+    seen: list[float] = []
+    result = render_video(
+        kangaroo, path, fps=10, size=(320, 180), progress=lambda t, _: seen.append(t)
+    )
+    times = list(np.arange(0.0, kangaroo.duration + 1e-9, 0.1))  # the kangaroo falls before 1 s
+    assert result.frames == len(times) > 4 and result.size == path.stat().st_size
+    assert seen == pytest.approx(times)
+    with Image.open(path) as gif:
+        assert gif.size == (320, 180) and gif.n_frames == len(times)
+        assert gif.info["duration"] == 100
+        frames = []
+        for k in range(gif.n_frames):
+            gif.seek(k)
+            frames.append(np.asarray(gif.convert("RGB")).astype(float) / 255)
+    trunk = kangaroo.bodies[0].color or ""
+    assert hue_mask(frames[0], trunk).sum() > 200  # the brown body, a few hundred pixels
+    assert np.abs(frames[-1] - frames[0]).max(axis=2).mean() > 0.002
+
+
+def test_an_mp4_of_a_3d_creature(quadruped: Motion, tmp_path: Path) -> None:
+    ffmpeg()
+    path = tmp_path / "q.mp4"
+    result = render_video(quadruped, path, fps=10, size=(320, 180))
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+         "stream=codec_name,width,height,nb_read_frames", "-of", "json", str(path)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    (stream,) = json.loads(probe.stdout)["streams"]
+    assert stream["codec_name"] == "h264"
+    assert (stream["width"], stream["height"]) == (320, 180)
+    assert int(stream["nb_read_frames"]) == result.frames == 11  # 1 s at 10 fps
+    first = subprocess.run(
+        ["ffmpeg", "-v", "error", "-i", str(path), "-frames:v", "1", "-f", "rawvideo",
+         "-pix_fmt", "rgb24", "-"],
+        capture_output=True, check=True,
+    ).stdout  # fmt: skip
+    image = np.frombuffer(first, dtype=np.uint8).reshape(180, 320, 3).astype(float) / 255
+    assert hue_mask(image, quadruped.bodies[0].color or "").sum() > 300  # the green trunk
+
+
+def test_mp4_without_ffmpeg_says_how_to_install_it(
+    quadruped: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr("legdsl.video.shutil.which", lambda name: None)
+    with pytest.raises(UsageError, match="apt-get install -y ffmpeg"):
+        render_video(quadruped, tmp_path / "q.mp4")
+    assert not list(tmp_path.iterdir())
+    with pytest.raises(UsageError, match=r"\.mp4 or \.gif"):
+        render_video(quadruped, tmp_path / "q.avi")
