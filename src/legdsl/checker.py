@@ -12,6 +12,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol, TypeVar
 
 import numpy as np
 
@@ -1466,11 +1467,26 @@ def load_uses(
 
 def check_model(path: str | Path, creature: str | None = None) -> Model:
     """The one creature of a file (or the named one)."""
-    models = check_file(path)
-    if creature is None and len(models) == 1:
-        return models[0]
-    for m in models:
-        if m.name == creature:
-            return m
-    names = ", ".join(m.name for m in models)
-    raise LegError.at(Span(str(path), 1, 1, 1, 2), f"choose a creature: this file has {names}")
+    return choose(check_file(path), creature, path)
+
+
+class _HasName(Protocol):
+    @property
+    def name(self) -> str: ...
+
+
+Named = TypeVar("Named", bound=_HasName)
+
+
+def choose(items: list[Named], creature: str | None, path: str | Path) -> Named:
+    """The only item, or the one whose ``name`` is ``creature``; else an error naming them all."""
+    if creature is None and len(items) == 1:
+        return items[0]
+    for item in items:
+        if item.name == creature:
+            return item
+    names = ", ".join(item.name for item in items)
+    wanted = (
+        f"there is no creature '{creature}'" if creature else "choose a creature with --creature"
+    )
+    raise LegError.at(Span(str(path), 1, 1, 1, 2), f"{wanted}: this file has {names}")

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import ast
-from .checker import check_file
+from .checker import check_file, choose
 from .codegen import controller_fingerprint, render_dynamics, render_init
 from .control_codegen import render_control
 from .control_lower import lower_controller
-from .errors import LegError, Span
+from .errors import Span
 from .model import Model
 from .parser import parse_file
 from .symbolic import SymbolicSystem, lower
@@ -77,14 +77,7 @@ def compile_model(
     path: str | Path, creature: str | None = None, progress: Progress | None = None
 ) -> Compiled:
     """Compile the one creature of a ``.leg`` file (or the named one)."""
-    compiled = compile_file(path, progress)
-    if creature is None and len(compiled) == 1:
-        return compiled[0]
-    for c in compiled:
-        if c.name == creature:
-            return c
-    names = ", ".join(c.name for c in compiled)
-    raise LegError.at(Span(str(path), 1, 1, 1, 2), f"choose a creature: this file has {names}")
+    return choose(compile_file(path, progress), creature, path)
 
 
 def _lower(

@@ -15,7 +15,7 @@ by the root's yaw), so ``foot_x`` is the forward displacement of eq. (3).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -90,31 +90,31 @@ class Sensors:
         return {key: self._value(sim, key, cache) for key in keys}
 
     # ------------------------------------------------------------ kinematics, computed once
+    @staticmethod
+    def _cached(cache: dict[str, Any], key: str, compute: Callable[[], Any]) -> Any:
+        if key not in cache:
+            cache[key] = compute()
+        return cache[key]
+
     def _poses(self, sim: Any, cache: dict[str, Any]) -> Any:
-        if "poses" not in cache:
-            cache["poses"] = sim.dyn.body_poses(sim.q)
-        return cache["poses"]
+        return self._cached(cache, "poses", lambda: sim.dyn.body_poses(sim.q))
 
     def _velocities(self, sim: Any, cache: dict[str, Any]) -> Any:
-        if "vel" not in cache:
-            cache["vel"] = sim.dyn.body_velocities(sim.q, sim.v)
-        return cache["vel"]
+        return self._cached(cache, "vel", lambda: sim.dyn.body_velocities(sim.q, sim.v))
 
-    def _feet(self, sim: Any, cache: dict[str, Any]) -> tuple[Any, Any]:
-        if "feet" not in cache:
-            cache["feet"] = (
-                sim.dyn.contact_positions(sim.q),
-                sim.dyn.contact_velocities(sim.q, sim.v),
-            )
-        return cache["feet"]
+    def _feet(self, sim: Any, cache: dict[str, Any]) -> Any:
+        return self._cached(
+            cache,
+            "feet",
+            lambda: (sim.dyn.contact_positions(sim.q), sim.dyn.contact_velocities(sim.q, sim.v)),
+        )
 
-    def _com(self, sim: Any, cache: dict[str, Any]) -> tuple[Vec, Vec]:
-        if "com" not in cache:
-            cache["com"] = (
-                sim.dyn.center_of_mass(sim.q),
-                sim.dyn.center_of_mass_velocity(sim.q, sim.v),
-            )
-        return cache["com"]
+    def _com(self, sim: Any, cache: dict[str, Any]) -> Any:
+        return self._cached(
+            cache,
+            "com",
+            lambda: (sim.dyn.center_of_mass(sim.q), sim.dyn.center_of_mass_velocity(sim.q, sim.v)),
+        )
 
     def _heading(self, sim: Any, cache: dict[str, Any]) -> tuple[float, float]:
         if "heading" not in cache:
