@@ -92,6 +92,10 @@ class Simulation:
         self.free3d = model.joints[0].is_free_3d
         self.t = 0.0
         self.steps_taken = 0  # time is steps * dt: no drift from adding dt up
+        self._torsion = bool(
+            self.ground is not None and self.ground.ground.torsion is not None and not model.planar
+        )
+        self._kinematics: tuple[Any, Any] | None = None
         self.q = [float(x) for x in model.q0]
         self.v = [float(x) for x in model.v0]
         self.events: list[ContactEvent] = []
@@ -130,8 +134,7 @@ class Simulation:
         self.actuators.apply(q, v, tau)
         ground = self.ground
         if ground is not None and any(ground.touching):
-            pos = self.dyn.contact_positions(q)
-            vel = self.dyn.contact_velocities(q, v)
+            pos, vel, yaws = self._contact_kinematics(q, v)
             jac = self.dyn.contact_jacobians(q)
             for i, touching in enumerate(ground.touching):
                 if not touching:
@@ -143,32 +146,45 @@ class Simulation:
                 fx, fy, fz = f
                 for k in range(len(tau)):
                     tau[k] += jx[k] * fx + jy[k] * fy + jz[k] * fz
-            if ground.ground.torsion is not None and not self.model.planar:
-                self._add_torsion(q, v, tau)
+            if yaws is not None:
+                self._add_torsion(q, v, yaws, tau)
         elif record:
             self.contact_force = [(0.0, 0.0, 0.0)] * len(self.contact_names)
         return tau
 
-    def _add_torsion(self, q: list[float], v: list[float], tau: list[float]) -> None:
+    def _add_torsion(
+        self, q: list[float], v: list[float], yaws: list[float], tau: list[float]
+    ) -> None:
         assert self.ground is not None
-        poses = self.dyn.body_poses(q)
         jac_w = self.dyn.contact_angular_jacobians(q)
         for i, touching in enumerate(self.ground.touching):
             if not touching:
                 continue
-            rot = poses[self._contact_body[i]][1]
-            yaw = math.atan2(rot[3], rot[0])
             jz = jac_w[i][2]
             rate = sum(jz[k] * v[k] for k in range(len(v)))
-            torque = self.ground.torsion(i, yaw, rate)
+            torque = self.ground.torsion(i, yaws[i], rate)
             for k in range(len(tau)):
                 tau[k] += jz[k] * torque
 
-    def _yaws(self, q: list[float]) -> list[float] | None:
-        if self.model.planar or self.ground is None or self.ground.ground.torsion is None:
-            return None
-        poses = self.dyn.body_poses(q)
-        return [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
+    def _contact_kinematics(
+        self, q: list[float], v: list[float]
+    ) -> tuple[list[Vec], list[Vec], list[float] | None]:
+        """Contact positions, velocities and body yaws (3D with torsion) at (q, v).
+
+        Computed once per state: the values found at the end of a step serve the events
+        there and the forces at the start of the next step (the same q and v).
+        """
+        key = (tuple(q), tuple(v))
+        cached = self._kinematics
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        yaws = None
+        if self._torsion:
+            poses = self.dyn.body_poses(q)
+            yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
+        found = (self.dyn.contact_positions(q), self.dyn.contact_velocities(q, v), yaws)
+        self._kinematics = (key, found)
+        return found
 
     # ------------------------------------------------------------ integration
     def _qdot(self, q: list[float], v: list[float]) -> list[float]:
@@ -248,9 +264,7 @@ class Simulation:
         self.steps_taken += 1
         self.t = self.steps_taken * dt
         if self.ground is not None:
-            pos = self.dyn.contact_positions(q)
-            vel = self.dyn.contact_velocities(q, v)
-            self.events += self.ground.update(self.t, pos, vel, self._yaws(q))
+            self.events += self.ground.update(self.t, *self._contact_kinematics(q, v))
 
     # ------------------------------------------------------------ energy
     def energy(self) -> tuple[float, float, float]:
@@ -354,12 +368,7 @@ class Simulation:
         wall0 = time.perf_counter()
         last_report = wall0
         if self.ground is not None:
-            self.events += self.ground.update(
-                0.0,
-                self.dyn.contact_positions(self.q),
-                self.dyn.contact_velocities(self.q, self.v),
-                self._yaws(self.q),
-            )
+            self.events += self.ground.update(0.0, *self._contact_kinematics(self.q, self.v))
         steps = 0
         try:
             for steps in range(n_steps + 1):
