@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from .model import Model, Vec3
+from .model import Model, Pad, Vec3
 
 
 def _vec(v: Vec3, planar: bool) -> str:
@@ -89,7 +89,12 @@ def describe_model(model: Model) -> str:
         gr = model.ground
         friction = "no slip" if gr.friction is None else f"friction {gr.friction:g}"
         terrain = "; terrain " + ", ".join(t.kind for t in gr.terrain) if gr.terrain else ""
-        lines += ["", f"ground: {type(gr.normal).__name__.lower()} normal, {friction}{terrain}"]
+        normal = (
+            f"paw pad of eq. (6) ({gr.normal.k:g} N, {gr.normal.thickness * 100:g} cm)"
+            if isinstance(gr.normal, Pad)
+            else f"linear normal spring ({gr.normal.k:g} N/m)"
+        )
+        lines += ["", f"ground: {normal}, {friction}{terrain}"]
     if model.controllers:
         lines += ["", "controllers:"]
         for ctl in model.controllers:
