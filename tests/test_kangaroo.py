@@ -65,7 +65,9 @@ def test_the_state_machine_cycles_in_figure_4_order(first_hops) -> None:  # type
         assert FIGURE_4.index(b) == (FIGURE_4.index(a) + 1) % 5
 
 
-@pytest.mark.xfail(strict=True, reason="the hop controller does not hold a speed yet (docs/kangaroo.md)")
+@pytest.mark.xfail(
+    strict=True, reason="the hop controller does not hold a speed yet (docs/kangaroo.md)"
+)
 def test_the_kangaroo_holds_the_commanded_speed(generated: Path) -> None:
     result = _hop(generated, 6.0, speed=3.0)
     assert result.status == "ok", result.message
