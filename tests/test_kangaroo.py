@@ -1,0 +1,75 @@
+"""The kangaroo's hop controller (creatures/kangaroo.leg, 'Kangaroo control' of the paper).
+
+Work in progress: see docs/kangaroo.md. The controller hops and runs its state
+machine in order, but it does not yet hold a speed (it falls within 2 s from
+standing), so the speed test is an expected failure that states the target.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CREATURES, ROOT
+
+from legdsl.checker import check_model
+from legdsl.controller import StateMachine
+from legdsl.metrics import compute_metrics
+from legdsl.runner import load_controller, load_dynamics
+from legdsl.simulate import RunOptions, Simulation
+
+KANGAROO = CREATURES / "kangaroo.leg"
+FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A copy of the checked-in generated modules, so that tests never write into the repo."""
+    target = tmp_path_factory.mktemp("generated")
+    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
+    return target
+
+
+def _hop(generated: Path, time: float, **inputs: float):  # type: ignore[no-untyped-def]
+    model = check_model(KANGAROO)
+    dyn = load_dynamics(model, KANGAROO, generated)
+    control = load_controller(model, "hop", KANGAROO, generated)
+    machine = StateMachine(model, control, inputs)
+    return Simulation(model, dyn, RunOptions(duration=time), machine).run()
+
+
+@pytest.fixture(scope="module")
+def first_hops(generated: Path):  # type: ignore[no-untyped-def]
+    return _hop(generated, 1.0, speed=5.0)
+
+
+def test_the_kangaroo_leaves_the_ground(first_hops) -> None:  # type: ignore[no-untyped-def]
+    assert first_hops.status == "ok", first_hops.message
+    tr = first_hops.trajectory
+    toe = tr.contact[:, tr.contact_names.index("toe")]
+    tail = tr.contact[:, tr.contact_names.index("tail_end")]
+    airborne = (toe == 0) & (tail == 0)
+    # the longest flight after the first stance lasts more than 0.1 s
+    runs = np.diff(np.flatnonzero(np.diff(np.r_[0, airborne.astype(int), 0])))[::2]
+    dt = tr.t[1] - tr.t[0]
+    assert runs.max() * dt > 0.1
+    assert tr.com[:, 2].max() > tr.com[0, 2] + 0.1  # the hop rises well above standing
+
+
+def test_the_state_machine_cycles_in_figure_4_order(first_hops) -> None:  # type: ignore[no-untyped-def]
+    states = [e["state"] for e in first_hops.events if e["kind"] == "state"]
+    assert states[:6] == [*FIGURE_4, "FLIGHT"]
+    for a, b in zip(states, states[1:], strict=False):
+        assert FIGURE_4.index(b) == (FIGURE_4.index(a) + 1) % 5
+
+
+@pytest.mark.xfail(
+    strict=True, reason="the hop controller does not hold a speed yet (docs/kangaroo.md)"
+)
+def test_the_kangaroo_holds_the_commanded_speed(generated: Path) -> None:
+    result = _hop(generated, 6.0, speed=3.0)
+    assert result.status == "ok", result.message
+    metrics = compute_metrics(result.trajectory, t_from=3.0)
+    assert metrics.value("running_speed") == pytest.approx(3.0, rel=0.05)
