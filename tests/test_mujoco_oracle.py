@@ -154,19 +154,53 @@ def test_mass_matrix_bias_and_accelerations(case: tuple[Model, ModuleType, Oracl
         assert close(qdot, _qdot(model, q, v)), f"state {k}: state_derivative qdot"
 
 
+def quat_rate(quat: np.ndarray, w_body: np.ndarray) -> np.ndarray:
+    """d(quat)/dt = quat * (0, w) / 2 for an angular velocity w in body axes.
+
+    (MuJoCo's ``mju_derivQuat`` uses another convention; this one matches how
+    ``mj_integratePos`` moves a free joint, see ``test_quat_rate_is_mujocos``.)
+    """
+    w, x, y, z = quat
+    wx, wy, wz = w_body
+    return 0.5 * np.array(
+        [
+            -(x * wx + y * wy + z * wz),
+            w * wx + y * wz - z * wy,
+            w * wy + z * wx - x * wz,
+            w * wz + x * wy - y * wx,
+        ]
+    )
+
+
 def _qdot(model: Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """dq/dt: v for 1-DOF coordinates, MuJoCo's quaternion rate for the free root."""
+    """dq/dt: v for 1-DOF coordinates, the quaternion rate for the free root."""
     qdot = np.zeros(model.nq)
     for j in model.joints:
         if j.is_free_3d:
             s, t = j.q_start, j.v_start
             qdot[s : s + 3] = v[t : t + 3]
-            rate = np.zeros(4)
-            mujoco.mju_derivQuat(rate, q[s + 3 : s + 7], v[t + 3 : t + 6])
-            qdot[s + 3 : s + 7] = rate
+            qdot[s + 3 : s + 7] = quat_rate(q[s + 3 : s + 7], v[t + 3 : t + 6])
         for d in j.dofs:
             qdot[d.q_index] = v[d.v_index]
     return qdot
+
+
+def test_quat_rate_is_mujocos() -> None:
+    """The expected qdot above is how MuJoCo itself advances a free joint (central difference)."""
+    model = check_model(CREATURES / "biped.leg")
+    oracle = Oracle(model)
+    rng = np.random.default_rng(9)
+    h = 1e-6
+    for _ in range(10):
+        q, v = random_state(model, rng)
+        qpos = np.zeros(oracle.mj.nq)
+        qvel = np.zeros(oracle.mj.nv)
+        qpos[oracle.qmap], qvel[oracle.vmap] = q, v
+        ahead, behind = qpos.copy(), qpos.copy()
+        mujoco.mj_integratePos(oracle.mj, ahead, qvel, h)
+        mujoco.mj_integratePos(oracle.mj, behind, qvel, -h)
+        rate = ((ahead - behind) / (2 * h))[oracle.qmap]
+        assert np.abs(rate - _qdot(model, q, v)).max() < 1e-8
 
 
 def test_point_kinematics_and_energy(case: tuple[Model, ModuleType, Oracle]) -> None:
