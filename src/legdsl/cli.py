@@ -204,6 +204,21 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_export(args: argparse.Namespace) -> int:
+    from .checker import check_model
+    from .export import default_path, export_text, write_atomic
+
+    model = check_model(args.file, args.creature)
+    text = export_text(model, args.format)
+    if args.output == "-":
+        sys.stdout.write(text)
+        return 0
+    out = args.output or default_path(model, args.format)
+    write_atomic(out, text)
+    print(f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -408,6 +423,28 @@ def _parser() -> argparse.ArgumentParser:
 
     _COMMANDS["animate"] = add_animate_parser(sub)
     _COMMANDS["export-motion"] = add_export_motion_parser(sub)
+
+    e = sub.add_parser(
+        "export",
+        help="write a creature as MJCF (MuJoCo) or URDF",
+        description="Write the creature's link tree, masses, inertias, joints (named as the "
+        "legdsl coordinates), shapes and contact points as MJCF or URDF. The file is written "
+        "whole or not at all (a temporary file is renamed over the target).",
+        epilog="Example: legdsl export creatures/kangaroo.leg --format mjcf -o kangaroo.xml "
+        "&& python -m mujoco.viewer --mjcf kangaroo.xml",
+    )
+    e.add_argument("file", metavar="FILE", help="a .leg file")
+    e.add_argument(
+        "--format", required=True, choices=("mjcf", "urdf"), help="MJCF (MuJoCo XML) or URDF"
+    )
+    e.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="output file (default: NAME.xml or NAME.urdf here; '-' for standard output)",
+    )
+    e.add_argument("--creature", help="which creature, if the file has several")
+    _COMMANDS["export"] = _cmd_export
 
     return p
 
