@@ -106,8 +106,12 @@ def main() -> None:
             f"{STEP} s (the paper's step). legdsl: the generated dynamics in pure Python plus the actuators "
             "and the paper's spring-damper ground contact, recording at 200 Hz. MuJoCo: the exported MJCF "
             "with MuJoCo's own contacts on (a different contact model, so the final heights differ by the "
-            "contact compliance), its Euler integrator, the same step. A real-time factor above 1 is faster "
-            "than real time; the paper's simulations ran 7 to 10 times slower than real time on a SUN Sparc2.",
+            "contact compliance), its Euler integrator, the same step. The MJCF carries no actuators "
+            "(springs and servos are legdsl's runtime layer), so in MuJoCo the joints are limp: the "
+            "telescoping legs rest on their joint limits (heights within a centimetre of legdsl's) and the "
+            "kangaroo folds up and falls (its height says so). The real-time factors compare the cost of "
+            "stepping the same tree with contact. Above 1 is faster than real time; the paper's "
+            "simulations ran 7 to 10 times slower than real time on a SUN Sparc2.",
             "",
             *table,
             "",

@@ -64,8 +64,16 @@ def model_to_mjcf(model: Model) -> str:
         )
     )
     ET.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
+    # An elliptic friction cone: no slip (the paper's ground) is exported as a large friction
+    # coefficient, and with MuJoCo's default pyramidal cone such a coefficient makes the contact
+    # solve so soft that a creature sinks through the floor (seen in benchmarks/bench_runtime.py).
     ET.SubElement(
-        root, "option", integrator="RK4", timestep=num(TIMESTEP), gravity=nums(model.gravity)
+        root,
+        "option",
+        integrator="RK4",
+        timestep=num(TIMESTEP),
+        gravity=nums(model.gravity),
+        cone="elliptic",
     )
     _defaults(root, model)
     world = ET.SubElement(root, "worldbody")
