@@ -24,9 +24,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-from legdsl.export import export_text  # noqa: E402
-
 from legdsl.checker import check_model  # noqa: E402
+from legdsl.export import export_text  # noqa: E402
 from legdsl.runner import load_dynamics  # noqa: E402
 from legdsl.simulate import RunOptions, Simulation  # noqa: E402
 
