@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import math
 import re
 import sys
 from dataclasses import asdict, dataclass
@@ -204,16 +203,10 @@ def write_run(
         "samples": len(result.trajectory),
         "events": result.events,
     }
-    text = json.dumps(info, indent=2, sort_keys=False, default=_json_default) + "\n"
+    text = json.dumps(info, indent=2, allow_nan=False) + "\n"
     tmp = out / "run.json.tmp"
     tmp.write_text(text)
     tmp.replace(out / "run.json")
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def summary(model: Model, result: RunResult) -> str:
