@@ -40,7 +40,7 @@ class FootPlacer:
         self.legs = {
             leg.name: _Leg(
                 foot=[c.name for c in model.contacts].index(leg.foot),
-                hip=next(i for i, b in enumerate(model.bodies) if b.joint == leg.joints[0]),
+                hip=model.hip_body_index(leg),
             )
             for leg in model.legs
         }

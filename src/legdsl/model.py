@@ -263,5 +263,9 @@ class Model:
     def joint(self, name: str) -> Joint:
         return next(j for j in self.joints if j.name == name)
 
+    def hip_body_index(self, leg: Leg) -> int:
+        """The body whose frame origin is the leg's hip point (the child of its first joint)."""
+        return next(i for i, b in enumerate(self.bodies) if b.joint == leg.joints[0])
+
     def controller(self, name: str) -> Controller:
         return next(c for c in self.controllers if c.name == name)

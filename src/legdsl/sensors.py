@@ -64,10 +64,7 @@ class Sensors:
         self.contact_index = {c.name: i for i, c in enumerate(model.contacts)}
         self.dof = {d.name: d for d in model.dofs}
         self.legs = {leg.name: leg for leg in model.legs}
-        self.leg_hip = {
-            leg.name: next(i for i, b in enumerate(model.bodies) if b.joint == leg.joints[0])
-            for leg in model.legs
-        }
+        self.leg_hip = {leg.name: model.hip_body_index(leg) for leg in model.legs}
         self.clocks = {c.name: _LegClock() for c in model.contacts}
 
     def observe(self, t: float, touching: Iterable[bool]) -> None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, Protocol
 
@@ -59,7 +59,6 @@ class RunResult:
     steps: int
     wall_time: float
     sim_time: float
-    stats: dict[str, float] = field(default_factory=dict)
 
     @property
     def real_time_factor(self) -> float:
@@ -101,10 +100,7 @@ class Simulation:
         self.events: list[ContactEvent] = []
         self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)
         self._contact_body = [model.bodies.index(model.body(c.body)) for c in model.contacts]
-        self._hip_body = [
-            next(i for i, b in enumerate(model.bodies) if b.joint == leg.joints[0])
-            for leg in model.legs
-        ]
+        self._hip_body = [model.hip_body_index(leg) for leg in model.legs]
         self._foot = [self.contact_names.index(leg.foot) for leg in model.legs]
         self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
         if options.drop is not None:
