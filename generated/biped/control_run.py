@@ -21,32 +21,37 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "caad3e8a8b56c06b"
+FINGERPRINT = "74d67a0d512f5ee0"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.z', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.stance_time', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.stance_time', 'leg.right.touching')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
-    "height": 0.88,
+    "height": 0.85,
 }
 PARAMS = {
-    "k_speed": 0.05,
-    "k_trim": 0.3,
+    "k_speed": 0.08,
+    "k_trim": 0.1,
     "stance_guess": 0.18,
-    "kp": 200.0,
-    "kv": 20.0,
-    "kp_roll": 200.0,
-    "kv_roll": 20.0,
+    "kp": 300.0,
+    "kv": 25.0,
+    "kp_roll": 300.0,
+    "kv_roll": 25.0,
+    "kp_yaw": 150.0,
     "yaw_lead": 0.1,
     "swing_kp": 300.0,
     "swing_kv": 10.0,
     "stroke": 0.03,
     "k_height": 0.5,
-    "short": -0.15,
-    "full": 0.81,
+    "balance": 1.0,
+    "lead": 0.1,
+    "mirror": 1.0,
+    "short": -0.2,
+    "full": 0.82,
+    "slew": 2.0,
 }
-RECORDS = ('speed_trim', 'predicted_apex')
+RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -64,104 +69,122 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)"""
-    leg_left_touching = s[26]
+    leg_left_touching = s[29]
     return (leg_left_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)"""
-    leg_left_touching = s[26]
+    leg_left_touching = s[29]
     return (leg_left_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0"""
-    leg_left_rate = s[24]
+    leg_left_rate = s[28]
     return (leg_left_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0"""
-    leg_left_rate = s[24]
+    leg_left_rate = s[28]
     return (leg_left_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 0) when: active.length > full"""
-    leg_left_length = s[23]
-    full = p[13]
-    return (leg_left_length > full)
+    """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest"""
+    act_leg_l_spring_rest = s[2]
+    leg_left_length = s[27]
+    full = p[17]
+    return (leg_left_length > act_leg_l_spring_rest + full)
 
 
 def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)"""
-    leg_right_touching = s[36]
+    leg_right_touching = s[38]
     return (leg_right_touching < 0.5)
 
 
 def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)"""
-    leg_right_touching = s[36]
+    leg_right_touching = s[38]
     return (leg_right_touching > 0.5)
 
 
 def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0"""
-    leg_right_rate = s[34]
+    leg_right_rate = s[37]
     return (leg_right_rate < 0.0)
 
 
 def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0"""
-    leg_right_rate = s[34]
+    leg_right_rate = s[37]
     return (leg_right_rate > 0.0)
 
 
 def event_UNLOADING_1(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 1) when: active.length > full"""
-    leg_right_length = s[33]
-    full = p[13]
-    return (leg_right_length > full)
+    """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest"""
+    act_leg_r_spring_rest = s[5]
+    leg_right_length = s[36]
+    full = p[17]
+    return (leg_right_length > act_leg_r_spring_rest + full)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: speed_trim)."""
-    body_trunk_yaw = s[8]
-    com_vx = s[10]
-    com_vy = s[11]
+    """The records on entering FLIGHT under binding 0 (changed: speed_trim, stance)."""
+    body_trunk_yaw = s[10]
+    com_vx = s[12]
+    com_vy = s[13]
+    time = s[39]
     speed = u[0]
     k_trim = p[1]
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    t1 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
-    return [t1, predicted_apex]
+    stance_guess = p[2]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    t2 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
+    return [t1, landed, t2, predicted_apex]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y)."""
-    body_trunk_yaw = s[8]
-    com_vx = s[10]
-    com_vy = s[11]
-    coord_hip_l_y_value = s[13]
-    leg_left_hip_x = s[20]
-    leg_left_hip_y = s[21]
-    leg_left_stance_time = s[25]
+    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y)."""
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    com_vx = s[12]
+    com_vy = s[13]
+    coord_hip_l_x_value = s[15]
+    coord_hip_l_y_value = s[16]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
     speed = u[0]
     k_speed = p[0]
-    stance_guess = p[2]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
-    speed_trim = r[0]
-    t1 = math.cos(body_trunk_yaw)
-    t2 = math.sin(body_trunk_yaw)
-    t3 = com_vx*t1 + com_vy*t2
-    t4 = 0.5*((leg_left_stance_time) if (leg_left_stance_time > 0.0) else (stance_guess))
-    t5 = k_speed*(-speed - speed_trim + t3) - leg_left_hip_x + t3*t4
-    t6 = -com_vx*t2 + com_vy*t1
-    t7 = k_speed*t6 - leg_left_hip_y + t4*t6
+    swing_kp = p[9]
+    swing_kv = p[10]
+    balance = p[13]
+    lead = p[14]
+    mirror = p[15]
+    short = p[16]
+    slew = p[18]
+    stance = r[0]
+    speed_trim = r[2]
+    t1 = slew*tis
+    t2 = min(0.0, short + t1)
+    t3 = max(short, -t1)
+    t4 = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_l_y_value*mirror
+    t5 = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_l_x_value
+    t6 = math.cos(body_trunk_yaw)
+    t7 = math.sin(body_trunk_yaw)
+    t8 = com_vx*t6 + com_vy*t7
+    t9 = k_speed*(-speed - speed_trim + t8) - leg_left_hip_x + 0.5*stance*t8
+    t10 = -com_vx*t7 + com_vy*t6
+    t11 = k_speed*t10 - leg_left_hip_y + 0.5*stance*t10
     return [
-        0.0,
+        t2,
         swing_kp,
         swing_kv,
         0.0,
@@ -169,34 +192,40 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        short,
+        swing_kp,
+        t3,
         swing_kp,
         swing_kv,
         0.0,
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_l_y_value,
-        0.0,
-        0.0,
+        t4,
         t5,
-        t7,
+        0.0,
+        t9,
+        t11,
     ]
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    """The records on entering LOADING under binding 0 (changed: landed)."""
+    time = s[39]
+    stance = r[0]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, time, speed_trim, predicted_apex]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
-    coord_hip_l_y_value = s[13]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    coord_hip_l_x_value = s[15]
+    coord_hip_l_y_value = s[16]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
+    t1 = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -211,50 +240,56 @@ def action_LOADING_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_l_y_value,
-        0.0,
+        t1,
+        -coord_hip_l_x_value,
         0.0,
     ]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, landed, speed_trim, predicted_apex]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
     act_leg_l_spring_force = s[0]
-    body_trunk_pitch = s[4]
-    body_trunk_pitch_rate = s[5]
-    body_trunk_roll = s[6]
-    body_trunk_roll_rate = s[7]
-    body_trunk_yaw = s[8]
-    body_trunk_yaw_rate = s[9]
-    coord_hip_l_y_value = s[13]
-    coord_hip_l_z_value = s[14]
-    leg_left_foot_x = s[17]
-    leg_left_foot_y = s[18]
-    leg_left_foot_z = s[19]
-    leg_left_hip_x = s[20]
-    leg_left_hip_y = s[21]
-    leg_left_hip_z = s[22]
-    leg_left_length = s[23]
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    body_trunk_yaw_rate = s[11]
+    coord_hip_l_x_value = s[15]
+    coord_hip_l_y_value = s[16]
+    coord_hip_l_z_value = s[17]
+    leg_left_foot_x = s[21]
+    leg_left_foot_y = s[22]
+    leg_left_foot_z = s[23]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
+    leg_left_hip_z = s[26]
+    leg_left_length = s[27]
     heading = u[1]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
     kv_roll = p[6]
-    yaw_lead = p[7]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    kp_yaw = p[7]
+    yaw_lead = p[8]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t4 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value - heading
+    t5 = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -262,6 +297,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         0.0,
         t2,
         t3,
+        kp_yaw,
         t4,
         short,
         swing_kp,
@@ -270,8 +306,8 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_l_y_value,
-        0.0,
+        t5,
+        -coord_hip_l_x_value,
         0.0,
     ]
 
@@ -280,48 +316,54 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex)."""
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
-    com_z = s[12]
-    speed_trim = r[0]
+    com_z = s[14]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [speed_trim, t1]
+    return [stance, landed, speed_trim, t1]
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
     act_leg_l_spring_force = s[0]
-    body_trunk_pitch = s[4]
-    body_trunk_pitch_rate = s[5]
-    body_trunk_roll = s[6]
-    body_trunk_roll_rate = s[7]
-    body_trunk_yaw = s[8]
-    body_trunk_yaw_rate = s[9]
-    coord_hip_l_y_value = s[13]
-    coord_hip_l_z_value = s[14]
-    leg_left_foot_x = s[17]
-    leg_left_foot_y = s[18]
-    leg_left_foot_z = s[19]
-    leg_left_hip_x = s[20]
-    leg_left_hip_y = s[21]
-    leg_left_hip_z = s[22]
-    leg_left_length = s[23]
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    body_trunk_yaw_rate = s[11]
+    coord_hip_l_x_value = s[15]
+    coord_hip_l_y_value = s[16]
+    coord_hip_l_z_value = s[17]
+    leg_left_foot_x = s[21]
+    leg_left_foot_y = s[22]
+    leg_left_foot_z = s[23]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
+    leg_left_hip_z = s[26]
+    leg_left_length = s[27]
     heading = u[1]
     height = u[2]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
     kv_roll = p[6]
-    yaw_lead = p[7]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    stroke = p[10]
-    k_height = p[11]
-    short = p[12]
-    predicted_apex = r[1]
+    kp_yaw = p[7]
+    yaw_lead = p[8]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    stroke = p[11]
+    k_height = p[12]
+    mirror = p[15]
+    short = p[16]
+    predicted_apex = r[3]
     t1 = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t5 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value - heading
+    t6 = -coord_hip_l_y_value*mirror
     return [
         t1,
         0.0,
@@ -330,6 +372,7 @@ def action_THRUST_0(s, u, p, r, tis):
         0.0,
         t3,
         t4,
+        kp_yaw,
         t5,
         short,
         swing_kp,
@@ -338,25 +381,30 @@ def action_THRUST_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_l_y_value,
-        0.0,
+        t6,
+        -coord_hip_l_x_value,
         0.0,
     ]
 
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, landed, speed_trim, predicted_apex]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
-    coord_hip_l_y_value = s[13]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    coord_hip_l_x_value = s[15]
+    coord_hip_l_y_value = s[16]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
+    t1 = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -372,50 +420,66 @@ def action_UNLOADING_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_l_y_value,
-        0.0,
+        t1,
+        -coord_hip_l_x_value,
         0.0,
     ]
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: speed_trim)."""
-    body_trunk_yaw = s[8]
-    com_vx = s[10]
-    com_vy = s[11]
+    """The records on entering FLIGHT under binding 1 (changed: speed_trim, stance)."""
+    body_trunk_yaw = s[10]
+    com_vx = s[12]
+    com_vy = s[13]
+    time = s[39]
     speed = u[0]
     k_trim = p[1]
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    t1 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
-    return [t1, predicted_apex]
+    stance_guess = p[2]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    t2 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
+    return [t1, landed, t2, predicted_apex]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y)."""
-    body_trunk_yaw = s[8]
-    com_vx = s[10]
-    com_vy = s[11]
-    coord_hip_r_y_value = s[15]
-    leg_right_hip_x = s[30]
-    leg_right_hip_y = s[31]
-    leg_right_stance_time = s[35]
+    """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y)."""
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    com_vx = s[12]
+    com_vy = s[13]
+    coord_hip_r_x_value = s[18]
+    coord_hip_r_y_value = s[19]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
     speed = u[0]
     k_speed = p[0]
-    stance_guess = p[2]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
-    speed_trim = r[0]
-    t1 = math.cos(body_trunk_yaw)
-    t2 = math.sin(body_trunk_yaw)
-    t3 = com_vx*t1 + com_vy*t2
-    t4 = 0.5*((leg_right_stance_time) if (leg_right_stance_time > 0.0) else (stance_guess))
-    t5 = k_speed*(-speed - speed_trim + t3) - leg_right_hip_x + t3*t4
-    t6 = -com_vx*t2 + com_vy*t1
-    t7 = k_speed*t6 - leg_right_hip_y + t4*t6
+    swing_kp = p[9]
+    swing_kv = p[10]
+    balance = p[13]
+    lead = p[14]
+    mirror = p[15]
+    short = p[16]
+    slew = p[18]
+    stance = r[0]
+    speed_trim = r[2]
+    t1 = slew*tis
+    t2 = min(0.0, short + t1)
+    t3 = max(short, -t1)
+    t4 = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_r_y_value*mirror
+    t5 = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_r_x_value
+    t6 = math.cos(body_trunk_yaw)
+    t7 = math.sin(body_trunk_yaw)
+    t8 = com_vx*t6 + com_vy*t7
+    t9 = k_speed*(-speed - speed_trim + t8) - leg_right_hip_x + 0.5*stance*t8
+    t10 = -com_vx*t7 + com_vy*t6
+    t11 = k_speed*t10 - leg_right_hip_y + 0.5*stance*t10
     return [
-        0.0,
+        t2,
         swing_kp,
         swing_kv,
         0.0,
@@ -423,34 +487,40 @@ def action_FLIGHT_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        short,
+        swing_kp,
+        t3,
         swing_kp,
         swing_kv,
         0.0,
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_r_y_value,
-        0.0,
-        0.0,
+        t4,
         t5,
-        t7,
+        0.0,
+        t9,
+        t11,
     ]
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    """The records on entering LOADING under binding 1 (changed: landed)."""
+    time = s[39]
+    stance = r[0]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, time, speed_trim, predicted_apex]
 
 
 def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    coord_hip_r_y_value = s[15]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    coord_hip_r_x_value = s[18]
+    coord_hip_r_y_value = s[19]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
+    t1 = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -465,50 +535,56 @@ def action_LOADING_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_r_y_value,
-        0.0,
+        t1,
+        -coord_hip_r_x_value,
         0.0,
     ]
 
 
 def entry_COMPRESSION_1(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 1 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, landed, speed_trim, predicted_apex]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[4]
-    body_trunk_pitch_rate = s[5]
-    body_trunk_roll = s[6]
-    body_trunk_roll_rate = s[7]
-    body_trunk_yaw = s[8]
-    body_trunk_yaw_rate = s[9]
-    coord_hip_r_y_value = s[15]
-    coord_hip_r_z_value = s[16]
-    leg_right_foot_x = s[27]
-    leg_right_foot_y = s[28]
-    leg_right_foot_z = s[29]
-    leg_right_hip_x = s[30]
-    leg_right_hip_y = s[31]
-    leg_right_hip_z = s[32]
-    leg_right_length = s[33]
+    """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    body_trunk_yaw_rate = s[11]
+    coord_hip_r_x_value = s[18]
+    coord_hip_r_y_value = s[19]
+    coord_hip_r_z_value = s[20]
+    leg_right_foot_x = s[30]
+    leg_right_foot_y = s[31]
+    leg_right_foot_z = s[32]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
+    leg_right_hip_z = s[35]
+    leg_right_length = s[36]
     heading = u[1]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
     kv_roll = p[6]
-    yaw_lead = p[7]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    kp_yaw = p[7]
+    yaw_lead = p[8]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
     t1 = act_leg_r_spring_force/leg_right_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t4 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value - heading
+    t5 = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -516,6 +592,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         0.0,
         t2,
         t3,
+        kp_yaw,
         t4,
         short,
         swing_kp,
@@ -524,58 +601,64 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_r_y_value,
-        0.0,
+        t5,
+        -coord_hip_r_x_value,
         0.0,
     ]
 
 
 def entry_THRUST_1(s, u, p, r, tis):
     """The records on entering THRUST under binding 1 (changed: predicted_apex)."""
-    act_leg_r_spring_force = s[2]
-    act_leg_r_spring_k = s[3]
-    com_z = s[12]
-    speed_trim = r[0]
+    act_leg_r_spring_force = s[3]
+    act_leg_r_spring_k = s[4]
+    com_z = s[14]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [speed_trim, t1]
+    return [stance, landed, speed_trim, t1]
 
 
 def action_THRUST_1(s, u, p, r, tis):
-    """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[4]
-    body_trunk_pitch_rate = s[5]
-    body_trunk_roll = s[6]
-    body_trunk_roll_rate = s[7]
-    body_trunk_yaw = s[8]
-    body_trunk_yaw_rate = s[9]
-    coord_hip_r_y_value = s[15]
-    coord_hip_r_z_value = s[16]
-    leg_right_foot_x = s[27]
-    leg_right_foot_y = s[28]
-    leg_right_foot_z = s[29]
-    leg_right_hip_x = s[30]
-    leg_right_hip_y = s[31]
-    leg_right_hip_z = s[32]
-    leg_right_length = s[33]
+    """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[6]
+    body_trunk_pitch_rate = s[7]
+    body_trunk_roll = s[8]
+    body_trunk_roll_rate = s[9]
+    body_trunk_yaw = s[10]
+    body_trunk_yaw_rate = s[11]
+    coord_hip_r_x_value = s[18]
+    coord_hip_r_y_value = s[19]
+    coord_hip_r_z_value = s[20]
+    leg_right_foot_x = s[30]
+    leg_right_foot_y = s[31]
+    leg_right_foot_z = s[32]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
+    leg_right_hip_z = s[35]
+    leg_right_length = s[36]
     heading = u[1]
     height = u[2]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
     kv_roll = p[6]
-    yaw_lead = p[7]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    stroke = p[10]
-    k_height = p[11]
-    short = p[12]
-    predicted_apex = r[1]
+    kp_yaw = p[7]
+    yaw_lead = p[8]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    stroke = p[11]
+    k_height = p[12]
+    mirror = p[15]
+    short = p[16]
+    predicted_apex = r[3]
     t1 = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t5 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value - heading
+    t6 = -coord_hip_r_y_value*mirror
     return [
         t1,
         0.0,
@@ -584,6 +667,7 @@ def action_THRUST_1(s, u, p, r, tis):
         0.0,
         t3,
         t4,
+        kp_yaw,
         t5,
         short,
         swing_kp,
@@ -592,25 +676,30 @@ def action_THRUST_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_r_y_value,
-        0.0,
+        t6,
+        -coord_hip_r_x_value,
         0.0,
     ]
 
 
 def entry_UNLOADING_1(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 1 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stance = r[0]
+    landed = r[1]
+    speed_trim = r[2]
+    predicted_apex = r[3]
+    return [stance, landed, speed_trim, predicted_apex]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    coord_hip_r_y_value = s[15]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    short = p[12]
+    coord_hip_r_x_value = s[18]
+    coord_hip_r_y_value = s[19]
+    swing_kp = p[9]
+    swing_kv = p[10]
+    mirror = p[15]
+    short = p[16]
+    t1 = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -626,8 +715,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        -coord_hip_r_y_value,
-        0.0,
+        t1,
+        -coord_hip_r_x_value,
         0.0,
     ]
 
@@ -670,15 +759,15 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
+    (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
     (0, 1): (('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (0, 2): (('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (0, 3): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
+    (0, 2): (('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
+    (0, 3): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
     (0, 4): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (1, 0): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
+    (1, 0): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
     (1, 1): (('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
-    (1, 2): (('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
-    (1, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
+    (1, 2): (('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
+    (1, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
     (1, 4): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('hip_l_yaw', 'setpoint')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
