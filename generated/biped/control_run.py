@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "74d67a0d512f5ee0"
+FINGERPRINT = "c397f92a12f0bb59"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -42,8 +42,8 @@ PARAMS = {
     "yaw_lead": 0.1,
     "swing_kp": 300.0,
     "swing_kv": 10.0,
-    "stroke": 0.03,
-    "k_height": 0.5,
+    "stroke": 0.01,
+    "k_height": 1.0,
     "balance": 1.0,
     "lead": 0.1,
     "mirror": 1.0,
@@ -358,7 +358,7 @@ def action_THRUST_0(s, u, p, r, tis):
     mirror = p[15]
     short = p[16]
     predicted_apex = r[3]
-    t1 = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
+    t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
@@ -653,7 +653,7 @@ def action_THRUST_1(s, u, p, r, tis):
     mirror = p[15]
     short = p[16]
     predicted_apex = r[3]
-    t1 = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
+    t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
