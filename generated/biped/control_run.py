@@ -21,10 +21,10 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "c397f92a12f0bb59"
+FINGERPRINT = "562b1f428bcafc80"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -51,7 +51,7 @@ PARAMS = {
     "full": 0.82,
     "slew": 2.0,
 }
-RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex')
+RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -69,83 +69,88 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)"""
-    leg_left_touching = s[29]
+    leg_left_touching = s[31]
     return (leg_left_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)"""
-    leg_left_touching = s[29]
+    leg_left_touching = s[31]
     return (leg_left_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0"""
-    leg_left_rate = s[28]
+    leg_left_rate = s[30]
     return (leg_left_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0"""
-    leg_left_rate = s[28]
+    leg_left_rate = s[30]
     return (leg_left_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest"""
     act_leg_l_spring_rest = s[2]
-    leg_left_length = s[27]
+    leg_left_length = s[29]
     full = p[17]
     return (leg_left_length > act_leg_l_spring_rest + full)
 
 
 def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)"""
-    leg_right_touching = s[38]
+    leg_right_touching = s[40]
     return (leg_right_touching < 0.5)
 
 
 def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)"""
-    leg_right_touching = s[38]
+    leg_right_touching = s[40]
     return (leg_right_touching > 0.5)
 
 
 def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0"""
-    leg_right_rate = s[37]
+    leg_right_rate = s[39]
     return (leg_right_rate < 0.0)
 
 
 def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0"""
-    leg_right_rate = s[37]
+    leg_right_rate = s[39]
     return (leg_right_rate > 0.0)
 
 
 def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest"""
     act_leg_r_spring_rest = s[5]
-    leg_right_length = s[36]
+    leg_right_length = s[38]
     full = p[17]
     return (leg_right_length > act_leg_r_spring_rest + full)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: speed_trim, stance)."""
+    """The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
     body_trunk_yaw = s[10]
-    com_vx = s[12]
-    com_vy = s[13]
-    time = s[39]
+    com_x = s[14]
+    com_y = s[15]
+    time = s[41]
     speed = u[0]
     k_trim = p[1]
     stance_guess = p[2]
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
-    return [t1, landed, t2, predicted_apex]
+    t2 = k_trim*(speed - step_speed) + speed_trim
+    t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -157,10 +162,10 @@ def action_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_vx = s[12]
     com_vy = s[13]
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
-    leg_left_hip_x = s[24]
-    leg_left_hip_y = s[25]
+    coord_hip_l_x_value = s[17]
+    coord_hip_l_y_value = s[18]
+    leg_left_hip_x = s[26]
+    leg_left_hip_y = s[27]
     speed = u[0]
     k_speed = p[0]
     swing_kp = p[9]
@@ -210,17 +215,21 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed)."""
-    time = s[39]
+    time = s[41]
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, time, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
+    coord_hip_l_x_value = s[17]
+    coord_hip_l_y_value = s[18]
     swing_kp = p[9]
     swing_kv = p[10]
     mirror = p[15]
@@ -252,7 +261,11 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, landed, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -264,16 +277,16 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     body_trunk_roll_rate = s[9]
     body_trunk_yaw = s[10]
     body_trunk_yaw_rate = s[11]
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
-    coord_hip_l_z_value = s[17]
-    leg_left_foot_x = s[21]
-    leg_left_foot_y = s[22]
-    leg_left_foot_z = s[23]
-    leg_left_hip_x = s[24]
-    leg_left_hip_y = s[25]
-    leg_left_hip_z = s[26]
-    leg_left_length = s[27]
+    coord_hip_l_x_value = s[17]
+    coord_hip_l_y_value = s[18]
+    coord_hip_l_z_value = s[19]
+    leg_left_foot_x = s[23]
+    leg_left_foot_y = s[24]
+    leg_left_foot_z = s[25]
+    leg_left_hip_x = s[26]
+    leg_left_hip_y = s[27]
+    leg_left_hip_z = s[28]
+    leg_left_length = s[29]
     heading = u[1]
     kp = p[3]
     kv = p[4]
@@ -316,12 +329,16 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex)."""
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
-    com_z = s[14]
+    com_z = s[16]
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, speed_trim, t1]
+    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -333,16 +350,16 @@ def action_THRUST_0(s, u, p, r, tis):
     body_trunk_roll_rate = s[9]
     body_trunk_yaw = s[10]
     body_trunk_yaw_rate = s[11]
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
-    coord_hip_l_z_value = s[17]
-    leg_left_foot_x = s[21]
-    leg_left_foot_y = s[22]
-    leg_left_foot_z = s[23]
-    leg_left_hip_x = s[24]
-    leg_left_hip_y = s[25]
-    leg_left_hip_z = s[26]
-    leg_left_length = s[27]
+    coord_hip_l_x_value = s[17]
+    coord_hip_l_y_value = s[18]
+    coord_hip_l_z_value = s[19]
+    leg_left_foot_x = s[23]
+    leg_left_foot_y = s[24]
+    leg_left_foot_z = s[25]
+    leg_left_hip_x = s[26]
+    leg_left_hip_y = s[27]
+    leg_left_hip_z = s[28]
+    leg_left_length = s[29]
     heading = u[1]
     height = u[2]
     kp = p[3]
@@ -393,13 +410,17 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, landed, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
+    coord_hip_l_x_value = s[17]
+    coord_hip_l_y_value = s[18]
     swing_kp = p[9]
     swing_kv = p[10]
     mirror = p[15]
@@ -427,20 +448,25 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: speed_trim, stance)."""
+    """The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
     body_trunk_yaw = s[10]
-    com_vx = s[12]
-    com_vy = s[13]
-    time = s[39]
+    com_x = s[14]
+    com_y = s[15]
+    time = s[41]
     speed = u[0]
     k_trim = p[1]
     stance_guess = p[2]
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*(-com_vx*math.cos(body_trunk_yaw) - com_vy*math.sin(body_trunk_yaw) + speed) + speed_trim
-    return [t1, landed, t2, predicted_apex]
+    t2 = k_trim*(speed - step_speed) + speed_trim
+    t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -452,10 +478,10 @@ def action_FLIGHT_1(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_vx = s[12]
     com_vy = s[13]
-    coord_hip_r_x_value = s[18]
-    coord_hip_r_y_value = s[19]
-    leg_right_hip_x = s[33]
-    leg_right_hip_y = s[34]
+    coord_hip_r_x_value = s[20]
+    coord_hip_r_y_value = s[21]
+    leg_right_hip_x = s[35]
+    leg_right_hip_y = s[36]
     speed = u[0]
     k_speed = p[0]
     swing_kp = p[9]
@@ -505,17 +531,21 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed)."""
-    time = s[39]
+    time = s[41]
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, time, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    coord_hip_r_x_value = s[18]
-    coord_hip_r_y_value = s[19]
+    coord_hip_r_x_value = s[20]
+    coord_hip_r_y_value = s[21]
     swing_kp = p[9]
     swing_kv = p[10]
     mirror = p[15]
@@ -547,7 +577,11 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, landed, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
@@ -559,16 +593,16 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     body_trunk_roll_rate = s[9]
     body_trunk_yaw = s[10]
     body_trunk_yaw_rate = s[11]
-    coord_hip_r_x_value = s[18]
-    coord_hip_r_y_value = s[19]
-    coord_hip_r_z_value = s[20]
-    leg_right_foot_x = s[30]
-    leg_right_foot_y = s[31]
-    leg_right_foot_z = s[32]
-    leg_right_hip_x = s[33]
-    leg_right_hip_y = s[34]
-    leg_right_hip_z = s[35]
-    leg_right_length = s[36]
+    coord_hip_r_x_value = s[20]
+    coord_hip_r_y_value = s[21]
+    coord_hip_r_z_value = s[22]
+    leg_right_foot_x = s[32]
+    leg_right_foot_y = s[33]
+    leg_right_foot_z = s[34]
+    leg_right_hip_x = s[35]
+    leg_right_hip_y = s[36]
+    leg_right_hip_z = s[37]
+    leg_right_length = s[38]
     heading = u[1]
     kp = p[3]
     kv = p[4]
@@ -611,12 +645,16 @@ def entry_THRUST_1(s, u, p, r, tis):
     """The records on entering THRUST under binding 1 (changed: predicted_apex)."""
     act_leg_r_spring_force = s[3]
     act_leg_r_spring_k = s[4]
-    com_z = s[14]
+    com_z = s[16]
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, speed_trim, t1]
+    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -628,16 +666,16 @@ def action_THRUST_1(s, u, p, r, tis):
     body_trunk_roll_rate = s[9]
     body_trunk_yaw = s[10]
     body_trunk_yaw_rate = s[11]
-    coord_hip_r_x_value = s[18]
-    coord_hip_r_y_value = s[19]
-    coord_hip_r_z_value = s[20]
-    leg_right_foot_x = s[30]
-    leg_right_foot_y = s[31]
-    leg_right_foot_z = s[32]
-    leg_right_hip_x = s[33]
-    leg_right_hip_y = s[34]
-    leg_right_hip_z = s[35]
-    leg_right_length = s[36]
+    coord_hip_r_x_value = s[20]
+    coord_hip_r_y_value = s[21]
+    coord_hip_r_z_value = s[22]
+    leg_right_foot_x = s[32]
+    leg_right_foot_y = s[33]
+    leg_right_foot_z = s[34]
+    leg_right_hip_x = s[35]
+    leg_right_hip_y = s[36]
+    leg_right_hip_z = s[37]
+    leg_right_length = s[38]
     heading = u[1]
     height = u[2]
     kp = p[3]
@@ -688,13 +726,17 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    return [stance, landed, speed_trim, predicted_apex]
+    step_speed = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
-    coord_hip_r_x_value = s[18]
-    coord_hip_r_y_value = s[19]
+    coord_hip_r_x_value = s[20]
+    coord_hip_r_y_value = s[21]
     swing_kp = p[9]
     swing_kv = p[10]
     mirror = p[15]
