@@ -21,13 +21,14 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d1f10be56f5d0807"
+FINGERPRINT = "3cb96189752c156a"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
+    "turn_rate": 0.0,
     "height": 0.85,
 }
 PARAMS = {
@@ -287,7 +288,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_left_hip_y = s[27]
     leg_left_hip_z = s[28]
     leg_left_length = s[29]
+    time = s[41]
     heading = u[1]
+    turn_rate = u[2]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
@@ -301,8 +304,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t4 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value - heading
-    t5 = -coord_hip_l_y_value*mirror
+    t4 = -body_trunk_yaw + heading + time*turn_rate
+    t5 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t4), math.cos(t4))
+    t6 = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -311,7 +315,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         t2,
         t3,
         kp_yaw,
-        t4,
+        t5,
         short,
         swing_kp,
         swing_kv,
@@ -319,7 +323,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t5,
+        t6,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -360,8 +364,10 @@ def action_THRUST_0(s, u, p, r, tis):
     leg_left_hip_y = s[27]
     leg_left_hip_z = s[28]
     leg_left_length = s[29]
+    time = s[41]
     heading = u[1]
-    height = u[2]
+    turn_rate = u[2]
+    height = u[3]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
@@ -379,8 +385,9 @@ def action_THRUST_0(s, u, p, r, tis):
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t5 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value - heading
-    t6 = -coord_hip_l_y_value*mirror
+    t5 = -body_trunk_yaw + heading + time*turn_rate
+    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t5), math.cos(t5))
+    t7 = -coord_hip_l_y_value*mirror
     return [
         t1,
         0.0,
@@ -390,7 +397,7 @@ def action_THRUST_0(s, u, p, r, tis):
         t3,
         t4,
         kp_yaw,
-        t5,
+        t6,
         short,
         swing_kp,
         swing_kv,
@@ -398,7 +405,7 @@ def action_THRUST_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t6,
+        t7,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -603,7 +610,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     leg_right_hip_y = s[36]
     leg_right_hip_z = s[37]
     leg_right_length = s[38]
+    time = s[41]
     heading = u[1]
+    turn_rate = u[2]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
@@ -617,8 +626,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t1 = act_leg_r_spring_force/leg_right_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t4 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value - heading
-    t5 = -coord_hip_r_y_value*mirror
+    t4 = -body_trunk_yaw + heading + time*turn_rate
+    t5 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t4), math.cos(t4))
+    t6 = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -627,7 +637,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         t2,
         t3,
         kp_yaw,
-        t4,
+        t5,
         short,
         swing_kp,
         swing_kv,
@@ -635,7 +645,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t5,
+        t6,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -676,8 +686,10 @@ def action_THRUST_1(s, u, p, r, tis):
     leg_right_hip_y = s[36]
     leg_right_hip_z = s[37]
     leg_right_length = s[38]
+    time = s[41]
     heading = u[1]
-    height = u[2]
+    turn_rate = u[2]
+    height = u[3]
     kp = p[3]
     kv = p[4]
     kp_roll = p[5]
@@ -695,8 +707,9 @@ def action_THRUST_1(s, u, p, r, tis):
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t5 = body_trunk_yaw + body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value - heading
-    t6 = -coord_hip_r_y_value*mirror
+    t5 = -body_trunk_yaw + heading + time*turn_rate
+    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t5), math.cos(t5))
+    t7 = -coord_hip_r_y_value*mirror
     return [
         t1,
         0.0,
@@ -706,7 +719,7 @@ def action_THRUST_1(s, u, p, r, tis):
         t3,
         t4,
         kp_yaw,
-        t5,
+        t6,
         short,
         swing_kp,
         swing_kv,
@@ -714,7 +727,7 @@ def action_THRUST_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t6,
+        t7,
         -coord_hip_r_x_value,
         0.0,
     ]
