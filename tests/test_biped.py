@@ -88,3 +88,22 @@ def test_the_speed_holds_at_3_m_s(generated: Path) -> None:
     assert metrics.n_strides >= 2
     assert metrics.value("running_speed") == pytest.approx(3.0, rel=0.05)
     assert math.isfinite(metrics.value("roll_magnitude"))
+
+
+def test_a_steady_turn_runs_a_5_m_circle(generated: Path) -> None:
+    """speed / turn_rate = 1.5 m/s / 0.3 rad/s: a circle of 5 m radius (a third of a lap here)."""
+    model = check_model(BIPED)
+    dyn = load_dynamics(model, BIPED, generated)
+    control = load_controller(model, "run", BIPED, generated)
+    machine = StateMachine(model, control, {"speed": 1.5, "turn_rate": 0.3})
+    result = Simulation(model, dyn, RunOptions(duration=8.0), machine).run()
+    assert result.status == "ok", result.message
+    tr = result.trajectory
+    late = tr.t >= SETTLE
+    x, y = tr.com[late, 0], tr.com[late, 1]
+    # least-squares circle: x^2 + y^2 + D x + E y + F = 0
+    d, e, f = np.linalg.lstsq(np.c_[x, y, np.ones_like(x)], -(x**2 + y**2), rcond=None)[0]
+    radius = math.sqrt(d * d / 4 + e * e / 4 - f)
+    assert radius == pytest.approx(5.0, rel=0.1)
+    heading_error = np.angle(np.exp(1j * (tr.root_rpy[late, 2] - 0.3 * tr.t[late])))
+    assert np.degrees(np.abs(heading_error)).max() < 10
