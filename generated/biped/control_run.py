@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "3cb96189752c156a"
+FINGERPRINT = "ab830d50c0d978b9"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -33,6 +33,7 @@ INPUTS = {
 }
 PARAMS = {
     "k_speed": 0.08,
+    "trim_band": 0.2,
     "k_trim": 0.1,
     "stance_guess": 0.18,
     "kp": 300.0,
@@ -96,7 +97,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest"""
     act_leg_l_spring_rest = s[2]
     leg_left_length = s[29]
-    full = p[17]
+    full = p[18]
     return (leg_left_length > act_leg_l_spring_rest + full)
 
 
@@ -128,7 +129,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest"""
     act_leg_r_spring_rest = s[5]
     leg_right_length = s[38]
-    full = p[17]
+    full = p[18]
     return (leg_right_length > act_leg_r_spring_rest + full)
 
 
@@ -139,8 +140,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_y = s[15]
     time = s[41]
     speed = u[0]
-    k_trim = p[1]
-    stance_guess = p[2]
+    trim_band = p[1]
+    k_trim = p[2]
+    stance_guess = p[3]
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
@@ -149,7 +151,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*(speed - step_speed) + speed_trim
+    t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
     return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
 
@@ -169,13 +171,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     leg_left_hip_y = s[27]
     speed = u[0]
     k_speed = p[0]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    balance = p[13]
-    lead = p[14]
-    mirror = p[15]
-    short = p[16]
-    slew = p[18]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    balance = p[14]
+    lead = p[15]
+    mirror = p[16]
+    short = p[17]
+    slew = p[19]
     stance = r[0]
     speed_trim = r[2]
     t1 = slew*tis
@@ -231,10 +233,10 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = -coord_hip_l_y_value*mirror
     return [
         0.0,
@@ -291,16 +293,16 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     time = s[41]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[3]
-    kv = p[4]
-    kp_roll = p[5]
-    kv_roll = p[6]
-    kp_yaw = p[7]
-    yaw_lead = p[8]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    kp = p[4]
+    kv = p[5]
+    kp_roll = p[6]
+    kv_roll = p[7]
+    kp_yaw = p[8]
+    yaw_lead = p[9]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
@@ -368,18 +370,18 @@ def action_THRUST_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     height = u[3]
-    kp = p[3]
-    kv = p[4]
-    kp_roll = p[5]
-    kv_roll = p[6]
-    kp_yaw = p[7]
-    yaw_lead = p[8]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    stroke = p[11]
-    k_height = p[12]
-    mirror = p[15]
-    short = p[16]
+    kp = p[4]
+    kv = p[5]
+    kp_roll = p[6]
+    kv_roll = p[7]
+    kp_yaw = p[8]
+    yaw_lead = p[9]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    stroke = p[12]
+    k_height = p[13]
+    mirror = p[16]
+    short = p[17]
     predicted_apex = r[3]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_l_spring_force/leg_left_length
@@ -428,10 +430,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = -coord_hip_l_y_value*mirror
     return [
         0.0,
@@ -461,8 +463,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     com_y = s[15]
     time = s[41]
     speed = u[0]
-    k_trim = p[1]
-    stance_guess = p[2]
+    trim_band = p[1]
+    k_trim = p[2]
+    stance_guess = p[3]
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
@@ -471,7 +474,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*(speed - step_speed) + speed_trim
+    t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
     return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
 
@@ -491,13 +494,13 @@ def action_FLIGHT_1(s, u, p, r, tis):
     leg_right_hip_y = s[36]
     speed = u[0]
     k_speed = p[0]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    balance = p[13]
-    lead = p[14]
-    mirror = p[15]
-    short = p[16]
-    slew = p[18]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    balance = p[14]
+    lead = p[15]
+    mirror = p[16]
+    short = p[17]
+    slew = p[19]
     stance = r[0]
     speed_trim = r[2]
     t1 = slew*tis
@@ -553,10 +556,10 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = -coord_hip_r_y_value*mirror
     return [
         0.0,
@@ -613,16 +616,16 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     time = s[41]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[3]
-    kv = p[4]
-    kp_roll = p[5]
-    kv_roll = p[6]
-    kp_yaw = p[7]
-    yaw_lead = p[8]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    kp = p[4]
+    kv = p[5]
+    kp_roll = p[6]
+    kv_roll = p[7]
+    kp_yaw = p[8]
+    yaw_lead = p[9]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = act_leg_r_spring_force/leg_right_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
@@ -690,18 +693,18 @@ def action_THRUST_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     height = u[3]
-    kp = p[3]
-    kv = p[4]
-    kp_roll = p[5]
-    kv_roll = p[6]
-    kp_yaw = p[7]
-    yaw_lead = p[8]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    stroke = p[11]
-    k_height = p[12]
-    mirror = p[15]
-    short = p[16]
+    kp = p[4]
+    kv = p[5]
+    kp_roll = p[6]
+    kv_roll = p[7]
+    kp_yaw = p[8]
+    yaw_lead = p[9]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    stroke = p[12]
+    k_height = p[13]
+    mirror = p[16]
+    short = p[17]
     predicted_apex = r[3]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_r_spring_force/leg_right_length
@@ -750,10 +753,10 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
-    swing_kp = p[9]
-    swing_kv = p[10]
-    mirror = p[15]
-    short = p[16]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    mirror = p[16]
+    short = p[17]
     t1 = -coord_hip_r_y_value*mirror
     return [
         0.0,
