@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "ab830d50c0d978b9"
+FINGERPRINT = "dc19e37c660235d0"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -33,8 +33,8 @@ INPUTS = {
 }
 PARAMS = {
     "k_speed": 0.08,
-    "trim_band": 0.2,
     "k_trim": 0.1,
+    "trim_band": 0.2,
     "stance_guess": 0.18,
     "kp": 300.0,
     "kv": 25.0,
@@ -140,8 +140,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_y = s[15]
     time = s[41]
     speed = u[0]
-    trim_band = p[1]
-    k_trim = p[2]
+    k_trim = p[1]
+    trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
     speed_trim = r[2]
@@ -463,8 +463,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     com_y = s[15]
     time = s[41]
     speed = u[0]
-    trim_band = p[1]
-    k_trim = p[2]
+    k_trim = p[1]
+    trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
     speed_trim = r[2]
