@@ -57,7 +57,7 @@ CONTACT_NAMES = ('toe_l', 'toe_r')
 GRAVITY = (0.0, 0.0, -9.81)
 TOTAL_MASS = 27.18
 # What the equations depend on; the runtime recompiles when its model hashes differently.
-MODEL_FINGERPRINT = "66c03214628be05e"
+MODEL_FINGERPRINT = "26fbb5f5a7dc80ea"
 
 
 def mass_matrix(q):
