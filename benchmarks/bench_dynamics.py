@@ -46,6 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
+from report import replace_section  # noqa: E402
 
 from legdsl.checker import check_model  # noqa: E402
 from legdsl.export_mjcf import model_to_mjcf  # noqa: E402
@@ -445,7 +446,7 @@ def report(
     plot_path: Path,
 ) -> str:
     lines = [
-        "# Benchmarks: forward dynamics",
+        "## Forward dynamics and compilation (issue 3)",
         "",
         "Produced by",
         "",
@@ -560,8 +561,7 @@ def main(argv: list[str] | None = None) -> int:
     plot(scaling, args.plot)
     log(f"wrote {args.plot}")
     text = report(command, shipped, scaling, legdsl_reason, args.budget, args.plot)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text)
+    replace_section("dynamics", text, args.out)
     log(f"wrote {args.out}")
     return 0
 

@@ -16,13 +16,15 @@ check. The results replace the "runtime" section of docs/benchmarks.md.
 from __future__ import annotations
 
 import platform
-import re
 import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from report import DOC, replace_section  # noqa: E402
 
 from legdsl.checker import check_model  # noqa: E402
 from legdsl.export import export_text  # noqa: E402
@@ -32,7 +34,6 @@ from legdsl.simulate import RunOptions, Simulation  # noqa: E402
 CREATURES = ("kangaroo", "biped", "quadruped", "hopper")
 DURATION = 3.0
 STEP = 0.0004
-BEGIN, END = "<!-- runtime:begin -->", "<!-- runtime:end -->"
 
 
 def legdsl_drop(name: str) -> tuple[float, float, list[float]]:
@@ -95,7 +96,6 @@ def main() -> None:
         )
     section = "\n".join(
         [
-            BEGIN,
             "## Runtime: a passive drop (issue 4)",
             "",
             "Command: `python benchmarks/bench_runtime.py` "
@@ -117,17 +117,10 @@ def main() -> None:
             "MuJoCo is compiled C with a sparse solver; legdsl's runtime is plain Python calling generated "
             "straight-line code, so the ratio is the price of staying in readable, inspectable Python. "
             "Both are deterministic.",
-            END,
         ]
     )
-    doc = ROOT / "docs" / "benchmarks.md"
-    text = doc.read_text() if doc.exists() else "# Benchmarks\n"
-    if BEGIN in text:
-        text = re.sub(re.escape(BEGIN) + ".*?" + re.escape(END), section, text, flags=re.S)
-    else:
-        text = text.rstrip("\n") + "\n\n" + section + "\n"
-    doc.write_text(text)
-    print(f"wrote {doc}")
+    replace_section("runtime", section)
+    print(f"wrote {DOC}")
 
 
 if __name__ == "__main__":
