@@ -26,7 +26,7 @@ none does: as events they are tested only while the machine waits for them.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import sympy
 from sympy import Expr, Symbol
@@ -108,7 +108,7 @@ class LoweredController:
     inputs: tuple[tuple[str, float], ...]
     params: tuple[tuple[str, float], ...]
     records: tuple[str, ...]
-    sensors: tuple[str, ...] = field(default=())
+    sensors: tuple[str, ...] = ()
 
 
 class _Env:
