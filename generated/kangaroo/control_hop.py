@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "4e0d68ac76328829"
+FINGERPRINT = "c86fa832e5ab55d6"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -52,6 +52,8 @@ PARAMS = {
     "tail_up": 0.0,
     "tail_down": -0.5235987755982988,
     "tail_b": 0.2,
+    "tail_kp": 30.0,
+    "tail_kv": 3.0,
 }
 RECORDS = ('speed_trim', 'predicted_apex')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -109,8 +111,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, place main (x, z)."""
+    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, place main (x, z)."""
     body_trunk_pitch = s[2]
+    body_trunk_pitch_rate = s[3]
     com_vx = s[4]
     com_vz = s[5]
     leg_main_hip_x = s[11]
@@ -130,12 +133,15 @@ def action_FLIGHT_0(s, u, p, r, tis):
     tuck = p[16]
     tail_up = p[19]
     tail_b = p[21]
+    tail_kp = p[22]
+    tail_kv = p[23]
     speed_trim = r[0]
     t1 = min(ankle_rest, ramp*time + start_rest)
-    t2 = (com_vz > 0.0)
-    t3 = 0.8*((tuck) if t2 else (reach))
-    t4 = min(t3, max(-t3, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - speed - speed_trim)))))
-    t5 = -(-t4*t4 + ((tuck*tuck) if t2 else (reach*reach)))**0.5
+    t2 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv
+    t3 = (com_vz > 0.0)
+    t4 = 0.8*((tuck) if t3 else (reach))
+    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - speed - speed_trim)))))
+    t6 = -(-t5*t5 + ((tuck*tuck) if t3 else (reach*reach)))**0.5
     return [
         t1,
         swing_kp,
@@ -146,9 +152,10 @@ def action_FLIGHT_0(s, u, p, r, tis):
         tail_k,
         tail_b,
         tail_up,
+        t2,
         -body_trunk_pitch,
-        t4,
         t5,
+        t6,
     ]
 
 
@@ -160,7 +167,7 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
+    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     leg_main_foot_x = s[9]
@@ -177,7 +184,7 @@ def action_LOADING_0(s, u, p, r, tis):
     tail_b = p[21]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, -body_trunk_pitch]
+    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, 0.0, -body_trunk_pitch]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
@@ -304,8 +311,8 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
-    (0, 1): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
+    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
+    (0, 1): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
     (0, 2): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
     (0, 3): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
     (0, 4): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
