@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "c86fa832e5ab55d6"
+FINGERPRINT = "7a1fcd348528fc5d"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -34,6 +34,8 @@ PARAMS = {
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.5,
+    "max_trim": 0.5,
+    "accel": 1.0,
     "kp": 60.0,
     "kv": 6.0,
     "hip_kp": 400.0,
@@ -94,19 +96,22 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
     leg_main_touching = s[14]
-    ankle_rest = p[10]
-    unload = p[18]
+    ankle_rest = p[12]
+    unload = p[20]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: speed_trim)."""
     com_vx = s[4]
+    time = s[15]
     speed = u[0]
     k_trim = p[3]
+    max_trim = p[4]
+    accel = p[5]
     speed_trim = r[0]
     predicted_apex = r[1]
-    t1 = k_trim*(-com_vx + speed) + speed_trim
+    t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + min(speed, accel*time)) + speed_trim))
     return [t1, predicted_apex]
 
 
@@ -124,23 +129,24 @@ def action_FLIGHT_0(s, u, p, r, tis):
     k_speed = p[0]
     max_correction = p[1]
     stance_guess = p[2]
-    swing_kp = p[8]
-    swing_kv = p[9]
-    ankle_rest = p[10]
-    start_rest = p[12]
-    ramp = p[13]
-    reach = p[15]
-    tuck = p[16]
-    tail_up = p[19]
-    tail_b = p[21]
-    tail_kp = p[22]
-    tail_kv = p[23]
+    accel = p[5]
+    swing_kp = p[10]
+    swing_kv = p[11]
+    ankle_rest = p[12]
+    start_rest = p[14]
+    ramp = p[15]
+    reach = p[17]
+    tuck = p[18]
+    tail_up = p[21]
+    tail_b = p[23]
+    tail_kp = p[24]
+    tail_kv = p[25]
     speed_trim = r[0]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv
     t3 = (com_vz > 0.0)
     t4 = 0.8*((tuck) if t3 else (reach))
-    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - speed - speed_trim)))))
+    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - speed_trim - min(speed, accel*time))))))
     t6 = -(-t5*t5 + ((tuck*tuck) if t3 else (reach*reach)))**0.5
     return [
         t1,
@@ -175,13 +181,13 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_x = s[11]
     leg_main_hip_z = s[12]
     tail_k = u[2]
-    kp = p[4]
-    kv = p[5]
-    hip_kp = p[6]
-    hip_kv = p[7]
-    thigh_length = p[17]
-    tail_down = p[20]
-    tail_b = p[21]
+    kp = p[6]
+    kv = p[7]
+    hip_kp = p[8]
+    hip_kv = p[9]
+    thigh_length = p[19]
+    tail_down = p[22]
+    tail_b = p[23]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, 0.0, -body_trunk_pitch]
@@ -203,13 +209,13 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_x = s[11]
     leg_main_hip_z = s[12]
     tail_k = u[2]
-    kp = p[4]
-    kv = p[5]
-    hip_kp = p[6]
-    hip_kv = p[7]
-    thigh_length = p[17]
-    tail_down = p[20]
-    tail_b = p[21]
+    kp = p[6]
+    kv = p[7]
+    hip_kp = p[8]
+    hip_kv = p[9]
+    thigh_length = p[19]
+    tail_down = p[22]
+    tail_b = p[23]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, -body_trunk_pitch]
@@ -236,18 +242,18 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[15]
     height = u[1]
     tail_k = u[2]
-    kp = p[4]
-    kv = p[5]
-    hip_kp = p[6]
-    hip_kv = p[7]
-    ankle_rest = p[10]
-    stroke = p[11]
-    start_rest = p[12]
-    ramp = p[13]
-    k_height = p[14]
-    thigh_length = p[17]
-    tail_down = p[20]
-    tail_b = p[21]
+    kp = p[6]
+    kv = p[7]
+    hip_kp = p[8]
+    hip_kv = p[9]
+    ankle_rest = p[12]
+    stroke = p[13]
+    start_rest = p[14]
+    ramp = p[15]
+    k_height = p[16]
+    thigh_length = p[19]
+    tail_down = p[22]
+    tail_b = p[23]
     predicted_apex = r[1]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(3.0*stroke, max(-3.0*stroke, k_height*(height - predicted_apex) + stroke))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
@@ -272,16 +278,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[12]
     time = s[15]
     tail_k = u[2]
-    kp = p[4]
-    kv = p[5]
-    hip_kp = p[6]
-    hip_kv = p[7]
-    ankle_rest = p[10]
-    start_rest = p[12]
-    ramp = p[13]
-    thigh_length = p[17]
-    tail_up = p[19]
-    tail_b = p[21]
+    kp = p[6]
+    kv = p[7]
+    hip_kp = p[8]
+    hip_kv = p[9]
+    ankle_rest = p[12]
+    start_rest = p[14]
+    ramp = p[15]
+    thigh_length = p[19]
+    tail_up = p[21]
+    tail_b = p[23]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
