@@ -1,8 +1,8 @@
 """The kangaroo's hop controller (creatures/kangaroo.leg, 'Kangaroo control' of the paper).
 
 Work in progress: see docs/kangaroo.md. The controller hops and runs its state
-machine in order, but it does not yet hold a speed (it falls within 2 s from
-standing), so the speed test is an expected failure that states the target.
+machine in order, but it still falls (after 5 to 11 s from standing), so there
+is no speed-holding test yet.
 """
 
 from __future__ import annotations
