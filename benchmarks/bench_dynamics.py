@@ -26,6 +26,7 @@ import argparse
 import ast
 import functools
 import importlib.util
+import json
 import multiprocessing as mp
 import os
 import platform
@@ -416,8 +417,8 @@ def plot(results: dict[str, dict[str, dict[int, Compiled]]], path: Path) -> None
                     f"{label}: stopped at {min(over)} DOF",
                     (min(over), budget),
                     textcoords="offset points",
-                    xytext=(-10, -14),
-                    ha="right",
+                    xytext=(8, -3),
+                    ha="left",
                     fontsize=8,
                     color=colors[family],
                 )
@@ -435,6 +436,33 @@ def plot(results: dict[str, dict[str, dict[int, Compiled]]], path: Path) -> None
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, metadata={"Software": None})
     plt.close(fig)
+
+
+def save_scaling(results: dict[str, dict[str, dict[int, Compiled]]], path: Path) -> None:
+    """The scaling numbers as JSON beside the plot, so that ``--replot`` can redraw it."""
+    raw = {
+        family: {
+            kind: {
+                str(d): {"seconds": c.seconds, "ops": c.ops, "note": c.note} for d, c in pts.items()
+            }
+            for kind, pts in by_kind.items()
+        }
+        for family, by_kind in results.items()
+    }
+    path.write_text(json.dumps(raw, indent=1, sort_keys=True) + "\n")
+
+
+def load_scaling(path: Path) -> dict[str, dict[str, dict[int, Compiled]]]:
+    raw = json.loads(path.read_text())
+    return {
+        family: {
+            kind: {
+                int(d): Compiled(c["seconds"], c["ops"], None, c["note"]) for d, c in pts.items()
+            }
+            for kind, pts in by_kind.items()
+        }
+        for family, by_kind in raw.items()
+    }
 
 
 def report(
@@ -546,8 +574,21 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks.md")
     p.add_argument("--plot", type=Path, default=ROOT / "docs" / "img" / "scaling.png")
+    p.add_argument(
+        "--replot",
+        action="store_true",
+        help="only redraw the plot from the JSON beside it (PLOT with .json) and stop",
+    )
     argv = sys.argv[1:] if argv is None else argv
     args = p.parse_args(argv)
+    data = args.plot.with_suffix(".json")
+    if args.replot:
+        if not data.exists():
+            log(f"{data} is missing: run the benchmark once without --replot to write it")
+            return 2
+        plot(load_scaling(data), args.plot)
+        log(f"wrote {args.plot} from {data}")
+        return 0
     command = " ".join(["python benchmarks/bench_dynamics.py", *argv])
     legdsl_reason = legdsl_available()
     if legdsl_reason:
@@ -559,7 +600,8 @@ def main(argv: list[str] | None = None) -> int:
         log("== scaling study ==")
         scaling = bench_scaling(work, args.budget, legdsl_reason, args.sizes)
     plot(scaling, args.plot)
-    log(f"wrote {args.plot}")
+    save_scaling(scaling, data)
+    log(f"wrote {args.plot} and {data}")
     text = report(command, shipped, scaling, legdsl_reason, args.budget, args.plot)
     replace_section("dynamics", text, args.out)
     log(f"wrote {args.out}")
