@@ -20,24 +20,24 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "7a1fcd348528fc5d"
+FINGERPRINT = "70ebbfd0244d7811"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
+SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
 INPUTS = {
     "speed": 5.0,
-    "height": 0.46,
+    "height": 0.47,
     "tail_k": 7.0,
 }
 PARAMS = {
     "k_speed": 0.03,
     "max_correction": 0.05,
     "stance_guess": 0.11,
-    "k_trim": 0.5,
-    "max_trim": 0.5,
+    "k_trim": 0.15,
+    "max_trim": 1.15,
     "accel": 1.0,
     "kp": 60.0,
-    "kv": 6.0,
+    "kv": 3.4,
     "hip_kp": 400.0,
     "hip_kv": 8.0,
     "swing_kp": 60.0,
@@ -46,18 +46,22 @@ PARAMS = {
     "stroke": 0.08726646259971647,
     "start_rest": -2.007128639793479,
     "ramp": 1.0471975511965976,
-    "k_height": 1.7453292519943295,
-    "reach": 0.44,
+    "k_height": 1.4311699866353502,
+    "k_apex": 0.0,
+    "min_stroke": -0.2617993877991494,
+    "max_stroke": 0.2617993877991494,
+    "pitch_lead": 0.013962634015954637,
+    "reach": 0.46,
     "tuck": 0.36,
     "thigh_length": 0.13,
     "unload": 0.0,
     "tail_up": 0.0,
     "tail_down": -0.5235987755982988,
     "tail_b": 0.2,
-    "tail_kp": 30.0,
-    "tail_kv": 3.0,
+    "tail_kp": 44.0,
+    "tail_kv": 5.3,
 }
-RECORDS = ('speed_trim', 'predicted_apex')
+RECORDS = ('speed_trim', 'predicted_apex', 'stroke_trim', 'desired_now')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -70,13 +74,13 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)"""
-    leg_main_touching = s[14]
+    leg_main_touching = s[15]
     return (leg_main_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)"""
-    leg_main_touching = s[14]
+    leg_main_touching = s[15]
     return (leg_main_touching > 0.5)
 
 
@@ -95,24 +99,36 @@ def event_THRUST_0(s, u, p, r, tis):
 def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
-    leg_main_touching = s[14]
+    leg_main_touching = s[15]
     ankle_rest = p[12]
-    unload = p[20]
+    unload = p[24]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: speed_trim)."""
+    """The records on entering FLIGHT under binding 0 (changed: desired_now, stroke_trim, speed_trim)."""
     com_vx = s[4]
-    time = s[15]
+    com_vz = s[5]
+    com_z = s[6]
+    leg_main_flight_time = s[9]
+    leg_main_stance_time = s[14]
     speed = u[0]
+    height = u[1]
     k_trim = p[3]
     max_trim = p[4]
     accel = p[5]
+    k_apex = p[17]
+    min_stroke = p[18]
+    max_stroke = p[19]
     speed_trim = r[0]
     predicted_apex = r[1]
-    t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + min(speed, accel*time)) + speed_trim))
-    return [t1, predicted_apex]
+    stroke_trim = r[2]
+    desired_now = r[3]
+    t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
+    t2 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
+    t3 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
+    t4 = desired_now + min(t3, max(-t3, -desired_now + speed))
+    return [t1, predicted_apex, t2, t4]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -121,32 +137,31 @@ def action_FLIGHT_0(s, u, p, r, tis):
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
     com_vz = s[5]
-    leg_main_hip_x = s[11]
-    leg_main_stance_time = s[13]
-    time = s[15]
-    speed = u[0]
+    leg_main_hip_x = s[12]
+    leg_main_stance_time = s[14]
+    time = s[16]
     tail_k = u[2]
     k_speed = p[0]
     max_correction = p[1]
     stance_guess = p[2]
-    accel = p[5]
     swing_kp = p[10]
     swing_kv = p[11]
     ankle_rest = p[12]
     start_rest = p[14]
     ramp = p[15]
-    reach = p[17]
-    tuck = p[18]
-    tail_up = p[21]
-    tail_b = p[23]
-    tail_kp = p[24]
-    tail_kv = p[25]
+    reach = p[21]
+    tuck = p[22]
+    tail_up = p[25]
+    tail_b = p[27]
+    tail_kp = p[28]
+    tail_kv = p[29]
     speed_trim = r[0]
+    desired_now = r[3]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv
     t3 = (com_vz > 0.0)
     t4 = 0.8*((tuck) if t3 else (reach))
-    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - speed_trim - min(speed, accel*time))))))
+    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now - speed_trim)))))
     t6 = -(-t5*t5 + ((tuck*tuck) if t3 else (reach*reach)))**0.5
     return [
         t1,
@@ -169,27 +184,30 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stroke_trim = r[2]
+    desired_now = r[3]
+    return [speed_trim, predicted_apex, stroke_trim, desired_now]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[9]
-    leg_main_foot_z = s[10]
-    leg_main_hip_x = s[11]
-    leg_main_hip_z = s[12]
+    leg_main_foot_x = s[10]
+    leg_main_foot_z = s[11]
+    leg_main_hip_x = s[12]
+    leg_main_hip_z = s[13]
     tail_k = u[2]
     kp = p[6]
     kv = p[7]
     hip_kp = p[8]
     hip_kv = p[9]
-    thigh_length = p[19]
-    tail_down = p[22]
-    tail_b = p[23]
+    pitch_lead = p[20]
+    thigh_length = p[23]
+    tail_down = p[26]
+    tail_b = p[27]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, 0.0, -body_trunk_pitch]
 
 
@@ -197,27 +215,30 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stroke_trim = r[2]
+    desired_now = r[3]
+    return [speed_trim, predicted_apex, stroke_trim, desired_now]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[9]
-    leg_main_foot_z = s[10]
-    leg_main_hip_x = s[11]
-    leg_main_hip_z = s[12]
+    leg_main_foot_x = s[10]
+    leg_main_foot_z = s[11]
+    leg_main_hip_x = s[12]
+    leg_main_hip_z = s[13]
     tail_k = u[2]
     kp = p[6]
     kv = p[7]
     hip_kp = p[8]
     hip_kv = p[9]
-    thigh_length = p[19]
-    tail_down = p[22]
-    tail_b = p[23]
+    pitch_lead = p[20]
+    thigh_length = p[23]
+    tail_down = p[26]
+    tail_b = p[27]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, -body_trunk_pitch]
 
 
@@ -227,19 +248,21 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_k = s[1]
     com_z = s[6]
     speed_trim = r[0]
+    stroke_trim = r[2]
+    desired_now = r[3]
     t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [speed_trim, t1]
+    return [speed_trim, t1, stroke_trim, desired_now]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[9]
-    leg_main_foot_z = s[10]
-    leg_main_hip_x = s[11]
-    leg_main_hip_z = s[12]
-    time = s[15]
+    leg_main_foot_x = s[10]
+    leg_main_foot_z = s[11]
+    leg_main_hip_x = s[12]
+    leg_main_hip_z = s[13]
+    time = s[16]
     height = u[1]
     tail_k = u[2]
     kp = p[6]
@@ -251,13 +274,17 @@ def action_THRUST_0(s, u, p, r, tis):
     start_rest = p[14]
     ramp = p[15]
     k_height = p[16]
-    thigh_length = p[19]
-    tail_down = p[22]
-    tail_b = p[23]
+    min_stroke = p[18]
+    max_stroke = p[19]
+    pitch_lead = p[20]
+    thigh_length = p[23]
+    tail_down = p[26]
+    tail_b = p[27]
     predicted_apex = r[1]
-    t1 = min(ankle_rest, ramp*time + start_rest) + min(3.0*stroke, max(-3.0*stroke, k_height*(height - predicted_apex) + stroke))
+    stroke_trim = r[2]
+    t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, tail_down, -body_trunk_pitch]
 
 
@@ -265,18 +292,20 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    stroke_trim = r[2]
+    desired_now = r[3]
+    return [speed_trim, predicted_apex, stroke_trim, desired_now]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[9]
-    leg_main_foot_z = s[10]
-    leg_main_hip_x = s[11]
-    leg_main_hip_z = s[12]
-    time = s[15]
+    leg_main_foot_x = s[10]
+    leg_main_foot_z = s[11]
+    leg_main_hip_x = s[12]
+    leg_main_hip_z = s[13]
+    time = s[16]
     tail_k = u[2]
     kp = p[6]
     kv = p[7]
@@ -285,12 +314,13 @@ def action_UNLOADING_0(s, u, p, r, tis):
     ankle_rest = p[12]
     start_rest = p[14]
     ramp = p[15]
-    thigh_length = p[19]
-    tail_up = p[21]
-    tail_b = p[23]
+    pitch_lead = p[20]
+    thigh_length = p[23]
+    tail_up = p[25]
+    tail_b = p[27]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, tail_up, -body_trunk_pitch]
 
 
