@@ -45,6 +45,16 @@ SPACE: dict[str, tuple[float, float]] = {
     "tail_kv": (1.0, 6.0),
     "reach": (0.40, 0.47),
     "tuck": (0.32, 0.42),
+    "min_stroke": (-0.4, 0.0),
+    "max_stroke": (0.1, 0.5),
+    "tail_gain": (-0.6, 0.6),
+    "tail_k": (4.0, 14.0),
+    "swing_kp": (40.0, 150.0),
+    "hip_kp": (200.0, 600.0),
+    "stroke": (0.0, 0.2),
+    "tail_stop": (0.0, 60.0),
+    "tail_push": (0.0, 10.0),
+    "accel": (0.6, 1.5),
 }
 
 _cache: dict[str, object] = {}
@@ -142,7 +152,12 @@ def main() -> None:
                 trial[name] = min(hi, max(lo, c + rng.gauss(0, 0.3 * scale * (hi - lo))))
         rs = [run(v, time, trial) for v in speeds]
         sc = score(rs, time)
-        line = {"i": i, "score": round(sc, 2), "runs": rs, "set": {k: round(v, 4) for k, v in trial.items()}}
+        line = {
+            "i": i,
+            "score": round(sc, 2),
+            "runs": rs,
+            "set": {k: round(v, 4) for k, v in trial.items()},
+        }
         print(json.dumps(line), flush=True)
         if sc > best[0]:
             best = (sc, trial)

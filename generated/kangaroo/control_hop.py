@@ -20,45 +20,55 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "70ebbfd0244d7811"
+FINGERPRINT = "b9bccf396ac38a4e"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
+SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
 INPUTS = {
     "speed": 5.0,
     "height": 0.47,
-    "tail_k": 7.0,
+    "tail_k": 4.0,
 }
 PARAMS = {
     "k_speed": 0.03,
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.15,
-    "max_trim": 1.15,
-    "accel": 1.0,
-    "kp": 60.0,
-    "kv": 3.4,
+    "speed_ff": 0.0,
+    "max_trim": 0.3,
+    "accel": 1.3,
+    "kp": 145.0,
+    "kv": 10.0,
     "hip_kp": 400.0,
     "hip_kv": 8.0,
-    "swing_kp": 60.0,
+    "swing_kp": 97.0,
     "swing_kv": 3.0,
     "ankle_rest": -1.3089969389957472,
     "stroke": 0.08726646259971647,
     "start_rest": -2.007128639793479,
     "ramp": 1.0471975511965976,
-    "k_height": 1.4311699866353502,
+    "k_height": 1.3089969389957472,
     "k_apex": 0.0,
-    "min_stroke": -0.2617993877991494,
+    "min_stroke": -0.10471975511965978,
     "max_stroke": 0.2617993877991494,
     "pitch_lead": 0.013962634015954637,
     "reach": 0.46,
-    "tuck": 0.36,
+    "tuck": 0.345,
     "thigh_length": 0.13,
+    "shin_length": 0.26,
+    "foot_length": 0.174,
     "unload": 0.0,
     "tail_up": 0.0,
     "tail_down": -0.5235987755982988,
     "tail_b": 0.2,
-    "tail_kp": 44.0,
+    "tail_stop": 0.0,
+    "tail_low": -1.3962634015954636,
+    "tail_high": 1.0471975511965976,
+    "tail_push": 0.0,
+    "launch": 0.3,
+    "tail_gain": 0.0,
+    "hip_mid": -0.6108652381980153,
+    "tail_kp": 60.0,
     "tail_kv": 5.3,
 }
 RECORDS = ('speed_trim', 'predicted_apex', 'stroke_trim', 'desired_now')
@@ -74,13 +84,13 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)"""
-    leg_main_touching = s[15]
+    leg_main_touching = s[17]
     return (leg_main_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)"""
-    leg_main_touching = s[15]
+    leg_main_touching = s[17]
     return (leg_main_touching > 0.5)
 
 
@@ -99,9 +109,9 @@ def event_THRUST_0(s, u, p, r, tis):
 def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
-    leg_main_touching = s[15]
-    ankle_rest = p[12]
-    unload = p[24]
+    leg_main_touching = s[17]
+    ankle_rest = p[13]
+    unload = p[27]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -110,16 +120,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_vx = s[4]
     com_vz = s[5]
     com_z = s[6]
-    leg_main_flight_time = s[9]
-    leg_main_stance_time = s[14]
+    leg_main_flight_time = s[11]
+    leg_main_stance_time = s[16]
     speed = u[0]
     height = u[1]
     k_trim = p[3]
-    max_trim = p[4]
-    accel = p[5]
-    k_apex = p[17]
-    min_stroke = p[18]
-    max_stroke = p[19]
+    max_trim = p[5]
+    accel = p[6]
+    k_apex = p[18]
+    min_stroke = p[19]
+    max_stroke = p[20]
     speed_trim = r[0]
     predicted_apex = r[1]
     stroke_trim = r[2]
@@ -132,37 +142,58 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, place main (x, z)."""
+    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
     com_vz = s[5]
-    leg_main_hip_x = s[12]
-    leg_main_stance_time = s[14]
-    time = s[16]
+    coord_ankle_value = s[8]
+    coord_hip_value = s[9]
+    coord_tail_base_value = s[10]
+    leg_main_hip_x = s[14]
+    leg_main_stance_time = s[16]
+    time = s[18]
     tail_k = u[2]
     k_speed = p[0]
     max_correction = p[1]
     stance_guess = p[2]
-    swing_kp = p[10]
-    swing_kv = p[11]
-    ankle_rest = p[12]
-    start_rest = p[14]
-    ramp = p[15]
-    reach = p[21]
-    tuck = p[22]
-    tail_up = p[25]
-    tail_b = p[27]
-    tail_kp = p[28]
-    tail_kv = p[29]
+    speed_ff = p[4]
+    swing_kp = p[11]
+    swing_kv = p[12]
+    ankle_rest = p[13]
+    start_rest = p[15]
+    ramp = p[16]
+    reach = p[22]
+    tuck = p[23]
+    thigh_length = p[24]
+    shin_length = p[25]
+    foot_length = p[26]
+    tail_up = p[28]
+    tail_b = p[30]
+    tail_stop = p[31]
+    tail_low = p[32]
+    tail_high = p[33]
+    tail_gain = p[36]
+    hip_mid = p[37]
+    tail_kp = p[38]
+    tail_kv = p[39]
     speed_trim = r[0]
     desired_now = r[3]
     t1 = min(ankle_rest, ramp*time + start_rest)
-    t2 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv
-    t3 = (com_vz > 0.0)
-    t4 = 0.8*((tuck) if t3 else (reach))
-    t5 = min(t4, max(-t4, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now - speed_trim)))))
-    t6 = -(-t5*t5 + ((tuck*tuck) if t3 else (reach*reach)))**0.5
+    t2 = (com_vz > 0.0)
+    t3 = 0.8*((tuck) if t2 else (reach))
+    t4 = min(t3, max(-t3, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
+    t5 = t4*t4
+    t6 = -t5 + ((tuck*tuck) if t2 else (reach*reach))
+    t7 = foot_length*math.cos(coord_ankle_value) + shin_length
+    t8 = math.sin(coord_ankle_value)
+    t9 = foot_length*foot_length*t8*t8 + t7*t7
+    t10 = t9**0.5
+    t11 = min(1.0, max(-1.0, 0.5*(-t9 - thigh_length*thigh_length + min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length)*min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length))/(t10*thigh_length)))
+    t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + thigh_length)
+    t13 = math.acos(t11) - math.atan2(foot_length*t8, t7)
+    t14 = -tail_gain*(coord_hip_value - hip_mid) + tail_up
+    t15 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
         t1,
         swing_kp,
@@ -170,13 +201,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
+        t12,
+        t13,
         tail_k,
         tail_b,
-        tail_up,
-        t2,
+        t14,
+        t15,
         -body_trunk_pitch,
-        t5,
-        t6,
     ]
 
 
@@ -193,22 +224,30 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[10]
-    leg_main_foot_z = s[11]
-    leg_main_hip_x = s[12]
-    leg_main_hip_z = s[13]
+    coord_hip_value = s[9]
+    leg_main_foot_x = s[12]
+    leg_main_foot_z = s[13]
+    leg_main_hip_x = s[14]
+    leg_main_hip_z = s[15]
+    time = s[18]
     tail_k = u[2]
-    kp = p[6]
-    kv = p[7]
-    hip_kp = p[8]
-    hip_kv = p[9]
-    pitch_lead = p[20]
-    thigh_length = p[23]
-    tail_down = p[26]
-    tail_b = p[27]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
+    tail_push = p[34]
+    launch = p[35]
+    tail_gain = p[36]
+    hip_mid = p[37]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, 0.0, -body_trunk_pitch]
+    t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
+    t4 = ((-tail_push) if (launch > time) else (0.0))
+    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
@@ -221,25 +260,33 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
+    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[10]
-    leg_main_foot_z = s[11]
-    leg_main_hip_x = s[12]
-    leg_main_hip_z = s[13]
+    coord_hip_value = s[9]
+    leg_main_foot_x = s[12]
+    leg_main_foot_z = s[13]
+    leg_main_hip_x = s[14]
+    leg_main_hip_z = s[15]
+    time = s[18]
     tail_k = u[2]
-    kp = p[6]
-    kv = p[7]
-    hip_kp = p[8]
-    hip_kv = p[9]
-    pitch_lead = p[20]
-    thigh_length = p[23]
-    tail_down = p[26]
-    tail_b = p[27]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
+    tail_push = p[34]
+    launch = p[35]
+    tail_gain = p[36]
+    hip_mid = p[37]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, tail_down, -body_trunk_pitch]
+    t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
+    t4 = ((-tail_push) if (launch > time) else (0.0))
+    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch]
 
 
 def entry_THRUST_0(s, u, p, r, tis):
@@ -255,37 +302,44 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
+    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[10]
-    leg_main_foot_z = s[11]
-    leg_main_hip_x = s[12]
-    leg_main_hip_z = s[13]
-    time = s[16]
+    coord_hip_value = s[9]
+    leg_main_foot_x = s[12]
+    leg_main_foot_z = s[13]
+    leg_main_hip_x = s[14]
+    leg_main_hip_z = s[15]
+    time = s[18]
     height = u[1]
     tail_k = u[2]
-    kp = p[6]
-    kv = p[7]
-    hip_kp = p[8]
-    hip_kv = p[9]
-    ankle_rest = p[12]
-    stroke = p[13]
-    start_rest = p[14]
-    ramp = p[15]
-    k_height = p[16]
-    min_stroke = p[18]
-    max_stroke = p[19]
-    pitch_lead = p[20]
-    thigh_length = p[23]
-    tail_down = p[26]
-    tail_b = p[27]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_rest = p[13]
+    stroke = p[14]
+    start_rest = p[15]
+    ramp = p[16]
+    k_height = p[17]
+    min_stroke = p[19]
+    max_stroke = p[20]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
+    tail_push = p[34]
+    launch = p[35]
+    tail_gain = p[36]
+    hip_mid = p[37]
     predicted_apex = r[1]
     stroke_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, tail_down, -body_trunk_pitch]
+    t4 = tail_down - tail_gain*(coord_hip_value - hip_mid)
+    t5 = ((-tail_push) if (launch > time) else (0.0))
+    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, t5, -body_trunk_pitch]
 
 
 def entry_UNLOADING_0(s, u, p, r, tis):
@@ -301,27 +355,31 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    leg_main_foot_x = s[10]
-    leg_main_foot_z = s[11]
-    leg_main_hip_x = s[12]
-    leg_main_hip_z = s[13]
-    time = s[16]
+    coord_hip_value = s[9]
+    leg_main_foot_x = s[12]
+    leg_main_foot_z = s[13]
+    leg_main_hip_x = s[14]
+    leg_main_hip_z = s[15]
+    time = s[18]
     tail_k = u[2]
-    kp = p[6]
-    kv = p[7]
-    hip_kp = p[8]
-    hip_kv = p[9]
-    ankle_rest = p[12]
-    start_rest = p[14]
-    ramp = p[15]
-    pitch_lead = p[20]
-    thigh_length = p[23]
-    tail_up = p[25]
-    tail_b = p[27]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_rest = p[13]
+    start_rest = p[15]
+    ramp = p[16]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_up = p[28]
+    tail_b = p[30]
+    tail_gain = p[36]
+    hip_mid = p[37]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, tail_up, -body_trunk_pitch]
+    t4 = -tail_gain*(coord_hip_value - hip_mid) + tail_up
+    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, -body_trunk_pitch]
 
 
 EVENTS = {
@@ -347,14 +405,13 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
+    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('hip_servo', 'setpoint'), ('knee_servo', 'setpoint'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
     (0, 1): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
-    (0, 2): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
-    (0, 3): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
+    (0, 2): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
+    (0, 3): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
     (0, 4): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.
 PLACES = {
-    (0, 0): (('main', ('x', 'z'), ('hip_servo', 'knee_servo')),),
 }

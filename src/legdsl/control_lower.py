@@ -166,7 +166,9 @@ class Lowerer:
                 out.append((self._role_name(s.first, env), self._role_name(s.second, env)))
             elif isinstance(s, ast.InvokeStmt):
                 action = self.actions[s.action.name]
-                inner = _Env(env.binding, self._bind_params(action, s, env))
+                # only roles matter for swaps: the other arguments may use `let` locals,
+                # which this walk does not evaluate
+                inner = _Env(env.binding, self._bind_params(action, s, env, roles_only=True))
                 out += self._swaps(action.body, inner)
         return out
 
@@ -257,7 +259,7 @@ class Lowerer:
         ]
 
     def _bind_params(
-        self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env
+        self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env, roles_only: bool = False
     ) -> dict[str, object]:
         bound: dict[str, object] = {}
         for param, arg in zip(action.params, call.args, strict=True):
@@ -267,7 +269,7 @@ class Lowerer:
                 env.local.get(arg.ident.name), _RoleName
             ):
                 bound[param.name] = env.local[arg.ident.name]
-            else:
+            elif not roles_only:
                 bound[param.name] = self.ref(arg, env)
         return bound
 
