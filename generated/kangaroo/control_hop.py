@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "b9bccf396ac38a4e"
+FINGERPRINT = "04342934c79a395f"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -182,7 +182,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = (com_vz > 0.0)
     t3 = 0.8*((tuck) if t2 else (reach))
-    t4 = min(t3, max(-t3, 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
+    t4 = min(t3, max(-t3, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
     t5 = t4*t4
     t6 = -t5 + ((tuck*tuck) if t2 else (reach*reach))
     t7 = foot_length*math.cos(coord_ankle_value) + shin_length
