@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "04342934c79a395f"
+FINGERPRINT = "e18d0859a0dd83da"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -34,8 +34,8 @@ PARAMS = {
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.15,
-    "speed_ff": 0.0,
-    "max_trim": 0.3,
+    "speed_ff": 0.1,
+    "max_trim": 1.0,
     "accel": 1.3,
     "kp": 145.0,
     "kv": 10.0,
