@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "e18d0859a0dd83da"
+FINGERPRINT = "d08a07383aed8fd7"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -43,6 +43,7 @@ PARAMS = {
     "hip_kv": 8.0,
     "swing_kp": 97.0,
     "swing_kv": 3.0,
+    "ankle_k": 150.0,
     "ankle_rest": -1.3089969389957472,
     "stroke": 0.08726646259971647,
     "start_rest": -2.007128639793479,
@@ -110,8 +111,8 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
     leg_main_touching = s[17]
-    ankle_rest = p[13]
-    unload = p[27]
+    ankle_rest = p[14]
+    unload = p[28]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -127,9 +128,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[3]
     max_trim = p[5]
     accel = p[6]
-    k_apex = p[18]
-    min_stroke = p[19]
-    max_stroke = p[20]
+    k_apex = p[19]
+    min_stroke = p[20]
+    max_stroke = p[21]
     speed_trim = r[0]
     predicted_apex = r[1]
     stroke_trim = r[2]
@@ -142,7 +143,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
+    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
@@ -160,23 +161,24 @@ def action_FLIGHT_0(s, u, p, r, tis):
     speed_ff = p[4]
     swing_kp = p[11]
     swing_kv = p[12]
-    ankle_rest = p[13]
-    start_rest = p[15]
-    ramp = p[16]
-    reach = p[22]
-    tuck = p[23]
-    thigh_length = p[24]
-    shin_length = p[25]
-    foot_length = p[26]
-    tail_up = p[28]
-    tail_b = p[30]
-    tail_stop = p[31]
-    tail_low = p[32]
-    tail_high = p[33]
-    tail_gain = p[36]
-    hip_mid = p[37]
-    tail_kp = p[38]
-    tail_kv = p[39]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    start_rest = p[16]
+    ramp = p[17]
+    reach = p[23]
+    tuck = p[24]
+    thigh_length = p[25]
+    shin_length = p[26]
+    foot_length = p[27]
+    tail_up = p[29]
+    tail_b = p[31]
+    tail_stop = p[32]
+    tail_low = p[33]
+    tail_high = p[34]
+    tail_gain = p[37]
+    hip_mid = p[38]
+    tail_kp = p[39]
+    tail_kv = p[40]
     speed_trim = r[0]
     desired_now = r[3]
     t1 = min(ankle_rest, ramp*time + start_rest)
@@ -208,6 +210,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
         t14,
         t15,
         -body_trunk_pitch,
+        ankle_k,
     ]
 
 
@@ -221,7 +224,7 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
+    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     coord_hip_value = s[9]
@@ -235,19 +238,20 @@ def action_LOADING_0(s, u, p, r, tis):
     kv = p[8]
     hip_kp = p[9]
     hip_kv = p[10]
-    pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_push = p[34]
-    launch = p[35]
-    tail_gain = p[36]
-    hip_mid = p[37]
+    ankle_k = p[13]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_push = p[35]
+    launch = p[36]
+    tail_gain = p[37]
+    hip_mid = p[38]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
     t4 = ((-tail_push) if (launch > time) else (0.0))
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch]
+    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch, ankle_k]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
@@ -260,7 +264,7 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
+    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     coord_hip_value = s[9]
@@ -274,19 +278,20 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     kv = p[8]
     hip_kp = p[9]
     hip_kv = p[10]
-    pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_push = p[34]
-    launch = p[35]
-    tail_gain = p[36]
-    hip_mid = p[37]
+    ankle_k = p[13]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_push = p[35]
+    launch = p[36]
+    tail_gain = p[37]
+    hip_mid = p[38]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
     t4 = ((-tail_push) if (launch > time) else (0.0))
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch]
+    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch, ankle_k]
 
 
 def entry_THRUST_0(s, u, p, r, tis):
@@ -302,7 +307,7 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint."""
+    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     coord_hip_value = s[9]
@@ -317,21 +322,22 @@ def action_THRUST_0(s, u, p, r, tis):
     kv = p[8]
     hip_kp = p[9]
     hip_kv = p[10]
-    ankle_rest = p[13]
-    stroke = p[14]
-    start_rest = p[15]
-    ramp = p[16]
-    k_height = p[17]
-    min_stroke = p[19]
-    max_stroke = p[20]
-    pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_push = p[34]
-    launch = p[35]
-    tail_gain = p[36]
-    hip_mid = p[37]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    stroke = p[15]
+    start_rest = p[16]
+    ramp = p[17]
+    k_height = p[18]
+    min_stroke = p[20]
+    max_stroke = p[21]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_push = p[35]
+    launch = p[36]
+    tail_gain = p[37]
+    hip_mid = p[38]
     predicted_apex = r[1]
     stroke_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
@@ -339,7 +345,21 @@ def action_THRUST_0(s, u, p, r, tis):
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t4 = tail_down - tail_gain*(coord_hip_value - hip_mid)
     t5 = ((-tail_push) if (launch > time) else (0.0))
-    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, t5, -body_trunk_pitch]
+    return [
+        t1,
+        hip_kp,
+        hip_kv,
+        t2,
+        0.0,
+        0.0,
+        t3,
+        tail_k,
+        tail_b,
+        t4,
+        t5,
+        -body_trunk_pitch,
+        ankle_k,
+    ]
 
 
 def entry_UNLOADING_0(s, u, p, r, tis):
@@ -352,7 +372,7 @@ def entry_UNLOADING_0(s, u, p, r, tis):
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint."""
+    """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     coord_hip_value = s[9]
@@ -366,20 +386,21 @@ def action_UNLOADING_0(s, u, p, r, tis):
     kv = p[8]
     hip_kp = p[9]
     hip_kv = p[10]
-    ankle_rest = p[13]
-    start_rest = p[15]
-    ramp = p[16]
-    pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_up = p[28]
-    tail_b = p[30]
-    tail_gain = p[36]
-    hip_mid = p[37]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    start_rest = p[16]
+    ramp = p[17]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_up = p[29]
+    tail_b = p[31]
+    tail_gain = p[37]
+    hip_mid = p[38]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t4 = -tail_gain*(coord_hip_value - hip_mid) + tail_up
-    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, -body_trunk_pitch]
+    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, -body_trunk_pitch, ankle_k]
 
 
 EVENTS = {
@@ -405,11 +426,11 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('hip_servo', 'setpoint'), ('knee_servo', 'setpoint'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
-    (0, 1): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
-    (0, 2): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
-    (0, 3): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint')),
-    (0, 4): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint')),
+    (0, 0): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('hip_servo', 'setpoint'), ('knee_servo', 'setpoint'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint'), ('ankle_spring', 'k')),
+    (0, 1): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint'), ('ankle_spring', 'k')),
+    (0, 2): (('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint'), ('ankle_spring', 'k')),
+    (0, 3): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('tail_motor', 'force'), ('neck_servo', 'setpoint'), ('ankle_spring', 'k')),
+    (0, 4): (('ankle_spring', 'rest'), ('hip_servo', 'kp'), ('hip_servo', 'kv'), ('hip_servo', 'setpoint'), ('knee_servo', 'kp'), ('knee_servo', 'kv'), ('knee_motor', 'force'), ('tail_spring', 'k'), ('tail_spring', 'b'), ('tail_spring', 'rest'), ('neck_servo', 'setpoint'), ('ankle_spring', 'k')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.
