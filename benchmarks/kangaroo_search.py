@@ -23,6 +23,7 @@ import numpy as np
 
 from legdsl.checker import check_model
 from legdsl.controller import InputChange, StateMachine
+from legdsl.metrics import compute_metrics
 from legdsl.runner import load_controller, load_dynamics
 from legdsl.simulate import RunOptions, Simulation
 
@@ -86,6 +87,17 @@ def run(speed: float, time: float, settings: dict[str, float], later: float | No
     sel = t >= start
     mean = float((x[sel][-1] - x[sel][0]) / (t[sel][-1] - t[sel][0])) if sel.sum() > 20 else 0.0
     target = later if later is not None else speed
+    table2: dict[str, float] = {}
+    if res.status == "ok":
+        m = compute_metrics(tr, t_from=start, joint="tail_base", against="hip")
+        for key, short in (
+            ("stride_duration", "stride"),
+            ("stance_duration", "stance_m"),
+            ("peak_vertical_acceleration", "peak_g"),
+            ("joint_magnitude", "tail_wag"),
+            ("joint_correlation", "tail_corr"),
+        ):
+            table2[short] = round(m.value(key), 3)
     pitch = tr.root_rpy[:, 1]
     toe = tr.contact[:, tr.contact_names.index("toe")][sel] > 0
     edges = np.flatnonzero(np.diff(toe.astype(int)))
@@ -103,6 +115,7 @@ def run(speed: float, time: float, settings: dict[str, float], later: float | No
         "stance": round(float(np.median(stance)), 3) if len(stance) else 0,
         "flight": round(float(np.median(flight)), 3) if len(flight) else 0,
         "apex": round(float(np.percentile(tr.com[sel, 2], 98)), 3) if sel.any() else 0,
+        **table2,
     }
 
 
