@@ -6,9 +6,11 @@ and its mean forward speed after 3 s against the command. Usage:
 
     PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py eval speed=3,5 time=20 k_apex=40 ...
     PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py random N seed=1 time=10 speed=3,5
+    PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py random N score=tail speed=3,5 time=12
 
 Values are in SI units (radians for angles). `random` perturbs the parameters
-named in SPACE around the .leg's values and prints the best settings.
+named in SPACE around the .leg's values and prints the best settings
+(`score=tail`: only the tail's, scored also by its wag and anti-phase).
 """
 
 from __future__ import annotations
@@ -56,6 +58,9 @@ SPACE: dict[str, tuple[float, float]] = {
     "tail_stop": (0.0, 60.0),
     "tail_push": (0.0, 10.0),
     "accel": (0.6, 1.5),
+    "tail_down": (-0.8, 0.0),
+    "tail_up": (-0.3, 0.5),
+    "tail_b": (0.05, 1.0),
 }
 
 _cache: dict[str, object] = {}
@@ -119,11 +124,16 @@ def run(speed: float, time: float, settings: dict[str, float], later: float | No
     }
 
 
-def score(rs: list[dict], time: float) -> float:
+def score(rs: list[dict], time: float, tail: bool = False) -> float:
     s = 0.0
     for r in rs:
         s += r["up"] / time * 10 - (abs(r["err"]) * 10 if r["up"] >= time else 5)
+        if tail and r["up"] >= time:  # the tail's wag toward the animal's 30 deg, in anti-phase
+            s -= abs(r["tail_wag"] - 30) / 30 + r["tail_corr"]
     return s
+
+
+TAIL = ("tail_k", "tail_kp", "tail_kv", "tail_down", "tail_up", "tail_b", "tail_gain", "tail_stop")
 
 
 def parse(args: list[str]) -> dict[str, str]:
@@ -151,6 +161,8 @@ def main() -> None:
     speeds = [float(v) for v in kv.pop("speed", "3,5").split(",")]
     time = float(kv.pop("time", "10"))
     scale = float(kv.pop("scale", "1"))
+    tail = kv.pop("score", "speed") == "tail"
+    names = sorted(TAIL) if tail else sorted(SPACE)
     base = {k: float(v) for k, v in kv.items()}
     best = (-1e9, base)
     for i in range(n):
@@ -159,12 +171,12 @@ def main() -> None:
         else:
             centre = best[1]
             trial = dict(centre)
-            for name in rng.sample(sorted(SPACE), 3):
+            for name in rng.sample(names, 3):
                 lo, hi = SPACE[name]
                 c = centre.get(name, (lo + hi) / 2)
                 trial[name] = min(hi, max(lo, c + rng.gauss(0, 0.3 * scale * (hi - lo))))
         rs = [run(v, time, trial) for v in speeds]
-        sc = score(rs, time)
+        sc = score(rs, time, tail)
         line = {
             "i": i,
             "score": round(sc, 2),

@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "299b5fe06bc4b48e"
+FINGERPRINT = "93eaaa352fa19bc4"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -61,8 +61,8 @@ PARAMS = {
     "unload": 0.0,
     "tail_up": 0.0,
     "tail_down": -0.5235987755982988,
-    "tail_b": 0.2,
-    "tail_stop": 0.0,
+    "tail_b": 0.8,
+    "tail_stop": 15.0,
     "tail_low": -1.3962634015954636,
     "tail_high": 1.0471975511965976,
     "tail_push": 0.0,
@@ -70,7 +70,7 @@ PARAMS = {
     "tail_gain": 0.0,
     "hip_mid": -0.6108652381980153,
     "tail_kp": 60.0,
-    "tail_kv": 5.3,
+    "tail_kv": 4.0,
 }
 RECORDS = ('speed_trim', 'predicted_apex', 'stroke_trim', 'desired_now')
 # (binding while waiting, state) -> the binding once the state's swaps are done
