@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "93eaaa352fa19bc4"
+FINGERPRINT = "9544b34d3e45145a"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -34,6 +34,7 @@ PARAMS = {
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.15,
+    "k_trim_ramp": 0.05,
     "speed_ff": 0.1,
     "max_trim": 1.0,
     "accel": 1.3,
@@ -111,8 +112,8 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
     leg_main_touching = s[17]
-    ankle_rest = p[14]
-    unload = p[28]
+    ankle_rest = p[15]
+    unload = p[29]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -126,20 +127,22 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     speed = u[0]
     height = u[1]
     k_trim = p[3]
-    max_trim = p[5]
-    accel = p[6]
-    k_apex = p[19]
-    min_stroke = p[20]
-    max_stroke = p[21]
+    k_trim_ramp = p[4]
+    max_trim = p[6]
+    accel = p[7]
+    k_apex = p[20]
+    min_stroke = p[21]
+    max_stroke = p[22]
     speed_trim = r[0]
     predicted_apex = r[1]
     stroke_trim = r[2]
     desired_now = r[3]
-    t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
-    t2 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
-    t3 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    t4 = desired_now + min(t3, max(-t3, -desired_now + speed))
-    return [t1, predicted_apex, t2, t4]
+    t1 = desired_now - speed
+    t2 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t1) < 0.05) else (k_trim_ramp))))
+    t3 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
+    t4 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
+    t5 = desired_now + min(t4, max(-t1, -t4))
+    return [t2, predicted_apex, t3, t5]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -158,27 +161,27 @@ def action_FLIGHT_0(s, u, p, r, tis):
     k_speed = p[0]
     max_correction = p[1]
     stance_guess = p[2]
-    speed_ff = p[4]
-    swing_kp = p[11]
-    swing_kv = p[12]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    reach = p[23]
-    tuck = p[24]
-    thigh_length = p[25]
-    shin_length = p[26]
-    foot_length = p[27]
-    tail_up = p[29]
-    tail_b = p[31]
-    tail_stop = p[32]
-    tail_low = p[33]
-    tail_high = p[34]
-    tail_gain = p[37]
-    hip_mid = p[38]
-    tail_kp = p[39]
-    tail_kv = p[40]
+    speed_ff = p[5]
+    swing_kp = p[12]
+    swing_kv = p[13]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    reach = p[24]
+    tuck = p[25]
+    thigh_length = p[26]
+    shin_length = p[27]
+    foot_length = p[28]
+    tail_up = p[30]
+    tail_b = p[32]
+    tail_stop = p[33]
+    tail_low = p[34]
+    tail_high = p[35]
+    tail_gain = p[38]
+    hip_mid = p[39]
+    tail_kp = p[40]
+    tail_kv = p[41]
     speed_trim = r[0]
     desired_now = r[3]
     t1 = min(ankle_rest, ramp*time + start_rest)
@@ -234,19 +237,19 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     time = s[18]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
-    tail_push = p[35]
-    launch = p[36]
-    tail_gain = p[37]
-    hip_mid = p[38]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[23]
+    thigh_length = p[26]
+    tail_down = p[31]
+    tail_b = p[32]
+    tail_push = p[36]
+    launch = p[37]
+    tail_gain = p[38]
+    hip_mid = p[39]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
@@ -274,19 +277,19 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     time = s[18]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
-    tail_push = p[35]
-    launch = p[36]
-    tail_gain = p[37]
-    hip_mid = p[38]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[23]
+    thigh_length = p[26]
+    tail_down = p[31]
+    tail_b = p[32]
+    tail_push = p[36]
+    launch = p[37]
+    tail_gain = p[38]
+    hip_mid = p[39]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
@@ -318,26 +321,26 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[18]
     height = u[1]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    stroke = p[15]
-    start_rest = p[16]
-    ramp = p[17]
-    k_height = p[18]
-    min_stroke = p[20]
-    max_stroke = p[21]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
-    tail_push = p[35]
-    launch = p[36]
-    tail_gain = p[37]
-    hip_mid = p[38]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    stroke = p[16]
+    start_rest = p[17]
+    ramp = p[18]
+    k_height = p[19]
+    min_stroke = p[21]
+    max_stroke = p[22]
+    pitch_lead = p[23]
+    thigh_length = p[26]
+    tail_down = p[31]
+    tail_b = p[32]
+    tail_push = p[36]
+    launch = p[37]
+    tail_gain = p[38]
+    hip_mid = p[39]
     predicted_apex = r[1]
     stroke_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
@@ -382,20 +385,20 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     time = s[18]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_up = p[29]
-    tail_b = p[31]
-    tail_gain = p[37]
-    hip_mid = p[38]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    pitch_lead = p[23]
+    thigh_length = p[26]
+    tail_up = p[30]
+    tail_b = p[32]
+    tail_gain = p[38]
+    hip_mid = p[39]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
