@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "9544b34d3e45145a"
+FINGERPRINT = "beed20eecf7f4ede"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -35,7 +35,7 @@ PARAMS = {
     "stance_guess": 0.11,
     "k_trim": 0.15,
     "k_trim_ramp": 0.05,
-    "speed_ff": 0.1,
+    "speed_ff": 0.13,
     "max_trim": 1.0,
     "accel": 1.3,
     "kp": 145.0,
@@ -44,7 +44,7 @@ PARAMS = {
     "hip_kv": 8.0,
     "swing_kp": 97.0,
     "swing_kv": 3.0,
-    "ankle_k": 150.0,
+    "ankle_k": 115.0,
     "ankle_rest": -1.3089969389957472,
     "stroke": 0.08726646259971647,
     "start_rest": -2.007128639793479,
