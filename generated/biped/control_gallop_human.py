@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "89fab14c35d6819f"
+FINGERPRINT = "b5cc0fe61e5b8595"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -32,8 +32,8 @@ INPUTS = {
 }
 PARAMS = {
     "k_speed": 0.08,
-    "k_trim": 0.1,
-    "trim_band": 0.2,
+    "k_trim": 0.25,
+    "trim_band": 0.3,
     "stance_guess": 0.14,
     "kp": 300.0,
     "kv": 25.0,
@@ -44,7 +44,7 @@ PARAMS = {
     "swing_kp": 300.0,
     "swing_kv": 10.0,
     "stroke": 0.01,
-    "k_height": 0.5,
+    "k_height": 0.0,
     "short": -0.2,
     "slew": 2.0,
     "swing_slew": 4.0,
@@ -52,9 +52,9 @@ PARAMS = {
     "double_time": 0.06,
     "mirror_gain": 1.0,
     "extend_lead": 0.14,
-    "pitch_lead": -0.06981317007977318,
+    "pitch_lead": 0.0,
 }
-RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'speed_trim', 'predicted_apex', 'stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -108,7 +108,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_1 = r[7]
     speed_trim = r[8]
     predicted_apex = r[9]
-    stroke = r[10]
+    thrust_stroke = r[10]
     step_speed = r[11]
     lifted = r[12]
     lifted_x = r[13]
@@ -128,7 +128,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         lifted_1,
         t3,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         t4,
         time,
         com_x,
@@ -193,7 +193,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_SINGLE_1_0(s, u, p, r, tis):
-    """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, stroke)."""
+    """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke)."""
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
     com_vz = s[11]
@@ -216,7 +216,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     lifted_x = r[13]
     lifted_y = r[14]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
-    t2 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    t2 = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
         stance_2,
         extend_at,
@@ -271,14 +271,14 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    stroke = p[12]
     short = p[14]
     swing_slew = p[16]
     swing_wait = p[17]
     pitch_lead = p[21]
     stance_2 = r[0]
     speed_trim = r[8]
-    t1 = ((stroke) if (leg_left_rate > 0.0) else (0.0))
+    thrust_stroke = r[10]
+    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
@@ -327,7 +327,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     lifted_1 = r[7]
     speed_trim = r[8]
     predicted_apex = r[9]
-    stroke = r[10]
+    thrust_stroke = r[10]
     step_speed = r[11]
     lifted = r[12]
     lifted_x = r[13]
@@ -343,7 +343,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         lifted_1,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -388,13 +388,13 @@ def action_DOUBLE_0(s, u, p, r, tis):
     kv_roll = p[7]
     kp_yaw = p[8]
     yaw_lead = p[9]
-    stroke = p[12]
     short = p[14]
     slew = p[15]
     double_time = p[18]
     pitch_lead = p[21]
-    t1 = ((stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
-    t2 = ((stroke) if (leg_right_rate > 0.0) else (0.0))
+    thrust_stroke = r[10]
+    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
+    t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t3 = act_leg_l_spring_force/leg_left_length
     t4 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
     t5 = t3*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x) + t4
@@ -441,7 +441,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     landed_2 = r[5]
     speed_trim = r[8]
     predicted_apex = r[9]
-    stroke = r[10]
+    thrust_stroke = r[10]
     step_speed = r[11]
     lifted = r[12]
     lifted_x = r[13]
@@ -458,7 +458,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         time,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -497,12 +497,12 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    stroke = p[12]
     short = p[14]
     slew = p[15]
     mirror_gain = p[19]
     pitch_lead = p[21]
-    t1 = ((stroke) if (leg_right_rate > 0.0) else (0.0))
+    thrust_stroke = r[10]
+    t1 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)

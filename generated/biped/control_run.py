@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "89dca2c26c0b5a08"
+FINGERPRINT = "2564e380c1ee68ba"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -53,7 +53,7 @@ PARAMS = {
     "full": 0.82,
     "slew": 2.0,
 }
-RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -146,7 +146,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -154,7 +154,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, stroke, t3, time, com_x, com_y]
+    return [t1, landed, t2, predicted_apex, thrust_stroke, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -223,7 +223,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -233,7 +233,7 @@ def entry_LOADING_0(s, u, p, r, tis):
         time,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -276,7 +276,7 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -286,7 +286,7 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         landed,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -362,13 +362,13 @@ def entry_THRUST_0(s, u, p, r, tis):
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
     lifted_y = r[8]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, speed_trim, t1, stroke, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, speed_trim, t1, thrust_stroke, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -443,7 +443,7 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -453,7 +453,7 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         landed,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -504,7 +504,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -512,7 +512,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, stroke, t3, time, com_x, com_y]
+    return [t1, landed, t2, predicted_apex, thrust_stroke, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -581,7 +581,7 @@ def entry_LOADING_1(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -591,7 +591,7 @@ def entry_LOADING_1(s, u, p, r, tis):
         time,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -634,7 +634,7 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -644,7 +644,7 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         landed,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
@@ -720,13 +720,13 @@ def entry_THRUST_1(s, u, p, r, tis):
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
     lifted_y = r[8]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, speed_trim, t1, stroke, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, speed_trim, t1, thrust_stroke, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -801,7 +801,7 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    stroke = r[4]
+    thrust_stroke = r[4]
     step_speed = r[5]
     lifted = r[6]
     lifted_x = r[7]
@@ -811,7 +811,7 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         landed,
         speed_trim,
         predicted_apex,
-        stroke,
+        thrust_stroke,
         step_speed,
         lifted,
         lifted_x,
