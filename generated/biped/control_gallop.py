@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "34aa6516bc7c8a4d"
+FINGERPRINT = "ff4d71c71b2b89a2"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -46,6 +46,7 @@ PARAMS = {
     "stroke": 0.01,
     "k_height": 0.2,
     "stagger": -0.05,
+    "double_time": 0.06,
     "short": -0.2,
     "slew": 2.0,
     "extend_lead": 0.14,
@@ -96,7 +97,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    extend_lead = p[17]
+    extend_lead = p[18]
     landed_1 = r[2]
     landed_2 = r[3]
     stance_1 = r[4]
@@ -149,8 +150,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     stagger = p[14]
-    short = p[15]
-    slew = p[16]
+    short = p[16]
+    slew = p[17]
     stance_2 = r[0]
     extend_at = r[1]
     stance_1 = r[4]
@@ -276,7 +277,7 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    pitch_lead = p[18]
+    pitch_lead = p[19]
     stance_2 = r[0]
     speed_trim = r[8]
     thrust_stroke = r[10]
@@ -388,9 +389,12 @@ def action_DOUBLE_0(s, u, p, r, tis):
     kv_roll = p[7]
     kp_yaw = p[8]
     yaw_lead = p[9]
-    pitch_lead = p[18]
+    double_time = p[15]
+    short = p[16]
+    slew = p[17]
+    pitch_lead = p[19]
     thrust_stroke = r[10]
-    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
+    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t3 = act_leg_l_spring_force/leg_left_length
     t4 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
@@ -492,9 +496,9 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    short = p[15]
-    slew = p[16]
-    pitch_lead = p[18]
+    short = p[16]
+    slew = p[17]
+    pitch_lead = p[19]
     held_pitch = r[6]
     held_roll = r[7]
     thrust_stroke = r[10]
