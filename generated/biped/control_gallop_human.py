@@ -20,10 +20,10 @@ import math
 
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "4358c848b325bbfd"
+FINGERPRINT = "60dae518a3eba080"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -49,12 +49,13 @@ PARAMS = {
     "slew": 2.0,
     "swing_slew": 4.0,
     "swing_wait": 0.02,
-    "double_time": 0.06,
+    "double_time": 0.04,
+    "lift_slew": 4.0,
     "mirror_gain": 1.0,
     "extend_lead": 0.14,
     "pitch_lead": 0.0,
 }
-RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'leg_rest_at_lift', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -66,53 +67,54 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(second)"""
-    leg_right_touching = s[36]
+    leg_right_touching = s[37]
     return (leg_right_touching < 0.5)
 
 
 def event_SINGLE_1_0(s, u, p, r, tis):
     """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)"""
-    leg_left_touching = s[27]
+    leg_left_touching = s[28]
     return (leg_left_touching > 0.5)
 
 
 def event_DOUBLE_0(s, u, p, r, tis):
     """Enter DOUBLE (waiting under binding 0) when: touchdown(second)"""
-    leg_right_touching = s[36]
+    leg_right_touching = s[37]
     return (leg_right_touching > 0.5)
 
 
 def event_SINGLE_2_0(s, u, p, r, tis):
     """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)"""
-    leg_left_touching = s[27]
+    leg_left_touching = s[28]
     return (leg_left_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at, held_pitch, held_roll)."""
-    body_trunk_yaw = s[7]
-    com_vz = s[11]
-    com_x = s[12]
-    com_y = s[13]
-    coord_hip_r_x_value = s[16]
-    coord_hip_r_y_value = s[17]
-    time = s[37]
+    body_trunk_yaw = s[8]
+    com_vz = s[12]
+    com_x = s[13]
+    com_y = s[14]
+    coord_hip_r_x_value = s[17]
+    coord_hip_r_y_value = s[18]
+    time = s[38]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    extend_lead = p[20]
+    extend_lead = p[21]
     landed_1 = r[4]
     landed_2 = r[5]
     stance_1 = r[6]
     lifted_1 = r[7]
-    speed_trim = r[8]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    leg_rest_at_lift = r[8]
+    speed_trim = r[9]
+    predicted_apex = r[10]
+    thrust_stroke = r[11]
+    step_speed = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
     t2 = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
     t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
@@ -126,6 +128,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         landed_2,
         stance_1,
         lifted_1,
+        leg_rest_at_lift,
         t3,
         predicted_apex,
         thrust_stroke,
@@ -138,12 +141,12 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y)."""
-    body_trunk_yaw = s[7]
-    com_vx = s[9]
-    com_vy = s[10]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    time = s[37]
+    body_trunk_yaw = s[8]
+    com_vx = s[10]
+    com_vy = s[11]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    time = s[38]
     speed = u[0]
     k_speed = p[0]
     stance_guess = p[3]
@@ -156,7 +159,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     held_roll = r[3]
     stance_1 = r[6]
     lifted_1 = r[7]
-    speed_trim = r[8]
+    speed_trim = r[9]
     t1 = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
     t2 = max(short, -slew*tis)
     t3 = math.cos(body_trunk_yaw)
@@ -196,9 +199,9 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke)."""
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
-    com_vz = s[11]
-    com_z = s[14]
-    time = s[37]
+    com_vz = s[12]
+    com_z = s[15]
+    time = s[38]
     height = u[3]
     stroke = p[12]
     k_height = p[13]
@@ -209,12 +212,13 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     landed_2 = r[5]
     stance_1 = r[6]
     lifted_1 = r[7]
-    speed_trim = r[8]
-    predicted_apex = r[9]
-    step_speed = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    leg_rest_at_lift = r[8]
+    speed_trim = r[9]
+    predicted_apex = r[10]
+    step_speed = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
     t2 = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
@@ -226,6 +230,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         landed_2,
         stance_1,
         lifted_1,
+        leg_rest_at_lift,
         speed_trim,
         t1,
         t2,
@@ -239,26 +244,26 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
 def action_SINGLE_1_0(s, u, p, r, tis):
     """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y)."""
     act_leg_l_spring_force = s[0]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    com_vx = s[9]
-    com_vy = s[10]
-    coord_hip_l_z_value = s[15]
-    leg_left_foot_x = s[19]
-    leg_left_foot_y = s[20]
-    leg_left_foot_z = s[21]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    leg_left_hip_z = s[24]
-    leg_left_length = s[25]
-    leg_left_rate = s[26]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    time = s[37]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    com_vx = s[10]
+    com_vy = s[11]
+    coord_hip_l_z_value = s[16]
+    leg_left_foot_x = s[20]
+    leg_left_foot_y = s[21]
+    leg_left_foot_z = s[22]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    leg_left_hip_z = s[25]
+    leg_left_length = s[26]
+    leg_left_rate = s[27]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    time = s[38]
     speed = u[0]
     heading = u[1]
     turn_rate = u[2]
@@ -274,10 +279,10 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     short = p[14]
     swing_slew = p[16]
     swing_wait = p[17]
-    pitch_lead = p[21]
+    pitch_lead = p[22]
     stance_2 = r[0]
-    speed_trim = r[8]
-    thrust_stroke = r[10]
+    speed_trim = r[9]
+    thrust_stroke = r[11]
     t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -317,7 +322,7 @@ def action_SINGLE_1_0(s, u, p, r, tis):
 
 def entry_DOUBLE_0(s, u, p, r, tis):
     """The records on entering DOUBLE under binding 0 (changed: landed_2)."""
-    time = s[37]
+    time = s[38]
     stance_2 = r[0]
     extend_at = r[1]
     held_pitch = r[2]
@@ -325,13 +330,14 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     landed_1 = r[4]
     stance_1 = r[6]
     lifted_1 = r[7]
-    speed_trim = r[8]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    leg_rest_at_lift = r[8]
+    speed_trim = r[9]
+    predicted_apex = r[10]
+    thrust_stroke = r[11]
+    step_speed = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
     return [
         stance_2,
         extend_at,
@@ -341,6 +347,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         time,
         stance_1,
         lifted_1,
+        leg_rest_at_lift,
         speed_trim,
         predicted_apex,
         thrust_stroke,
@@ -354,32 +361,32 @@ def entry_DOUBLE_0(s, u, p, r, tis):
 def action_DOUBLE_0(s, u, p, r, tis):
     """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint."""
     act_leg_l_spring_force = s[0]
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    coord_hip_l_z_value = s[15]
-    coord_hip_r_z_value = s[18]
-    leg_left_foot_x = s[19]
-    leg_left_foot_y = s[20]
-    leg_left_foot_z = s[21]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    leg_left_hip_z = s[24]
-    leg_left_length = s[25]
-    leg_left_rate = s[26]
-    leg_right_foot_x = s[28]
-    leg_right_foot_y = s[29]
-    leg_right_foot_z = s[30]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    leg_right_hip_z = s[33]
-    leg_right_length = s[34]
-    leg_right_rate = s[35]
-    time = s[37]
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    coord_hip_l_z_value = s[16]
+    coord_hip_r_z_value = s[19]
+    leg_left_foot_x = s[20]
+    leg_left_foot_y = s[21]
+    leg_left_foot_z = s[22]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    leg_left_hip_z = s[25]
+    leg_left_length = s[26]
+    leg_left_rate = s[27]
+    leg_right_foot_x = s[29]
+    leg_right_foot_y = s[30]
+    leg_right_foot_z = s[31]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    leg_right_hip_z = s[34]
+    leg_right_length = s[35]
+    leg_right_rate = s[36]
+    time = s[38]
     heading = u[1]
     turn_rate = u[2]
     kp = p[4]
@@ -389,11 +396,11 @@ def action_DOUBLE_0(s, u, p, r, tis):
     kp_yaw = p[8]
     yaw_lead = p[9]
     short = p[14]
-    slew = p[15]
     double_time = p[18]
-    pitch_lead = p[21]
-    thrust_stroke = r[10]
-    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
+    lift_slew = p[19]
+    pitch_lead = p[22]
+    thrust_stroke = r[11]
+    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t3 = act_leg_l_spring_force/leg_left_length
     t4 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
@@ -430,8 +437,9 @@ def action_DOUBLE_0(s, u, p, r, tis):
 
 
 def entry_SINGLE_2_0(s, u, p, r, tis):
-    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1)."""
-    time = s[37]
+    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift)."""
+    act_leg_l_spring_rest = s[2]
+    time = s[38]
     stance_guess = p[3]
     stance_2 = r[0]
     extend_at = r[1]
@@ -439,13 +447,13 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     held_roll = r[3]
     landed_1 = r[4]
     landed_2 = r[5]
-    speed_trim = r[8]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    speed_trim = r[9]
+    predicted_apex = r[10]
+    thrust_stroke = r[11]
+    step_speed = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
     t1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
@@ -456,6 +464,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         landed_2,
         t1,
         time,
+        act_leg_l_spring_rest,
         speed_trim,
         predicted_apex,
         thrust_stroke,
@@ -468,25 +477,25 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
 
 def action_SINGLE_2_0(s, u, p, r, tis):
     """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint."""
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    coord_hip_r_x_value = s[16]
-    coord_hip_r_y_value = s[17]
-    coord_hip_r_z_value = s[18]
-    leg_right_foot_x = s[28]
-    leg_right_foot_y = s[29]
-    leg_right_foot_z = s[30]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    leg_right_hip_z = s[33]
-    leg_right_length = s[34]
-    leg_right_rate = s[35]
-    time = s[37]
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    coord_hip_r_x_value = s[17]
+    coord_hip_r_y_value = s[18]
+    coord_hip_r_z_value = s[19]
+    leg_right_foot_x = s[29]
+    leg_right_foot_y = s[30]
+    leg_right_foot_z = s[31]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    leg_right_hip_z = s[34]
+    leg_right_length = s[35]
+    leg_right_rate = s[36]
+    time = s[38]
     heading = u[1]
     turn_rate = u[2]
     kp = p[4]
@@ -498,17 +507,18 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     short = p[14]
-    slew = p[15]
-    mirror_gain = p[19]
-    pitch_lead = p[21]
-    thrust_stroke = r[10]
+    lift_slew = p[19]
+    mirror_gain = p[20]
+    pitch_lead = p[22]
+    leg_rest_at_lift = r[8]
+    thrust_stroke = r[11]
     t1 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t5 = -body_trunk_yaw + heading + time*turn_rate
     t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t5), math.cos(t5))
-    t7 = max(short, -slew*tis)
+    t7 = max(short, leg_rest_at_lift - lift_slew*tis)
     t8 = -coord_hip_r_y_value*mirror_gain
     return [
         t1,
