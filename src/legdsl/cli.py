@@ -64,6 +64,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .runner import (
         load_controller,
         load_dynamics,
+        parse_path_option,
+        path_summary,
         progress_bar,
         sort_settings,
         summary,
@@ -89,9 +91,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.controller is not None:
         control = load_controller(model, args.controller, source, generated, log=sys.stderr)
     settings = sort_settings(args.set, model, control)
+    paths = [parse_path_option(text) for text in args.path]
+    if paths and control is None:
+        raise UsageError("--path: a path is followed by a controller; choose one with --controller")
     machine = None
     if control is not None:
-        machine = StateMachine(model, control, settings.inputs, settings.params, settings.schedule)
+        machine = StateMachine(
+            model, control, settings.inputs, settings.params, settings.schedule, paths
+        )
     sim = Simulation(model, dynamics, options, machine)
     for name, value in settings.actuators.items():
         actuator, _, key = name.partition(".")
@@ -102,8 +109,18 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if machine is not None:
         extra["inputs"] = machine.initial_inputs
         extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
+    reports = []
+    if machine is not None:
+        from .metrics import path_report
+
+        given = [p for p in machine.paths if p.shape != "none"]
+        extra["paths"] = [p.as_json() for p in given]
+        reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+        extra["path_reports"] = reports
     write_run(out, model, options, result, extra)
     print(summary(model, result))
+    for report in reports:
+        print(path_summary(report))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
         from .animate import animate_result
@@ -271,6 +288,16 @@ def _parser() -> argparse.ArgumentParser:
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
         "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+    )
+    r.add_argument(
+        "--path",
+        action="append",
+        default=[],
+        metavar="[NAME=]SHAPE",
+        help="the path for the controller to follow, in place of the one its .leg file gives: "
+        "a shape as written there ('circle(center = (0, 5) m, radius = 5 m, turn = left)', "
+        "polyline(...), polygon(...), square(...)) or a file of waypoints, x,y in metres per line "
+        "(waypoints.csv); NAME= picks one of several paths; repeatable",
     )
     r.add_argument(
         "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
