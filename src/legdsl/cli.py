@@ -208,7 +208,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .plot import first_leg_angles, plot_run
+    from .plot import first_leg_angles, plot_run, plot_top, run_paths
 
     run = Path(args.dir)
     if not (run / "trajectory.npz").is_file():
@@ -218,6 +218,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = Path(args.output) if args.output else run / "figure6.png"
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
+    if args.top or run_paths(run):
+        top = out.with_name("top.png") if args.output else run / "top.png"
+        plot_top(run, top, args.t_from, args.t_to)
+        print(f"wrote {top} (top view)")
     return 0
 
 
@@ -444,6 +448,12 @@ def _parser() -> argparse.ArgumentParser:
         "--from", dest="t_from", type=float, default=0.0, metavar="T", help="start time (s)"
     )
     pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
+    pl.add_argument(
+        "--top",
+        action="store_true",
+        help="also draw a top view (top.png: the centre of mass's track); "
+        "it is drawn anyway, with the path, for a run that followed a path",
+    )
     _COMMANDS["plot"] = _cmd_plot
 
     from .animate import add_animate_parser, add_export_motion_parser
