@@ -165,11 +165,34 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     write_json(metrics, run / "metrics.json")
+    reports = _path_reports(run, trajectory, args.t_from, args.t_to)
     if args.json:
-        print(json.dumps(metrics.to_dict(), indent=2, allow_nan=False))
+        data = metrics.to_dict()
+        if reports:
+            data["path_reports"] = reports
+        print(json.dumps(data, indent=2, allow_nan=False))
     else:
         print(metrics.table(), end="")
+        if reports:
+            from .runner import path_summary
+
+            print("path following:")
+            for report in reports:
+                print(path_summary(report))
     return 0
+
+
+def _path_reports(
+    run: Path, trajectory: object, t_from: float, t_to: float | None
+) -> list[dict[str, object]]:
+    """The lateral deviation from each path the run followed (from --from, else from 3 s)."""
+    from .metrics import PATH_FROM, path_report
+    from .plot import run_paths
+    from .trajectory import Trajectory
+
+    assert isinstance(trajectory, Trajectory)
+    start = t_from if t_from > 0 else PATH_FROM
+    return [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:

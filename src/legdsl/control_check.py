@@ -493,6 +493,10 @@ _PATH_ARGS = {
     "polyline": ("lookahead",),
     "polygon": ("lookahead",),
 }
+_PATH_EXAMPLES = {
+    "circle": "circle(center = (0, 5) m, radius = 5 m, turn = left)",
+    "square": "square(corner = (0, 0) m, side = 8 m, turn = left)",
+}
 _PATH_EXAMPLE = (
     "circle(center = (0, 5) m, radius = 5 m, turn = left), polyline((0, 0) m, (10, 0) m, ...), "
     "polygon(...) or square(corner = (0, 0) m, side = 8 m, turn = left)"
@@ -573,7 +577,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
     place, size = ("center", "radius") if shape == "circle" else ("corner", "side")
     for key in (place, size):
         if key not in given:
-            diag.error(value.span, f"{shape}() needs '{key} = ...': {_PATH_EXAMPLE}")
+            diag.error(value.span, f"{shape}() needs '{key} = ...', as in {_PATH_EXAMPLES[shape]}")
             return None
     where = values.vector(given[place].value, "length", 2, f"the {place}")
     extent = length(size)
