@@ -204,3 +204,6 @@ def test_the_biped_follows_an_l_shaped_path(
     assert main(["metrics", str(out), "--from", "3"]) == 0
     shown = capsys.readouterr().out
     assert f"lateral deviation RMS (from 3 s)         {report['lateral_rms']:.3f} m" in shown
+    # and `legdsl plot` adds the top view for a run that followed a path
+    assert main(["plot", str(out)]) == 0
+    assert (out / "top.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
