@@ -181,7 +181,7 @@ class ControllerChecker:
         self.global_refs = refs
 
         for sig in signals:
-            self.expr(sig.value, refs, {})
+            self.number(sig.value, refs, {})
         for action in [*shadowed, *self.actions.values()]:
             self.action_body(action)
 
@@ -204,7 +204,7 @@ class ControllerChecker:
                 continue
             states[row.state.name] = row
         for row in rows:
-            self.expr(row.event, refs, {}, event=True)
+            self.number(row.event, refs, {}, event=True)
             self.stmts(row.actions, refs, {})
         if not rows:
             self.err(tables[0].span, "the table has no states")
@@ -282,7 +282,7 @@ class ControllerChecker:
         local = dict(local)
         for s in stmts:
             if isinstance(s, ast.AssignStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
                 ref = self.path(s.target, refs, local)
                 if ref is not None and ref.kind != "unknown" and not ref.settable:
                     last = s.target[-1]
@@ -300,9 +300,9 @@ class ControllerChecker:
                             + did_you_mean(ident.name, self.roles),
                         )
             elif isinstance(s, ast.RecordStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
             elif isinstance(s, ast.LetStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
                 local[s.name.name] = Ref("value")
             elif isinstance(s, ast.InvokeStmt):
                 for a in s.args:
@@ -337,7 +337,7 @@ class ControllerChecker:
         axes = ("x", "z") if self.model.planar and not in_action else ("x", "y", "z")
         seen: set[str] = set()
         for name, value in s.goals:
-            self.expr(value, refs, local)
+            self.number(value, refs, local)
             if name.name not in axes:
                 self.err(
                     name.span,
@@ -381,6 +381,22 @@ class ControllerChecker:
             ident.span, f"unknown name '{ident.name}'{did_you_mean(ident.name, [*refs, *local])}"
         )
 
+    def number(
+        self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
+    ) -> Ref | None:
+        """An expression used as a number: a body, leg, path... is not one, its members are."""
+        ref = self.expr(e, refs, local, event)
+        if ref is not None and ref.kind in _NOT_NUMBERS:
+            kind = _KIND_WORDS.get(ref.kind, ref.kind)
+            text = _text(e)
+            self.err(
+                e.span,
+                f"'{text}' is a {kind}, not a number: use one of its members, "
+                f"as in '{text}.{_MEMBER_EXAMPLES[ref.kind]}'",
+            )
+            return None
+        return ref
+
     def expr(
         self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
     ) -> Ref | None:
@@ -397,11 +413,11 @@ class ControllerChecker:
             base = self.expr(e.base, refs, local)
             return self.member(base, e.attr) if base is not None else None
         if isinstance(e, ast.EUnary):
-            self.expr(e.operand, refs, local, event)
+            self.number(e.operand, refs, local, event)
             return Ref("value")
         if isinstance(e, ast.EBinary):
-            self.expr(e.left, refs, local, event)
-            self.expr(e.right, refs, local, event)
+            self.number(e.left, refs, local, event)
+            self.number(e.right, refs, local, event)
             return Ref("value")
         # a call
         name = e.func.name
@@ -428,7 +444,7 @@ class ControllerChecker:
                     self.err(a.span, f"{name}() takes a leg, a role or a contact")
             return Ref("value")
         for a in e.args:
-            self.expr(a, refs, local, event)
+            self.number(a, refs, local, event)
         return Ref("value")
 
     def member(self, base: Ref, attr: ast.Ident) -> Ref | None:
@@ -486,7 +502,22 @@ class ControllerChecker:
         return None
 
 
-_KIND_WORDS = {"coord": "joint coordinate", "path": "path"}
+_KIND_WORDS = {"coord": "joint coordinate", "path": "path", "com": "centre of mass"}
+_NOT_NUMBERS = ("body", "leg", "role", "contact", "com", "coord", "actuator", "path")
+_MEMBER_EXAMPLES = {
+    "body": "z", "leg": "length", "role": "length", "contact": "z", "com": "vx",
+    "coord": "value", "actuator": "force", "path": "lateral",
+}  # fmt: skip
+
+
+def _text(e: ast.Expr) -> str:
+    if isinstance(e, ast.EName):
+        return e.ident.name
+    if isinstance(e, ast.EAttr):
+        return f"{_text(e.base)}.{e.attr.name}"
+    return "this"
+
+
 _PATH_ARGS = {
     "circle": ("center", "radius", "turn", "lookahead"),
     "square": ("corner", "side", "turn", "lookahead"),
