@@ -53,7 +53,7 @@ class Legs:
 
 @dataclass(frozen=True)
 class Thing:
-    """A named part of the creature: body, contact, coord, actuator or com."""
+    """A named part of the creature (body, contact, coord, actuator or com), or a path."""
 
     kind: str
     name: str
