@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "254d1952710fb7c7"
+FINGERPRINT = "0f3e7e83f20e5bda"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -55,7 +55,7 @@ PARAMS = {
     "k_path": 1.0,
     "turn_limit": 0.3490658503988659,
 }
-RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -148,14 +148,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
+    return [t1, landed, t2, predicted_apex, thrust_stroke, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -224,11 +225,22 @@ def entry_LOADING_0(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        time,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -266,11 +278,22 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        landed,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -347,12 +370,13 @@ def entry_THRUST_0(s, u, p, r, tis):
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, speed_trim, t1, thrust_stroke, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -433,11 +457,22 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        landed,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
@@ -483,14 +518,15 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
+    return [t1, landed, t2, predicted_apex, thrust_stroke, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -559,11 +595,22 @@ def entry_LOADING_1(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        time,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_LOADING_1(s, u, p, r, tis):
@@ -601,11 +648,22 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        landed,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
@@ -682,12 +740,13 @@ def entry_THRUST_1(s, u, p, r, tis):
     stance = r[0]
     landed = r[1]
     speed_trim = r[2]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, speed_trim, t1, thrust_stroke, step_speed, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -768,11 +827,22 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     landed = r[1]
     speed_trim = r[2]
     predicted_apex = r[3]
-    step_speed = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    thrust_stroke = r[4]
+    step_speed = r[5]
+    lifted = r[6]
+    lifted_x = r[7]
+    lifted_y = r[8]
+    return [
+        stance,
+        landed,
+        speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        step_speed,
+        lifted,
+        lifted_x,
+        lifted_y,
+    ]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):

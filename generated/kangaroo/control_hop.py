@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "3191167318ab322d"
+FINGERPRINT = "9f11ee0685d26bfb"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -57,7 +57,7 @@ PARAMS = {
     "tail_kp": 30.0,
     "tail_kv": 3.0,
 }
-RECORDS = ('speed_trim', 'predicted_apex')
+RECORDS = ('speed_trim', 'predicted_apex', 'thrust_stroke')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -111,8 +111,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     accel = p[5]
     speed_trim = r[0]
     predicted_apex = r[1]
+    thrust_stroke = r[2]
     t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + min(speed, accel*time)) + speed_trim))
-    return [t1, predicted_apex]
+    return [t1, predicted_apex, thrust_stroke]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -169,7 +170,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    return [speed_trim, predicted_apex, thrust_stroke]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -197,7 +199,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    return [speed_trim, predicted_apex, thrust_stroke]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -227,8 +230,9 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_k = s[1]
     com_z = s[6]
     speed_trim = r[0]
+    thrust_stroke = r[2]
     t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [speed_trim, t1]
+    return [speed_trim, t1, thrust_stroke]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -265,7 +269,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    return [speed_trim, predicted_apex, thrust_stroke]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):

@@ -35,6 +35,12 @@ ACTUATOR_MEMBERS = {
 }  # kind -> (settable, read-only)
 
 BUILTIN_VALUES = ("time", "time_in_state", "pi", "g", "total_mass")
+# What a controller's own declarations are called in messages.
+_DECLARED_KIND: dict[type, str] = {
+    ast.InputDecl: "input",
+    ast.ParamDecl: "parameter",
+    ast.SignalDecl: "signal",
+}
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
     "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
@@ -169,10 +175,20 @@ class ControllerChecker:
                 if spec is not None:
                     paths.append(spec)
 
+        declared = {
+            item.name.name: _DECLARED_KIND[type(item)]
+            for item in d.items
+            if isinstance(item, ast.InputDecl | ast.ParamDecl | ast.SignalDecl)
+        }
         records = self.collect_records(tables)
         for name, span in records.items():
             if name not in refs:
                 refs[name] = Ref("value")
+            elif name in declared:  # two values under one name: the record's was never read
+                self.err(
+                    span,
+                    f"'record {name}' would hide the {declared[name]} '{name}'; choose another name for the record",
+                )
             elif refs[name].kind != "value" or name in BUILTIN_VALUES:
                 self.err(
                     span,
