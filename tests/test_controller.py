@@ -160,3 +160,19 @@ def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(
     assert info["inputs"]["speed"] == 0.5
     assert info["settings"]["schedule"] == [{"t": 0.5, "input": "speed", "value": 1.0}]
     assert any(e["kind"] == "state" for e in info["events"])
+
+
+def test_only_the_records_the_table_reaches_are_the_controllers(tmp_path: Path) -> None:
+    # raibert's hop_height_energy records `thrust_stroke`; the hopper never calls it, so
+    # the name stays free for the hopper's own parameter and adds no controller state.
+    header = "controller hop {"
+    text = HOPPER.read_text(encoding="utf-8").replace(
+        header, header + "\n  param thrust_stroke = 1 cm"
+    )
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(text, encoding="utf-8")
+    model = check_model(leg)
+    (hop,) = [c for c in model.controllers if c.name == "hop"]
+    assert "speed_trim" in hop.records  # trim_speed is called, its record is kept
+    assert "thrust_stroke" not in hop.records
+    assert dict(hop.params)["thrust_stroke"] == pytest.approx(0.01)

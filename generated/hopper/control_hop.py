@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "49e872f6c2d2bfe2"
+FINGERPRINT = "23cdf1d5947a04ce"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
@@ -40,7 +40,7 @@ PARAMS = {
     "k_trim": 0.5,
     "full": 0.79,
 }
-RECORDS = ('speed_trim', 'predicted_apex', 'thrust_stroke')
+RECORDS = ('speed_trim', 'predicted_apex')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -89,9 +89,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[8]
     speed_trim = r[0]
     predicted_apex = r[1]
-    thrust_stroke = r[2]
     t1 = k_trim*(-com_vx + speed) + speed_trim
-    return [t1, predicted_apex, thrust_stroke]
+    return [t1, predicted_apex]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -113,8 +112,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    return [speed_trim, predicted_apex]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -126,8 +124,7 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    return [speed_trim, predicted_apex]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -146,9 +143,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_leg_spring_k = s[1]
     com_z = s[5]
     speed_trim = r[0]
-    thrust_stroke = r[2]
     t1 = 0.004591747711013765*act_leg_spring_force*act_leg_spring_force/act_leg_spring_k + com_z
-    return [speed_trim, t1, thrust_stroke]
+    return [speed_trim, t1]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -170,8 +166,7 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    return [speed_trim, predicted_apex]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):

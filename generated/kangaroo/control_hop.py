@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "9f11ee0685d26bfb"
+FINGERPRINT = "82e835a20e0d6f7c"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -57,7 +57,7 @@ PARAMS = {
     "tail_kp": 30.0,
     "tail_kv": 3.0,
 }
-RECORDS = ('speed_trim', 'predicted_apex', 'thrust_stroke')
+RECORDS = ('predicted_apex', 'speed_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -109,11 +109,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[3]
     max_trim = p[4]
     accel = p[5]
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    thrust_stroke = r[2]
+    predicted_apex = r[0]
+    speed_trim = r[1]
     t1 = min(max_trim, max(-max_trim, k_trim*(-com_vx + min(speed, accel*time)) + speed_trim))
-    return [t1, predicted_apex, thrust_stroke]
+    return [predicted_apex, t1]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -142,7 +141,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     tail_b = p[23]
     tail_kp = p[24]
     tail_kv = p[25]
-    speed_trim = r[0]
+    speed_trim = r[1]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv
     t3 = (com_vz > 0.0)
@@ -168,10 +167,9 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    predicted_apex = r[0]
+    speed_trim = r[1]
+    return [predicted_apex, speed_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -197,10 +195,9 @@ def action_LOADING_0(s, u, p, r, tis):
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    predicted_apex = r[0]
+    speed_trim = r[1]
+    return [predicted_apex, speed_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -229,10 +226,9 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
-    speed_trim = r[0]
-    thrust_stroke = r[2]
+    speed_trim = r[1]
     t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [speed_trim, t1, thrust_stroke]
+    return [t1, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -258,7 +254,7 @@ def action_THRUST_0(s, u, p, r, tis):
     thigh_length = p[19]
     tail_down = p[22]
     tail_b = p[23]
-    predicted_apex = r[1]
+    predicted_apex = r[0]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(3.0*stroke, max(-3.0*stroke, k_height*(height - predicted_apex) + stroke))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -267,10 +263,9 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    thrust_stroke = r[2]
-    return [speed_trim, predicted_apex, thrust_stroke]
+    predicted_apex = r[0]
+    speed_trim = r[1]
+    return [predicted_apex, speed_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):

@@ -9,6 +9,7 @@ in the pipeline; this stage guarantees that they refer to real things.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 from . import ast
@@ -180,7 +181,12 @@ class ControllerChecker:
             for item in d.items
             if isinstance(item, ast.InputDecl | ast.ParamDecl | ast.SignalDecl)
         }
-        records = self.collect_records(tables)
+        # Only the records of what the table can reach are the controller's: a library
+        # action nobody calls adds no state and cannot clash with the user's names.
+        reachable = self.reachable_actions(tables)
+        records = self.collect_records(
+            tables, [a for n, a in self.actions.items() if n in reachable]
+        )
         for name, span in records.items():
             if name not in refs:
                 refs[name] = Ref("value")
@@ -198,8 +204,12 @@ class ControllerChecker:
 
         for sig in signals:
             self.number(sig.value, refs, {})
+        # Actions the table never calls are still checked, seeing every action's records.
+        every = self.collect_records([], [*shadowed, *self.actions.values()])
+        unreached = {**{n: Ref("value") for n in every}, **refs}
         for action in [*shadowed, *self.actions.values()]:
-            self.action_body(action)
+            called = action.name.name in reachable and action is self.actions[action.name.name]
+            self.action_body(action, refs if called else unreached)
 
         if not tables:
             self.err(
@@ -268,7 +278,27 @@ class ControllerChecker:
         )
         return None
 
-    def collect_records(self, tables: list[ast.TableDecl]) -> dict[str, Span]:
+    def reachable_actions(self, tables: list[ast.TableDecl]) -> set[str]:
+        """The actions the table calls, directly or through other actions."""
+        reached: set[str] = set()
+
+        def walk(stmts: tuple[ast.Stmt, ...]) -> None:
+            for s in stmts:
+                if isinstance(s, ast.InvokeStmt) and s.action.name not in reached:
+                    action = self.actions.get(s.action.name)
+                    if action is not None:
+                        reached.add(s.action.name)
+                        walk(action.body)
+
+        for t in tables:
+            for row in t.rows:
+                walk(row.actions)
+        return reached
+
+    def collect_records(
+        self, tables: list[ast.TableDecl], actions: Iterable[ast.ActionDef]
+    ) -> dict[str, Span]:
+        """The names recorded in the table's rows and in these actions' bodies."""
         found: dict[str, Span] = {}
 
         def walk(stmts: tuple[ast.Stmt, ...]) -> None:
@@ -279,18 +309,19 @@ class ControllerChecker:
         for t in tables:
             for row in t.rows:
                 walk(row.actions)
-        for action in self.actions.values():
+        for action in actions:
             walk(action.body)
         return found
 
-    # ---------------------------------------------------------- statements
-    def action_body(self, action: ast.ActionDef) -> None:
+    def action_body(self, action: ast.ActionDef, refs: dict[str, Ref]) -> None:
         local: dict[str, Ref] = {}
         for p in action.params:
             if p.name in local:
                 self.err(p.span, f"parameter '{p.name}' is listed twice")
             local[p.name] = Ref("unknown")
-        self.stmts(action.body, self.global_refs, local)
+        self.stmts(action.body, refs, local)
+
+    # ---------------------------------------------------------- statements
 
     def stmts(
         self, stmts: tuple[ast.Stmt, ...], refs: dict[str, Ref], local: dict[str, Ref]
