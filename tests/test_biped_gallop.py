@@ -3,12 +3,11 @@ the stance split into single, double and single support. Short runs keep this ne
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.controller import StateMachine
@@ -19,14 +18,6 @@ from legdsl.simulate import RunOptions, RunResult, Simulation
 BIPED = CREATURES / "biped.leg"
 GALLOP = ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")
 SETTLE = 2.5  # s: the run starts from rest
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules, so that tests never write into the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 def _run(generated: Path, controller: str, time: float) -> RunResult:

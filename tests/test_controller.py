@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.cli import main
@@ -46,14 +45,6 @@ controller run {
   }
 }
 """
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules, so that tests never write into the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 def test_roles_are_specialised_per_binding_and_swapped_on_entry(tmp_path: Path) -> None:

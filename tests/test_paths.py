@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import shutil
 from pathlib import Path
 
 import pytest
@@ -166,13 +165,6 @@ def test_path_option_names_a_declared_path() -> None:
 
 
 # ------------------------------------------------------------------ the biped
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
-
-
 def test_the_biped_follows_an_l_shaped_path(
     generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
