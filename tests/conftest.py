@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import functools
+import shutil
 import types
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -15,6 +16,15 @@ ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
 GENERATED = ROOT / "generated"
 SHIPPED = ("kangaroo", "biped", "quadruped", "hopper")
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A copy of the checked-in generated modules: a stale one is recompiled here, never in the repo."""
+    target = tmp_path_factory.mktemp("generated")
+    if (ROOT / "generated").is_dir():
+        shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
+    return target
 
 
 @pytest.fixture

@@ -5,12 +5,11 @@ pitch and roll, and a heading servo. Short runs (a few strides) keep this under 
 from __future__ import annotations
 
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.controller import StateMachine
@@ -21,14 +20,6 @@ from legdsl.simulate import RunOptions, RunResult, Simulation
 BIPED = CREATURES / "biped.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")
 SETTLE = 3.0  # s: the run starts from rest; its speed is measured from here on
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules, so that tests never write into the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 def _run(generated: Path, speed: float, time: float) -> RunResult:

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.cli import main
@@ -46,14 +45,6 @@ controller run {
   }
 }
 """
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules, so that tests never write into the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 def test_roles_are_specialised_per_binding_and_swapped_on_entry(tmp_path: Path) -> None:
@@ -178,3 +169,19 @@ def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(
     assert info["inputs"]["speed"] == 0.5
     assert info["settings"]["schedule"] == [{"t": 0.5, "input": "speed", "value": 1.0}]
     assert any(e["kind"] == "state" for e in info["events"])
+
+
+def test_only_the_records_the_table_reaches_are_the_controllers(tmp_path: Path) -> None:
+    # raibert's hop_height_energy records `thrust_stroke`; the hopper never calls it, so
+    # the name stays free for the hopper's own parameter and adds no controller state.
+    header = "controller hop {"
+    text = HOPPER.read_text(encoding="utf-8").replace(
+        header, header + "\n  param thrust_stroke = 1 cm"
+    )
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(text, encoding="utf-8")
+    model = check_model(leg)
+    (hop,) = [c for c in model.controllers if c.name == "hop"]
+    assert "speed_trim" in hop.records  # trim_speed is called, its record is kept
+    assert "thrust_stroke" not in hop.records
+    assert dict(hop.params)["thrust_stroke"] == pytest.approx(0.01)

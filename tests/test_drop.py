@@ -8,26 +8,16 @@ carries (mg/k shared by symmetric feet; eq. (6) inverted for the paw pad).
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.model import Pad
 from legdsl.runner import load_dynamics
 from legdsl.simulate import RunOptions, Simulation
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules: a stale one is recompiled here, never in the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    if (ROOT / "generated").is_dir():
-        shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 @pytest.mark.parametrize("name", ["kangaroo", "biped", "quadruped"])

@@ -7,12 +7,11 @@ at 2 and 3 m/s it hops and holds the commanded speed within 5% from 3 to 5 s.
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CREATURES, ROOT
+from conftest import CREATURES
 
 from legdsl.checker import check_model
 from legdsl.controller import StateMachine
@@ -21,14 +20,6 @@ from legdsl.simulate import RunOptions, Simulation
 
 KANGAROO = CREATURES / "kangaroo.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of the checked-in generated modules, so that tests never write into the repo."""
-    target = tmp_path_factory.mktemp("generated")
-    shutil.copytree(ROOT / "generated", target, dirs_exist_ok=True)
-    return target
 
 
 def _hop(generated: Path, time: float, **inputs: float):  # type: ignore[no-untyped-def]

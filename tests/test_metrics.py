@@ -16,7 +16,14 @@ import numpy as np
 import pytest
 
 from legdsl.cli import main
-from legdsl.metrics import TABLE2, MetricsError, compare_table, compute_metrics, parse_groups
+from legdsl.metrics import (
+    TABLE2,
+    MetricsError,
+    _support_phases,
+    compare_table,
+    compute_metrics,
+    parse_groups,
+)
 from legdsl.trajectory import Trajectory, empty
 
 DT = 0.001
@@ -229,6 +236,55 @@ def test_biped_run_two_flights_per_stride_and_per_leg_rows() -> None:
     assert m.value("leg_length_change_left") == pytest.approx(0.04, abs=1e-9)
     assert m.value("leg_length_change_right") == pytest.approx(0.02, abs=1e-9)
     assert m.value("leg_length_change") == pytest.approx(0.03, abs=1e-3)
+
+
+def gallop_run(n: int = 4001) -> Trajectory:
+    """A biped gallop, 400-sample stride: left stance [0, 140), right [60, 200): single
+    support on the left for 60 samples, double support 80, single on the right 60, then a
+    flight of 200."""
+    tr = biped_run(n)
+    shift = 150
+    tr.contact[:, 0] = _pattern(n, 400, shift, [(0, 140)])
+    tr.contact[:, 1] = _pattern(n, 400, shift, [(60, 200)])
+    return tr
+
+
+def test_gallop_single_and_double_support_rows() -> None:
+    m = compute_metrics(gallop_run())
+    assert m.value("single_support_duration") == pytest.approx(0.060, abs=1e-9)
+    assert m.value("single_support_duration_left") == pytest.approx(0.060, abs=1e-9)
+    assert m.value("single_support_duration_right") == pytest.approx(0.060, abs=1e-9)
+    assert m.value("double_support_duration") == pytest.approx(0.080, abs=1e-9)
+    assert m.summary("double_support_duration").n == 10  # every complete one in the run
+    assert m.value("double_support_fraction") == pytest.approx(0.2, abs=2e-3)
+    assert m.value("flight_duration") == pytest.approx(0.200, abs=1e-9)
+    assert "double support duration (s)" in m.table()
+
+
+def test_a_run_without_double_support_has_no_support_rows() -> None:
+    m = compute_metrics(biped_run())  # the feet never touch together
+    keys = {s.key for s in m.summaries}
+    assert not keys & {"single_support_duration", "double_support_duration"}
+
+
+def test_support_phases_split_by_the_feet_down_and_drop_open_ends() -> None:
+    t = np.arange(12) * DT
+    down = np.array(
+        [[1, 0]] * 2 + [[1, 1]] * 3 + [[0, 1]] * 2 + [[0, 0]] * 3 + [[1, 0]] * 2, dtype=bool
+    )
+    phases = _support_phases(t, down, ["left", "right"], 0.0, 1.0)
+    # the first (left) and last (left) runs are open: one of their ends is not seen
+    assert [(p.kind, p.feet) for p in phases] == [
+        ("double", ("left", "right")),
+        ("single", ("right",)),
+        ("flight", ()),
+    ]
+    assert [round(p.duration / DT) for p in phases] == [3, 2, 3]
+    # a window leaves out the phases that do not lie inside it
+    assert [p.kind for p in _support_phases(t, down, ["left", "right"], 0.004, 1.0)] == [
+        "single",
+        "flight",
+    ]
 
 
 def test_biped_run_heading_speed_length_roll_and_pitch() -> None:

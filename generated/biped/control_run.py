@@ -21,10 +21,10 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d44c8d25f09e3de5"
+FINGERPRINT = "655023a66d7d5bc3"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -52,8 +52,10 @@ PARAMS = {
     "short": -0.2,
     "full": 0.82,
     "slew": 2.0,
+    "k_path": 1.0,
+    "turn_limit": 0.3490658503988659,
 }
-RECORDS = ('stance', 'landed', 'speed_trim', 'predicted_apex', 'step_speed', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance', 'landed', 'predicted_apex', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -138,22 +140,22 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
-    time = s[41]
+    time = s[44]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
+    t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    return [t1, landed, predicted_apex, t2, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -179,7 +181,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     short = p[17]
     slew = p[19]
     stance = r[0]
-    speed_trim = r[2]
+    speed_trim = r[4]
     t1 = slew*tis
     t2 = min(0.0, short + t1)
     t3 = max(short, -t1)
@@ -218,15 +220,15 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed)."""
-    time = s[41]
+    time = s[44]
     stance = r[0]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, time, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -262,13 +264,13 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -290,7 +292,10 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_left_hip_y = s[27]
     leg_left_hip_z = s[28]
     leg_left_length = s[29]
-    time = s[41]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     kp = p[4]
@@ -303,12 +308,15 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
+    k_path = p[20]
+    turn_limit = p[21]
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t4 = -body_trunk_yaw + heading + time*turn_rate
-    t5 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t4), math.cos(t4))
-    t6 = -coord_hip_l_y_value*mirror
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -317,7 +325,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         t2,
         t3,
         kp_yaw,
-        t5,
+        t6,
         short,
         swing_kp,
         swing_kv,
@@ -325,7 +333,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t6,
+        t7,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -338,13 +346,13 @@ def entry_THRUST_0(s, u, p, r, tis):
     com_z = s[16]
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    step_speed = r[4]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, t1, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -366,7 +374,10 @@ def action_THRUST_0(s, u, p, r, tis):
     leg_left_hip_y = s[27]
     leg_left_hip_z = s[28]
     leg_left_length = s[29]
-    time = s[41]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     height = u[3]
@@ -382,14 +393,17 @@ def action_THRUST_0(s, u, p, r, tis):
     k_height = p[13]
     mirror = p[16]
     short = p[17]
-    predicted_apex = r[3]
+    k_path = p[20]
+    turn_limit = p[21]
+    predicted_apex = r[2]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t5 = -body_trunk_yaw + heading + time*turn_rate
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t5), math.cos(t5))
-    t7 = -coord_hip_l_y_value*mirror
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -coord_hip_l_y_value*mirror
     return [
         t1,
         0.0,
@@ -399,7 +413,7 @@ def action_THRUST_0(s, u, p, r, tis):
         t3,
         t4,
         kp_yaw,
-        t6,
+        t7,
         short,
         swing_kp,
         swing_kv,
@@ -407,7 +421,7 @@ def action_THRUST_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t7,
+        t8,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -417,13 +431,13 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
@@ -461,22 +475,22 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
-    time = s[41]
+    time = s[44]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    return [t1, landed, t2, predicted_apex, t3, time, com_x, com_y]
+    t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    return [t1, landed, predicted_apex, t2, t3, time, com_x, com_y]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -502,7 +516,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     short = p[17]
     slew = p[19]
     stance = r[0]
-    speed_trim = r[2]
+    speed_trim = r[4]
     t1 = slew*tis
     t2 = min(0.0, short + t1)
     t3 = max(short, -t1)
@@ -541,15 +555,15 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed)."""
-    time = s[41]
+    time = s[44]
     stance = r[0]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, time, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, time, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_LOADING_1(s, u, p, r, tis):
@@ -585,13 +599,13 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 1 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
@@ -613,7 +627,10 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     leg_right_hip_y = s[36]
     leg_right_hip_z = s[37]
     leg_right_length = s[38]
-    time = s[41]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     kp = p[4]
@@ -626,12 +643,15 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
+    k_path = p[20]
+    turn_limit = p[21]
     t1 = act_leg_r_spring_force/leg_right_length
     t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t4 = -body_trunk_yaw + heading + time*turn_rate
-    t5 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t4), math.cos(t4))
-    t6 = -coord_hip_r_y_value*mirror
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -640,7 +660,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         t2,
         t3,
         kp_yaw,
-        t5,
+        t6,
         short,
         swing_kp,
         swing_kv,
@@ -648,7 +668,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t6,
+        t7,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -661,13 +681,13 @@ def entry_THRUST_1(s, u, p, r, tis):
     com_z = s[16]
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    step_speed = r[4]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, speed_trim, t1, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, t1, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -689,7 +709,10 @@ def action_THRUST_1(s, u, p, r, tis):
     leg_right_hip_y = s[36]
     leg_right_hip_z = s[37]
     leg_right_length = s[38]
-    time = s[41]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     height = u[3]
@@ -705,14 +728,17 @@ def action_THRUST_1(s, u, p, r, tis):
     k_height = p[13]
     mirror = p[16]
     short = p[17]
-    predicted_apex = r[3]
+    k_path = p[20]
+    turn_limit = p[21]
+    predicted_apex = r[2]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t5 = -body_trunk_yaw + heading + time*turn_rate
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t5), math.cos(t5))
-    t7 = -coord_hip_r_y_value*mirror
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -coord_hip_r_y_value*mirror
     return [
         t1,
         0.0,
@@ -722,7 +748,7 @@ def action_THRUST_1(s, u, p, r, tis):
         t3,
         t4,
         kp_yaw,
-        t6,
+        t7,
         short,
         swing_kp,
         swing_kv,
@@ -730,7 +756,7 @@ def action_THRUST_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t7,
+        t8,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -740,13 +766,13 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 1 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    speed_trim = r[2]
-    predicted_apex = r[3]
-    step_speed = r[4]
+    predicted_apex = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    return [stance, landed, speed_trim, predicted_apex, step_speed, lifted, lifted_x, lifted_y]
+    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):

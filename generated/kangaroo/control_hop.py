@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "2843855798d4983a"
+FINGERPRINT = "dc00214204e9b246"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -73,7 +73,7 @@ PARAMS = {
     "tail_kp": 60.0,
     "tail_kv": 4.0,
 }
-RECORDS = ('speed_trim', 'predicted_apex', 'stroke_trim', 'desired_now')
+RECORDS = ('predicted_apex', 'stroke_trim', 'desired_now', 'speed_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -133,16 +133,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_apex = p[20]
     min_stroke = p[21]
     max_stroke = p[22]
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    stroke_trim = r[2]
-    desired_now = r[3]
-    t1 = desired_now - speed
-    t2 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t1) < 0.05) else (k_trim_ramp))))
-    t3 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
-    t4 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    t5 = desired_now + min(t4, max(-t1, -t4))
-    return [t2, predicted_apex, t3, t5]
+    predicted_apex = r[0]
+    stroke_trim = r[1]
+    desired_now = r[2]
+    speed_trim = r[3]
+    t1 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
+    t2 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
+    t3 = desired_now - speed
+    t4 = desired_now + min(t2, max(-t2, -t3))
+    t5 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t3) < 0.05) else (k_trim_ramp))))
+    return [predicted_apex, t1, t4, t5]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -182,8 +182,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     hip_mid = p[39]
     tail_kp = p[40]
     tail_kv = p[41]
-    speed_trim = r[0]
-    desired_now = r[3]
+    desired_now = r[2]
+    speed_trim = r[3]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = (com_vz > 0.0)
     t3 = 0.8*((tuck) if t2 else (reach))
@@ -219,11 +219,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    stroke_trim = r[2]
-    desired_now = r[3]
-    return [speed_trim, predicted_apex, stroke_trim, desired_now]
+    predicted_apex = r[0]
+    stroke_trim = r[1]
+    desired_now = r[2]
+    speed_trim = r[3]
+    return [predicted_apex, stroke_trim, desired_now, speed_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -259,11 +259,11 @@ def action_LOADING_0(s, u, p, r, tis):
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    stroke_trim = r[2]
-    desired_now = r[3]
-    return [speed_trim, predicted_apex, stroke_trim, desired_now]
+    predicted_apex = r[0]
+    stroke_trim = r[1]
+    desired_now = r[2]
+    speed_trim = r[3]
+    return [predicted_apex, stroke_trim, desired_now, speed_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -302,11 +302,11 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
-    speed_trim = r[0]
-    stroke_trim = r[2]
-    desired_now = r[3]
+    stroke_trim = r[1]
+    desired_now = r[2]
+    speed_trim = r[3]
     t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [speed_trim, t1, stroke_trim, desired_now]
+    return [t1, stroke_trim, desired_now, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -341,8 +341,8 @@ def action_THRUST_0(s, u, p, r, tis):
     launch = p[37]
     tail_gain = p[38]
     hip_mid = p[39]
-    predicted_apex = r[1]
-    stroke_trim = r[2]
+    predicted_apex = r[0]
+    stroke_trim = r[1]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
@@ -367,11 +367,11 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    speed_trim = r[0]
-    predicted_apex = r[1]
-    stroke_trim = r[2]
-    desired_now = r[3]
-    return [speed_trim, predicted_apex, stroke_trim, desired_now]
+    predicted_apex = r[0]
+    stroke_trim = r[1]
+    desired_now = r[2]
+    speed_trim = r[3]
+    return [predicted_apex, stroke_trim, desired_now, speed_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):

@@ -325,6 +325,15 @@ class RolesDecl:
 
 
 @dataclass(frozen=True)
+class PathDecl:
+    """``path NAME = SHAPE(...)``: the shape is a creature-style value, checked later."""
+
+    name: Ident
+    value: Value | None  # None: ``path NAME`` alone, given on the command line
+    span: Span
+
+
+@dataclass(frozen=True)
 class StartDecl:
     state: Ident
     span: Span
@@ -352,7 +361,9 @@ class TableDecl:
     span: Span
 
 
-ControllerItem = InputDecl | ParamDecl | SignalDecl | RolesDecl | StartDecl | ActionDef | TableDecl
+ControllerItem = (
+    InputDecl | ParamDecl | SignalDecl | RolesDecl | StartDecl | ActionDef | TableDecl | PathDecl
+)
 
 
 @dataclass(frozen=True)

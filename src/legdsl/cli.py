@@ -64,6 +64,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .runner import (
         load_controller,
         load_dynamics,
+        parse_path_option,
+        path_summary,
         progress_bar,
         sort_settings,
         summary,
@@ -89,9 +91,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.controller is not None:
         control = load_controller(model, args.controller, source, generated, log=sys.stderr)
     settings = sort_settings(args.set, model, control)
+    paths = [parse_path_option(text) for text in args.path]
+    if paths and control is None:
+        raise UsageError("--path: a path is followed by a controller; choose one with --controller")
     machine = None
     if control is not None:
-        machine = StateMachine(model, control, settings.inputs, settings.params, settings.schedule)
+        machine = StateMachine(
+            model, control, settings.inputs, settings.params, settings.schedule, paths
+        )
     sim = Simulation(model, dynamics, options, machine)
     for name, value in settings.actuators.items():
         actuator, _, key = name.partition(".")
@@ -102,8 +109,18 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if machine is not None:
         extra["inputs"] = machine.initial_inputs
         extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
+    reports = []
+    if machine is not None:
+        from .metrics import path_report
+
+        given = [p for p in machine.paths if p.shape != "none"]
+        extra["paths"] = [p.as_json() for p in given]
+        reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+        extra["path_reports"] = reports
     write_run(out, model, options, result, extra)
     print(summary(model, result))
+    for report in reports:
+        print(path_summary(report))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
         from .animate import animate_result
@@ -162,14 +179,37 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         )
         return EXIT_USER_ERROR
     write_json(metrics, run / "metrics.json")
+    reports = _path_reports(run, trajectory, args.t_from, args.t_to)
     if args.json:
-        print(json.dumps(metrics.to_dict(), indent=2, allow_nan=False))
+        data = metrics.to_dict()
+        if reports:
+            data["path_reports"] = reports
+        print(json.dumps(data, indent=2, allow_nan=False))
     else:
         print(metrics.table(), end="")
         if args.table2 is not None:
             print(f"\nbeside Table 2 of the paper, {args.table2}:")
             print(compare_table(metrics, TABLE2[args.table2]), end="")
+        if reports:
+            from .runner import path_summary
+
+            print("path following:")
+            for report in reports:
+                print(path_summary(report))
     return 0
+
+
+def _path_reports(
+    run: Path, trajectory: object, t_from: float, t_to: float | None
+) -> list[dict[str, object]]:
+    """The lateral deviation from each path the run followed (from --from, else from 3 s)."""
+    from .metrics import PATH_FROM, path_report
+    from .plot import run_paths
+    from .trajectory import Trajectory
+
+    assert isinstance(trajectory, Trajectory)
+    start = t_from if t_from > 0 else PATH_FROM
+    return [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:
@@ -208,7 +248,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .plot import first_leg_angles, plot_run
+    from .plot import first_leg_angles, plot_run, plot_top, run_paths
 
     run = Path(args.dir)
     if not (run / "trajectory.npz").is_file():
@@ -218,6 +258,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = Path(args.output) if args.output else run / "figure6.png"
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
+    if args.top or run_paths(run):
+        top = out.with_name("top.png") if args.output else run / "top.png"
+        plot_top(run, top, args.t_from, args.t_to)
+        print(f"wrote {top} (top view)")
     return 0
 
 
@@ -288,6 +332,16 @@ def _parser() -> argparse.ArgumentParser:
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
         "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+    )
+    r.add_argument(
+        "--path",
+        action="append",
+        default=[],
+        metavar="[NAME=]SHAPE",
+        help="the path for the controller to follow, in place of the one its .leg file gives: "
+        "a shape as written there ('circle(center = (0, 5) m, radius = 5 m, turn = left)', "
+        "polyline(...), polygon(...), square(...)) or a file of waypoints, x,y in metres per line "
+        "(waypoints.csv); NAME= picks one of several paths; repeatable",
     )
     r.add_argument(
         "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
@@ -441,6 +495,12 @@ def _parser() -> argparse.ArgumentParser:
         "--from", dest="t_from", type=float, default=0.0, metavar="T", help="start time (s)"
     )
     pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
+    pl.add_argument(
+        "--top",
+        action="store_true",
+        help="also draw a top view (top.png: the centre of mass's track); "
+        "it is drawn anyway, with the path, for a run that followed a path",
+    )
     _COMMANDS["plot"] = _cmd_plot
 
     from .animate import add_animate_parser, add_export_motion_parser

@@ -105,7 +105,7 @@ def controller_fingerprint(model: Model, controller: Controller) -> str:
             "model": model_fingerprint(model),
             "legs": _clean(model.legs),
             "actuators": _clean(model.actuators),
-            "controller": _clean(controller),
+            "controller": {k: v for k, v in _clean(controller).items() if k != "paths"},
         }
     )
 

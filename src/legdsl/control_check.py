@@ -9,12 +9,15 @@ in the pipeline; this stage guarantees that they refer to real things.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 from . import ast
-from .checker import did_you_mean
+from .checker import CreatureChecker, did_you_mean
 from .errors import Diagnostics, Span
 from .model import Controller, Model
+from .paths import DEFAULT_LOOKAHEAD, SHAPES, PathSpec, square_corners
+from .paths import MEMBERS as PATH_MEMBERS
 
 LEG_MEMBERS = (
     "length", "rate", "touching", "stance_time", "flight_time",
@@ -33,6 +36,12 @@ ACTUATOR_MEMBERS = {
 }  # kind -> (settable, read-only)
 
 BUILTIN_VALUES = ("time", "time_in_state", "pi", "g", "total_mass")
+# What a controller's own declarations are called in messages.
+_DECLARED_KIND: dict[type, str] = {
+    ast.InputDecl: "input",
+    ast.ParamDecl: "parameter",
+    ast.SignalDecl: "signal",
+}
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
     "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
@@ -117,6 +126,7 @@ class ControllerChecker:
         signals: list[ast.SignalDecl] = []
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
+        paths: list[PathSpec] = []
         shadowed: list[ast.ActionDef] = []  # defined twice: both bodies are checked
         for item in d.items:
             if isinstance(item, ast.InputDecl | ast.ParamDecl):
@@ -156,11 +166,35 @@ class ControllerChecker:
                 tables.append(item)
             elif isinstance(item, ast.StartDecl):
                 starts.append(item)
+            elif isinstance(item, ast.PathDecl):
+                define(item.name, Ref("path", item.name.name))
+                spec = (
+                    PathSpec(item.name.name, "none")
+                    if item.value is None
+                    else check_path(item.name.name, item.value, self.diag)
+                )
+                if spec is not None:
+                    paths.append(spec)
 
-        records = self.collect_records(tables)
+        declared = {
+            item.name.name: _DECLARED_KIND[type(item)]
+            for item in d.items
+            if isinstance(item, ast.InputDecl | ast.ParamDecl | ast.SignalDecl)
+        }
+        # Only the records of what the table can reach are the controller's: a library
+        # action nobody calls adds no state and cannot clash with the user's names.
+        reachable = self.reachable_actions(tables)
+        records = self.collect_records(
+            tables, [a for n, a in self.actions.items() if n in reachable]
+        )
         for name, span in records.items():
             if name not in refs:
                 refs[name] = Ref("value")
+            elif name in declared:  # two values under one name: the record's was never read
+                self.err(
+                    span,
+                    f"'record {name}' would hide the {declared[name]} '{name}'; choose another name for the record",
+                )
             elif refs[name].kind != "value" or name in BUILTIN_VALUES:
                 self.err(
                     span,
@@ -169,9 +203,13 @@ class ControllerChecker:
         self.global_refs = refs
 
         for sig in signals:
-            self.expr(sig.value, refs, {})
+            self.number(sig.value, refs, {})
+        # Actions the table never calls are still checked, seeing every action's records.
+        every = self.collect_records([], [*shadowed, *self.actions.values()])
+        unreached = {**{n: Ref("value") for n in every}, **refs}
         for action in [*shadowed, *self.actions.values()]:
-            self.action_body(action)
+            called = action.name.name in reachable and action is self.actions[action.name.name]
+            self.action_body(action, refs if called else unreached)
 
         if not tables:
             self.err(
@@ -192,7 +230,7 @@ class ControllerChecker:
                 continue
             states[row.state.name] = row
         for row in rows:
-            self.expr(row.event, refs, {}, event=True)
+            self.number(row.event, refs, {}, event=True)
             self.stmts(row.actions, refs, {})
         if not rows:
             self.err(tables[0].span, "the table has no states")
@@ -221,6 +259,7 @@ class ControllerChecker:
             rows=rows,
             records=tuple(records),
             span=d.span,
+            paths=tuple(paths),
         )
 
     def constant(self, expr: ast.Expr) -> float | None:
@@ -239,7 +278,27 @@ class ControllerChecker:
         )
         return None
 
-    def collect_records(self, tables: list[ast.TableDecl]) -> dict[str, Span]:
+    def reachable_actions(self, tables: list[ast.TableDecl]) -> set[str]:
+        """The actions the table calls, directly or through other actions."""
+        reached: set[str] = set()
+
+        def walk(stmts: tuple[ast.Stmt, ...]) -> None:
+            for s in stmts:
+                if isinstance(s, ast.InvokeStmt) and s.action.name not in reached:
+                    action = self.actions.get(s.action.name)
+                    if action is not None:
+                        reached.add(s.action.name)
+                        walk(action.body)
+
+        for t in tables:
+            for row in t.rows:
+                walk(row.actions)
+        return reached
+
+    def collect_records(
+        self, tables: list[ast.TableDecl], actions: Iterable[ast.ActionDef]
+    ) -> dict[str, Span]:
+        """The names recorded in the table's rows and in these actions' bodies."""
         found: dict[str, Span] = {}
 
         def walk(stmts: tuple[ast.Stmt, ...]) -> None:
@@ -250,18 +309,19 @@ class ControllerChecker:
         for t in tables:
             for row in t.rows:
                 walk(row.actions)
-        for action in self.actions.values():
+        for action in actions:
             walk(action.body)
         return found
 
-    # ---------------------------------------------------------- statements
-    def action_body(self, action: ast.ActionDef) -> None:
+    def action_body(self, action: ast.ActionDef, refs: dict[str, Ref]) -> None:
         local: dict[str, Ref] = {}
         for p in action.params:
             if p.name in local:
                 self.err(p.span, f"parameter '{p.name}' is listed twice")
             local[p.name] = Ref("unknown")
-        self.stmts(action.body, self.global_refs, local)
+        self.stmts(action.body, refs, local)
+
+    # ---------------------------------------------------------- statements
 
     def stmts(
         self, stmts: tuple[ast.Stmt, ...], refs: dict[str, Ref], local: dict[str, Ref]
@@ -269,7 +329,7 @@ class ControllerChecker:
         local = dict(local)
         for s in stmts:
             if isinstance(s, ast.AssignStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
                 ref = self.path(s.target, refs, local)
                 if ref is not None and ref.kind != "unknown" and not ref.settable:
                     last = s.target[-1]
@@ -287,9 +347,9 @@ class ControllerChecker:
                             + did_you_mean(ident.name, self.roles),
                         )
             elif isinstance(s, ast.RecordStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
             elif isinstance(s, ast.LetStmt):
-                self.expr(s.value, refs, local)
+                self.number(s.value, refs, local)
                 local[s.name.name] = Ref("value")
             elif isinstance(s, ast.InvokeStmt):
                 for a in s.args:
@@ -324,7 +384,7 @@ class ControllerChecker:
         axes = ("x", "z") if self.model.planar and not in_action else ("x", "y", "z")
         seen: set[str] = set()
         for name, value in s.goals:
-            self.expr(value, refs, local)
+            self.number(value, refs, local)
             if name.name not in axes:
                 self.err(
                     name.span,
@@ -368,6 +428,22 @@ class ControllerChecker:
             ident.span, f"unknown name '{ident.name}'{did_you_mean(ident.name, [*refs, *local])}"
         )
 
+    def number(
+        self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
+    ) -> Ref | None:
+        """An expression used as a number: a body, leg, path... is not one, its members are."""
+        ref = self.expr(e, refs, local, event)
+        if ref is not None and ref.kind in _NOT_NUMBERS:
+            kind = _KIND_WORDS.get(ref.kind, ref.kind)
+            text = _text(e)
+            self.err(
+                e.span,
+                f"'{text}' is a {kind}, not a number: use one of its members, "
+                f"as in '{text}.{_MEMBER_EXAMPLES[ref.kind]}'",
+            )
+            return None
+        return ref
+
     def expr(
         self, e: ast.Expr, refs: dict[str, Ref], local: dict[str, Ref], event: bool = False
     ) -> Ref | None:
@@ -384,11 +460,11 @@ class ControllerChecker:
             base = self.expr(e.base, refs, local)
             return self.member(base, e.attr) if base is not None else None
         if isinstance(e, ast.EUnary):
-            self.expr(e.operand, refs, local, event)
+            self.number(e.operand, refs, local, event)
             return Ref("value")
         if isinstance(e, ast.EBinary):
-            self.expr(e.left, refs, local, event)
-            self.expr(e.right, refs, local, event)
+            self.number(e.left, refs, local, event)
+            self.number(e.right, refs, local, event)
             return Ref("value")
         # a call
         name = e.func.name
@@ -415,7 +491,7 @@ class ControllerChecker:
                     self.err(a.span, f"{name}() takes a leg, a role or a contact")
             return Ref("value")
         for a in e.args:
-            self.expr(a, refs, local, event)
+            self.number(a, refs, local, event)
         return Ref("value")
 
     def member(self, base: Ref, attr: ast.Ident) -> Ref | None:
@@ -444,6 +520,7 @@ class ControllerChecker:
                 return Ref("unknown")
             return self.global_refs.get(targets[0], Ref("unknown"))
         table = {
+            "path": PATH_MEMBERS,
             "body": BODY_MEMBERS,
             "contact": CONTACT_MEMBERS,
             "com": COM_MEMBERS,
@@ -453,7 +530,7 @@ class ControllerChecker:
             if name not in table[base.kind]:
                 self.err(
                     attr.span,
-                    f"a {base.kind if base.kind != 'coord' else 'joint coordinate'} has no member '{name}'; it has {', '.join(table[base.kind])}{did_you_mean(name, table[base.kind])}",
+                    f"a {_KIND_WORDS.get(base.kind, base.kind)} has no member '{name}'; it has {', '.join(table[base.kind])}{did_you_mean(name, table[base.kind])}",
                 )
                 return None
             return Ref("value")
@@ -470,6 +547,135 @@ class ControllerChecker:
             return None
         self.err(attr.span, f"a number has no member '{name}'")
         return None
+
+
+_KIND_WORDS = {"coord": "joint coordinate", "path": "path", "com": "centre of mass"}
+_NOT_NUMBERS = ("body", "leg", "role", "contact", "com", "coord", "actuator", "path")
+_MEMBER_EXAMPLES = {
+    "body": "z", "leg": "length", "role": "length", "contact": "z", "com": "vx",
+    "coord": "value", "actuator": "force", "path": "lateral",
+}  # fmt: skip
+
+
+def _text(e: ast.Expr) -> str:
+    if isinstance(e, ast.EName):
+        return e.ident.name
+    if isinstance(e, ast.EAttr):
+        return f"{_text(e.base)}.{e.attr.name}"
+    return "this"
+
+
+_PATH_ARGS = {
+    "circle": ("center", "radius", "turn", "lookahead"),
+    "square": ("corner", "side", "turn", "lookahead"),
+    "polyline": ("lookahead",),
+    "polygon": ("lookahead",),
+}
+_PATH_EXAMPLES = {
+    "circle": "circle(center = (0, 5) m, radius = 5 m, turn = left)",
+    "square": "square(corner = (0, 0) m, side = 8 m, turn = left)",
+}
+_PATH_EXAMPLE = (
+    "circle(center = (0, 5) m, radius = 5 m, turn = left), polyline((0, 0) m, (10, 0) m, ...), "
+    "polygon(...) or square(corner = (0, 0) m, side = 8 m, turn = left)"
+)
+
+
+def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | None:
+    """``circle(...)``, ``polyline(...)``, ``polygon(...)`` or ``square(...)``, in metres."""
+    values = CreatureChecker.__new__(CreatureChecker)
+    values.diag = diag
+    if not isinstance(value, ast.Call):
+        diag.error(value.span, f"a path is one of {_PATH_EXAMPLE}")
+        return None
+    shape = value.func.name
+    if shape not in SHAPES:
+        diag.error(
+            value.func.span,
+            f"unknown path shape '{shape}'; a path is one of {_PATH_EXAMPLE}{did_you_mean(shape, SHAPES)}",
+        )
+        return None
+    allowed = _PATH_ARGS[shape]
+    ok = True
+    given: dict[str, ast.Arg] = {}
+    points: list[tuple[float, float]] = []
+    for arg in value.args:
+        if arg.keyword is None:
+            if shape not in ("polyline", "polygon"):
+                diag.error(
+                    arg.span,
+                    f"{shape}() takes {', '.join(k + ' = ...' for k in allowed)}, not a positional argument",
+                )
+                ok = False
+                continue
+            p = values.vector(arg.value, "length", 2, "a point of the path")
+            if p is None:
+                ok = False
+            else:
+                points.append((p[0], p[1]))
+            continue
+        key = arg.keyword.name
+        if key not in allowed:
+            diag.error(
+                arg.keyword.span,
+                f"{shape}() takes {', '.join(k + ' = ...' for k in allowed)}, not '{key}'"
+                + did_you_mean(key, allowed),
+            )
+            ok = False
+        elif key in given:
+            diag.error(arg.keyword.span, f"'{key}' is given twice")
+            ok = False
+        else:
+            given[key] = arg
+    if not ok:
+        return None
+
+    def length(key: str) -> float | None:
+        v = values.scalar(given[key].value, "length", f"'{key}'")
+        if v is not None and v <= 0:
+            diag.error(given[key].value.span, f"'{key}' must be positive, got {v:g} m")
+            return None
+        return v
+
+    lookahead = DEFAULT_LOOKAHEAD
+    if "lookahead" in given:
+        look = length("lookahead")
+        if look is None:
+            return None
+        lookahead = look
+    if shape in ("polyline", "polygon"):
+        least = 2 if shape == "polyline" else 3
+        if len(points) < least:
+            diag.error(
+                value.span,
+                f"a {shape} needs at least {least} points, got {len(points)}: write {shape}((0, 0) m, (10, 0) m{', (10, 10) m' if least == 3 else ''})",
+            )
+            return None
+        return PathSpec(name, shape, tuple(points), closed=shape == "polygon", lookahead=lookahead)
+    place, size = ("center", "radius") if shape == "circle" else ("corner", "side")
+    for key in (place, size):
+        if key not in given:
+            diag.error(value.span, f"{shape}() needs '{key} = ...', as in {_PATH_EXAMPLES[shape]}")
+            return None
+    where = values.vector(given[place].value, "length", 2, f"the {place}")
+    extent = length(size)
+    turn = 1
+    if "turn" in given:
+        word = given["turn"].value
+        if not isinstance(word, ast.NameValue) or word.ident.name not in ("left", "right"):
+            diag.error(word.span, "'turn' is left (counter-clockwise) or right (clockwise)")
+            return None
+        turn = 1 if word.ident.name == "left" else -1
+    if where is None or extent is None:
+        return None
+    center = (where[0], where[1])
+    if shape == "circle":
+        return PathSpec(
+            name, "circle", center=center, radius=extent, turn=turn, lookahead=lookahead
+        )
+    return PathSpec(
+        name, "square", square_corners(center, extent, turn), closed=True, lookahead=lookahead
+    )
 
 
 def check_controllers(

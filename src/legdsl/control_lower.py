@@ -53,7 +53,7 @@ class Legs:
 
 @dataclass(frozen=True)
 class Thing:
-    """A named part of the creature: body, contact, coord, actuator or com."""
+    """A named part of the creature (body, contact, coord, actuator or com), or a path."""
 
     kind: str
     name: str
@@ -138,6 +138,7 @@ class Lowerer:
         self.inputs = {n for n, _ in controller.inputs}
         self.params = {n for n, _ in controller.params}
         self.signals = {s.name.name: s.value for s in controller.signals}
+        self.paths = {p.name for p in controller.paths}
         self.sensors: set[str] = set()
 
     # ------------------------------------------------------------ bindings
@@ -164,11 +165,12 @@ class Lowerer:
         for s in stmts:
             if isinstance(s, ast.SwapStmt):
                 out.append((self._role_name(s.first, env), self._role_name(s.second, env)))
+            elif isinstance(s, ast.LetStmt):
+                # an action may pass its own `let` on to another action
+                env.local[s.name.name] = self.ref(s.value, env)
             elif isinstance(s, ast.InvokeStmt):
                 action = self.actions[s.action.name]
-                # only roles matter for swaps: the other arguments may use `let` locals,
-                # which this walk does not evaluate
-                inner = _Env(env.binding, self._bind_params(action, s, env, roles_only=True))
+                inner = _Env(env.binding, self._bind_params(action, s, env))
                 out += self._swaps(action.body, inner)
         return out
 
@@ -259,7 +261,7 @@ class Lowerer:
         ]
 
     def _bind_params(
-        self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env, roles_only: bool = False
+        self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env
     ) -> dict[str, object]:
         bound: dict[str, object] = {}
         for param, arg in zip(action.params, call.args, strict=True):
@@ -269,7 +271,7 @@ class Lowerer:
                 env.local.get(arg.ident.name), _RoleName
             ):
                 bound[param.name] = env.local[arg.ident.name]
-            elif not roles_only:
+            else:
                 bound[param.name] = self.ref(arg, env)
         return bound
 
@@ -324,6 +326,8 @@ class Lowerer:
             return Legs((n,))
         if n in self.signals:
             return self.ref(self.signals[n], _Env(env.binding))
+        if n in self.paths:
+            return Thing("path", n)
         if n in self.inputs:
             return Symbol(f"input_{n}")
         if n in self.params:

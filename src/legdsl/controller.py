@@ -21,13 +21,14 @@ settings to the simulation's actuators.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any
 
 from .errors import UsageError
 from .kinematics import FootPlacer
 from .model import Model
+from .paths import PathSpec
 from .sensors import Sensors
 
 
@@ -40,6 +41,34 @@ class InputChange:
     value: float
 
 
+def resolve_paths(model: Model, controller: str, given: list[PathSpec]) -> list[PathSpec]:
+    """The controller's declared paths with those of ``--path`` in their place (by name).
+
+    A ``--path`` without a name (its name is empty) replaces the controller's only path.
+    """
+    declared = {p.name: p for p in model.controller(controller).paths}
+    for spec in given:
+        name = spec.name
+        if not name:
+            if len(declared) != 1:
+                raise UsageError(
+                    f"--path: controller {controller} has "
+                    + (
+                        f"the paths {', '.join(declared)}: say which, as in --path {next(iter(declared))}=circle(...)"
+                        if declared
+                        else "no path; declare one in it with 'path NAME' (or 'path NAME = SHAPE')"
+                    )
+                )
+            name = next(iter(declared))
+        elif name not in declared:
+            raise UsageError(
+                f"--path {name}=...: controller {controller} has no path {name!r} "
+                f"(it has {', '.join(declared) or 'none'})"
+            )
+        declared[name] = replace(spec, name=name)
+    return list(declared.values())
+
+
 class StateMachine:
     def __init__(
         self,
@@ -48,9 +77,12 @@ class StateMachine:
         inputs: dict[str, float] | None = None,
         params: dict[str, float] | None = None,
         schedule: list[InputChange] | None = None,
+        paths: list[PathSpec] | None = None,
     ):
         self.module = module
         self.sensors = Sensors(model)
+        self.paths = resolve_paths(model, module.CONTROLLER, paths or [])
+        self.sensors.follow(self.paths)
         self.placer = FootPlacer(model)
         self.state_names: tuple[str, ...] = module.STATE_NAMES
         self.input_names = tuple(module.INPUTS)

@@ -33,6 +33,15 @@ def lark_parser() -> Lark:
 
 
 @functools.cache
+def value_parser() -> Lark:
+    """The same grammar started at one ``value`` (``legdsl run --path "circle(...)"``)."""
+    text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
+    return Lark(
+        text, parser="lalr", start="value", propagate_positions=True, maybe_placeholders=True
+    )
+
+
+@functools.cache
 def friendly_entries() -> tuple[dict[str, Any], ...]:
     """The [[error]] entries of grammar/friendly_errors.toml."""
     data = tomllib.loads((grammar_dir() / "friendly_errors.toml").read_text(encoding="utf-8"))

@@ -337,7 +337,12 @@ def compute_metrics(
         stances=stances,
         flights=flights,
         friction=friction,
-        summaries=_summaries(tr, units, per_stride, stances, flights, friction, joint, against),
+        summaries=_with_support_rows(
+            _summaries(tr, units, per_stride, stances, flights, friction, joint, against),
+            tr,
+            t_from,
+            t_to,
+        ),
         note=note,
         options=options,
     )
@@ -718,6 +723,96 @@ def _summaries(
     return rows
 
 
+@dataclass(frozen=True)
+class SupportPhase:
+    """A complete run of samples with one set of feet down: ``kind`` is "flight" (none),
+    "single" (one) or "double" (two or more); ``feet`` names the feet (legs) down."""
+
+    kind: str
+    feet: tuple[str, ...]
+    t_start: float  # s
+    t_end: float  # s
+
+    @property
+    def duration(self) -> float:
+        return self.t_end - self.t_start
+
+
+def _support_phases(
+    t: np.ndarray, down: np.ndarray, names: Sequence[str], t_from: float, t_to: float
+) -> list[SupportPhase]:
+    """Split a run into phases of constant support: ``down`` is (samples, feet) true where a
+    foot touches. A phase counts when both its ends were seen inside ``[t_from, t_to]``
+    (as stances do: a phase still going on at the first or last sample is left out)."""
+    if down.ndim != 2 or down.shape[0] < 2 or down.shape[1] == 0:
+        return []
+    change = np.flatnonzero(np.any(down[1:] != down[:-1], axis=1)) + 1
+    bounds = np.concatenate(([0], change, [down.shape[0]]))
+    phases = []
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        if a == 0 or b == down.shape[0]:  # one end not seen
+            continue
+        if t[a] < t_from - _EPS_T or t[b] > t_to + _EPS_T:
+            continue
+        feet = tuple(n for n, on in zip(names, down[a], strict=True) if on)
+        kind = ("flight", "single")[len(feet)] if len(feet) < 2 else "double"
+        phases.append(SupportPhase(kind, feet, float(t[a]), float(t[b])))
+    return phases
+
+
+def _with_support_rows(
+    rows: list[Summary], tr: Trajectory, t_from: float, t_to: float
+) -> list[Summary]:
+    """Add rows for single and double support when two or more feet touch at once in the
+    window (a gallop's stance: single, double, single support); else ``rows`` unchanged."""
+    if tr.leg_names:
+        cols = [_foot(tr, i) for i in range(len(tr.leg_names))]
+        names = [n for n, c in zip(tr.leg_names, cols, strict=True) if c]
+        cols = [c for c in cols if c]
+    else:
+        names, cols = list(tr.contact_names), [(i,) for i in range(len(tr.contact_names))]
+    if len(cols) < 2:
+        return rows
+    down = np.stack([_touching(tr, c) for c in cols], axis=1)
+    window = (tr.t >= t_from - _EPS_T) & (tr.t <= t_to + _EPS_T)
+    if not (down[window].sum(axis=1) >= 2).any():
+        return rows
+    phases = _support_phases(tr.t, down, names, t_from, t_to)
+    singles = [p for p in phases if p.kind == "single"]
+    doubles = [p for p in phases if p.kind == "double"]
+    extra = [
+        _stat(
+            "single_support_duration",
+            "single support duration (s)",
+            [p.duration for p in singles],
+        ),
+    ]
+    for name in names:
+        extra.append(
+            _stat(
+                f"single_support_duration_{name}",
+                f"single support duration, {name} (s)",
+                [p.duration for p in singles if p.feet == (name,)],
+            )
+        )
+    extra.append(
+        _stat(
+            "double_support_duration", "double support duration (s)", [p.duration for p in doubles]
+        )
+    )
+    inside = down[window].sum(axis=1)
+    extra.append(
+        Summary(
+            "double_support_fraction",
+            "fraction of the time in double support (-)",
+            float(np.mean(inside >= 2)),
+            math.nan,
+            int(inside.size),
+        )
+    )
+    return rows + extra
+
+
 def _friction_rows(f: Friction) -> list[Summary]:
     n = sum(math.isfinite(p) for p in f.stance_peaks)  # stances with a usable sample
     n_in = sum(math.isfinite(p) for p in f.stance_peaks_interior)
@@ -753,3 +848,74 @@ def _jsonable(x: Any) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None
     return x
+
+
+# ------------------------------------------------------------------ path following
+PATH_FROM = 3.0  # s: the report's window starts here by default (after the start-up)
+
+
+def path_report(
+    tr: Trajectory, spec: Any, t_from: float = PATH_FROM, t_to: float | None = None
+) -> dict[str, Any]:
+    """How well the centre of mass followed a path (a ``legdsl.paths.PathSpec``), from ``t_from``.
+
+    The lateral deviation is the signed distance of the centre of mass from the
+    path (positive to the left); its RMS, largest magnitude and mean are taken
+    over the samples in the window. The progress is tracked from the run's
+    first sample (so laps count from the start); the speed along the path is
+    the progress made in the window over its duration.
+    """
+    from .paths import PathGeometry, track
+
+    lateral, progress = track(
+        spec, [float(x) for x in tr.com[:, 0]], [float(y) for y in tr.com[:, 1]]
+    )
+    lat = np.asarray(lateral)
+    prog = np.asarray(progress)
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from - _EPS_T) & (tr.t <= end + _EPS_T)
+    length = PathGeometry(spec).length
+    out: dict[str, Any] = {
+        "path": spec.describe(),
+        "from": float(t_from),
+        "to": float(end),
+        "samples": int(window.sum()),
+        "length": float(length),
+        "progress": float(prog[-1] - prog[0]) if len(prog) else math.nan,
+        "laps": float((prog[-1] - prog[0]) / length) if len(prog) and length > 0 else math.nan,
+    }
+    if window.sum() >= 2:
+        w = lat[window]
+        t = tr.t[window]
+        out |= {
+            "lateral_rms": float(np.sqrt(np.mean(w**2))),
+            "lateral_max": float(np.max(np.abs(w))),
+            "lateral_mean": float(np.mean(w)),
+            "path_speed": float((prog[window][-1] - prog[window][0]) / (t[-1] - t[0])),
+        }
+    else:
+        out |= dict.fromkeys(("lateral_rms", "lateral_max", "lateral_mean", "path_speed"), math.nan)
+    return _jsonable(out)
+
+
+def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The report as (label, value) rows for ``legdsl run``'s summary and ``legdsl metrics``."""
+
+    def num(key: str, unit: str) -> str:
+        v = report.get(key)
+        return "n/a" if v is None else f"{v:.3f}{unit}"
+
+    window = f"from {report['from']:g} s"
+    return [
+        ("path", str(report["path"])),
+        (f"lateral deviation RMS ({window})", num("lateral_rms", " m")),
+        (
+            f"lateral deviation max / mean ({window})",
+            f"{num('lateral_max', ' m')} / {num('lateral_mean', ' m')}",
+        ),
+        (
+            "progress along the path",
+            f"{num('progress', ' m')} ({num('laps', '')} laps of {num('length', ' m')})",
+        ),
+        (f"speed along the path ({window})", num("path_speed", " m/s")),
+    ]

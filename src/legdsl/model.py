@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 from . import ast
 from .errors import Span
+from .paths import PathSpec
 
 Vec3 = tuple[float, float, float]
 Mat3 = tuple[Vec3, Vec3, Vec3]
@@ -202,6 +203,9 @@ class Controller:
     rows: tuple[ast.Row, ...]
     records: tuple[str, ...]
     span: Span
+    # paths to follow (``path NAME = ...``); the runtime evaluates them, so they are not
+    # part of the generated code (nor of its fingerprint)
+    paths: tuple[PathSpec, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from lark.exceptions import UnexpectedInput
 
 from . import ast
 from .errors import LegError, Span
-from .lalr import grammar_dir, lark_parser
+from .lalr import grammar_dir, lark_parser, value_parser
 from .syntax_errors import syntax_error
 from .units import DIMENSIONLESS, Quantity, parse_unit
 
@@ -215,6 +215,9 @@ class _ToAst(Transformer):
     def roles(self, meta: Any, c: list[Any]) -> ast.RolesDecl:
         return ast.RolesDecl(tuple(c), self._s(meta))
 
+    def path_decl(self, meta: Any, c: list[Any]) -> ast.PathDecl:
+        return ast.PathDecl(self._id(c[0]), c[1], self._s(meta))
+
     def start_state(self, meta: Any, c: list[Any]) -> ast.StartDecl:
         return ast.StartDecl(self._id(c[0]), self._s(meta))
 
@@ -273,6 +276,17 @@ def parse(text: str, file: str = "<string>") -> ast.SourceFile:
     except UnexpectedInput as err:
         raise syntax_error(file, text, err) from None
     return _build(tree, file, text)
+
+
+def parse_value(text: str, file: str = "<string>") -> ast.Value:
+    """One creature-style value, such as a path's shape written on the command line."""
+    try:
+        tree = value_parser().parse(text)
+    except UnexpectedInput as err:
+        raise syntax_error(file, text, err) from None
+    result = _ToAst(file).transform(tree)
+    assert not isinstance(result, Tree)
+    return result
 
 
 def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:

@@ -8,6 +8,7 @@ bracketed by vertical dashed lines, as in the paper.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -110,3 +111,64 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
         return ()
     joints = model.legs[0].joints
     return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")
+
+
+def run_paths(run: Path) -> list[Any]:
+    """The paths a run followed (``PathSpec``s from its run.json; none for older runs)."""
+    import json
+
+    from .paths import PathSpec
+
+    info_file = run / "run.json"
+    if not info_file.is_file():
+        return []
+    info = json.loads(info_file.read_text())
+    return [PathSpec.from_json(p) for p in info.get("paths") or []]
+
+
+def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
+    """A top view: the path(s) the run followed and the track of the centre of mass."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .metrics import PATH_FROM, path_report
+    from .paths import PathGeometry
+
+    tr = Trajectory.load(run)
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from) & (tr.t <= end)
+    fig, ax = plt.subplots(figsize=(7, 7))
+    titles = []
+    for spec in run_paths(run):
+        geo = PathGeometry(spec)
+        s = np.linspace(0.0, geo.length, 400 if spec.shape == "circle" else 2000)
+        pts = np.array([geo.at(float(v))[:2] for v in s])
+        if spec.shape != "circle" and geo.closed:
+            pts = np.vstack([pts, pts[:1]])
+        ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, label=f"path {spec.name}")
+        report = path_report(tr, spec, max(t_from, PATH_FROM), t_to)
+        rms, worst = report["lateral_rms"], report["lateral_max"]
+        if rms is not None:
+            titles.append(
+                f"{spec.name}: lateral deviation {rms:.3f} m RMS, {worst:.3f} m max "
+                f"(from {report['from']:g} s), {report['laps']:.2f} laps"
+            )
+    ax.plot(tr.com[window, 0], tr.com[window, 1], color="k", linewidth=1, label="centre of mass")
+    ax.plot(tr.com[window, 0][:1], tr.com[window, 1][:1], "o", color="k", label="start")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, color="0.9")
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(
+        f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
+        + ("\n" + "\n".join(titles) if titles else ""),
+        fontsize=9,
+    )
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out

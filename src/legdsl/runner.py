@@ -23,6 +23,7 @@ from .codegen import controller_fingerprint, model_fingerprint
 from .controller import InputChange
 from .errors import UsageError
 from .model import Model
+from .paths import PathSpec
 from .simulate import RunOptions, RunResult
 from .units import KINDS, Dim, UnitError, parse_unit
 
@@ -238,3 +239,40 @@ def _mean_speed(tr: Any) -> float:
     if len(tr) < 2 or tr.t[-1] <= tr.t[0]:
         return 0.0
     return float((tr.com[-1, 0] - tr.com[0, 0]) / (tr.t[-1] - tr.t[0]))
+
+
+def parse_path_option(text: str) -> PathSpec:
+    """``--path [NAME=]SHAPE`` (the .leg file's syntax) or ``--path FILE.csv`` (x,y per line).
+
+    Without ``NAME=`` the name is empty: the controller's only path (see
+    ``legdsl.controller.resolve_paths``).
+    """
+    from .control_check import check_path
+    from .errors import Diagnostics
+    from .parser import parse_value
+    from .paths import read_waypoints
+
+    match = re.match(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)", text)
+    name, shape = ("", text) if match is None else (match.group(1), text[match.end() :])
+    if re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape):
+        file = Path(shape.strip())
+        if not file.is_file():
+            raise UsageError(f"--path {text}: no such file {file}")
+        return read_waypoints(file, name)
+    # parse the shape where it stands in the option, so the caret points into it
+    padded = " " * (len(text) - len(shape)) + shape
+    value = parse_value(padded, "--path")
+    diag = Diagnostics({"--path": text})
+    spec = check_path(name, value, diag)
+    diag.raise_if_any()
+    assert spec is not None
+    return spec
+
+
+def path_summary(report: dict[str, Any]) -> str:
+    """The path rows printed after a run's summary."""
+    from .metrics import path_rows
+
+    rows = path_rows(report)
+    width = max(len(r[0]) for r in rows)
+    return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)

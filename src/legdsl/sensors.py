@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .model import Model
+from .paths import PathSpec, PathTracker
 
 Vec = tuple[float, float, float]
 
@@ -66,6 +67,11 @@ class Sensors:
         self.legs = {leg.name: leg for leg in model.legs}
         self.leg_hip = {leg.name: model.hip_body_index(leg) for leg in model.legs}
         self.clocks = {c.name: _LegClock() for c in model.contacts}
+        self.paths: dict[str, PathTracker] = {}
+
+    def follow(self, specs: Iterable[PathSpec]) -> None:
+        """The paths whose members (``path.NAME.lateral``, ...) the controller reads."""
+        self.paths = {spec.name: PathTracker(spec) for spec in specs}
 
     def observe(self, t: float, touching: Iterable[bool]) -> None:
         """Update stance and flight clocks from the contact flags (call every control tick)."""
@@ -146,11 +152,21 @@ class Sensors:
             return float(vel[i][axis] if member.startswith("v") else pos[i][axis])
         if kind == "act":
             return float(sim.actuators.by_name[name].get(member))
+        if kind == "path":
+            return self._path(sim, cache, name)[member]
         if kind == "body":
             return self._body(sim, cache, self.body_index[name], member)
         if kind == "leg":
             return self._leg(sim, cache, name, member)
         raise KeyError(f"unknown sensor key {key!r}")
+
+    def _path(self, sim: Any, cache: dict[str, Any], name: str) -> dict[str, float]:
+        """The path's members for the centre of mass now (the tracker moves once per tick)."""
+        key = f"path.{name}"
+        if key not in cache:
+            com = self._com(sim, cache)[0]
+            cache[key] = self.paths[name].update(float(com[0]), float(com[1]))
+        return cache[key]
 
     def _body(self, sim: Any, cache: dict[str, Any], i: int, member: str) -> float:
         pos, rot = self._poses(sim, cache)[i]
