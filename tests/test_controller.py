@@ -67,6 +67,24 @@ def test_roles_are_specialised_per_binding_and_swapped_on_entry(tmp_path: Path) 
     assert [name for name, _ in lowered.bodies[(0, stance)].records] == ["landed"]
 
 
+def test_a_let_local_can_be_passed_to_a_nested_action(tmp_path: Path) -> None:
+    # The walk that finds the swaps inlines actions too; it used to evaluate every
+    # argument and failed on a `let` local it had not bound ("unresolved name d").
+    source = tmp_path / "walker.leg"
+    source.write_text(
+        TWO_LEGS.replace(
+            "action shorten(leg) { leg.spring.rest = -5 cm }",
+            "action set_rest(leg, v) { leg.spring.rest = v }\n"
+            "  action shorten(leg) { let d = -5 cm; set_rest(leg, d) }",
+        )
+    )
+    model = check_model(source)
+    lowered = lower_controller(model, model.controllers[0])
+    settings = {(s.actuator, s.key): float(s.value) for s in lowered.bodies[(1, 0)].settings}
+    assert settings == {("b_spring", "rest"): 0.0, ("a_spring", "rest"): -0.05}
+    assert lowered.after_entry[(0, 0)] == 1  # the swap is still found
+
+
 def _hop(generated: Path, time: float, **inputs: float) -> tuple[Simulation, object]:
     model = check_model(HOPPER)
     dyn = load_dynamics(model, HOPPER, generated)

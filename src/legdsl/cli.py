@@ -139,7 +139,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
-    from .metrics import MetricsError, compute_metrics, parse_groups, write_json
+    from .metrics import (
+        TABLE2,
+        MetricsError,
+        compare_table,
+        compute_metrics,
+        parse_groups,
+        write_json,
+    )
     from .trajectory import Trajectory
 
     run = Path(args.dir)
@@ -164,6 +171,13 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     except MetricsError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
+    if args.table2 is not None and args.table2 not in TABLE2:
+        print(
+            f"legdsl metrics: error: --table2 {args.table2!r}: Table 2 has "
+            + ", ".join(repr(k) for k in TABLE2),
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     write_json(metrics, run / "metrics.json")
     reports = _path_reports(run, trajectory, args.t_from, args.t_to)
     if args.json:
@@ -173,6 +187,9 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         print(json.dumps(data, indent=2, allow_nan=False))
     else:
         print(metrics.table(), end="")
+        if args.table2 is not None:
+            print(f"\nbeside Table 2 of the paper, {args.table2}:")
+            print(compare_table(metrics, TABLE2[args.table2]), end="")
         if reports:
             from .runner import path_summary
 
@@ -395,6 +412,13 @@ def _parser() -> argparse.ArgumentParser:
         epilog="Example: legdsl metrics runs/kangaroo --from 3 --joint tail_base --against hip",
     )
     m.add_argument("dir", metavar="DIR", help="a run directory holding trajectory.npz")
+    m.add_argument(
+        "--table2",
+        metavar="ROWS",
+        default=None,
+        help="also print the run beside these rows of the paper's Table 2: 'kangaroo hop', "
+        "'biped run', 'quadruped trot' or 'quadruped bound'",
+    )
     m.add_argument(
         "--from",
         dest="t_from",
