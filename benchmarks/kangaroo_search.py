@@ -4,7 +4,7 @@ Runs the controller in-process (one simulation at a time) with parameters and
 inputs set as `--set` would, and scores each setting by the time it stays up
 and its mean forward speed after 3 s against the command. Usage:
 
-    PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py eval speed=3,5 time=20 k_apex=40 ...
+    PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py eval speed=3,5 time=20 k_height=60 ...
     PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py random N seed=1 time=10 speed=3,5
     PYTHONPATH=src nice -n 10 python benchmarks/kangaroo_search.py random N score=tail speed=3,5 time=12
 
@@ -35,7 +35,6 @@ INPUTS = {"speed", "height", "tail_k"}
 
 # name: (low, high) of the random search, SI units
 SPACE: dict[str, tuple[float, float]] = {
-    "k_apex": (0.0, 2.0),
     "k_height": (0.5, 3.0),
     "height": (0.42, 0.50),
     "pitch_lead": (-0.15, 0.15),
@@ -50,13 +49,11 @@ SPACE: dict[str, tuple[float, float]] = {
     "tuck": (0.32, 0.42),
     "min_stroke": (-0.4, 0.0),
     "max_stroke": (0.1, 0.5),
-    "tail_gain": (-0.6, 0.6),
     "tail_k": (4.0, 14.0),
     "swing_kp": (40.0, 150.0),
     "hip_kp": (200.0, 600.0),
     "stroke": (0.0, 0.2),
     "tail_stop": (0.0, 60.0),
-    "tail_push": (0.0, 10.0),
     "accel": (0.6, 1.5),
     "tail_down": (-0.8, 0.0),
     "tail_up": (-0.3, 0.5),
@@ -133,7 +130,7 @@ def score(rs: list[dict], time: float, tail: bool = False) -> float:
     return s
 
 
-TAIL = ("tail_k", "tail_kp", "tail_kv", "tail_down", "tail_up", "tail_b", "tail_gain", "tail_stop")
+TAIL = ("tail_k", "tail_kp", "tail_kv", "tail_down", "tail_up", "tail_b", "tail_stop")
 
 
 def parse(args: list[str]) -> dict[str, str]:

@@ -20,10 +20,10 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "dc00214204e9b246"
+FINGERPRINT = "27281e192a600ca2"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.hip.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
+SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
 INPUTS = {
     "speed": 5.0,
     "height": 0.46,
@@ -50,7 +50,6 @@ PARAMS = {
     "start_rest": -2.007128639793479,
     "ramp": 1.0471975511965976,
     "k_height": 1.3089969389957472,
-    "k_apex": 0.0,
     "min_stroke": -0.10471975511965978,
     "max_stroke": 0.2617993877991494,
     "pitch_lead": 0.013962634015954637,
@@ -66,14 +65,10 @@ PARAMS = {
     "tail_stop": 15.0,
     "tail_low": -1.3962634015954636,
     "tail_high": 1.0471975511965976,
-    "tail_push": 0.0,
-    "launch": 0.3,
-    "tail_gain": 0.0,
-    "hip_mid": -0.6108652381980153,
     "tail_kp": 60.0,
     "tail_kv": 4.0,
 }
-RECORDS = ('predicted_apex', 'stroke_trim', 'desired_now', 'speed_trim')
+RECORDS = ('predicted_apex', 'desired_now', 'speed_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -86,13 +81,13 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)"""
-    leg_main_touching = s[17]
+    leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)"""
-    leg_main_touching = s[17]
+    leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
 
 
@@ -111,38 +106,30 @@ def event_THRUST_0(s, u, p, r, tis):
 def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
-    leg_main_touching = s[17]
+    leg_main_touching = s[16]
     ankle_rest = p[15]
-    unload = p[29]
+    unload = p[28]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: desired_now, stroke_trim, speed_trim)."""
+    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim)."""
     com_vx = s[4]
-    com_vz = s[5]
-    com_z = s[6]
-    leg_main_flight_time = s[11]
-    leg_main_stance_time = s[16]
+    leg_main_flight_time = s[10]
+    leg_main_stance_time = s[15]
     speed = u[0]
-    height = u[1]
     k_trim = p[3]
     k_trim_ramp = p[4]
     max_trim = p[6]
     accel = p[7]
-    k_apex = p[20]
-    min_stroke = p[21]
-    max_stroke = p[22]
     predicted_apex = r[0]
-    stroke_trim = r[1]
-    desired_now = r[2]
-    speed_trim = r[3]
-    t1 = min(max_stroke, max(min_stroke, k_apex*(-com_z + height - 0.0509683995922528*max(0.0, com_vz)*max(0.0, com_vz)) + stroke_trim))
-    t2 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    t3 = desired_now - speed
-    t4 = desired_now + min(t2, max(-t2, -t3))
-    t5 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t3) < 0.05) else (k_trim_ramp))))
-    return [predicted_apex, t1, t4, t5]
+    desired_now = r[1]
+    speed_trim = r[2]
+    t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
+    t2 = desired_now - speed
+    t3 = desired_now + min(t1, max(-t1, -t2))
+    t4 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t2) < 0.05) else (k_trim_ramp))))
+    return [predicted_apex, t3, t4]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -152,11 +139,10 @@ def action_FLIGHT_0(s, u, p, r, tis):
     com_vx = s[4]
     com_vz = s[5]
     coord_ankle_value = s[8]
-    coord_hip_value = s[9]
-    coord_tail_base_value = s[10]
-    leg_main_hip_x = s[14]
-    leg_main_stance_time = s[16]
-    time = s[18]
+    coord_tail_base_value = s[9]
+    leg_main_hip_x = s[13]
+    leg_main_stance_time = s[15]
+    time = s[17]
     tail_k = u[2]
     k_speed = p[0]
     max_correction = p[1]
@@ -168,22 +154,20 @@ def action_FLIGHT_0(s, u, p, r, tis):
     ankle_rest = p[15]
     start_rest = p[17]
     ramp = p[18]
-    reach = p[24]
-    tuck = p[25]
-    thigh_length = p[26]
-    shin_length = p[27]
-    foot_length = p[28]
-    tail_up = p[30]
-    tail_b = p[32]
-    tail_stop = p[33]
-    tail_low = p[34]
-    tail_high = p[35]
-    tail_gain = p[38]
-    hip_mid = p[39]
-    tail_kp = p[40]
-    tail_kv = p[41]
-    desired_now = r[2]
-    speed_trim = r[3]
+    reach = p[23]
+    tuck = p[24]
+    thigh_length = p[25]
+    shin_length = p[26]
+    foot_length = p[27]
+    tail_up = p[29]
+    tail_b = p[31]
+    tail_stop = p[32]
+    tail_low = p[33]
+    tail_high = p[34]
+    tail_kp = p[35]
+    tail_kv = p[36]
+    desired_now = r[1]
+    speed_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = (com_vz > 0.0)
     t3 = 0.8*((tuck) if t2 else (reach))
@@ -197,8 +181,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t11 = min(1.0, max(-1.0, 0.5*(-t9 - thigh_length*thigh_length + min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length)*min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length))/(t10*thigh_length)))
     t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + thigh_length)
     t13 = math.acos(t11) - math.atan2(foot_length*t8, t7)
-    t14 = -tail_gain*(coord_hip_value - hip_mid) + tail_up
-    t15 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
+    t14 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
         t1,
         swing_kp,
@@ -210,8 +193,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         t13,
         tail_k,
         tail_b,
+        tail_up,
         t14,
-        t15,
         -body_trunk_pitch,
         ankle_k,
     ]
@@ -220,81 +203,89 @@ def action_FLIGHT_0(s, u, p, r, tis):
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
     predicted_apex = r[0]
-    stroke_trim = r[1]
-    desired_now = r[2]
-    speed_trim = r[3]
-    return [predicted_apex, stroke_trim, desired_now, speed_trim]
+    desired_now = r[1]
+    speed_trim = r[2]
+    return [predicted_apex, desired_now, speed_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    coord_hip_value = s[9]
-    leg_main_foot_x = s[12]
-    leg_main_foot_z = s[13]
-    leg_main_hip_x = s[14]
-    leg_main_hip_z = s[15]
-    time = s[18]
+    leg_main_foot_x = s[11]
+    leg_main_foot_z = s[12]
+    leg_main_hip_x = s[13]
+    leg_main_hip_z = s[14]
     tail_k = u[2]
     kp = p[8]
     kv = p[9]
     hip_kp = p[10]
     hip_kv = p[11]
     ankle_k = p[14]
-    pitch_lead = p[23]
-    thigh_length = p[26]
-    tail_down = p[31]
-    tail_b = p[32]
-    tail_push = p[36]
-    launch = p[37]
-    tail_gain = p[38]
-    hip_mid = p[39]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
-    t4 = ((-tail_push) if (launch > time) else (0.0))
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch, ankle_k]
+    return [
+        hip_kp,
+        hip_kv,
+        t1,
+        0.0,
+        0.0,
+        t2,
+        tail_k,
+        tail_b,
+        tail_down,
+        0.0,
+        -body_trunk_pitch,
+        ankle_k,
+    ]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     predicted_apex = r[0]
-    stroke_trim = r[1]
-    desired_now = r[2]
-    speed_trim = r[3]
-    return [predicted_apex, stroke_trim, desired_now, speed_trim]
+    desired_now = r[1]
+    speed_trim = r[2]
+    return [predicted_apex, desired_now, speed_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    coord_hip_value = s[9]
-    leg_main_foot_x = s[12]
-    leg_main_foot_z = s[13]
-    leg_main_hip_x = s[14]
-    leg_main_hip_z = s[15]
-    time = s[18]
+    leg_main_foot_x = s[11]
+    leg_main_foot_z = s[12]
+    leg_main_hip_x = s[13]
+    leg_main_hip_z = s[14]
     tail_k = u[2]
     kp = p[8]
     kv = p[9]
     hip_kp = p[10]
     hip_kv = p[11]
     ankle_k = p[14]
-    pitch_lead = p[23]
-    thigh_length = p[26]
-    tail_down = p[31]
-    tail_b = p[32]
-    tail_push = p[36]
-    launch = p[37]
-    tail_gain = p[38]
-    hip_mid = p[39]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    t3 = tail_down - tail_gain*(coord_hip_value - hip_mid)
-    t4 = ((-tail_push) if (launch > time) else (0.0))
-    return [hip_kp, hip_kv, t1, 0.0, 0.0, t2, tail_k, tail_b, t3, t4, -body_trunk_pitch, ankle_k]
+    return [
+        hip_kp,
+        hip_kv,
+        t1,
+        0.0,
+        0.0,
+        t2,
+        tail_k,
+        tail_b,
+        tail_down,
+        0.0,
+        -body_trunk_pitch,
+        ankle_k,
+    ]
 
 
 def entry_THRUST_0(s, u, p, r, tis):
@@ -302,23 +293,21 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
-    stroke_trim = r[1]
-    desired_now = r[2]
-    speed_trim = r[3]
+    desired_now = r[1]
+    speed_trim = r[2]
     t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [t1, stroke_trim, desired_now, speed_trim]
+    return [t1, desired_now, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    coord_hip_value = s[9]
-    leg_main_foot_x = s[12]
-    leg_main_foot_z = s[13]
-    leg_main_hip_x = s[14]
-    leg_main_hip_z = s[15]
-    time = s[18]
+    leg_main_foot_x = s[11]
+    leg_main_foot_z = s[12]
+    leg_main_hip_x = s[13]
+    leg_main_hip_z = s[14]
+    time = s[17]
     height = u[1]
     tail_k = u[2]
     kp = p[8]
@@ -331,23 +320,16 @@ def action_THRUST_0(s, u, p, r, tis):
     start_rest = p[17]
     ramp = p[18]
     k_height = p[19]
-    min_stroke = p[21]
-    max_stroke = p[22]
-    pitch_lead = p[23]
-    thigh_length = p[26]
-    tail_down = p[31]
-    tail_b = p[32]
-    tail_push = p[36]
-    launch = p[37]
-    tail_gain = p[38]
-    hip_mid = p[39]
+    min_stroke = p[20]
+    max_stroke = p[21]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     predicted_apex = r[0]
-    stroke_trim = r[1]
-    t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke + stroke_trim))
+    t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    t4 = tail_down - tail_gain*(coord_hip_value - hip_mid)
-    t5 = ((-tail_push) if (launch > time) else (0.0))
     return [
         t1,
         hip_kp,
@@ -358,8 +340,8 @@ def action_THRUST_0(s, u, p, r, tis):
         t3,
         tail_k,
         tail_b,
-        t4,
-        t5,
+        tail_down,
+        0.0,
         -body_trunk_pitch,
         ankle_k,
     ]
@@ -368,22 +350,20 @@ def action_THRUST_0(s, u, p, r, tis):
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     predicted_apex = r[0]
-    stroke_trim = r[1]
-    desired_now = r[2]
-    speed_trim = r[3]
-    return [predicted_apex, stroke_trim, desired_now, speed_trim]
+    desired_now = r[1]
+    speed_trim = r[2]
+    return [predicted_apex, desired_now, speed_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k."""
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
-    coord_hip_value = s[9]
-    leg_main_foot_x = s[12]
-    leg_main_foot_z = s[13]
-    leg_main_hip_x = s[14]
-    leg_main_hip_z = s[15]
-    time = s[18]
+    leg_main_foot_x = s[11]
+    leg_main_foot_z = s[12]
+    leg_main_hip_x = s[13]
+    leg_main_hip_z = s[14]
+    time = s[17]
     tail_k = u[2]
     kp = p[8]
     kv = p[9]
@@ -393,17 +373,27 @@ def action_UNLOADING_0(s, u, p, r, tis):
     ankle_rest = p[15]
     start_rest = p[17]
     ramp = p[18]
-    pitch_lead = p[23]
-    thigh_length = p[26]
-    tail_up = p[30]
-    tail_b = p[32]
-    tail_gain = p[38]
-    hip_mid = p[39]
+    pitch_lead = p[22]
+    thigh_length = p[25]
+    tail_up = p[29]
+    tail_b = p[31]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
-    t4 = -tail_gain*(coord_hip_value - hip_mid) + tail_up
-    return [t1, hip_kp, hip_kv, t2, 0.0, 0.0, t3, tail_k, tail_b, t4, -body_trunk_pitch, ankle_k]
+    return [
+        t1,
+        hip_kp,
+        hip_kv,
+        t2,
+        0.0,
+        0.0,
+        t3,
+        tail_k,
+        tail_b,
+        tail_up,
+        -body_trunk_pitch,
+        ankle_k,
+    ]
 
 
 EVENTS = {
