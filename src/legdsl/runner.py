@@ -228,7 +228,7 @@ def summary(model: Model, result: RunResult) -> str:
         energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]
         rows += [
             ("final root position", "(" + ", ".join(f"{x:.3f}" for x in tr.root_pos[-1]) + ") m"),
-            ("mean forward speed", f"{_mean_speed(tr):.3f} m/s"),
+            ("mean speed along x, start to end", f"{_mean_speed(tr):.3f} m/s"),
             ("total energy start -> end", f"{energy0:.3f} J -> {energy1:.3f} J"),
         ]
     width = max(len(r[0]) for r in rows)
