@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "27281e192a600ca2"
+FINGERPRINT = "b8620c3f27dd1919"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -33,11 +33,10 @@ PARAMS = {
     "k_speed": 0.03,
     "max_correction": 0.05,
     "stance_guess": 0.11,
-    "k_trim": 0.15,
-    "k_trim_ramp": 0.05,
+    "k_trim": 0.05,
     "speed_ff": 0.13,
     "max_trim": 1.0,
-    "accel": 1.3,
+    "accel": 2.0,
     "kp": 145.0,
     "kv": 10.0,
     "hip_kp": 400.0,
@@ -107,8 +106,8 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
-    ankle_rest = p[15]
-    unload = p[28]
+    ankle_rest = p[14]
+    unload = p[27]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -119,17 +118,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     leg_main_stance_time = s[15]
     speed = u[0]
     k_trim = p[3]
-    k_trim_ramp = p[4]
-    max_trim = p[6]
-    accel = p[7]
+    max_trim = p[5]
+    accel = p[6]
     predicted_apex = r[0]
     desired_now = r[1]
     speed_trim = r[2]
     t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    t2 = desired_now - speed
-    t3 = desired_now + min(t1, max(-t1, -t2))
-    t4 = min(max_trim, max(-max_trim, speed_trim + (-com_vx + desired_now)*((k_trim) if (abs(t2) < 0.05) else (k_trim_ramp))))
-    return [predicted_apex, t3, t4]
+    t2 = desired_now + min(t1, max(-t1, -desired_now + speed))
+    t3 = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
+    return [predicted_apex, t2, t3]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -147,25 +144,25 @@ def action_FLIGHT_0(s, u, p, r, tis):
     k_speed = p[0]
     max_correction = p[1]
     stance_guess = p[2]
-    speed_ff = p[5]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    reach = p[23]
-    tuck = p[24]
-    thigh_length = p[25]
-    shin_length = p[26]
-    foot_length = p[27]
-    tail_up = p[29]
-    tail_b = p[31]
-    tail_stop = p[32]
-    tail_low = p[33]
-    tail_high = p[34]
-    tail_kp = p[35]
-    tail_kv = p[36]
+    speed_ff = p[4]
+    swing_kp = p[11]
+    swing_kv = p[12]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    start_rest = p[16]
+    ramp = p[17]
+    reach = p[22]
+    tuck = p[23]
+    thigh_length = p[24]
+    shin_length = p[25]
+    foot_length = p[26]
+    tail_up = p[28]
+    tail_b = p[30]
+    tail_stop = p[31]
+    tail_low = p[32]
+    tail_high = p[33]
+    tail_kp = p[34]
+    tail_kv = p[35]
     desired_now = r[1]
     speed_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest)
@@ -217,15 +214,15 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_k = p[13]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -261,15 +258,15 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_k = p[13]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -310,22 +307,22 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[17]
     height = u[1]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    stroke = p[16]
-    start_rest = p[17]
-    ramp = p[18]
-    k_height = p[19]
-    min_stroke = p[20]
-    max_stroke = p[21]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_down = p[30]
-    tail_b = p[31]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    stroke = p[15]
+    start_rest = p[16]
+    ramp = p[17]
+    k_height = p[18]
+    min_stroke = p[19]
+    max_stroke = p[20]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     predicted_apex = r[0]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
@@ -365,18 +362,18 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[14]
     time = s[17]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    pitch_lead = p[22]
-    thigh_length = p[25]
-    tail_up = p[29]
-    tail_b = p[31]
+    kp = p[7]
+    kv = p[8]
+    hip_kp = p[9]
+    hip_kv = p[10]
+    ankle_k = p[13]
+    ankle_rest = p[14]
+    start_rest = p[16]
+    ramp = p[17]
+    pitch_lead = p[21]
+    thigh_length = p[24]
+    tail_up = p[28]
+    tail_b = p[30]
     t1 = min(ankle_rest, ramp*time + start_rest)
     t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
