@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "ddc40015b5f010bd"
+FINGERPRINT = "141d0e0408fdb6cb"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -52,7 +52,7 @@ PARAMS = {
     "extend_lead": 0.14,
     "pitch_lead": -0.06981317007977318,
 }
-RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'held_pitch', 'held_roll', 'predicted_apex', 'thrust_stroke', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'held_pitch', 'held_roll', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -104,13 +104,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_1 = r[5]
     held_pitch = r[6]
     held_roll = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    step_speed = r[8]
+    speed_trim = r[9]
+    lifted = r[10]
+    lifted_x = r[11]
+    lifted_y = r[12]
+    predicted_apex = r[13]
+    thrust_stroke = r[14]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
     t2 = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
@@ -124,13 +124,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         lifted_1,
         held_pitch,
         held_roll,
-        predicted_apex,
-        thrust_stroke,
         t3,
         t4,
         time,
         com_x,
         com_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -156,8 +156,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     extend_at = r[1]
     stance_1 = r[4]
     lifted_1 = r[5]
-    speed_trim = r[11]
-    lifted = r[12]
+    speed_trim = r[9]
+    lifted = r[10]
     t1 = short + slew*(-extend_at + time)
     t2 = min(0.0, max(short, t1, -slew*(-lifted_1 + time)))
     t3 = min(stagger, max(short, t1, -slew*(-lifted + time)))
@@ -215,12 +215,12 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     lifted_1 = r[5]
     held_pitch = r[6]
     held_roll = r[7]
-    predicted_apex = r[8]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    step_speed = r[8]
+    speed_trim = r[9]
+    lifted = r[10]
+    lifted_x = r[11]
+    lifted_y = r[12]
+    predicted_apex = r[13]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
     t2 = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
@@ -232,13 +232,13 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         lifted_1,
         held_pitch,
         held_roll,
-        t1,
-        t2,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        t1,
+        t2,
     ]
 
 
@@ -279,8 +279,8 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     swing_kv = p[11]
     pitch_lead = p[19]
     stance_2 = r[0]
-    thrust_stroke = r[9]
-    speed_trim = r[11]
+    speed_trim = r[9]
+    thrust_stroke = r[14]
     t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -326,13 +326,13 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     lifted_1 = r[5]
     held_pitch = r[6]
     held_roll = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    step_speed = r[8]
+    speed_trim = r[9]
+    lifted = r[10]
+    lifted_x = r[11]
+    lifted_y = r[12]
+    predicted_apex = r[13]
+    thrust_stroke = r[14]
     return [
         stance_2,
         extend_at,
@@ -342,13 +342,13 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         lifted_1,
         held_pitch,
         held_roll,
-        predicted_apex,
-        thrust_stroke,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -393,7 +393,7 @@ def action_DOUBLE_0(s, u, p, r, tis):
     short = p[16]
     slew = p[17]
     pitch_lead = p[19]
-    thrust_stroke = r[9]
+    thrust_stroke = r[14]
     t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t3 = act_leg_l_spring_force/leg_left_length
@@ -440,13 +440,13 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     extend_at = r[1]
     landed_1 = r[2]
     landed_2 = r[3]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
+    step_speed = r[8]
+    speed_trim = r[9]
+    lifted = r[10]
+    lifted_x = r[11]
+    lifted_y = r[12]
+    predicted_apex = r[13]
+    thrust_stroke = r[14]
     t1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
@@ -457,13 +457,13 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         time,
         coord_hip_l_y_value,
         coord_hip_l_x_value,
-        predicted_apex,
-        thrust_stroke,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -501,7 +501,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     pitch_lead = p[19]
     held_pitch = r[6]
     held_roll = r[7]
-    thrust_stroke = r[9]
+    thrust_stroke = r[14]
     t1 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)

@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "c641db2d2bb4bcd7"
+FINGERPRINT = "5413559da5ea04c6"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -55,7 +55,7 @@ PARAMS = {
     "extend_lead": 0.14,
     "pitch_lead": 0.0,
 }
-RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'leg_rest_at_lift', 'predicted_apex', 'thrust_stroke', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'leg_rest_at_lift', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -108,13 +108,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     stance_1 = r[6]
     lifted_1 = r[7]
     leg_rest_at_lift = r[8]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    speed_trim = r[12]
-    lifted = r[13]
-    lifted_x = r[14]
-    lifted_y = r[15]
+    step_speed = r[9]
+    speed_trim = r[10]
+    lifted = r[11]
+    lifted_x = r[12]
+    lifted_y = r[13]
+    predicted_apex = r[14]
+    thrust_stroke = r[15]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
     t2 = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
     t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
@@ -129,13 +129,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         stance_1,
         lifted_1,
         leg_rest_at_lift,
-        predicted_apex,
-        thrust_stroke,
         t3,
         t4,
         time,
         com_x,
         com_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -159,7 +159,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     held_roll = r[3]
     stance_1 = r[6]
     lifted_1 = r[7]
-    speed_trim = r[12]
+    speed_trim = r[10]
     t1 = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
     t2 = max(short, -slew*tis)
     t3 = math.cos(body_trunk_yaw)
@@ -213,12 +213,12 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     stance_1 = r[6]
     lifted_1 = r[7]
     leg_rest_at_lift = r[8]
-    predicted_apex = r[9]
-    step_speed = r[11]
-    speed_trim = r[12]
-    lifted = r[13]
-    lifted_x = r[14]
-    lifted_y = r[15]
+    step_speed = r[9]
+    speed_trim = r[10]
+    lifted = r[11]
+    lifted_x = r[12]
+    lifted_y = r[13]
+    predicted_apex = r[14]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
     t2 = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
@@ -231,13 +231,13 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         stance_1,
         lifted_1,
         leg_rest_at_lift,
-        t1,
-        t2,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        t1,
+        t2,
     ]
 
 
@@ -281,8 +281,8 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     swing_wait = p[17]
     pitch_lead = p[22]
     stance_2 = r[0]
-    thrust_stroke = r[10]
-    speed_trim = r[12]
+    speed_trim = r[10]
+    thrust_stroke = r[15]
     t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -331,13 +331,13 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     stance_1 = r[6]
     lifted_1 = r[7]
     leg_rest_at_lift = r[8]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    speed_trim = r[12]
-    lifted = r[13]
-    lifted_x = r[14]
-    lifted_y = r[15]
+    step_speed = r[9]
+    speed_trim = r[10]
+    lifted = r[11]
+    lifted_x = r[12]
+    lifted_y = r[13]
+    predicted_apex = r[14]
+    thrust_stroke = r[15]
     return [
         stance_2,
         extend_at,
@@ -348,13 +348,13 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         stance_1,
         lifted_1,
         leg_rest_at_lift,
-        predicted_apex,
-        thrust_stroke,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -399,7 +399,7 @@ def action_DOUBLE_0(s, u, p, r, tis):
     double_time = p[18]
     lift_slew = p[19]
     pitch_lead = p[22]
-    thrust_stroke = r[10]
+    thrust_stroke = r[15]
     t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t3 = act_leg_l_spring_force/leg_left_length
@@ -447,13 +447,13 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     held_roll = r[3]
     landed_1 = r[4]
     landed_2 = r[5]
-    predicted_apex = r[9]
-    thrust_stroke = r[10]
-    step_speed = r[11]
-    speed_trim = r[12]
-    lifted = r[13]
-    lifted_x = r[14]
-    lifted_y = r[15]
+    step_speed = r[9]
+    speed_trim = r[10]
+    lifted = r[11]
+    lifted_x = r[12]
+    lifted_y = r[13]
+    predicted_apex = r[14]
+    thrust_stroke = r[15]
     t1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
@@ -465,13 +465,13 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         t1,
         time,
         act_leg_l_spring_rest,
-        predicted_apex,
-        thrust_stroke,
         step_speed,
         speed_trim,
         lifted,
         lifted_x,
         lifted_y,
+        predicted_apex,
+        thrust_stroke,
     ]
 
 
@@ -511,7 +511,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     mirror_gain = p[20]
     pitch_lead = p[22]
     leg_rest_at_lift = r[8]
-    thrust_stroke = r[10]
+    thrust_stroke = r[15]
     t1 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)

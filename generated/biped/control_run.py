@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "655023a66d7d5bc3"
+FINGERPRINT = "ac34692ea91418f1"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -55,7 +55,7 @@ PARAMS = {
     "k_path": 1.0,
     "turn_limit": 0.3490658503988659,
 }
-RECORDS = ('stance', 'landed', 'predicted_apex', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y')
+RECORDS = ('stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -146,16 +146,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
     t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    return [t1, landed, predicted_apex, t2, t3, time, com_x, com_y]
+    return [t1, landed, t2, t3, time, com_x, com_y, predicted_apex]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -181,7 +181,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     short = p[17]
     slew = p[19]
     stance = r[0]
-    speed_trim = r[4]
+    speed_trim = r[3]
     t1 = slew*tis
     t2 = min(0.0, short + t1)
     t3 = max(short, -t1)
@@ -222,13 +222,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed)."""
     time = s[44]
     stance = r[0]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, time, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, time, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -264,13 +264,13 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -346,13 +346,13 @@ def entry_THRUST_0(s, u, p, r, tis):
     com_z = s[16]
     stance = r[0]
     landed = r[1]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
     t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, t1, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, t1]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -395,7 +395,7 @@ def action_THRUST_0(s, u, p, r, tis):
     short = p[17]
     k_path = p[20]
     turn_limit = p[21]
-    predicted_apex = r[2]
+    predicted_apex = r[7]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_l_spring_force/leg_left_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -431,13 +431,13 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
@@ -481,16 +481,16 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     trim_band = p[2]
     stance_guess = p[3]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
     t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
     t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    return [t1, landed, predicted_apex, t2, t3, time, com_x, com_y]
+    return [t1, landed, t2, t3, time, com_x, com_y, predicted_apex]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -516,7 +516,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     short = p[17]
     slew = p[19]
     stance = r[0]
-    speed_trim = r[4]
+    speed_trim = r[3]
     t1 = slew*tis
     t2 = min(0.0, short + t1)
     t3 = max(short, -t1)
@@ -557,13 +557,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed)."""
     time = s[44]
     stance = r[0]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, time, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, time, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_LOADING_1(s, u, p, r, tis):
@@ -599,13 +599,13 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 1 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
@@ -681,13 +681,13 @@ def entry_THRUST_1(s, u, p, r, tis):
     com_z = s[16]
     stance = r[0]
     landed = r[1]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
     t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, t1, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, t1]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -730,7 +730,7 @@ def action_THRUST_1(s, u, p, r, tis):
     short = p[17]
     k_path = p[20]
     turn_limit = p[21]
-    predicted_apex = r[2]
+    predicted_apex = r[7]
     t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
     t2 = act_leg_r_spring_force/leg_right_length
     t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
@@ -766,13 +766,13 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 1 (changed: none)."""
     stance = r[0]
     landed = r[1]
-    predicted_apex = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    return [stance, landed, predicted_apex, step_speed, speed_trim, lifted, lifted_x, lifted_y]
+    step_speed = r[2]
+    speed_trim = r[3]
+    lifted = r[4]
+    lifted_x = r[5]
+    lifted_y = r[6]
+    predicted_apex = r[7]
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
