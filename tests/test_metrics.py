@@ -538,6 +538,23 @@ def test_cli_prints_the_table_and_writes_metrics_json(
     assert json.loads(capsys.readouterr().out) == saved
 
 
+def test_cli_prints_the_run_beside_table_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    h = Hopper()
+    h.run(3.0).save(tmp_path)
+    args = ["metrics", str(tmp_path), "--from", "1"]
+    assert main([*args, "--table2", "kangaroo hop"]) == 0
+    out = capsys.readouterr().out
+    beside = out[out.index("beside Table 2 of the paper, kangaroo hop:") :].splitlines()
+    stride = next(line for line in beside if line.startswith("stride duration (s)"))
+    assert float(stride.split()[3]) == pytest.approx(h.period, abs=MS)  # this run, then the paper
+    assert stride.split()[-2:] == ["0.35", "0.35"]
+    assert main([*args, "--table2", "kangaroo hops"]) == 2
+    err = capsys.readouterr().err
+    assert "--table2 'kangaroo hops'" in err and "'kangaroo hop'" in err
+
+
 def test_cli_groups_and_reference_leg(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     bound().save(tmp_path)
     args = ["metrics", str(tmp_path), "--group", "front=fl,fr", "--group", "rear=rl,rr"]
