@@ -13,9 +13,13 @@ import sys
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from . import __version__
 from .errors import LegError, UsageError
+
+if TYPE_CHECKING:
+    from .trajectory import Trajectory
 
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
@@ -149,6 +153,13 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     )
     from .trajectory import Trajectory
 
+    if args.table2 is not None and args.table2 not in TABLE2:
+        print(
+            f"legdsl metrics: error: --table2 {args.table2!r}: Table 2 has "
+            + ", ".join(repr(k) for k in TABLE2),
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     run = Path(args.dir)
     if not (run / "trajectory.npz").is_file():
         print(f"legdsl metrics: error: no trajectory.npz in {run}", file=sys.stderr)
@@ -170,13 +181,6 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         )
     except MetricsError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    if args.table2 is not None and args.table2 not in TABLE2:
-        print(
-            f"legdsl metrics: error: --table2 {args.table2!r}: Table 2 has "
-            + ", ".join(repr(k) for k in TABLE2),
-            file=sys.stderr,
-        )
         return EXIT_USER_ERROR
     write_json(metrics, run / "metrics.json")
     reports = _path_reports(run, trajectory, args.t_from, args.t_to)
@@ -200,14 +204,12 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
 
 
 def _path_reports(
-    run: Path, trajectory: object, t_from: float, t_to: float | None
+    run: Path, trajectory: Trajectory, t_from: float, t_to: float | None
 ) -> list[dict[str, object]]:
     """The lateral deviation from each path the run followed (from --from, else from 3 s)."""
     from .metrics import PATH_FROM, path_report
     from .plot import run_paths
-    from .trajectory import Trajectory
 
-    assert isinstance(trajectory, Trajectory)
     start = t_from if t_from > 0 else PATH_FROM
     return [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
 
