@@ -32,11 +32,14 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from .paths import PathSpec
 
 FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a stance
 MIN_NORMAL_FRACTION = 0.01  # of body weight: below this the friction ratio is not computed
@@ -855,9 +858,9 @@ PATH_FROM = 3.0  # s: the report's window starts here by default (after the star
 
 
 def path_report(
-    tr: Trajectory, spec: Any, t_from: float = PATH_FROM, t_to: float | None = None
+    tr: Trajectory, spec: PathSpec, t_from: float = PATH_FROM, t_to: float | None = None
 ) -> dict[str, Any]:
-    """How well the centre of mass followed a path (a ``legdsl.paths.PathSpec``), from ``t_from``.
+    """How well the centre of mass followed a path, from ``t_from``.
 
     The lateral deviation is the signed distance of the centre of mass from the
     path (positive to the left); its RMS, largest magnitude and mean are taken
