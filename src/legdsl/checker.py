@@ -78,17 +78,12 @@ class _Num:
     span: Span
 
 
-class CreatureChecker:
-    """Checks one creature declaration; errors go to the shared diagnostics."""
+class ValueChecker:
+    """Numbers and vectors with units, checked for their dimension; errors go to ``diag``."""
 
-    def __init__(self, decl: ast.CreatureDecl, diag: Diagnostics, source: str):
-        self.decl = decl
+    def __init__(self, diag: Diagnostics):
         self.diag = diag
-        self.source = source
-        self.planar = True
-        self.names: dict[str, tuple[str, Span]] = {}
 
-    # ---------------------------------------------------------- values
     def err(self, span: Span, message: str) -> None:
         self.diag.error(span, message)
 
@@ -158,6 +153,17 @@ class CreatureChecker:
                 return None
             out.append(v)
         return tuple(out)
+
+
+class CreatureChecker(ValueChecker):
+    """Checks one creature declaration; errors go to the shared diagnostics."""
+
+    def __init__(self, decl: ast.CreatureDecl, diag: Diagnostics, source: str):
+        super().__init__(diag)
+        self.decl = decl
+        self.source = source
+        self.planar = True
+        self.names: dict[str, tuple[str, Span]] = {}
 
     def point(self, value: ast.Value, what: str, kind: str = "length") -> Vec3 | None:
         """A point or direction: (x, z) in a planar creature, (x, y, z) otherwise."""

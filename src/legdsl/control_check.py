@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 from . import ast
-from .checker import CreatureChecker, did_you_mean
+from .checker import ValueChecker, did_you_mean
 from .errors import Diagnostics, Span
 from .model import Controller, Model
 from .paths import DEFAULT_LOOKAHEAD, SHAPES, PathSpec, square_corners
@@ -583,8 +583,7 @@ _PATH_EXAMPLE = (
 
 def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | None:
     """``circle(...)``, ``polyline(...)``, ``polygon(...)`` or ``square(...)``, in metres."""
-    values = CreatureChecker.__new__(CreatureChecker)
-    values.diag = diag
+    values = ValueChecker(diag)
     if not isinstance(value, ast.Call):
         diag.error(value.span, f"a path is one of {_PATH_EXAMPLE}")
         return None
