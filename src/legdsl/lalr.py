@@ -25,20 +25,20 @@ def grammar_dir() -> Path:
     raise FileNotFoundError("legdsl.lark not found in the package or the source tree")
 
 
-@functools.cache
 def lark_parser() -> Lark:
     """The LALR(1) parser of grammar/legdsl.lark (built once; it takes a fraction of a second)."""
-    text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", propagate_positions=True, maybe_placeholders=True)
+    return _parser("start")
+
+
+def value_parser() -> Lark:
+    """The same grammar started at one ``value`` (``legdsl run --path "circle(...)"``)."""
+    return _parser("value")
 
 
 @functools.cache
-def value_parser() -> Lark:
-    """The same grammar started at one ``value`` (``legdsl run --path "circle(...)"``)."""
+def _parser(start: str) -> Lark:
     text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
-    return Lark(
-        text, parser="lalr", start="value", propagate_positions=True, maybe_placeholders=True
-    )
+    return Lark(text, parser="lalr", start=start, propagate_positions=True, maybe_placeholders=True)
 
 
 @functools.cache

@@ -8,11 +8,14 @@ bracketed by vertical dashed lines, as in the paper.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from .paths import PathSpec
 
 LINE_STYLES = ("-", "--", "-.", ":")
 
@@ -113,7 +116,7 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
     return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")
 
 
-def run_paths(run: Path) -> list[Any]:
+def run_paths(run: Path) -> list[PathSpec]:
     """The paths a run followed (``PathSpec``s from its run.json; none for older runs)."""
     import json
 
