@@ -49,9 +49,9 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 from report import replace_section  # noqa: E402
 
-from legdsl.checker import check_model  # noqa: E402
-from legdsl.export_mjcf import model_to_mjcf  # noqa: E402
-from legdsl.model import Model  # noqa: E402
+from legdsl.check.source import check_model  # noqa: E402
+from legdsl.export.mjcf import model_to_mjcf  # noqa: E402
+from legdsl.ir.model import Model  # noqa: E402
 
 SHIPPED = ("kangaroo", "biped", "quadruped")
 SCALING_DOF = tuple(range(6, 61, 6))
@@ -128,7 +128,7 @@ def _compile_worker(kind: str, leg: str, out: str, conn: Any) -> None:
     """Runs in a fresh process: compile ``leg`` with legdsl or Kane, report seconds and path."""
     try:
         if kind == "legdsl":
-            from legdsl.driver import compile_model, write_generated
+            from legdsl.pipeline.compile import compile_model, write_generated
 
             t0 = time.perf_counter()
             compiled = compile_model(leg)
@@ -171,13 +171,13 @@ def compile_isolated(kind: str, leg: Path, out: Path, budget: float) -> dict[str
 
 
 def legdsl_available() -> str | None:
-    """None if ``legdsl.driver`` has the compile entry points, else why not."""
+    """None if ``legdsl.pipeline.compile`` has the compile entry points, else why not."""
     try:
-        from legdsl import driver
+        from legdsl.pipeline import compile as driver
     except ImportError as e:
-        return f"legdsl.driver is not available ({e})"
+        return f"legdsl.pipeline.compile is not available ({e})"
     missing = [n for n in ("compile_model", "write_generated") if not hasattr(driver, n)]
-    return f"legdsl.driver lacks {', '.join(missing)}" if missing else None
+    return f"legdsl.pipeline.compile lacks {', '.join(missing)}" if missing else None
 
 
 # --------------------------------------------------------------- measuring
@@ -487,7 +487,7 @@ def report(
         f"numpy {np.__version__}, {os.cpu_count()} CPUs (shared with other jobs, so "
         "take the timings as rough). Times are the best of 5 runs.",
         "",
-        "* **legdsl**: `forward_dynamics(q, v, tau)` of the module that `legdsl.driver` generates.",
+        "* **legdsl**: `forward_dynamics(q, v, tau)` of the module that `legdsl.pipeline.compile` generates.",
         "* **Kane**: `benchmarks/kane_baseline.py` builds the same model with "
         "`sympy.physics.mechanics.KanesMethod` (same coordinates and speeds as legdsl, "
         "quaternion free root), prints the mass matrix and forcing after `sympy.cse` "

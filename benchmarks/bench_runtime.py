@@ -26,10 +26,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from report import DOC, replace_section  # noqa: E402
 
-from legdsl.checker import check_model  # noqa: E402
-from legdsl.export import export_text  # noqa: E402
-from legdsl.runner import load_dynamics  # noqa: E402
-from legdsl.simulate import RunOptions, Simulation  # noqa: E402
+from legdsl.check.source import check_model  # noqa: E402
+from legdsl.export.formats import export_text  # noqa: E402
+from legdsl.pipeline.run import load_dynamics  # noqa: E402
+from legdsl.sim.simulate import RunOptions, Simulation  # noqa: E402
 
 CREATURES = ("kangaroo", "biped", "quadruped", "hopper")
 DURATION = 3.0

@@ -33,7 +33,7 @@ from sympy.physics.mechanics import (
 from sympy.physics.vector import Vector
 from sympy.printing.pycode import PythonCodePrinter
 
-from legdsl.model import Model
+from legdsl.ir.model import Model
 
 
 def _num(x: float) -> sp.Expr:

@@ -23,11 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from legdsl.checker import check_model
-from legdsl.controller import InputChange, StateMachine
-from legdsl.metrics import compute_metrics
-from legdsl.runner import load_controller, load_dynamics
-from legdsl.simulate import RunOptions, Simulation
+from legdsl.analysis.metrics import compute_metrics
+from legdsl.check.source import check_model
+from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.sim.machine import InputChange, StateMachine
+from legdsl.sim.simulate import RunOptions, Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 KANGAROO = ROOT / "creatures" / "kangaroo.leg"

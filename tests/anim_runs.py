@@ -17,7 +17,7 @@ from pathlib import Path
 from conftest import CREATURES, ROOT
 
 from legdsl.cli import main
-from legdsl.motion import Motion, load_motion
+from legdsl.export.motion import Motion, load_motion
 
 _SESSION: Path | None = None
 _RUNS: dict[tuple[str, float], Path] = {}

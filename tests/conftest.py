@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 import pytest
 
 if TYPE_CHECKING:
-    from legdsl.driver import Compiled
-    from legdsl.model import Model
+    from legdsl.ir.model import Model
+    from legdsl.pipeline.compile import Compiled
 
 ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
@@ -42,14 +42,14 @@ def load_module(text: str, name: str) -> types.ModuleType:
 @functools.cache
 def compiled_creature(name: str) -> Compiled:
     """A shipped creature compiled once per test session (compiling takes seconds)."""
-    from legdsl.driver import compile_model
+    from legdsl.pipeline.compile import compile_model
 
     return compile_model(CREATURES / f"{name}.leg")
 
 
 @functools.cache
 def shipped_model(name: str) -> Model:
-    from legdsl.checker import check_model
+    from legdsl.check.source import check_model
 
     return check_model(CREATURES / f"{name}.leg")
 
@@ -63,7 +63,7 @@ def shipped_dynamics(name: str) -> types.ModuleType:
 
 def compile_text(tmp_path: Path, text: str) -> tuple[Model, types.ModuleType]:
     """Compile .leg text written to a temporary file; the model and the loaded dynamics module."""
-    from legdsl.driver import compile_model
+    from legdsl.pipeline.compile import compile_model
 
     path = tmp_path / "creature.leg"
     path.write_text(text, encoding="utf-8")

@@ -11,8 +11,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from legdsl.export_mjcf import model_to_mjcf
-from legdsl.model import Model
+from legdsl.export.mjcf import model_to_mjcf
+from legdsl.ir.model import Model
 
 
 def load_mjcf(model: Model) -> mujoco.MjModel:

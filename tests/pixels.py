@@ -7,7 +7,7 @@ import io
 
 import numpy as np
 
-from legdsl.shapes import hex_rgb
+from legdsl.export.shapes import hex_rgb
 
 
 def pixels(png: bytes) -> np.ndarray:

@@ -5,10 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from types import ModuleType
 
-from legdsl.checker import check_model
-from legdsl.model import Model
-from legdsl.runner import load_dynamics
-from legdsl.simulate import RunOptions, RunResult, Simulation
+from legdsl.check.source import check_model
+from legdsl.ir.model import Model
+from legdsl.pipeline.run import load_dynamics
+from legdsl.sim.simulate import RunOptions, RunResult, Simulation
 
 _CACHE: dict[str, tuple[Model, ModuleType]] = {}
 

@@ -1,6 +1,6 @@
 """Test helpers: forward kinematics straight from the model IR, and synthetic run directories.
 
-``ModelKinematics`` follows the frame conventions of ``legdsl.model`` (a body
+``ModelKinematics`` follows the frame conventions of ``legdsl.ir.model`` (a body
 frame sits at its joint, each joint primitive slides along or turns about its
 axis, in order); it stands in for a generated dynamics module in the exporter
 tests so that they do not depend on the dynamics compiler, and it is checked
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from legdsl.model import Model
-from legdsl.trajectory import Trajectory, empty
+from legdsl.ir.model import Model
+from legdsl.sim.trajectory import Trajectory, empty
 
 
 def axis_angle(axis: tuple[float, float, float], angle: float) -> np.ndarray:

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from conftest import CREATURES
 
-from legdsl.checker import check_model
-from legdsl.controller import StateMachine
-from legdsl.metrics import compute_metrics
-from legdsl.runner import load_controller, load_dynamics
-from legdsl.simulate import RunOptions, RunResult, Simulation
+from legdsl.analysis.metrics import compute_metrics
+from legdsl.check.source import check_model
+from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.sim.machine import StateMachine
+from legdsl.sim.simulate import RunOptions, RunResult, Simulation
 
 BIPED = CREATURES / "biped.leg"
 GALLOP = ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")

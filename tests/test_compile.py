@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
 
-from legdsl import ast
 from legdsl.cli import main
-from legdsl.driver import compile_model, write_generated
+from legdsl.lang import ast
+from legdsl.pipeline.compile import compile_model, write_generated
 
 TINY = """
 creature tiny {

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from legdsl.contact import PAD_LINEAR_FROM, GroundContact, _pad_energy, pad_force
-from legdsl.errors import NOWHERE
-from legdsl.model import Ground, Pad, SpringDamper, Terrain
+from legdsl.ir.model import Ground, Pad, SpringDamper, Terrain
+from legdsl.lang.errors import NOWHERE
+from legdsl.sim.contact import PAD_LINEAR_FROM, GroundContact, _pad_energy, pad_force
 
 
 def ground(

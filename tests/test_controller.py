@@ -9,14 +9,14 @@ import numpy as np
 import pytest
 from conftest import CREATURES
 
-from legdsl.checker import check_model
+from legdsl.analysis.metrics import compute_metrics
+from legdsl.check.source import check_model
 from legdsl.cli import main
-from legdsl.control_lower import lower_controller
-from legdsl.controller import InputChange, StateMachine
-from legdsl.kinematics import FootPlacer
-from legdsl.metrics import compute_metrics
-from legdsl.runner import load_controller, load_dynamics
-from legdsl.simulate import RunOptions, Simulation
+from legdsl.lower.control import lower_controller
+from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.sim.kinematics import FootPlacer
+from legdsl.sim.machine import InputChange, StateMachine
+from legdsl.sim.simulate import RunOptions, Simulation
 
 HOPPER = CREATURES / "hopper.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")

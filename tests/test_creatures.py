@@ -7,7 +7,7 @@ import math
 import pytest
 from conftest import CREATURES
 
-from legdsl.checker import check_model
+from legdsl.check.source import check_model
 from legdsl.cli import main
 
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from legdsl.checker import check_file
-from legdsl.syntax_errors import friendly_errors
-from legdsl.units import UNITS
+from legdsl.check.source import check_file
+from legdsl.lang.syntax_errors import friendly_errors
+from legdsl.lang.units import UNITS
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from conftest import CREATURES
 
-from legdsl.checker import check_model
-from legdsl.model import Pad
-from legdsl.runner import load_dynamics
-from legdsl.simulate import RunOptions, Simulation
+from legdsl.check.source import check_model
+from legdsl.ir.model import Pad
+from legdsl.pipeline.run import load_dynamics
+from legdsl.sim.simulate import RunOptions, Simulation
 
 
 @pytest.mark.parametrize("name", ["kangaroo", "biped", "quadruped"])

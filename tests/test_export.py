@@ -27,12 +27,12 @@ from mjhelpers import (
     set_state,
 )
 
-from legdsl.checker import check_model
+from legdsl.check.source import check_model
 from legdsl.cli import main
-from legdsl.export import export_text, write_atomic
-from legdsl.export_mjcf import model_to_mjcf
-from legdsl.export_urdf import model_to_urdf
-from legdsl.model import Model
+from legdsl.export.formats import export_text, write_atomic
+from legdsl.export.mjcf import model_to_mjcf
+from legdsl.export.urdf import model_to_urdf
+from legdsl.ir.model import Model
 
 SHIPPED = ["kangaroo", "biped", "quadruped"]
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import pytest
 
-from legdsl.errors import LegError
-from legdsl.parser import parse
-from legdsl.syntax_errors import friendly_errors
+from legdsl.lang.errors import LegError
+from legdsl.lang.parser import parse
+from legdsl.lang.syntax_errors import friendly_errors
 
 ENTRIES = friendly_errors()
 EXAMPLES = [(message, example) for message, examples in ENTRIES for example in examples]

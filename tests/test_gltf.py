@@ -11,8 +11,8 @@ import pytest
 from anim_runs import creature_motion
 from external_tools import validate_gltf
 
-from legdsl.gltf import write_gltf
-from legdsl.motion import Motion, quaternion_to_matrix
+from legdsl.export.gltf import write_gltf
+from legdsl.export.motion import Motion, quaternion_to_matrix
 
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 NUMPY_TYPES = {5126: np.float32, 5123: np.uint16, 5125: np.uint32}

@@ -55,7 +55,7 @@ def test_golden_header_names_source_and_sympy(name: str) -> None:
 
 HASH_SCRIPT = """
 import hashlib, sys
-from legdsl.driver import compile_model
+from legdsl.pipeline.compile import compile_model
 compiled = compile_model(sys.argv[1])
 for name, text in compiled.files:
     print(name, hashlib.sha256(text.encode()).hexdigest())

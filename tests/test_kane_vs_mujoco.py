@@ -20,7 +20,7 @@ from conftest import ROOT
 from mjhelpers import index_maps, load_mjcf, random_state, set_state
 from test_export import BRICK, ZOO
 
-from legdsl.checker import check_model
+from legdsl.check.source import check_model
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from kane_baseline import compile_kane  # noqa: E402

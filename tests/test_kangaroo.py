@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from conftest import CREATURES
 
-from legdsl.checker import check_model
-from legdsl.controller import StateMachine
-from legdsl.runner import load_controller, load_dynamics
-from legdsl.simulate import RunOptions, Simulation
+from legdsl.check.source import check_model
+from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.sim.machine import StateMachine
+from legdsl.sim.simulate import RunOptions, Simulation
 
 KANGAROO = CREATURES / "kangaroo.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.checker import check_model
+from legdsl.check.source import check_model
 from legdsl.cli import main
-from legdsl.errors import LegError
+from legdsl.lang.errors import LegError
 
 GOOD = Path(__file__).parent / "good"
 

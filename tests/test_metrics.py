@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from legdsl.cli import main
-from legdsl.metrics import (
+from legdsl.analysis.metrics import (
     TABLE2,
     MetricsError,
     _support_phases,
@@ -24,7 +23,8 @@ from legdsl.metrics import (
     compute_metrics,
     parse_groups,
 )
-from legdsl.trajectory import Trajectory, empty
+from legdsl.cli import main
+from legdsl.sim.trajectory import Trajectory, empty
 
 DT = 0.001
 M, G = 17.0, 9.81

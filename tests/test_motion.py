@@ -10,9 +10,8 @@ import numpy as np
 import pytest
 from standin import ModelKinematics
 
-from legdsl.checker import check_model
-from legdsl.errors import UsageError
-from legdsl.motion import (
+from legdsl.check.source import check_model
+from legdsl.export.motion import (
     frame_times,
     interpolate_q,
     load_motion,
@@ -21,7 +20,8 @@ from legdsl.motion import (
     quaternion_to_matrix,
     terrain_height,
 )
-from legdsl.trajectory import empty
+from legdsl.lang.errors import UsageError
+from legdsl.sim.trajectory import empty
 
 TWO_LINK = """
 creature twolink {

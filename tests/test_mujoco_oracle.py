@@ -24,8 +24,8 @@ import pytest
 from conftest import CREATURES, ROOT
 from mjhelpers import index_maps, load_mjcf, random_state, set_state
 
-from legdsl.checker import check_model
-from legdsl.model import Model
+from legdsl.check.source import check_model
+from legdsl.ir.model import Model
 
 SHIPPED = ["kangaroo", "biped", "quadruped"]
 GENERATED = ROOT / "generated"

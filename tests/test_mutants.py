@@ -22,9 +22,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from legdsl.checker import check_file
+from legdsl.check.source import check_file
 from legdsl.cli import main
-from legdsl.errors import LegError
+from legdsl.lang.errors import LegError
 
 ROOT = Path(__file__).resolve().parents[1]
 SEEDS = [*sorted((ROOT / "creatures").glob("*.leg")), ROOT / "tests" / "good" / "hopper.leg"]

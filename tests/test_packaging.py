@@ -22,7 +22,9 @@ def test_wheel_carries_grammar_and_parses_outside_the_tree(tmp_path: Path) -> No
     names = zipfile.ZipFile(wheel).namelist()
     assert "legdsl/grammar/legdsl.lark" in names
     assert "legdsl/grammar/friendly_errors.toml" in names
-    assert "legdsl/templates/dynamics.py.j2" in names  # the generated-module skeleton
+    assert (
+        "legdsl/codegen/python/templates/dynamics.py.j2" in names
+    )  # the generated-module skeleton
 
     target = tmp_path / "site"
     subprocess.run(
@@ -42,7 +44,7 @@ def test_wheel_carries_grammar_and_parses_outside_the_tree(tmp_path: Path) -> No
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     code = (
-        "import legdsl.parser as p, sys; "
+        "import legdsl.lang.parser as p, sys; "
         "p.parse('creature a { planar body b free { mass 1 kg inertia 1 kg*m^2 } }'); "
         "print(p.grammar_dir())"
     )

@@ -10,15 +10,16 @@ from pathlib import Path
 import pytest
 from conftest import CREATURES, ROOT
 
-from legdsl.checker import check_file, check_model
+from legdsl.analysis.metrics import path_report
+from legdsl.check.source import check_file, check_model
 from legdsl.cli import main
-from legdsl.control_lower import lower_controller
-from legdsl.controller import resolve_paths
-from legdsl.errors import LegError, UsageError
-from legdsl.metrics import path_report
-from legdsl.paths import PathGeometry, PathSpec, PathTracker, read_waypoints, square_corners
-from legdsl.runner import parse_path_option
-from legdsl.trajectory import Trajectory
+from legdsl.ir.paths import PathSpec, read_waypoints, square_corners
+from legdsl.lang.errors import LegError, UsageError
+from legdsl.lower.control import lower_controller
+from legdsl.pipeline.run import parse_path_option
+from legdsl.sim.machine import resolve_paths
+from legdsl.sim.path_tracking import PathGeometry, PathTracker
+from legdsl.sim.trajectory import Trajectory
 
 BIPED = CREATURES / "biped.leg"
 LEFT_CIRCLE = PathSpec("route", "circle", center=(0.0, 5.0), radius=5.0, turn=1)

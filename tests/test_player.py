@@ -13,9 +13,15 @@ import pytest
 from anim_runs import creature_motion
 from standin import ModelKinematics, synthetic_run
 
-from legdsl.checker import check_model
-from legdsl.motion import Motion, load_motion
-from legdsl.player import THREE_VERSION, _inline_safe, player_html, three_module, write_player
+from legdsl.check.source import check_model
+from legdsl.export.motion import Motion, load_motion
+from legdsl.export.player import (
+    THREE_VERSION,
+    _inline_safe,
+    player_html,
+    three_module,
+    write_player,
+)
 
 
 def embedded(html: str) -> dict:
@@ -76,7 +82,9 @@ def test_the_data_is_the_motion(quadruped: Motion) -> None:
 def test_three_js_is_the_pinned_release() -> None:
     text = three_module()
     assert f'const t="{THREE_VERSION.split(".")[1]}"' in text[:400]  # REVISION, e.g. "170"
-    readme = (Path(__file__).resolve().parents[1] / "src/legdsl/vendor/three/README.md").read_text()
+    readme = (
+        Path(__file__).resolve().parents[1] / "src/legdsl/export/player/vendor/three/README.md"
+    ).read_text()
     assert THREE_VERSION in readme
     assert hashlib.sha256(text.encode()).hexdigest() in readme
 

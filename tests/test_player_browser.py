@@ -21,7 +21,7 @@ from chromium import Chromium
 from external_tools import chromium
 from pixels import hue_mask, pixels
 
-from legdsl.player import write_player
+from legdsl.export.player import write_player
 
 CREATURES = ("kangaroo", "biped", "quadruped")
 WIDTH, HEIGHT = 1000, 600

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from conftest import CREATURES
 
+from legdsl.analysis.plot import stance_phases
 from legdsl.cli import main
-from legdsl.plot import stance_phases
-from legdsl.trajectory import empty
+from legdsl.sim.trajectory import empty
 
 
 def _run(tmp_path: Path) -> Path:
@@ -32,7 +32,7 @@ def _run(tmp_path: Path) -> Path:
 
 
 def test_stance_phases_bracket_every_support(tmp_path: Path) -> None:
-    from legdsl.trajectory import Trajectory
+    from legdsl.sim.trajectory import Trajectory
 
     tr = Trajectory.load(_run(tmp_path))
     phases = stance_phases(tr, 0)

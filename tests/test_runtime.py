@@ -111,7 +111,7 @@ def test_divergence_stops_with_time_state_and_cause_and_keeps_the_record(hopper)
 
 def test_a_tipped_hopper_is_reported_as_a_fall(hopper) -> None:
     model, dyn = hopper
-    from legdsl.simulate import RunOptions, Simulation
+    from legdsl.sim.simulate import RunOptions, Simulation
 
     sim = Simulation(model, dyn, RunOptions(duration=5.0, dt=1e-4, integrator="rk4"))
     sim.q[2] = 0.3  # pitched 17 degrees: it lands on a slant leg and topples

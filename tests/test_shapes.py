@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from legdsl.errors import Span
-from legdsl.model import Body, Shape
-from legdsl.shapes import SEGMENTS, body_mesh, side_outline
+from legdsl.export.shapes import SEGMENTS, body_mesh, side_outline
+from legdsl.ir.model import Body, Shape
+from legdsl.lang.errors import Span
 
 SPAN = Span("test.leg", 1, 1, 1, 2)
 

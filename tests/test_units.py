@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.checker import check_model
-from legdsl.errors import LegError
-from legdsl.lalr import lark_parser
-from legdsl.units import KINDS, UNITS, UnitError, describe, parse_unit, unit_pattern
+from legdsl.check.source import check_model
+from legdsl.lang.errors import LegError
+from legdsl.lang.lalr import lark_parser
+from legdsl.lang.units import KINDS, UNITS, UnitError, describe, parse_unit, unit_pattern
 
 ANGLE = KINDS["angle"][0]
 

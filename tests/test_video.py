@@ -12,9 +12,9 @@ from anim_runs import creature_motion
 from external_tools import ffmpeg
 from pixels import hue_mask
 
-from legdsl.errors import UsageError
-from legdsl.motion import Motion
-from legdsl.video import render_video
+from legdsl.export.motion import Motion
+from legdsl.export.video import render_video
+from legdsl.lang.errors import UsageError
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +75,7 @@ def test_an_mp4_of_a_3d_creature(quadruped: Motion, tmp_path: Path) -> None:
 def test_mp4_without_ffmpeg_says_how_to_install_it(
     quadruped: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr("legdsl.video.shutil.which", lambda name: None)
+    monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: None)
     with pytest.raises(UsageError, match="apt-get install -y ffmpeg"):
         render_video(quadruped, tmp_path / "q.mp4")
     assert not list(tmp_path.iterdir())

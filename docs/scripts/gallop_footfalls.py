@@ -18,7 +18,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from legdsl.trajectory import Trajectory  # noqa: E402
+from legdsl.sim.trajectory import Trajectory  # noqa: E402
 
 
 def _spans(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:

@@ -15,11 +15,11 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from . import __version__
-from .errors import LegError, UsageError
+from legdsl import __version__
+from legdsl.lang.errors import LegError, UsageError
 
 if TYPE_CHECKING:
-    from .trajectory import Trajectory
+    from legdsl.sim.trajectory import Trajectory
 
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
@@ -31,7 +31,7 @@ _COMMANDS: dict[str, Command] = {}
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from .checker import check_file
+    from legdsl.check.source import check_file
 
     failed = False
     for path in args.files:
@@ -52,8 +52,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    from .checker import check_model
-    from .describe import describe_model
+    from legdsl.check.source import check_model
+    from legdsl.ir.describe import describe_model
 
     print(describe_model(check_model(args.file, args.creature)), end="")
     return 0
@@ -63,9 +63,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     import math
     from pathlib import Path
 
-    from .checker import check_model
-    from .controller import StateMachine
-    from .runner import (
+    from legdsl.check.source import check_model
+    from legdsl.pipeline.run import (
         load_controller,
         load_dynamics,
         parse_path_option,
@@ -75,7 +74,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         summary,
         write_run,
     )
-    from .simulate import RunOptions, Simulation
+    from legdsl.sim.machine import StateMachine
+    from legdsl.sim.simulate import RunOptions, Simulation
 
     source = Path(args.file)
     model = check_model(source, args.creature)
@@ -115,7 +115,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
     reports = []
     if machine is not None:
-        from .metrics import path_report
+        from legdsl.analysis.metrics import path_report
 
         given = [p for p in machine.paths if p.shape != "none"]
         extra["paths"] = [p.as_json() for p in given]
@@ -127,7 +127,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(path_summary(report))
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
-        from .animate import animate_result
+        from legdsl.export.animate import animate_result
 
         animate_result(out, model, result, dynamics)
     if result.status == "diverged":
@@ -143,7 +143,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
-    from .metrics import (
+    from legdsl.analysis.metrics import (
         TABLE2,
         MetricsError,
         compare_table,
@@ -151,7 +151,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         parse_groups,
         write_json,
     )
-    from .trajectory import Trajectory
+    from legdsl.sim.trajectory import Trajectory
 
     if args.table2 is not None and args.table2 not in TABLE2:
         print(
@@ -195,7 +195,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             print(f"\nbeside Table 2 of the paper, {args.table2}:")
             print(compare_table(metrics, TABLE2[args.table2]), end="")
         if reports:
-            from .runner import path_summary
+            from legdsl.pipeline.run import path_summary
 
             print("path following:")
             for report in reports:
@@ -207,8 +207,8 @@ def _path_reports(
     run: Path, trajectory: Trajectory, t_from: float, t_to: float | None
 ) -> list[dict[str, object]]:
     """The lateral deviation from each path the run followed (from --from, else from 3 s)."""
-    from .metrics import PATH_FROM, path_report
-    from .plot import run_paths
+    from legdsl.analysis.metrics import PATH_FROM, path_report
+    from legdsl.analysis.plot import run_paths
 
     start = t_from if t_from > 0 else PATH_FROM
     return [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
@@ -218,7 +218,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from .driver import compile_file, write_generated
+    from legdsl.pipeline.compile import compile_file, write_generated
 
     if args.all == bool(args.files):
         print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
@@ -250,7 +250,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .plot import first_leg_angles, plot_run, plot_top, run_paths
+    from legdsl.analysis.plot import first_leg_angles, plot_run, plot_top, run_paths
 
     run = Path(args.dir)
     if not (run / "trajectory.npz").is_file():
@@ -268,8 +268,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from .checker import check_model
-    from .export import default_path, export_text, write_atomic
+    from legdsl.check.source import check_model
+    from legdsl.export.formats import default_path, export_text, write_atomic
 
     model = check_model(args.file, args.creature)
     text = export_text(model, args.format)
@@ -505,7 +505,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     _COMMANDS["plot"] = _cmd_plot
 
-    from .animate import add_animate_parser, add_export_motion_parser
+    from legdsl.export.animate import add_animate_parser, add_export_motion_parser
 
     _COMMANDS["animate"] = add_animate_parser(sub)
     _COMMANDS["export-motion"] = add_export_motion_parser(sub)

@@ -1,0 +1,1 @@
+"""What a run measured: gait metrics (Table 2) and plots."""

@@ -1,0 +1,177 @@
+"""``legdsl plot DIR``: a run drawn like Figure 6 of the paper.
+
+Four panels against time: body height, body pitch, forward speed with its
+command, and the joint angles of a leg; every stance phase of that leg is
+bracketed by vertical dashed lines, as in the paper.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from legdsl.sim.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from legdsl.ir.paths import PathSpec
+
+LINE_STYLES = ("-", "--", "-.", ":")
+
+
+def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
+    """(touchdown, liftoff) times of a leg's foot; an open stance ends at the last sample."""
+    touching = tr.contact[:, tr.leg_feet[leg]].astype(bool)
+    phases = []
+    start = None
+    for i, now in enumerate(touching):
+        if now and start is None:
+            start = tr.t[i]
+        elif not now and start is not None:
+            phases.append((start, tr.t[i]))
+            start = None
+    if start is not None:
+        phases.append((start, tr.t[-1]))
+    return phases
+
+
+def plot_run(
+    run: Path,
+    out: Path,
+    angles: tuple[str, ...] = (),
+    t_from: float = 0.0,
+    t_to: float | None = None,
+) -> Path:
+    """Draw the Figure-6 panels of a run into ``out`` (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tr = Trajectory.load(run)
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from) & (tr.t <= end)
+    t = tr.t[window]
+    fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    height, pitch, speed, joints = axes
+
+    height.plot(t, tr.com[window, 2], color="k")
+    height.set_ylabel("body height (m)")
+    pitch.plot(t, np.degrees(tr.root_rpy[window, 1]), color="k")
+    pitch.set_ylabel("body pitch (deg)")
+
+    heading = tr.root_rpy[window, 2]
+    forward = tr.com_vel[window, 0] * np.cos(heading) + tr.com_vel[window, 1] * np.sin(heading)
+    speed.plot(t, forward, color="k", label="forward speed")
+    if np.isfinite(tr.speed_command[window]).any():
+        speed.plot(t, tr.speed_command[window], color="0.5", linestyle="--", label="command")
+        speed.legend(loc="lower right", fontsize=8)
+    speed.set_ylabel("forward speed (m/s)")
+
+    names = [n for n in angles if n in tr.q_names]
+    for k, name in enumerate(names):
+        column = tr.q_names.index(name)
+        style = LINE_STYLES[k % len(LINE_STYLES)]
+        joints.plot(t, np.degrees(tr.q[window, column]), color="k", linestyle=style, label=name)
+    if names:
+        joints.legend(loc="lower right", fontsize=8, ncol=len(names))
+    joints.set_ylabel("leg joint angles (deg)")
+    joints.set_xlabel("time (s)")
+
+    if tr.leg_names:
+        for start, stop in stance_phases(tr, 0):
+            if stop < t_from or start > end:
+                continue
+            for ax in axes:
+                ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
+                ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
+    creature = run.name
+    fig.suptitle(
+        f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
+        if tr.leg_names
+        else creature
+    )
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
+def first_leg_angles(run: Path) -> tuple[str, ...]:
+    """The hinge coordinates of the run's first leg, read back from its creature's .leg file."""
+    import json
+
+    from legdsl.check.source import check_model
+
+    info = json.loads((run / "run.json").read_text())
+    source = Path(info["source"])
+    if not source.is_file():
+        return ()
+    model = check_model(source, info.get("creature"))
+    if not model.legs:
+        return ()
+    joints = model.legs[0].joints
+    return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")
+
+
+def run_paths(run: Path) -> list[PathSpec]:
+    """The paths a run followed (``PathSpec``s from its run.json; none for older runs)."""
+    import json
+
+    from legdsl.ir.paths import PathSpec
+
+    info_file = run / "run.json"
+    if not info_file.is_file():
+        return []
+    info = json.loads(info_file.read_text())
+    return [PathSpec.from_json(p) for p in info.get("paths") or []]
+
+
+def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
+    """A top view: the path(s) the run followed and the track of the centre of mass."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from legdsl.analysis.metrics import PATH_FROM, path_report
+    from legdsl.sim.path_tracking import PathGeometry
+
+    tr = Trajectory.load(run)
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from) & (tr.t <= end)
+    fig, ax = plt.subplots(figsize=(7, 7))
+    titles = []
+    for spec in run_paths(run):
+        geo = PathGeometry(spec)
+        s = np.linspace(0.0, geo.length, 400 if spec.shape == "circle" else 2000)
+        pts = np.array([geo.at(float(v))[:2] for v in s])
+        if spec.shape != "circle" and geo.closed:
+            pts = np.vstack([pts, pts[:1]])
+        ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, label=f"path {spec.name}")
+        report = path_report(tr, spec, max(t_from, PATH_FROM), t_to)
+        rms, worst = report["lateral_rms"], report["lateral_max"]
+        if rms is not None:
+            titles.append(
+                f"{spec.name}: lateral deviation {rms:.3f} m RMS, {worst:.3f} m max "
+                f"(from {report['from']:g} s), {report['laps']:.2f} laps"
+            )
+    ax.plot(tr.com[window, 0], tr.com[window, 1], color="k", linewidth=1, label="centre of mass")
+    ax.plot(tr.com[window, 0][:1], tr.com[window, 1][:1], "o", color="k", label="start")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, color="0.9")
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(
+        f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
+        + ("\n" + "\n".join(titles) if titles else ""),
+        fontsize=9,
+    )
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out

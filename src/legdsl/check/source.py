@@ -1,0 +1,92 @@
+"""The checker's entry: a ``.leg`` file and the files it uses, parsed and checked into models."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Protocol, TypeVar
+
+from legdsl.check.controller import check_controllers
+from legdsl.check.creature import CreatureChecker
+from legdsl.ir.model import Model
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, LegError, Span
+from legdsl.lang.parser import parse_file
+
+STDLIB = Path(__file__).parents[1] / "stdlib"
+
+
+def check_file(path: str | Path) -> list[Model]:
+    """Parse and check a .leg file; every creature in it becomes a model with its controllers."""
+    tree, text = parse_file(path)
+    sources = {str(path): text}
+    diag = Diagnostics(sources)
+    library = load_uses(tree, diag, sources)
+    models = []
+    for decl in tree.creatures:
+        model = CreatureChecker(decl, diag, str(path)).check()
+        if model is not None:
+            models.append(model)
+    if not tree.creatures:
+        diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
+    models = check_controllers(tree, models, library, diag)
+    diag.raise_if_any()
+    return models
+
+
+def load_uses(
+    tree: ast.SourceFile, diag: Diagnostics, sources: dict[str, str]
+) -> list[ast.ActionDef]:
+    """Named actions from the file itself and the files it ``use``s (the standard library by name)."""
+    actions = list(tree.actions)
+    loaded = {Path(tree.path).resolve()}  # a file used twice, or itself, adds nothing
+    for use in tree.uses:
+        if use.target.endswith(".leg") or "/" in use.target:
+            path = Path(tree.path).parent / use.target
+        else:
+            path = STDLIB / f"{use.target}.leg"
+        if path.is_file() and path.resolve() in loaded:
+            continue
+        if not path.is_file():
+            known = sorted(p.stem for p in STDLIB.glob("*.leg"))
+            diag.error(
+                use.span,
+                f"cannot find '{use.target}' to use: the standard library has {', '.join(known) or 'nothing'}; other files are named by a path in quotes",
+            )
+            continue
+        try:
+            lib, text = parse_file(path)
+        except LegError as e:
+            diag.items.extend(e.diagnostics)
+            sources.update(e.sources)
+            continue
+        loaded.add(path.resolve())
+        sources[lib.path] = text
+        actions.extend(lib.actions)
+    return actions
+
+
+def check_model(path: str | Path, creature: str | None = None) -> Model:
+    """The one creature of a file (or the named one)."""
+    return choose(check_file(path), creature, path)
+
+
+class _HasName(Protocol):
+    @property
+    def name(self) -> str: ...
+
+
+Named = TypeVar("Named", bound=_HasName)
+
+
+def choose(items: list[Named], creature: str | None, path: str | Path) -> Named:
+    """The only item, or the one whose ``name`` is ``creature``; else an error naming them all."""
+    if creature is None and len(items) == 1:
+        return items[0]
+    for item in items:
+        if item.name == creature:
+            return item
+    names = ", ".join(item.name for item in items)
+    wanted = (
+        f"there is no creature '{creature}'" if creature else "choose a creature with --creature"
+    )
+    raise LegError.at(Span(str(path), 1, 1, 1, 2), f"{wanted}: this file has {names}")

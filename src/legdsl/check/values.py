@@ -1,0 +1,134 @@
+"""Numbers and vectors with units, checked for their dimension: the checker's smallest part,
+used by the creature, the controller and the path checks alike."""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.units import KINDS, Dim, describe, parse_unit
+
+
+def did_you_mean(word: str, choices: Iterable[str]) -> str:
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
+def unit_hint(kind: str) -> str:
+    return KINDS[kind][1]
+
+
+@dataclass
+class _Num:
+    """A checked scalar: its SI value and the span it came from."""
+
+    value: float
+    span: Span
+
+
+class ValueChecker:
+    """Numbers and vectors with units, checked for their dimension; errors go to ``diag``."""
+
+    def __init__(self, diag: Diagnostics):
+        self.diag = diag
+
+    def err(self, span: Span, message: str) -> None:
+        self.diag.error(span, message)
+
+    def scalar(self, value: ast.Value, kind: str, what: str) -> float | None:
+        """A number of dimension ``kind``; a bare number is accepted only if dimensionless or 0."""
+        sign = 1.0
+        node = value
+        while isinstance(node, ast.Neg):
+            sign, node = -sign, node.value
+        if not isinstance(node, ast.Number):
+            self.err(value.span, f"{what} must be a number with a unit of {unit_hint(kind)}")
+            return None
+        q = node.quantity
+        if not math.isfinite(q.value):
+            self.err(node.span, f"'{node.text}' is too large a number")
+            return None
+        want = KINDS[kind][0]
+        if q.unitless:
+            if kind != "dimensionless" and q.value != 0.0:
+                self.err(
+                    node.span,
+                    f"{what} needs a unit: write e.g. '{node.text} {unit_hint(kind)}'",
+                )
+                return None
+            return sign * q.value
+        if q.dim != want:
+            self.err(node.span, wrong_dimension(what, kind, node.text, q.dim))
+            return None
+        return sign * q.value
+
+    def vector(self, value: ast.Value, kind: str, n: int, what: str) -> tuple[float, ...] | None:
+        """A tuple of ``n`` numbers of dimension ``kind``; a unit after ')' applies to all."""
+        if not isinstance(value, ast.Vector):
+            self.err(
+                value.span,
+                f"{what} must be a vector of {n} numbers, as in {example_vector(n, kind)}",
+            )
+            return None
+        if len(value.items) != n:
+            self.err(
+                value.span,
+                f"{what} needs {n} components{' (x, z) in a planar creature' if n == 2 else ''}, "
+                f"got {len(value.items)}",
+            )
+            return None
+        if value.unit is not None:
+            factor, dim = parse_unit(value.unit)
+            if dim != KINDS[kind][0]:
+                assert value.unit_span is not None
+                self.err(value.unit_span, wrong_dimension(what, kind, value.unit, dim))
+                return None
+            out = []
+            for item in value.items:
+                v = self.scalar(
+                    item, "dimensionless", f"a component of {what} (the unit is after ')')"
+                )
+                if v is None:
+                    return None
+                if not math.isfinite(v * factor):
+                    self.err(item.span, f"{what} is too large")
+                    return None
+                out.append(v * factor)
+            return tuple(out)
+        out = []
+        for item in value.items:
+            v = self.scalar(item, kind, f"a component of {what}")
+            if v is None:
+                return None
+            out.append(v)
+        return tuple(out)
+
+
+def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
+    """'mass is a mass (kg), but '3 m' is a length (m)'."""
+    for name, (kind_dim, example) in KINDS.items():
+        if kind_dim == dim:
+            found = (
+                "dimensionless"
+                if name == "dimensionless"
+                else f"{article(name)} {name} ({example})"
+            )
+            break
+    else:
+        found = f"in {describe(dim)}"
+    if kind == "dimensionless":
+        return f"{what} takes no unit, but '{written}' is {found}"
+    return f"{what} is {article(kind)} {kind} ({unit_hint(kind)}), but '{written}' is {found}"
+
+
+def example_vector(n: int, kind: str) -> str:
+    unit = "" if kind == "dimensionless" else " " + unit_hint(kind)
+    return "(" + ", ".join(f"0{unit}" for _ in range(n)) + ")"
+
+
+def article(word: str) -> str:
+    return "an" if word[0] in "aeiou" else "a"

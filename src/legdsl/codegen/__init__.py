@@ -1,0 +1,1 @@
+"""Printing the lowered system as code, one sub-package per target."""

@@ -1,0 +1,1 @@
+"""The Python target: the readable reference backend."""

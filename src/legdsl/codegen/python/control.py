@@ -1,0 +1,115 @@
+"""Print a lowered controller as ``generated/NAME/control_CONTROLLER.py``.
+
+One function per (state, binding) for its event, its entry records and its
+per-tick settings, plus tables that ``legdsl.sim.machine.StateMachine`` reads.
+The math goes through the same straight-line builder (dead code, common
+subexpressions, numbered temporaries) and printer as the dynamics.
+"""
+
+from __future__ import annotations
+
+import sympy
+from sympy import Expr, Symbol
+
+from legdsl import __version__
+from legdsl.codegen.python.dynamics import _environment, _names, function_body
+from legdsl.lower.control import LoweredController, sensor_symbol
+from legdsl.lower.straightline import Block
+from legdsl.lower.symbolic import Function
+
+PARAMS = ("s", "u", "p", "r", "tis")
+
+
+def _program(
+    name: str, exprs: list[sympy.Basic], lc: LoweredController, let: bool = True
+) -> Function:
+    """A generated function of (s, u, p, r, tis) returning ``exprs`` (a list, or one value)."""
+    block = Block(reserved=(*PARAMS, "math", name))
+    subs: dict[Symbol, sympy.Basic] = {}
+    arrays = {
+        **{sensor_symbol(k).name: ("s", i) for i, k in enumerate(lc.sensors)},
+        **{f"input_{n}": ("u", i) for i, (n, _) in enumerate(lc.inputs)},
+        **{f"param_{n}": ("p", i) for i, (n, _) in enumerate(lc.params)},
+        **{f"record_{n}": ("r", i) for i, n in enumerate(lc.records)},
+    }
+    free = set().union(*(e.free_symbols for e in exprs)) if exprs else set()
+    for sym in sorted(free, key=lambda s: s.name):
+        if sym.name == "time_in_state":
+            subs[sym] = Symbol("tis")
+        else:
+            array, index = arrays[sym.name]
+            wanted = sym.name.split("_", 1)[1] if array in ("u", "p", "r") else sym.name
+            subs[sym] = block.input(wanted, array, index)
+    outs = [e.xreplace(subs) for e in exprs]
+    if let:
+        outs = [block.let(o) if isinstance(o, Expr) else o for o in outs]
+    program = block.finish(outs)
+    result: object = list(program.outputs) if let else program.outputs[0]
+    return Function(name, PARAMS, program.statements, result)
+
+
+def render_control(
+    lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
+) -> str:
+    """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written."""
+    functions = []
+    tables: dict[str, list[tuple[tuple[int, int], str]]] = {
+        "events": [],
+        "entries": [],
+        "actions": [],
+    }
+    settings = []
+    places: list[
+        tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]
+    ] = []
+    for (b, s), event in sorted(lc.events.items()):
+        state = lc.states[s]
+        fn = _program(f"event_{state}_{b}", [event], lc, let=False)
+        functions.append(
+            (fn, f"Enter {state} (waiting under binding {b}) when: {event_text[state]}")
+        )
+        tables["events"].append(((b, s), fn.name))
+    for (b, s), body in sorted(lc.bodies.items()):
+        state = lc.states[s]
+        new = dict(body.records)
+        values = [new.get(name, Symbol(f"record_{name}")) for name in lc.records]
+        fn = _program(f"entry_{state}_{b}", values, lc)
+        done = ", ".join(new) or "none"
+        functions.append(
+            (fn, f"The records on entering {state} under binding {b} (changed: {done}).")
+        )
+        tables["entries"].append(((b, s), fn.name))
+        targets = [f"{st.actuator}.{st.key}" for st in body.settings]
+        targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
+        goals = [g for p in body.places for g in p.goals]
+        fn = _program(f"action_{state}_{b}", [st.value for st in body.settings] + goals, lc)
+        functions.append(
+            (fn, f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}.")
+        )
+        tables["actions"].append(((b, s), fn.name))
+        settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
+        if body.places:
+            places.append(((b, s), tuple((p.leg, p.axes, p.servos) for p in body.places)))
+    bindings = [
+        "; ".join(f"{role} = {', '.join(legs)}" for role, legs in binding)
+        for binding in lc.bindings
+    ]
+    template = _environment().get_template("control.py.j2")
+    return template.render(
+        version=__version__,
+        sympy_version=sympy.__version__,
+        source=source,
+        lc=lc,
+        fingerprint=fingerprint,
+        states=_names(lc.states),
+        sensors=_names(lc.sensors) if lc.sensors else "()",
+        records=_names(lc.records) if lc.records else "()",
+        inputs={n: repr(float(v)) for n, v in lc.inputs},
+        params={n: repr(float(v)) for n, v in lc.params},
+        bindings=bindings,
+        after_entry=sorted(lc.after_entry.items()),
+        functions=[(fn, doc, function_body(fn)) for fn, doc in functions],
+        tables=tables,
+        settings=settings,
+        places=places,
+    )

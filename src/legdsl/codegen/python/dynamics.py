@@ -1,0 +1,196 @@
+"""Lay out the generated dynamics module: jinja2 for the skeleton, ``printer`` for the math."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import fields, is_dataclass
+from pathlib import Path
+from typing import Any
+
+import jinja2
+import sympy
+
+from legdsl import __version__
+from legdsl.codegen.python.printer import print_expr
+from legdsl.ir.model import Controller, Model
+from legdsl.lower.straightline import Assign, Comment, Unpack
+from legdsl.lower.symbolic import Call, Function, Nested, SymbolicSystem
+
+TEMPLATES = Path(__file__).parent / "templates"
+LINE_LENGTH = 100
+INDENT = "    "
+
+
+def _environment() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATES)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+
+
+def format_result(value: Nested, indent: str) -> str:
+    """A returned value on one line if it fits, else one item per line."""
+    flat = _one_line(value)
+    if len(indent) + len("return ") + len(flat) <= LINE_LENGTH or not isinstance(
+        value, list | tuple
+    ):
+        return flat
+    open_, close = ("[", "]") if isinstance(value, list) else ("(", ")")
+    inner = indent + INDENT
+    items = [f"{inner}{format_result(item, inner)}," for item in value]
+    return "\n".join([open_, *items, f"{indent}{close}"])
+
+
+def _one_line(value: Nested) -> str:
+    if isinstance(value, Call):
+        return value.text
+    if isinstance(value, list):
+        return "[" + ", ".join(_one_line(v) for v in value) + "]"
+    if isinstance(value, tuple):
+        inner = ", ".join(_one_line(v) for v in value)
+        return f"({inner},)" if len(value) == 1 else f"({inner})"
+    return print_expr(value)
+
+
+def function_body(function: Function) -> str:
+    """The indented statements and return of one generated function."""
+    lines: list[str] = []
+    for st in function.statements:
+        if isinstance(st, Unpack):
+            lines.append(f"{INDENT}{st.target.name} = {st.array}[{st.index}]")
+        elif isinstance(st, Assign):
+            lines.append(f"{INDENT}{st.target.name} = {print_expr(st.value)}")
+        elif isinstance(st, Comment):
+            lines.append(f"{INDENT}# {st.text}")
+    lines.append(f"{INDENT}return {format_result(function.result, INDENT)}")
+    return "\n".join(lines)
+
+
+def _clean(obj: Any) -> Any:
+    """A dataclass tree as plain data, without source spans (so comments and layout don't count)."""
+    if is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: _clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
+    if isinstance(obj, tuple | list):
+        return [_clean(x) for x in obj]
+    return obj
+
+
+def _digest(payload: Any) -> str:
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def model_fingerprint(model: Model) -> str:
+    """A hash of what the dynamics depend on (not spans or comments): the runtime's staleness check."""
+    return _digest(
+        {
+            "legdsl": __version__,
+            "planar": model.planar,
+            "gravity": model.gravity,
+            "bodies": _clean(model.bodies),
+            "joints": _clean(model.joints),
+            "contacts": _clean(model.contacts),
+        }
+    )
+
+
+def controller_fingerprint(model: Model, controller: Controller) -> str:
+    """A hash of what a control module depends on: the controller, the legs and actuators it drives."""
+    return _digest(
+        {
+            "model": model_fingerprint(model),
+            "legs": _clean(model.legs),
+            "actuators": _clean(model.actuators),
+            "controller": {k: v for k, v in _clean(controller).items() if k != "paths"},
+        }
+    )
+
+
+def _layout(model: Model) -> list[tuple[str, str, str, str]]:
+    """(array index, name, unit, meaning) of every entry of q and v."""
+    rows: list[tuple[str, str, str, str]] = []
+    for joint in model.joints:
+        if joint.is_free_3d:
+            for k, axis in enumerate("xyz"):
+                rows.append((f"q[{joint.q_start + k}]", axis, "m", "root origin, world"))
+            for k, part in enumerate(("w", "x", "y", "z")):
+                rows.append(
+                    (f"q[{joint.q_start + 3 + k}]", f"q{part}", "", "root orientation quaternion")
+                )
+            continue
+        for dof in joint.dofs:
+            unit, how = ("rad", "hinge about") if dof.motion == "hinge" else ("m", "slide along")
+            axis = ", ".join(f"{c:g}" for c in dof.axis)
+            rows.append((f"q[{dof.q_index}]", dof.name, unit, f"{joint.name}: {how} ({axis})"))
+    for joint in model.joints:
+        if joint.is_free_3d:
+            for k, name in enumerate(("vx", "vy", "vz")):
+                rows.append(
+                    (f"v[{joint.v_start + k}]", name, "m/s", "root origin velocity, world axes")
+                )
+            for k, name in enumerate(("wx", "wy", "wz")):
+                rows.append(
+                    (
+                        f"v[{joint.v_start + 3 + k}]",
+                        name,
+                        "rad/s",
+                        "root angular velocity, body axes",
+                    )
+                )
+            continue
+        for dof in joint.dofs:
+            unit = "rad/s" if dof.motion == "hinge" else "m/s"
+            rows.append((f"v[{dof.v_index}]", dof.name, unit, f"rate of {dof.name}"))
+    return rows
+
+
+def _table(rows: list[tuple[str, str, str, str]]) -> list[str]:
+    widths = [max((len(r[k]) for r in rows), default=0) for k in range(3)]
+    return [
+        f"{r[0]:<{widths[0]}}  {r[1]:<{widths[1]}}  {r[2]:<{widths[2]}}  {r[3]}".rstrip()
+        for r in rows
+    ]
+
+
+def _floats(values: tuple[float, ...]) -> str:
+    return "(" + ", ".join(repr(float(v)) for v in values) + ")"
+
+
+def _names(values: tuple[str, ...]) -> str:
+    if len(values) == 1:
+        return f"({values[0]!r},)"
+    return "(" + ", ".join(repr(v) for v in values) + ")"
+
+
+def render_dynamics(system: SymbolicSystem, source: str) -> str:
+    """The text of ``generated/NAME/dynamics.py``."""
+    model = system.model
+    template = _environment().get_template("dynamics.py.j2")
+    return template.render(
+        version=__version__,
+        sympy_version=sympy.__version__,
+        source=source,
+        model=model,
+        kind="planar" if model.planar else "spatial",
+        free3d=any(j.is_free_3d for j in model.joints),
+        layout=_table(_layout(model)),
+        fingerprint=model_fingerprint(model),
+        q_names=_names(model.q_names),
+        v_names=_names(model.v_names),
+        body_names=_names(tuple(b.name for b in model.bodies)),
+        contact_names=_names(tuple(c.name for c in model.contacts)),
+        gravity=_floats(model.gravity),
+        total_mass=repr(float(model.total_mass)),
+        body={f.name: function_body(f) for f in system.functions},
+    )
+
+
+def render_init(model: Model) -> str:
+    """The text of ``generated/NAME/__init__.py``."""
+    return (
+        f'"""Generated code for the creature \'{model.name}\' (legdsl compile); do not edit."""\n'
+    )

@@ -1,0 +1,232 @@
+"""``legdsl animate`` and ``legdsl export-motion``: the command-line side of the animation exports.
+
+* ``legdsl animate DIR [-o FILE.html]`` writes the HTML player (``legdsl.export.formats.formats.player``);
+* ``legdsl animate DIR --video FILE.mp4|FILE.gif`` renders a video (``legdsl.export.formats.formats.video``);
+* ``legdsl export-motion DIR --format glb|gltf [-o FILE]`` writes glTF 2.0 (``legdsl.export.formats.formats.gltf``);
+* ``legdsl run ... --animate`` calls ``animate_result`` after writing the run.
+
+This module only parses arguments and reports; importing it is cheap, so the
+CLI can build its parser without loading numpy, matplotlib or pygltflib.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from legdsl.lang.errors import UsageError
+
+OVERLAY_NAMES = ("state", "speed", "forces", "footprints", "com")
+Command = Callable[[argparse.Namespace], int]
+
+
+def human_size(n: int) -> str:
+    if n < 1024:
+        return f"{n} B"
+    if n < 1024 * 1024:
+        return f"{n / 1024:.1f} KiB"
+    return f"{n / (1024 * 1024):.2f} MiB"
+
+
+def parse_overlays(text: str) -> tuple[str, ...]:
+    if text.strip().lower() == "none":
+        return ()
+    names = tuple(x.strip() for x in text.split(",") if x.strip())
+    unknown = [x for x in names if x not in OVERLAY_NAMES]
+    if unknown:
+        raise UsageError(
+            f"--overlays: unknown {', '.join(unknown)}; choose from {', '.join(OVERLAY_NAMES)} or none"
+        )
+    return names
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
+    if not match or not (64 <= int(match.group(1)) <= 7680 and 64 <= int(match.group(2)) <= 4320):
+        raise UsageError(f"--size {text!r}: write WIDTHxHEIGHT in pixels, e.g. 960x540")
+    return int(match.group(1)), int(match.group(2))
+
+
+def _positive(value: float | None, flag: str) -> None:
+    if value is not None and not value > 0:
+        raise UsageError(f"{flag} must be positive")
+
+
+def _load(args: argparse.Namespace, fps: float) -> Any:
+    from legdsl.export.motion import load_motion
+
+    return load_motion(
+        Path(args.run),
+        fps=fps,
+        generated=Path(args.generated),
+        source=Path(args.source) if args.source else None,
+    )
+
+
+# ---------------------------------------------------------------- legdsl animate
+
+
+def _cmd_animate(args: argparse.Namespace) -> int:
+    overlays = parse_overlays(args.overlays)
+    _positive(args.fps, "--fps")
+    run = Path(args.run)
+    if args.video:
+        from legdsl.export.video import render_video, stderr_progress
+
+        video = Path(args.video)
+        # GIFs compress poorly (every frame moves with the camera): smaller by default.
+        size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
+        if video.suffix.lower() not in (".mp4", ".gif"):
+            raise UsageError(f"--video {video}: write an .mp4 or a .gif")
+        fps = args.fps or 30.0
+        motion = _load(args, max(fps, 60.0))
+        result = render_video(motion, video, fps, size, overlays, progress=stderr_progress)
+        print(
+            f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} frames at "
+            f"{fps:g} fps, {motion.duration:.2f} s of motion) in {result.seconds:.1f} s"
+        )
+        if not args.output:
+            return 0
+        motion = _load(args, 60.0) if fps != 60.0 else motion
+    else:
+        motion = _load(args, args.fps or 60.0)
+    from legdsl.export.player import write_player
+
+    out = Path(args.output) if args.output else run / "animation.html"
+    size_bytes = write_player(motion, out, overlays)
+    print(
+        f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
+        f"{motion.duration:.2f} s); open it in a web browser"
+    )
+    return 0
+
+
+def add_animate_parser(sub: Any) -> Command:
+    a = sub.add_parser(
+        "animate",
+        help="play a recorded run: an HTML player, or an .mp4/.gif video",
+        description="Write a self-contained HTML player for a run directory (no network or server "
+        "needed: open it in a browser): the creature's links as solids in their .leg shapes and "
+        "colours, the ground and terrain, a following camera, play/pause, a time scrubber, "
+        "playback speed from 0.1x to 2x and overlays (controller state, commanded and actual "
+        "speed, ground-force arrows, footprints, mass-centre trail). With --video, render the "
+        "same view to an .mp4 (needs ffmpeg) or a .gif instead.",
+        epilog="Example: legdsl run creatures/kangaroo.leg --time 3 --drop 0.1 --out runs/k && "
+        "legdsl animate runs/k && legdsl animate runs/k --video runs/k/hop.mp4",
+    )
+    a.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
+    a.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.html",
+        help="the player to write (default DIR/animation.html)",
+    )
+    a.add_argument(
+        "--video",
+        metavar="FILE",
+        help="render a video (.mp4 through ffmpeg, or .gif) instead of the player",
+    )
+    a.add_argument(
+        "--fps",
+        type=float,
+        metavar="N",
+        help="frames per second: stored in the player (default 60; it interpolates between "
+        "them) or rendered into the video (default 30)",
+    )
+    a.add_argument(
+        "--size",
+        metavar="WxH",
+        help="video size in pixels (default 960x540 for .mp4, 640x360 for .gif)",
+    )
+    a.add_argument(
+        "--overlays",
+        default=",".join(OVERLAY_NAMES),
+        metavar="LIST",
+        help="overlays shown at first (the player can toggle them): comma-separated from "
+        f"{', '.join(OVERLAY_NAMES)}, or none (default: all)",
+    )
+    a.add_argument(
+        "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
+    )
+    a.add_argument(
+        "--generated",
+        default="generated",
+        metavar="DIR",
+        help="where generated modules live (default generated/)",
+    )
+    return _cmd_animate
+
+
+# ---------------------------------------------------------------- legdsl export-motion
+
+
+def _cmd_export_motion(args: argparse.Namespace) -> int:
+    from legdsl.export.gltf import write_gltf
+
+    _positive(args.fps, "--fps")
+    motion = _load(args, args.fps)
+    out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
+    size = write_gltf(motion, out, args.format)
+    print(
+        f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} links, "
+        f"{motion.frames} keyframes over {motion.duration:.2f} s)"
+    )
+    return 0
+
+
+def add_export_motion_parser(sub: Any) -> Command:
+    e = sub.add_parser(
+        "export-motion",
+        help="export a recorded run as a glTF 2.0 animation",
+        description="Export a run directory as glTF 2.0: one node per link (nested as the link "
+        "tree) with a triangle mesh of its shape and a material of its colour, and the run as "
+        "one animation with LINEAR translation and rotation keys, in seconds. The scene is y-up "
+        "as glTF requires (legdsl's x forward stays x). .glb is one binary file; .gltf is JSON "
+        "with the buffer embedded.",
+        epilog="Example: legdsl export-motion runs/k --format glb -o kangaroo.glb",
+    )
+    e.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
+    e.add_argument("--format", choices=("glb", "gltf"), default="glb", help="glb (default) or gltf")
+    e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.glb (or .gltf)")
+    e.add_argument(
+        "--fps", type=float, default=60.0, metavar="N", help="keyframes per second (default 60)"
+    )
+    e.add_argument(
+        "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
+    )
+    e.add_argument(
+        "--generated",
+        default="generated",
+        metavar="DIR",
+        help="where generated modules live (default generated/)",
+    )
+    return _cmd_export_motion
+
+
+# ---------------------------------------------------------------- legdsl run --animate
+
+
+def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
+    """Write ``out/animation.html`` for a run that was just simulated."""
+    from legdsl.export.motion import motion_from
+    from legdsl.export.player import write_player
+
+    path = out / "animation.html"
+    if len(result.trajectory) == 0:
+        print(f"  animation: not written, the run recorded no samples ({path})")
+        return path
+    motion = motion_from(
+        model,
+        result.trajectory,
+        dynamics,
+        events=result.events,
+        status=result.status,
+        message=result.message or "",
+    )
+    size = write_player(motion, path)
+    print(f"  animation: {path} ({human_size(size)}); open it in a web browser", file=sys.stdout)
+    return path

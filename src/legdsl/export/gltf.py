@@ -1,0 +1,221 @@
+"""Export a run as glTF 2.0 (``.glb`` binary, or ``.gltf`` with the buffer embedded).
+
+The scene has one node per link, nested as the link tree, under one top node
+named after the creature. That top node turns legdsl's z-up world into
+glTF's y-up (a quarter turn about x; x stays forward). Each link node holds a
+triangle mesh of its drawing shape (``legdsl.export.formats.formats.shapes``) with a material of
+its colour, and the run is one animation, ``run``, with a translation and a
+rotation channel per link (LINEAR, time in seconds from the run's start):
+the link's pose relative to its parent link, so that the nodes move the
+way the joints do.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl import __version__
+from legdsl.export.motion import Motion
+from legdsl.export.shapes import body_mesh, hex_rgb, srgb_to_linear
+from legdsl.lang.errors import UsageError
+
+FORMATS = ("glb", "gltf")
+Z_UP_TO_Y_UP = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # (x, y, z, w): -90 deg about x
+
+ARRAY_BUFFER = 34962
+ELEMENT_ARRAY_BUFFER = 34963
+FLOAT = 5126
+UNSIGNED_SHORT = 5123
+UNSIGNED_INT = 5125
+
+
+def _pygltflib() -> Any:
+    try:
+        import pygltflib
+    except ImportError:
+        raise UsageError("exporting glTF needs pygltflib: pip install 'legdsl[export]'") from None
+    return pygltflib
+
+
+# ---------------------------------------------------------------- quaternions (x, y, z, w)
+
+
+def quat_conjugate(q: np.ndarray) -> np.ndarray:
+    return q * np.array([-1.0, -1.0, -1.0, 1.0])
+
+
+def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    ax, ay, az, aw = np.moveaxis(a, -1, 0)
+    bx, by, bz, bw = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ],
+        axis=-1,
+    )
+
+
+def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Rotate vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4)."""
+    u, w = q[..., :3], q[..., 3:4]
+    t = 2.0 * np.cross(u, v)
+    return np.asarray(v + w * t + np.cross(u, t))
+
+
+def local_poses(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
+    """Every link's pose relative to its parent link: translations (F, B, 3), rotations (F, B, 4)."""
+    pos, rot = motion.positions, motion.quaternions
+    local_t = pos.copy()
+    local_r = rot.copy()
+    for b, parent in enumerate(motion.parents):
+        if parent < 0:
+            continue
+        inverse = quat_conjugate(rot[:, parent])
+        local_t[:, b] = quat_rotate(inverse, pos[:, b] - pos[:, parent])
+        local_r[:, b] = quat_multiply(inverse, rot[:, b])
+    local_r /= np.linalg.norm(local_r, axis=2, keepdims=True)
+    for k in range(1, len(local_r)):  # no sign flips between frames: LINEAR takes the short way
+        flip = np.sum(local_r[k] * local_r[k - 1], axis=-1) < 0
+        local_r[k][flip] *= -1
+    return local_t, local_r
+
+
+# ---------------------------------------------------------------- building the file
+
+
+class _Blob:
+    """One binary buffer with 4-byte aligned views, and the accessors into it."""
+
+    def __init__(self, gltf: Any, lib: Any):
+        self.gltf, self.lib = gltf, lib
+        self.data = bytearray()
+
+    def accessor(
+        self, array: np.ndarray, kind: str, target: int | None = None, bounds: bool = False
+    ) -> int:
+        lib = self.lib
+        if array.dtype == np.float32:
+            component = FLOAT
+        elif array.dtype == np.uint16:
+            component = UNSIGNED_SHORT
+        else:
+            component = UNSIGNED_INT
+        raw = np.ascontiguousarray(array).tobytes()
+        offset = len(self.data)
+        self.data += raw
+        self.data += b"\0" * (-len(self.data) % 4)
+        view = lib.BufferView(buffer=0, byteOffset=offset, byteLength=len(raw), target=target)
+        self.gltf.bufferViews.append(view)
+        count = int(array.shape[0])  # elements: scalars, or rows of a (count, n) array
+        accessor = lib.Accessor(
+            bufferView=len(self.gltf.bufferViews) - 1,
+            componentType=component,
+            count=count,
+            type=kind,
+        )
+        if bounds:
+            flat = array.reshape(count, -1)
+            accessor.min = [float(x) for x in flat.min(axis=0)]
+            accessor.max = [float(x) for x in flat.max(axis=0)]
+        self.gltf.accessors.append(accessor)
+        return len(self.gltf.accessors) - 1
+
+
+def build_gltf(motion: Motion) -> Any:
+    """The scene and animation as a ``pygltflib.GLTF2`` with its binary blob set."""
+    lib = _pygltflib()
+    gltf = lib.GLTF2(
+        asset=lib.Asset(version="2.0", generator=f"legdsl {__version__}"),
+        scene=0,
+        scenes=[lib.Scene(name=motion.creature, nodes=[0])],
+    )
+    blob = _Blob(gltf, lib)
+    gltf.nodes.append(lib.Node(name=motion.creature, rotation=Z_UP_TO_Y_UP, children=[]))
+
+    materials: dict[str, int] = {}
+    for body in motion.bodies:
+        color = (body.color or "#9a9a9a").lower()
+        if color not in materials:
+            linear = [srgb_to_linear(c) for c in hex_rgb(color)]
+            gltf.materials.append(
+                lib.Material(
+                    name=color,
+                    pbrMetallicRoughness=lib.PbrMetallicRoughness(
+                        baseColorFactor=[*linear, 1.0], metallicFactor=0.0, roughnessFactor=0.7
+                    ),
+                )
+            )
+            materials[color] = len(gltf.materials) - 1
+
+    translations, rotations = local_poses(motion)
+    for b, body in enumerate(motion.bodies):
+        mesh = body_mesh(body)
+        indices = mesh.indices.reshape(-1)
+        indices = indices.astype(np.uint16 if len(mesh.positions) < 65536 else np.uint32)
+        primitive = lib.Primitive(
+            attributes=lib.Attributes(
+                POSITION=blob.accessor(mesh.positions, "VEC3", ARRAY_BUFFER, bounds=True),
+                NORMAL=blob.accessor(mesh.normals, "VEC3", ARRAY_BUFFER),
+            ),
+            indices=blob.accessor(indices, "SCALAR", ELEMENT_ARRAY_BUFFER),
+            material=materials[(body.color or "#9a9a9a").lower()],
+        )
+        gltf.meshes.append(lib.Mesh(name=body.name, primitives=[primitive]))
+        node = lib.Node(
+            name=body.name,
+            mesh=len(gltf.meshes) - 1,
+            translation=[float(x) for x in translations[0, b]],
+            rotation=[float(x) for x in rotations[0, b]],
+            children=[],
+        )
+        gltf.nodes.append(node)
+        parent = motion.parents[b]
+        gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
+
+    times = blob.accessor(motion.times.astype(np.float32), "SCALAR", bounds=True)
+    animation = lib.Animation(name="run", samplers=[], channels=[])
+    for b in range(len(motion.bodies)):
+        for path, values, kind in (
+            ("translation", translations[:, b], "VEC3"),
+            ("rotation", rotations[:, b], "VEC4"),
+        ):
+            output = blob.accessor(values.astype(np.float32), kind)
+            animation.samplers.append(
+                lib.AnimationSampler(input=times, output=output, interpolation="LINEAR")
+            )
+            animation.channels.append(
+                lib.AnimationChannel(
+                    sampler=len(animation.samplers) - 1,
+                    target=lib.AnimationChannelTarget(node=b + 1, path=path),
+                )
+            )
+    gltf.animations.append(animation)
+    for node in gltf.nodes:  # glTF wants no empty arrays
+        if not node.children:
+            node.children = None
+    gltf.buffers.append(lib.Buffer(byteLength=len(blob.data)))
+    gltf.set_binary_blob(bytes(blob.data))
+    return gltf
+
+
+def write_gltf(motion: Motion, path: Path, fmt: str = "glb") -> int:
+    """Write ``path`` as .glb (binary) or .gltf (JSON, buffer as a data URI); returns its size."""
+    if fmt not in FORMATS:
+        raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
+    gltf = build_gltf(motion)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    if fmt == "glb":
+        tmp.write_bytes(b"".join(gltf.save_to_bytes()))
+    else:
+        gltf.convert_buffers(_pygltflib().BufferFormat.DATAURI)
+        tmp.write_text(gltf.gltf_to_json())
+    tmp.replace(path)
+    return path.stat().st_size

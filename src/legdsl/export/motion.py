@@ -1,0 +1,363 @@
+"""A recorded run made ready to draw: every body's pose per frame, and the overlays.
+
+This is what the animation exporters share (the HTML player, the video and
+the glTF export). ``load_motion(DIR)`` reads a run directory (``trajectory.npz``
+and ``run.json``), checks the ``.leg`` file it names, loads the creature's
+generated kinematics and resamples the run to a fixed frame rate:
+
+* ``q`` is interpolated linearly between recorded samples (a 3D root's
+  quaternion is renormalised), and the generated ``body_poses`` gives every
+  body's world pose at each frame, exactly on the kinematic chain;
+* forces, centre of mass and speeds are interpolated; the controller state
+  is the one active at the frame's time;
+* footprints are the contact points' positions at each touchdown event.
+
+Quaternions are stored (x, y, z, w) as three.js and glTF want them, with the
+sign chosen so that consecutive frames of a body are in the same hemisphere.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from legdsl.ir.model import Body, Model, Terrain
+from legdsl.lang.errors import UsageError
+from legdsl.sim.trajectory import Trajectory
+
+DEFAULT_FPS = 60.0
+
+
+class Kinematics(Protocol):
+    """What the exporters need from a creature's generated dynamics module."""
+
+    def body_poses(self, q: Any) -> Any: ...
+
+    def contact_positions(self, q: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Footprint:
+    t: float
+    contact: int  # index into Motion.contact_names
+    position: tuple[float, float, float]
+
+
+@dataclass
+class Motion:
+    creature: str
+    planar: bool
+    bodies: tuple[Body, ...]
+    parents: tuple[int, ...]  # index of each body's parent, -1 for the root
+    terrain: tuple[Terrain, ...]
+    times: np.ndarray  # (F,) s, from the run's first sample
+    positions: np.ndarray  # (F, B, 3) world position of each body frame
+    quaternions: np.ndarray  # (F, B, 4) world orientation, (x, y, z, w)
+    contact_names: tuple[str, ...]
+    contact_positions: np.ndarray  # (F, C, 3)
+    forces: np.ndarray  # (F, C, 3) N, ground reaction on each contact
+    com: np.ndarray  # (F, 3)
+    speed: np.ndarray  # (F,) m/s: horizontal speed of the mass centre along the heading
+    speed_command: np.ndarray  # (F,) m/s, NaN without a command
+    state: np.ndarray  # (F,) int, -1 without a controller
+    state_names: tuple[str, ...]
+    footprints: tuple[Footprint, ...]
+    weight: float  # N: total mass times gravity, to scale force arrows
+    status: str = "ok"
+    message: str = ""
+
+    @property
+    def duration(self) -> float:
+        return float(self.times[-1]) if len(self.times) else 0.0
+
+    @property
+    def frames(self) -> int:
+        return int(self.times.shape[0])
+
+    def frame_at(self, t: float) -> int:
+        """The last frame at or before ``t``."""
+        return int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, self.frames - 1))
+
+    def at(self, t: float) -> Snapshot:
+        """Everything drawn at time ``t``, interpolated between frames as the player does."""
+        f = self.frame_at(t)
+        g = min(f + 1, self.frames - 1)
+        span = self.times[g] - self.times[f]
+        a = float(np.clip((t - self.times[f]) / span, 0.0, 1.0)) if span > 0 else 0.0
+
+        def mix(x: np.ndarray) -> np.ndarray:
+            return np.asarray((1 - a) * x[f] + a * x[g])
+
+        quats = mix(self.quaternions)  # normalised linear interpolation (frames are close)
+        quats /= np.linalg.norm(quats, axis=1, keepdims=True)
+        return Snapshot(
+            t=t,
+            frame=f,
+            positions=mix(self.positions),
+            rotations=np.array([quaternion_to_matrix(qb) for qb in quats]),
+            contact_positions=mix(self.contact_positions),
+            forces=mix(self.forces),
+            com=mix(self.com),
+            speed=float(self.speed[f]),
+            speed_command=float(self.speed_command[f]),
+            state=self.state_names[self.state[f]]
+            if 0 <= self.state[f] < len(self.state_names)
+            else None,
+        )
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    t: float
+    frame: int  # the last frame at or before t
+    positions: np.ndarray  # (B, 3)
+    rotations: np.ndarray  # (B, 3, 3) body to world
+    contact_positions: np.ndarray  # (C, 3)
+    forces: np.ndarray  # (C, 3)
+    com: np.ndarray  # (3,)
+    speed: float
+    speed_command: float  # NaN without a command
+    state: str | None  # None without a controller
+
+
+# ---------------------------------------------------------------- loading
+
+
+@dataclass
+class Run:
+    directory: Path
+    info: dict[str, Any]
+    trajectory: Trajectory
+    model: Model
+    source: Path
+
+
+def read_run(directory: Path, source: Path | None = None) -> Run:
+    """The trajectory, run.json and checked model of a run directory."""
+    from legdsl.check.source import check_model
+
+    if not (directory / "trajectory.npz").is_file() or not (directory / "run.json").is_file():
+        raise UsageError(
+            f"{directory} is not a run directory (it needs trajectory.npz and run.json); "
+            "make one with: legdsl run FILE.leg --out DIR"
+        )
+    info = json.loads((directory / "run.json").read_text())
+    if source is None:
+        named = Path(info.get("source", ""))
+        candidates = [named, directory / named, directory / named.name]
+        source = next((c for c in candidates if c.is_file()), None)
+        if source is None:
+            raise UsageError(
+                f"{directory}/run.json names the source {str(named)!r}, which is not found "
+                "from here; pass the .leg file with --source FILE"
+            )
+    model = check_model(source, info.get("creature"))
+    trajectory = Trajectory.load(directory)
+    if len(trajectory) == 0:
+        raise UsageError(f"{directory}: the run recorded no samples")
+    if trajectory.q.shape[1] != model.nq:
+        raise UsageError(
+            f"{directory}: the run has {trajectory.q.shape[1]} coordinates but {source} "
+            f"describes {model.nq}; was the .leg file changed after the run?"
+        )
+    return Run(directory, info, trajectory, model, source)
+
+
+def load_motion(
+    directory: Path,
+    fps: float = DEFAULT_FPS,
+    generated: Path = Path("generated"),
+    source: Path | None = None,
+    kinematics: Kinematics | None = None,
+) -> Motion:
+    """Read a run directory and resample it for drawing (see the module docstring)."""
+    run = read_run(directory, source)
+    if kinematics is None:
+        from legdsl.pipeline.run import load_dynamics
+
+        kinematics = load_dynamics(run.model, run.source, generated)
+    return motion_from(
+        run.model,
+        run.trajectory,
+        kinematics,
+        events=run.info.get("events"),
+        fps=fps,
+        status=str(run.info.get("status", "ok")),
+        message=str(run.info.get("message", "") or ""),
+    )
+
+
+# ---------------------------------------------------------------- resampling
+
+
+def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
+    """Frame times from the first to the last sample at ``fps`` (never denser than the samples)."""
+    span = float(t[-1] - t[0])
+    if len(t) < 2 or span <= 0:
+        return t[:1].copy()
+    recorded_fps = (len(t) - 1) / span
+    step = 1.0 / min(fps, recorded_fps * (1 + 1e-9))
+    n = int(math.floor(span / step + 1e-9)) + 1
+    return t[0] + step * np.arange(n)
+
+
+def interpolate(t: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Linear interpolation of ``values`` (N, ...) sampled at ``t`` (N,) to the times ``at``."""
+    if len(t) == 1:
+        return np.repeat(values[:1], len(at), axis=0)
+    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
+    a = np.clip((at - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0)
+    a = a.reshape((-1,) + (1,) * (values.ndim - 1))
+    return (1 - a) * values[i] + a * values[i + 1]
+
+
+def interpolate_q(model: Model, t: np.ndarray, q: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Generalized positions at the times ``at``; a 3D root's quaternion stays a unit quaternion."""
+    if not model.joints[0].is_free_3d or len(t) == 1:
+        return interpolate(t, q, at)
+    q = q.copy()
+    dots = np.sum(
+        q[1:, 3:7] * q[:-1, 3:7], axis=1
+    )  # keep each sample in its predecessor's hemisphere
+    q[:, 3:7] *= np.concatenate([[1.0], np.cumprod(np.where(dots < 0, -1.0, 1.0))])[:, None]
+    out = interpolate(t, q, at)
+    out[:, 3:7] /= np.linalg.norm(out[:, 3:7], axis=1, keepdims=True)
+    return out
+
+
+def matrix_to_quaternion(m: np.ndarray) -> np.ndarray:
+    """A rotation matrix (3, 3) as a unit quaternion (x, y, z, w)."""
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0:
+        s = 2.0 * math.sqrt(trace + 1.0)
+        q = ((m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4)
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        q = (s / 4, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s, (m[2, 1] - m[1, 2]) / s)
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        q = ((m[0, 1] + m[1, 0]) / s, s / 4, (m[1, 2] + m[2, 1]) / s, (m[0, 2] - m[2, 0]) / s)
+    else:
+        s = 2.0 * math.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        q = ((m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, s / 4, (m[1, 0] - m[0, 1]) / s)
+    out = np.array(q)
+    return out / np.linalg.norm(out)
+
+
+def quaternion_to_matrix(q: np.ndarray) -> np.ndarray:
+    """A unit quaternion (x, y, z, w) as a rotation matrix (3, 3)."""
+    x, y, z, w = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def continuous(quaternions: np.ndarray) -> np.ndarray:
+    """Flip signs along axis 0 so that consecutive quaternions have a non-negative dot product."""
+    out = quaternions.copy()
+    for k in range(1, len(out)):
+        flip = np.sum(out[k] * out[k - 1], axis=-1) < 0
+        out[k][flip] *= -1
+    return out
+
+
+def motion_from(
+    model: Model,
+    trajectory: Trajectory,
+    kinematics: Kinematics,
+    events: list[dict[str, Any]] | None = None,
+    fps: float = DEFAULT_FPS,
+    status: str = "ok",
+    message: str = "",
+) -> Motion:
+    tr = trajectory
+    at = frame_times(tr.t, fps)
+    q = interpolate_q(model, tr.t, tr.q, at)
+    nb, nc = len(model.bodies), len(model.contacts)
+    positions = np.zeros((len(at), nb, 3))
+    quats = np.zeros((len(at), nb, 4))
+    contacts = np.zeros((len(at), nc, 3))
+    for f, qf in enumerate(q):
+        qf_list = [float(x) for x in qf]
+        for b, (pos, rot) in enumerate(kinematics.body_poses(qf_list)):
+            positions[f, b] = pos
+            quats[f, b] = matrix_to_quaternion(np.asarray(rot, dtype=float).reshape(3, 3))
+        if nc:
+            contacts[f] = np.asarray(kinematics.contact_positions(qf_list), dtype=float)
+
+    com_vel = interpolate(tr.t, tr.com_vel, at)
+    yaw = interpolate(tr.t, np.unwrap(tr.root_rpy[:, 2]), at)
+    speed = com_vel[:, 0] * np.cos(yaw) + com_vel[:, 1] * np.sin(yaw)
+    index = np.clip(np.searchsorted(tr.t, at + 1e-12, side="right") - 1, 0, len(tr) - 1)
+    names = [b.name for b in model.bodies]
+    return Motion(
+        creature=model.name,
+        planar=model.planar,
+        bodies=model.bodies,
+        parents=tuple(-1 if b.parent is None else names.index(b.parent) for b in model.bodies),
+        terrain=model.ground.terrain if model.ground else (),
+        times=at - tr.t[0],
+        positions=positions,
+        quaternions=continuous(quats),
+        contact_names=tuple(c.name for c in model.contacts),
+        contact_positions=contacts,
+        forces=interpolate(tr.t, tr.force, at),
+        com=interpolate(tr.t, tr.com, at),
+        speed=speed,
+        speed_command=tr.speed_command[index].astype(float),
+        state=tr.state[index].astype(int),
+        state_names=tuple(tr.state_names),
+        footprints=footprints(model, tr, kinematics, events),
+        weight=model.total_mass * math.sqrt(sum(g * g for g in model.gravity)),
+        status=status,
+        message=message,
+    )
+
+
+def footprints(
+    model: Model,
+    tr: Trajectory,
+    kinematics: Kinematics,
+    events: list[dict[str, Any]] | None,
+) -> tuple[Footprint, ...]:
+    """Where each contact touched down: from the run's events, or without any from the contact flags."""
+    names = [c.name for c in model.contacts]
+    touchdowns: list[tuple[float, int]] = []
+    if events is not None:
+        touchdowns = [
+            (float(e["t"]), names.index(e["contact"]))
+            for e in events
+            if e.get("kind") == "touchdown" and e.get("contact") in names
+        ]
+    elif len(tr) and tr.contact.size:
+        flags = tr.contact.astype(int)
+        rising = np.argwhere(np.diff(flags, axis=0, prepend=0) > 0)
+        touchdowns = [(float(tr.t[i]), int(c)) for i, c in rising]
+    out = []
+    for t, c in sorted(touchdowns):
+        q = interpolate_q(model, tr.t, tr.q, np.array([t]))[0]
+        p = kinematics.contact_positions([float(x) for x in q])[c]
+        out.append(Footprint(t - float(tr.t[0]), c, (float(p[0]), float(p[1]), float(p[2]))))
+    return tuple(out)
+
+
+def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> float:
+    """The ground's height under (x, y), as ``legdsl.sim.contact`` models it."""
+    h = 0.0
+    for t in terrain:
+        if t.kind == "slope":
+            return x * math.tan(t.get("angle"))
+        if t.kind == "step" and x >= t.get("x"):
+            h = max(h, t.get("height"))
+        if t.kind == "box" and t.get("x0") <= x <= t.get("x1") and t.get("y0") <= y <= t.get("y1"):
+            h = max(h, t.get("height"))
+    return h

@@ -1,0 +1,298 @@
+"""The checked model IR: what a creature *is*, in SI units, with names resolved.
+
+Frames and conventions (also in docs/language.md):
+
+* World: z up, x forward, y to the left. A planar creature moves in the x-z
+  plane and turns about y (positive pitch turns +x towards -z, the right-hand
+  rule about +y).
+* Every body has a frame whose origin is its joint's location and whose axes
+  are parallel to its parent's when all joint coordinates are zero. A body's
+  mass centre, contact points, child joint locations and drawing shape are
+  given in this frame.
+* A joint is a chain of one-degree-of-freedom primitives (``Dof``): a slide
+  along, or a hinge about, a unit axis of the joint frame, applied in order.
+  Revolute and prismatic joints have one; gimbal two; ball three; a planar
+  free root three (x, z, pitch). The only exception is the 3D free root,
+  which has seven position coordinates and six velocities:
+
+      q = (x, y, z, qw, qx, qy, qz)   position of the body frame in the world,
+                                      and its orientation as a unit quaternion
+      v = (vx, vy, vz, wx, wy, wz)    linear velocity of the body frame origin
+                                      in world axes; angular velocity in body axes
+
+  which is MuJoCo's convention for a free joint.
+* Coordinates are ordered root first, then joints in tree order (a parent's
+  joint before its children's, siblings in the order they were written), and
+  each joint's primitives in axis order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from legdsl.ir.paths import PathSpec
+from legdsl.lang import ast
+from legdsl.lang.errors import Span
+
+Vec3 = tuple[float, float, float]
+Mat3 = tuple[Vec3, Vec3, Vec3]
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A drawing shape in the body frame. ``kind`` is box, frustum, capsule, sphere or cylinder.
+
+    box: size (x, y, z) centred at ``center``; frustum/capsule/cylinder: radii along the
+    link from the joint to ``length * direction``; sphere: radius at ``center``.
+    """
+
+    kind: str
+    params: tuple[tuple[str, float], ...]
+    center: Vec3 = (0.0, 0.0, 0.0)
+
+    def get(self, key: str) -> float:
+        return dict(self.params)[key]
+
+
+@dataclass(frozen=True)
+class Body:
+    name: str
+    parent: str | None
+    joint: str
+    mass: float
+    com: Vec3
+    inertia: Mat3  # about the mass centre, in body axes
+    length: float | None
+    direction: Vec3  # unit vector along the link, in the body frame
+    shape: Shape
+    color: str | None
+    span: Span
+
+    @property
+    def tip(self) -> Vec3:
+        """The distal end of the link: ``length * direction`` (the origin if no length)."""
+        length = self.length or 0.0
+        return (
+            length * self.direction[0],
+            length * self.direction[1],
+            length * self.direction[2],
+        )
+
+
+@dataclass(frozen=True)
+class Dof:
+    """One degree of freedom: a slide or hinge about ``axis`` (unit, joint frame)."""
+
+    name: str
+    joint: str
+    motion: str  # "slide" or "hinge"
+    axis: Vec3
+    q_index: int
+    v_index: int
+    initial: float
+    initial_rate: float
+    limits: tuple[float, float] | None
+
+
+@dataclass(frozen=True)
+class Joint:
+    name: str
+    kind: str  # free, fixed (root welded to the world), revolute, prismatic, gimbal, ball, weld
+    parent: str | None  # parent body, None for the root
+    child: str
+    origin: Vec3  # location in the parent frame (the world for the root)
+    dofs: tuple[Dof, ...]
+    q_start: int
+    nq: int
+    v_start: int
+    nv: int
+    span: Span
+
+    @property
+    def is_free_3d(self) -> bool:
+        return self.kind == "free" and self.nq == 7
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """A force on one coordinate. ``kind``: spring (eq. 1), servo (eq. 5) or force.
+
+    The generalized force is ``-(k (q - rest) + b qd)`` for a spring and
+    ``-kp (q - setpoint) - kv qd`` for a servo, clipped to ``[-max, max]``
+    when ``max`` is set; for ``force`` it is the commanded value.
+    """
+
+    name: str
+    kind: str
+    dof: str
+    params: tuple[tuple[str, float], ...]
+    max: float | None
+    rotary: bool
+    span: Span
+
+    def get(self, key: str) -> float:
+        return dict(self.params)[key]
+
+
+# Which settings a controller may change, per kind (the rest are read-only).
+SETTABLE = {
+    "spring": ("k", "b", "rest"),
+    "servo": ("kp", "kv", "setpoint"),
+    "force": ("force",),
+}
+
+
+def setting_kind(key: str, rotary: bool) -> str:
+    """The physical kind (a key of ``units.KINDS``) of an actuator setting on a rotary or sliding joint."""
+    linear, angular = {
+        "k": ("linear stiffness", "angular stiffness"),
+        "kp": ("linear stiffness", "angular stiffness"),
+        "b": ("linear damping", "angular damping"),
+        "kv": ("linear damping", "angular damping"),
+        "rest": ("length", "angle"),
+        "setpoint": ("length", "angle"),
+        "force": ("force", "torque"),
+        "max": ("force", "torque"),
+    }[key]
+    return angular if rotary else linear
+
+
+@dataclass(frozen=True)
+class Contact:
+    name: str
+    body: str
+    point: Vec3  # in the body frame
+    span: Span
+
+
+@dataclass(frozen=True)
+class SpringDamper:
+    k: float
+    b: float
+
+
+@dataclass(frozen=True)
+class Pad:
+    """The paw pad of eq. (6): ``f = k (thickness / (thickness + z) - 1)`` for ``z < 0``, plus damping."""
+
+    k: float
+    thickness: float
+    b: float
+
+
+@dataclass(frozen=True)
+class Terrain:
+    """A raised feature. step: floor at ``height`` for x >= ``x``; box: an axis-aligned block."""
+
+    kind: str
+    params: tuple[tuple[str, float], ...]
+    span: Span
+
+    def get(self, key: str) -> float:
+        return dict(self.params)[key]
+
+
+@dataclass(frozen=True)
+class Ground:
+    normal: SpringDamper | Pad  # the vertical spring: linear, or the paw pad of eq. (6)
+    tangent: SpringDamper
+    torsion: SpringDamper | None
+    friction: float | None  # None: no slip (the paper's assumption)
+    terrain: tuple[Terrain, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class Leg:
+    name: str
+    joints: tuple[str, ...]  # from the hip outwards; the first joint's origin is the hip point
+    foot: str  # a contact
+    aliases: tuple[tuple[str, str], ...]  # leg-local names for actuators, joints, coordinates
+    span: Span
+
+
+@dataclass(frozen=True)
+class Controller:
+    """A checked controller. Expressions stay as syntax trees until they are lowered."""
+
+    name: str
+    inputs: tuple[tuple[str, float], ...]
+    params: tuple[tuple[str, float], ...]
+    signals: tuple[ast.SignalDecl, ...]
+    roles: tuple[tuple[str, tuple[str, ...]], ...]
+    start: str
+    states: tuple[str, ...]
+    actions: tuple[ast.ActionDef, ...]
+    rows: tuple[ast.Row, ...]
+    records: tuple[str, ...]
+    span: Span
+    # paths to follow (``path NAME = ...``); the runtime evaluates them, so they are not
+    # part of the generated code (nor of its fingerprint)
+    paths: tuple[PathSpec, ...] = ()
+
+
+@dataclass(frozen=True)
+class Model:
+    name: str
+    source: str
+    planar: bool
+    gravity: Vec3
+    bodies: tuple[Body, ...]  # tree order: every parent before its children
+    joints: tuple[Joint, ...]  # joints[i] carries bodies[i]
+    actuators: tuple[Actuator, ...]
+    contacts: tuple[Contact, ...]
+    ground: Ground | None
+    legs: tuple[Leg, ...]
+    controllers: tuple[Controller, ...]
+    q0: tuple[float, ...]
+    v0: tuple[float, ...]
+    span: Span
+
+    @property
+    def dofs(self) -> tuple[Dof, ...]:
+        return tuple(d for j in self.joints for d in j.dofs)
+
+    @property
+    def nq(self) -> int:
+        return sum(j.nq for j in self.joints)
+
+    @property
+    def nv(self) -> int:
+        return sum(j.nv for j in self.joints)
+
+    @property
+    def q_names(self) -> tuple[str, ...]:
+        names: list[str] = []
+        for j in self.joints:
+            names += (
+                ["x", "y", "z", "qw", "qx", "qy", "qz"]
+                if j.is_free_3d
+                else [d.name for d in j.dofs]
+            )
+        return tuple(names)
+
+    @property
+    def v_names(self) -> tuple[str, ...]:
+        names: list[str] = []
+        for j in self.joints:
+            names += (
+                ["vx", "vy", "vz", "wx", "wy", "wz"] if j.is_free_3d else [d.name for d in j.dofs]
+            )
+        return tuple(names)
+
+    @property
+    def total_mass(self) -> float:
+        return sum(b.mass for b in self.bodies)
+
+    def body(self, name: str) -> Body:
+        return next(b for b in self.bodies if b.name == name)
+
+    def joint(self, name: str) -> Joint:
+        return next(j for j in self.joints if j.name == name)
+
+    def hip_body_index(self, leg: Leg) -> int:
+        """The body whose frame origin is the leg's hip point (the child of its first joint)."""
+        return next(i for i, b in enumerate(self.bodies) if b.joint == leg.joints[0])
+
+    def controller(self, name: str) -> Controller:
+        return next(c for c in self.controllers if c.name == name)

@@ -1,0 +1,124 @@
+"""Paths for a controller to follow, as checked: a circle, a polyline or polygon, or a square.
+
+A controller declares ``path route = circle(center = (0, 5) m, radius = 5 m, turn = left)``
+(or ``polyline(...)``, ``polygon(...)``, ``square(...)``; ``legdsl run --path`` overrides
+it). Every control tick the runtime projects the centre of mass onto the path
+(``legdsl.sim.path_tracking.PathTracker``) and the generated control module reads the members
+listed in ``MEMBERS`` as sensors (``route.lateral`` is the sensor key
+``path.route.lateral``). The steering law that turns them into a heading is
+written in ``.leg`` (``steer_path`` in the standard library), not here.
+
+Conventions: x, y in the world's ground plane, headings measured from +x
+towards +y, ``lateral`` positive when the point is to the left of the path
+(looking along it), ``progress`` the arclength travelled along the path,
+counted without wrapping (a closed path's second lap goes on from its length).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+Point = tuple[float, float]
+
+SHAPES = ("circle", "polyline", "polygon", "square")
+MEMBERS = (
+    "lateral", "heading", "progress", "length", "x", "y",
+    "ahead_x", "ahead_y", "ahead_heading", "given",
+)  # fmt: skip
+DEFAULT_LOOKAHEAD = 1.0  # m
+
+
+@dataclass(frozen=True)
+class PathSpec:
+    """A checked path: a circle (``center``, ``radius``, ``turn`` +1 left, -1 right) or vertices.
+
+    The shape ``none`` is a path declared without one (``path route``): not given.
+    """
+
+    name: str
+    shape: str
+    points: tuple[Point, ...] = ()
+    closed: bool = False
+    center: Point = (0.0, 0.0)
+    radius: float = 0.0
+    turn: int = 1
+    lookahead: float = DEFAULT_LOOKAHEAD
+
+    def describe(self) -> str:
+        """The path as it could be written in a .leg file (SI units)."""
+        look = f", lookahead = {self.lookahead:g} m" if self.lookahead != DEFAULT_LOOKAHEAD else ""
+        if self.shape == "none":
+            return "none"
+        if self.shape == "circle":
+            side = "left" if self.turn > 0 else "right"
+            return (
+                f"circle(center = ({self.center[0]:g}, {self.center[1]:g}) m, "
+                f"radius = {self.radius:g} m, turn = {side}{look})"
+            )
+        points = ", ".join(f"({x:g}, {y:g}) m" for x, y in self.points)
+        return f"{'polygon' if self.closed else 'polyline'}({points}{look})"
+
+    def as_json(self) -> dict[str, object]:
+        return {
+            "name": self.name,
+            "shape": self.shape,
+            "points": [list(p) for p in self.points],
+            "closed": self.closed,
+            "center": list(self.center),
+            "radius": self.radius,
+            "turn": self.turn,
+            "lookahead": self.lookahead,
+            "text": self.describe(),
+        }
+
+    @staticmethod
+    def from_json(data: dict[str, object]) -> PathSpec:
+        def pt(v: object) -> Point:
+            assert isinstance(v, list | tuple)
+            return (float(v[0]), float(v[1]))
+
+        points = data.get("points", [])
+        assert isinstance(points, list)
+        return PathSpec(
+            name=str(data["name"]),
+            shape=str(data["shape"]),
+            points=tuple(pt(p) for p in points),
+            closed=bool(data.get("closed", False)),
+            center=pt(data.get("center", [0.0, 0.0])),
+            radius=float(data.get("radius", 0.0)),  # type: ignore[arg-type]
+            turn=int(data.get("turn", 1)),  # type: ignore[call-overload]
+            lookahead=float(data.get("lookahead", DEFAULT_LOOKAHEAD)),  # type: ignore[arg-type]
+        )
+
+
+def square_corners(corner: Point, side: float, turn: int) -> tuple[Point, ...]:
+    """A square with one corner at ``corner``, its first side along +x, turning left or right."""
+    x, y = corner
+    d = side * turn
+    return ((x, y), (x + side, y), (x + side, y + d), (x, y + d))
+
+
+def read_waypoints(path: Path, name: str) -> PathSpec:
+    """``x,y`` per line (metres; ``#`` comments and a header line without numbers are skipped)."""
+    from legdsl.lang.errors import UsageError
+
+    points: list[Point] = []
+    for n, line in enumerate(path.read_text().splitlines(), 1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        parts = [p.strip() for p in text.replace(";", ",").split(",")]
+        try:
+            if len(parts) != 2:
+                raise ValueError
+            points.append((float(parts[0]), float(parts[1])))
+        except ValueError:
+            if not points and n == 1:
+                continue  # a header
+            raise UsageError(
+                f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
+            ) from None
+    if len(points) < 2:
+        raise UsageError(f"--path {path}: a path needs at least 2 points, got {len(points)}")
+    return PathSpec(name=name, shape="polyline", points=tuple(points))

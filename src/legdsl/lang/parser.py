@@ -1,0 +1,328 @@
+"""Parse .leg text into the syntax tree of ``legdsl.lang.ast``.
+
+The grammar is ``grammar/legdsl.lark`` (loaded by ``legdsl.lang.lalr``). Syntax
+errors become a ``LegError`` with the position and friendly words
+(``legdsl.lang.syntax_errors``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from lark import Token, Transformer, Tree, v_args
+from lark.exceptions import UnexpectedInput
+
+from legdsl.lang import ast
+from legdsl.lang.errors import LegError, Span
+from legdsl.lang.lalr import grammar_dir, lark_parser, value_parser
+from legdsl.lang.syntax_errors import syntax_error
+from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
+
+__all__ = ["grammar_dir", "parse", "parse_file"]
+
+
+# ------------------------------------------------------------ spans and values
+def _span(file: str, meta: Any) -> Span:
+    return Span(file, meta.line, meta.column, meta.end_line, meta.end_column)
+
+
+def _tspan(file: str, tok: Token) -> Span:
+    assert tok.line is not None and tok.column is not None
+    return Span(file, tok.line, tok.column, tok.end_line or tok.line, tok.end_column or tok.column)
+
+
+def _quantity(text: str) -> Quantity:
+    number = text.rstrip()
+    unit = ""
+    for i, ch in enumerate(text):
+        if ch in " \t" or (ch.isalpha() and ch not in "eE"):
+            number, unit = text[:i], text[i:].strip()
+            break
+        if ch in "eE" and not (
+            i + 1 < len(text) and (text[i + 1].isdigit() or text[i + 1] in "+-")
+        ):
+            number, unit = text[:i], text[i:].strip()
+            break
+    if not unit:
+        return Quantity(float(number), DIMENSIONLESS, unitless=True)
+    factor, dim = parse_unit(unit)
+    return Quantity(float(number) * factor, dim)
+
+
+@dataclass(frozen=True)
+class _Goal:
+    """One ``NAME = expr`` of a place statement, while the statement is being built."""
+
+    name: ast.Ident
+    value: ast.Expr
+
+
+@v_args(meta=True)
+class _ToAst(Transformer):
+    """Parse tree to AST; every node gets the span of what it was written as."""
+
+    def __init__(self, file: str):
+        super().__init__()
+        self.file = file
+
+    def _id(self, tok: Token) -> ast.Ident:
+        return ast.Ident(str(tok), _tspan(self.file, tok))
+
+    def _s(self, meta: Any) -> Span:
+        return _span(self.file, meta)
+
+    # values
+    def quantity(self, meta: Any, c: list[Any]) -> ast.Number:
+        return ast.Number(_quantity(str(c[0])), str(c[0]), self._s(meta))
+
+    def name(self, meta: Any, c: list[Any]) -> ast.NameValue:
+        return ast.NameValue(self._id(c[0]))
+
+    def neg(self, meta: Any, c: list[Any]) -> ast.Neg:
+        return ast.Neg(c[0], self._s(meta))
+
+    def string(self, meta: Any, c: list[Any]) -> ast.String:
+        return ast.String(str(c[0])[1:-1], self._s(meta))
+
+    def vector(self, meta: Any, c: list[Any]) -> ast.Vector:
+        unit = c[-1]
+        items = tuple(c[:-1])
+        return ast.Vector(
+            items,
+            str(unit) if unit is not None else None,
+            _tspan(self.file, unit) if unit is not None else None,
+            self._s(meta),
+        )
+
+    def call(self, meta: Any, c: list[Any]) -> ast.Call:
+        return ast.Call(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def args(self, meta: Any, c: list[Any]) -> list[ast.Arg]:
+        return list(c)
+
+    def pos_arg(self, meta: Any, c: list[Any]) -> ast.Arg:
+        return ast.Arg(None, c[0], self._s(meta))
+
+    def kw_arg(self, meta: Any, c: list[Any]) -> ast.Arg:
+        return ast.Arg(self._id(c[0]), c[1], self._s(meta))
+
+    # properties
+    def assign(self, meta: Any, c: list[Any]) -> ast.Assign:
+        return ast.Assign(self._id(c[0]), c[1], self._s(meta))
+
+    def pval_one(self, meta: Any, c: list[Any]) -> ast.One:
+        return ast.One(c[0], self._s(meta))
+
+    def pval_range(self, meta: Any, c: list[Any]) -> ast.Range:
+        return ast.Range(c[0], c[1], self._s(meta))
+
+    def pval_list(self, meta: Any, c: list[Any]) -> ast.Many:
+        return ast.Many(tuple(c), self._s(meta))
+
+    def pval_assigns(self, meta: Any, c: list[Any]) -> ast.Assigns:
+        return ast.Assigns(tuple(c), self._s(meta))
+
+    def prop(self, meta: Any, c: list[Any]) -> ast.Prop:
+        return ast.Prop(self._id(c[0]), c[1], self._s(meta))
+
+    # creature
+    def planar(self, meta: Any, c: list[Any]) -> ast.Flag:
+        return ast.Flag("planar", self._s(meta))
+
+    def spatial(self, meta: Any, c: list[Any]) -> ast.Flag:
+        return ast.Flag("spatial", self._s(meta))
+
+    def attach_free(self, meta: Any, c: list[Any]) -> ast.AttachFree:
+        return ast.AttachFree(self._s(meta))
+
+    def attach_fixed(self, meta: Any, c: list[Any]) -> ast.AttachFixed:
+        return ast.AttachFixed(c[0], self._s(meta))
+
+    def attach_joint(self, meta: Any, c: list[Any]) -> ast.AttachJoint:
+        return ast.AttachJoint(self._id(c[0]), self._id(c[1]), self._id(c[2]), c[3], self._s(meta))
+
+    def body(self, meta: Any, c: list[Any]) -> ast.BodyDecl:
+        return ast.BodyDecl(self._id(c[0]), c[1], tuple(c[2:]), self._s(meta))
+
+    def actuator(self, meta: Any, c: list[Any]) -> ast.ActuatorDecl:
+        return ast.ActuatorDecl(
+            self._id(c[0]), self._id(c[1]), self._id(c[2]), tuple(c[3] or ()), self._s(meta)
+        )
+
+    def contact(self, meta: Any, c: list[Any]) -> ast.ContactDecl:
+        return ast.ContactDecl(self._id(c[0]), self._id(c[1]), c[2], self._s(meta))
+
+    def leg(self, meta: Any, c: list[Any]) -> ast.LegDecl:
+        return ast.LegDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    def block(self, meta: Any, c: list[Any]) -> ast.BlockDecl:
+        return ast.BlockDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    def creature(self, meta: Any, c: list[Any]) -> ast.CreatureDecl:
+        return ast.CreatureDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    # expressions
+    def e_quantity(self, meta: Any, c: list[Any]) -> ast.EQuantity:
+        return ast.EQuantity(_quantity(str(c[0])), str(c[0]), self._s(meta))
+
+    def e_name(self, meta: Any, c: list[Any]) -> ast.EName:
+        return ast.EName(self._id(c[0]))
+
+    def e_call(self, meta: Any, c: list[Any]) -> ast.ECall:
+        return ast.ECall(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def exprs(self, meta: Any, c: list[Any]) -> list[Any]:
+        return list(c)
+
+    def attr(self, meta: Any, c: list[Any]) -> ast.EAttr:
+        return ast.EAttr(c[0], self._id(c[1]), self._s(meta))
+
+    def uneg(self, meta: Any, c: list[Any]) -> ast.EUnary:
+        return ast.EUnary("-", c[0], self._s(meta))
+
+    def not_op(self, meta: Any, c: list[Any]) -> ast.EUnary:
+        return ast.EUnary("not", c[0], self._s(meta))
+
+    def _bin(op: str) -> Callable[..., ast.EBinary]:  # type: ignore[misc]  # noqa: N805
+        def method(self: _ToAst, meta: Any, c: list[Any]) -> ast.EBinary:
+            return ast.EBinary(op, c[0], c[1], self._s(meta))
+
+        return method
+
+    add, sub, mul, div, pow = _bin("+"), _bin("-"), _bin("*"), _bin("/"), _bin("^")
+    lt, gt, le, ge, eq, ne = _bin("<"), _bin(">"), _bin("<="), _bin(">="), _bin("=="), _bin("!=")
+    and_op, or_op = _bin("and"), _bin("or")
+
+    # controller
+    def input(self, meta: Any, c: list[Any]) -> ast.InputDecl:
+        return ast.InputDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def param(self, meta: Any, c: list[Any]) -> ast.ParamDecl:
+        return ast.ParamDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def signal(self, meta: Any, c: list[Any]) -> ast.SignalDecl:
+        return ast.SignalDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def role_one(self, meta: Any, c: list[Any]) -> ast.RoleDecl:
+        return ast.RoleDecl(self._id(c[0]), (self._id(c[1]),), self._s(meta))
+
+    def role_group(self, meta: Any, c: list[Any]) -> ast.RoleDecl:
+        return ast.RoleDecl(self._id(c[0]), tuple(self._id(t) for t in c[1:]), self._s(meta))
+
+    def roles(self, meta: Any, c: list[Any]) -> ast.RolesDecl:
+        return ast.RolesDecl(tuple(c), self._s(meta))
+
+    def path_decl(self, meta: Any, c: list[Any]) -> ast.PathDecl:
+        return ast.PathDecl(self._id(c[0]), c[1], self._s(meta))
+
+    def start_state(self, meta: Any, c: list[Any]) -> ast.StartDecl:
+        return ast.StartDecl(self._id(c[0]), self._s(meta))
+
+    def stmts(self, meta: Any, c: list[Any]) -> tuple[Any, ...]:
+        return tuple(x for x in c if x is not None)
+
+    def target(self, meta: Any, c: list[Any]) -> tuple[ast.Ident, ...]:
+        return tuple(self._id(t) for t in c)
+
+    def assign_stmt(self, meta: Any, c: list[Any]) -> ast.AssignStmt:
+        return ast.AssignStmt(c[0], c[1], self._s(meta))
+
+    def swap_stmt(self, meta: Any, c: list[Any]) -> ast.SwapStmt:
+        return ast.SwapStmt(self._id(c[0]), self._id(c[1]), self._s(meta))
+
+    def record_stmt(self, meta: Any, c: list[Any]) -> ast.RecordStmt:
+        return ast.RecordStmt(self._id(c[0]), c[1], self._s(meta))
+
+    def let_stmt(self, meta: Any, c: list[Any]) -> ast.LetStmt:
+        return ast.LetStmt(self._id(c[0]), c[1], self._s(meta))
+
+    def invoke_stmt(self, meta: Any, c: list[Any]) -> ast.InvokeStmt:
+        return ast.InvokeStmt(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
+
+    def goal(self, meta: Any, c: list[Any]) -> _Goal:
+        return _Goal(self._id(c[0]), c[1])
+
+    def place_stmt(self, meta: Any, c: list[Any]) -> ast.PlaceStmt:
+        goals = tuple((g.name, g.value) for g in c[1:] if isinstance(g, _Goal))
+        servos = tuple(t for t in c[1:] if not isinstance(t, _Goal))
+        return ast.PlaceStmt(self._id(c[0]), goals, servos, self._s(meta))
+
+    def action_def(self, meta: Any, c: list[Any]) -> ast.ActionDef:
+        params = tuple(self._id(t) for t in c[1:-1] if t is not None)
+        return ast.ActionDef(self._id(c[0]), params, c[-1], self._s(meta))
+
+    def row(self, meta: Any, c: list[Any]) -> ast.Row:
+        return ast.Row(self._id(c[0]), c[1], c[2], self._s(meta))
+
+    def table(self, meta: Any, c: list[Any]) -> ast.TableDecl:
+        return ast.TableDecl(tuple(c), self._s(meta))
+
+    def controller(self, meta: Any, c: list[Any]) -> ast.ControllerDecl:
+        creature = self._id(c[1]) if c[1] is not None else None
+        return ast.ControllerDecl(self._id(c[0]), creature, tuple(c[2:]), self._s(meta))
+
+    def use(self, meta: Any, c: list[Any]) -> ast.UseDecl:
+        text = str(c[0])
+        return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
+
+
+def parse(text: str, file: str = "<string>") -> ast.SourceFile:
+    """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
+    try:
+        tree = lark_parser().parse(text)
+    except UnexpectedInput as err:
+        raise syntax_error(file, text, err) from None
+    return _build(tree, file, text)
+
+
+def parse_value(text: str, file: str = "<string>") -> ast.Value:
+    """One creature-style value, such as a path's shape written on the command line."""
+    try:
+        tree = value_parser().parse(text)
+    except UnexpectedInput as err:
+        raise syntax_error(file, text, err) from None
+    result = _ToAst(file).transform(tree)
+    assert not isinstance(result, Tree)
+    return result
+
+
+def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
+    items = _ToAst(file).transform(tree).children
+    lines = text.split("\n")
+    span = Span(file, 1, 1, len(lines), len(lines[-1]) + 1)
+    return ast.SourceFile(
+        path=file,
+        creatures=tuple(i for i in items if isinstance(i, ast.CreatureDecl)),
+        controllers=tuple(i for i in items if isinstance(i, ast.ControllerDecl)),
+        actions=tuple(i for i in items if isinstance(i, ast.ActionDef)),
+        uses=tuple(i for i in items if isinstance(i, ast.UseDecl)),
+        span=span,
+    )
+
+
+def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
+    """Read and parse a file; returns the tree and the text (for error rendering)."""
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except FileNotFoundError:
+        raise LegError.at(Span(str(path), 0, 0, 0, 0), f"no such file: {path}") from None
+    except OSError as e:
+        raise LegError.at(
+            Span(str(path), 0, 0, 0, 0), f"cannot read {path}: {e.strerror}"
+        ) from None
+    try:
+        text = data.decode("utf-8-sig")  # a byte-order mark some editors write is no text
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        line_start = data.rfind(b"\n", 0, e.start) + 1
+        col = len(data[line_start : e.start].decode("utf-8", errors="replace")) + 1
+        raise LegError.at(
+            Span(str(path), line, col, line, col + 1), f"the file is not UTF-8 text ({e.reason})"
+        ) from None
+    # Line ends as Python's text mode reads them: \r\n and a lone \r are \n.
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    return parse(text, str(path)), text

@@ -1,0 +1,373 @@
+"""Syntax errors in words a person can act on.
+
+A lark ``UnexpectedInput`` becomes a ``LegError`` at the right place with, in
+order of preference: an unknown unit written after a number ('5 kgs'), a unit
+with spaces inside it, a friendly sentence from ``grammar/friendly_errors.toml``
+(matched by example: the same parser state on the same kind of token), or what
+was found and what was expected.
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import re
+from dataclasses import dataclass
+
+from lark import Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from legdsl.lang.errors import Diagnostic, LegError, Span
+from legdsl.lang.lalr import friendly_entries, lark_parser
+from legdsl.lang.units import UNITS, UnitError, parse_unit, unit_pattern
+
+
+def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """(message, example inputs) pairs from grammar/friendly_errors.toml."""
+    return tuple((e["message"], tuple(e["examples"])) for e in friendly_entries())
+
+
+def _token_span(file: str, tok: Token) -> Span:
+    assert tok.line is not None and tok.column is not None
+    return Span(file, tok.line, tok.column, tok.end_line or tok.line, tok.end_column or tok.column)
+
+
+_TOKEN_WORDS = {
+    "NAME": "a name",
+    "QUANTITY": "a number",
+    "UNIT": "a unit",
+    "STRING": "a string",
+    "$END": "the end of the file",
+}
+
+
+def _describe_expected(expected: set[str]) -> str:
+    lark = lark_parser()
+    words = set()
+    for name in expected:
+        if name in _TOKEN_WORDS:
+            words.add(_TOKEN_WORDS[name])
+            continue
+        try:
+            pattern = lark.get_terminal(name).pattern
+        except KeyError:
+            continue
+        if pattern.type == "str":
+            words.add(f"'{pattern.value}'")
+    ordered = sorted(words, key=lambda w: (not w.startswith("'"), w))
+    if not ordered:
+        return ""
+    if len(ordered) > 8:
+        ordered = ordered[:8] + ["..."]
+    return "expected " + ", ".join(ordered)
+
+
+def _found(token: Token) -> str:
+    if token.type == "$END":
+        return "end of the file"
+    kind = _TOKEN_WORDS.get(token.type, "").removeprefix("a ")
+    return f"{kind} '{token}'" if kind else f"'{token}'"
+
+
+@dataclass(frozen=True)
+class _ErrorContext:
+    """Where the parser stopped: its LALR state stack, the token it could not take, the next one."""
+
+    stack: tuple[int, ...]
+    token: str
+    next_token: str
+
+
+def _error_context(err: UnexpectedInput, text: str) -> _ErrorContext | None:
+    stack = getattr(err.state, "state_stack", None)
+    if not stack:
+        return None
+    if isinstance(err, UnexpectedToken):
+        if err.token.type == "$END":
+            return _ErrorContext(tuple(stack), "$END", "$END")
+        end = err.token.end_pos
+        token = err.token.type
+    elif isinstance(err, UnexpectedCharacters):
+        end = (err.pos_in_stream or 0) + 1
+        token = f"char {err.char}"
+    else:
+        return None
+    return _ErrorContext(tuple(stack), token, _token_type_at(text, end or 0))
+
+
+_NEXT_TOKEN = re.compile(
+    r'(?:\s|#[^\n]*)*(?:(?P<name>[A-Za-z_]\w*)|(?P<number>\.?\d)|(?P<string>")|(?P<op>[<>=!]=|\S))?'
+)
+
+
+@functools.cache
+def _literal_terminals() -> dict[str, str]:
+    """Keyword and punctuation text -> terminal name, e.g. 'on' -> 'ON', ';' -> 'SEMICOLON'."""
+    return {t.pattern.value: t.name for t in lark_parser().terminals if t.pattern.type == "str"}
+
+
+def _token_type_at(text: str, pos: int) -> str:
+    """The kind of the token at ``pos`` (after blanks and comments), named as lark names it."""
+    m = _NEXT_TOKEN.match(text, pos)
+    if m is None or m.lastgroup is None:
+        return "$END"
+    if m.lastgroup == "number":
+        return "QUANTITY"
+    if m.lastgroup == "string":
+        return "STRING"
+    word = m.group(m.lastgroup)
+    return _literal_terminals().get(word, "NAME" if m.lastgroup == "name" else f"char {word}")
+
+
+@dataclass(frozen=True)
+class _FriendlyTable:
+    # (message, where its example failed, the kinds of token it also stands for)
+    examples: tuple[tuple[str, _ErrorContext, frozenset[str]], ...]
+    on_token: dict[str, str]  # token kind -> message, whatever the parser state
+    at_end_with_open_brace: str | None
+
+
+@functools.cache
+def _friendly_table() -> _FriendlyTable:
+    examples = []
+    on_token: dict[str, str] = {}
+    at_end = None
+    for entry in friendly_entries():
+        message = entry["message"]
+        if entry.get("at_end_with_open_brace") and at_end is None:
+            at_end = message
+        if "on_token" in entry:
+            on_token.setdefault(_token_type_at(entry["on_token"], 0), message)
+        tokens = frozenset(_token_type_at(t, 0) for t in entry.get("tokens", ()))
+        for example in entry["examples"]:
+            try:
+                lark_parser().parse(example)
+            except UnexpectedInput as e:
+                context = _error_context(e, example)
+                if context is not None:
+                    examples.append((message, context, tokens | {context.token}))
+    return _FriendlyTable(tuple(examples), on_token, at_end)
+
+
+def _friendly(context: _ErrorContext, open_brace: bool) -> str | None:
+    """The message for a syntax error, from grammar/friendly_errors.toml, if one fits.
+
+    First the examples that failed the same way: in the same parser state on the same kind
+    of token (or one of the kinds their entry lists). Among those, the ones whose parse stack
+    is most like the error's, then the ones followed by the same kind of token; if they
+    disagree on the message, none is given. Then the entries that apply to a kind of token
+    wherever it comes, and to the end of the file inside an open '{'.
+    """
+    table = _friendly_table()
+    best_score: tuple[int, bool] | None = None
+    best: set[str] = set()
+    for message, example, tokens in table.examples:
+        if example.stack[-1] != context.stack[-1] or context.token not in tokens:
+            continue
+        # Likeness: the states of the example's stack that the error's stack also has, in
+        # order, less those it lacks. A subsequence rather than a common top of stack, so
+        # that an operator that differs ('<' for '>') does not hide the context around it.
+        common = _common_subsequence(example.stack, context.stack)
+        score = (2 * common - len(example.stack), example.next_token == context.next_token)
+        if best_score is None or score > best_score:
+            best, best_score = {message}, score
+        elif score == best_score:
+            best.add(message)
+    if len(best) == 1:
+        return best.pop()
+    if best:  # examples of different slips fit equally well: better say nothing special
+        return None
+    if context.token in table.on_token:
+        return table.on_token[context.token]
+    if context.token == "$END" and open_brace:
+        return table.at_end_with_open_brace
+    return None
+
+
+def _common_subsequence(a: tuple[int, ...], b: tuple[int, ...]) -> int:
+    """The length of the longest common subsequence of two parse stacks."""
+    row = [0] * (len(b) + 1)
+    for x in a:
+        prev_diag = 0
+        for j, y in enumerate(b):
+            prev_diag, row[j + 1] = (
+                row[j + 1],
+                (prev_diag + 1 if x == y else max(row[j + 1], row[j])),
+            )
+    return row[-1]
+
+
+def _mask(text: str) -> str:
+    """``text`` with comments and strings blanked out (same length, same line breaks)."""
+    return re.sub(r'"[^"\n]*"|#[^\n]*', lambda m: " " * len(m.group()), text)
+
+
+def _open_brace(text: str) -> bool:
+    depth = 0
+    for ch in _mask(text):
+        if ch == "{":
+            depth += 1
+        elif ch == "}":
+            depth = max(depth - 1, 0)
+    return depth > 0
+
+
+# A number and the word written after it on the same line, as '5 kgs' or '2 m/sec'.
+_NUMBER_AND_WORD = re.compile(
+    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_][^\s,;:(){}\[\]=<>!#\"]*)"
+)
+# Units spelt out, or from elsewhere, in the singular (a final 's' is dropped before
+# looking), with the symbol to suggest instead (None: no such unit in legdsl).
+_UNIT_NAMES: dict[str, str | None] = {
+    "sec": "s", "second": "s", "msec": "ms", "millisecond": "ms", "minute": "min",
+    "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
+    "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
+    "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
+    "degree": "deg", "radian": "rad", "revolution": "rev",
+    "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
+    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": None,
+}  # fmt: skip
+_UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
+_UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
+_UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
+
+
+def _plain_unit(word: str) -> str:
+    return word.replace("²", "^2").replace("³", "^3").replace("·", "*").replace(".", "*")
+
+
+def _looks_like_unit(word: str) -> bool:
+    """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
+    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
+    return bool(parts) and all(
+        p.lower().removesuffix("s") in _UNIT_NAMES
+        or p.lower().removesuffix("s") in _UNIT_BY_LOWER
+        or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
+        for p in parts
+    )
+
+
+def _suggest_unit(word: str) -> str | None:
+    """A unit legdsl knows for a misspelt one: 'kgs' -> 'kg', 'm/sec' -> 'm/s', 'Nm' -> 'N*m'."""
+    out = []
+    for part in re.split(r"([*/^])", _plain_unit(word)):
+        singular = part.lower().removesuffix("s")
+        if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
+            out.append(part)
+        elif singular in _UNIT_NAMES:
+            symbol = _UNIT_NAMES[singular]
+            if symbol is None:
+                return None
+            out.append(symbol)
+        elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
+            out.append(_UNIT_BY_LOWER[singular])
+        elif _UNIT_RUN.fullmatch(part):
+            out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
+        else:
+            close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
+            if not close:
+                return None
+            out.append(close[0])
+    suggestion = "".join(out)
+    try:
+        parse_unit(suggestion)
+    except UnitError:
+        return None
+    return suggestion if suggestion != word else None
+
+
+def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
+    """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
+    found = None
+    for m in _NUMBER_AND_WORD.finditer(_mask(text)):
+        if m.start(1) > pos:
+            break
+        found = m
+    if found is None:
+        return None
+    word, start, end = found.group(1), found.start(1), found.end(1)
+    if end < pos and not re.fullmatch(r"\s*(?:[A-Za-z_]\w*\s*)?", text[end:pos]):
+        return None
+    try:
+        parse_unit(word)
+    except UnitError:
+        return (word, start) if _looks_like_unit(word) else None
+    return None
+
+
+def _spaced_unit(text: str, token: Token) -> bool:
+    """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
+    if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
+        return False
+    before = _mask(text)[: token.start_pos]
+    if not before or before[-1] not in " \t":
+        return False
+    return (
+        re.search(
+            rf"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*{unit_pattern()}[ \t]+$", before
+        )
+        is not None
+    )
+
+
+def _offset_span(file: str, text: str, start: int, length: int) -> Span:
+    line = text.count("\n", 0, start) + 1
+    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    return Span(file, line, col, line, col + length)
+
+
+def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
+    """The user's syntax error as a ``LegError``: where, and in the friendliest words we have."""
+    at_end = isinstance(err, UnexpectedEOF) or (
+        isinstance(err, UnexpectedToken) and err.token.type == "$END"
+    )
+    if at_end:
+        # Just after the last thing written (lark's end token borrows its position).
+        token = getattr(err, "token", None)
+        if token is not None and token.end_line is not None and token.end_column is not None:
+            line, col = token.end_line, token.end_column
+        else:
+            line = text.count("\n") + 1
+            col = len(text) - (text.rfind("\n") + 1) + 1
+        span = Span(file, line, col, line, col + 1)
+    elif isinstance(err, UnexpectedToken):
+        span = _token_span(file, err.token)
+    else:
+        span = Span(file, err.line, err.column, err.line, err.column + 1)
+
+    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None and not at_end:
+        pos = err.token.start_pos
+    elif isinstance(err, UnexpectedCharacters):
+        pos = err.pos_in_stream
+    else:
+        pos = None
+    unit = _bad_unit(text, pos) if pos is not None else None
+    context = _error_context(err, text)
+    friendly = _friendly(context, _open_brace(text)) if context is not None else None
+
+    if unit is not None:
+        word, start = unit
+        span = _offset_span(file, text, start, len(word))
+        symbols = ", ".join(UNITS)
+        message = (
+            f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
+            f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
+        )
+        suggestion = _suggest_unit(word)
+        if suggestion:
+            message += f"; did you mean '{suggestion}'?"
+    elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
+        message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
+    elif friendly is not None:
+        message = friendly
+    elif isinstance(err, UnexpectedToken):
+        expected = _describe_expected(set(err.accepts or err.expected))
+        message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")
+    elif isinstance(err, UnexpectedCharacters):
+        char = err.char if err.char.isprintable() else f"U+{ord(err.char):04X}"
+        message = f"unexpected character '{char}'"
+    else:
+        expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
+        message = "unexpected end of the file" + (f"; {expected}" if expected else "")
+    return LegError([Diagnostic(span, message)], {file: text})

@@ -1,0 +1,1 @@
+"""Lowering through sympy: spatial algebra, the unrolled recursions, symbolic kinematics and dynamics, and controllers."""

@@ -1,0 +1,306 @@
+"""Symbolic lowering: a checked ``Model`` becomes straight-line sympy programs.
+
+One ``Function`` per entry of the generated module's API (see
+docs/compiler.md). The dynamics come from the recursive algorithms in
+``recursions``; the point kinematics (contacts, mass centre, energies) are
+built here from the same link tree. Nothing here prints code: ``codegen``
+does that with ``printer``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import TypeAlias
+
+from sympy import Expr, Integer, Symbol
+
+from legdsl.ir.model import Model
+from legdsl.lower import recursions
+from legdsl.lower.linktree import RESERVED, Node, Tree, build_nodes, rigid_inertia, vec
+from legdsl.lower.spatial import (
+    EYE,
+    ZERO,
+    Mat,
+    Vec,
+    add,
+    column,
+    cross,
+    dot,
+    let_vec,
+    matvec,
+    scale,
+    sub,
+)
+from legdsl.lower.straightline import Block, Statement, num
+
+
+@dataclass(frozen=True)
+class Call:
+    """A call to another generated function, printed as written."""
+
+    text: str
+
+
+# What a generated function returns: expressions nested in lists and tuples.
+Nested: TypeAlias = "Expr | Call | list[Nested] | tuple[Nested, ...]"
+
+
+@dataclass(frozen=True)
+class Function:
+    name: str
+    params: tuple[str, ...]
+    statements: tuple[Statement, ...]
+    result: Nested
+
+
+@dataclass(frozen=True)
+class SymbolicSystem:
+    model: Model
+    nodes: tuple[Node, ...]
+    functions: tuple[Function, ...]
+
+    def function(self, name: str) -> Function:
+        return next(f for f in self.functions if f.name == name)
+
+
+def lower(model: Model, cse: bool = True) -> SymbolicSystem:
+    """Every function of the generated module, as straight-line sympy code."""
+    nodes = build_nodes(model)
+    builders: list[tuple[str, tuple[str, ...], Callable[[Tree], Nested]]] = [
+        ("mass_matrix", ("q",), recursions.mass_matrix),
+        ("bias_forces", ("q", "v"), recursions.bias_forces),
+        ("forward_dynamics", ("q", "v", "tau"), recursions.forward_dynamics),
+        ("state_derivative", ("q", "v", "tau"), _state_derivative),
+        ("contact_positions", ("q",), _contact_positions),
+        ("contact_velocities", ("q", "v"), _contact_velocities),
+        ("contact_jacobians", ("q",), _contact_jacobians),
+        ("contact_angular_jacobians", ("q",), _contact_angular_jacobians),
+        ("body_poses", ("q",), _body_poses),
+        ("body_velocities", ("q", "v"), _body_velocities),
+        ("center_of_mass", ("q",), _center_of_mass),
+        ("center_of_mass_velocity", ("q", "v"), _center_of_mass_velocity),
+        ("kinetic_energy", ("q", "v"), _kinetic_energy),
+        ("potential_energy", ("q",), _potential_energy),
+    ]
+    functions = []
+    for name, params, build in builders:
+        block = Block(RESERVED)
+        result = build(Tree(model, nodes, block))
+        program = block.finish(list(_leaves(result)), cse=cse)
+        outputs = iter(program.outputs)
+        functions.append(Function(name, params, program.statements, _rebuild(result, outputs)))
+    return SymbolicSystem(model, nodes, tuple(functions))
+
+
+def _leaves(result: Nested) -> Iterator[Expr]:
+    if isinstance(result, list | tuple):
+        for item in result:
+            yield from _leaves(item)
+    elif not isinstance(result, Call):
+        yield result
+
+
+def _rebuild(result: Nested, outputs: Iterator[Expr]) -> Nested:
+    if isinstance(result, list):
+        return [_rebuild(item, outputs) for item in result]
+    if isinstance(result, tuple):
+        return tuple(_rebuild(item, outputs) for item in result)
+    if isinstance(result, Call):
+        return result
+    return next(outputs)
+
+
+# ------------------------------------------------------------------ helpers
+def _carrier(tree: Tree, body: str) -> int:
+    return next(n.index for n in tree.nodes if n.body is not None and n.body.name == body)
+
+
+def _velocities(tree: Tree) -> list[Symbol]:
+    """The symbols of v, in order."""
+    out: list[Symbol] = []
+    for node in tree.nodes:
+        if node.kind == "free3d":
+            out += [tree.root_v(node, k) for k in range(6)]
+        elif node.dof is not None:
+            out.append(tree.qd(node.dof))
+    return out
+
+
+def _parent_rotation(tree: Tree, node: Node) -> Mat:
+    return tree.world(node.parent)[0] if node.parent >= 0 else EYE
+
+
+def _point_jacobian(tree: Tree, i: int, point: Vec) -> list[Vec]:
+    """Columns of d(point velocity)/dv for a world point fixed to node i (zero columns elsewhere)."""
+    cols: list[Vec] = [ZERO] * tree.model.nv
+    for node in tree.ancestors(i):
+        rot, origin = tree.world(node.index)
+        arm = let_vec(tree.block, sub(point, origin))
+        if node.kind == "free3d":
+            start = node.joint.v_start
+            for k in range(3):
+                cols[start + k] = EYE[k]  # a world velocity moves every point alike
+                cols[start + 3 + k] = let_vec(tree.block, cross(column(rot, k), arm))
+        elif node.dof is not None:
+            axis = let_vec(tree.block, matvec(_parent_rotation(tree, node), vec(node.axis)))
+            slide = node.kind == "slide"
+            cols[node.dof.v_index] = axis if slide else let_vec(tree.block, cross(axis, arm))
+    return cols
+
+
+def _angular_jacobian(tree: Tree, i: int) -> list[Vec]:
+    """Columns of d(world angular velocity of node i)/dv."""
+    cols: list[Vec] = [ZERO] * tree.model.nv
+    for node in tree.ancestors(i):
+        if node.kind == "free3d":
+            rot = tree.world(node.index)[0]
+            for k in range(3):
+                cols[node.joint.v_start + 3 + k] = column(rot, k)
+        elif node.kind == "hinge":
+            assert node.dof is not None
+            axis = matvec(_parent_rotation(tree, node), vec(node.axis))
+            cols[node.dof.v_index] = let_vec(tree.block, axis)
+    return cols
+
+
+def _rows(cols: list[Vec]) -> list[list[Expr]]:
+    return [[c[k] for c in cols] for k in range(3)]
+
+
+def _times(cols: list[Vec], v: list[Symbol], tree: Tree) -> Vec:
+    total: Vec = ZERO
+    for c, vi in zip(cols, v, strict=True):
+        total = add(total, scale(vi, c))
+    return let_vec(tree.block, total)
+
+
+def _world_point(tree: Tree, i: int, point: Vec) -> Vec:
+    rot, origin = tree.world(i)
+    return let_vec(tree.block, add(origin, matvec(rot, point)))
+
+
+def _mass_centres(tree: Tree) -> list[tuple[Expr, int, Vec]]:
+    """(mass, node, world mass centre) of every body."""
+    out = []
+    for body in tree.model.bodies:
+        i = _carrier(tree, body.name)
+        tree.block.note(f"{body.name}: mass centre")
+        out.append((num(body.mass), i, _world_point(tree, i, vec(body.com))))
+    return out
+
+
+# ------------------------------------------------------------------ the functions
+def _state_derivative(tree: Tree) -> Nested:
+    v = _velocities(tree)
+    qdot: list[Expr] = []
+    for node in tree.nodes:
+        if node.kind == "free3d":
+            w, x, y, z = (tree.root_q(node, k) for k in range(3, 7))
+            wx, wy, wz = v[node.joint.v_start + 3 : node.joint.v_start + 6]
+            half = num(0.5)
+            qdot += v[node.joint.v_start : node.joint.v_start + 3]
+            qdot += [  # 0.5 * q ⊗ (0, w_body)
+                tree.block.let(-half * (x * wx + y * wy + z * wz)),
+                tree.block.let(half * (w * wx + y * wz - z * wy)),
+                tree.block.let(half * (w * wy + z * wx - x * wz)),
+                tree.block.let(half * (w * wz + x * wy - y * wx)),
+            ]
+        elif node.dof is not None:
+            qdot.append(v[node.dof.v_index])
+    return (qdot, Call("forward_dynamics(q, v, tau)"))
+
+
+def _contact_positions(tree: Tree) -> Nested:
+    out: list[Nested] = []
+    for contact in tree.model.contacts:
+        tree.block.note(f"{contact.name}")
+        out.append(_world_point(tree, _carrier(tree, contact.body), vec(contact.point)))
+    return out
+
+
+def _contact_jacobians(tree: Tree) -> Nested:
+    out: list[Nested] = []
+    for contact in tree.model.contacts:
+        tree.block.note(f"{contact.name}")
+        i = _carrier(tree, contact.body)
+        out.append(_rows(_point_jacobian(tree, i, _world_point(tree, i, vec(contact.point)))))
+    return out
+
+
+def _contact_velocities(tree: Tree) -> Nested:
+    v = _velocities(tree)
+    out: list[Nested] = []
+    for contact in tree.model.contacts:
+        tree.block.note(f"{contact.name}")
+        i = _carrier(tree, contact.body)
+        cols = _point_jacobian(tree, i, _world_point(tree, i, vec(contact.point)))
+        out.append(_times(cols, v, tree))
+    return out
+
+
+def _contact_angular_jacobians(tree: Tree) -> Nested:
+    out: list[Nested] = []
+    for contact in tree.model.contacts:
+        tree.block.note(f"{contact.name}")
+        out.append(_rows(_angular_jacobian(tree, _carrier(tree, contact.body))))
+    return out
+
+
+def _body_poses(tree: Tree) -> Nested:
+    out: list[Nested] = []
+    for body in tree.model.bodies:
+        tree.block.note(body.name)
+        rot, origin = tree.world(_carrier(tree, body.name))
+        out.append((origin, tuple(e for row in rot for e in row)))
+    return out
+
+
+def _body_velocities(tree: Tree) -> Nested:
+    v = _velocities(tree)
+    out: list[Nested] = []
+    for body in tree.model.bodies:
+        tree.block.note(body.name)
+        i = _carrier(tree, body.name)
+        origin = tree.world(i)[1]
+        linear = _times(_point_jacobian(tree, i, origin), v, tree)
+        angular = _times(_angular_jacobian(tree, i), v, tree)
+        out.append((linear, angular))
+    return out
+
+
+def _center_of_mass(tree: Tree) -> Nested:
+    total: Vec = ZERO
+    for mass, _, centre in _mass_centres(tree):
+        total = add(total, scale(mass, centre))
+    return scale(num(1 / tree.model.total_mass), total)
+
+
+def _center_of_mass_velocity(tree: Tree) -> Nested:
+    v = _velocities(tree)
+    cols: list[Vec] = [ZERO] * tree.model.nv
+    for mass, i, centre in _mass_centres(tree):
+        body_cols = _point_jacobian(tree, i, centre)
+        cols = [
+            let_vec(tree.block, add(c, scale(mass, b)))
+            for c, b in zip(cols, body_cols, strict=True)
+        ]
+    return scale(num(1 / tree.model.total_mass), _times(cols, v, tree))
+
+
+def _kinetic_energy(tree: Tree) -> Nested:
+    total: Expr = Integer(0)
+    for node in tree.nodes:
+        if node.body is None:
+            continue
+        tree.block.note(f"{node.body.name}")
+        v = tree.velocity(node.index)
+        total += tree.block.let(v.dot(rigid_inertia(node.body).times(v)))
+    return num(0.5) * total
+
+
+def _potential_energy(tree: Tree) -> Nested:
+    total: Expr = Integer(0)
+    for mass, _, centre in _mass_centres(tree):
+        total += tree.block.let(mass * dot(tree.gravity, centre))
+    return -total

@@ -1,0 +1,1 @@
+"""The stages put together: the compile driver, generated modules kept fresh, and the run session."""

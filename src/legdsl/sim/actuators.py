@@ -1,0 +1,97 @@
+"""Actuator forces: the spring-damper of eq. (1), the servo of eq. (5), plain forces.
+
+This is a small runtime layer rather than generated code: each actuator is a
+scalar law on one coordinate, and its inputs (rest value, setpoint, gains,
+force) are changed by the controller while the simulation runs, so a table of
+settings read by one short loop is both the clearest and the fastest form.
+
+Sign convention: a spring pulls its coordinate towards ``rest``::
+
+    tau = -(k (q - rest) + b qd)            # eq. (1): f = k (x - x_r) + b xd acts against x
+    tau = -kp (q - setpoint) - kv qd         # eq. (5)
+    tau = force                              # a plain force or torque
+
+clipped to ``[-max, max]`` when the .leg file gives ``max`` (the torque the
+actuator can deliver).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from legdsl.ir.model import Actuator, Model
+
+
+@dataclass
+class ActuatorState:
+    """One actuator's live settings and the coordinate it drives."""
+
+    name: str
+    kind: str
+    q_index: int
+    v_index: int
+    gain: float  # k or kp
+    damping: float  # b or kv
+    target: float  # rest or setpoint
+    force: float  # commanded force (kind 'force')
+    limit: float | None
+    last_force: float = 0.0
+
+    def set(self, key: str, value: float) -> None:
+        if key in ("k", "kp"):
+            self.gain = value
+        elif key in ("b", "kv"):
+            self.damping = value
+        elif key in ("rest", "setpoint"):
+            self.target = value
+        elif key == "force":
+            self.force = value
+        else:
+            raise KeyError(f"{self.kind} actuator {self.name} has no setting {key!r}")
+
+    def get(self, key: str) -> float:
+        return {
+            "k": self.gain, "kp": self.gain, "b": self.damping, "kv": self.damping,
+            "rest": self.target, "setpoint": self.target, "force": self.last_force,
+        }[key]  # fmt: skip
+
+
+class ActuatorBank:
+    """All actuators of a model; ``apply`` adds their generalized forces to ``tau``."""
+
+    def __init__(self, model: Model):
+        dofs = {d.name: d for d in model.dofs}
+        self.states = [
+            self._state(a, dofs[a.dof].q_index, dofs[a.dof].v_index) for a in model.actuators
+        ]
+        self.by_name = {s.name: s for s in self.states}
+
+    @staticmethod
+    def _state(a: Actuator, qi: int, vi: int) -> ActuatorState:
+        p = dict(a.params)
+        if a.kind == "force":
+            return ActuatorState(a.name, a.kind, qi, vi, 0.0, 0.0, 0.0, p.get("value", 0.0), a.max)
+        gain, damping, target = (
+            (p["k"], p["b"], p["rest"]) if a.kind == "spring" else (p["kp"], p["kv"], p["setpoint"])
+        )
+        return ActuatorState(a.name, a.kind, qi, vi, gain, damping, target, 0.0, a.max)
+
+    def apply(self, q: list[float], v: list[float], tau: list[float]) -> None:
+        for s in self.states:
+            if s.kind == "force":
+                f = s.force
+            else:
+                f = -s.gain * (q[s.q_index] - s.target) - s.damping * v[s.v_index]
+            if s.limit is not None:
+                f = max(-s.limit, min(s.limit, f))
+            s.last_force = f
+            tau[s.v_index] += f
+
+    def elastic_energy(self, q: list[float], names: tuple[str, ...] | None = None) -> float:
+        """½ k (q - rest)² summed over springs and servos (a servo is a spring with a setpoint)."""
+        total = 0.0
+        for s in self.states:
+            if s.kind != "force" and (names is None or s.name in names):
+                d = q[s.q_index] - s.target
+                total += 0.5 * s.gain * d * d
+        return total

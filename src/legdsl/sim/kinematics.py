@@ -1,0 +1,95 @@
+"""The kinematic solve behind ``place LEG at (x = .., z = ..) using SERVO, ..``.
+
+Find the values of the servos' coordinates that put the leg's foot at the
+given offset from its hip (in the heading frame: world axes turned by the
+root's yaw), and make them the servos' setpoints. The hip point is the origin
+of the leg's first joint, fixed in the parent body, so it does not move when
+the leg's own coordinates do: the Jacobian of (foot - hip) with respect to
+them is exactly the matching columns of the generated contact Jacobian.
+
+Each call takes a few Newton steps on that Jacobian, starting from the
+previous solution (or the current pose), so over successive control ticks of
+a flight phase it converges to the exact placement. Closed forms are not
+attempted: with massive links the solve is transcendental in general, and the
+warm-started Newton steps converge in one or two ticks.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from legdsl.ir.model import Model
+
+MAX_STEP = 0.3  # rad or m per Newton step: keeps a far-off first guess from overshooting
+
+
+@dataclass(frozen=True)
+class _Leg:
+    foot: int  # contact index
+    hip: int  # body whose origin is the hip point
+
+
+class FootPlacer:
+    def __init__(self, model: Model, iterations: int = 2):
+        self.model = model
+        self.iterations = iterations
+        self.legs = {
+            leg.name: _Leg(
+                foot=[c.name for c in model.contacts].index(leg.foot),
+                hip=model.hip_body_index(leg),
+            )
+            for leg in model.legs
+        }
+        self.dofs = {d.name: d for d in model.dofs}
+        self.actuator_dof = {a.name: self.dofs[a.dof] for a in model.actuators}
+        self.limits = {a.name: self.dofs[a.dof].limits for a in model.actuators}
+
+    def solve(
+        self, sim: Any, leg: str, axes: tuple[str, ...], goals: list[float], servos: tuple[str, ...]
+    ) -> list[float]:
+        """Setpoints for ``servos`` that put the foot at ``goals`` (along ``axes``) from the hip."""
+        dyn = sim.dyn
+        spec = self.legs[leg]
+        dofs = [self.actuator_dof[s] for s in servos]
+        rows = ["xyz".index(a) for a in axes]
+        q = list(sim.q)
+        guess = [sim.actuators.by_name[s].target for s in servos]
+        for k, d in enumerate(dofs):
+            if not math.isfinite(guess[k]):
+                guess[k] = q[d.q_index]
+            q[d.q_index] = guess[k]
+        yaw = 0.0
+        if not self.model.planar:
+            rot = dyn.body_poses(q)[0][1]
+            yaw = math.atan2(rot[3], rot[0])
+        c, s = math.cos(yaw), math.sin(yaw)
+        for _ in range(self.iterations):
+            foot = dyn.contact_positions(q)[spec.foot]
+            hip = dyn.body_poses(q)[spec.hip][0]
+            delta = (foot[0] - hip[0], foot[1] - hip[1], foot[2] - hip[2])
+            rel = (c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1], delta[2])
+            residual = np.array([rel[r] - g for r, g in zip(rows, goals, strict=True)])
+            jac = dyn.contact_jacobians(q)[spec.foot]
+            cols = [dof.v_index for dof in dofs]
+            world = np.array([[jac[r][i] for i in cols] for r in range(3)])
+            heading = np.array(
+                [c * world[0] + s * world[1], -s * world[0] + c * world[1], world[2]]
+            )
+            sub = heading[rows]
+            try:
+                step = np.linalg.solve(sub, -residual)
+            except np.linalg.LinAlgError:
+                break  # a singular pose (a straight leg): keep the last good guess
+            step = np.clip(step, -MAX_STEP, MAX_STEP)
+            for k, dof in enumerate(dofs):
+                guess[k] += float(step[k])
+                q[dof.q_index] = guess[k]
+        for k, servo in enumerate(servos):
+            limits = self.limits[servo]
+            if limits is not None:
+                guess[k] = min(max(guess[k], limits[0]), limits[1])
+        return guess

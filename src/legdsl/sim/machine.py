@@ -1,0 +1,174 @@
+"""Run a generated control module: the state machine of a controller, called every control tick.
+
+The generated module (``generated/NAME/control_CONTROLLER.py``) holds the
+lowered math as plain functions and tables (see ``legdsl.codegen.python.dynamics.python.dynamics.python.control``):
+
+    STATE_NAMES, START, SENSORS, INPUTS, PARAMS, RECORDS
+    AFTER_ENTRY[(binding, state)] -> binding
+    EVENTS[(binding, state)](s, u, p, r, tis) -> bool      the condition to enter ``state``
+    ENTRIES[(binding, state)](s, u, p, r, tis) -> list      new values of RECORDS
+    SETTINGS[(binding, state)] -> ((actuator, key), ...)
+    PLACES[(binding, state)] -> ((leg, axes, servos), ...)   kinematic solves (``place``)
+    ACTIONS[(binding, state)](s, u, p, r, tis) -> list       one value per SETTINGS entry,
+                                                             then the goals of the PLACES
+
+where ``s`` are the sensor values in SENSORS order, ``u`` the inputs, ``p``
+the parameters, ``r`` the records and ``tis`` the time in the current state.
+This class keeps the machine's state, reads the sensors, and applies the
+settings to the simulation's actuators.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from types import ModuleType
+from typing import Any
+
+from legdsl.ir.model import Model
+from legdsl.ir.paths import PathSpec
+from legdsl.lang.errors import UsageError
+from legdsl.sim.kinematics import FootPlacer
+from legdsl.sim.sensors import Sensors
+
+
+@dataclass(frozen=True)
+class InputChange:
+    """``--set speed=5m/s@4s``: from time ``t`` on, the input has this value."""
+
+    t: float
+    name: str
+    value: float
+
+
+def resolve_paths(model: Model, controller: str, given: list[PathSpec]) -> list[PathSpec]:
+    """The controller's declared paths with those of ``--path`` in their place (by name).
+
+    A ``--path`` without a name (its name is empty) replaces the controller's only path.
+    """
+    declared = {p.name: p for p in model.controller(controller).paths}
+    for spec in given:
+        name = spec.name
+        if not name:
+            if len(declared) != 1:
+                raise UsageError(
+                    f"--path: controller {controller} has "
+                    + (
+                        f"the paths {', '.join(declared)}: say which, as in --path {next(iter(declared))}=circle(...)"
+                        if declared
+                        else "no path; declare one in it with 'path NAME' (or 'path NAME = SHAPE')"
+                    )
+                )
+            name = next(iter(declared))
+        elif name not in declared:
+            raise UsageError(
+                f"--path {name}=...: controller {controller} has no path {name!r} "
+                f"(it has {', '.join(declared) or 'none'})"
+            )
+        declared[name] = replace(spec, name=name)
+    return list(declared.values())
+
+
+class StateMachine:
+    def __init__(
+        self,
+        model: Model,
+        module: ModuleType,
+        inputs: dict[str, float] | None = None,
+        params: dict[str, float] | None = None,
+        schedule: list[InputChange] | None = None,
+        paths: list[PathSpec] | None = None,
+    ):
+        self.module = module
+        self.sensors = Sensors(model)
+        self.paths = resolve_paths(model, module.CONTROLLER, paths or [])
+        self.sensors.follow(self.paths)
+        self.placer = FootPlacer(model)
+        self.state_names: tuple[str, ...] = module.STATE_NAMES
+        self.input_names = tuple(module.INPUTS)
+        self.param_names = tuple(module.PARAMS)
+        for name in [*(inputs or {}), *(c.name for c in schedule or [])]:
+            if name not in module.INPUTS:
+                raise UsageError(
+                    f"--set {name}: controller has no input {name!r} (inputs: {', '.join(module.INPUTS) or 'none'})"
+                )
+        for name in params or {}:
+            if name not in module.PARAMS:
+                raise UsageError(f"--set {name}: controller has no parameter {name!r}")
+        self.inputs = [float((inputs or {}).get(n, v)) for n, v in module.INPUTS.items()]
+        self.params = tuple(float((params or {}).get(n, v)) for n, v in module.PARAMS.items())
+        self.schedule = sorted(schedule or [], key=lambda c: c.t)
+        self.records = [0.0] * len(module.RECORDS)  # a record is 0 until first recorded
+        self.state_index = module.START
+        self.binding = 0
+        self.entered_at = 0.0
+        self.started = False
+        self.events: list[dict[str, Any]] = []
+        self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
+
+    @property
+    def initial_inputs(self) -> dict[str, float]:
+        """The inputs at t = 0 (before any scheduled change)."""
+        return dict(zip(self.input_names, self._history[0][1], strict=True))
+
+    def speed_command(self, t: float) -> float:
+        if "speed" not in self.input_names:
+            return math.nan
+        i = self.input_names.index("speed")
+        value = self._history[0][1][i]
+        for when, values in self._history:
+            if when <= t + 1e-12:
+                value = values[i]
+        return value
+
+    def _apply_schedule(self, t: float) -> None:
+        changed = False
+        while self.schedule and self.schedule[0].t <= t + 1e-12:
+            change = self.schedule.pop(0)
+            self.inputs[self.input_names.index(change.name)] = change.value
+            changed = True
+        if changed:
+            self._history.append((t, list(self.inputs)))
+
+    def _enter(self, state: int, t: float, s: tuple[float, ...]) -> None:
+        self.state_index = state
+        self.entered_at = t
+        self.records = list(
+            self.module.ENTRIES[(self.binding, state)](
+                s, self.inputs, self.params, self.records, 0.0
+            )
+        )
+        self.events.append({"t": round(t, 9), "kind": "state", "state": self.state_names[state]})
+
+    def __call__(self, sim: Any) -> None:
+        t = sim.t
+        self._apply_schedule(t)
+        touching = (
+            sim.ground.touching if sim.ground is not None else [False] * len(self.sensors.clocks)
+        )
+        self.sensors.observe(t, touching)
+        values = self.sensors.read(sim, self.module.SENSORS)
+        s = tuple(values[k] for k in self.module.SENSORS)
+        m = self.module
+        if not self.started:
+            self.started = True
+            self._enter(self.state_index, t, s)
+        else:
+            nxt = (self.state_index + 1) % len(self.state_names)
+            if m.EVENTS[(self.binding, nxt)](
+                s, self.inputs, self.params, self.records, t - self.entered_at
+            ):
+                self.binding = m.AFTER_ENTRY[(self.binding, nxt)]
+                self._enter(nxt, t, s)
+        key = (self.binding, self.state_index)
+        outputs = m.ACTIONS[key](s, self.inputs, self.params, self.records, t - self.entered_at)
+        targets = m.SETTINGS[key]
+        for (actuator, setting), value in zip(targets, outputs, strict=False):
+            sim.actuators.by_name[actuator].set(setting, value)
+        goals = iter(outputs[len(targets) :])
+        for leg, axes, servos in m.PLACES.get(key, ()):
+            wanted = [next(goals) for _ in axes]
+            for servo, value in zip(
+                servos, self.placer.solve(sim, leg, axes, wanted, servos), strict=True
+            ):
+                sim.actuators.by_name[servo].set("setpoint", value)

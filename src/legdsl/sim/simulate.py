@@ -1,0 +1,471 @@
+"""Integrate a compiled creature with its actuators and ground contact, and record it.
+
+The generated dynamics module (``generated/NAME/dynamics.py``) supplies the
+equations of motion and the kinematics; this module adds the forces of the
+actuators and the ground, steps time (semi-implicit Euler at the paper's
+0.0004 s by default, or RK4), calls the controller every control interval,
+samples the motion at the recording rate, and watches for divergence and falls.
+A run that stops early keeps everything it recorded up to then.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any, Protocol
+
+from legdsl.ir.model import Model, Pad
+from legdsl.sim.actuators import ActuatorBank
+from legdsl.sim.contact import ContactEvent, GroundContact
+from legdsl.sim.trajectory import Trajectory, empty
+
+Vec = tuple[float, float, float]
+
+
+@dataclass
+class RunOptions:
+    duration: float = 5.0
+    dt: float = 0.0004  # the paper's integration interval
+    integrator: str = "euler"  # semi-implicit Euler, or "rk4"
+    control_dt: float = 0.002  # "usually a few ms" (Figure 2)
+    record_rate: float = 200.0  # samples per second; 0 records every step
+    fall_height: float | None = (
+        None  # root below this is a fall; default 30% of its height over its feet
+    )
+    fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall
+    drop: float | None = None  # start with the lowest contact this high above the ground
+
+
+class Controller(Protocol):
+    """What the simulation needs from a controller (the state machine of a later stage)."""
+
+    state_names: tuple[str, ...]
+    state_index: int
+
+    def __call__(self, sim: Simulation) -> None: ...
+
+    def speed_command(self, t: float) -> float: ...
+
+
+@dataclass
+class RunResult:
+    trajectory: Trajectory
+    events: list[dict[str, Any]]
+    status: str  # ok | diverged | fell
+    message: str
+    steps: int
+    wall_time: float
+    sim_time: float
+
+    @property
+    def real_time_factor(self) -> float:
+        return self.sim_time / self.wall_time if self.wall_time > 0 else math.inf
+
+
+class Divergence(Exception):
+    pass
+
+
+class Simulation:
+    def __init__(
+        self,
+        model: Model,
+        dynamics: ModuleType,
+        options: RunOptions,
+        controller: Controller | None = None,
+    ):
+        if options.integrator not in ("euler", "rk4"):
+            raise ValueError(f"unknown integrator {options.integrator!r}: use euler or rk4")
+        self.model = model
+        self.dyn = dynamics
+        self.options = options
+        self.controller = controller
+        self.actuators = ActuatorBank(model)
+        self.contact_names = tuple(c.name for c in model.contacts)
+        self.ground = (
+            GroundContact(model.ground, self.contact_names, model.planar) if model.ground else None
+        )
+        self.free3d = model.joints[0].is_free_3d
+        self.t = 0.0
+        self.steps_taken = 0  # time is steps * dt: no drift from adding dt up
+        self._torsion = bool(
+            self.ground is not None and self.ground.ground.torsion is not None and not model.planar
+        )
+        self._kinematics: tuple[Any, Any] | None = None
+        self.q = [float(x) for x in model.q0]
+        self.v = [float(x) for x in model.v0]
+        self.events: list[ContactEvent] = []
+        self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)
+        self._contact_body = [model.bodies.index(model.body(c.body)) for c in model.contacts]
+        self._hip_body = [model.hip_body_index(leg) for leg in model.legs]
+        self._foot = [self.contact_names.index(leg.foot) for leg in model.legs]
+        self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
+        if options.drop is not None:
+            self._lift_to(options.drop)
+
+    # ------------------------------------------------------------ setup
+    def _springs_of(self, joints: tuple[str, ...]) -> tuple[str, ...]:
+        dofs = {d.name for d in self.model.dofs if d.joint in joints}
+        return tuple(a.name for a in self.model.actuators if a.kind == "spring" and a.dof in dofs)
+
+    def _lift_to(self, height: float) -> None:
+        """Move the root vertically so the lowest contact is ``height`` above the ground."""
+        if not self.contact_names:
+            return
+        lowest = min(
+            p[2] - (self.ground.height(p[0], p[1]) if self.ground else 0.0)
+            for p in self.dyn.contact_positions(self.q)
+        )
+        z_index = self.model.q_names.index("z")
+        self.q[z_index] += height - lowest
+
+    # ------------------------------------------------------------ forces
+    def generalized_forces(
+        self, q: list[float], v: list[float], record: bool = False
+    ) -> list[float]:
+        tau = [0.0] * self.dyn.NV
+        self.actuators.apply(q, v, tau)
+        ground = self.ground
+        if ground is not None and any(ground.touching):
+            pos, vel, yaws = self._contact_kinematics(q, v)
+            jac = self.dyn.contact_jacobians(q)
+            for i, touching in enumerate(ground.touching):
+                if not touching:
+                    continue
+                f = ground.force(i, pos[i], vel[i])
+                if record:
+                    self.contact_force[i] = f
+                jx, jy, jz = jac[i]
+                fx, fy, fz = f
+                for k in range(len(tau)):
+                    tau[k] += jx[k] * fx + jy[k] * fy + jz[k] * fz
+            if yaws is not None:
+                self._add_torsion(q, v, yaws, tau)
+        elif record:
+            self.contact_force = [(0.0, 0.0, 0.0)] * len(self.contact_names)
+        return tau
+
+    def _add_torsion(
+        self, q: list[float], v: list[float], yaws: list[float], tau: list[float]
+    ) -> None:
+        assert self.ground is not None
+        jac_w = self.dyn.contact_angular_jacobians(q)
+        for i, touching in enumerate(self.ground.touching):
+            if not touching:
+                continue
+            jz = jac_w[i][2]
+            rate = sum(jz[k] * v[k] for k in range(len(v)))
+            torque = self.ground.torsion(i, yaws[i], rate)
+            for k in range(len(tau)):
+                tau[k] += jz[k] * torque
+
+    def _contact_kinematics(
+        self, q: list[float], v: list[float]
+    ) -> tuple[list[Vec], list[Vec], list[float] | None]:
+        """Contact positions, velocities and body yaws (3D with torsion) at (q, v).
+
+        Computed once per state: the values found at the end of a step serve the events
+        there and the forces at the start of the next step (the same q and v).
+        """
+        key = (tuple(q), tuple(v))
+        cached = self._kinematics
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        yaws = None
+        if self._torsion:
+            poses = self.dyn.body_poses(q)
+            yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
+        found = (self.dyn.contact_positions(q), self.dyn.contact_velocities(q, v), yaws)
+        self._kinematics = (key, found)
+        return found
+
+    # ------------------------------------------------------------ integration
+    def _qdot(self, q: list[float], v: list[float]) -> list[float]:
+        if not self.free3d:
+            return list(v)
+        qw, qx, qy, qz = q[3:7]
+        wx, wy, wz = v[3:6]
+        quat_dot = [
+            0.5 * (-qx * wx - qy * wy - qz * wz),
+            0.5 * (qw * wx + qy * wz - qz * wy),
+            0.5 * (qw * wy - qx * wz + qz * wx),
+            0.5 * (qw * wz + qx * wy - qy * wx),
+        ]
+        return [v[0], v[1], v[2], *quat_dot, *v[6:]]
+
+    def _advance_positions(self, q: list[float], v: list[float], dt: float) -> list[float]:
+        """q after moving at velocity v for dt; the quaternion turns by the exact rotation."""
+        if not self.free3d:
+            return [qi + dt * vi for qi, vi in zip(q, v, strict=True)]
+        out = [q[0] + dt * v[0], q[1] + dt * v[1], q[2] + dt * v[2]]
+        wx, wy, wz = v[3:6]
+        angle = math.sqrt(wx * wx + wy * wy + wz * wz) * dt
+        if angle > 1e-12:
+            s = math.sin(angle / 2) / (angle / dt)
+            dw, dx, dy, dz = math.cos(angle / 2), wx * s, wy * s, wz * s
+        else:
+            dw, dx, dy, dz = 1.0, wx * dt / 2, wy * dt / 2, wz * dt / 2
+        qw, qx, qy, qz = q[3:7]
+        quat = [
+            qw * dw - qx * dx - qy * dy - qz * dz,
+            qw * dx + qx * dw + qy * dz - qz * dy,
+            qw * dy - qx * dz + qy * dw + qz * dx,
+            qw * dz + qx * dy - qy * dx + qz * dw,
+        ]
+        norm = math.sqrt(sum(c * c for c in quat))
+        out += [c / norm for c in quat]
+        out += [qi + dt * vi for qi, vi in zip(q[7:], v[6:], strict=True)]
+        return out
+
+    def _normalise(self, q: list[float]) -> None:
+        if self.free3d:
+            norm = math.sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6])
+            for i in range(3, 7):
+                q[i] /= norm
+
+    def _accel(self, q: list[float], v: list[float], record: bool = False) -> list[float]:
+        return self.dyn.forward_dynamics(q, v, self.generalized_forces(q, v, record))
+
+    def step(self) -> None:
+        dt = self.options.dt
+        q, v = self.q, self.v
+        if self.options.integrator == "euler":
+            a = self._accel(q, v, record=True)
+            v = [vi + dt * ai for vi, ai in zip(v, a, strict=True)]
+            q = self._advance_positions(q, v, dt)
+        else:
+            k1q, k1v = self._qdot(q, v), self._accel(q, v, record=True)
+            q2 = [x + 0.5 * dt * d for x, d in zip(q, k1q, strict=True)]
+            v2 = [x + 0.5 * dt * d for x, d in zip(v, k1v, strict=True)]
+            k2q, k2v = self._qdot(q2, v2), self._accel(q2, v2)
+            q3 = [x + 0.5 * dt * d for x, d in zip(q, k2q, strict=True)]
+            v3 = [x + 0.5 * dt * d for x, d in zip(v, k2v, strict=True)]
+            k3q, k3v = self._qdot(q3, v3), self._accel(q3, v3)
+            q4 = [x + dt * d for x, d in zip(q, k3q, strict=True)]
+            v4 = [x + dt * d for x, d in zip(v, k3v, strict=True)]
+            k4q, k4v = self._qdot(q4, v4), self._accel(q4, v4)
+            q = [
+                x + dt / 6 * (a + 2 * b + 2 * c + d)
+                for x, a, b, c, d in zip(q, k1q, k2q, k3q, k4q, strict=True)
+            ]
+            v = [
+                x + dt / 6 * (a + 2 * b + 2 * c + d)
+                for x, a, b, c, d in zip(v, k1v, k2v, k3v, k4v, strict=True)
+            ]
+            self._normalise(q)
+        self.q, self.v = q, v
+        self.steps_taken += 1
+        self.t = self.steps_taken * dt
+        if self.ground is not None:
+            self.events += self.ground.update(self.t, *self._contact_kinematics(q, v))
+
+    # ------------------------------------------------------------ energy
+    def energy(self) -> tuple[float, float, float]:
+        """Kinetic, gravitational and elastic (actuator and ground springs) energy now."""
+        elastic = self.actuators.elastic_energy(self.q)
+        if self.ground is not None:
+            elastic += self.ground.elastic_energy(self.dyn.contact_positions(self.q))
+        return (
+            self.dyn.kinetic_energy(self.q, self.v),
+            self.dyn.potential_energy(self.q),
+            elastic,
+        )
+
+    # ------------------------------------------------------------ checks
+    def _root_pose(self) -> tuple[Vec, tuple[float, ...]]:
+        pos, rot = self.dyn.body_poses(self.q)[0]
+        return pos, rot
+
+    def _standing_height(self) -> float:
+        """How far the root stands above its lowest foot at the start (its own height if footless)."""
+        root = self._root_pose()[0]
+        if not self.contact_names:
+            return root[2] - self._ground_under(root)
+        return root[2] - min(p[2] for p in self.dyn.contact_positions(self.q))
+
+    def _ground_under(self, point: Vec) -> float:
+        return self.ground.height(point[0], point[1]) if self.ground is not None else 0.0
+
+    def _check(self, start_height: float) -> str | None:
+        """None while healthy; otherwise 'fell' (with self.message) or raises Divergence."""
+        if not all(math.isfinite(x) for x in self.v) or not all(math.isfinite(x) for x in self.q):
+            raise Divergence("the state is no longer finite (NaN or infinity)")
+        fastest = max(abs(x) for x in self.v)
+        if fastest > 1e3:
+            raise Divergence(f"a velocity reached {fastest:.3g} (m/s or rad/s)")
+        pos, rot = self._root_pose()
+        tilt = math.acos(max(-1.0, min(1.0, rot[8])))
+        limit = self.options.fall_height
+        # A root that starts at the level of its feet (a sled, a wheel) cannot fall lower.
+        height = limit if limit is not None else 0.3 * start_height if start_height > 0 else None
+        above = pos[2] - self._ground_under(pos)
+        if height is not None and above < height:
+            self.message = (
+                f"the root fell to {above:.3g} m above the ground (the limit is {height:.3g} m)"
+            )
+            return "fell"
+        if tilt > self.options.fall_tilt:
+            self.message = (
+                f"the root tilted {math.degrees(tilt):.0f} deg from upright "
+                f"(limit {math.degrees(self.options.fall_tilt):.0f} deg)"
+            )
+            return "fell"
+        return None
+
+    def likely_cause(self) -> str:
+        """Why a run diverged, from the contact stiffness, the step and the joint limits."""
+        opts = self.options
+        causes = []
+        g = self.model.ground
+        if g is not None and self.model.contacts:
+            lightest = min(self.model.body(c.body).mass for c in self.model.contacts)
+            # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
+            normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
+            stiffness = max(normal, g.tangent.k)
+            if stiffness > 0:
+                critical = 2.0 / math.sqrt(stiffness / lightest)
+                if opts.integrator == "euler" and opts.dt > 0.5 * critical:
+                    causes.append(
+                        f"the step {opts.dt:g} s is too large for the contact stiffness "
+                        f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
+                        f"dt < {critical:.2g} s); try --dt {critical / 4:.1g} or --integrator rk4"
+                    )
+        for d in self.model.dofs:
+            if d.limits is None:
+                continue
+            lo, hi = d.limits
+            value = self.q[d.q_index]
+            span = hi - lo
+            if value < lo - 0.1 * span or value > hi + 0.1 * span:
+                causes.append(
+                    f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
+                )
+        if not causes:
+            causes.append("the state grew without bound; try a smaller --dt or --integrator rk4")
+        return "; ".join(causes)
+
+    # ------------------------------------------------------------ running
+    def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
+        opts = self.options
+        n_steps = int(round(opts.duration / opts.dt))
+        every_step = opts.record_rate <= 0
+        record_dt = opts.dt if every_step else 1.0 / opts.record_rate
+        capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
+        traj = self._empty(capacity)
+        control_every = max(1, int(round(opts.control_dt / opts.dt)))
+        start_height = self._standing_height()
+        self.message = ""
+        status = "ok"
+        recorded = 0
+        next_record = 0.0
+        wall0 = time.perf_counter()
+        last_report = wall0
+        if self.ground is not None:
+            self.events += self.ground.update(0.0, *self._contact_kinematics(self.q, self.v))
+        steps = 0
+        try:
+            for steps in range(n_steps + 1):
+                if steps % control_every == 0 and self.controller is not None:
+                    self.controller(self)
+                if self.t >= next_record - 1e-12 and recorded < capacity:
+                    self.generalized_forces(self.q, self.v, record=True)
+                    self._record(traj, recorded)
+                    recorded += 1
+                    next_record += record_dt
+                if steps % control_every == 0:
+                    fell = self._check(start_height)
+                    if fell:
+                        status = fell
+                        break
+                if steps == n_steps:
+                    break
+                self.step()
+                if progress is not None and steps % 500 == 0:
+                    now = time.perf_counter()
+                    if now - last_report > 0.2:
+                        progress(self.t, opts.duration)
+                        last_report = now
+        except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
+            status = "diverged"
+            state = ", ".join(
+                f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True)
+            )
+            self.message = f"the simulation diverged at t = {self.t:.4f} s: {err}. Likely cause: {self.likely_cause()}. State: {state}"
+        wall = time.perf_counter() - wall0
+        if progress is not None:
+            progress(self.t, opts.duration)
+        return RunResult(
+            trajectory=traj.head(recorded),
+            events=self._all_events(),
+            status=status,
+            message=self.message,
+            steps=steps,
+            wall_time=wall,
+            sim_time=self.t,
+        )
+
+    def _all_events(self) -> list[dict[str, Any]]:
+        """Contact events and the controller's state changes, in time order."""
+        events = [{"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events]
+        events += list(getattr(self.controller, "events", []))
+        return sorted(events, key=lambda e: e["t"])
+
+    def _empty(self, capacity: int) -> Trajectory:
+        m = self.model
+        return empty(
+            capacity,
+            self.dyn.NQ,
+            self.dyn.NV,
+            len(self.contact_names),
+            len(m.legs),
+            q_names=m.q_names,
+            v_names=m.v_names,
+            contact_names=self.contact_names,
+            leg_names=tuple(leg.name for leg in m.legs),
+            leg_feet=tuple(self._foot),
+            state_names=self.controller.state_names if self.controller else (),
+            total_mass=m.total_mass,
+            gravity=-m.gravity[2],
+            planar=m.planar,
+        )
+
+    def _record(self, traj: Trajectory, row: int) -> None:
+        dyn, q, v = self.dyn, self.q, self.v
+        traj.t[row] = self.t
+        traj.q[row] = q
+        traj.v[row] = v
+        if self.ground is not None:
+            traj.contact[row] = self.ground.touching
+            traj.force[row] = self.contact_force
+        traj.com[row] = dyn.center_of_mass(q)
+        traj.com_vel[row] = dyn.center_of_mass_velocity(q, v)
+        poses = dyn.body_poses(q)
+        pos, rot = poses[0]
+        traj.root_pos[row] = pos
+        traj.root_rpy[row] = _rpy(rot)
+        if self._hip_body:
+            feet = dyn.contact_positions(q)
+            for i, (hip, foot) in enumerate(zip(self._hip_body, self._foot, strict=True)):
+                traj.leg_length[row, i] = math.dist(poses[hip][0], feet[foot])
+                traj.leg_spring_energy[row, i] = self.actuators.elastic_energy(
+                    q, self._leg_springs[i]
+                )
+        kinetic, potential, elastic = self.energy()
+        traj.kinetic[row] = kinetic
+        traj.potential[row] = potential
+        traj.elastic[row] = elastic
+        if self.controller is not None:
+            traj.state[row] = self.controller.state_index
+            traj.speed_command[row] = self.controller.speed_command(self.t)
+
+
+def _rpy(r: tuple[float, ...]) -> tuple[float, float, float]:
+    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    return (
+        math.atan2(r[7], r[8]),
+        math.asin(max(-1.0, min(1.0, -r[6]))),
+        math.atan2(r[3], r[0]),
+    )
