@@ -13,6 +13,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 from legdsl.check.values import ValueChecker, did_you_mean
+from legdsl.ir.controller import Constant
 from legdsl.ir.model import Controller, Model
 from legdsl.ir.paths import DEFAULT_LOOKAHEAD, SHAPES, PathSpec, square_corners
 from legdsl.ir.paths import MEMBERS as PATH_MEMBERS
@@ -121,8 +122,8 @@ class ControllerChecker:
             own[ident.name] = ident.span
             refs[ident.name] = ref
 
-        inputs: list[tuple[str, float]] = []
-        params: list[tuple[str, float]] = []
+        inputs: list[Constant] = []
+        params: list[Constant] = []
         signals: list[ast.SignalDecl] = []
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
@@ -131,11 +132,9 @@ class ControllerChecker:
         for item in d.items:
             if isinstance(item, ast.InputDecl | ast.ParamDecl):
                 define(item.name, Ref("value"))
-                value = self.constant(item.value)
-                if value is not None:
-                    (inputs if isinstance(item, ast.InputDecl) else params).append(
-                        (item.name.name, value)
-                    )
+                constant = self.constant(item.name, item.value)
+                if constant is not None:
+                    (inputs if isinstance(item, ast.InputDecl) else params).append(constant)
             elif isinstance(item, ast.SignalDecl):
                 define(item.name, Ref("value"))
                 signals.append(item)
@@ -262,7 +261,7 @@ class ControllerChecker:
             paths=tuple(paths),
         )
 
-    def constant(self, expr: ast.Expr) -> float | None:
+    def constant(self, name: ast.Ident, expr: ast.Expr) -> Constant | None:
         """Inputs and parameters are constants: a number with a unit, possibly negated."""
         node, sign = expr, 1.0
         while isinstance(node, ast.EUnary) and node.op == "-":
@@ -271,7 +270,8 @@ class ControllerChecker:
             self.err(node.span, f"'{node.text}' is too large a number")
             return None
         if isinstance(node, ast.EQuantity):
-            return sign * node.quantity.value
+            q = node.quantity
+            return Constant(name.name, sign * q.value, q.dim, name.span)
         self.err(
             expr.span,
             "an input or parameter is a number with its unit, e.g. '1.5 m/s'; use a 'signal' for an expression",

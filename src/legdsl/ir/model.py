@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from legdsl.ir.controller import Constant
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
@@ -216,8 +217,8 @@ class Controller:
     """A checked controller. Expressions stay as syntax trees until they are lowered."""
 
     name: str
-    inputs: tuple[tuple[str, float], ...]
-    params: tuple[tuple[str, float], ...]
+    inputs: tuple[Constant, ...]
+    params: tuple[Constant, ...]
     signals: tuple[ast.SignalDecl, ...]
     roles: tuple[tuple[str, tuple[str, ...]], ...]
     start: str

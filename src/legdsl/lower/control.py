@@ -135,8 +135,8 @@ class Lowerer:
             self.kinds[d.name] = "coord"
         for a in model.actuators:
             self.kinds[a.name] = "actuator"
-        self.inputs = {n for n, _ in controller.inputs}
-        self.params = {n for n, _ in controller.params}
+        self.inputs = {c.name for c in controller.inputs}
+        self.params = {c.name for c in controller.params}
         self.signals = {s.name.name: s.value for s in controller.signals}
         self.paths = {p.name for p in controller.paths}
         self.sensors: set[str] = set()
@@ -204,8 +204,8 @@ class Lowerer:
             events=events,
             after_entry=after,
             bodies=bodies,
-            inputs=self.ctl.inputs,
-            params=self.ctl.params,
+            inputs=tuple((c.name, c.value) for c in self.ctl.inputs),
+            params=tuple((c.name, c.value) for c in self.ctl.params),
             records=self.ctl.records,
             sensors=tuple(sorted(self.sensors)),
         )
