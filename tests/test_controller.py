@@ -184,4 +184,4 @@ def test_only_the_records_the_table_reaches_are_the_controllers(tmp_path: Path) 
     (hop,) = [c for c in model.controllers if c.name == "hop"]
     assert "speed_trim" in hop.records  # trim_speed is called, its record is kept
     assert "thrust_stroke" not in hop.records
-    assert dict(hop.params)["thrust_stroke"] == pytest.approx(0.01)
+    assert {c.name: c.value for c in hop.params}["thrust_stroke"] == pytest.approx(0.01)

@@ -24,8 +24,8 @@ def test_hopper_with_every_construct_checks() -> None:
     (hop,) = m.controllers
     assert hop.start == "FLIGHT"
     assert hop.states == ("FLIGHT", "LOADING", "COMPRESSION", "THRUST")
-    assert dict(hop.inputs) == pytest.approx({"speed": 1.0})
-    assert dict(hop.params) == pytest.approx({"k_speed": 0.05, "thrust": 0.02})
+    assert {c.name: c.value for c in hop.inputs} == pytest.approx({"speed": 1.0})
+    assert {c.name: c.value for c in hop.params} == pytest.approx({"k_speed": 0.05, "thrust": 0.02})
     assert dict(hop.roles) == {"active": ("main",), "spare": ("main",)}
     assert hop.records == ("t_down",)
     # Actions from the controller and from the file it uses.
