@@ -182,6 +182,6 @@ def test_only_the_records_the_table_reaches_are_the_controllers(tmp_path: Path) 
     leg.write_text(text, encoding="utf-8")
     model = check_model(leg)
     (hop,) = [c for c in model.controllers if c.name == "hop"]
-    assert "speed_trim" in hop.records  # trim_speed is called, its record is kept
-    assert "thrust_stroke" not in hop.records
+    assert "speed_trim" in hop.record_names  # trim_speed is called, its record is kept
+    assert "thrust_stroke" not in hop.record_names
     assert {c.name: c.value for c in hop.params}["thrust_stroke"] == pytest.approx(0.01)

@@ -9,6 +9,7 @@ import pytest
 
 from legdsl.check.source import check_model
 from legdsl.cli import main
+from legdsl.ir.controller import Do
 from legdsl.lang.errors import LegError
 
 GOOD = Path(__file__).parent / "good"
@@ -23,13 +24,14 @@ def test_hopper_with_every_construct_checks() -> None:
     assert m.ground is not None and m.ground.friction == pytest.approx(0.8)
     (hop,) = m.controllers
     assert hop.start == "FLIGHT"
-    assert hop.states == ("FLIGHT", "LOADING", "COMPRESSION", "THRUST")
+    assert hop.state_names == ("FLIGHT", "LOADING", "COMPRESSION", "THRUST")
     assert {c.name: c.value for c in hop.inputs} == pytest.approx({"speed": 1.0})
     assert {c.name: c.value for c in hop.params} == pytest.approx({"k_speed": 0.05, "thrust": 0.02})
-    assert dict(hop.roles) == {"active": ("main",), "spare": ("main",)}
-    assert hop.records == ("t_down",)
-    # Actions from the controller and from the file it uses.
-    assert sorted(a.name.name for a in hop.actions) == ["lengthen", "place_foot"]
+    assert dict(hop.bindings[0]) == {"active": ("main",), "spare": ("main",)}
+    assert hop.record_names == ("t_down",)
+    # Actions from the controller and from the file it uses, inlined where they are called.
+    called = {s.action for state in hop.states for s in state.body if isinstance(s, Do)}
+    assert called == {"lengthen", "place_foot"}
     tilt = next(a for a in m.actuators if a.name == "tilt")
     assert tilt.kind == "force" and tilt.rotary and tilt.max == pytest.approx(20.0)
     assert m.v0[2] == pytest.approx(0.0) and m.v0[0] == pytest.approx(0.5)

@@ -98,5 +98,7 @@ def describe_model(model: Model) -> str:
     if model.controllers:
         lines += ["", "controllers:"]
         for ctl in model.controllers:
-            lines.append(f"  {ctl.name}: states {' -> '.join(ctl.states)} (starts in {ctl.start})")
+            lines.append(
+                f"  {ctl.name}: states {' -> '.join(ctl.state_names)} (starts in {ctl.start})"
+            )
     return "\n".join(lines) + "\n"

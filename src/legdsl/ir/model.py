@@ -30,9 +30,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from legdsl.ir.controller import Constant
-from legdsl.ir.paths import PathSpec
-from legdsl.lang import ast
+from legdsl.ir.controller import Controller
 from legdsl.lang.errors import Span
 
 Vec3 = tuple[float, float, float]
@@ -210,26 +208,6 @@ class Leg:
     foot: str  # a contact
     aliases: tuple[tuple[str, str], ...]  # leg-local names for actuators, joints, coordinates
     span: Span
-
-
-@dataclass(frozen=True)
-class Controller:
-    """A checked controller. Expressions stay as syntax trees until they are lowered."""
-
-    name: str
-    inputs: tuple[Constant, ...]
-    params: tuple[Constant, ...]
-    signals: tuple[ast.SignalDecl, ...]
-    roles: tuple[tuple[str, tuple[str, ...]], ...]
-    start: str
-    states: tuple[str, ...]
-    actions: tuple[ast.ActionDef, ...]
-    rows: tuple[ast.Row, ...]
-    records: tuple[str, ...]
-    span: Span
-    # paths to follow (``path NAME = ...``); the runtime evaluates them, so they are not
-    # part of the generated code (nor of its fingerprint)
-    paths: tuple[PathSpec, ...] = ()
 
 
 @dataclass(frozen=True)

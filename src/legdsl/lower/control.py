@@ -1,10 +1,10 @@
 """Lower a checked controller to sympy: per role binding and per state, what to compute.
 
-Roles (``active``, ``idle``) are names bound to legs or groups of legs and
-exchanged by ``swap``. Every binding that the table's swaps can reach is
-enumerated here, and each state's code is specialised for each binding, so
-the generated module never looks a role up at run time: it only keeps the
-index of the current binding.
+The input is the controller IR (``legdsl.ir.controller``): every name already resolved,
+actions inlined, and the role bindings that the table's swaps reach enumerated. Roles
+(``active``, ``idle``) are names bound to legs or groups of legs and exchanged by
+``swap``; each state's code is specialised here for each binding, so the generated module
+never looks a role up at run time: it only keeps the index of the current binding.
 
 Semantics of a table row ``state S on EVENT: statements``:
 
@@ -16,7 +16,6 @@ Semantics of a table row ``state S on EVENT: statements``:
 * every control tick while the state is active, its ``let`` and assignment
   statements run in order; an actuator keeps the last value it was given.
 
-Named actions are inlined with their parameters replaced by the arguments.
 Reading a member of a group of legs averages it over the group (``touching``
 is true if any foot touches); writing it writes every leg of the group.
 ``touchdown(X)`` holds when any of X's feet touches and ``liftoff(X)`` when
@@ -27,43 +26,22 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import sympy
 from sympy import Expr, Symbol
 
-from legdsl.check.controller import BUILTIN_FUNCTIONS, LEG_MEMBERS
-from legdsl.ir.model import Controller, Model
-from legdsl.lang import ast
-from legdsl.lang.errors import InternalError, LegError
+from legdsl.ir import controller as ir
+from legdsl.ir.controller import Binding, Controller
+from legdsl.ir.model import Model
+from legdsl.lang.errors import InternalError
 
-Binding = tuple[tuple[str, tuple[str, ...]], ...]  # role -> legs, sorted by role
+Roles = dict[str, tuple[str, ...]]  # role -> legs, under one binding
 
 
 def sensor_symbol(key: str) -> Symbol:
     """``leg.main.length`` -> the symbol ``leg_main_length`` (names in generated code)."""
     return Symbol(key.replace(".", "_"))
-
-
-@dataclass(frozen=True)
-class Legs:
-    """A role, a leg or an action parameter bound to one of those: the legs it stands for."""
-
-    legs: tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class Thing:
-    """A named part of the creature (body, contact, coord, actuator or com), or a path."""
-
-    kind: str
-    name: str
-
-
-@dataclass(frozen=True)
-class Group:
-    """The same alias on several legs: reading averages, writing writes all."""
-
-    things: tuple[Thing, ...]
 
 
 @dataclass(frozen=True)
@@ -111,20 +89,12 @@ class LoweredController:
     sensors: tuple[str, ...] = ()
 
 
-class _Env:
-    """Names visible while lowering one row under one binding."""
-
-    def __init__(self, binding: dict[str, tuple[str, ...]], local: dict[str, object] | None = None):
-        self.binding = binding
-        self.local: dict[str, object] = dict(local or {})
-
-
 class Lowerer:
+    """Turns one controller's IR into sympy, state by state under each role binding."""
+
     def __init__(self, model: Model, controller: Controller):
         self.model = model
         self.ctl = controller
-        self.actions = {a.name.name: a for a in controller.actions}
-        self.legs = {leg.name: leg for leg in model.legs}
         self.aliases = {leg.name: dict(leg.aliases) for leg in model.legs}
         self.kinds: dict[str, str] = {}
         for b in model.bodies:
@@ -135,281 +105,149 @@ class Lowerer:
             self.kinds[d.name] = "coord"
         for a in model.actuators:
             self.kinds[a.name] = "actuator"
-        self.inputs = {c.name for c in controller.inputs}
-        self.params = {c.name for c in controller.params}
-        self.signals = {s.name.name: s.value for s in controller.signals}
-        self.paths = {p.name for p in controller.paths}
+        self.signals = {s.name: s.value for s in controller.signals}
         self.sensors: set[str] = set()
 
-    # ------------------------------------------------------------ bindings
-    def bindings(self) -> tuple[tuple[Binding, ...], dict[tuple[int, int], int]]:
-        """Every role binding reachable through the table's swaps, the initial one first."""
-        start = tuple(sorted(self.ctl.roles))
-        found: list[Binding] = [start]
-        after: dict[tuple[int, int], int] = {}
-        i = 0
-        while i < len(found):
-            for s, row in enumerate(self.ctl.rows):
-                binding = dict(found[i])
-                for a, b in self._swaps(row.actions, _Env(binding)):
-                    binding[a], binding[b] = binding[b], binding[a]
-                key = tuple(sorted(binding.items()))
-                if key not in found:
-                    found.append(key)
-                after[(i, s)] = found.index(key)
-            i += 1
-        return tuple(found), after
-
-    def _swaps(self, stmts: Iterable[ast.Stmt], env: _Env) -> list[tuple[str, str]]:
-        out: list[tuple[str, str]] = []
-        for s in stmts:
-            if isinstance(s, ast.SwapStmt):
-                out.append((self._role_name(s.first, env), self._role_name(s.second, env)))
-            elif isinstance(s, ast.LetStmt):
-                # an action may pass its own `let` on to another action
-                env.local[s.name.name] = self.ref(s.value, env)
-            elif isinstance(s, ast.InvokeStmt):
-                action = self.actions[s.action.name]
-                inner = _Env(env.binding, self._bind_params(action, s, env))
-                out += self._swaps(action.body, inner)
-        return out
-
-    def _role_name(self, ident: ast.Ident, env: _Env) -> str:
-        bound = env.local.get(ident.name)
-        if isinstance(bound, _RoleName):
-            return bound.role
-        if ident.name in env.binding:
-            return ident.name
-        raise InternalError(f"swap of {ident.name}, which is not a role")
-
-    # ------------------------------------------------------------ rows
     def lower(self) -> LoweredController:
-        bindings, after = self.bindings()
         events: dict[tuple[int, int], sympy.Basic] = {}
         bodies: dict[tuple[int, int], StateBody] = {}
-        for b, binding in enumerate(bindings):
-            for s, row in enumerate(self.ctl.rows):
-                events[(b, s)] = self.boolean(row.event, _Env(dict(binding)))
+        for b, binding in enumerate(self.ctl.bindings):
+            roles = dict(binding)
+            for s, state in enumerate(self.ctl.states):
+                events[(b, s)] = self.expr(state.event, roles)
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
                 places: list[Place] = []
-                self.statements(row.actions, _Env(dict(binding)), records, settings, places)
+                self.statements(state.body, roles, records, settings, places)
                 bodies[(b, s)] = StateBody(tuple(records), tuple(settings), tuple(places))
         return LoweredController(
             name=self.ctl.name,
             creature=self.model.name,
-            states=self.ctl.states,
-            start=self.ctl.states.index(self.ctl.start),
-            bindings=bindings,
+            states=self.ctl.state_names,
+            start=self.ctl.state_names.index(self.ctl.start),
+            bindings=self.ctl.bindings,
             events=events,
-            after_entry=after,
+            after_entry=dict(self.ctl.after_entry),
             bodies=bodies,
             inputs=tuple((c.name, c.value) for c in self.ctl.inputs),
             params=tuple((c.name, c.value) for c in self.ctl.params),
-            records=self.ctl.records,
+            records=self.ctl.record_names,
             sensors=tuple(sorted(self.sensors)),
         )
 
     def statements(
         self,
-        stmts: Iterable[ast.Stmt],
-        env: _Env,
+        stmts: Iterable[ir.Stmt],
+        roles: Roles,
         records: list[tuple[str, Expr]],
         settings: list[Setting],
         places: list[Place],
     ) -> None:
         for s in stmts:
-            if isinstance(s, ast.SwapStmt):
-                continue  # done on entry, before anything else (see bindings())
-            if isinstance(s, ast.LetStmt):
-                env.local[s.name.name] = self.value(s.value, env)
-            elif isinstance(s, ast.RecordStmt):
-                records.append((s.name.name, self.value(s.value, env)))
-            elif isinstance(s, ast.AssignStmt):
-                value = self.value(s.value, env)
-                for thing, key in self.targets(s.target, env):
-                    settings.append(Setting(thing.name, key, value))
-            elif isinstance(s, ast.InvokeStmt):
-                action = self.actions[s.action.name]
-                inner = _Env(env.binding, self._bind_params(action, s, env))
-                self.statements(action.body, inner, records, settings, places)
-            elif isinstance(s, ast.PlaceStmt):
-                places.extend(self.place(s, env))
+            if isinstance(s, ir.Record):
+                records.append((s.name, self.expr(s.value, roles)))
+            elif isinstance(s, ir.Assign):
+                value = self.expr(s.value, roles)
+                for part in self.parts(s.actuator, roles):
+                    settings.append(Setting(part.name, s.key, value))
+            elif isinstance(s, ir.Do):
+                self.statements(s.body, roles, records, settings, places)
+            elif isinstance(s, ir.Place):
+                places.extend(self.place(s, roles))
+            # swaps are done on entry, before anything else (the IR's bindings)
 
-    def place(self, s: ast.PlaceStmt, env: _Env) -> list[Place]:
+    def place(self, s: ir.Place, roles: Roles) -> list[Place]:
         """One solve per leg of the role (each foot placed from its own hip)."""
-        legs = self.name(s.leg, env)
-        if not isinstance(legs, Legs):
-            raise InternalError(f"place of {s.leg.name}")
-        axes = tuple(name.name for name, _ in s.goals)
-        if self.model.planar and "y" in axes:
-            raise LegError.at(
-                s.span,
-                f"creature '{self.model.name}' is planar: 'place' can set x and z only, not y "
-                "(this action is for 3D creatures)",
-            )
-        goals = tuple(self.value(value, env) for _, value in s.goals)
-        per_leg: list[list[str]] = [[] for _ in legs.legs]
-        for path in s.servos:
-            for k, (thing, _) in enumerate(
-                self.targets((*path, ast.Ident("setpoint", path[-1].span)), env)
-            ):
-                per_leg[k].append(thing.name)
+        legs = self.legs(s.legs, roles)
+        goals = tuple(self.expr(goal, roles) for goal in s.goals)
+        per_servo = [self.parts(servo, roles) for servo in s.servos]
         return [
-            Place(leg, axes, goals, tuple(servos))
-            for leg, servos in zip(legs.legs, per_leg, strict=True)
+            Place(
+                leg, s.axes, goals, tuple(parts[min(k, len(parts) - 1)].name for parts in per_servo)
+            )
+            for k, leg in enumerate(legs)
         ]
 
-    def _bind_params(
-        self, action: ast.ActionDef, call: ast.InvokeStmt, env: _Env
-    ) -> dict[str, object]:
-        bound: dict[str, object] = {}
-        for param, arg in zip(action.params, call.args, strict=True):
-            if isinstance(arg, ast.EName) and arg.ident.name in env.binding:
-                bound[param.name] = _RoleName(arg.ident.name)
-            elif isinstance(arg, ast.EName) and isinstance(
-                env.local.get(arg.ident.name), _RoleName
-            ):
-                bound[param.name] = env.local[arg.ident.name]
-            else:
-                bound[param.name] = self.ref(arg, env)
-        return bound
+    # ------------------------------------------------------------ things
+    def legs(self, legs: ir.Legs, roles: Roles) -> tuple[str, ...]:
+        return roles[legs.role] if legs.role is not None else (legs.leg or "",)
 
-    def targets(self, path: tuple[ast.Ident, ...], env: _Env) -> list[tuple[Thing, str]]:
-        base: object = self.name(path[0], env)
-        for ident in path[1:-1]:
-            base = self.member(base, ident.name)
-        last = path[-1].name
-        things = base.things if isinstance(base, Group) else (base,)
-        out = []
-        for thing in things:
-            if not (isinstance(thing, Thing) and thing.kind == "actuator"):
-                raise InternalError(f"assignment to {'.'.join(i.name for i in path)}")
-            out.append((thing, last))
-        return out
+    def parts(self, thing: ir.Part | ir.Alias, roles: Roles) -> list[ir.Part]:
+        """The part itself, or what the alias names on each leg of its role."""
+        if isinstance(thing, ir.Part):
+            return [thing]
+        names = [self.aliases[leg][thing.alias] for leg in self.legs(thing.legs, roles)]
+        return [ir.Part(self.kinds[name], name) for name in names]
 
     # ------------------------------------------------------------ expressions
-    def value(self, e: ast.Expr, env: _Env) -> Expr:
-        result = self.ref(e, env)
-        if isinstance(result, Expr):
-            return result
-        raise InternalError(f"{e} is not a number")
+    def expr(self, e: ir.Expr, roles: Roles) -> Any:
+        if isinstance(e, ir.Num):
+            return sympy.Float(e.value)
+        if isinstance(e, ir.Named):
+            return self.named(e, roles)
+        if isinstance(e, ir.Read):
+            return self.read(e.thing, e.member, roles)
+        if isinstance(e, ir.Unary):
+            operand = self.expr(e.operand, roles)
+            return -operand if e.op == "-" else sympy.Not(operand)
+        if isinstance(e, ir.Binary):
+            return _BINARY[e.op](self.expr(e.left, roles), self.expr(e.right, roles))
+        if isinstance(e, ir.Event):
+            flags = self.flags(e.thing, roles)
+            if e.kind == "touchdown":
+                return sympy.Or(*[f > 0.5 for f in flags])
+            return sympy.And(*[f < 0.5 for f in flags])
+        if e.func == "select":
+            condition, a, b = (self.expr(x, roles) for x in e.args)
+            return sympy.Piecewise((a, condition), (b, True))
+        return _FUNCTIONS[e.func](*[self.expr(a, roles) for a in e.args])
 
-    def boolean(self, e: ast.Expr, env: _Env) -> sympy.Basic:
-        result = self.ref(e, env)
-        if isinstance(result, sympy.Basic):
-            return result
-        raise InternalError(f"{e} is not a condition")
-
-    def ref(self, e: ast.Expr, env: _Env) -> object:
-        if isinstance(e, ast.EQuantity):
-            return sympy.Float(e.quantity.value)
-        if isinstance(e, ast.EName):
-            return self.name(e.ident, env)
-        if isinstance(e, ast.EAttr):
-            return self.member(self.ref(e.base, env), e.attr.name)
-        if isinstance(e, ast.EUnary):
-            operand = self.ref(e.operand, env)
-            return -operand if e.op == "-" else sympy.Not(operand)  # type: ignore[operator]
-        if isinstance(e, ast.EBinary):
-            return _BINARY[e.op](self.ref(e.left, env), self.ref(e.right, env))
-        return self.call(e, env)
-
-    def name(self, ident: ast.Ident, env: _Env) -> object:
-        n = ident.name
-        if n in env.local:
-            bound = env.local[n]
-            return Legs(env.binding[bound.role]) if isinstance(bound, _RoleName) else bound
-        if n in env.binding:
-            return Legs(env.binding[n])
-        if n in self.legs:
-            return Legs((n,))
-        if n in self.signals:
-            return self.ref(self.signals[n], _Env(env.binding))
-        if n in self.paths:
-            return Thing("path", n)
-        if n in self.inputs:
-            return Symbol(f"input_{n}")
-        if n in self.params:
-            return Symbol(f"param_{n}")
-        if n in self.ctl.records:
-            return Symbol(f"record_{n}")
-        if n in ("time", "time_in_state"):
-            if n == "time":
-                self.sensors.add("time")
-            return Symbol(n)
-        if n == "pi":
+    def named(self, e: ir.Named, roles: Roles) -> Any:
+        if e.kind in ("input", "param", "record"):
+            return Symbol(f"{e.kind}_{e.name}")
+        if e.kind == "signal":
+            return self.expr(self.signals[e.name], roles)
+        if e.name == "time":
+            self.sensors.add("time")
+            return Symbol("time")
+        if e.name == "time_in_state":
+            return Symbol("time_in_state")
+        if e.name == "pi":
             return sympy.pi
-        if n == "g":
+        if e.name == "g":
             return sympy.Float(-self.model.gravity[2])
-        if n == "total_mass":
+        if e.name == "total_mass":
             return sympy.Float(self.model.total_mass)
-        if n == "com":
-            return Thing("com", "com")
-        if n in self.kinds:
-            return Thing(self.kinds[n], n)
-        raise InternalError(f"unresolved name {n}")
+        raise InternalError(f"a named value of kind {e.kind}: {e.name}")
 
-    def member(self, base: object, name: str) -> object:
-        if isinstance(base, Legs):
-            if name in LEG_MEMBERS:
-                values = [self.sense(f"leg.{leg}.{name}") for leg in base.legs]
-                if name == "touching":
-                    return sympy.Max(*values) if len(values) > 1 else values[0]
-                return sympy.Add(*values) / len(values)
-            things = tuple(
-                Thing(self.kinds[self.aliases[leg][name]], self.aliases[leg][name])
-                for leg in base.legs
-            )
-            return things[0] if len(things) == 1 else Group(things)
-        if isinstance(base, Group):
-            parts = [self.member(t, name) for t in base.things]
-            if all(isinstance(p, Expr) for p in parts):
-                return sympy.Add(*parts) / len(parts)
-            return Group(tuple(p for p in parts if isinstance(p, Thing)))
-        if isinstance(base, Thing):
-            if base.kind == "com":
-                return self.sense(f"com.{name}")
-            if base.kind == "actuator":
-                return self.sense(f"act.{base.name}.{name}")
-            return self.sense(f"{base.kind}.{base.name}.{name}")
-        raise InternalError(f"member {name} of {base!r}")
+    def read(self, thing: ir.Thing, member: str, roles: Roles) -> Expr:
+        """A member of a thing; of several legs (a group role) it is their mean, ``touching``
+        their maximum (any foot touches)."""
+        if isinstance(thing, ir.Legs):
+            values = [self.sense(f"leg.{leg}.{member}") for leg in self.legs(thing, roles)]
+            if member == "touching":
+                return sympy.Max(*values) if len(values) > 1 else values[0]
+            return sympy.Add(*values) / len(values)
+        parts = self.parts(thing, roles)
+        values = [self.sense(_sensor_key(part, member)) for part in parts]
+        return values[0] if len(values) == 1 else sympy.Add(*values) / len(values)
+
+    def flags(self, thing: ir.Thing, roles: Roles) -> list[Symbol]:
+        if isinstance(thing, ir.Legs):
+            return [self.sense(f"leg.{leg}.touching") for leg in self.legs(thing, roles)]
+        return [self.sense(_sensor_key(part, "touching")) for part in self.parts(thing, roles)]
 
     def sense(self, key: str) -> Symbol:
         self.sensors.add(key)
         return sensor_symbol(key)
 
-    def call(self, e: ast.ECall, env: _Env) -> object:
-        name = e.func.name
-        if name in ("liftoff", "touchdown"):
-            target = self.ref(e.args[0], env)
-            flags = self._flags(target)
-            if name == "touchdown":
-                return sympy.Or(*[f > 0.5 for f in flags])
-            return sympy.And(*[f < 0.5 for f in flags])
-        if name == "select":
-            condition = self.boolean(e.args[0], env)
-            return sympy.Piecewise(
-                (self.value(e.args[1], env), condition), (self.value(e.args[2], env), True)
-            )
-        args = [self.value(a, env) for a in e.args]
-        if name not in _FUNCTIONS or name not in BUILTIN_FUNCTIONS:
-            raise InternalError(f"function {name}")
-        return _FUNCTIONS[name](*args)
 
-    def _flags(self, target: object) -> list[Symbol]:
-        if isinstance(target, Legs):
-            return [self.sense(f"leg.{leg}.touching") for leg in target.legs]
-        if isinstance(target, Thing) and target.kind == "contact":
-            return [self.sense(f"contact.{target.name}.touching")]
-        raise InternalError(f"touchdown/liftoff of {target!r}")
-
-
-@dataclass(frozen=True)
-class _RoleName:
-    """An action parameter that was given a role: swaps inside the action exchange that role."""
-
-    role: str
+def _sensor_key(part: ir.Part, member: str) -> str:
+    if part.kind == "com":
+        return f"com.{member}"
+    if part.kind == "actuator":
+        return f"act.{part.name}.{member}"
+    return f"{part.kind}.{part.name}.{member}"
 
 
 _BINARY = {
@@ -444,7 +282,6 @@ _FUNCTIONS = {
     "min": sympy.Min,
     "max": sympy.Max,
     "clamp": lambda x, lo, hi: sympy.Min(sympy.Max(x, lo), hi),
-    "select": lambda c, a, b: sympy.Piecewise((a, c), (b, True)),
 }
 
 

@@ -21,7 +21,6 @@ from legdsl.codegen.python.control import render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Model
 from legdsl.lang import ast
-from legdsl.lang.errors import Span
 from legdsl.lang.parser import parse_file
 from legdsl.lower.control import lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
@@ -100,7 +99,7 @@ def _lower(
     for controller in model.controllers:
         say(f"{model.name}: lowering controller {controller.name}")
         lowered_controller = lower_controller(model, controller)
-        events = {row.state.name: _source_text(row.event.span) for row in controller.rows}
+        events = {state.name: state.event_text for state in controller.states}
         stamp = controller_fingerprint(model, controller)
         text = render_control(lowered_controller, source, events, stamp)
         files += ((f"control_{controller.name}.py", text),)
@@ -115,16 +114,6 @@ def _lower(
         files,
         (*timings, ("lower", lowered), ("print", printed)),
     )
-
-
-def _source_text(span: Span) -> str:
-    """The text a span covers, on one line (for docstrings in generated code)."""
-    lines = Path(span.file).read_text(encoding="utf-8").splitlines()
-    if span.line == span.end_line:
-        return lines[span.line - 1][span.col - 1 : span.end_col - 1]
-    parts = [lines[span.line - 1][span.col - 1 :], *lines[span.line : span.end_line - 1]]
-    parts.append(lines[span.end_line - 1][: span.end_col - 1])
-    return " ".join(p.strip() for p in parts)
 
 
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
