@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, place_of
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.ir.model import Model, setting_kind
@@ -98,21 +98,38 @@ class Elaborator:
         self.record_types: dict[str, list[tuple[Type, Span]]] = {}
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
+        self._planar_sites: set[Span] = set()
 
     # ------------------------------------------------------------ errors
     def err(self, span: Span, message: str) -> None:
         """Report at ``span``, or, inside an action from another file, at the user's call."""
-        if span.file == self.scope.user_file or not self.calls:
+        site = self._user_site()
+        if site is None or span.file == self.scope.user_file:
             self.diag.error(span, message)
             return
-        site = next(
-            (c for c, _ in reversed(self.calls) if c.span.file == self.scope.user_file),
-            self.calls[0][0],
-        )
         action = self.calls[-1][1]
         self.diag.error(
-            site.span,
-            f"{message} (in action '{action.name.name}', {span}, called here)",
+            site.span, f"{message} (in action '{action.name.name}', {place_of(span)}, called here)"
+        )
+
+    def planar_error(self, span: Span, message: str, hint: str) -> None:
+        """A 3D-only thing in a planar creature: once per call of a library action (a 3D
+        action reads many), else where it is written."""
+        site = self._user_site()
+        if site is not None:
+            if site.span in self._planar_sites:
+                return
+            self._planar_sites.add(site.span)
+            hint = f"action '{self.calls[-1][1].name.name}' is for 3D creatures"
+        self.err(span, f"{message} ({hint})")
+
+    def _user_site(self) -> ast.InvokeStmt | None:
+        """The call in the user's file that leads into another file's action, if any."""
+        if not self.calls or self.calls[-1][1].span.file == self.scope.user_file:
+            return None
+        return next(
+            (c for c, _ in reversed(self.calls) if c.span.file == self.scope.user_file),
+            self.calls[0][0],
         )
 
     # ------------------------------------------------------------ statements
@@ -241,16 +258,20 @@ class Elaborator:
                 )
                 ok = False
             if name.name not in axes:
-                planar_y = name.name == "y" and self.scope.model.planar
-                self.err(
-                    name.span,
-                    f"creature '{self.scope.model.name}' is planar: 'place' can set x and z "
-                    "only, not y (this is for 3D creatures)"
-                    if planar_y
-                    else f"'place' sets the foot's offset from the hip along "
-                    f"{' and '.join(axes)}; '{name.name}' is not one of them"
-                    f"{did_you_mean(name.name, axes)}",
-                )
+                if name.name == "y" and self.scope.model.planar:
+                    self.planar_error(
+                        name.span,
+                        f"creature '{self.scope.model.name}' is planar: 'place' can set x "
+                        "and z only, not y",
+                        "y is for 3D creatures",
+                    )
+                else:
+                    self.err(
+                        name.span,
+                        f"'place' sets the foot's offset from the hip along "
+                        f"{' and '.join(axes)}; '{name.name}' is not one of them"
+                        f"{did_you_mean(name.name, axes)}",
+                    )
                 ok = False
             elif name.name in seen:
                 self.err(name.span, f"'{name.name}' is given twice")
@@ -358,10 +379,10 @@ class Elaborator:
 
     def read(self, thing: ir.Thing, name: str, dim: Dim, span: Span) -> ir.Read | None:
         if self.scope.model.planar and name in ir.SPATIAL_MEMBERS:
-            self.err(
+            self.planar_error(
                 span,
-                f"creature '{self.scope.model.name}' is planar: it has no '{name}' "
-                "(that member is for 3D creatures)",
+                f"creature '{self.scope.model.name}' is planar: it has no '{name}'",
+                "that member is for 3D creatures",
             )
             return None
         return ir.Read(thing, name, dim)

@@ -7,12 +7,11 @@ from typing import Protocol, TypeVar
 
 from legdsl.check.controller import check_controllers
 from legdsl.check.creature import CreatureChecker
+from legdsl.check.values import STDLIB
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, LegError, Span
 from legdsl.lang.parser import parse_file
-
-STDLIB = Path(__file__).parents[1] / "stdlib"
 
 
 def check_file(path: str | Path) -> list[Model]:

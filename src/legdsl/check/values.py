@@ -3,14 +3,31 @@ used by the creature, the controller and the path checks alike."""
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe, parse_unit
+
+STDLIB = Path(__file__).parents[1] / "stdlib"
+
+
+def place_of(span: Span) -> str:
+    """``file:line:col`` for a note: the standard library by its own name, another file
+    relative to the working directory where it can be (never a machine's absolute path)."""
+    path = Path(span.file)
+    if path.is_absolute():
+        if path.parent == STDLIB.resolve() or path.parent == STDLIB:
+            path = Path("stdlib") / path.name
+        else:
+            with contextlib.suppress(ValueError):
+                path = path.relative_to(Path.cwd())
+    return f"{path.as_posix()}:{span.line}:{span.col}"
 
 
 def did_you_mean(word: str, choices: Iterable[str]) -> str:
