@@ -18,11 +18,11 @@ import pytest
 from legdsl.analysis.metrics import (
     TABLE2,
     MetricsError,
-    _support_phases,
     compare_table,
     compute_metrics,
     parse_groups,
 )
+from legdsl.analysis.support import support_phases
 from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory, empty
 
@@ -272,7 +272,7 @@ def test_support_phases_split_by_the_feet_down_and_drop_open_ends() -> None:
     down = np.array(
         [[1, 0]] * 2 + [[1, 1]] * 3 + [[0, 1]] * 2 + [[0, 0]] * 3 + [[1, 0]] * 2, dtype=bool
     )
-    phases = _support_phases(t, down, ["left", "right"], 0.0, 1.0)
+    phases = support_phases(t, down, ["left", "right"], 0.0, 1.0)
     # the first (left) and last (left) runs are open: one of their ends is not seen
     assert [(p.kind, p.feet) for p in phases] == [
         ("double", ("left", "right")),
@@ -281,7 +281,7 @@ def test_support_phases_split_by_the_feet_down_and_drop_open_ends() -> None:
     ]
     assert [round(p.duration / DT) for p in phases] == [3, 2, 3]
     # a window leaves out the phases that do not lie inside it
-    assert [p.kind for p in _support_phases(t, down, ["left", "right"], 0.004, 1.0)] == [
+    assert [p.kind for p in support_phases(t, down, ["left", "right"], 0.004, 1.0)] == [
         "single",
         "flight",
     ]

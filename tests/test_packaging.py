@@ -1,4 +1,5 @@
-"""The grammar must ship inside the wheel: a plain install finds it with no source tree."""
+"""The grammar (and the package's other data files) must ship inside the wheel: a plain install
+finds them with no source tree."""
 
 from __future__ import annotations
 
@@ -25,6 +26,7 @@ def test_wheel_carries_grammar_and_parses_outside_the_tree(tmp_path: Path) -> No
     assert (
         "legdsl/codegen/python/templates/dynamics.py.j2" in names
     )  # the generated-module skeleton
+    assert "legdsl/analysis/table2.toml" in names  # the paper's Table 2, read as data
 
     target = tmp_path / "site"
     subprocess.run(
@@ -46,7 +48,8 @@ def test_wheel_carries_grammar_and_parses_outside_the_tree(tmp_path: Path) -> No
     code = (
         "import legdsl.lang.parser as p, sys; "
         "p.parse('creature a { planar body b free { mass 1 kg inertia 1 kg*m^2 } }'); "
-        "print(p.grammar_dir())"
+        "print(p.grammar_dir()); "
+        "from legdsl.analysis.table2 import TABLE2; assert len(TABLE2) == 4, TABLE2"
     )
     env = {**os.environ, "PYTHONPATH": str(target)}
     out = subprocess.run(

@@ -136,7 +136,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from legdsl.analysis.metrics import PATH_FROM, path_report
+    from legdsl.analysis.path_report import PATH_FROM, path_report
     from legdsl.sim.path_tracking import PathGeometry
 
     tr = Trajectory.load(run)

@@ -124,6 +124,13 @@ class ValueChecker:
             out.append(v)
         return tuple(out)
 
+    def one_scalar(self, prop: ast.Prop, kind: str, what: str) -> float | None:
+        """The one number of a property (``mass 1.5 kg``) of dimension ``kind``."""
+        if not isinstance(prop.value, ast.One):
+            self.err(prop.value.span, f"'{prop.key.name}' takes one value")
+            return None
+        return self.scalar(prop.value.value, kind, what)
+
 
 def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
     """'mass is a mass (kg), but '3 m' is a length (m)'."""

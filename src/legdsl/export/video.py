@@ -1,23 +1,13 @@
 """Render a run to a video (mp4 through ffmpeg, or an animated GIF through Pillow).
 
-The picture is the HTML player's, drawn frame by frame with matplotlib (Agg):
-
-* planar creatures: a side view of the x-z plane, every link drawn as its
-  outline (``legdsl.export.formats.shapes.side_outline``) in its colour, the ground and
-  terrain in section;
-* 3D creatures: a perspective view from the player's default camera; the
-  links' triangle meshes are projected, shaded by a fixed light, sorted back
-  to front and drawn with their shadows on the ground.
-
-The camera follows the mass centre horizontally at a fixed height. The
-overlays are those of the player: controller state, commanded and actual
-speed, ground-force arrows, footprints and the mass-centre trail.
+Each frame is the HTML player's picture, drawn with matplotlib (Agg) by a view of
+``legdsl.export.video_views``: a side view for planar creatures, a perspective view for 3D
+ones, the camera following the mass centre, with the player's overlays.
 """
 
 from __future__ import annotations
 
 import importlib.util
-import math
 import shutil
 import subprocess
 import sys
@@ -29,19 +19,11 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot, terrain_height
-from legdsl.export.player import OVERLAYS, camera_hints
-from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
+from legdsl.export.motion import Motion, Snapshot
+from legdsl.export.player import OVERLAYS
+from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.lang.errors import UsageError
 
-SKY = "#eef0f3"
-GROUND = "#d9d9d6"
-GROUND_EDGE = "#9c9c96"
-TERRAIN = "#c2c2bc"
-FORCE = "#d2401e"
-TRAIL = "#c0208a"
-FOOTPRINT_COLORS = ("#1f5fbf", "#2a9d4b", "#b8860b", "#8e44ad", "#16a085", "#c0392b")
-FIELD_OF_VIEW = 35.0  # degrees, vertical, as in the player
 FFMPEG_HINT = (
     "writing .mp4 needs ffmpeg, which is not installed: install it with "
     "'apt-get install -y ffmpeg' (Debian/Ubuntu) or 'brew install ffmpeg' (macOS), "
@@ -64,405 +46,6 @@ def _import_pyplot() -> Any:
     import matplotlib.pyplot as plt
 
     return plt
-
-
-def _shade(color: tuple[float, float, float], factor: float) -> tuple[float, float, float]:
-    r, g, b = color
-    return (min(1.0, r * factor), min(1.0, g * factor), min(1.0, b * factor))
-
-
-# ---------------------------------------------------------------- the two views
-
-
-class _View:
-    """Artists of one view; ``update`` moves them to a snapshot."""
-
-    def __init__(self, motion: Motion, ax: Any, overlays: tuple[str, ...]):
-        self.motion = motion
-        self.ax = ax
-        self.overlays = overlays
-        hints = camera_hints(motion)
-        self.size = hints["size"]
-        self.look_height = hints["lookHeight"]
-        self.distance = hints["distance"]
-        self.weight = motion.weight
-        self.text = ax.text(
-            0.012, 0.975, "", transform=ax.transAxes, va="top", ha="left", fontsize=11,
-            family="DejaVu Sans", zorder=100,
-            bbox={"boxstyle": "round,pad=0.4", "fc": "white", "ec": "#cccccc", "alpha": 0.85},
-        )  # fmt: skip
-
-    def caption(self, snap: Snapshot) -> str:
-        m = self.motion
-        lines = [f"{m.creature}   t = {snap.t:6.3f} s"]
-        if m.status != "ok":
-            lines.append(f"{m.status}: {m.message}")
-        if "state" in self.overlays:
-            lines.append(f"state: {snap.state or '(no controller)'}")
-        if "speed" in self.overlays:
-            command = (
-                f"{snap.speed_command:.2f} m/s" if math.isfinite(snap.speed_command) else "none"
-            )
-            lines.append(f"speed: {snap.speed:.2f} m/s   command: {command}")
-        return "\n".join(lines)
-
-    def update(self, snap: Snapshot) -> None:
-        self.text.set_text(self.caption(snap))
-
-
-class _SideView(_View):
-    """A planar creature seen from -y: x to the right, z up."""
-
-    def __init__(self, motion: Motion, ax: Any, overlays: tuple[str, ...], aspect: float):
-        from matplotlib.collections import LineCollection
-        from matplotlib.patches import Polygon
-
-        super().__init__(motion, ax, overlays)
-        ax.set_facecolor(SKY)
-        self.height = 2 * self.distance * math.tan(math.radians(FIELD_OF_VIEW / 2))
-        self.width = self.height * aspect
-        self.outlines = [side_outline(b) for b in motion.bodies]
-        self.links = []
-        for body in motion.bodies:
-            color = hex_rgb(body.color)
-            patch = Polygon(
-                np.zeros((3, 2)), closed=True, fc=color, ec=_shade(color, 0.6), lw=1.0, zorder=10
-            )
-            ax.add_patch(patch)
-            self.links.append(patch)
-        self.ground = Polygon(np.zeros((3, 2)), closed=True, fc=GROUND, ec=GROUND_EDGE, lw=1.2)
-        ax.add_patch(self.ground)
-        self.ticks = LineCollection([], colors=GROUND_EDGE, linewidths=0.8, zorder=1)
-        ax.add_collection(self.ticks)
-        self.trail = ax.plot([], [], color=TRAIL, lw=1.5, zorder=30)[0]
-        self.com_marker = ax.plot([], [], "o", color=TRAIL, ms=5, zorder=31)[0]
-        self.prints = ax.scatter([], [], s=160, marker="_", linewidths=5, zorder=5)
-        self.arrows = [
-            ax.annotate(
-                "",
-                xy=(0, 0),
-                xytext=(0, 0),
-                zorder=40,
-                arrowprops={"arrowstyle": "-|>", "color": FORCE, "lw": 2, "mutation_scale": 14},
-            )  # fmt: skip
-            for _ in motion.contact_names
-        ]
-
-    def _profile(self, x0: float, x1: float) -> np.ndarray:
-        """The ground's section under [x0, x1] as points (x, z), with vertical edges at steps."""
-        terrain = self.motion.terrain
-        xs = {x0, x1}
-        for t in terrain:
-            for key in ("x", "x0", "x1"):
-                if key in dict(t.params) and x0 < t.get(key) < x1:
-                    xs |= {t.get(key) - 1e-9, t.get(key) + 1e-9}
-        xs_sorted = sorted(xs)
-        return np.array([(x, terrain_height(terrain, x)) for x in xs_sorted])
-
-    def update(self, snap: Snapshot) -> None:
-        super().update(snap)
-        cx = float(snap.com[0])
-        x0, x1 = cx - self.width / 2, cx + self.width / 2
-        z0 = self.look_height - self.height / 2
-        self.ax.set_xlim(x0, x1)
-        self.ax.set_ylim(z0, z0 + self.height)
-        top = self._profile(x0 - 1, x1 + 1)
-        bottom = z0 - 1
-        self.ground.set_xy(np.vstack([top, [(x1 + 1, bottom), (x0 - 1, bottom)]]))
-        step = 0.25 if self.size < 1.5 else 1.0
-        marks = np.arange(math.floor(x0 / step) * step, x1 + step, step)
-        depth = 0.02 * self.height
-        self.ticks.set_segments(
-            [
-                [
-                    (x, terrain_height(self.motion.terrain, x)),
-                    (x, terrain_height(self.motion.terrain, x) - depth),
-                ]
-                for x in marks
-            ]
-        )
-        for patch, outline, p, r in zip(
-            self.links, self.outlines, snap.positions, snap.rotations, strict=True
-        ):
-            rot = np.array([[r[0, 0], r[0, 2]], [r[2, 0], r[2, 2]]])
-            patch.set_xy(outline @ rot.T + np.array([p[0], p[2]]))
-        m = self.motion
-        show_trail = "com" in self.overlays
-        self.trail.set_data(m.com[: snap.frame + 1, 0], m.com[: snap.frame + 1, 2])
-        self.trail.set_visible(show_trail)
-        self.com_marker.set_data([snap.com[0]], [snap.com[2]])
-        self.com_marker.set_visible(show_trail)
-        prints = (
-            [fp for fp in m.footprints if fp.t <= snap.t + 1e-9]
-            if "footprints" in self.overlays
-            else []
-        )
-        self.prints.set_offsets(
-            np.array([(fp.position[0], fp.position[2]) for fp in prints]).reshape(-1, 2)
-        )
-        self.prints.set_color(
-            [FOOTPRINT_COLORS[fp.contact % len(FOOTPRINT_COLORS)] for fp in prints]
-        )
-        per_newton = 0.6 * self.size / self.weight
-        for arrow, p, f in zip(self.arrows, snap.contact_positions, snap.forces, strict=True):
-            length = math.hypot(f[0], f[2]) * per_newton
-            visible = "forces" in self.overlays and length > 1e-3 * self.size
-            arrow.set_visible(visible)
-            if visible:
-                arrow.xy = (p[0] + f[0] * per_newton, p[2] + f[2] * per_newton)
-                arrow.set_position((p[0], p[2]))
-
-
-class _Camera:
-    """A perspective camera looking at a target from (azimuth, elevation, distance), z up."""
-
-    def __init__(self, azimuth: float, elevation: float, distance: float, width: int, height: int):
-        self.azimuth, self.elevation, self.distance = azimuth, elevation, distance
-        self.focal = (height / 2) / math.tan(math.radians(FIELD_OF_VIEW / 2))
-        self.cx, self.cy = width / 2, height / 2
-        self.near = 0.05
-
-    def aim(self, target: np.ndarray) -> None:
-        c = math.cos(self.elevation)
-        offset = self.distance * np.array(
-            [c * math.cos(self.azimuth), c * math.sin(self.azimuth), math.sin(self.elevation)]
-        )
-        self.eye = target + offset
-        forward = -offset / np.linalg.norm(offset)
-        right = np.cross(forward, [0.0, 0.0, 1.0])
-        right /= np.linalg.norm(right)
-        up = np.cross(right, forward)
-        self.rot = np.array([right, up, forward])  # world -> camera (x right, y up, z depth)
-
-    def to_camera(self, points: np.ndarray) -> np.ndarray:
-        return np.asarray((points - self.eye) @ self.rot.T)
-
-    def to_pixels(self, cam: np.ndarray) -> np.ndarray:
-        """Camera coordinates (depth > 0) to pixels, y up (matplotlib's)."""
-        return np.column_stack(
-            [
-                self.cx + self.focal * cam[..., 0] / cam[..., 2],
-                self.cy + self.focal * cam[..., 1] / cam[..., 2],
-            ]
-        )
-
-    def clip(self, cam: np.ndarray) -> np.ndarray:
-        """A convex polygon in camera coordinates cut to the part in front of the near plane."""
-        out = []
-        n = len(cam)
-        for i in range(n):
-            a, b = cam[i], cam[(i + 1) % n]
-            a_in, b_in = a[2] >= self.near, b[2] >= self.near
-            if a_in:
-                out.append(a)
-            if a_in != b_in:
-                s = (self.near - a[2]) / (b[2] - a[2])
-                out.append(a + s * (b - a))
-        return np.array(out).reshape(-1, 3)
-
-
-class _PerspectiveView(_View):
-    """A 3D creature from the player's default camera: shaded meshes, shadows, ground grid."""
-
-    LIGHT = np.array([4.0, -3.0, 8.0]) / math.sqrt(89.0)  # towards the light, as in the player
-
-    def __init__(self, motion: Motion, ax: Any, overlays: tuple[str, ...], width: int, height: int):
-        from matplotlib.collections import LineCollection, PolyCollection
-
-        super().__init__(motion, ax, overlays)
-        ax.set_facecolor(SKY)
-        ax.set_xlim(0, width)
-        ax.set_ylim(0, height)
-        self.camera = _Camera(-math.pi / 3, 0.33, self.distance, width, height)
-        self.meshes: list[Mesh] = [body_mesh(b, box_divisions=4) for b in motion.bodies]
-        self.colors = [np.array(hex_rgb(b.color)) for b in motion.bodies]
-        self.ground = PolyCollection([], facecolors=GROUND, edgecolors="none", zorder=0)
-        self.grid = LineCollection([], colors="#b2b2ac", linewidths=0.7, zorder=1)
-        self.shadows = PolyCollection(
-            [], facecolors="#a9a9a4", edgecolors="#a9a9a4", linewidths=0.3, zorder=2
-        )
-        self.prints = PolyCollection([], edgecolors="none", alpha=0.8, zorder=3)
-        self.trail = LineCollection([], colors=TRAIL, linewidths=1.6, zorder=50)
-        # Edges in the face colour, wide enough to close the antialiasing seams between triangles.
-        self.solids = PolyCollection([], linewidths=0.9, zorder=10)
-        self.forces = LineCollection([], colors=FORCE, linewidths=2.2, zorder=60)
-        for artist in (
-            self.ground,
-            self.grid,
-            self.shadows,
-            self.prints,
-            self.solids,
-            self.trail,
-            self.forces,
-        ):
-            ax.add_collection(artist)
-        self.com_marker = ax.plot([], [], "o", color=TRAIL, ms=5, zorder=51)[0]
-
-    def _flat(self, polygons: list[np.ndarray]) -> list[np.ndarray]:
-        """World polygons to clipped pixel polygons (dropping those wholly behind the camera)."""
-        out = []
-        for poly in polygons:
-            cam = self.camera.clip(self.camera.to_camera(poly))
-            if len(cam) >= 3:
-                out.append(self.camera.to_pixels(cam))
-        return out
-
-    def _segments(self, segments: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarray]:
-        out = []
-        for a, b in segments:
-            ca, cb = self.camera.to_camera(np.array([a, b]))
-            near = self.camera.near
-            if ca[2] < near and cb[2] < near:
-                continue
-            if ca[2] < near:
-                ca = ca + (near - ca[2]) / (cb[2] - ca[2]) * (cb - ca)
-            elif cb[2] < near:
-                cb = cb + (near - cb[2]) / (ca[2] - cb[2]) * (ca - cb)
-            out.append(self.camera.to_pixels(np.array([ca, cb])))
-        return out
-
-    def update(self, snap: Snapshot) -> None:
-        super().update(snap)
-        cam = self.camera
-        target = np.array([snap.com[0], snap.com[1], self.look_height])
-        cam.aim(target)
-        m = self.motion
-        reach = 4.0 * self.distance
-        cx, cy = float(target[0]), float(target[1])
-        ground = [
-            np.array(
-                [
-                    (cx - reach, cy - reach, 0),
-                    (cx + reach, cy - reach, 0),
-                    (cx + reach, cy + reach, 0),
-                    (cx - reach, cy + reach, 0),
-                ],
-                dtype=float,
-            )
-        ]
-        self.ground.set_verts(self._flat(ground))
-        step = 0.25 if self.size < 1.5 else 1.0
-        span = 2.0 * self.distance
-        lines = []
-        for k in (
-            np.arange(math.floor((cx - span) / step), math.ceil((cx + span) / step) + 1) * step
-        ):
-            lines.append((np.array([k, cy - span, 0.0]), np.array([k, cy + span, 0.0])))
-        for k in (
-            np.arange(math.floor((cy - span) / step), math.ceil((cy + span) / step) + 1) * step
-        ):
-            lines.append((np.array([cx - span, k, 0.0]), np.array([cx + span, k, 0.0])))
-        self.grid.set_segments(self._segments(lines))
-
-        # Terrain blocks and the creature, sorted back to front together.
-        faces: list[tuple[float, np.ndarray, Any]] = []
-        shadows: list[np.ndarray] = []
-        for mesh, color, p, r in zip(
-            self.meshes, self.colors, snap.positions, snap.rotations, strict=True
-        ):
-            world = mesh.positions @ r.T + p
-            normals = mesh.normals @ r.T
-            tris = world[mesh.indices]
-            tri_normals = normals[mesh.indices].mean(axis=1)
-            # Facing the camera: the normal points back along the line of sight (perspective).
-            facing = np.einsum("ij,ij->i", tri_normals, tris.mean(axis=1) - cam.eye) < 0
-            light = np.clip(tri_normals @ self.LIGHT, 0.0, 1.0)
-            for tri, lit, front in zip(tris, light, facing, strict=True):
-                if front:
-                    depth = float(cam.to_camera(tri.mean(axis=0, keepdims=True))[0, 2])
-                    faces.append((depth, tri, _shade(tuple(color), 0.55 + 0.6 * lit)))
-            if not m.terrain:
-                # Shadow on z = 0 along the light.
-                shadow = tris - (tris[..., 2:3] / self.LIGHT[2]) * self.LIGHT
-                shadows.extend(shadow)
-        for box in _terrain_boxes(m, cx, cy, reach):
-            for face in box:
-                depth = float(cam.to_camera(face.mean(axis=0, keepdims=True))[0, 2])
-                faces.append((depth, face, hex_rgb(TERRAIN)))
-        faces.sort(key=lambda f: -f[0])
-        polys = [f[1] for f in faces]
-        flat = []
-        colors = []
-        for poly, (_, _, color) in zip(polys, faces, strict=True):
-            cam_poly = cam.clip(cam.to_camera(poly))
-            if len(cam_poly) >= 3:
-                flat.append(cam.to_pixels(cam_poly))
-                colors.append(color)
-        self.solids.set_verts(flat)
-        self.solids.set_facecolor(colors)
-        self.solids.set_edgecolor(colors)
-        self.shadows.set_verts(self._flat(shadows))
-
-        prints = (
-            [fp for fp in m.footprints if fp.t <= snap.t + 1e-9]
-            if "footprints" in self.overlays
-            else []
-        )
-        radius = 0.06 * self.size
-        circle = np.column_stack(
-            [
-                np.cos(np.linspace(0, 2 * np.pi, 16)),
-                np.sin(np.linspace(0, 2 * np.pi, 16)),
-                np.zeros(16),
-            ]
-        )
-        self.prints.set_verts(
-            self._flat([np.array(fp.position) + radius * circle for fp in prints])
-        )
-        self.prints.set_facecolor(
-            [FOOTPRINT_COLORS[fp.contact % len(FOOTPRINT_COLORS)] for fp in prints]
-        )
-
-        show_trail = "com" in self.overlays
-        trail = m.com[: snap.frame + 1]
-        self.trail.set_segments(
-            self._segments(list(zip(trail[:-1], trail[1:], strict=True))) if show_trail else []
-        )
-        marker = cam.to_pixels(cam.to_camera(snap.com[None, :]))[0]
-        self.com_marker.set_data([marker[0]], [marker[1]])
-        self.com_marker.set_visible(show_trail)
-
-        per_newton = 0.6 * self.size / self.weight
-        arrows = []
-        if "forces" in self.overlays:
-            for p, f in zip(snap.contact_positions, snap.forces, strict=True):
-                if np.linalg.norm(f) * per_newton > 1e-3 * self.size:
-                    arrows += _arrow_segments(p, p + f * per_newton)
-        self.forces.set_segments(self._segments(arrows))
-
-
-def _arrow_segments(a: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """A shaft and a two-stroke head, in world space (the head lies in a vertical plane)."""
-    d = b - a
-    length = float(np.linalg.norm(d))
-    u = d / length
-    side = np.cross(u, [0.0, 0.0, 1.0])
-    if np.linalg.norm(side) < 1e-6:
-        side = np.array([1.0, 0.0, 0.0])
-    side /= np.linalg.norm(side)
-    head = 0.25 * length
-    back = b - head * u
-    return [(a, b), (b, back + 0.4 * head * side), (b, back - 0.4 * head * side)]
-
-
-def _terrain_boxes(m: Motion, cx: float, cy: float, reach: float) -> list[list[np.ndarray]]:
-    """The visible faces of the terrain's steps and boxes (each a list of four-corner faces)."""
-    boxes = []
-    for t in m.terrain:
-        if t.kind == "step":
-            x0, x1, y0, y1 = t.get("x"), cx + reach, cy - reach, cy + reach
-        elif t.kind == "box":
-            x0, x1 = t.get("x0"), t.get("x1")
-            y0, y1 = max(t.get("y0"), cy - reach), min(t.get("y1"), cy + reach)
-        else:
-            continue
-        if x1 <= x0:
-            continue
-        h = t.get("height")
-        c = np.array([[x, y, z] for z in (0, h) for y in (y0, y1) for x in (x0, x1)], dtype=float)
-        quads = [(4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-        boxes.append([c[list(q)] for q in quads])
-    return boxes
 
 
 # ---------------------------------------------------------------- rendering
@@ -491,10 +74,10 @@ def render_video(
     ax = fig.add_axes((0, 0, 1, 1))
     ax.set_axis_off()
     ax.set_autoscale_on(False)
-    view: _View = (
-        _SideView(motion, ax, overlays, width / height)
+    view: View = (
+        SideView(motion, ax, overlays, width / height)
         if motion.planar
-        else _PerspectiveView(motion, ax, overlays, width, height)
+        else PerspectiveView(motion, ax, overlays, width, height)
     )
     if motion.planar:
         ax.set_aspect("auto")
@@ -519,7 +102,7 @@ def render_video(
     return VideoResult(path, len(times), time.perf_counter() - start, path.stat().st_size)
 
 
-def _frame(fig: Any, view: _View, snap: Snapshot) -> np.ndarray:
+def _frame(fig: Any, view: View, snap: Snapshot) -> np.ndarray:
     view.update(snap)
     fig.canvas.draw()
     return np.asarray(fig.canvas.buffer_rgba())[..., :3]

@@ -1,0 +1,76 @@
+"""The friction coefficient each contact needed to stay put: ``|F_t| / F_n`` over its
+complete stances, with and without the first and last instants of each stance."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from legdsl.analysis.results import Friction, Summary
+from legdsl.analysis.strides import EPS_T, in_window, runs
+from legdsl.sim.trajectory import Trajectory
+
+MIN_NORMAL_FRACTION = 0.01  # of body weight: below this the friction ratio is not computed
+
+
+def contact_friction(
+    tr: Trajectory, c: int, lo: float, hi: float, edge: float, min_normal_fraction: float
+) -> Friction:
+    """|F_t| / F_n over the complete stances of contact ``c``. Samples whose normal force is
+    below ``min_normal_fraction`` of body weight (or not pushing at all) are skipped: at the
+    first and last instants of contact the ratio of two near-zero forces is noise."""
+    floor = min_normal_fraction * tr.total_mass * tr.gravity
+    floor = floor if floor > 0 else 1e-9
+    fn = tr.force[:, c, 2]
+    ratio = np.hypot(tr.force[:, c, 0], tr.force[:, c, 1]) / np.where(fn > floor, fn, np.inf)
+    usable = fn > floor
+    a, b = runs(tr.contact[:, c] != 0)
+    keep = in_window(tr.t, a, b, lo, hi)
+    peaks, interior_peaks, used, skipped = [], [], 0, 0
+    for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
+        t = tr.t[s:e]
+        ok = usable[s:e]
+        away = (t - tr.t[s] >= edge - EPS_T) & (tr.t[e] - t > edge + EPS_T)
+        peaks.append(_masked_max(ratio[s:e], ok))
+        interior_peaks.append(_masked_max(ratio[s:e], ok & away))
+        used += int(ok.sum())
+        skipped += int((~ok).sum())
+    return Friction(
+        contact=tr.contact_names[c],
+        peak=_nanmax(peaks),
+        peak_interior=_nanmax(interior_peaks),
+        stance_peaks=peaks,
+        stance_peaks_interior=interior_peaks,
+        samples=used,
+        skipped=skipped,
+        edge=edge,
+    )
+
+
+def _masked_max(x: np.ndarray, mask: np.ndarray) -> float:
+    return float(np.max(x[mask])) if mask.any() else math.nan
+
+
+def _nanmax(values: Sequence[float]) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return max(finite) if finite else math.nan
+
+
+def friction_rows(f: Friction) -> list[Summary]:
+    n = sum(math.isfinite(p) for p in f.stance_peaks)  # stances with a usable sample
+    n_in = sum(math.isfinite(p) for p in f.stance_peaks_interior)
+    label = f"friction coefficient needed, {f.contact}"
+    away = f"past first/last {f.edge * 1000:g} ms"
+    return [
+        Summary(f"friction_{f.contact}", f"{label} (-)", f.peak, math.nan, n, "max"),
+        Summary(
+            f"friction_interior_{f.contact}",
+            f"{label}, {away} (-)",
+            f.peak_interior,
+            math.nan,
+            n_in,
+            "max",
+        ),
+    ]

@@ -1,0 +1,162 @@
+"""What the gait metrics of a run are: its stances, flights and friction needs, the
+averaged rows (``Summary``) and all of them together (``GaitMetrics``), as text and JSON."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a stance
+
+
+class MetricsError(ValueError):
+    """A request the run cannot answer: an unknown leg, group or coordinate, an empty window."""
+
+
+@dataclass(frozen=True)
+class Stance:
+    """One complete stance of a leg, a virtual leg (``kind == "group"``) or a bare contact."""
+
+    unit: str
+    kind: str  # "leg", "group" or "contact"
+    t_touchdown: float  # s
+    t_liftoff: float  # s
+    stride: int  # index of the counted stride its touchdown falls in, -1 if none
+    leg_length_change: float  # m: max - min of leg_length during the stance (legs only)
+    stored_energy: float  # J: peak leg-spring energy in the stance minus its value at touchdown
+    recirculated: float  # stored_energy / external-energy fluctuation of its stride
+
+    @property
+    def duration(self) -> float:
+        return self.t_liftoff - self.t_touchdown
+
+
+@dataclass(frozen=True)
+class Flight:
+    """One complete flight: no contact touches from ``t_start`` to ``t_end``."""
+
+    t_start: float  # s
+    t_end: float  # s
+    before: str  # the leg or virtual leg whose touchdown ends it
+    stride: int  # index of the counted stride it falls in, -1 if none
+
+    @property
+    def duration(self) -> float:
+        return self.t_end - self.t_start
+
+
+@dataclass(frozen=True)
+class Friction:
+    """The friction coefficient one contact needed to stay put, over its complete stances."""
+
+    contact: str
+    peak: float  # max |F_t| / F_n over every usable stance sample
+    peak_interior: float  # the same without the first and last ``edge`` seconds of each stance
+    stance_peaks: list[float]  # per complete stance (NaN if no sample was usable)
+    stance_peaks_interior: list[float]
+    samples: int  # stance samples used
+    skipped: int  # stance samples left out because the normal force was below the floor
+    edge: float = FRICTION_EDGE  # s left out at each end of a stance for ``peak_interior``
+
+
+@dataclass(frozen=True)
+class Summary:
+    """One row of the table: a mean over strides, stances or steps, or a maximum."""
+
+    key: str
+    label: str  # Table 2 wording, unit in brackets
+    value: float
+    std: float  # sample standard deviation; NaN for a maximum or fewer than two values
+    n: int  # how many values went in
+    how: str = "mean"  # or "max"
+
+
+@dataclass
+class GaitMetrics:
+    """Per-stride series, every stance and flight, friction per contact, and the averaged rows."""
+
+    t_from: float
+    t_to: float
+    reference: str
+    per_stride: dict[str, list[float]]
+    stances: list[Stance]
+    flights: list[Flight]
+    friction: list[Friction]
+    summaries: list[Summary]
+    note: str = ""  # why there are no strides, when there are none
+    options: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_strides(self) -> int:
+        return len(self.per_stride["duration"])
+
+    def summary(self, key: str) -> Summary:
+        for s in self.summaries:
+            if s.key == key:
+                return s
+        raise KeyError(key)
+
+    def value(self, key: str) -> float:
+        return self.summary(key).value
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data; NaN becomes null."""
+        data = {
+            "window": {"from": self.t_from, "to": self.t_to},
+            "reference": self.reference,
+            "n_strides": self.n_strides,
+            "note": self.note,
+            "options": self.options,
+            "summary": {
+                s.key: {k: v for k, v in asdict(s).items() if k != "key"} for s in self.summaries
+            },
+            "strides": self.per_stride,
+            "stances": [asdict(s) | {"duration": s.duration} for s in self.stances],
+            "flights": [asdict(f) | {"duration": f.duration} for f in self.flights],
+            "friction": [asdict(f) for f in self.friction],
+        }
+        return jsonable(data)
+
+    def table(self) -> str:
+        """The averaged rows as text, with units."""
+        head = (
+            f"gait metrics from {self.t_from:.3f} s to {self.t_to:.3f} s: "
+            f"{self.n_strides} stride{'' if self.n_strides == 1 else 's'} (reference: {self.reference})"
+        )
+        lines = [head]
+        if self.note:
+            lines.append(f"no strides: {self.note}")
+        width = max([len(s.label) for s in self.summaries] + [8])
+        lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
+        for s in self.summaries:
+            spread = "(peak)" if s.how == "max" else num_text(s.std)  # a maximum has no spread
+            lines.append(f"{s.label:<{width}}  {num_text(s.value):>10}  {spread:>10}  {s.n:>4}")
+        return "\n".join(lines) + "\n"
+
+
+def write_json(metrics: GaitMetrics, path: Path) -> None:
+    """Write ``metrics.to_dict()`` to ``path`` whole or not at all."""
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(metrics.to_dict(), indent=2, allow_nan=False) + "\n")
+    tmp.replace(path)
+
+
+def num_text(x: float) -> str:
+    return "n/a" if not math.isfinite(x) else f"{x:.3f}"
+
+
+def jsonable(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x

@@ -1,0 +1,115 @@
+"""The averaged rows of the gait metrics (Table 2's quantities): means over strides,
+stances and steps, and the friction maxima."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from legdsl.analysis.friction import friction_rows
+from legdsl.analysis.results import Flight, Friction, Stance, Summary
+from legdsl.analysis.strides import Unit
+from legdsl.sim.trajectory import Trajectory
+
+
+def stat(key: str, label: str, values: Sequence[float]) -> Summary:
+    x = np.asarray([v for v in values if math.isfinite(v)], dtype=float)
+    mean = float(np.mean(x)) if x.size else math.nan
+    std = float(np.std(x, ddof=1)) if x.size > 1 else math.nan
+    return Summary(key, label, mean, std, int(x.size))
+
+
+def summary_rows(
+    tr: Trajectory,
+    units: list[Unit],
+    per_stride: dict[str, list[float]],
+    stances: list[Stance],
+    flights: list[Flight],
+    friction: list[Friction],
+    joint: str | None,
+    against: str | None,
+) -> list[Summary]:
+    ps = per_stride
+    legs = [u for u in units if u.kind in ("leg", "contact")]
+    groups = [u for u in units if u.kind == "group"]
+    grouped = {leg for g in groups for leg in g.legs}
+    rows = [
+        stat("stride_duration", "stride duration (s)", ps["duration"]),
+        stat("stride_length", "stride length (m)", ps["length"]),
+        stat("flight_duration", "flight duration (s)", [f.duration for f in flights]),
+    ]
+    landings = sorted({f.before for f in flights})
+    for name in landings if len(landings) > 1 else []:  # one kind of flight: the row above
+        rows.append(
+            stat(
+                f"flight_duration_before_{name}",
+                f"flight duration before {name} (s)",
+                [f.duration for f in flights if f.before == name],
+            )
+        )
+    rows.append(stat("flight_time", "flight time per stride (s)", ps["flight_time"]))
+    leg_stances = [s for s in stances if s.kind != "group"]
+    rows.append(stat("stance_duration", "stance duration (s)", [s.duration for s in leg_stances]))
+    for u in (legs if len(legs) > 1 else []) + groups:
+        rows.append(
+            stat(
+                f"stance_duration_{u.name}",
+                f"stance duration, {u.name} (s)",
+                [s.duration for s in stances if s.unit == u.name],
+            )
+        )
+    if tr.leg_names:
+        changes = [s.leg_length_change for s in stances if s.kind == "leg"]
+        rows.append(stat("leg_length_change", "change of leg length during support (m)", changes))
+        for u in legs if len(legs) > 1 else []:
+            rows.append(
+                stat(
+                    f"leg_length_change_{u.name}",
+                    f"change of leg length during support, {u.name} (m)",
+                    [s.leg_length_change for s in stances if s.unit == u.name],
+                )
+            )
+    rows += [
+        stat("pitch_magnitude", "pitch magnitude (deg)", ps["pitch_magnitude"]),
+        stat("roll_magnitude", "roll magnitude (deg)", ps["roll_magnitude"]),
+        stat("running_speed", "running speed (m/s)", ps["speed"]),
+        stat("desired_speed", "desired running speed (m/s)", ps["speed_command"]),
+        stat("speed_error", "error in running speed (m/s)", ps["speed_error"]),
+        stat(
+            "peak_vertical_acceleration",
+            "peak vertical acceleration (g)",
+            ps["peak_vertical_acceleration"],
+        ),
+    ]
+    if tr.planar:  # a planar run has no roll
+        rows = [r for r in rows if r.key != "roll_magnitude"]
+    if joint is not None:
+        rows.append(stat("joint_magnitude", f"magnitude of {joint} (deg)", ps["joint_magnitude"]))
+    if against is not None:
+        rows.append(
+            stat(
+                "joint_correlation",
+                f"correlation of {joint} with {against} (-)",
+                ps["joint_correlation"],
+            )
+        )
+    # A step is a stance of a virtual leg, or of a leg that belongs to none.
+    steps = [
+        s
+        for s in stances
+        if s.kind == "group" or (s.kind == "leg" and tr.leg_names.index(s.unit) not in grouped)
+    ]
+    if tr.leg_names:
+        stored = [s.stored_energy for s in steps]
+        fraction = [s.recirculated for s in steps]
+        swing = ps["energy_fluctuation"]
+        rows += [
+            stat("stored_energy", "elastic energy stored per step (J)", stored),
+            stat("energy_fluctuation", "external energy fluctuation per stride (J)", swing),
+            stat("energy_recirculated", "elastic energy recirculated per step (-)", fraction),
+        ]
+    for f in friction:
+        rows += friction_rows(f)
+    return rows

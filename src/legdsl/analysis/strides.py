@@ -1,0 +1,260 @@
+"""Strides, stances and flights of a recorded run, found from its ``contact`` flags.
+
+A touchdown is the first sample in contact and a liftoff the first sample out of contact,
+so a stance is the half-open sample range ``[touchdown, liftoff)``. Stances and flights
+count when both their ends were seen inside the window; strides when they lie wholly in
+it. Each counted stride also gets its series of values (duration, length, pitch and roll
+magnitude, speed, peak vertical acceleration, external-energy fluctuation, and the
+magnitude and correlation of chosen coordinates).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from legdsl.analysis.results import Flight, MetricsError, Stance
+from legdsl.sim.trajectory import Trajectory
+
+EPS_T = 1e-9  # s: slack for comparing sample times that went through floating point
+
+
+@dataclass(frozen=True)
+class Unit:
+    """Something that has stances: a leg, a virtual leg, or a contact of a run without legs."""
+
+    name: str
+    kind: str
+    contacts: tuple[int, ...]
+    legs: tuple[int, ...]
+
+
+def stance_units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[Unit]:
+    legs = list(tr.leg_names)
+    if legs:
+        units = [Unit(n, "leg", foot_contacts(tr, i), (i,)) for i, n in enumerate(legs)]
+    else:  # a run without legs: each contact stands for itself
+        units = [Unit(n, "contact", (i,), ()) for i, n in enumerate(tr.contact_names)]
+    taken = {u.name for u in units}
+    for name, members in groups.items():
+        unknown = [m for m in members if m not in legs]
+        if unknown:
+            raise MetricsError(
+                f"group {name!r}: no leg named {', '.join(unknown)} (legs: {', '.join(legs) or 'none'})"
+            )
+        if name in taken:
+            raise MetricsError(f"group {name!r} has the name of a leg")
+        idx = tuple(legs.index(m) for m in members)
+        units.append(Unit(name, "group", sum((foot_contacts(tr, i) for i in idx), ()), idx))
+    return units
+
+
+def foot_contacts(tr: Trajectory, leg: int) -> tuple[int, ...]:
+    """The contact index of a leg's foot; none if the recording names no valid foot for it."""
+    feet = tr.leg_feet
+    ok = leg < len(feet) and 0 <= feet[leg] < len(tr.contact_names)
+    return (feet[leg],) if ok else ()
+
+
+def reference(tr: Trajectory, units: list[Unit], leg: str | None) -> tuple[str, tuple[int, ...]]:
+    if leg is None:
+        if not units:
+            return "none", ()
+        return units[0].name, units[0].contacts
+    for u in units:
+        if u.name == leg:
+            return u.name, u.contacts
+    if leg in tr.contact_names:
+        return leg, (tr.contact_names.index(leg),)
+    known = ", ".join([u.name for u in units] + list(tr.contact_names))
+    raise MetricsError(f"no leg, group or contact named {leg!r} (known: {known or 'none'})")
+
+
+def coordinates(tr: Trajectory, joint: str | None, against: str | None) -> dict[str, int]:
+    if against is not None and joint is None:
+        raise MetricsError("--against needs --joint: the correlation is of the joint with it")
+    cols = {}
+    for role, name in (("joint", joint), ("against", against)):
+        if name is None:
+            continue
+        if name not in tr.q_names:
+            raise MetricsError(
+                f"no coordinate named {name!r} (coordinates: {', '.join(tr.q_names) or 'none'})"
+            )
+        cols[role] = tr.q_names.index(name)
+    return cols
+
+
+def touching(tr: Trajectory, contacts: Sequence[int]) -> np.ndarray:
+    """True where any of ``contacts`` touches: the stance of a leg or of a virtual leg."""
+    if not contacts:
+        return np.zeros(len(tr), dtype=bool)
+    return np.any(tr.contact[:, list(contacts)] != 0, axis=1)
+
+
+def _edges(on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sample indices of rises (first sample on) and falls (first sample off)."""
+    d = np.diff(on.astype(np.int8))
+    return np.flatnonzero(d == 1) + 1, np.flatnonzero(d == -1) + 1
+
+
+def runs(on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Complete runs of ``on`` as half-open ``[start, stop)``: a run already on at the first
+    sample, or still on at the last, is left out because one of its ends was not seen."""
+    rises, falls = _edges(on)
+    falls = falls[falls > rises[0]] if rises.size else falls[:0]
+    return rises[: falls.size], falls
+
+
+def in_window(t: np.ndarray, a: np.ndarray, b: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    return (t[a] >= lo - EPS_T) & (t[b] <= hi + EPS_T)
+
+
+def counted_strides(
+    t: np.ndarray, ref_on: np.ndarray, lo: float, hi: float, ref_name: str
+) -> tuple[np.ndarray, np.ndarray, str]:
+    """Counted strides as sample indices (start, end) of consecutive reference touchdowns."""
+    touchdowns, _ = _edges(ref_on)
+    a, b = touchdowns[:-1], touchdowns[1:]
+    keep = in_window(t, a, b, lo, hi)
+    a, b = a[keep], b[keep]
+    note = ""
+    if a.size == 0:
+        inside = int(
+            np.count_nonzero((t[touchdowns] >= lo - EPS_T) & (t[touchdowns] <= hi + EPS_T))
+        )
+        note = (
+            f"the reference foot ({ref_name}) touches down {inside} time(s) in the window; "
+            "a stride needs two"
+        )
+    return a, b, note
+
+
+def _stride_of(index: int, starts: np.ndarray, ends: np.ndarray) -> int:
+    k = int(np.searchsorted(starts, index, side="right")) - 1
+    return k if k >= 0 and index < ends[k] else -1
+
+
+def stride_series(
+    tr: Trajectory, starts: np.ndarray, ends: np.ndarray, cols: dict[str, int]
+) -> dict[str, list[float]]:
+    """One value per counted stride. Means use the samples ``[start, end)`` so a periodic
+    signal is averaged over whole periods; extrema use ``[start, end]``."""
+    t, g, mass = tr.t, tr.gravity, tr.total_mass
+    yaw = tr.root_rpy[:, 2]
+    forward = tr.com_vel[:, 0] * np.cos(yaw) + tr.com_vel[:, 1] * np.sin(yaw)
+    horizontal = tr.com[:, :2] if not tr.planar else tr.com[:, :1]
+    if mass > 0:
+        fz = tr.force[:, :, 2].sum(axis=1)
+        acc_g = (fz / mass - g) / g
+    else:  # no mass recorded: the acceleration cannot be told from the forces
+        acc_g = np.full(len(tr), np.nan)
+    e_ext = 0.5 * mass * np.sum(tr.com_vel**2, axis=1) + mass * g * tr.com[:, 2]
+    pitch, roll = np.degrees(tr.root_rpy[:, 1]), np.degrees(tr.root_rpy[:, 0])
+
+    names = ["t_start", "t_end", "duration", "length", "pitch_magnitude", "roll_magnitude"]
+    names += ["speed", "speed_command", "speed_error", "peak_vertical_acceleration"]
+    series: dict[str, list[float]] = {k: [] for k in names + ["energy_fluctuation"]}
+    if "joint" in cols:
+        series["joint_magnitude"] = []
+    if "against" in cols:
+        series["joint_correlation"] = []
+    for a, b in zip(starts.tolist(), ends.tolist(), strict=True):
+        closed = slice(a, b + 1)
+        cmd = tr.speed_command[a:b]
+        series["t_start"].append(float(t[a]))
+        series["t_end"].append(float(t[b]))
+        series["duration"].append(float(t[b] - t[a]))
+        series["length"].append(_displacement(horizontal[b] - horizontal[a]))
+        series["pitch_magnitude"].append(_ptp(pitch[closed]))
+        series["roll_magnitude"].append(math.nan if tr.planar else _ptp(roll[closed]))
+        series["speed"].append(float(np.mean(forward[a:b])))
+        series["speed_command"].append(_finite_mean(cmd))
+        series["speed_error"].append(_finite_mean(forward[a:b] - cmd))
+        series["peak_vertical_acceleration"].append(float(np.max(acc_g[closed])))
+        series["energy_fluctuation"].append(_ptp(e_ext[closed]))
+        if "joint" in cols:
+            q = tr.q[closed, cols["joint"]]
+            series["joint_magnitude"].append(math.degrees(_ptp(q)))
+            if "against" in cols:
+                series["joint_correlation"].append(_correlation(q, tr.q[closed, cols["against"]]))
+    return series
+
+
+def _displacement(d: np.ndarray) -> float:
+    """Planar: the signed forward displacement; 3D: the horizontal straight-line distance."""
+    return float(d[0]) if d.size == 1 else float(np.hypot(d[0], d[1]))
+
+
+def _ptp(x: np.ndarray) -> float:
+    return float(np.max(x) - np.min(x))
+
+
+def _finite_mean(x: np.ndarray) -> float:
+    ok = np.isfinite(x)
+    return float(np.mean(x[ok])) if ok.any() else math.nan
+
+
+def _correlation(x: np.ndarray, y: np.ndarray) -> float:
+    """Pearson correlation; NaN when either signal is constant (no phase to speak of)."""
+    if _ptp(x) == 0 or _ptp(y) == 0:
+        return math.nan
+    return float(np.corrcoef(x, y)[0, 1])
+
+
+def all_stances(
+    tr: Trajectory,
+    units: list[Unit],
+    starts: np.ndarray,
+    ends: np.ndarray,
+    fluctuation: list[float],
+    lo: float,
+    hi: float,
+) -> list[Stance]:
+    out: list[Stance] = []
+    for u in units:
+        a, b = runs(touching(tr, u.contacts))
+        keep = in_window(tr.t, a, b, lo, hi)
+        spring = tr.leg_spring_energy[:, list(u.legs)].sum(axis=1) if u.legs else None
+        for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
+            k = _stride_of(s, starts, ends)
+            length_change = _ptp(tr.leg_length[s:e, u.legs[0]]) if u.kind == "leg" else math.nan
+            stored = float(np.max(spring[s:e]) - spring[s]) if spring is not None else math.nan
+            swing = fluctuation[k] if k >= 0 else math.nan
+            out.append(
+                Stance(
+                    unit=u.name,
+                    kind=u.kind,
+                    t_touchdown=float(tr.t[s]),
+                    t_liftoff=float(tr.t[e]),
+                    stride=k,
+                    leg_length_change=length_change,
+                    stored_energy=stored,
+                    recirculated=stored / swing if swing > 0 else math.nan,
+                )
+            )
+    return out
+
+
+def all_flights(
+    tr: Trajectory, units: list[Unit], starts: np.ndarray, ends: np.ndarray, lo: float, hi: float
+) -> list[Flight]:
+    if not tr.contact_names:
+        return []
+    touching = tr.contact != 0
+    a, b = runs(~touching.any(axis=1))
+    keep = in_window(tr.t, a, b, lo, hi)
+    # Name a flight by the virtual leg (or else the leg) whose touchdown ends it.
+    owner: dict[int, str] = {}
+    for u in sorted(units, key=lambda u: u.kind != "group"):
+        for c in u.contacts:
+            owner.setdefault(c, u.name)
+    out = []
+    for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
+        landing = np.flatnonzero(touching[e])
+        before = "+".join(sorted({owner.get(int(c), tr.contact_names[c]) for c in landing}))
+        out.append(Flight(float(tr.t[s]), float(tr.t[e]), before, _stride_of(s, starts, ends)))
+    return out

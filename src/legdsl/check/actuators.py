@@ -1,0 +1,148 @@
+"""Actuators on joint coordinates (spring, servo, force or torque) and contact points on
+bodies."""
+
+from __future__ import annotations
+
+from legdsl.check.scope import CreaturePart
+from legdsl.check.values import article, did_you_mean, unit_hint
+from legdsl.ir.model import Actuator, Body, Contact, Dof, setting_kind
+from legdsl.lang import ast
+from legdsl.lang.units import KINDS
+
+ACTUATOR_ARGS = {
+    "spring": ("k", "b", "rest", "max"),
+    "servo": ("kp", "kv", "setpoint", "max"),
+    "force": ("max",),
+}
+
+
+class ActuatorChecker(CreaturePart):
+    """Checks actuator and contact declarations."""
+
+    def actuator(self, decl: ast.ActuatorDecl, dofs: dict[str, Dof]) -> Actuator | None:
+        self.declare(decl.name, "actuator")
+        kind = decl.kind.name
+        if kind == "torque":
+            kind = "force"
+        if kind not in ACTUATOR_ARGS:
+            self.err(
+                decl.kind.span,
+                f"unknown actuator kind '{kind}'; use spring (eq. 1), servo (eq. 5), force or torque"
+                + did_you_mean(kind, [*ACTUATOR_ARGS, "torque"]),
+            )
+            return None
+        dof = dofs.get(decl.coordinate.name)
+        if dof is None:
+            self.err(
+                decl.coordinate.span,
+                f"actuator '{decl.name.name}' is on '{decl.coordinate.name}', which is not a "
+                f"joint coordinate{did_you_mean(decl.coordinate.name, dofs)}",
+            )
+            return None
+        rotary = dof.motion == "hinge"
+        kinds = {
+            key: setting_kind(key, rotary)
+            for key in ("k", "b", "kp", "kv", "rest", "setpoint", "max")
+        }
+        joint_desc = f"{'revolute' if rotary else 'sliding'} coordinate '{dof.name}'"
+        params: dict[str, float] = {}
+        given: set[str] = set()  # written, even if wrong (then reported on its own)
+        limit = None
+        for arg in decl.args:
+            if arg.keyword is None:
+                self.err(
+                    arg.span,
+                    f"name each argument, as in {kind}({', '.join(a + ' = ...' for a in ACTUATOR_ARGS[kind])})",
+                )
+                continue
+            key = arg.keyword.name
+            if key not in ACTUATOR_ARGS[kind]:
+                self.err(
+                    arg.keyword.span,
+                    f"a {kind} has no '{key}'; it takes {', '.join(ACTUATOR_ARGS[kind])}{did_you_mean(key, ACTUATOR_ARGS[kind])}",
+                )
+                continue
+            if key in given:
+                self.err(arg.keyword.span, f"'{key}' is given twice")
+                continue
+            given.add(key)
+            want = kinds[key]
+            wrong = self.wrong_motion(arg.value, want)
+            if wrong:
+                self.err(
+                    arg.value.span,
+                    f"'{key}' of a {kind} on the {joint_desc} must be {article(want)} {want} "
+                    f"({unit_hint(want)}); this is {article(wrong)} {wrong}, which belongs on a "
+                    f"{'sliding' if rotary else 'revolute'} joint",
+                )
+                continue
+            v = self.scalar(arg.value, want, f"'{key}'")
+            if v is None:
+                continue
+            if key in ("k", "b", "kp", "kv", "max") and v < 0:
+                self.err(arg.value.span, f"'{key}' must not be negative")
+                continue
+            if key == "max":
+                limit = v
+            else:
+                params[key] = v
+        required = {"spring": ("k",), "servo": ("kp",), "force": ()}[kind]
+        for key in required:
+            if key not in given:
+                self.err(
+                    decl.kind.span,
+                    f"a {kind} needs '{key}', e.g. {kind}({key} = ... {unit_hint(kinds[key])})",
+                )
+        defaults = {
+            "spring": {"b": 0.0, "rest": dof.initial},
+            "servo": {"kv": 0.0, "setpoint": dof.initial},
+            "force": {"value": 0.0},
+        }[kind]
+        for key, v in defaults.items():
+            params.setdefault(key, v)
+        order = {
+            "spring": ("k", "b", "rest"),
+            "servo": ("kp", "kv", "setpoint"),
+            "force": ("value",),
+        }[kind]
+        return Actuator(
+            decl.name.name,
+            kind,
+            dof.name,
+            tuple((k, params.get(k, 0.0)) for k in order),
+            limit,
+            rotary,
+            decl.span,
+        )
+
+    def wrong_motion(self, value: ast.Value, want: str) -> str | None:
+        """The linear/angular twin of ``want`` if ``value`` has that dimension instead."""
+        twins = {
+            "angular stiffness": "linear stiffness", "linear stiffness": "angular stiffness",
+            "angular damping": "linear damping", "linear damping": "angular damping",
+            "angle": "length", "length": "angle", "torque": "force", "force": "torque",
+        }  # fmt: skip
+        node = value
+        while isinstance(node, ast.Neg):
+            node = node.value
+        if (
+            isinstance(node, ast.Number)
+            and want in twins
+            and node.quantity.dim == KINDS[twins[want]][0]
+        ):
+            return twins[want]
+        return None
+
+    def contact(self, decl: ast.ContactDecl, bodies: dict[str, Body]) -> Contact | None:
+        self.declare(decl.name, "contact")
+        body = bodies.get(decl.body.name)
+        if body is None:
+            self.err(
+                decl.body.span,
+                f"contact '{decl.name.name}' is on an unknown body '{decl.body.name}'{did_you_mean(decl.body.name, bodies)}",
+            )
+            return None
+        point = (
+            self.location(decl.at, body, contact=True) if decl.at is not None else (0.0, 0.0, 0.0)
+        )
+        return Contact(decl.name.name, body.name, point, decl.span)

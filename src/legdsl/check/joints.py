@@ -1,0 +1,313 @@
+"""The joint that hangs a body from its parent (or the root's free or fixed attachment):
+its kind, location and axes, the coordinates it adds, their initial values and rates
+(a 3D free root's as position and roll, pitch, yaw) and their limits."""
+
+from __future__ import annotations
+
+import math
+
+from legdsl.check.scope import CreaturePart
+from legdsl.check.values import did_you_mean
+from legdsl.ir.model import Body, Dof, Joint, Vec3
+from legdsl.lang import ast
+from legdsl.lang.errors import Span
+
+JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
+
+
+class JointChecker(CreaturePart):
+    """Checks the attachment of a body and the joint properties given in its block."""
+
+    def joint(
+        self,
+        decl: ast.BodyDecl,
+        props: dict[str, ast.Prop],
+        body: Body,
+        bodies: dict[str, Body],
+        q_start: int,
+        v_start: int,
+    ) -> tuple[Joint, list[float], list[float]]:
+        attach = decl.attach
+        origin: Vec3 = (0.0, 0.0, 0.0)
+        parent = None
+        if isinstance(attach, ast.AttachFree):
+            kind, name, span = "free", "root", attach.span
+        elif isinstance(attach, ast.AttachFixed):
+            kind, name, span = "fixed", "root", attach.span
+            if attach.at is not None:
+                origin = self.point(attach.at, "the root's location") or origin
+        else:
+            kind, name, span = attach.kind.name, attach.joint.name, attach.joint.span
+            parent = attach.parent.name
+            if kind not in JOINT_KINDS:
+                self.err(
+                    attach.kind.span,
+                    f"unknown joint kind '{kind}'; use one of {', '.join(JOINT_KINDS)}"
+                    + did_you_mean(kind, JOINT_KINDS),
+                )
+                kind = "fixed"
+            if self.planar and kind in ("gimbal", "ball"):
+                self.err(
+                    attach.kind.span,
+                    f"a planar creature has no {kind} joints; use revolute joints about y",
+                )
+                kind = "fixed"
+            self.declare(attach.joint, "joint")
+            if kind == "fixed":
+                kind = "weld"
+            if attach.at is not None:
+                origin = self.location(attach.at, bodies.get(parent))
+
+        axes = self.joint_axes(decl, props, kind, body)
+        if kind == "free":
+            coord_names = ["x", "z", "pitch"] if self.planar else []
+        elif kind in ("gimbal", "ball"):
+            suffixes = [_axis_suffix(a, i) for i, a in enumerate(axes)]
+            if len(set(suffixes)) < len(suffixes):  # e.g. axes x, y, x: number them all
+                suffixes = [str(i + 1) for i in range(len(axes))]
+            coord_names = [f"{name}_{s}" for s in suffixes]
+        elif kind in ("revolute", "prismatic"):
+            coord_names = [name]
+        else:
+            coord_names = []
+        if kind in ("free", "gimbal", "ball"):
+            for c in coord_names:
+                self.declare(ast.Ident(c, span), "coordinate")
+
+        motions = (
+            ["slide", "slide", "hinge"]
+            if kind == "free"
+            else ["slide"]
+            if kind == "prismatic"
+            else ["hinge"] * len(coord_names)
+        )
+        free3d = kind == "free" and not self.planar
+        initial, rates = self.initial_values(decl, props, coord_names, motions, free3d)
+        limits = self.limits(props.get("limits"), coord_names, motions)
+        dofs = tuple(
+            Dof(
+                name=c,
+                joint=name,
+                motion=motions[i],
+                axis=axes[i],
+                q_index=q_start + i,
+                v_index=v_start + i,
+                initial=initial[i],
+                initial_rate=rates[i],
+                limits=limits[i],
+            )
+            for i, c in enumerate(coord_names)
+        )
+        nq, nv = (7, 6) if free3d else (len(dofs), len(dofs))
+        joint = Joint(name, kind, parent, body.name, origin, dofs, q_start, nq, v_start, nv, span)
+        return joint, list(initial), list(rates)
+
+    def joint_axes(
+        self, decl: ast.BodyDecl, props: dict[str, ast.Prop], kind: str, body: Body
+    ) -> list[Vec3]:
+        x, y, z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+        axis_prop, axes_prop = props.get("axis"), props.get("axes")
+        if kind == "free":
+            for p in (axis_prop, axes_prop):
+                if p is not None:
+                    self.err(p.key.span, "a free root has no axis")
+            return [x, z, y] if self.planar else []
+        if kind in ("weld", "fixed"):
+            for p in (axis_prop, axes_prop):
+                if p is not None:
+                    self.err(p.key.span, "a fixed joint has no axis")
+            return []
+        if kind in ("revolute", "prismatic"):
+            if axes_prop is not None:
+                self.err(axes_prop.key.span, f"a {kind} joint has one 'axis', not 'axes'")
+            if axis_prop is None:
+                return [y if kind == "revolute" else body.direction]
+            if self.planar and kind == "revolute":
+                self.err(
+                    axis_prop.key.span,
+                    "in a planar creature every revolute joint turns about y; remove 'axis'",
+                )
+                return [y]
+            if not isinstance(axis_prop.value, ast.One):
+                self.err(axis_prop.value.span, "'axis' takes one vector")
+                return [y]
+            return [self.unit_vector(axis_prop.value.value, "the joint axis") or y]
+        n = 2 if kind == "gimbal" else 3
+        default = [x, y] if kind == "gimbal" else [x, y, z]
+        if axis_prop is not None:
+            self.err(
+                axis_prop.key.span, f"a {kind} joint takes 'axes' (one vector each), not 'axis'"
+            )
+        if axes_prop is None:
+            return default
+        values = (
+            axes_prop.value.values if isinstance(axes_prop.value, ast.Many)
+            else (axes_prop.value.value,) if isinstance(axes_prop.value, ast.One) else ()
+        )  # fmt: skip
+        if len(values) != n:
+            self.err(axes_prop.value.span, f"a {kind} joint has {n} axes, got {len(values)}")
+            return default
+        out = [self.unit_vector(v, "a joint axis") for v in values]
+        if any(a is None for a in out):
+            return default
+        axes = [a for a in out if a is not None]
+        for a, b in zip(axes, axes[1:], strict=False):
+            if abs(sum(p * q for p, q in zip(a, b, strict=True))) > 1 - 1e-9:
+                self.err(axes_prop.value.span, f"the axes of a {kind} joint must not be parallel")
+                return default
+        return axes
+
+    def initial_values(
+        self,
+        decl: ast.BodyDecl,
+        props: dict[str, ast.Prop],
+        coords: list[str],
+        motions: list[str],
+        free3d: bool,
+    ) -> tuple[list[float], list[float]]:
+        init = [0.0] * len(coords)
+        rates = [0.0] * len(coords)
+        if free3d:
+            return self.free3d_initial(props)
+        for key, values, rate in (("initial", init, False), ("velocity", rates, True)):
+            prop = props.get(key)
+            if prop is None:
+                continue
+            if not coords:
+                self.err(
+                    prop.key.span, f"body '{decl.name.name}' has a fixed joint: it has no '{key}'"
+                )
+                continue
+            if isinstance(prop.value, ast.One) and len(coords) == 1:
+                v = self.scalar(
+                    prop.value.value, _coord_kind(motions[0], rate), f"the {key} {coords[0]}"
+                )
+                values[0] = v if v is not None else 0.0
+            elif isinstance(prop.value, ast.Assigns):
+                for item in prop.value.items:
+                    if item.target.name not in coords:
+                        self.err(
+                            item.target.span,
+                            f"'{item.target.name}' is not a coordinate of this joint; "
+                            f"it has {', '.join(coords)}{did_you_mean(item.target.name, coords)}",
+                        )
+                        continue
+                    i = coords.index(item.target.name)
+                    v = self.scalar(
+                        item.value, _coord_kind(motions[i], rate), f"the {key} {coords[i]}"
+                    )
+                    values[i] = v if v is not None else 0.0
+            else:
+                self.err(
+                    prop.value.span,
+                    f"write '{key}' as one value for a one-coordinate joint, or as "
+                    f"'{key} {coords[0]} = ...' naming each of {', '.join(coords)}",
+                )
+        return init, rates
+
+    def free3d_initial(self, props: dict[str, ast.Prop]) -> tuple[list[float], list[float]]:
+        pos = {"x": 0.0, "y": 0.0, "z": 0.0}
+        ang = {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}
+        vel = dict.fromkeys(("vx", "vy", "vz", "wx", "wy", "wz"), 0.0)
+        for key, table in (("initial", {**pos, **ang}), ("velocity", vel)):
+            prop = props.get(key)
+            if prop is None:
+                continue
+            if not isinstance(prop.value, ast.Assigns):
+                self.err(
+                    prop.value.span,
+                    f"a 3D free root takes '{key} NAME = value, ...' with names from {', '.join(table)}",
+                )
+                continue
+            for item in prop.value.items:
+                n = item.target.name
+                if n not in table:
+                    self.err(
+                        item.target.span,
+                        f"'{n}' is not a coordinate of a 3D free root; use {', '.join(table)}{did_you_mean(n, table)}",
+                    )
+                    continue
+                kind = (
+                    "length"
+                    if n in pos
+                    else "angle"
+                    if n in ang
+                    else "velocity"
+                    if n.startswith("v")
+                    else "angular velocity"
+                )
+                v = self.scalar(item.value, kind, f"the {key} {n}")
+                table[n] = v if v is not None else 0.0
+            if key == "initial":
+                pos.update({k: table[k] for k in pos})
+                ang.update({k: table[k] for k in ang})
+        qw, qx, qy, qz = _quat_from_rpy(ang["roll"], ang["pitch"], ang["yaw"])
+        return [pos["x"], pos["y"], pos["z"], qw, qx, qy, qz], list(vel.values())
+
+    def limits(
+        self, prop: ast.Prop | None, coords: list[str], motions: list[str]
+    ) -> list[tuple[float, float] | None]:
+        out: list[tuple[float, float] | None] = [None] * len(coords)
+        if prop is None:
+            return out
+        if not coords:
+            self.err(prop.key.span, "this joint has no coordinates to limit")
+            return out
+        pairs: list[tuple[ast.Value, ast.Value, Span]] = []
+        if isinstance(prop.value, ast.Range) and len(coords) == 1:
+            pairs = [(prop.value.low, prop.value.high, prop.value.span)]
+        else:
+            values = (
+                prop.value.values
+                if isinstance(prop.value, ast.Many)
+                else (prop.value.value,)
+                if isinstance(prop.value, ast.One)
+                else ()
+            )
+            if len(values) != len(coords) or not all(
+                isinstance(v, ast.Vector) and len(v.items) == 2 for v in values
+            ):
+                self.err(
+                    prop.value.span,
+                    "write limits as 'limits LOW to HIGH' for a one-coordinate joint, or as one "
+                    f"(low, high) pair per coordinate ({', '.join(coords)})",
+                )
+                return out
+            pairs = [(v.items[0], v.items[1], v.span) for v in values if isinstance(v, ast.Vector)]
+        for i, (lo_v, hi_v, span) in enumerate(pairs):
+            kind = _coord_kind(motions[i], False)
+            lo = self.scalar(lo_v, kind, "a lower limit")
+            hi = self.scalar(hi_v, kind, "an upper limit")
+            if lo is None or hi is None:
+                continue
+            if lo >= hi:
+                self.err(span, "a joint's lower limit must be below its upper limit")
+                continue
+            out[i] = (lo, hi)
+        return out
+
+
+def _coord_kind(motion: str, rate: bool) -> str:
+    if motion == "hinge":
+        return "angular velocity" if rate else "angle"
+    return "velocity" if rate else "length"
+
+
+def _axis_suffix(axis: Vec3, index: int) -> str:
+    for name, unit in (("x", (1.0, 0.0, 0.0)), ("y", (0.0, 1.0, 0.0)), ("z", (0.0, 0.0, 1.0))):
+        if axis == unit:
+            return name
+    return str(index + 1)
+
+
+def _quat_from_rpy(roll: float, pitch: float, yaw: float) -> tuple[float, float, float, float]:
+    """Quaternion (w, x, y, z) of R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (
+        cr * cp * cy + sr * sp * sy,
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+    )

@@ -1,0 +1,126 @@
+"""Legs: a leg names its joints from the hip outwards, its foot contact and aliases for
+the things a controller reaches through it."""
+
+from __future__ import annotations
+
+from legdsl.check.scope import CreaturePart
+from legdsl.check.values import did_you_mean
+from legdsl.ir.model import Actuator, Body, Contact, Joint, Leg
+from legdsl.lang import ast
+
+LEG_PROPS = ("joints", "foot", "alias")
+
+
+class LegChecker(CreaturePart):
+    """Checks leg declarations against the tree, contacts and actuators checked before them."""
+
+    def leg(
+        self,
+        decl: ast.LegDecl,
+        joints: list[Joint],
+        contacts: list[Contact],
+        actuators: list[Actuator],
+        bodies: list[Body],
+    ) -> Leg | None:
+        self.declare(decl.name, "leg")
+        joint_names = {j.name for j in joints if j.parent is not None}
+        coord_names = {d.name for j in joints for d in j.dofs}
+        contact_by = {c.name: c for c in contacts}
+        referable = (
+            joint_names
+            | coord_names
+            | {a.name for a in actuators}
+            | set(contact_by)
+            | {b.name for b in bodies}
+        )
+        leg_joints: list[str] = []
+        foot = None
+        aliases: list[tuple[str, str]] = []
+        seen: set[str] = set()
+        for p in decl.props:
+            key = p.key.name
+            if key not in LEG_PROPS:
+                self.err(
+                    p.key.span,
+                    f"unknown leg property '{key}'"
+                    + (did_you_mean(key, LEG_PROPS) or f"; a leg takes {', '.join(LEG_PROPS)}"),
+                )
+                continue
+            if key in seen and key != "alias":
+                self.err(p.key.span, f"'{key}' is given twice for leg '{decl.name.name}'")
+                continue
+            seen.add(key)
+            if key == "joints":
+                values = (
+                    p.value.values
+                    if isinstance(p.value, ast.Many)
+                    else (p.value.value,)
+                    if isinstance(p.value, ast.One)
+                    else ()
+                )
+                for v in values:
+                    ident = self.name_of(v, "a leg joint")
+                    if ident is None:
+                        continue
+                    if ident.name not in joint_names:
+                        self.err(
+                            ident.span,
+                            f"unknown joint '{ident.name}'{did_you_mean(ident.name, joint_names)}",
+                        )
+                    else:
+                        leg_joints.append(ident.name)
+            elif key == "foot":
+                ident = (
+                    self.name_of(p.value.value, "a leg's foot")
+                    if isinstance(p.value, ast.One)
+                    else None
+                )
+                if ident is None:
+                    if not isinstance(p.value, ast.One):
+                        self.err(p.value.span, "a leg has one foot contact: 'foot toe'")
+                elif ident.name not in contact_by:
+                    self.err(
+                        ident.span,
+                        f"unknown contact '{ident.name}'; declare it with 'contact {ident.name} on BODY at tip'{did_you_mean(ident.name, contact_by)}",
+                    )
+                else:
+                    foot = ident.name
+            else:
+                if not isinstance(p.value, ast.Assigns):
+                    self.err(
+                        p.value.span,
+                        "write aliases as 'alias spring = leg_l_spring, hip = hip_l_servo'",
+                    )
+                    continue
+                for item in p.value.items:
+                    target = self.name_of(item.value, "an alias target")
+                    if target is None:
+                        continue
+                    if target.name not in referable:
+                        self.err(
+                            target.span,
+                            f"unknown name '{target.name}'; an alias names an actuator, joint, coordinate, contact or body{did_you_mean(target.name, referable)}",
+                        )
+                        continue
+                    aliases.append((item.target.name, target.name))
+        if "joints" not in seen:
+            self.err(
+                decl.name.span, f"leg '{decl.name.name}' needs 'joints' (from the hip outwards)"
+            )
+        if "foot" not in seen:
+            self.err(decl.name.span, f"leg '{decl.name.name}' needs a 'foot' contact")
+        if not leg_joints or foot is None:
+            return None
+        # The foot must hang below the leg's first joint.
+        by_child = {j.child: j for j in joints}
+        body = contact_by[foot].body
+        chain = []
+        while body in by_child and by_child[body].parent is not None:
+            chain.append(by_child[body].name)
+            body = by_child[body].parent or ""
+        if leg_joints[0] not in chain:
+            self.err(
+                decl.name.span,
+                f"the foot '{foot}' of leg '{decl.name.name}' is not below its first joint '{leg_joints[0]}'",
+            )
+        return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)

@@ -1,0 +1,88 @@
+"""What the parts of one creature's check share.
+
+``Scope`` is the state: the shared diagnostics, whether the creature is planar, and the
+names declared so far (a name is unique across a creature's bodies, joints, coordinates,
+actuators, contacts and legs). ``CreaturePart`` is the base of each part's checker
+(``tree``, ``bodies``, ``joints``, ``actuators``, ``ground``, ``legs``): a ``ValueChecker``
+on that scope, with the readers that depend on it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from legdsl.check.values import ValueChecker
+from legdsl.ir.model import Body, Vec3
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, Span
+
+
+@dataclass(frozen=True)
+class Scope:
+    """One creature's check: where errors go, planar or spatial, and the names taken so far."""
+
+    diag: Diagnostics
+    planar: bool
+    names: dict[str, tuple[str, Span]]  # name -> (what it names, where it was declared)
+
+
+class CreaturePart(ValueChecker):
+    """A part of a creature's check; every part built on one ``Scope`` shares its state."""
+
+    def __init__(self, scope: Scope):
+        super().__init__(scope.diag)
+        self.planar = scope.planar
+        self.names = scope.names
+
+    def point(self, value: ast.Value, what: str, kind: str = "length") -> Vec3 | None:
+        """A point or direction: (x, z) in a planar creature, (x, y, z) otherwise."""
+        v = self.vector(value, kind, 2 if self.planar else 3, what)
+        if v is None:
+            return None
+        return (v[0], 0.0, v[1]) if self.planar else (v[0], v[1], v[2])
+
+    def unit_vector(self, value: ast.Value, what: str) -> Vec3 | None:
+        v = self.point(value, what, "dimensionless")
+        if v is None:
+            return None
+        norm = math.sqrt(sum(c * c for c in v))
+        if norm < 1e-12:
+            self.err(value.span, f"{what} has zero length; give a direction such as (0, 0, -1)")
+            return None
+        return (v[0] / norm, v[1] / norm, v[2] / norm)
+
+    def name_of(self, value: ast.Value, what: str) -> ast.Ident | None:
+        if isinstance(value, ast.NameValue):
+            return value.ident
+        self.err(value.span, f"{what} must be a name")
+        return None
+
+    def declare(self, ident: ast.Ident, kind: str) -> bool:
+        prior = self.names.get(ident.name)
+        if prior is not None:
+            self.err(
+                ident.span,
+                f"the name '{ident.name}' is already used by the {prior[0]} at {prior[1]}; "
+                "names in a creature must be unique",
+            )
+            return False
+        self.names[ident.name] = (kind, ident.span)
+        return True
+
+    def location(self, value: ast.Value, parent: Body | None, contact: bool = False) -> Vec3:
+        """A joint's location in its parent's frame, or a contact's point in its body's frame."""
+        what, whose = ("contact point", "body") if contact else ("joint location", "parent body")
+        if isinstance(value, ast.NameValue):
+            if value.ident.name != "tip":
+                self.err(
+                    value.span,
+                    f"a {what} is a point such as (0.1 m, 0 m) or 'tip' (the {whose}'s link end)",
+                )
+                return (0.0, 0.0, 0.0)
+            if parent is None:
+                return (0.0, 0.0, 0.0)
+            if parent.length is None:
+                self.err(value.span, f"'at tip' needs a length on the {whose} '{parent.name}'")
+            return parent.tip
+        return self.point(value, f"the {what}") or (0.0, 0.0, 0.0)

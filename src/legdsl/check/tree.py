@@ -1,0 +1,112 @@
+"""The link tree of a creature: its bodies in order (parents before children), each
+checked with the joint that hangs it from its parent, and the initial state they make."""
+
+from __future__ import annotations
+
+from legdsl.check.bodies import BodyChecker
+from legdsl.check.joints import JointChecker
+from legdsl.check.scope import CreaturePart, Scope
+from legdsl.check.values import did_you_mean
+from legdsl.ir.model import Body, Joint
+from legdsl.lang import ast
+
+
+class TreeChecker(CreaturePart):
+    """Orders the body declarations into a tree, then checks each body and its joint."""
+
+    def __init__(self, scope: Scope):
+        super().__init__(scope)
+        self.bodies = BodyChecker(scope)
+        self.joints = JointChecker(scope)
+
+    def tree_order(self, creature: ast.Ident, decls: list[ast.BodyDecl]) -> list[ast.BodyDecl]:
+        """Bodies with parents before children; reports duplicates, roots and cycles."""
+        by_name: dict[str, ast.BodyDecl] = {}
+        for b in decls:
+            if b.name.name in by_name:
+                first = by_name[b.name.name]
+                self.err(
+                    b.name.span,
+                    f"body '{b.name.name}' is declared twice (a body has one parent); "
+                    f"the first is at {first.name.span}",
+                )
+                continue
+            by_name[b.name.name] = b
+        roots = [b for b in by_name.values() if not isinstance(b.attach, ast.AttachJoint)]
+        if not roots and by_name:
+            self.err(
+                creature.span,
+                f"creature '{creature.name}' has no root body: "
+                "make one body 'free' (it flies) or 'fixed' (welded to the world)",
+            )
+        elif not by_name:
+            self.err(creature.span, f"creature '{creature.name}' has no bodies")
+        for extra in roots[1:]:
+            self.err(
+                extra.attach.span,
+                f"a second root: body '{extra.name.name}' is also free or fixed, but "
+                f"'{roots[0].name.name}' is the root; hang it from a parent with "
+                "'on PARENT via KIND JOINT'",
+            )
+        children: dict[str, list[ast.BodyDecl]] = {}
+        for b in by_name.values():
+            if isinstance(b.attach, ast.AttachJoint):
+                parent = b.attach.parent
+                if parent.name not in by_name:
+                    self.err(
+                        parent.span,
+                        f"unknown parent body '{parent.name}'{did_you_mean(parent.name, by_name)}",
+                    )
+                    continue
+                if parent.name == b.name.name:
+                    self.err(parent.span, f"body '{b.name.name}' cannot hang from itself")
+                    continue
+                children.setdefault(parent.name, []).append(b)
+        order: list[ast.BodyDecl] = []
+        seen: set[str] = set()
+        stack = list(reversed(roots[:1]))
+        while stack:
+            b = stack.pop()
+            if b.name.name in seen:
+                continue
+            seen.add(b.name.name)
+            order.append(b)
+            stack.extend(reversed(children.get(b.name.name, [])))
+        # Bodies not reached from the root: in a cycle, or below a missing parent.
+        for b in by_name.values():
+            if b.name.name in seen or not isinstance(b.attach, ast.AttachJoint):
+                continue
+            chain = [b.name.name]
+            node = b
+            while isinstance(node.attach, ast.AttachJoint) and node.attach.parent.name in by_name:
+                node = by_name[node.attach.parent.name]
+                if node.name.name in chain:
+                    loop = chain[chain.index(node.name.name) :] + [node.name.name]
+                    if b.name.name == min(loop):  # report each cycle once
+                        self.err(
+                            b.name.span,
+                            "bodies form a cycle: " + " -> ".join(loop) + "; a creature is a tree",
+                        )
+                    break
+                chain.append(node.name.name)
+        return order
+
+    def build_tree(
+        self, order: list[ast.BodyDecl]
+    ) -> tuple[list[Body], list[Joint], list[float], list[float]]:
+        """The bodies and joints in ``order``, and the initial positions and rates they make."""
+        bodies: list[Body] = []
+        joints: list[Joint] = []
+        q0: list[float] = []
+        v0: list[float] = []
+        by_name: dict[str, Body] = {}
+        for decl in order:
+            props = self.bodies.body_props(decl)
+            body = self.bodies.body(decl, props, by_name)
+            joint, q_init, v_init = self.joints.joint(decl, props, body, by_name, len(q0), len(v0))
+            by_name[body.name] = body
+            bodies.append(body)
+            joints.append(joint)
+            q0 += q_init
+            v0 += v_init
+        return bodies, joints, q0, v0
