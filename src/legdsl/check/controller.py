@@ -13,15 +13,15 @@ import math
 from collections.abc import Iterable
 from dataclasses import replace
 
-from legdsl.check.control_exprs import (
+from legdsl.check.control_names import (
     AliasUse,
-    Elaborator,
     Opaque,
     Scope,
     Value,
     describe_type,
     no_alias_message,
 )
+from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
 from legdsl.check.values import did_you_mean
 from legdsl.ir import controller as ir

@@ -1,0 +1,303 @@
+"""Names in a controller: what each stands for, and the members of each kind of thing.
+
+The first layer of the controller checker (``control_exprs`` builds on it, then
+``control_stmts``): a name is looked up once, in the action's parameters and ``let``
+locals, then the controller's and the creature's names, and becomes an IR node; a member
+(``active.length``, ``trunk.pitch``, ``active.spring.rest``) is checked against what the
+thing has (``legdsl.ir.controller`` lists it) and gets its dimension. Errors inside an
+action from another file are reported at the user's call.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from legdsl.check.values import did_you_mean, place_of
+from legdsl.ir import controller as ir
+from legdsl.ir.controller import BOOL, ONE, Type
+from legdsl.ir.model import Model, setting_kind
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.units import KINDS, Dim, describe
+
+KIND_WORDS = {"coord": "joint coordinate", "path": "path", "com": "centre of mass"}
+MEMBER_EXAMPLES = {
+    "body": "z", "leg": "length", "role": "length", "contact": "z", "com": "vx",
+    "coord": "value", "actuator": "force", "path": "lateral",
+}  # fmt: skip
+
+
+class Mismatch:
+    """Dimensions that do not agree (already reported)."""
+
+
+MISMATCH = Mismatch()
+
+
+@dataclass(frozen=True)
+class Opaque:
+    """A parameter of an action that no table calls: its names are checked, not its meaning."""
+
+    name: str
+
+
+Value = ir.Expr | ir.Thing | Opaque
+
+
+@dataclass
+class Scope:
+    """What the names of one controller stand for (the creature's, then the controller's)."""
+
+    model: Model
+    names: dict[str, Value]
+    roles: dict[str, tuple[str, ...]]  # role -> legs of the initial binding
+    actions: dict[str, ast.ActionDef]
+    signals: dict[str, ast.SignalDecl]
+    records: dict[str, Type]  # record -> its type as far as known
+    user_file: str  # the controller's file: errors elsewhere are reported at its calls
+    aliases: dict[str, dict[str, str]] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.aliases = {leg.name: dict(leg.aliases) for leg in self.model.legs}
+
+
+@dataclass(frozen=True)
+class AliasUse:
+    """A role's alias, to be checked on every leg the role is bound to once bindings are known."""
+
+    alias: ir.Alias
+    span: Span
+    context: tuple[ast.InvokeStmt, ...]
+
+
+class NameResolver:
+    """Resolves names and members under one ``Scope``; mistakes go to ``diag``."""
+
+    def __init__(self, scope: Scope, diag: Diagnostics):
+        self.scope = scope
+        self.diag = diag
+        self.calls: list[tuple[ast.InvokeStmt, ast.ActionDef]] = []
+        self.alias_uses: list[AliasUse] = []
+        self.record_types: dict[str, list[tuple[Type, Span]]] = {}
+        self.signal_ir: dict[str, ir.Expr | None] = {}
+        self._signals_open: list[str] = []
+        self._planar_sites: set[Span] = set()
+
+    # ------------------------------------------------------------ errors
+    def err(self, span: Span, message: str) -> None:
+        """Report at ``span``, or, inside an action from another file, at the user's call."""
+        site = self._user_site()
+        if site is None or span.file == self.scope.user_file:
+            self.diag.error(span, message)
+            return
+        action = self.calls[-1][1]
+        self.diag.error(
+            site.span, f"{message} (in action '{action.name.name}', {place_of(span)}, called here)"
+        )
+
+    def planar_error(self, span: Span, message: str, hint: str) -> None:
+        """A 3D-only thing in a planar creature: once per call of a library action (a 3D
+        action reads many), else where it is written."""
+        site = self._user_site()
+        if site is not None:
+            if site.span in self._planar_sites:
+                return
+            self._planar_sites.add(site.span)
+            hint = f"action '{self.calls[-1][1].name.name}' is for 3D creatures"
+        self.err(span, f"{message} ({hint})")
+
+    def _user_site(self) -> ast.InvokeStmt | None:
+        """The call in the user's file that leads into another file's action, if any."""
+        if not self.calls or self.calls[-1][1].span.file == self.scope.user_file:
+            return None
+        return next(
+            (c for c, _ in reversed(self.calls) if c.span.file == self.scope.user_file),
+            self.calls[0][0],
+        )
+
+    # ------------------------------------------------------------ things and members
+    def lookup(
+        self, ident: ast.Ident, local: dict[str, Value], report: bool = True
+    ) -> Value | None:
+        if ident.name in local:
+            return local[ident.name]
+        if ident.name in self.scope.signals:
+            return self.signal(ident.name)
+        found = self.scope.names.get(ident.name)
+        if found is None:
+            if report:
+                names = [*self.scope.names, *self.scope.signals, *local]
+                self.err(
+                    ident.span, f"unknown name '{ident.name}'{did_you_mean(ident.name, names)}"
+                )
+            return None
+        if isinstance(found, ir.Named) and found.kind == "record":
+            return ir.Named("record", found.name, self.scope.records.get(found.name))
+        return found
+
+    def path(self, idents: tuple[ast.Ident, ...], local: dict[str, Value]) -> Value | None:
+        found = self.lookup(idents[0], local)
+        for ident in idents[1:]:
+            if found is None:
+                return None
+            found = self.member(found, ident)
+        return found
+
+    def member(self, base: Value, attr: ast.Ident) -> Value | None:
+        name = attr.name
+        if isinstance(base, Opaque):
+            return base
+        if isinstance(base, ir.Legs):
+            if name in ir.LEG_MEMBERS:
+                return self.read(base, name, ir.LEG_MEMBERS[name], attr.span)
+            return self.alias(base, attr)
+        if isinstance(base, ir.Part | ir.Alias):
+            kind = base.kind
+            members = self.members_of(base)
+            if members is None:
+                return None
+            if name not in members:
+                word = (
+                    f"a {kind} actuator"
+                    if kind == "actuator"
+                    else f"a {KIND_WORDS.get(kind, kind)}"
+                )
+                self.err(
+                    attr.span,
+                    f"{word} has no {'member ' if kind != 'actuator' else ''}'{name}'; it has "
+                    f"{', '.join(members)}{did_you_mean(name, members)}",
+                )
+                return None
+            return self.read(base, name, members[name], attr.span)
+        self.err(attr.span, f"a number has no member '{name}'")
+        return None
+
+    def read(self, thing: ir.Thing, name: str, dim: Dim, span: Span) -> ir.Read | None:
+        if self.scope.model.planar and name in ir.SPATIAL_MEMBERS:
+            self.planar_error(
+                span,
+                f"creature '{self.scope.model.name}' is planar: it has no '{name}'",
+                "that member is for 3D creatures",
+            )
+            return None
+        return ir.Read(thing, name, dim)
+
+    def alias(self, legs: ir.Legs, attr: ast.Ident) -> Value | None:
+        name = attr.name
+        leg_names = (
+            (legs.leg,) if legs.leg is not None else self.scope.roles.get(legs.role or "", ())
+        )
+        if not leg_names:
+            return Opaque(name)  # a role bound to no legs: reported where it was declared
+        first = leg_names[0]
+        aliases = self.scope.aliases[first]
+        if name not in aliases:
+            self.err(attr.span, no_alias_message(first, legs.role, name, aliases))
+            return None
+        target = self.scope.names[aliases[name]]
+        if legs.leg is not None:
+            return target
+        assert isinstance(target, ir.Part)
+        alias = ir.Alias(legs, name, target.kind)
+        self.alias_uses.append(AliasUse(alias, attr.span, tuple(c for c, _ in self.calls)))
+        return alias
+
+    def part_of(self, thing: ir.Part | ir.Alias) -> ir.Part:
+        """The part itself, or what the alias names on the first leg of its role."""
+        if isinstance(thing, ir.Part):
+            return thing
+        leg = thing.legs.leg or self.scope.roles[thing.legs.role or ""][0]
+        target = self.scope.names[self.scope.aliases[leg][thing.alias]]
+        assert isinstance(target, ir.Part)
+        return target
+
+    def actuator_of(self, thing: Value) -> tuple[str, bool] | None:
+        """(kind, rotary) of an actuator, or None if ``thing`` is no actuator."""
+        if not isinstance(thing, ir.Part | ir.Alias) or thing.kind != "actuator":
+            return None
+        actuator = next(a for a in self.scope.model.actuators if a.name == self.part_of(thing).name)
+        return actuator.kind, actuator.rotary
+
+    def members_of(self, thing: ir.Part | ir.Alias) -> dict[str, Dim] | None:
+        part = self.part_of(thing)
+        if part.kind == "actuator":
+            kind, rotary = self.actuator_of(part) or ("force", False)
+            keys = ir.ACTUATOR_MEMBERS[kind][0] + ir.ACTUATOR_MEMBERS[kind][1]
+            return {k: KINDS[setting_kind(k, rotary)][0] for k in keys}
+        if part.kind == "coord":
+            dof = next(d for d in self.scope.model.dofs if d.name == part.name)
+            hinge = dof.motion == "hinge"
+            return {
+                "value": ir.ANGLE if hinge else ir.LENGTH,
+                "rate": ir.ANGULAR_VELOCITY if hinge else ir.VELOCITY,
+            }
+        return {
+            "body": ir.BODY_MEMBERS,
+            "contact": ir.CONTACT_MEMBERS,
+            "com": ir.COM_MEMBERS,
+            "path": ir.PATH_MEMBERS,
+        }[part.kind]
+
+    def signal(self, name: str) -> ir.Named | None:
+        """A signal, its expression resolved once (in the controller's scope, without locals)."""
+        if name in self._signals_open:
+            decl = self.scope.signals[name]
+            self.err(decl.name.span, f"signal '{name}' is defined in terms of itself")
+            return None
+        if name not in self.signal_ir:
+            self._signals_open.append(name)
+            calls, self.calls = self.calls, []
+            try:
+                self.signal_ir[name] = self.number(self.scope.signals[name].value, {})
+            finally:
+                self.calls = calls
+                self._signals_open.pop()
+        value = self.signal_ir[name]
+        return None if value is None else ir.Named("signal", name, value.type)
+
+    def number(self, e: ast.Expr, local: dict[str, Value]) -> ir.Expr | None:
+        """An expression used as a number (``control_exprs`` defines it)."""
+        raise NotImplementedError
+
+
+def describe_type(t: Type) -> str:
+    if t == BOOL:
+        return "a condition"
+    if t is None:
+        return "a number of any unit"
+    assert isinstance(t, tuple)
+    if t == ONE:
+        return "a plain number (no unit)"
+    word = describe(t)
+    if "(" not in word:
+        return f"a quantity in {word}"
+    return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
+
+
+def no_alias_message(leg: str, role: str | None, name: str, aliases: dict[str, str]) -> str:
+    what = f"leg '{leg}'" + (f" (in role '{role}')" if role else "")
+    members = list(ir.LEG_MEMBERS)
+    return (
+        f"{what} has no member '{name}'; a leg has {', '.join(members)} and its aliases"
+        f"{did_you_mean(name, [*members, *aliases])}"
+    )
+
+
+def thing_kind(value: ir.Thing) -> str:
+    if isinstance(value, ir.Legs):
+        return "role" if value.role is not None else "leg"
+    return value.kind
+
+
+def what_it_is(value: Value) -> str:
+    if isinstance(value, ir.Legs | ir.Part | ir.Alias):
+        return f"a {KIND_WORDS.get(thing_kind(value), thing_kind(value))}"
+    return "a number"
+
+
+def expression_text(e: ast.Expr) -> str:
+    if isinstance(e, ast.EName):
+        return e.ident.name
+    if isinstance(e, ast.EAttr):
+        return f"{expression_text(e.base)}.{e.attr.name}"
+    return "this"

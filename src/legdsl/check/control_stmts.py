@@ -1,0 +1,214 @@
+"""Controller statements into the IR: assignments, records, swaps, kinematic solves, and
+named actions inlined at each call with their parameters bound to the arguments.
+
+The top layer of the controller checker (on ``control_exprs`` and ``control_names``):
+``Elaborator.stmts`` turns a table row's statements into IR statements.
+"""
+
+from __future__ import annotations
+
+from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
+from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
+from legdsl.check.values import did_you_mean
+from legdsl.ir import controller as ir
+from legdsl.ir.model import setting_kind
+from legdsl.lang import ast
+from legdsl.lang.units import KINDS
+
+
+class Elaborator(ExprChecker):
+    """Turns a controller's syntax into IR nodes under one ``Scope``; mistakes go to ``diag``."""
+
+    def stmts(self, stmts: tuple[ast.Stmt, ...], local: dict[str, Value]) -> list[ir.Stmt]:
+        local = dict(local)
+        out: list[ir.Stmt] = []
+        for s in stmts:
+            if isinstance(s, ast.LetStmt):
+                value = self.number(s.value, local)
+                local[s.name.name] = value if value is not None else ir.Num(0.0, None)
+            elif isinstance(s, ast.AssignStmt):
+                out += self.assign(s, local)
+            elif isinstance(s, ast.RecordStmt):
+                value = self.number(s.value, local)
+                if value is not None:
+                    self.record_types.setdefault(s.name.name, []).append((value.type, s.span))
+                    out.append(ir.Record(s.name.name, value, s.span))
+            elif isinstance(s, ast.SwapStmt):
+                roles = [self.role(ident, local) for ident in (s.first, s.second)]
+                if roles[0] is not None and roles[1] is not None:
+                    out.append(ir.Swap(roles[0], roles[1], s.span))
+            elif isinstance(s, ast.InvokeStmt):
+                done = self.invoke(s, local)
+                if done is not None:
+                    out.append(done)
+            elif isinstance(s, ast.PlaceStmt):
+                place = self.place(s, local)
+                if place is not None:
+                    out.append(place)
+        return out
+
+    def assign(self, s: ast.AssignStmt, local: dict[str, Value]) -> list[ir.Stmt]:
+        value = self.number(s.value, local)
+        target = self.path(s.target[:-1], local) if len(s.target) > 1 else None
+        key = s.target[-1]
+        text = ".".join(t.name for t in s.target)
+        if len(s.target) == 1:
+            self.lookup(key, local)  # an unknown name is reported as such
+            found = self.scope.names.get(key.name, local.get(key.name))
+            if found is not None:
+                self.err(key.span, _cannot_set(text))
+            return []
+        if target is None or isinstance(target, Opaque):
+            return []
+        actuator = self.actuator_of(target)
+        if actuator is None:
+            self.err(key.span, _cannot_set(text))
+            return []
+        kind, rotary = actuator
+        settable = ir.ACTUATOR_MEMBERS[kind][0]
+        if key.name not in settable:
+            readable = ir.ACTUATOR_MEMBERS[kind][1]
+            self.err(
+                key.span,
+                _cannot_set(text)
+                if key.name in readable
+                else f"a {kind} actuator has no '{key.name}'; it has "
+                f"{', '.join(settable + readable)}{did_you_mean(key.name, settable + readable)}",
+            )
+            return []
+        want = KINDS[setting_kind(key.name, rotary)][0]
+        if value is None:
+            return []
+        if not fits(value.type, want):
+            self.err(
+                s.value.span,
+                f"'{text}' is {describe_type(want)}, but the value is {describe_type(value.type)}"
+                f"{unit_advice(want)}",
+            )
+            return []
+        assert isinstance(target, ir.Part | ir.Alias)
+        return [ir.Assign(target, key.name, value, s.span)]
+
+    def invoke(self, s: ast.InvokeStmt, local: dict[str, Value]) -> ir.Do | None:
+        action = self.scope.actions.get(s.action.name)
+        args = [self.expr(a, local) for a in s.args]
+        if action is None:
+            self.err(
+                s.action.span,
+                f"unknown action '{s.action.name}'; define it with 'action {s.action.name}(...) "
+                f"{{ ... }}' or 'use' a library that has it"
+                f"{did_you_mean(s.action.name, self.scope.actions)}",
+            )
+            return None
+        if len(s.args) != len(action.params):
+            self.err(
+                s.span,
+                f"action '{s.action.name}' takes {len(action.params)} argument(s), got {len(s.args)}",
+            )
+            return None
+        if any(a is action for _, a in self.calls):
+            self.err(s.action.span, f"action '{s.action.name}' calls itself")
+            return None
+        bound: dict[str, Value] = {}
+        for param, arg, value in zip(action.params, s.args, args, strict=True):
+            bound[param.name] = value if value is not None else Opaque(expression_text(arg))
+        self.calls.append((s, action))
+        try:
+            body = self.stmts(action.body, bound)
+        finally:
+            self.calls.pop()
+        return ir.Do(s.action.name, tuple(body), s.span)
+
+    def place(self, s: ast.PlaceStmt, local: dict[str, Value]) -> ir.Place | None:
+        """``place LEG at (x = .., z = ..) using SERVO, ..``: a leg, known axes, one servo per goal."""
+        legs = self.lookup(s.leg, local)
+        opaque = isinstance(legs, Opaque)
+        if legs is not None and not opaque and not isinstance(legs, ir.Legs):
+            self.err(
+                s.leg.span,
+                f"'place' moves the foot of a leg or role; '{s.leg.name}' is {what_it_is(legs)}",
+            )
+            legs = None
+        planar = self.scope.model.planar and not opaque
+        axes = ("x", "z") if planar else ("x", "y", "z")
+        seen: set[str] = set()
+        goals: list[ir.Expr] = []
+        ok = legs is not None and not opaque
+        for name, value in s.goals:
+            goal = self.number(value, local)
+            if goal is not None and not fits(goal.type, ir.LENGTH):
+                self.err(
+                    value.span,
+                    f"'place' puts the foot at an offset from the hip, a length (m); "
+                    f"this is {describe_type(goal.type)}",
+                )
+                ok = False
+            if name.name not in axes:
+                if name.name == "y" and self.scope.model.planar:
+                    self.planar_error(
+                        name.span,
+                        f"creature '{self.scope.model.name}' is planar: 'place' can set x "
+                        "and z only, not y",
+                        "y is for 3D creatures",
+                    )
+                else:
+                    self.err(
+                        name.span,
+                        f"'place' sets the foot's offset from the hip along "
+                        f"{' and '.join(axes)}; '{name.name}' is not one of them"
+                        f"{did_you_mean(name.name, axes)}",
+                    )
+                ok = False
+            elif name.name in seen:
+                self.err(name.span, f"'{name.name}' is given twice")
+                ok = False
+            seen.add(name.name)
+            ok = ok and goal is not None
+            if goal is not None:
+                goals.append(goal)
+        servos: list[ir.Part | ir.Alias] = []
+        for path in s.servos:
+            servo = self.path(path, local)
+            if servo is None or isinstance(servo, Opaque):
+                ok = False
+                continue
+            actuator = self.actuator_of(servo)
+            if actuator is None or actuator[0] != "servo":
+                self.err(
+                    path[-1].span,
+                    f"'place ... using' names servos whose setpoints it sets; "
+                    f"'{'.'.join(i.name for i in path)}' is not a servo actuator",
+                )
+                ok = False
+                continue
+            assert isinstance(servo, ir.Part | ir.Alias)
+            servos.append(servo)
+        if len(s.servos) != len(s.goals):
+            self.err(
+                s.span,
+                f"'place' needs one servo per goal: {len(s.goals)} goal(s), {len(s.servos)} servo(s)",
+            )
+            return None
+        if not ok or not isinstance(legs, ir.Legs):
+            return None
+        axes_given = tuple(name.name for name, _ in s.goals)
+        return ir.Place(legs, axes_given, tuple(goals), tuple(servos), s.span)
+
+    def role(self, ident: ast.Ident, local: dict[str, Value]) -> str | None:
+        found = self.lookup(ident, local, report=False)
+        if isinstance(found, ir.Legs) and found.role is not None:
+            return found.role
+        if not isinstance(found, Opaque):
+            self.err(
+                ident.span,
+                f"'swap' exchanges two roles; '{ident.name}' is not a role"
+                + did_you_mean(ident.name, self.scope.roles),
+            )
+        return None
+
+
+def _cannot_set(text: str) -> str:
+    return (
+        f"'{text}' cannot be set; a controller sets actuator inputs: k, b, rest of a spring; "
+        "kp, kv, setpoint of a servo; force of a force or torque actuator"
+    )
