@@ -61,24 +61,12 @@ def _cmd_show(args: argparse.Namespace) -> int:
 
 def _cmd_run(args: argparse.Namespace) -> int:
     import math
-    from pathlib import Path
 
-    from legdsl.check.source import check_model
-    from legdsl.pipeline.run import (
-        load_controller,
-        load_dynamics,
-        parse_path_option,
-        path_summary,
-        progress_bar,
-        sort_settings,
-        summary,
-        write_run,
-    )
-    from legdsl.sim.machine import StateMachine
-    from legdsl.sim.simulate import RunOptions, Simulation
+    from legdsl.pipeline.report import progress_bar
+    from legdsl.pipeline.session import RunSession
+    from legdsl.sim.simulate import RunOptions
 
-    source = Path(args.file)
-    model = check_model(source, args.creature)
+    session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
     options = RunOptions(
         duration=args.time,
         dt=args.dt,
@@ -89,47 +77,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
         fall_tilt=math.radians(args.fall_tilt),
         drop=args.drop,
     )
-    generated = Path(args.generated)
-    dynamics = load_dynamics(model, source, generated, log=sys.stderr)
-    control = None
-    if args.controller is not None:
-        control = load_controller(model, args.controller, source, generated, log=sys.stderr)
-    settings = sort_settings(args.set, model, control)
-    paths = [parse_path_option(text) for text in args.path]
-    if paths and control is None:
-        raise UsageError("--path: a path is followed by a controller; choose one with --controller")
-    machine = None
-    if control is not None:
-        machine = StateMachine(
-            model, control, settings.inputs, settings.params, settings.schedule, paths
-        )
-    sim = Simulation(model, dynamics, options, machine)
-    for name, value in settings.actuators.items():
-        actuator, _, key = name.partition(".")
-        sim.actuators.by_name[actuator].set(key, value)
-    result = sim.run(progress_bar if sys.stderr.isatty() else None)
-    out = Path(args.out) if args.out else Path("runs") / model.name
-    extra = {"controller": args.controller, "settings": settings.as_json()}
-    if machine is not None:
-        extra["inputs"] = machine.initial_inputs
-        extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
-    reports = []
-    if machine is not None:
-        from legdsl.analysis.metrics import path_report
-
-        given = [p for p in machine.paths if p.shape != "none"]
-        extra["paths"] = [p.as_json() for p in given]
-        reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
-        extra["path_reports"] = reports
-    write_run(out, model, options, result, extra)
-    print(summary(model, result))
-    for report in reports:
-        print(path_summary(report))
+    progress = progress_bar if sys.stderr.isatty() else None
+    run = session.run(args.controller, args.set, args.path, options, progress)
+    out = run.write(Path(args.out) if args.out else Path("runs") / session.model.name)
+    print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
         from legdsl.export.animate import animate_result
 
-        animate_result(out, model, result, dynamics)
+        animate_result(out, session.model, run.result, session.dynamics)
+    result = run.result
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -195,7 +152,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             print(f"\nbeside Table 2 of the paper, {args.table2}:")
             print(compare_table(metrics, TABLE2[args.table2]), end="")
         if reports:
-            from legdsl.pipeline.run import path_summary
+            from legdsl.pipeline.report import path_summary
 
             print("path following:")
             for report in reports:
@@ -218,7 +175,8 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from legdsl.pipeline.compile import compile_file, write_generated
+    from legdsl.pipeline.compile import compile_file
+    from legdsl.pipeline.generated import write_generated
 
     if args.all == bool(args.files):
         print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
