@@ -67,17 +67,22 @@ def _split(text: str, where: str) -> tuple[str, Given]:
     return name.strip(), parse_given(value, f"--set {where!r}")
 
 
-def unit_for(dim: Dim) -> str:
-    """A unit to write for a dimension: the example unit of its kind, else one built from SI."""
-    for kind_dim, example in KINDS.values():
-        if kind_dim == dim:
-            return "" if dim == DIMENSIONLESS else example
+def si_unit(dim: Dim) -> str:
+    """The SI unit of a dimension as ``--set`` reads it (``kg*m^2/s^2/rad``; empty if none)."""
     symbols = ("kg", "m", "s", "rad")
     up = [s if e == 1 else f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e > 0]
     down = [s if e == -1 else f"{s}^{-e}" for s, e in zip(symbols, dim, strict=True) if e < 0]
     if not up:
         return "*".join(f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e)
     return "*".join(up) + "".join(f"/{d}" for d in down)
+
+
+def unit_for(dim: Dim) -> str:
+    """A unit to write for a dimension: the example unit of its kind, else its SI unit."""
+    for kind_dim, example in KINDS.values():
+        if kind_dim == dim:
+            return "" if dim == DIMENSIONLESS else example
+    return si_unit(dim)
 
 
 def a_kind(dim: Dim) -> str:
