@@ -117,6 +117,8 @@ def test_a_session_rejects_a_path_without_a_controller_and_unknown_controllers(
         session.run("trot")
     with pytest.raises(UsageError, match="choose a controller with --controller"):
         session.run(settings=["speed=1m/s"])
+    with pytest.raises(UsageError, match="'speed' is a controller input"):
+        session.run(settings="speed=1m/s")  # one setting alone, not a list of characters
 
 
 def test_a_passive_session_run_has_no_controller_fields(generated: Path) -> None:

@@ -95,10 +95,13 @@ class RunSession:
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
-        ``--path`` texts or path specs. Mistakes in them raise ``UsageError``."""
+        ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
+        ``UsageError`` before anything is simulated."""
         options = options if options is not None else RunOptions()
+        settings = [settings] if isinstance(settings, str) else list(settings)
+        paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
-        sorted_settings = sort_settings(list(settings), self.model, controller)
+        sorted_settings = sort_settings(settings, self.model, controller)
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if specs and control is None:
             raise UsageError(
