@@ -128,7 +128,8 @@ def _compile_worker(kind: str, leg: str, out: str, conn: Any) -> None:
     """Runs in a fresh process: compile ``leg`` with legdsl or Kane, report seconds and path."""
     try:
         if kind == "legdsl":
-            from legdsl.pipeline.compile import compile_model, write_generated
+            from legdsl.pipeline.compile import compile_model
+            from legdsl.pipeline.generated import write_generated
 
             t0 = time.perf_counter()
             compiled = compile_model(leg)
@@ -171,13 +172,19 @@ def compile_isolated(kind: str, leg: Path, out: Path, budget: float) -> dict[str
 
 
 def legdsl_available() -> str | None:
-    """None if ``legdsl.pipeline.compile`` has the compile entry points, else why not."""
+    """None if legdsl has the compile entry points (``legdsl.pipeline.compile.compile_model``,
+    ``legdsl.pipeline.generated.write_generated``), else why not."""
     try:
         from legdsl.pipeline import compile as driver
+        from legdsl.pipeline import generated
     except ImportError as e:
-        return f"legdsl.pipeline.compile is not available ({e})"
-    missing = [n for n in ("compile_model", "write_generated") if not hasattr(driver, n)]
-    return f"legdsl.pipeline.compile lacks {', '.join(missing)}" if missing else None
+        return f"legdsl.pipeline.compile or .generated is not available ({e})"
+    missing = [
+        f"{module.__name__}.{n}"
+        for module, n in ((driver, "compile_model"), (generated, "write_generated"))
+        if not hasattr(module, n)
+    ]
+    return f"legdsl lacks {', '.join(missing)}" if missing else None
 
 
 # --------------------------------------------------------------- measuring

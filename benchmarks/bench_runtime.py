@@ -28,8 +28,8 @@ from report import DOC, replace_section  # noqa: E402
 
 from legdsl.check.source import check_model  # noqa: E402
 from legdsl.export.formats import export_text  # noqa: E402
-from legdsl.pipeline.run import load_dynamics  # noqa: E402
-from legdsl.sim.simulate import RunOptions, Simulation  # noqa: E402
+from legdsl.pipeline.session import RunSession  # noqa: E402
+from legdsl.sim.simulate import RunOptions  # noqa: E402
 
 CREATURES = ("kangaroo", "biped", "quadruped", "hopper")
 DURATION = 3.0
@@ -37,16 +37,13 @@ STEP = 0.0004
 
 
 def legdsl_drop(name: str) -> tuple[float, float, list[float]]:
-    source = ROOT / "creatures" / f"{name}.leg"
-    model = check_model(source)
-    dyn = load_dynamics(model, source, ROOT / "generated")
-    sim = Simulation(model, dyn, RunOptions(duration=DURATION, dt=STEP, drop=0.3, record_rate=200))
-    start_q = list(sim.q)
-    wall = time.perf_counter()
-    result = sim.run()
-    wall = time.perf_counter() - wall
+    session = RunSession.from_file(ROOT / "creatures" / f"{name}.leg", generated=ROOT / "generated")
+    options = RunOptions(duration=DURATION, dt=STEP, drop=0.3, record_rate=200)
+    result = session.run(options=options).result  # the simulation alone is timed (wall_time)
     assert result.status == "ok", result.message
-    return DURATION / wall, sim.q[model.q_names.index("z")], start_q
+    q = result.trajectory.q  # the first sample is the state after the drop's lift, the last the end
+    z = session.model.q_names.index("z")
+    return DURATION / result.wall_time, float(q[-1][z]), [float(x) for x in q[0]]
 
 
 def mujoco_drop(name: str, start_q: list[float]) -> tuple[float, float]:

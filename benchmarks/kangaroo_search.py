@@ -24,14 +24,12 @@ from pathlib import Path
 import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics
-from legdsl.check.source import check_model
-from legdsl.pipeline.run import load_controller, load_dynamics
-from legdsl.sim.machine import InputChange, StateMachine
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.pipeline.session import RunSession
+from legdsl.pipeline.settings import si_unit
+from legdsl.sim.simulate import RunOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 KANGAROO = ROOT / "creatures" / "kangaroo.leg"
-INPUTS = {"speed", "height", "tail_k"}
 
 # name: (low, high) of the random search, SI units
 SPACE: dict[str, tuple[float, float]] = {
@@ -60,27 +58,28 @@ SPACE: dict[str, tuple[float, float]] = {
     "tail_b": (0.05, 1.0),
 }
 
-_cache: dict[str, object] = {}
+_sessions: list[RunSession] = []
 
 
-def _modules():  # type: ignore[no-untyped-def]
-    if not _cache:
-        model = check_model(KANGAROO)
-        gen = ROOT / "generated"
-        _cache["model"] = model
-        _cache["dyn"] = load_dynamics(model, KANGAROO, gen)
-        _cache["ctl"] = load_controller(model, "hop", KANGAROO, gen)
-    return _cache["model"], _cache["dyn"], _cache["ctl"]
+def _session() -> RunSession:
+    if not _sessions:
+        _sessions.append(RunSession.from_file(KANGAROO, generated=ROOT / "generated"))
+    return _sessions[0]
+
+
+def _set(session: RunSession, name: str, value: float, at: float | None = None) -> str:
+    """``--set`` text for a value in SI units (``tail_kp=30.0kg*m^2/s^2/rad``)."""
+    hop = session.model.controller("hop")
+    dim = {c.name: c.dim for c in (*hop.inputs, *hop.params)}[name]
+    return f"{name}={value!r}{si_unit(dim)}" + ("" if at is None else f"@{at!r}s")
 
 
 def run(speed: float, time: float, settings: dict[str, float], later: float | None = None) -> dict:
-    model, dyn, ctl = _modules()
-    inputs = {k: v for k, v in settings.items() if k in INPUTS}
-    params = {k: v for k, v in settings.items() if k not in INPUTS}
-    inputs["speed"] = speed
-    schedule = [InputChange(5.0, "speed", later)] if later is not None else []
-    machine = StateMachine(model, ctl, inputs, params, schedule)
-    res = Simulation(model, dyn, RunOptions(duration=time), machine).run()
+    session = _session()
+    texts = [_set(session, k, v) for k, v in {**settings, "speed": speed}.items()]
+    if later is not None:
+        texts.append(_set(session, "speed", later, at=5.0))
+    res = session.run("hop", texts, options=RunOptions(duration=time)).result
     tr = res.trajectory
     t = tr.t
     x = tr.com[:, 0]

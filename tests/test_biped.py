@@ -13,7 +13,7 @@ from conftest import CREATURES
 
 from legdsl.analysis.metrics import compute_metrics
 from legdsl.check.source import check_model
-from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
 

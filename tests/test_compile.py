@@ -12,7 +12,8 @@ from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
 
 from legdsl.cli import main
 from legdsl.lang import ast
-from legdsl.pipeline.compile import compile_model, write_generated
+from legdsl.pipeline.compile import compile_model
+from legdsl.pipeline.generated import write_generated
 
 TINY = """
 creature tiny {

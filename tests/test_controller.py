@@ -13,7 +13,7 @@ from legdsl.analysis.metrics import compute_metrics
 from legdsl.check.source import check_model
 from legdsl.cli import main
 from legdsl.lower.control import lower_controller
-from legdsl.pipeline.run import load_controller, load_dynamics
+from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.kinematics import FootPlacer
 from legdsl.sim.machine import InputChange, StateMachine
 from legdsl.sim.simulate import RunOptions, Simulation

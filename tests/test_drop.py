@@ -16,7 +16,7 @@ from conftest import CREATURES
 
 from legdsl.check.source import check_model
 from legdsl.ir.model import Pad
-from legdsl.pipeline.run import load_dynamics
+from legdsl.pipeline.generated import load_dynamics
 from legdsl.sim.simulate import RunOptions, Simulation
 
 

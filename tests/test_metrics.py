@@ -15,14 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from legdsl.analysis.metrics import (
-    TABLE2,
-    MetricsError,
-    compare_table,
-    compute_metrics,
-    parse_groups,
-)
+from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.results import MetricsError
 from legdsl.analysis.support import support_phases
+from legdsl.analysis.table2 import TABLE2, compare_table
 from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory, empty
 

@@ -10,13 +10,13 @@ from pathlib import Path
 import pytest
 from conftest import CREATURES, ROOT
 
-from legdsl.analysis.metrics import path_report
+from legdsl.analysis.path_report import path_report
 from legdsl.check.source import check_file, check_model
 from legdsl.cli import main
 from legdsl.ir.paths import PathSpec, read_waypoints, square_corners
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.lower.control import lower_controller
-from legdsl.pipeline.run import parse_path_option
+from legdsl.pipeline.settings import parse_path_option
 from legdsl.sim.machine import resolve_paths
 from legdsl.sim.path_tracking import PathGeometry, PathTracker
 from legdsl.sim.trajectory import Trajectory

@@ -54,8 +54,7 @@ def _events(result, kind: str) -> list[float]:
 
 
 def test_spring_mass_bounce_period_and_eq2_apex(hopper) -> None:
-    model, dyn = hopper
-    sim, result = run(model, dyn, duration=2.2, dt=1e-4, integrator="rk4", record_rate=0)
+    result = run(hopper, duration=2.2, dt=1e-4, integrator="rk4", record_rate=0)
     assert result.status == "ok"
     touch, lift = _events(result, "touchdown"), _events(result, "liftoff")
     assert len(touch) >= 3 and len(lift) >= 2
@@ -86,9 +85,8 @@ def test_spring_mass_bounce_period_and_eq2_apex(hopper) -> None:
 
 
 def test_same_inputs_give_byte_identical_trajectories(hopper, tmp_path: Path) -> None:
-    model, dyn = hopper
     for name in ("a", "b"):
-        _, result = run(model, dyn, duration=0.6)
+        result = run(hopper, duration=0.6)
         result.trajectory.save(tmp_path / name)
     assert (tmp_path / "a" / "trajectory.npz").read_bytes() == (
         tmp_path / "b" / "trajectory.npz"
@@ -99,8 +97,7 @@ def test_same_inputs_give_byte_identical_trajectories(hopper, tmp_path: Path) ->
 
 
 def test_divergence_stops_with_time_state_and_cause_and_keeps_the_record(hopper) -> None:
-    model, dyn = hopper
-    _, result = run(model, dyn, duration=2.0, dt=0.004, control_dt=0.004)
+    result = run(hopper, duration=2.0, dt=0.004, control_dt=0.004)
     assert result.status == "diverged"
     assert "t = " in result.message and "Likely cause" in result.message
     assert "too large for the contact stiffness" in result.message
@@ -110,10 +107,11 @@ def test_divergence_stops_with_time_state_and_cause_and_keeps_the_record(hopper)
 
 
 def test_a_tipped_hopper_is_reported_as_a_fall(hopper) -> None:
-    model, dyn = hopper
     from legdsl.sim.simulate import RunOptions, Simulation
 
-    sim = Simulation(model, dyn, RunOptions(duration=5.0, dt=1e-4, integrator="rk4"))
+    sim = Simulation(
+        hopper.model, hopper.dynamics, RunOptions(duration=5.0, dt=1e-4, integrator="rk4")
+    )
     sim.q[2] = 0.3  # pitched 17 degrees: it lands on a slant leg and topples
     result = sim.run()
     assert result.status == "fell"
@@ -123,8 +121,8 @@ def test_a_tipped_hopper_is_reported_as_a_fall(hopper) -> None:
 
 @pytest.mark.parametrize(("angle", "slips"), [(15.0, False), (35.0, True)])
 def test_friction_cone_on_a_slope(tmp_path: Path, angle: float, slips: bool) -> None:
-    model, dyn = compile_text(SLED.replace("ANGLE", f"{angle} deg"), tmp_path, "sled")
-    _, result = run(model, dyn, duration=1.0, dt=2e-4, integrator="rk4")
+    sled = compile_text(SLED.replace("ANGLE", f"{angle} deg"), tmp_path, "sled")
+    result = run(sled, duration=1.0, dt=2e-4, integrator="rk4")
     assert result.status == "ok"
     tr = result.trajectory
     a = math.radians(angle)

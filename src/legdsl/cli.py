@@ -13,13 +13,9 @@ import sys
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from legdsl import __version__
 from legdsl.lang.errors import LegError, UsageError
-
-if TYPE_CHECKING:
-    from legdsl.sim.trajectory import Trajectory
 
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
@@ -61,24 +57,12 @@ def _cmd_show(args: argparse.Namespace) -> int:
 
 def _cmd_run(args: argparse.Namespace) -> int:
     import math
-    from pathlib import Path
 
-    from legdsl.check.source import check_model
-    from legdsl.pipeline.run import (
-        load_controller,
-        load_dynamics,
-        parse_path_option,
-        path_summary,
-        progress_bar,
-        sort_settings,
-        summary,
-        write_run,
-    )
-    from legdsl.sim.machine import StateMachine
-    from legdsl.sim.simulate import RunOptions, Simulation
+    from legdsl.pipeline.report import progress_bar
+    from legdsl.pipeline.session import RunSession
+    from legdsl.sim.simulate import RunOptions
 
-    source = Path(args.file)
-    model = check_model(source, args.creature)
+    session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
     options = RunOptions(
         duration=args.time,
         dt=args.dt,
@@ -89,47 +73,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
         fall_tilt=math.radians(args.fall_tilt),
         drop=args.drop,
     )
-    generated = Path(args.generated)
-    dynamics = load_dynamics(model, source, generated, log=sys.stderr)
-    control = None
-    if args.controller is not None:
-        control = load_controller(model, args.controller, source, generated, log=sys.stderr)
-    settings = sort_settings(args.set, model, control)
-    paths = [parse_path_option(text) for text in args.path]
-    if paths and control is None:
-        raise UsageError("--path: a path is followed by a controller; choose one with --controller")
-    machine = None
-    if control is not None:
-        machine = StateMachine(
-            model, control, settings.inputs, settings.params, settings.schedule, paths
-        )
-    sim = Simulation(model, dynamics, options, machine)
-    for name, value in settings.actuators.items():
-        actuator, _, key = name.partition(".")
-        sim.actuators.by_name[actuator].set(key, value)
-    result = sim.run(progress_bar if sys.stderr.isatty() else None)
-    out = Path(args.out) if args.out else Path("runs") / model.name
-    extra = {"controller": args.controller, "settings": settings.as_json()}
-    if machine is not None:
-        extra["inputs"] = machine.initial_inputs
-        extra["params"] = dict(zip(machine.param_names, machine.params, strict=True))
-    reports = []
-    if machine is not None:
-        from legdsl.analysis.metrics import path_report
-
-        given = [p for p in machine.paths if p.shape != "none"]
-        extra["paths"] = [p.as_json() for p in given]
-        reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
-        extra["path_reports"] = reports
-    write_run(out, model, options, result, extra)
-    print(summary(model, result))
-    for report in reports:
-        print(path_summary(report))
+    progress = progress_bar if sys.stderr.isatty() else None
+    run = session.run(args.controller, args.set, args.path, options, progress)
+    out = run.write(Path(args.out) if args.out else Path("runs") / session.model.name)
+    print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
         from legdsl.export.animate import animate_result
 
-        animate_result(out, model, result, dynamics)
+        animate_result(out, session.model, run.result, session.dynamics)
+    result = run.result
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -143,82 +96,43 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
-    from legdsl.analysis.metrics import (
-        TABLE2,
-        MetricsError,
-        compare_table,
-        compute_metrics,
-        parse_groups,
-        write_json,
-    )
-    from legdsl.sim.trajectory import Trajectory
+    from legdsl.analysis.table2 import TABLE2, compare_table
+    from legdsl.pipeline.measure import measure_run
+    from legdsl.pipeline.report import path_summary
 
-    if args.table2 is not None and args.table2 not in TABLE2:
-        print(
-            f"legdsl metrics: error: --table2 {args.table2!r}: Table 2 has "
-            + ", ".join(repr(k) for k in TABLE2),
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
-    run = Path(args.dir)
-    if not (run / "trajectory.npz").is_file():
-        print(f"legdsl metrics: error: no trajectory.npz in {run}", file=sys.stderr)
-        return EXIT_USER_ERROR
     try:
-        trajectory = Trajectory.load(run)
-    except (OSError, KeyError, ValueError) as e:  # a damaged or foreign file, not our bug
-        print(f"legdsl metrics: error: cannot read {run / 'trajectory.npz'}: {e}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    try:
-        metrics = compute_metrics(
-            trajectory,
-            t_from=args.t_from,
-            t_to=args.t_to,
-            leg=args.leg,
-            groups=parse_groups(args.group),
-            joint=args.joint,
-            against=args.against,
+        if args.table2 is not None and args.table2 not in TABLE2:
+            known = ", ".join(repr(k) for k in TABLE2)
+            raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
+        metrics, reports = measure_run(
+            args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against
         )
-    except MetricsError as e:
+    except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
-    write_json(metrics, run / "metrics.json")
-    reports = _path_reports(run, trajectory, args.t_from, args.t_to)
     if args.json:
         data = metrics.to_dict()
         if reports:
             data["path_reports"] = reports
         print(json.dumps(data, indent=2, allow_nan=False))
-    else:
-        print(metrics.table(), end="")
-        if args.table2 is not None:
-            print(f"\nbeside Table 2 of the paper, {args.table2}:")
-            print(compare_table(metrics, TABLE2[args.table2]), end="")
-        if reports:
-            from legdsl.pipeline.run import path_summary
-
-            print("path following:")
-            for report in reports:
-                print(path_summary(report))
+        return 0
+    print(metrics.table(), end="")
+    if args.table2 is not None:
+        print(f"\nbeside Table 2 of the paper, {args.table2}:")
+        print(compare_table(metrics, TABLE2[args.table2]), end="")
+    if reports:
+        print("path following:")
+        for report in reports:
+            print(path_summary(report))
     return 0
-
-
-def _path_reports(
-    run: Path, trajectory: Trajectory, t_from: float, t_to: float | None
-) -> list[dict[str, object]]:
-    """The lateral deviation from each path the run followed (from --from, else from 3 s)."""
-    from legdsl.analysis.metrics import PATH_FROM, path_report
-    from legdsl.analysis.plot import run_paths
-
-    start = t_from if t_from > 0 else PATH_FROM
-    return [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from legdsl.pipeline.compile import compile_file, write_generated
+    from legdsl.pipeline.compile import compile_file
+    from legdsl.pipeline.generated import write_generated
 
     if args.all == bool(args.files):
         print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
@@ -280,6 +194,25 @@ def _cmd_export(args: argparse.Namespace) -> int:
     write_atomic(out, text)
     print(f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)")
     return 0
+
+
+# legdsl run's numeric simulation options (RunOptions): flag, default, metavar, help
+_SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
+    ("--dt", 0.0004, None, "integration step in s (default 0.0004, the paper's)"),
+    ("--control-dt", 0.002, None, "control interval in s (default 0.002)"),
+    ("--record-rate", 200.0, None, "samples per second to record (default 200; 0 records every step)"),
+    ("--drop", None, "H", "start with the lowest foot H metres above the ground"),
+    ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start)"),
+    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees is a fall (default 60)"),
+)  # fmt: skip
+
+
+def _add_window(p: argparse.ArgumentParser) -> None:
+    """--from and --to: the part of a run to measure or draw."""
+    p.add_argument("--from", dest="t_from", type=float, default=0.0, metavar="T",
+                   help="start of the window in s (default 0)")  # fmt: skip
+    p.add_argument("--to", dest="t_to", type=float, default=None, metavar="T",
+                   help="end of the window in s (default: the end of the run)")  # fmt: skip
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -350,45 +283,13 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
     r.add_argument(
-        "--dt",
-        type=float,
-        default=0.0004,
-        help="integration step in s (default 0.0004, the paper's)",
-    )
-    r.add_argument(
         "--integrator",
         choices=("euler", "rk4"),
         default="euler",
         help="semi-implicit Euler (default) or RK4",
     )
-    r.add_argument(
-        "--control-dt", type=float, default=0.002, help="control interval in s (default 0.002)"
-    )
-    r.add_argument(
-        "--record-rate",
-        type=float,
-        default=200.0,
-        help="samples per second to record (default 200; 0 records every step)",
-    )
-    r.add_argument(
-        "--drop",
-        type=float,
-        metavar="H",
-        help="start with the lowest foot H metres above the ground",
-    )
-    r.add_argument(
-        "--fall-height",
-        type=float,
-        metavar="Z",
-        help="the root below Z metres is a fall (default 30%% of its height over its feet at the start)",
-    )
-    r.add_argument(
-        "--fall-tilt",
-        type=float,
-        default=60.0,
-        metavar="DEG",
-        help="the root tilted beyond DEG degrees is a fall (default 60)",
-    )
+    for flag, default, metavar, text in _SIMULATION_OPTIONS:
+        r.add_argument(flag, type=float, default=default, metavar=metavar, help=text)
     r.add_argument(
         "--generated",
         default="generated",
@@ -421,22 +322,7 @@ def _parser() -> argparse.ArgumentParser:
         help="also print the run beside these rows of the paper's Table 2: 'kangaroo hop', "
         "'biped run', 'quadruped trot' or 'quadruped bound'",
     )
-    m.add_argument(
-        "--from",
-        dest="t_from",
-        type=float,
-        default=0.0,
-        metavar="T",
-        help="start of the window in s (default 0)",
-    )
-    m.add_argument(
-        "--to",
-        dest="t_to",
-        type=float,
-        default=None,
-        metavar="T",
-        help="end of the window in s (default: the end of the run)",
-    )
+    _add_window(m)
     m.add_argument(
         "--leg",
         metavar="NAME",
@@ -493,10 +379,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     pl.add_argument("dir", metavar="DIR", help="a run directory (legdsl run --out DIR)")
     pl.add_argument("-o", "--output", metavar="FILE.png", help="where to write the picture")
-    pl.add_argument(
-        "--from", dest="t_from", type=float, default=0.0, metavar="T", help="start time (s)"
-    )
-    pl.add_argument("--to", dest="t_to", type=float, metavar="T", help="end time (s)")
+    _add_window(pl)
     pl.add_argument(
         "--top",
         action="store_true",

@@ -35,16 +35,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 from legdsl.analysis.friction import MIN_NORMAL_FRACTION, contact_friction
-from legdsl.analysis.path_report import PATH_FROM, path_report, path_rows
 from legdsl.analysis.results import (
     FRICTION_EDGE,
-    Flight,
-    Friction,
     GaitMetrics,
     MetricsError,
-    Stance,
-    Summary,
-    write_json,
 )
 from legdsl.analysis.rows import summary_rows
 from legdsl.analysis.strides import (
@@ -57,29 +51,8 @@ from legdsl.analysis.strides import (
     stride_series,
     touching,
 )
-from legdsl.analysis.support import SupportPhase, with_support_rows
-from legdsl.analysis.table2 import TABLE2, compare_table
+from legdsl.analysis.support import with_support_rows
 from legdsl.sim.trajectory import Trajectory
-
-__all__ = [
-    "FRICTION_EDGE",
-    "MIN_NORMAL_FRACTION",
-    "PATH_FROM",
-    "TABLE2",
-    "Flight",
-    "Friction",
-    "GaitMetrics",
-    "MetricsError",
-    "Stance",
-    "Summary",
-    "SupportPhase",
-    "compare_table",
-    "compute_metrics",
-    "parse_groups",
-    "path_report",
-    "path_rows",
-    "write_json",
-]
 
 
 def parse_groups(specs: Sequence[str]) -> dict[str, list[str]]:

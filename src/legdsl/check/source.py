@@ -17,6 +17,12 @@ from legdsl.lang.parser import parse_file
 def check_file(path: str | Path) -> list[Model]:
     """Parse and check a .leg file; every creature in it becomes a model with its controllers."""
     tree, text = parse_file(path)
+    return check_tree(tree, text, path)
+
+
+def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]:
+    """Check a file already parsed (``parse_file(path)`` gave ``tree`` and ``text``), so that a
+    caller that keeps the syntax tree (the compile driver) parses the file only once."""
     sources = {str(path): text}
     diag = Diagnostics(sources)
     library = load_uses(tree, diag, sources)

@@ -178,7 +178,7 @@ def load_motion(
     """Read a run directory and resample it for drawing (see the module docstring)."""
     run = read_run(directory, source)
     if kinematics is None:
-        from legdsl.pipeline.run import load_dynamics
+        from legdsl.pipeline.generated import load_dynamics
 
         kinematics = load_dynamics(run.model, run.source, generated)
     return motion_from(

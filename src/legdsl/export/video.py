@@ -147,6 +147,6 @@ def _write_gif(frames: Any, path: Path, fps: float, report: Callable[[int], None
 def stderr_progress(t: float, total: float) -> None:
     """A one-line progress bar on stderr (only when it is a terminal)."""
     if sys.stderr.isatty():
-        from legdsl.pipeline.run import progress_bar
+        from legdsl.pipeline.report import progress_bar
 
         progress_bar(t, total)

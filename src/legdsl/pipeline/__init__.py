@@ -1,1 +1,4 @@
-"""The stages put together: the compile driver, generated modules kept fresh, and the run session."""
+"""The stages put together: the compile driver (``compile``), generated modules written and kept
+fresh (``generated``), the run session (``session``) with its ``--set``/``--path`` values
+(``settings``) and printed summary (``report``), and the metrics of a run directory (``measure``).
+``run`` keeps the runner's old names for existing importers."""

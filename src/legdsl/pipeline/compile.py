@@ -1,28 +1,26 @@
-"""The compiler driver: ``.leg`` file -> AST -> model -> symbolic system -> printed modules.
+"""The compiler driver: ``.leg`` file -> syntax tree -> model and controller IR -> lowered
+controllers and symbolic system -> printed modules.
 
-``compile_model`` returns every stage so each can be inspected and tested
-(like Devito's ``Operator._lower``); ``write_generated`` puts the printed
-modules under ``generated/NAME/`` atomically: they are written into a
-temporary sibling directory that is then renamed into place, so a failure
-leaves the previous directory untouched and never half-written.
+``compile_file`` parses each file once and returns, per creature, a ``Compiled`` holding every
+stage's product so each can be inspected and tested (like Devito's ``Operator._lower``);
+``compile_checked`` starts from a model already checked (the run session's, when its generated
+modules are stale). Writing ``generated/NAME/`` is ``legdsl.pipeline.generated``'s.
 """
 
 from __future__ import annotations
 
-import os
-import shutil
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from legdsl.check.source import check_file, choose
+from legdsl.check.source import check_tree, choose
 from legdsl.codegen.python.control import render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
-from legdsl.ir.model import Model
+from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
 from legdsl.lang.parser import parse_file
-from legdsl.lower.control import lower_controller
+from legdsl.lower.control import LoweredController, lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
 
 Progress = Callable[[str], None]
@@ -33,15 +31,21 @@ class Compiled:
     """Every stage of compiling one creature."""
 
     source: str  # the .leg path as written in the generated header (relative)
-    syntax: ast.SourceFile
-    model: Model
-    system: SymbolicSystem
+    syntax: ast.SourceFile  # the whole file's syntax tree
+    model: Model  # the creature's checked IR
+    system: SymbolicSystem  # the lowered dynamics
+    lowered: tuple[LoweredController, ...]  # one per controller, in ``controllers`` order
     files: tuple[tuple[str, str], ...]  # (file name, text) of generated/NAME/
     timings: tuple[tuple[str, float], ...]  # (stage, seconds)
 
     @property
     def name(self) -> str:
         return self.model.name
+
+    @property
+    def controllers(self) -> tuple[Controller, ...]:
+        """The controller IR (checked with the model, so it lives in ``model.controllers``)."""
+        return tuple(self.model.controllers)
 
     def text(self, file_name: str) -> str:
         return dict(self.files)[file_name]
@@ -60,16 +64,17 @@ def source_label(path: str | Path) -> str:
 
 
 def compile_file(path: str | Path, progress: Progress | None = None) -> list[Compiled]:
-    """Compile every creature in a ``.leg`` file."""
+    """Compile every creature in a ``.leg`` file (parsed once, then checked and lowered)."""
     say = progress or (lambda _: None)
     start = time.perf_counter()
-    syntax, _ = parse_file(path)
+    syntax, text = parse_file(path)
     parsed = time.perf_counter() - start
     start = time.perf_counter()
-    models = check_file(path)
+    models = check_tree(syntax, text, path)
     checked = time.perf_counter() - start
     say(f"{path}: parsed in {parsed:.2f} s, checked in {checked:.2f} s")
-    return [_lower(syntax, m, (("parse", parsed), ("check", checked)), say) for m in models]
+    timings = (("parse", parsed), ("check", checked))
+    return [compile_checked(syntax, m, progress, timings) for m in models]
 
 
 def compile_model(
@@ -79,12 +84,14 @@ def compile_model(
     return choose(compile_file(path, progress), creature, path)
 
 
-def _lower(
+def compile_checked(
     syntax: ast.SourceFile,
     model: Model,
-    timings: tuple[tuple[str, float], ...],
-    say: Progress,
+    progress: Progress | None = None,
+    timings: tuple[tuple[str, float], ...] = (),
 ) -> Compiled:
+    """Lower and print a model already checked from ``syntax`` (the stages after the checker)."""
+    say = progress or (lambda _: None)
     say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
     start = time.perf_counter()
     system = lower(model)
@@ -96,9 +103,11 @@ def _lower(
         ("__init__.py", render_init(model)),
         ("dynamics.py", render_dynamics(system, source)),
     )
+    controllers: tuple[LoweredController, ...] = ()
     for controller in model.controllers:
         say(f"{model.name}: lowering controller {controller.name}")
         lowered_controller = lower_controller(model, controller)
+        controllers += (lowered_controller,)
         events = {state.name: state.event_text for state in controller.states}
         stamp = controller_fingerprint(model, controller)
         text = render_control(lowered_controller, source, events, stamp)
@@ -107,39 +116,11 @@ def _lower(
     lines = sum(text.count("\n") for _, text in files)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")
     return Compiled(
-        source,
-        syntax,
-        model,
-        system,
-        files,
-        (*timings, ("lower", lowered), ("print", printed)),
+        source=source,
+        syntax=syntax,
+        model=model,
+        system=system,
+        lowered=controllers,
+        files=files,
+        timings=(*timings, ("lower", lowered), ("print", printed)),
     )
-
-
-def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
-    """Write ``out_root/NAME/`` as a whole: the old directory is replaced only once the new one is complete."""
-    root = Path(out_root)
-    root.mkdir(parents=True, exist_ok=True)
-    final = root / compiled.name
-    fresh = root / f".{compiled.name}.new-{os.getpid()}"
-    retired = root / f".{compiled.name}.old-{os.getpid()}"
-    for leftover in (fresh, retired):
-        if leftover.exists():
-            shutil.rmtree(leftover)
-    fresh.mkdir()
-    try:
-        for name, text in compiled.files:
-            (fresh / name).write_text(text, encoding="utf-8", newline="\n")
-        if final.exists():
-            final.rename(retired)
-        try:
-            fresh.rename(final)
-        except BaseException:
-            if retired.exists() and not final.exists():
-                retired.rename(final)  # put the old directory back
-            raise
-    except BaseException:
-        shutil.rmtree(fresh, ignore_errors=True)
-        raise
-    shutil.rmtree(retired, ignore_errors=True)
-    return final

@@ -1,0 +1,122 @@
+"""``generated/NAME/``: written atomically, and loaded fresh (compiled first when missing or stale).
+
+A generated module is fresh when its fingerprint constant (``MODEL_FINGERPRINT`` in
+``dynamics.py``, ``FINGERPRINT`` in ``control_CONTROLLER.py``) is the one the checked model
+gives now. Otherwise the creature is compiled and its directory replaced as a whole:
+``write_generated`` writes into a temporary sibling directory that is then renamed into place,
+so a failure leaves the previous directory untouched and never half-written.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from legdsl.codegen.python.dynamics import controller_fingerprint, model_fingerprint
+from legdsl.ir.model import Model
+from legdsl.lang import ast
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.compile import Compiled, compile_checked, compile_model
+
+
+def import_module_file(path: Path, name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def load_dynamics(
+    model: Model,
+    source: Path,
+    generated: Path,
+    log: Any = None,
+    syntax: ast.SourceFile | None = None,
+) -> ModuleType:
+    """The creature's generated dynamics module, compiled first if missing or stale.
+
+    ``syntax``, the file's syntax tree the model was checked from, saves parsing it again.
+    """
+    stamp = ("MODEL_FINGERPRINT", model_fingerprint(model))
+    return _load(model, source, generated, "dynamics.py", stamp, log, syntax)
+
+
+def load_controller(
+    model: Model,
+    controller: str,
+    source: Path,
+    generated: Path,
+    log: Any = None,
+    syntax: ast.SourceFile | None = None,
+) -> ModuleType:
+    """The generated control module of one of the creature's controllers (compiled if needed)."""
+    names = [c.name for c in model.controllers]
+    if controller not in names:
+        raise UsageError(
+            f"--controller {controller}: creature '{model.name}' has no such controller "
+            f"(it has {', '.join(names) or 'none'})"
+        )
+    stamp = ("FINGERPRINT", controller_fingerprint(model, model.controller(controller)))
+    return _load(model, source, generated, f"control_{controller}.py", stamp, log, syntax)
+
+
+def _load(
+    model: Model,
+    source: Path,
+    generated: Path,
+    file: str,
+    stamp: tuple[str, str],
+    log: Any,
+    syntax: ast.SourceFile | None,
+) -> ModuleType:
+    """Import ``generated/NAME/file`` if its fingerprint constant matches, else compile first."""
+    path = generated / model.name / file
+    label = f"legdsl_generated_{model.name}_{path.stem}"
+    if path.is_file():
+        module = import_module_file(path, label)
+        if getattr(module, stamp[0], None) == stamp[1]:
+            return module
+        reason = "stale"
+    else:
+        reason = "missing"
+    if log is not None:
+        print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
+    compiled = (
+        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+    )
+    write_generated(compiled, generated)
+    return import_module_file(path, label + "_new")
+
+
+def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
+    """Write ``out_root/NAME/`` as a whole: the old directory is replaced only once the new one is complete."""
+    root = Path(out_root)
+    root.mkdir(parents=True, exist_ok=True)
+    final = root / compiled.name
+    fresh = root / f".{compiled.name}.new-{os.getpid()}"
+    retired = root / f".{compiled.name}.old-{os.getpid()}"
+    for leftover in (fresh, retired):
+        if leftover.exists():
+            shutil.rmtree(leftover)
+    fresh.mkdir()
+    try:
+        for name, text in compiled.files:
+            (fresh / name).write_text(text, encoding="utf-8", newline="\n")
+        if final.exists():
+            final.rename(retired)
+        try:
+            fresh.rename(final)
+        except BaseException:
+            if retired.exists() and not final.exists():
+                retired.rename(final)  # put the old directory back
+            raise
+    except BaseException:
+        shutil.rmtree(fresh, ignore_errors=True)
+        raise
+    shutil.rmtree(retired, ignore_errors=True)
+    return final

@@ -1,0 +1,54 @@
+"""``legdsl metrics``: the gait metrics and path reports of a run directory a session wrote."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.path_report import PATH_FROM, path_report
+from legdsl.analysis.plot import run_paths
+from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
+from legdsl.lang.errors import UsageError
+from legdsl.sim.trajectory import Trajectory
+
+
+def measure_run(
+    run: str | Path,
+    t_from: float = 0.0,
+    t_to: float | None = None,
+    leg: str | None = None,
+    groups: Sequence[str] = (),
+    joint: str | None = None,
+    against: str | None = None,
+) -> tuple[GaitMetrics, list[dict[str, Any]]]:
+    """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
+    lateral deviation from each path the run followed (from ``t_from``, else from 3 s).
+
+    ``groups`` are virtual legs, ``NAME=LEG,LEG``. A request the run cannot answer (no or a
+    damaged trajectory, an unknown leg, an empty window) raises ``UsageError``.
+    """
+    run = Path(run)
+    if not (run / "trajectory.npz").is_file():
+        raise UsageError(f"no trajectory.npz in {run}")
+    try:
+        trajectory = Trajectory.load(run)
+    except (OSError, KeyError, ValueError) as e:  # a damaged or foreign file, not our bug
+        raise UsageError(f"cannot read {run / 'trajectory.npz'}: {e}") from None
+    try:
+        metrics = compute_metrics(
+            trajectory,
+            t_from=t_from,
+            t_to=t_to,
+            leg=leg,
+            groups=parse_groups(groups),
+            joint=joint,
+            against=against,
+        )
+    except MetricsError as e:
+        raise UsageError(str(e)) from None
+    write_json(metrics, run / "metrics.json")
+    start = t_from if t_from > 0 else PATH_FROM
+    reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
+    return metrics, reports

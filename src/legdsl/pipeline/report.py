@@ -1,0 +1,57 @@
+"""What ``legdsl run`` prints about a run: the summary table, path rows and the progress bar."""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+from legdsl.ir.model import Model
+from legdsl.sim.simulate import RunResult
+
+
+def progress_bar(t: float, total: float) -> None:
+    width = 30
+    frac = min(1.0, t / total) if total > 0 else 1.0
+    bar = "#" * int(frac * width) + "." * (width - int(frac * width))
+    end = "\n" if frac >= 1.0 else ""
+    print(f"\r[{bar}] {t:6.2f} / {total:.2f} s", end=end, file=sys.stderr, flush=True)
+
+
+def summary(model: Model, result: RunResult) -> str:
+    """The table printed after a run."""
+    tr = result.trajectory
+    touchdowns = sum(1 for e in result.events if e["kind"] == "touchdown")
+    liftoffs = sum(1 for e in result.events if e["kind"] == "liftoff")
+    rows = [
+        ("creature", f"{model.name} ({model.nv} DOF)"),
+        ("status", result.status + (f": {result.message}" if result.message else "")),
+        ("simulated", f"{result.sim_time:.3f} s in {result.steps} steps"),
+        ("wall time", f"{result.wall_time:.2f} s (real-time factor {result.real_time_factor:.2f})"),
+        ("samples", str(len(tr))),
+        ("touchdowns / liftoffs", f"{touchdowns} / {liftoffs}"),
+    ]
+    if len(tr):
+        energy0 = tr.kinetic[0] + tr.potential[0] + tr.elastic[0]
+        energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]
+        rows += [
+            ("final root position", "(" + ", ".join(f"{x:.3f}" for x in tr.root_pos[-1]) + ") m"),
+            ("mean speed along x, start to end", f"{_mean_speed(tr):.3f} m/s"),
+            ("total energy start -> end", f"{energy0:.3f} J -> {energy1:.3f} J"),
+        ]
+    width = max(len(r[0]) for r in rows)
+    return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def _mean_speed(tr: Any) -> float:
+    if len(tr) < 2 or tr.t[-1] <= tr.t[0]:
+        return 0.0
+    return float((tr.com[-1, 0] - tr.com[0, 0]) / (tr.t[-1] - tr.t[0]))
+
+
+def path_summary(report: dict[str, Any]) -> str:
+    """The path rows printed after a run's summary."""
+    from legdsl.analysis.path_report import path_rows
+
+    rows = path_rows(report)
+    width = max(len(r[0]) for r in rows)
+    return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)

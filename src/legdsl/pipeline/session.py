@@ -1,0 +1,185 @@
+"""The run session: a creature loaded once, run with a controller and settings, its run written.
+
+    session = RunSession.from_file("creatures/kangaroo.leg")        # check; compile if stale
+    run = session.run("hop", settings=["speed=3m/s", "speed=4m/s@1s"],
+                      options=RunOptions(duration=2.0))
+    run.write("runs/kangaroo")                                       # npz, csv, run.json
+    print(run.summary())
+
+``legdsl run`` is this plus argument parsing and printing; the tests and benchmarks use it too.
+The run directory gets ``trajectory.npz`` and ``trajectory.csv`` (see
+``legdsl.sim.trajectory``) and ``run.json``: every input, parameter and option, the legdsl
+version, the events (touchdowns, liftoffs, state changes), the status and its message, and the
+path reports of a run that followed paths.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from legdsl import __version__
+from legdsl.check.source import check_tree, choose
+from legdsl.ir.model import Model
+from legdsl.ir.paths import PathSpec
+from legdsl.lang import ast
+from legdsl.lang.errors import UsageError
+from legdsl.lang.parser import parse_file
+from legdsl.pipeline.generated import load_controller, load_dynamics
+from legdsl.pipeline.report import path_summary, summary
+from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.sim.machine import StateMachine
+from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+
+Progress = Callable[[float, float], None]  # (simulated time, duration)
+
+
+class RunSession:
+    """One creature, checked, with its generated dynamics loaded (compiled first if stale)."""
+
+    def __init__(
+        self,
+        model: Model,
+        source: str | Path,
+        dynamics: ModuleType,
+        generated: str | Path = "generated",
+        syntax: ast.SourceFile | None = None,
+        log: Any = None,
+    ):
+        self.model = model
+        self.source = Path(source)
+        self.dynamics = dynamics
+        self.generated = Path(generated)
+        self.syntax = syntax
+        self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
+        self._controls: dict[str, ModuleType] = {}
+
+    @classmethod
+    def from_file(
+        cls,
+        path: str | Path,
+        creature: str | None = None,
+        generated: str | Path = "generated",
+        log: Any = None,
+    ) -> RunSession:
+        """Parse and check ``path`` (once), pick the creature, load or compile its dynamics."""
+        source = Path(path)
+        syntax, text = parse_file(source)
+        model = choose(check_tree(syntax, text, source), creature, source)
+        dynamics = load_dynamics(model, source, Path(generated), log, syntax)
+        return cls(model, source, dynamics, generated, syntax, log)
+
+    @property
+    def controllers(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.model.controllers)
+
+    def control(self, controller: str) -> ModuleType:
+        """The generated module of one of the creature's controllers (compiled if stale)."""
+        if controller not in self._controls:
+            self._controls[controller] = load_controller(
+                self.model, controller, self.source, self.generated, self.log, self.syntax
+            )
+        return self._controls[controller]
+
+    def run(
+        self,
+        controller: str | None = None,
+        settings: Sequence[str] = (),
+        paths: Sequence[str | PathSpec] = (),
+        options: RunOptions | None = None,
+        progress: Progress | None = None,
+    ) -> Run:
+        """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
+        (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
+        ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
+        ``UsageError`` before anything is simulated."""
+        options = options if options is not None else RunOptions()
+        settings = [settings] if isinstance(settings, str) else list(settings)
+        paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
+        control = self.control(controller) if controller is not None else None
+        sorted_settings = sort_settings(settings, self.model, controller)
+        specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
+        if specs and control is None:
+            raise UsageError(
+                "--path: a path is followed by a controller; choose one with --controller"
+            )
+        machine = None
+        if control is not None:
+            s = sorted_settings
+            machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
+        sim = Simulation(self.model, self.dynamics, options, machine)
+        for name, value in sorted_settings.actuators.items():
+            actuator, _, key = name.partition(".")
+            sim.actuators.by_name[actuator].set(key, value)
+        result = sim.run(progress)
+        reports = []
+        if machine is not None:
+            from legdsl.analysis.path_report import path_report
+
+            given = [p for p in machine.paths if p.shape != "none"]
+            reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+        return Run(self.model, controller, options, sorted_settings, machine, result, reports)
+
+
+@dataclass
+class Run:
+    """One run of a session: what went in, what came out."""
+
+    model: Model
+    controller: str | None
+    options: RunOptions
+    settings: Settings
+    machine: StateMachine | None
+    result: RunResult
+    path_reports: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def status(self) -> str:  # ok | diverged | fell
+        return self.result.status
+
+    def info(self) -> dict[str, Any]:
+        """The content of ``run.json``."""
+        extra: dict[str, Any] = {
+            "controller": self.controller,
+            "settings": self.settings.as_json(),
+        }
+        if self.machine is not None:
+            m = self.machine
+            extra["inputs"] = m.initial_inputs
+            extra["params"] = dict(zip(m.param_names, m.params, strict=True))
+            extra["paths"] = [p.as_json() for p in m.paths if p.shape != "none"]
+            extra["path_reports"] = self.path_reports
+        result = self.result
+        return {
+            "legdsl": __version__,
+            "source": self.model.source,
+            "creature": self.model.name,
+            "options": asdict(self.options),
+            **extra,
+            "status": result.status,
+            "message": result.message,
+            "steps": result.steps,
+            "sim_time": round(result.sim_time, 9),
+            "samples": len(result.trajectory),
+            "events": result.events,
+        }
+
+    def write(self, out: str | Path) -> Path:
+        """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing)."""
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        self.result.trajectory.save(out)
+        text = json.dumps(self.info(), indent=2, allow_nan=False) + "\n"
+        tmp = out / "run.json.tmp"
+        tmp.write_text(text)
+        tmp.replace(out / "run.json")
+        return out
+
+    def summary(self) -> str:
+        """The table ``legdsl run`` prints, with the path rows of each path followed."""
+        parts = [summary(self.model, self.result), *map(path_summary, self.path_reports)]
+        return "\n".join(parts)

@@ -1,0 +1,231 @@
+"""``--set`` and ``--path``: values given to a run, checked against what the ``.leg`` file declared.
+
+``--set NAME=VALUE`` sets a controller input or parameter, ``NAME=VALUE@T`` changes an input at
+time ``T`` of the run, ``ACTUATOR.KEY=VALUE`` sets an actuator before it starts. Every value is
+checked against the dimension declared for it (``legdsl.ir.controller.Constant.dim``, or the
+actuator setting's kind): a dimensioned value needs a unit of that dimension, a dimensionless
+one a bare number. A bare 0 is taken for any dimension (zero is zero in every unit), as it
+always was for actuator settings. Values are stored in SI units.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from legdsl.ir.model import SETTABLE, Model, setting_kind
+from legdsl.ir.paths import PathSpec
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
+from legdsl.sim.machine import InputChange
+
+_NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+_TIME: Dim = KINDS["time"][0]
+
+
+@dataclass(frozen=True)
+class Given:
+    """A number with an optional unit, as written after ``=`` or ``@``."""
+
+    number: str  # the digits as written ("2.5")
+    unit: str  # the unit as written ("m/s"), empty for a bare number
+    value: float  # in SI units
+    dim: Dim | None  # None for a bare number
+
+    @property
+    def text(self) -> str:
+        return self.number + self.unit
+
+
+def parse_given(value: str, where: str) -> Given:
+    """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
+    match = _NUMBER.fullmatch(value)
+    if match is None:
+        raise UsageError(f"{where}: {value!r} is not a number with an optional unit")
+    number, unit = match.group(1), match.group(2)
+    if not unit:
+        return Given(number, "", float(number), None)
+    try:
+        factor, dim = parse_unit(unit)
+    except UnitError as e:
+        raise UsageError(f"{where}: {e}") from None
+    return Given(number, unit, float(number) * factor, dim)
+
+
+def parse_setting(text: str) -> tuple[str, float, Dim | None]:
+    """``NAME=VALUE`` with an optional unit right after the number (``hip_servo.setpoint=10deg``)."""
+    name, given = _split(text, text)
+    return name, given.value, given.dim
+
+
+def _split(text: str, where: str) -> tuple[str, Given]:
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise UsageError(f"--set {text!r}: write NAME=VALUE, e.g. --set hip_servo.setpoint=10deg")
+    return name.strip(), parse_given(value, f"--set {where!r}")
+
+
+def si_unit(dim: Dim) -> str:
+    """The SI unit of a dimension as ``--set`` reads it (``kg*m^2/s^2/rad``; empty if none)."""
+    symbols = ("kg", "m", "s", "rad")
+    up = [s if e == 1 else f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e > 0]
+    down = [s if e == -1 else f"{s}^{-e}" for s, e in zip(symbols, dim, strict=True) if e < 0]
+    if not up:
+        return "*".join(f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e)
+    return "*".join(up) + "".join(f"/{d}" for d in down)
+
+
+def unit_for(dim: Dim) -> str:
+    """A unit to write for a dimension: the example unit of its kind, else its SI unit."""
+    for kind_dim, example in KINDS.values():
+        if kind_dim == dim:
+            return "" if dim == DIMENSIONLESS else example
+    return si_unit(dim)
+
+
+def a_kind(dim: Dim) -> str:
+    """'a velocity (m/s)', 'an angle (deg)', 'dimensionless', 'a quantity in m^-1*rad'."""
+    if dim == DIMENSIONLESS:
+        return "dimensionless"
+    name = describe(dim)
+    if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
+        return f"a quantity in {unit_for(dim)}"
+    return ("an " if name[0] in "aeiou" else "a ") + name
+
+
+def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) -> None:
+    """Raise a ``UsageError`` unless ``given`` has the dimension ``want``.
+
+    ``what`` says what is wanted ("speed is a velocity (m/s)"), ``write`` how to write the
+    value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example.
+    """
+    example = write.format(given.number + unit_for(want))
+    if want == DIMENSIONLESS:
+        if given.dim is not None and given.dim != DIMENSIONLESS:
+            raise UsageError(
+                f"{where}: {what}, but {given.text} is {a_kind(given.dim)}; "
+                f"write a bare number, e.g. {example}"
+            )
+        return
+    if given.dim is None:
+        if given.value != 0:
+            raise UsageError(f"{where}: {what}; give its unit, e.g. {example}")
+        return
+    if given.dim != want:
+        raise UsageError(
+            f"{where}: {what}, but {given.text} is {a_kind(given.dim)}; write e.g. {example}"
+        )
+
+
+def _check_named(where: str, name: str, given: Given, want: Dim) -> None:
+    check_dimension(where, f"{name} is {a_kind(want)}", given, want, f"{name}={{}}")
+
+
+@dataclass
+class Settings:
+    """``--set`` options sorted by what they set (all values in SI)."""
+
+    actuators: dict[str, float]  # ACTUATOR.SETTING -> value, before the run
+    inputs: dict[str, float]  # controller inputs at t = 0
+    params: dict[str, float]  # controller parameters
+    schedule: list[InputChange]  # NAME=VALUE@T: an input changed during the run
+
+    def as_json(self) -> dict[str, Any]:
+        return {
+            "actuators": self.actuators,
+            "inputs": self.inputs,
+            "params": self.params,
+            "schedule": [{"t": c.t, "input": c.name, "value": c.value} for c in self.schedule],
+        }
+
+
+def sort_settings(texts: list[str], model: Model, controller: str | None) -> Settings:
+    """Read ``--set`` options: ``ACTUATOR.SETTING=V``, ``INPUT=V``, ``PARAM=V`` or ``INPUT=V@T``,
+    each checked against the dimension the file declares for it."""
+    out = Settings({}, {}, {}, [])
+    ir = model.controller(controller) if controller is not None else None
+    inputs = {c.name: c for c in ir.inputs} if ir is not None else {}
+    params = {c.name: c for c in ir.params} if ir is not None else {}
+    for original in texts:
+        where = f"--set {original}"
+        text, at = original, None
+        if "@" in original:
+            text, _, when = original.rpartition("@")
+            given = parse_given(when, f"--set ...@{when}")
+            check_dimension(where, "the time after '@' is in seconds", given, _TIME, "@{}")
+            at = given.value
+        name, given = _split(text, original)
+        if "." in name:
+            if at is not None:
+                raise UsageError(f"--set {text}@...: only controller inputs change during a run")
+            _check_actuator_setting(model, name, given, where)
+            out.actuators[name] = given.value
+            continue
+        if ir is None:
+            raise UsageError(
+                f"--set {name}: '{name}' is a controller input; choose a controller with --controller"
+            )
+        if name in inputs:
+            _check_named(where, name, given, inputs[name].dim)
+            if at is None:
+                out.inputs[name] = given.value
+            else:
+                out.schedule.append(InputChange(at, name, given.value))
+        elif name in params:
+            if at is not None:
+                raise UsageError(
+                    f"{where}: {name} is a parameter; only controller inputs change during a run "
+                    f"(inputs: {', '.join(inputs) or 'none'})"
+                )
+            _check_named(where, name, given, params[name].dim)
+            out.params[name] = given.value
+        else:
+            known = ", ".join([*inputs, *params]) or "none"
+            raise UsageError(
+                f"--set {name}: controller {controller} has no input or parameter {name!r} (it has {known})"
+            )
+    return out
+
+
+def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -> None:
+    by_name = {a.name: a for a in model.actuators}
+    actuator, _, key = name.partition(".")
+    if actuator not in by_name or not key:
+        raise UsageError(
+            f"--set {name}: name an actuator setting such as ACTUATOR.setpoint "
+            f"(actuators: {', '.join(by_name) or 'none'})"
+        )
+    a = by_name[actuator]
+    if key not in SETTABLE[a.kind]:
+        raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
+    _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
+
+
+def parse_path_option(text: str) -> PathSpec:
+    """``--path [NAME=]SHAPE`` (the .leg file's syntax) or ``--path FILE.csv`` (x,y per line).
+
+    Without ``NAME=`` the name is empty: the controller's only path (see
+    ``legdsl.sim.machine.resolve_paths``).
+    """
+    from legdsl.check.paths import check_path
+    from legdsl.ir.paths import read_waypoints
+    from legdsl.lang.errors import Diagnostics
+    from legdsl.lang.parser import parse_value
+
+    match = re.match(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)", text)
+    name, shape = ("", text) if match is None else (match.group(1), text[match.end() :])
+    if re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape):
+        file = Path(shape.strip())
+        if not file.is_file():
+            raise UsageError(f"--path {text}: no such file {file}")
+        return read_waypoints(file, name)
+    # parse the shape where it stands in the option, so the caret points into it
+    padded = " " * (len(text) - len(shape)) + shape
+    value = parse_value(padded, "--path")
+    diag = Diagnostics({"--path": text})
+    spec = check_path(name, value, diag)
+    diag.raise_if_any()
+    assert spec is not None
+    return spec

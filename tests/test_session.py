@@ -1,0 +1,128 @@
+"""The compile driver (every stage, each file parsed once) and the run session ``legdsl run`` is."""
+
+from __future__ import annotations
+
+import io
+import json
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+import pytest
+from conftest import CREATURES
+
+import legdsl.check.source
+import legdsl.pipeline.compile
+import legdsl.pipeline.session
+from legdsl.check.source import check_file, check_tree
+from legdsl.cli import main
+from legdsl.lang.errors import LegError, UsageError
+from legdsl.lang.parser import parse_file
+from legdsl.pipeline.compile import compile_file
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.simulate import RunOptions
+
+HOPPER = CREATURES / "hopper.leg"
+
+
+@pytest.fixture
+def parses(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
+    """How often each file is parsed, wherever the parser is called from."""
+    counts: Counter[str] = Counter()
+
+    def counting(path: str | Path) -> Any:
+        counts[str(Path(path).resolve())] += 1
+        return parse_file(path)
+
+    for module in (legdsl.check.source, legdsl.pipeline.compile, legdsl.pipeline.session):
+        monkeypatch.setattr(module, "parse_file", counting)
+    return counts
+
+
+def test_check_tree_is_check_file_on_a_parsed_tree() -> None:
+    tree, text = parse_file(HOPPER)
+    assert check_tree(tree, text, HOPPER) == check_file(HOPPER)
+
+
+def test_check_tree_reports_mistakes_as_check_file_does(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.leg"
+    bad.write_text("use nothing_of_the_kind\n", encoding="utf-8")
+    with pytest.raises(LegError) as from_tree:
+        check_tree(*parse_file(bad), bad)
+    with pytest.raises(LegError) as from_file:
+        check_file(bad)
+    assert from_tree.value.render() == from_file.value.render()
+    assert "cannot find 'nothing_of_the_kind'" in from_tree.value.render()
+
+
+def test_the_driver_returns_every_stage_and_parses_each_file_once(
+    parses: Counter[str],
+) -> None:
+    (compiled,) = compile_file(HOPPER)
+    assert parses[str(HOPPER.resolve())] == 1
+    assert set(parses.values()) == {1}  # the files it uses too
+    assert compiled.syntax.creatures[0].name.name == "hopper"
+    assert compiled.model.name == "hopper"
+    assert compiled.controllers == tuple(compiled.model.controllers)
+    assert [c.name for c in compiled.controllers] == ["hop"]
+    assert len(compiled.lowered) == 1
+    assert compiled.system is not None
+    assert [name for name, _ in compiled.files] == ["__init__.py", "dynamics.py", "control_hop.py"]
+    assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
+
+
+def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
+    parses: Counter[str], tmp_path: Path
+) -> None:
+    log = io.StringIO()
+    session = RunSession.from_file(HOPPER, generated=tmp_path / "gen", log=log)
+    assert parses[str(HOPPER.resolve())] == 1
+    assert "dynamics.py is missing; compiling" in log.getvalue()
+    assert sorted(p.name for p in (tmp_path / "gen" / "hopper").iterdir()) == [
+        "__init__.py",
+        "control_hop.py",
+        "dynamics.py",
+    ]
+    session.control("hop")  # fresh now: no second compile
+    again = RunSession.from_file(HOPPER, generated=tmp_path / "gen", log=log)
+    again.control("hop")
+    assert log.getvalue().count("compiling") == 1
+    assert session.controllers == ("hop",)
+
+
+def test_the_cli_run_is_the_session_run(generated: Path, tmp_path: Path) -> None:
+    settings = ["speed=0.5m/s", "speed=1m/s@0.1s"]
+    argv = ["run", str(HOPPER), "--controller", "hop", "--time", "0.2"]
+    argv += [x for s in settings for x in ("--set", s)]
+    assert main([*argv, "--generated", str(generated), "--out", str(tmp_path / "cli")]) == 0
+    session = RunSession.from_file(HOPPER, generated=generated)
+    run = session.run("hop", settings, options=RunOptions(duration=0.2))
+    assert run.status == "ok"
+    assert run.write(tmp_path / "api") == tmp_path / "api"
+    for name in ("trajectory.npz", "trajectory.csv", "run.json"):
+        assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "api" / name).read_bytes()
+    info = json.loads((tmp_path / "api" / "run.json").read_text())
+    assert info == run.info()
+    assert list(info)[:6] == ["legdsl", "source", "creature", "options", "controller", "settings"]
+    assert "hopper (" in run.summary()
+
+
+def test_a_session_rejects_a_path_without_a_controller_and_unknown_controllers(
+    generated: Path,
+) -> None:
+    session = RunSession.from_file(HOPPER, generated=generated)
+    with pytest.raises(UsageError, match="a path is followed by a controller"):
+        session.run(paths=["circle(center = (0, 5) m, radius = 5 m, turn = left)"])
+    with pytest.raises(UsageError, match="has no such controller .it has hop"):
+        session.run("trot")
+    with pytest.raises(UsageError, match="choose a controller with --controller"):
+        session.run(settings=["speed=1m/s"])
+    with pytest.raises(UsageError, match="'speed' is a controller input"):
+        session.run(settings="speed=1m/s")  # one setting alone, not a list of characters
+
+
+def test_a_passive_session_run_has_no_controller_fields(generated: Path) -> None:
+    run = RunSession.from_file(HOPPER, generated=generated).run(options=RunOptions(duration=0.05))
+    info = run.info()
+    assert info["controller"] is None and run.machine is None
+    assert not {"inputs", "params", "paths", "path_reports"} & set(info)

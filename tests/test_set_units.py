@@ -1,0 +1,140 @@
+"""``legdsl run --set``: each value is checked against the dimension its .leg file declares.
+
+Through the command line (exit status 2, a message naming the unit to write, no traceback) and
+through ``legdsl.pipeline.settings`` for the cases that need no simulation.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, ROOT, shipped_model
+
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS, parse_unit
+from legdsl.pipeline.settings import a_kind, si_unit, sort_settings, unit_for
+
+KANGAROO = str(CREATURES / "kangaroo.leg")
+
+
+def _run(argv: list[str], generated: Path, out: Path) -> list[str]:
+    return [
+        "run",
+        KANGAROO,
+        "--controller",
+        "hop",
+        *argv,
+        "--time",
+        "0.2",
+        "--generated",
+        str(generated),
+        "--out",
+        str(out),
+    ]
+
+
+@pytest.mark.parametrize(
+    ("setting", "says"),
+    [
+        ("speed=2kg", "speed is a velocity (m/s), but 2kg is a mass (kg); write e.g. speed=2m/s"),
+        ("speed=2", "speed is a velocity (m/s); give its unit, e.g. speed=2m/s"),
+        ("speed=5deg", "speed is a velocity (m/s), but 5deg is an angle (deg)"),
+        ("speed=3m/s@4", "the time after '@' is in seconds; give its unit, e.g. @4s"),
+        ("speed=3m/s@4kg", "the time after '@' is in seconds, but 4kg is a mass (kg)"),
+        ("k_trim=0.1m", "k_trim is dimensionless, but 0.1m is a length (m); write a bare number"),
+        ("stroke=10", "stroke is an angle (deg); give its unit, e.g. stroke=10deg"),
+        ("hip_servo.setpoint=10kg", "hip_servo.setpoint is an angle (deg), but 10kg is a mass"),
+        ("hip_servo.setpoint=10", "hip_servo.setpoint is an angle (deg); give its unit"),
+    ],
+)
+def test_a_value_in_the_wrong_unit_exits_2_naming_the_unit(
+    setting: str,
+    says: str,
+    generated: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(_run(["--set", setting], generated, tmp_path / "run")) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"legdsl: --set {setting}: {says}")
+    assert err.count("\n") == 1  # one line, no traceback
+    assert not (tmp_path / "run").exists()  # nothing simulated, nothing written
+
+
+def test_no_traceback_from_the_installed_command(generated: Path, tmp_path: Path) -> None:
+    argv = _run(["--set", "speed=2kg"], generated, tmp_path / "run")
+    done = subprocess.run(
+        [sys.executable, "-m", "legdsl", *argv], capture_output=True, text=True, cwd=ROOT
+    )
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr + done.stdout
+    assert "speed is a velocity (m/s)" in done.stderr and "write e.g. speed=2m/s" in done.stderr
+
+
+def test_right_units_run_and_are_stored_in_si(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["--set", "speed=3m/s", "--set", "speed=4m/s@1s", "--set", "k_trim=0.1"]
+    argv += ["--set", "stroke=9deg", "--set", "hip_servo.kp=0"]
+    assert main(_run(argv, generated, tmp_path / "run")) == 0
+    assert "Traceback" not in capsys.readouterr().err
+    info = json.loads((tmp_path / "run" / "run.json").read_text())
+    assert info["settings"]["inputs"] == {"speed": 3.0}
+    assert info["settings"]["schedule"] == [{"t": 1.0, "input": "speed", "value": 4.0}]
+    assert info["settings"]["params"]["k_trim"] == 0.1
+    assert info["params"]["stroke"] == pytest.approx(0.15707963267948966)
+    assert info["settings"]["actuators"] == {"hip_servo.kp": 0.0}
+
+
+def test_a_declared_zero_with_a_unit_is_dimensioned() -> None:
+    biped = shipped_model("biped")  # input heading = 0 deg
+    (heading,) = [c for c in biped.controller("run").inputs if c.name == "heading"]
+    assert heading.value == 0.0 and heading.dim == KINDS["angle"][0]
+    with pytest.raises(UsageError, match=r"heading is an angle \(deg\); give its unit"):
+        sort_settings(["heading=5"], biped, "run")
+    assert sort_settings(["heading=90deg"], biped, "run").inputs["heading"] == pytest.approx(
+        1.5707963267948966
+    )
+
+
+def test_a_bare_zero_is_taken_for_any_dimension() -> None:
+    kangaroo = shipped_model("kangaroo")
+    got = sort_settings(["speed=0", "hip_servo.setpoint=0", "speed=0@0"], kangaroo, "hop")
+    assert got.inputs == {"speed": 0.0} and got.actuators == {"hip_servo.setpoint": 0.0}
+    assert [(c.t, c.value) for c in got.schedule] == [(0.0, 0.0)]
+
+
+def test_a_dimensionless_parameter_takes_a_bare_number() -> None:
+    kangaroo = shipped_model("kangaroo")  # param k_trim = 0.05: no unit in the file
+    (k_trim,) = [c for c in kangaroo.controller("hop").params if c.name == "k_trim"]
+    assert k_trim.dim == (0, 0, 0, 0)
+    assert sort_settings(["k_trim=0.2"], kangaroo, "hop").params == {"k_trim": 0.2}
+
+
+def test_a_parameter_does_not_change_during_a_run() -> None:
+    with pytest.raises(UsageError, match="k_trim is a parameter; only controller inputs change"):
+        sort_settings(["k_trim=0.2@1s"], shipped_model("kangaroo"), "hop")
+
+
+def test_units_are_converted_to_si() -> None:
+    got = sort_settings(["height=46cm", "speed=3.6km/s@500ms"], shipped_model("kangaroo"), "hop")
+    assert got.inputs["height"] == pytest.approx(0.46)
+    assert (got.schedule[0].t, got.schedule[0].value) == (pytest.approx(0.5), 3600.0)
+
+
+def test_the_unit_to_write_for_every_dimension_parses_back() -> None:
+    for dim, _ in list(KINDS.values())[1:]:  # all but "dimensionless", which has no unit
+        assert parse_unit(si_unit(dim)) == (1.0, dim)
+        assert parse_unit(unit_for(dim))[1] == dim
+    assert si_unit((0, 0, 0, 0)) == unit_for((0, 0, 0, 0)) == ""
+    odd = (0, -1, 0, 1)  # the kangaroo's k_height: rad per metre
+    assert si_unit(odd) == unit_for(odd) == "rad/m"
+    assert a_kind(odd) == "a quantity in rad/m"
+    assert si_unit((1, 2, -2, -1)) == "kg*m^2/s^2/rad"
+    assert si_unit((0, -1, 0, 0)) == "m^-1"
+    assert a_kind(KINDS["angular velocity"][0]) == "an angular velocity (rad/s)"
