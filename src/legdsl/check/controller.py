@@ -14,13 +14,12 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 from legdsl.check.control_names import (
-    AliasUse,
     Opaque,
     Scope,
     Value,
     describe_type,
-    no_alias_message,
 )
+from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
 from legdsl.check.values import did_you_mean
@@ -215,7 +214,7 @@ class ControllerChecker:
                 start = starts[0].state.name
         states, signal_ir = elaborated
         bindings, after = reachable_bindings(self.roles, states)
-        self.check_aliases(scope, bindings, self.last_alias_uses)
+        check_aliases(scope, self.diag, self.actions, bindings, self.last_alias_uses)
         return ir.Controller(
             name=d.name.name,
             inputs=tuple(inputs),
@@ -315,36 +314,6 @@ class ControllerChecker:
                 params[p.name] = Opaque(p.name)
             el.stmts(action.body, params)
 
-    def check_aliases(
-        self, scope: Scope, bindings: tuple[ir.Binding, ...], uses: list[AliasUse]
-    ) -> None:
-        """Every leg a role is ever bound to has the aliases read through the role, alike."""
-        for use in uses:
-            role = use.alias.legs.role
-            first = scope.roles.get(role or "", ())
-            if not first:
-                continue
-            expected = scope.aliases[first[0]][use.alias.alias]
-            el = Elaborator(scope, self.diag)
-            el.calls = [(call, self.actions[call.action.name]) for call in use.context]
-            reported: set[str] = set()
-            for binding in bindings:
-                for leg in dict(binding).get(role or "", ()):
-                    if leg in reported:
-                        continue
-                    aliases = scope.aliases[leg]
-                    if use.alias.alias not in aliases:
-                        el.err(use.span, no_alias_message(leg, role, use.alias.alias, aliases))
-                        reported.add(leg)
-                    elif not _alike(self.model, aliases[use.alias.alias], expected):
-                        el.err(
-                            use.span,
-                            f"'{use.alias.alias}' names '{aliases[use.alias.alias]}' on leg '{leg}' "
-                            f"but '{expected}' on leg '{first[0]}', which differ in kind; a role's "
-                            "legs need aliases of one kind",
-                        )
-                        reported.add(leg)
-
     def constant(self, name: ast.Ident, expr: ast.Expr) -> Constant | None:
         """Inputs and parameters are constants: a number with a unit, possibly negated."""
         node, sign = expr, 1.0
@@ -397,58 +366,6 @@ def collect_records(
     for action in actions:
         walk(action.body)
     return found
-
-
-def reachable_bindings(
-    roles: dict[str, tuple[str, ...]], states: tuple[ir.State, ...]
-) -> tuple[tuple[ir.Binding, ...], dict[tuple[int, int], int]]:
-    """Every role binding reachable through the table's swaps, the initial one first, and the
-    binding each (binding while waiting, state) leads to once the state's swaps are done."""
-    found: list[ir.Binding] = [tuple(sorted(roles.items()))]
-    after: dict[tuple[int, int], int] = {}
-    i = 0
-    while i < len(found):
-        for s, state in enumerate(states):
-            binding = dict(found[i])
-            for swap in swaps(state.body):
-                binding[swap.first], binding[swap.second] = (
-                    binding[swap.second],
-                    binding[swap.first],
-                )
-            key = tuple(sorted(binding.items()))
-            if key not in found:
-                found.append(key)
-            after[(i, s)] = found.index(key)
-        i += 1
-    return tuple(found), after
-
-
-def swaps(body: tuple[ir.Stmt, ...]) -> list[ir.Swap]:
-    """The swaps of a state, in order, inlined actions included."""
-    out: list[ir.Swap] = []
-    for s in body:
-        if isinstance(s, ir.Swap):
-            out.append(s)
-        elif isinstance(s, ir.Do):
-            out += swaps(s.body)
-    return out
-
-
-def _alike(model: Model, a: str, b: str) -> bool:
-    """Two parts that one role's alias may name on different legs: same kind and units."""
-
-    def signature(name: str) -> tuple[str, ...]:
-        for act in model.actuators:
-            if act.name == name:
-                return ("actuator", act.kind, str(act.rotary))
-        for dof in model.dofs:
-            if dof.name == name:
-                return ("coord", dof.motion)
-        if any(c.name == name for c in model.contacts):
-            return ("contact",)
-        return ("body",)
-
-    return signature(a) == signature(b)
 
 
 def _kind_word(value: Value) -> str:
