@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "e2c14190624c8d37"
+FINGERPRINT = "2c1dd47380ee8251"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -54,9 +54,6 @@ PARAMS = {
     "pitch_lead": 0.013962634015954637,
     "reach": 0.46,
     "tuck": 0.345,
-    "thigh_length": 0.13,
-    "shin_length": 0.26,
-    "foot_length": 0.174,
     "unload": 0.0,
     "tail_up": 0.0,
     "tail_down": -0.5235987755982988,
@@ -107,7 +104,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
     ankle_rest = p[14]
-    unload = p[27]
+    unload = p[24]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -153,16 +150,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     ramp = p[17]
     reach = p[22]
     tuck = p[23]
-    thigh_length = p[24]
-    shin_length = p[25]
-    foot_length = p[26]
-    tail_up = p[28]
-    tail_b = p[30]
-    tail_stop = p[31]
-    tail_low = p[32]
-    tail_high = p[33]
-    tail_kp = p[34]
-    tail_kv = p[35]
+    tail_up = p[25]
+    tail_b = p[27]
+    tail_stop = p[28]
+    tail_low = p[29]
+    tail_high = p[30]
+    tail_kp = p[31]
+    tail_kv = p[32]
     desired_now = r[1]
     speed_trim = r[2]
     t1 = min(ankle_rest, ramp*time + start_rest)
@@ -171,13 +165,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t4 = min(t3, max(-t3, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
     t5 = t4*t4
     t6 = -t5 + ((tuck*tuck) if t2 else (reach*reach))
-    t7 = foot_length*math.cos(coord_ankle_value) + shin_length
+    t7 = 0.174*math.cos(coord_ankle_value) + 0.26
     t8 = math.sin(coord_ankle_value)
-    t9 = foot_length*foot_length*t8*t8 + t7*t7
+    t9 = t7*t7 + 0.030275999999999997*t8*t8
     t10 = t9**0.5
-    t11 = min(1.0, max(-1.0, 0.5*(-t9 - thigh_length*thigh_length + min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length)*min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length))/(t10*thigh_length)))
-    t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + thigh_length)
-    t13 = math.acos(t11) - math.atan2(foot_length*t8, t7)
+    t11 = min(1.0, max(-1.0, 3.846153846153846*(-t9 + min(0.97*t10 + 0.1261, (t5 + t6)**0.5)*min(0.97*t10 + 0.1261, (t5 + t6)**0.5) - 0.016900000000000002)/t10))
+    t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + 0.13)
+    t13 = math.acos(t11) - math.atan2(0.174*t8, t7)
     t14 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
         t1,
@@ -220,10 +214,9 @@ def action_LOADING_0(s, u, p, r, tis):
     hip_kv = p[10]
     ankle_k = p[13]
     pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    tail_down = p[26]
+    tail_b = p[27]
+    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
@@ -264,10 +257,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_kv = p[10]
     ankle_k = p[13]
     pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    tail_down = p[26]
+    tail_b = p[27]
+    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
@@ -320,12 +312,11 @@ def action_THRUST_0(s, u, p, r, tis):
     min_stroke = p[19]
     max_stroke = p[20]
     pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
+    tail_down = p[26]
+    tail_b = p[27]
     predicted_apex = r[0]
     t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
-    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         t1,
@@ -371,11 +362,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
     start_rest = p[16]
     ramp = p[17]
     pitch_lead = p[21]
-    thigh_length = p[24]
-    tail_up = p[28]
-    tail_b = p[30]
+    tail_up = p[25]
+    tail_b = p[27]
     t1 = min(ankle_rest, ramp*time + start_rest)
-    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))/thigh_length))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         t1,

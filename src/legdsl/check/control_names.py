@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 from legdsl.check.values import did_you_mean, place_of
 from legdsl.ir import controller as ir
+from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.ir.model import Model, setting_kind
 from legdsl.lang import ast
@@ -150,6 +151,11 @@ class NameResolver:
         if isinstance(base, ir.Legs):
             if name in ir.LEG_MEMBERS:
                 return self.read(base, name, ir.LEG_MEMBERS[name], attr.span)
+            if name in ir.LEG_CONSTANTS:
+                read = self.read(base, name, ir.LEG_CONSTANTS[name], attr.span)
+                if read is None or base.leg is None:
+                    return read  # a role's legs are known per binding, when it is lowered
+                return ir.Num(leg_constant(self.scope.model, base.leg, name), read.type)
             return self.alias(base, attr)
         if isinstance(base, ir.Part | ir.Alias):
             kind = base.kind
@@ -168,7 +174,10 @@ class NameResolver:
                     f"{', '.join(members)}{did_you_mean(name, members)}",
                 )
                 return None
-            return self.read(base, name, members[name], attr.span)
+            read = self.read(base, name, members[name], attr.span)
+            if read is None or name not in ir.CONSTANTS or isinstance(base, ir.Alias):
+                return read
+            return self.constant(base, name, read.type, attr.span)
         self.err(attr.span, f"a number has no member '{name}'")
         return None
 
@@ -181,6 +190,16 @@ class NameResolver:
             )
             return None
         return ir.Read(thing, name, dim)
+
+    def constant(self, part: ir.Part, name: str, dim: Type, span: Span) -> ir.Num | None:
+        """A constant of the model, as the number the .leg file gives it."""
+        if part.kind == "coord":
+            return ir.Num(coord_constant(self.scope.model, part.name, name), dim)
+        value = body_constant(self.scope.model, part.name, name)
+        if value is None:
+            self.err(span, f"body '{part.name}' has no length: give it one with 'length ... m'")
+            return None
+        return ir.Num(value, dim)
 
     def alias(self, legs: ir.Legs, attr: ast.Ident) -> Value | None:
         name = attr.name
@@ -230,9 +249,10 @@ class NameResolver:
             return {
                 "value": ir.ANGLE if hinge else ir.LENGTH,
                 "rate": ir.ANGULAR_VELOCITY if hinge else ir.VELOCITY,
+                **ir.COORD_CONSTANTS,
             }
         return {
-            "body": ir.BODY_MEMBERS,
+            "body": {**ir.BODY_MEMBERS, **ir.BODY_CONSTANTS},
             "contact": ir.CONTACT_MEMBERS,
             "com": ir.COM_MEMBERS,
             "path": ir.PATH_MEMBERS,

@@ -58,7 +58,7 @@ def _alike(model: Model, a: str, b: str) -> bool:
                 return ("coord", dof.motion)
         if any(c.name == name for c in model.contacts):
             return ("contact",)
-        return ("body",)
+        return ("body", str(model.body(name).length is not None))
 
     return signature(a) == signature(b)
 

@@ -59,10 +59,20 @@ PATH_MEMBERS: dict[str, Dim] = {
     "lateral": LENGTH, "heading": ANGLE, "progress": LENGTH, "length": LENGTH, "x": LENGTH,
     "y": LENGTH, "ahead_x": LENGTH, "ahead_y": LENGTH, "ahead_heading": ANGLE, "given": ONE,
 }  # fmt: skip
+# The model's own geometry and mass properties, read as constants (``thigh.length``): a
+# controller never restates what the creature says. Body frame, or the parent body's frame
+# for a joint's location (``at``, as the .leg file writes it).
+BODY_CONSTANTS: dict[str, Dim] = {
+    "length": LENGTH, "mass": KINDS["mass"][0], "com_x": LENGTH, "com_y": LENGTH, "com_z": LENGTH,
+}  # fmt: skip
+COORD_CONSTANTS: dict[str, Dim] = {"at_x": LENGTH, "at_y": LENGTH, "at_z": LENGTH}
+LEG_CONSTANTS: dict[str, Dim] = {"hip_at_x": LENGTH, "hip_at_y": LENGTH, "hip_at_z": LENGTH}
+CONSTANTS = frozenset([*BODY_CONSTANTS, *COORD_CONSTANTS, *LEG_CONSTANTS])
 # Members that only a 3D creature has: out of the sagittal plane, or turning out of it.
 SPATIAL_MEMBERS = frozenset(
-    {"y", "vy", "roll", "yaw", "roll_rate", "yaw_rate", "foot_y", "foot_vy", "hip_y"}
-)
+    {"y", "vy", "roll", "yaw", "roll_rate", "yaw_rate", "foot_y", "foot_vy", "hip_y",
+     "com_y", "at_y", "hip_at_y"}
+)  # fmt: skip
 # A coordinate's members: its value and rate, in m or rad by the joint's motion.
 COORD_MEMBERS = ("value", "rate")
 # An actuator kind -> (settable, read-only) members; dimensions come from

@@ -32,6 +32,7 @@ import sympy
 from sympy import Expr, Symbol
 
 from legdsl.ir import controller as ir
+from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import Binding, Controller
 from legdsl.ir.model import Model
 from legdsl.lang.errors import InternalError
@@ -224,13 +225,28 @@ class Lowerer:
         """A member of a thing; of several legs (a group role) it is their mean, ``touching``
         their maximum (any foot touches)."""
         if isinstance(thing, ir.Legs):
-            values = [self.sense(f"leg.{leg}.{member}") for leg in self.legs(thing, roles)]
+            legs = self.legs(thing, roles)
+            if member in ir.LEG_CONSTANTS:
+                constants = [sympy.Float(leg_constant(self.model, leg, member)) for leg in legs]
+                return sympy.Add(*constants) / len(constants)
+            values = [self.sense(f"leg.{leg}.{member}") for leg in legs]
             if member == "touching":
                 return sympy.Max(*values) if len(values) > 1 else values[0]
             return sympy.Add(*values) / len(values)
         parts = self.parts(thing, roles)
-        values = [self.sense(_sensor_key(part, member)) for part in parts]
+        values = [self.value_of(part, member) for part in parts]
         return values[0] if len(values) == 1 else sympy.Add(*values) / len(values)
+
+    def value_of(self, part: ir.Part, member: str) -> Expr:
+        """A part's member: a sensor, or a constant of the model read through an alias."""
+        if member in ir.COORD_CONSTANTS and part.kind == "coord":
+            return sympy.Float(coord_constant(self.model, part.name, member))
+        if member in ir.BODY_CONSTANTS and part.kind == "body":
+            value = body_constant(self.model, part.name, member)
+            if value is None:
+                raise InternalError(f"body {part.name} has no length")  # the checker says so
+            return sympy.Float(value)
+        return self.sense(_sensor_key(part, member))
 
     def flags(self, thing: ir.Thing, roles: Roles) -> list[Symbol]:
         if isinstance(thing, ir.Legs):
