@@ -41,33 +41,70 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
 def load_uses(
     tree: ast.SourceFile, diag: Diagnostics, sources: dict[str, str]
 ) -> list[ast.ActionDef]:
-    """Named actions from the file itself and the files it ``use``s (the standard library by name)."""
-    actions = list(tree.actions)
-    loaded = {Path(tree.path).resolve()}  # a file used twice, or itself, adds nothing
-    for use in tree.uses:
-        if use.target.endswith(".leg") or "/" in use.target:
-            path = Path(tree.path).parent / use.target
-        else:
-            path = STDLIB / f"{use.target}.leg"
-        if path.is_file() and path.resolve() in loaded:
-            continue
-        if not path.is_file():
-            known = sorted(p.stem for p in STDLIB.glob("*.leg"))
-            diag.error(
-                use.span,
-                f"cannot find '{use.target}' to use: the standard library has {', '.join(known) or 'nothing'}; other files are named by a path in quotes",
-            )
-            continue
+    """Named actions from the file itself and the files it ``use``s, and the files those use.
+
+    ``use raibert`` names a file of the standard library, ``use "lib/gaits.leg"`` a file
+    relative to the one that says it. Each file is read once however often it is used; a
+    file that uses itself, directly or through others, is an error naming the chain. The
+    nearer file wins: a file's own actions override those of the files it uses.
+    """
+    found: list[ast.ActionDef] = []
+    root = Path(tree.path).resolve()
+    loaded = {root}
+
+    def name(path: Path) -> str:
+        """A file in a chain: the stdlib's by name, others relative to the first file's folder."""
+        if path.parent == STDLIB.resolve():
+            return f"stdlib/{path.name}"
         try:
-            lib, text = parse_file(path)
-        except LegError as e:
-            diag.items.extend(e.diagnostics)
-            sources.update(e.sources)
-            continue
-        loaded.add(path.resolve())
-        sources[lib.path] = text
-        actions.extend(lib.actions)
-    return actions
+            return path.relative_to(root.parent).as_posix()
+        except ValueError:
+            return path.as_posix()
+
+    def visit(current: ast.SourceFile, chain: tuple[Path, ...], first: ast.UseDecl | None) -> None:
+        for use in current.uses:
+            path = _use_path(current, use)
+            at = first or use  # a mistake in a used file is reported at the user's own 'use'
+            if path.is_file() and path.resolve() in chain:
+                names = [name(p) for p in (*chain, path.resolve())]
+                diag.error(
+                    at.span,
+                    f"'use' makes a cycle: {' -> '.join(names)}; a file cannot use itself, "
+                    "directly or through the files it uses",
+                )
+                continue
+            if path.is_file() and path.resolve() in loaded:
+                continue
+            if not path.is_file():
+                known = sorted(p.stem for p in STDLIB.glob("*.leg"))
+                where = (
+                    "" if first is None else f" (asked for in {name(Path(current.path).resolve())})"
+                )
+                diag.error(
+                    at.span,
+                    f"cannot find '{use.target}' to use{where}: the standard library has {', '.join(known) or 'nothing'}; other files are named by a path in quotes",
+                )
+                continue
+            try:
+                lib, text = parse_file(path)
+            except LegError as e:
+                diag.items.extend(e.diagnostics)
+                sources.update(e.sources)
+                continue
+            loaded.add(path.resolve())
+            sources[lib.path] = text
+            visit(lib, (*chain, path.resolve()), at)
+            found.extend(lib.actions)
+
+    visit(tree, (root,), None)
+    return [*found, *tree.actions]
+
+
+def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:
+    """A quoted path is relative to the file that says ``use``; a bare name is the stdlib's."""
+    if use.target.endswith(".leg") or "/" in use.target:
+        return Path(tree.path).parent / use.target
+    return STDLIB / f"{use.target}.leg"
 
 
 def check_model(path: str | Path, creature: str | None = None) -> Model:

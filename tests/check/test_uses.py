@@ -1,0 +1,74 @@
+"""``use``: files relative to the one that says it, nested uses resolved once each."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from legdsl.check.source import check_model
+from legdsl.ir import controller as ir
+from legdsl.lang.errors import LegError
+
+ROOT = Path(__file__).resolve().parents[2]
+CREATURE = (ROOT / "tests" / "bad" / "ctl_dim_comparison.leg").read_text().split("controller")[0]
+
+
+def called(state: ir.State) -> list[str]:
+    out: list[str] = []
+
+    def walk(body: tuple[ir.Stmt, ...]) -> None:
+        for s in body:
+            if isinstance(s, ir.Do):
+                out.append(s.action)
+                walk(s.body)
+
+    walk(state.body)
+    return out
+
+
+def test_nested_uses_resolve_relative_to_each_file_and_once(tmp_path: Path) -> None:
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "gaits.leg").write_text(
+        'use "shared.leg"\nuse raibert\naction thrust(leg) { lengthen(leg, 2 cm) }\n'
+    )
+    (tmp_path / "lib" / "shared.leg").write_text(
+        "action lengthen(leg, by) { leg.spring.rest = by }\n"
+    )
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "lib/gaits.leg"\nuse "lib/shared.leg"\n'  # the second use of shared.leg adds nothing
+        + CREATURE
+        + "controller hop {\n  table {\n"
+        "    state FLIGHT on liftoff(main): thrust(main); relax(main, 0 m)\n"
+        "  }\n}\n"
+    )
+    (flight,) = check_model(main).controller("hop").states
+    assert called(flight) == ["thrust", "lengthen", "relax"]
+
+
+def test_a_files_own_action_overrides_a_used_one(tmp_path: Path) -> None:
+    (tmp_path / "lib.leg").write_text("action lengthen(leg, by) { leg.spring.rest = 2 * by }\n")
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "lib.leg"\naction lengthen(leg, by) { leg.spring.rest = by }\n'
+        + CREATURE
+        + "controller hop {\n  table {\n"
+        "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
+    )
+    (flight,) = check_model(main).controller("hop").states
+    (do,) = flight.body
+    assert isinstance(do, ir.Do)
+    (assign,) = do.body
+    assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
+
+
+def test_a_missing_file_deep_down_is_reported_at_the_users_use(tmp_path: Path) -> None:
+    (tmp_path / "lib.leg").write_text('use "gone.leg"\n')
+    main = tmp_path / "main.leg"
+    main.write_text('use "lib.leg"\n' + CREATURE)
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert (Path(d.span.file).name, d.span.line) == ("main.leg", 1)
+    assert "cannot find 'gone.leg' to use (asked for in lib.leg)" in d.message
