@@ -60,18 +60,15 @@ def mass_matrix(q):
     # body, hinge pitch: column 2
     t10 = s_pitch*t7
     t11 = -c_pitch*t6 - t10
-    # thigh, hinge hip: column 3
-    t12 = c_pitch*t7 - s_pitch*t6
-    t13 = -c_pitch*t6 - t10
     # shank, slide leg: column 4
-    t14 = -0.3*c_hip*s_pitch - 0.3*c_pitch*s_hip
-    t15 = -0.3*c_hip*c_pitch + 0.3*s_hip*s_pitch
+    t12 = -0.3*c_hip*s_pitch - 0.3*c_pitch*s_hip
+    t13 = -0.3*c_hip*c_pitch + 0.3*s_hip*s_pitch
     return [
-        [11.1, 0.0, t9, t12, t14],
-        [0.0, 11.1, t11, t13, t15],
+        [11.1, 0.0, t9, t9, t12],
+        [0.0, 11.1, t11, t11, t13],
         [t9, t11, t8, t5, 0.0],
-        [t12, t13, t5, t5, 0.0],
-        [t14, t15, 0.0, 0.0, 0.3],
+        [t9, t11, t5, t5, 0.0],
+        [t12, t13, 0.0, 0.0, 0.3],
     ]
 
 

@@ -174,11 +174,12 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t7 = foot_length*math.cos(coord_ankle_value) + shin_length
     t8 = math.sin(coord_ankle_value)
     t9 = foot_length*foot_length*t8*t8 + t7*t7
-    t10 = t9**0.5
-    t11 = min(1.0, max(-1.0, 0.5*(-t9 - thigh_length*thigh_length + min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length)*min((t5 + t6)**0.5, 0.97*t10 + 0.97*thigh_length))/(t10*thigh_length)))
-    t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + thigh_length)
-    t13 = math.acos(t11) - math.atan2(foot_length*t8, t7)
-    t14 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
+    t10 = math.sqrt(t9)
+    t11 = min(math.sqrt(t5 + t6), 0.97*t10 + 0.97*thigh_length)
+    t12 = min(1.0, max(-1.0, 0.5*(-t9 - thigh_length*thigh_length + t11*t11)/(t10*thigh_length)))
+    t13 = -body_trunk_pitch + math.atan2(-t4, math.sqrt(t6)) - math.atan2(t10*math.sqrt(1.0 - t12*t12), t10*t12 + thigh_length)
+    t14 = math.acos(t12) - math.atan2(foot_length*t8, t7)
+    t15 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
         t1,
         swing_kp,
@@ -186,12 +187,12 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t12,
         t13,
+        t14,
         tail_k,
         tail_b,
         tail_up,
-        t14,
+        t15,
         -body_trunk_pitch,
         ankle_k,
     ]

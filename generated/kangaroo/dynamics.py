@@ -818,13 +818,12 @@ def contact_positions(q):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    t16 = t12 - 0.174*t14
     t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -832,25 +831,24 @@ def contact_positions(q):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t19 = -0.2*c_pitch + x
-    t20 = 0.2*s_pitch + z
-    t21 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t22 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t23 = t19 - 0.166*t21
-    t24 = t20 + 0.166*t22
-    t25 = c_tail_mid*t21
-    t26 = -s_tail_mid*t22 + t25
-    t27 = s_tail_mid*t21
-    t28 = c_tail_mid*t22 + t27
-    t29 = -c_tail_mid*t22 - t27
-    t30 = -s_tail_mid*t22 + t25
-    t31 = t23 - 0.166*t26
-    t32 = t24 - 0.166*t29
-    t33 = c_tail_tip*t26 - s_tail_tip*t28
-    t34 = c_tail_tip*t29 - s_tail_tip*t30
-    t35 = t31 - 0.166*t33
-    t36 = t32 - 0.166*t34
-    return [(t17, 0.0, t18), (t35, 0.0, t36)]
+    t18 = -0.2*c_pitch + x
+    t19 = 0.2*s_pitch + z
+    t20 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t21 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t22 = t18 - 0.166*t20
+    t23 = t19 + 0.166*t21
+    t24 = c_tail_mid*t20
+    t25 = -s_tail_mid*t21 + t24
+    t26 = s_tail_mid*t20
+    t27 = c_tail_mid*t21 + t26
+    t28 = -c_tail_mid*t21 - t26
+    t29 = t22 - 0.166*t25
+    t30 = t23 - 0.166*t28
+    t31 = c_tail_tip*t25 - s_tail_tip*t27
+    t32 = c_tail_tip*t28 - s_tail_tip*t25
+    t33 = t29 - 0.166*t31
+    t34 = t30 - 0.166*t32
+    return [(t16, 0.0, t17), (t33, 0.0, t34)]
 
 
 def contact_velocities(q, v):
@@ -893,23 +891,22 @@ def contact_velocities(q, v):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    t16 = t12 - 0.174*t14
     t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
+    t18 = -t12 + t16
     t19 = -t13 + t17
-    t20 = -t14 + t18
-    t21 = t17 - t5
-    t22 = t18 - t6
-    t23 = -t1 + t17
-    t24 = t18 - t2
-    t25 = t17 - x
-    t26 = t18 - z
-    t27 = qd_ankle*t20 + qd_hip*t24 + qd_knee*t22 + qd_pitch*t26 + qd_x
-    t28 = -qd_ankle*t19 - qd_hip*t23 - qd_knee*t21 - qd_pitch*t25 + qd_z
+    t20 = t16 - t5
+    t21 = t17 - t6
+    t22 = -t1 + t16
+    t23 = t17 - t2
+    t24 = t16 - x
+    t25 = t17 - z
+    t26 = qd_ankle*t19 + qd_hip*t23 + qd_knee*t21 + qd_pitch*t25 + qd_x
+    t27 = -qd_ankle*t18 - qd_hip*t22 - qd_knee*t20 - qd_pitch*t24 + qd_z
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -917,35 +914,34 @@ def contact_velocities(q, v):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t29 = -0.2*c_pitch + x
-    t30 = 0.2*s_pitch + z
-    t31 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t32 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t33 = t29 - 0.166*t31
-    t34 = t30 + 0.166*t32
-    t35 = c_tail_mid*t31
-    t36 = -s_tail_mid*t32 + t35
-    t37 = s_tail_mid*t31
-    t38 = c_tail_mid*t32 + t37
-    t39 = -c_tail_mid*t32 - t37
-    t40 = -s_tail_mid*t32 + t35
-    t41 = t33 - 0.166*t36
-    t42 = t34 - 0.166*t39
-    t43 = c_tail_tip*t36 - s_tail_tip*t38
-    t44 = c_tail_tip*t39 - s_tail_tip*t40
-    t45 = t41 - 0.166*t43
-    t46 = t42 - 0.166*t44
-    t47 = -t41 + t45
-    t48 = -t42 + t46
-    t49 = -t33 + t45
-    t50 = -t34 + t46
-    t51 = -t29 + t45
-    t52 = -t30 + t46
-    t53 = t45 - x
-    t54 = t46 - z
-    t55 = qd_pitch*t54 + qd_tail_base*t52 + qd_tail_mid*t50 + qd_tail_tip*t48 + qd_x
-    t56 = -qd_pitch*t53 - qd_tail_base*t51 - qd_tail_mid*t49 - qd_tail_tip*t47 + qd_z
-    return [(t27, 0.0, t28), (t55, 0.0, t56)]
+    t28 = -0.2*c_pitch + x
+    t29 = 0.2*s_pitch + z
+    t30 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t31 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t32 = t28 - 0.166*t30
+    t33 = t29 + 0.166*t31
+    t34 = c_tail_mid*t30
+    t35 = -s_tail_mid*t31 + t34
+    t36 = s_tail_mid*t30
+    t37 = c_tail_mid*t31 + t36
+    t38 = -c_tail_mid*t31 - t36
+    t39 = t32 - 0.166*t35
+    t40 = t33 - 0.166*t38
+    t41 = c_tail_tip*t35 - s_tail_tip*t37
+    t42 = c_tail_tip*t38 - s_tail_tip*t35
+    t43 = t39 - 0.166*t41
+    t44 = t40 - 0.166*t42
+    t45 = -t39 + t43
+    t46 = -t40 + t44
+    t47 = -t32 + t43
+    t48 = -t33 + t44
+    t49 = -t28 + t43
+    t50 = -t29 + t44
+    t51 = t43 - x
+    t52 = t44 - z
+    t53 = qd_pitch*t52 + qd_tail_base*t50 + qd_tail_mid*t48 + qd_tail_tip*t46 + qd_x
+    t54 = -qd_pitch*t51 - qd_tail_base*t49 - qd_tail_mid*t47 - qd_tail_tip*t45 + qd_z
+    return [(t26, 0.0, t27), (t53, 0.0, t54)]
 
 
 def contact_jacobians(q):
@@ -979,21 +975,20 @@ def contact_jacobians(q):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    t16 = t12 - 0.174*t14
     t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
+    t18 = -t12 + t16
     t19 = -t13 + t17
-    t20 = -t14 + t18
-    t21 = t17 - t5
-    t22 = t18 - t6
-    t23 = -t1 + t17
-    t24 = t18 - t2
-    t25 = t17 - x
-    t26 = t18 - z
+    t20 = t16 - t5
+    t21 = t17 - t6
+    t22 = -t1 + t16
+    t23 = t17 - t2
+    t24 = t16 - x
+    t25 = t17 - z
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -1001,42 +996,41 @@ def contact_jacobians(q):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t27 = -0.2*c_pitch + x
-    t28 = 0.2*s_pitch + z
-    t29 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t30 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t31 = t27 - 0.166*t29
-    t32 = t28 + 0.166*t30
-    t33 = c_tail_mid*t29
-    t34 = -s_tail_mid*t30 + t33
-    t35 = s_tail_mid*t29
-    t36 = c_tail_mid*t30 + t35
-    t37 = -c_tail_mid*t30 - t35
-    t38 = -s_tail_mid*t30 + t33
-    t39 = t31 - 0.166*t34
-    t40 = t32 - 0.166*t37
-    t41 = c_tail_tip*t34 - s_tail_tip*t36
-    t42 = c_tail_tip*t37 - s_tail_tip*t38
-    t43 = t39 - 0.166*t41
-    t44 = t40 - 0.166*t42
-    t45 = -t39 + t43
-    t46 = -t40 + t44
-    t47 = -t31 + t43
-    t48 = -t32 + t44
-    t49 = -t27 + t43
-    t50 = -t28 + t44
-    t51 = t43 - x
-    t52 = t44 - z
+    t26 = -0.2*c_pitch + x
+    t27 = 0.2*s_pitch + z
+    t28 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t29 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t30 = t26 - 0.166*t28
+    t31 = t27 + 0.166*t29
+    t32 = c_tail_mid*t28
+    t33 = -s_tail_mid*t29 + t32
+    t34 = s_tail_mid*t28
+    t35 = c_tail_mid*t29 + t34
+    t36 = -c_tail_mid*t29 - t34
+    t37 = t30 - 0.166*t33
+    t38 = t31 - 0.166*t36
+    t39 = c_tail_tip*t33 - s_tail_tip*t35
+    t40 = c_tail_tip*t36 - s_tail_tip*t33
+    t41 = t37 - 0.166*t39
+    t42 = t38 - 0.166*t40
+    t43 = -t37 + t41
+    t44 = -t38 + t42
+    t45 = -t30 + t41
+    t46 = -t31 + t42
+    t47 = -t26 + t41
+    t48 = -t27 + t42
+    t49 = t41 - x
+    t50 = t42 - z
     return [
         [
-            [1.0, 0.0, t26, t24, t22, t20, 0.0, 0.0, 0.0, 0.0],
+            [1.0, 0.0, t25, t23, t21, t19, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, -t25, -t23, -t21, -t19, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, -t24, -t22, -t20, -t18, 0.0, 0.0, 0.0, 0.0],
         ],
         [
-            [1.0, 0.0, t52, 0.0, 0.0, 0.0, t50, t48, t46, 0.0],
+            [1.0, 0.0, t50, 0.0, 0.0, 0.0, t48, t46, t44, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, -t51, 0.0, 0.0, 0.0, -t49, -t47, -t45, 0.0],
+            [0.0, 1.0, -t49, 0.0, 0.0, 0.0, -t47, -t45, -t43, 0.0],
         ],
     ]
 
@@ -1089,59 +1083,57 @@ def body_poses(q):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
     # foot
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t8 - s_ankle*t10
-    t16 = c_ankle*t10 + s_ankle*t8
-    t17 = c_ankle*t11 - s_ankle*t12
-    t18 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t8 - s_ankle*t10
+    t15 = c_ankle*t10 + s_ankle*t8
+    t16 = c_ankle*t11 - s_ankle*t8
+    t17 = c_ankle*t8 + s_ankle*t11
     # tail1
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t19 = -0.2*c_pitch + x
-    t20 = 0.2*s_pitch + z
-    t21 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t22 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t18 = -0.2*c_pitch + x
+    t19 = 0.2*s_pitch + z
+    t20 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t21 = c_pitch*s_tail_base + c_tail_base*s_pitch
     # tail2
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t23 = t19 - 0.166*t21
-    t24 = t20 + 0.166*t22
-    t25 = c_tail_mid*t21
-    t26 = -s_tail_mid*t22 + t25
-    t27 = s_tail_mid*t21
-    t28 = c_tail_mid*t22 + t27
-    t29 = -c_tail_mid*t22 - t27
-    t30 = -s_tail_mid*t22 + t25
+    t22 = t18 - 0.166*t20
+    t23 = t19 + 0.166*t21
+    t24 = c_tail_mid*t20
+    t25 = -s_tail_mid*t21 + t24
+    t26 = s_tail_mid*t20
+    t27 = c_tail_mid*t21 + t26
+    t28 = -c_tail_mid*t21 - t26
     # tail3
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t31 = t23 - 0.166*t26
-    t32 = t24 - 0.166*t29
-    t33 = c_tail_tip*t26 - s_tail_tip*t28
-    t34 = c_tail_tip*t28 + s_tail_tip*t26
-    t35 = c_tail_tip*t29 - s_tail_tip*t30
-    t36 = c_tail_tip*t30 + s_tail_tip*t29
+    t29 = t22 - 0.166*t25
+    t30 = t23 - 0.166*t28
+    t31 = c_tail_tip*t25 - s_tail_tip*t27
+    t32 = c_tail_tip*t27 + s_tail_tip*t25
+    t33 = c_tail_tip*t28 - s_tail_tip*t25
+    t34 = c_tail_tip*t25 + s_tail_tip*t28
     # head
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t37 = 0.21*c_pitch + x
-    t38 = -0.21*s_pitch + z
-    t39 = c_neck*c_pitch - s_neck*s_pitch
-    t40 = c_neck*s_pitch + c_pitch*s_neck
+    t35 = 0.21*c_pitch + x
+    t36 = -0.21*s_pitch + z
+    t37 = c_neck*c_pitch - s_neck*s_pitch
+    t38 = c_neck*s_pitch + c_pitch*s_neck
     return [
         ((x, 0.0, z), (c_pitch, 0.0, s_pitch, 0.0, 1.0, 0.0, -s_pitch, 0.0, c_pitch)),
         ((t1, 0.0, t2), (t3, 0.0, t4, 0.0, 1.0, 0.0, -t4, 0.0, t3)),
-        ((t5, 0.0, t6), (t8, 0.0, t10, 0.0, 1.0, 0.0, t11, 0.0, t12)),
-        ((t13, 0.0, t14), (t15, 0.0, t16, 0.0, 1.0, 0.0, t17, 0.0, t18)),
-        ((t19, 0.0, t20), (t21, 0.0, t22, 0.0, 1.0, 0.0, -t22, 0.0, t21)),
-        ((t23, 0.0, t24), (t26, 0.0, t28, 0.0, 1.0, 0.0, t29, 0.0, t30)),
-        ((t31, 0.0, t32), (t33, 0.0, t34, 0.0, 1.0, 0.0, t35, 0.0, t36)),
-        ((t37, 0.0, t38), (t39, 0.0, t40, 0.0, 1.0, 0.0, -t40, 0.0, t39)),
+        ((t5, 0.0, t6), (t8, 0.0, t10, 0.0, 1.0, 0.0, t11, 0.0, t8)),
+        ((t12, 0.0, t13), (t14, 0.0, t15, 0.0, 1.0, 0.0, t16, 0.0, t17)),
+        ((t18, 0.0, t19), (t20, 0.0, t21, 0.0, 1.0, 0.0, -t21, 0.0, t20)),
+        ((t22, 0.0, t23), (t25, 0.0, t27, 0.0, 1.0, 0.0, t28, 0.0, t25)),
+        ((t29, 0.0, t30), (t31, 0.0, t32, 0.0, 1.0, 0.0, t33, 0.0, t34)),
+        ((t35, 0.0, t36), (t37, 0.0, t38, 0.0, 1.0, 0.0, -t38, 0.0, t37)),
     ]
 
 
@@ -1297,62 +1289,60 @@ def center_of_mass(q):
     t11 = s_knee*t3
     t12 = c_knee*t4 + t11
     t13 = -c_knee*t4 - t11
-    t14 = -s_knee*t4 + t9
-    t15 = -0.105*t12 + t7
-    t16 = -0.105*t14 + t8
+    t14 = -0.105*t12 + t7
+    t15 = -0.105*t10 + t8
     # foot: mass centre
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t17 = -0.26*t12 + t7
-    t18 = -0.26*t14 + t8
-    t19 = c_ankle*t12 + s_ankle*t10
-    t20 = c_ankle*t14 + s_ankle*t13
+    t16 = -0.26*t12 + t7
+    t17 = -0.26*t10 + t8
+    t18 = c_ankle*t12 + s_ankle*t10
+    t19 = c_ankle*t10 + s_ankle*t13
+    t20 = t16 - 0.082*t18
     t21 = t17 - 0.082*t19
-    t22 = t18 - 0.082*t20
     # tail1: mass centre
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t23 = -0.2*c_pitch + x
-    t24 = 0.2*s_pitch + z
-    t25 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t26 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t27 = t23 - 0.079*t25
-    t28 = t24 + 0.079*t26
+    t22 = -0.2*c_pitch + x
+    t23 = 0.2*s_pitch + z
+    t24 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t25 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t26 = t22 - 0.079*t24
+    t27 = t23 + 0.079*t25
     # tail2: mass centre
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t29 = t23 - 0.166*t25
-    t30 = t24 + 0.166*t26
-    t31 = c_tail_mid*t25
-    t32 = -s_tail_mid*t26 + t31
-    t33 = s_tail_mid*t25
-    t34 = c_tail_mid*t26 + t33
-    t35 = -c_tail_mid*t26 - t33
-    t36 = -s_tail_mid*t26 + t31
-    t37 = t29 - 0.071*t32
-    t38 = t30 - 0.071*t35
+    t28 = t22 - 0.166*t24
+    t29 = t23 + 0.166*t25
+    t30 = c_tail_mid*t24
+    t31 = -s_tail_mid*t25 + t30
+    t32 = s_tail_mid*t24
+    t33 = c_tail_mid*t25 + t32
+    t34 = -c_tail_mid*t25 - t32
+    t35 = t28 - 0.071*t31
+    t36 = t29 - 0.071*t34
     # tail3: mass centre
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t39 = t29 - 0.166*t32
-    t40 = t30 - 0.166*t35
-    t41 = c_tail_tip*t32 - s_tail_tip*t34
-    t42 = c_tail_tip*t35 - s_tail_tip*t36
-    t43 = t39 - 0.076*t41
-    t44 = t40 - 0.076*t42
+    t37 = t28 - 0.166*t31
+    t38 = t29 - 0.166*t34
+    t39 = c_tail_tip*t31 - s_tail_tip*t33
+    t40 = c_tail_tip*t34 - s_tail_tip*t31
+    t41 = t37 - 0.076*t39
+    t42 = t38 - 0.076*t40
     # head: mass centre
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t45 = 0.21*c_pitch + x
-    t46 = -0.21*s_pitch + z
-    t47 = c_neck*c_pitch - s_neck*s_pitch
-    t48 = c_neck*s_pitch + c_pitch*s_neck
-    t49 = t45 + 0.04*t47 + 0.04*t48
-    t50 = t46 + 0.04*t47 - 0.04*t48
+    t43 = 0.21*c_pitch + x
+    t44 = -0.21*s_pitch + z
+    t45 = c_neck*c_pitch - s_neck*s_pitch
+    t46 = c_neck*s_pitch + c_pitch*s_neck
+    t47 = t43 + 0.04*t45 + 0.04*t46
+    t48 = t44 + 0.04*t45 - 0.04*t46
     return (
-        0.08811866647084741*t15 + 0.020561022176531066*t21 + 0.035247466588338966*t27 + 0.020561022176531066*t37 + 0.010133646644147454*t43 + 0.04846526655896608*t49 + 0.23792039947128804*t5 + 0.53899250991335*x,
+        0.08811866647084741*t14 + 0.020561022176531066*t20 + 0.035247466588338966*t26 + 0.020561022176531066*t35 + 0.010133646644147454*t41 + 0.04846526655896608*t47 + 0.23792039947128804*t5 + 0.53899250991335*x,
         0.0,
-        0.08811866647084741*t16 + 0.020561022176531066*t22 + 0.035247466588338966*t28 + 0.020561022176531066*t38 + 0.010133646644147454*t44 + 0.04846526655896608*t50 + 0.23792039947128804*t6 + 0.53899250991335*z,
+        0.08811866647084741*t15 + 0.020561022176531066*t21 + 0.035247466588338966*t27 + 0.020561022176531066*t36 + 0.010133646644147454*t42 + 0.04846526655896608*t48 + 0.23792039947128804*t6 + 0.53899250991335*z,
     )
 
 
@@ -1400,125 +1390,123 @@ def center_of_mass_velocity(q, v):
     t11 = s_knee*t3
     t12 = c_knee*t4 + t11
     t13 = -c_knee*t4 - t11
-    t14 = -s_knee*t4 + t9
-    t15 = -0.105*t12 + t7
-    t16 = -0.105*t14 + t8
+    t14 = -0.105*t12 + t7
+    t15 = -0.105*t10 + t8
     # foot: mass centre
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t17 = -0.26*t12 + t7
-    t18 = -0.26*t14 + t8
-    t19 = c_ankle*t12 + s_ankle*t10
-    t20 = c_ankle*t14 + s_ankle*t13
+    t16 = -0.26*t12 + t7
+    t17 = -0.26*t10 + t8
+    t18 = c_ankle*t12 + s_ankle*t10
+    t19 = c_ankle*t10 + s_ankle*t13
+    t20 = t16 - 0.082*t18
     t21 = t17 - 0.082*t19
-    t22 = t18 - 0.082*t20
     # tail1: mass centre
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t23 = -0.2*c_pitch + x
-    t24 = 0.2*s_pitch + z
-    t25 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t26 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t27 = t23 - 0.079*t25
-    t28 = t24 + 0.079*t26
+    t22 = -0.2*c_pitch + x
+    t23 = 0.2*s_pitch + z
+    t24 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t25 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t26 = t22 - 0.079*t24
+    t27 = t23 + 0.079*t25
     # tail2: mass centre
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t29 = t23 - 0.166*t25
-    t30 = t24 + 0.166*t26
-    t31 = c_tail_mid*t25
-    t32 = -s_tail_mid*t26 + t31
-    t33 = s_tail_mid*t25
-    t34 = c_tail_mid*t26 + t33
-    t35 = -c_tail_mid*t26 - t33
-    t36 = -s_tail_mid*t26 + t31
-    t37 = t29 - 0.071*t32
-    t38 = t30 - 0.071*t35
+    t28 = t22 - 0.166*t24
+    t29 = t23 + 0.166*t25
+    t30 = c_tail_mid*t24
+    t31 = -s_tail_mid*t25 + t30
+    t32 = s_tail_mid*t24
+    t33 = c_tail_mid*t25 + t32
+    t34 = -c_tail_mid*t25 - t32
+    t35 = t28 - 0.071*t31
+    t36 = t29 - 0.071*t34
     # tail3: mass centre
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t39 = t29 - 0.166*t32
-    t40 = t30 - 0.166*t35
-    t41 = c_tail_tip*t32 - s_tail_tip*t34
-    t42 = c_tail_tip*t35 - s_tail_tip*t36
-    t43 = t39 - 0.076*t41
-    t44 = t40 - 0.076*t42
+    t37 = t28 - 0.166*t31
+    t38 = t29 - 0.166*t34
+    t39 = c_tail_tip*t31 - s_tail_tip*t33
+    t40 = c_tail_tip*t34 - s_tail_tip*t31
+    t41 = t37 - 0.076*t39
+    t42 = t38 - 0.076*t40
     # head: mass centre
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t45 = 0.21*c_pitch + x
-    t46 = -0.21*s_pitch + z
-    t47 = c_neck*c_pitch - s_neck*s_pitch
-    t48 = c_neck*s_pitch + c_pitch*s_neck
-    t49 = t45 + 0.04*t47 + 0.04*t48
-    t50 = t46 + 0.04*t47 - 0.04*t48
-    t51 = -t1 + t5
-    t52 = -t2 + t6
-    t53 = t5 - x
-    t54 = t6 - z
-    t55 = t15 - t7
-    t56 = t16 - t8
-    t57 = -t1 + t15
-    t58 = t16 - t2
-    t59 = t15 - x
-    t60 = t16 - z
-    t61 = 1.62*t54 + 0.6*t60
-    t62 = -1.62*t53 - 0.6*t59
-    t63 = 1.62*t52 + 0.6*t58
-    t64 = -1.62*t51 - 0.6*t57
-    t65 = -t17 + t21
-    t66 = -t18 + t22
-    t67 = t21 - t7
-    t68 = t22 - t8
-    t69 = -t1 + t21
-    t70 = -t2 + t22
-    t71 = t21 - x
-    t72 = t22 - z
-    t73 = t61 + 0.14*t72
-    t74 = t62 - 0.14*t71
-    t75 = t63 + 0.14*t70
-    t76 = t64 - 0.14*t69
-    t77 = 0.6*t56 + 0.14*t68
-    t78 = -0.6*t55 - 0.14*t67
-    t79 = -t23 + t27
-    t80 = -t24 + t28
-    t81 = t27 - x
-    t82 = t28 - z
-    t83 = t73 + 0.24*t82
-    t84 = t74 - 0.24*t81
-    t85 = -t29 + t37
-    t86 = -t30 + t38
-    t87 = -t23 + t37
-    t88 = -t24 + t38
-    t89 = t37 - x
-    t90 = t38 - z
-    t91 = t83 + 0.14*t90
-    t92 = t84 - 0.14*t89
-    t93 = 0.24*t80 + 0.14*t88
-    t94 = -0.24*t79 - 0.14*t87
-    t95 = -t39 + t43
-    t96 = -t40 + t44
-    t97 = -t29 + t43
-    t98 = -t30 + t44
-    t99 = -t23 + t43
-    t100 = -t24 + t44
-    t101 = t43 - x
-    t102 = t44 - z
-    t103 = 0.069*t102 + t91
-    t104 = -0.069*t101 + t92
-    t105 = 0.069*t100 + t93
-    t106 = t94 - 0.069*t99
-    t107 = 0.14*t86 + 0.069*t98
-    t108 = -0.14*t85 - 0.069*t97
-    t109 = -t45 + t49
-    t110 = -t46 + t50
-    t111 = t49 - x
-    t112 = t50 - z
-    t113 = t103 + 0.33*t112
-    t114 = t104 - 0.33*t111
-    t115 = 0.14*qd_ankle*t66 + qd_hip*t75 + qd_knee*t77 + 0.33*qd_neck*t110 + qd_pitch*t113 + qd_tail_base*t105 + qd_tail_mid*t107 + 0.069*qd_tail_tip*t96 + 6.808999999999999*qd_x
-    t116 = -0.14*qd_ankle*t65 + qd_hip*t76 + qd_knee*t78 - 0.33*qd_neck*t109 + qd_pitch*t114 + qd_tail_base*t106 + qd_tail_mid*t108 - 0.069*qd_tail_tip*t95 + 6.808999999999999*qd_z
-    return (0.14686444411807903*t115, 0.0, 0.14686444411807903*t116)
+    t43 = 0.21*c_pitch + x
+    t44 = -0.21*s_pitch + z
+    t45 = c_neck*c_pitch - s_neck*s_pitch
+    t46 = c_neck*s_pitch + c_pitch*s_neck
+    t47 = t43 + 0.04*t45 + 0.04*t46
+    t48 = t44 + 0.04*t45 - 0.04*t46
+    t49 = -t1 + t5
+    t50 = -t2 + t6
+    t51 = t5 - x
+    t52 = t6 - z
+    t53 = t14 - t7
+    t54 = t15 - t8
+    t55 = -t1 + t14
+    t56 = t15 - t2
+    t57 = t14 - x
+    t58 = t15 - z
+    t59 = 1.62*t52 + 0.6*t58
+    t60 = -1.62*t51 - 0.6*t57
+    t61 = 1.62*t50 + 0.6*t56
+    t62 = -1.62*t49 - 0.6*t55
+    t63 = -t16 + t20
+    t64 = -t17 + t21
+    t65 = t20 - t7
+    t66 = t21 - t8
+    t67 = -t1 + t20
+    t68 = -t2 + t21
+    t69 = t20 - x
+    t70 = t21 - z
+    t71 = t59 + 0.14*t70
+    t72 = t60 - 0.14*t69
+    t73 = t61 + 0.14*t68
+    t74 = t62 - 0.14*t67
+    t75 = 0.6*t54 + 0.14*t66
+    t76 = -0.6*t53 - 0.14*t65
+    t77 = -t22 + t26
+    t78 = -t23 + t27
+    t79 = t26 - x
+    t80 = t27 - z
+    t81 = t71 + 0.24*t80
+    t82 = t72 - 0.24*t79
+    t83 = -t28 + t35
+    t84 = -t29 + t36
+    t85 = -t22 + t35
+    t86 = -t23 + t36
+    t87 = t35 - x
+    t88 = t36 - z
+    t89 = t81 + 0.14*t88
+    t90 = t82 - 0.14*t87
+    t91 = 0.24*t78 + 0.14*t86
+    t92 = -0.24*t77 - 0.14*t85
+    t93 = -t37 + t41
+    t94 = -t38 + t42
+    t95 = -t28 + t41
+    t96 = -t29 + t42
+    t97 = -t22 + t41
+    t98 = -t23 + t42
+    t99 = t41 - x
+    t100 = t42 - z
+    t101 = 0.069*t100 + t89
+    t102 = -0.069*t99 + t90
+    t103 = 0.069*t98 + t91
+    t104 = t92 - 0.069*t97
+    t105 = 0.14*t84 + 0.069*t96
+    t106 = -0.14*t83 - 0.069*t95
+    t107 = -t43 + t47
+    t108 = -t44 + t48
+    t109 = t47 - x
+    t110 = t48 - z
+    t111 = t101 + 0.33*t110
+    t112 = t102 - 0.33*t109
+    t113 = 0.14*qd_ankle*t64 + qd_hip*t73 + qd_knee*t75 + 0.33*qd_neck*t108 + qd_pitch*t111 + qd_tail_base*t103 + qd_tail_mid*t105 + 0.069*qd_tail_tip*t94 + 6.808999999999999*qd_x
+    t114 = -0.14*qd_ankle*t63 + qd_hip*t74 + qd_knee*t76 - 0.33*qd_neck*t107 + qd_pitch*t112 + qd_tail_base*t104 + qd_tail_mid*t106 - 0.069*qd_tail_tip*t93 + 6.808999999999999*qd_z
+    return (0.14686444411807903*t113, 0.0, 0.14686444411807903*t114)
 
 
 def kinetic_energy(q, v):

@@ -348,47 +348,45 @@ def mass_matrix(q):
     # hinge hip_rl_x: column 12
     t224 = t46 - 0.12*t49
     t225 = -0.39*t49 - t51
-    t226 = 0.39*t50 + t54
-    t227 = -t167*t50 - t169*t49
-    t228 = -t171*t50 - t173*t49
-    t229 = -t175*t50 - t176*t49
+    t226 = -t167*t50 - t169*t49
+    t227 = -t171*t50 - t173*t49
+    t228 = -t175*t50 - t176*t49
     # thigh_rl, hinge hip_rl_y: column 13
-    t230 = -c_hip_rl_x*t42
-    t231 = 0.39*t230 + t52
-    t232 = -s_hip_rl_x*t42
-    t233 = 0.39*t232 - 0.12*t43 + t55
-    t234 = t165*t43 - t167*t232 + t169*t230
-    t235 = t170*t43 - t171*t232 + t173*t230
-    t236 = t174*t43 - t175*t232 + t176*t230
+    t229 = -c_hip_rl_x*t42
+    t230 = 0.39*t229 + t52
+    t231 = -s_hip_rl_x*t42
+    t232 = 0.39*t231 - 0.12*t43 + t55
+    t233 = t165*t43 - t167*t231 + t169*t229
+    t234 = t170*t43 - t171*t231 + t173*t229
+    t235 = t174*t43 - t175*t231 + t176*t229
     # shank_rl, slide leg_rl: column 14
-    t237 = c_hip_rl_x*c_hip_rl_y
-    t238 = c_hip_rl_y*s_hip_rl_x
-    t239 = 0.12*s_hip_rl_y - 0.39*t238
-    t240 = -s_hip_rl_y*t165 + t167*t238 - t169*t237
-    t241 = -s_hip_rl_y*t170 + t171*t238 - t173*t237
-    t242 = -s_hip_rl_y*t174 + t175*t238 - t176*t237
+    t236 = c_hip_rl_x*c_hip_rl_y
+    t237 = c_hip_rl_y*s_hip_rl_x
+    t238 = 0.12*s_hip_rl_y - 0.39*t237
+    t239 = -s_hip_rl_y*t165 + t167*t237 - t169*t236
+    t240 = -s_hip_rl_y*t170 + t171*t237 - t173*t236
+    t241 = -s_hip_rl_y*t174 + t175*t237 - t176*t236
     # hinge hip_rr_x: column 15
-    t243 = t10 + 0.12*t13
-    t244 = -0.39*t13 - t15
-    t245 = 0.39*t14 + t18
-    t246 = -t13*t169 - t14*t167
-    t247 = -t13*t173 - t14*t171
-    t248 = -t13*t176 - t14*t175
+    t242 = t10 + 0.12*t13
+    t243 = -0.39*t13 - t15
+    t244 = -t13*t169 - t14*t167
+    t245 = -t13*t173 - t14*t171
+    t246 = -t13*t176 - t14*t175
     # thigh_rr, hinge hip_rr_y: column 16
-    t249 = -c_hip_rr_x*t6
-    t250 = t16 + 0.39*t249
-    t251 = -s_hip_rr_x*t6
-    t252 = t19 + 0.39*t251 + 0.12*t7
-    t253 = t165*t7 - t167*t251 + t169*t249
-    t254 = t170*t7 - t171*t251 + t173*t249
-    t255 = t174*t7 - t175*t251 + t176*t249
+    t247 = -c_hip_rr_x*t6
+    t248 = t16 + 0.39*t247
+    t249 = -s_hip_rr_x*t6
+    t250 = t19 + 0.39*t249 + 0.12*t7
+    t251 = t165*t7 - t167*t249 + t169*t247
+    t252 = t170*t7 - t171*t249 + t173*t247
+    t253 = t174*t7 - t175*t249 + t176*t247
     # shank_rr, slide leg_rr: column 17
-    t256 = c_hip_rr_x*c_hip_rr_y
-    t257 = c_hip_rr_y*s_hip_rr_x
-    t258 = -0.12*s_hip_rr_y - 0.39*t257
-    t259 = -s_hip_rr_y*t165 + t167*t257 - t169*t256
-    t260 = -s_hip_rr_y*t170 + t171*t257 - t173*t256
-    t261 = -s_hip_rr_y*t174 + t175*t257 - t176*t256
+    t254 = c_hip_rr_x*c_hip_rr_y
+    t255 = c_hip_rr_y*s_hip_rr_x
+    t256 = -0.12*s_hip_rr_y - 0.39*t255
+    t257 = -s_hip_rr_y*t165 + t167*t255 - t169*t254
+    t258 = -s_hip_rr_y*t170 + t171*t255 - t173*t254
+    t259 = -s_hip_rr_y*t174 + t175*t255 - t176*t254
     return [
         [
             20.0,
@@ -403,12 +401,12 @@ def mass_matrix(q):
             t208,
             t215,
             t221,
-            t227,
-            t234,
-            t240,
-            t246,
-            t253,
-            t259,
+            t226,
+            t233,
+            t239,
+            t244,
+            t251,
+            t257,
         ],
         [
             0.0,
@@ -423,12 +421,12 @@ def mass_matrix(q):
             t209,
             t216,
             t222,
-            t228,
-            t235,
-            t241,
-            t247,
-            t254,
-            t260,
+            t227,
+            t234,
+            t240,
+            t245,
+            t252,
+            t258,
         ],
         [
             0.0,
@@ -443,12 +441,12 @@ def mass_matrix(q):
             t210,
             t217,
             t223,
-            t229,
-            t236,
-            t242,
-            t248,
-            t255,
-            t261,
+            t228,
+            t235,
+            t241,
+            t246,
+            t253,
+            t259,
         ],
         [
             t177,
@@ -464,11 +462,11 @@ def mass_matrix(q):
             -0.12*t211,
             0.12*t218,
             t224,
-            0.12*t230,
-            -0.12*t237,
-            t243,
-            -0.12*t249,
-            0.12*t256,
+            0.12*t229,
+            -0.12*t236,
+            t242,
+            -0.12*t247,
+            0.12*t254,
         ],
         [
             t178,
@@ -484,11 +482,11 @@ def mass_matrix(q):
             t212,
             0.39*t218,
             t225,
-            t231,
-            -0.39*t237,
-            t244,
-            t250,
-            -0.39*t256,
+            t230,
+            -0.39*t236,
+            t243,
+            t248,
+            -0.39*t254,
         ],
         [
             t179,
@@ -503,12 +501,12 @@ def mass_matrix(q):
             t207,
             t214,
             t220,
-            t226,
-            t233,
-            t239,
-            t245,
-            t252,
-            t258,
+            t65,
+            t232,
+            t238,
+            t29,
+            t250,
+            t256,
         ],
         [
             t189,
@@ -631,12 +629,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
+            t226,
             t227,
             t228,
-            t229,
             t224,
             t225,
-            t226,
+            t65,
             0.0,
             0.0,
             0.0,
@@ -651,12 +649,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
+            t233,
             t234,
             t235,
-            t236,
-            0.12*t230,
-            t231,
-            t233,
+            0.12*t229,
+            t230,
+            t232,
             0.0,
             0.0,
             0.0,
@@ -671,12 +669,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
+            t239,
             t240,
             t241,
-            t242,
-            -0.12*t237,
-            -0.39*t237,
-            t239,
+            -0.12*t236,
+            -0.39*t236,
+            t238,
             0.0,
             0.0,
             0.0,
@@ -691,12 +689,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t246,
-            t247,
-            t248,
-            t243,
             t244,
             t245,
+            t246,
+            t242,
+            t243,
+            t29,
             0.0,
             0.0,
             0.0,
@@ -711,12 +709,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t253,
-            t254,
-            t255,
-            -0.12*t249,
-            t250,
+            t251,
             t252,
+            t253,
+            -0.12*t247,
+            t248,
+            t250,
             0.0,
             0.0,
             0.0,
@@ -731,12 +729,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t259,
-            t260,
-            t261,
-            0.12*t256,
-            -0.39*t256,
+            t257,
             t258,
+            t259,
+            0.12*t254,
+            -0.39*t254,
+            t256,
             0.0,
             0.0,
             0.0,
@@ -1458,641 +1456,633 @@ def forward_dynamics(q, v, tau):
     # shank_rr, slide leg_rr: seen from the parent
     t181 = t161 - 0.2
     t182 = t161*t181 - 0.2*t161 + 0.04350000000000001
-    t183 = t161*t181 - 0.2*t161 + 0.04350000000000001
-    t184 = t182 + 0.10300000000000001
-    t185 = t183 + 0.10300000000000001
-    t186 = 0.30000000000000004 - t181
-    t187 = t181 - 0.30000000000000004
-    t188 = t153 - t161*t180 + t177
-    t189 = t156 + t161*t179 + t178
-    t190 = t157 + t171
-    t191 = t158 + t179
-    t192 = t159 + t180
-    t193 = t160 - tau_leg_rr
+    t183 = t182 + 0.10300000000000001
+    t184 = 0.30000000000000004 - t181
+    t185 = t181 - 0.30000000000000004
+    t186 = t153 - t161*t180 + t177
+    t187 = t156 + t161*t179 + t178
+    t188 = t157 + t171
+    t189 = t158 + t179
+    t190 = t159 + t180
+    t191 = t160 - tau_leg_rr
     # thigh_rr, hinge hip_rr_y: articulated inertia
-    t194 = 1/t185
-    t195 = t187*t194
-    t196 = -t187*t195 + 2.5
-    t197 = -qd_hip_rr_y*t148
-    t198 = qd_hip_rr_y*t146
-    t199 = -qd_hip_rr_y*t150
-    t200 = qd_hip_rr_y*t149
-    t201 = t184*t197 + t188
-    t202 = t190 + 0.00035*t198
-    t203 = t189 - tau_hip_rr_y
-    t204 = t191 - t195*t203 + t196*t199
-    t205 = t186*t197 + t192
-    t206 = t193 + 1.5*t200
+    t192 = 1/t183
+    t193 = t185*t192
+    t194 = -t185*t193 + 2.5
+    t195 = -qd_hip_rr_y*t148
+    t196 = qd_hip_rr_y*t146
+    t197 = -qd_hip_rr_y*t150
+    t198 = qd_hip_rr_y*t149
+    t199 = t183*t195 + t186
+    t200 = t188 + 0.00035*t196
+    t201 = t187 - tau_hip_rr_y
+    t202 = t189 - t193*t201 + t194*t197
+    t203 = t184*t195 + t190
+    t204 = t191 + 1.5*t198
     # thigh_rr, hinge hip_rr_y: seen from the parent
-    t207 = c_hip_rr_y*t184
-    t208 = -s_hip_rr_y*t184
-    t209 = s_hip_rr_y*s_hip_rr_y
-    t210 = c_hip_rr_y*t207 + 0.00035*t209
-    t211 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t207
-    t212 = c_hip_rr_y*c_hip_rr_y
-    t213 = -s_hip_rr_y*t208 + 0.00035*t212
-    t214 = c_hip_rr_y*t186
-    t215 = -s_hip_rr_y*t186
-    t216 = c_hip_rr_y*t196
-    t217 = -s_hip_rr_y*t196
-    t218 = c_hip_rr_y*t216 + 1.5*t209
-    t219 = 1.5*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t216
-    t220 = -s_hip_rr_y*t217 + 1.5*t212
-    t221 = c_hip_rr_y*t201 + s_hip_rr_y*t202
-    t222 = c_hip_rr_y*t202 - s_hip_rr_y*t201
-    t223 = c_hip_rr_y*t204 + s_hip_rr_y*t206
-    t224 = c_hip_rr_y*t206 - s_hip_rr_y*t204
+    t205 = c_hip_rr_y*t183
+    t206 = -s_hip_rr_y*t183
+    t207 = s_hip_rr_y*s_hip_rr_y
+    t208 = c_hip_rr_y*t205 + 0.00035*t207
+    t209 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t205
+    t210 = c_hip_rr_y*c_hip_rr_y
+    t211 = -s_hip_rr_y*t206 + 0.00035*t210
+    t212 = c_hip_rr_y*t184
+    t213 = -s_hip_rr_y*t184
+    t214 = c_hip_rr_y*t194
+    t215 = -s_hip_rr_y*t194
+    t216 = c_hip_rr_y*t214 + 1.5*t207
+    t217 = 1.5*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t214
+    t218 = -s_hip_rr_y*t215 + 1.5*t210
+    t219 = c_hip_rr_y*t199 + s_hip_rr_y*t200
+    t220 = c_hip_rr_y*t200 - s_hip_rr_y*t199
+    t221 = c_hip_rr_y*t202 + s_hip_rr_y*t204
+    t222 = c_hip_rr_y*t204 - s_hip_rr_y*t202
     # hinge hip_rr_x: articulated inertia
-    t225 = 1/t210
-    t226 = t211*t225
-    t227 = t214*t225
-    t228 = -t211*t226 + t213
-    t229 = -t214*t226 + t215
-    t230 = -t214*t227 + 2.5
-    t231 = qd_hip_rr_x*t142
-    t232 = -qd_hip_rr_x*t141
-    t233 = qd_hip_rr_x*t145
-    t234 = -qd_hip_rr_x*t144
-    t235 = t221 - tau_hip_rr_x
-    t236 = t222 - t226*t235 + t228*t232 + t229*t233
-    t237 = t219*t234 + t223
-    t238 = t205 - t227*t235 + t229*t232 + t230*t233
-    t239 = t220*t234 + t224
+    t223 = 1/t208
+    t224 = t209*t223
+    t225 = t212*t223
+    t226 = -t209*t224 + t211
+    t227 = -t212*t224 + t213
+    t228 = -t212*t225 + 2.5
+    t229 = qd_hip_rr_x*t142
+    t230 = -qd_hip_rr_x*t141
+    t231 = qd_hip_rr_x*t145
+    t232 = -qd_hip_rr_x*t144
+    t233 = t219 - tau_hip_rr_x
+    t234 = t220 - t224*t233 + t226*t230 + t227*t231
+    t235 = t217*t232 + t221
+    t236 = t203 - t225*t233 + t227*t230 + t228*t231
+    t237 = t218*t232 + t222
     # hinge hip_rr_x: seen from the parent
-    t240 = -s_hip_rr_x*t228
-    t241 = c_hip_rr_x*t228
-    t242 = -s_hip_rr_x*t240
-    t243 = c_hip_rr_x*t240
-    t244 = c_hip_rr_x*t241
-    t245 = -s_hip_rr_x*t229
-    t246 = c_hip_rr_x*t229
-    t247 = c_hip_rr_x*t245
-    t248 = s_hip_rr_x*t245
-    t249 = c_hip_rr_x*t246
-    t250 = s_hip_rr_x*t246
-    t251 = -s_hip_rr_x*t219
-    t252 = c_hip_rr_x*t230
-    t253 = -s_hip_rr_x*t220
-    t254 = c_hip_rr_x*t219
-    t255 = s_hip_rr_x*t230
-    t256 = c_hip_rr_x*t220
-    t257 = c_hip_rr_x*t252 - s_hip_rr_x*t253
-    t258 = c_hip_rr_x*t253 + s_hip_rr_x*t252
-    t259 = c_hip_rr_x*t256 + s_hip_rr_x*t255
-    t260 = t247 + 0.39*t258
-    t261 = t248 + 0.39*t259
-    t262 = 0.12*t218 - 0.39*t251
-    t263 = t249 + 0.12*t251 - 0.39*t257
-    t264 = t250 + 0.12*t254 - 0.39*t258
-    t265 = -0.12*t248 - 0.0468*t259
-    t266 = -0.12*t250 - 0.0144*t254 + 0.0468*t258
-    t267 = t242 + 0.39*t248 + 0.39*t261
-    t268 = t243 + 0.39*t250 + 0.0468*t254 - 0.39*t260
-    t269 = t244 - 0.39*t249 + 0.12*t262 - 0.39*t263
-    t270 = 0.0144*t259 + 0.54
-    t271 = t267 + 2.35
-    t272 = t269 + 2.39
-    t273 = t218 + 10.0
-    t274 = t257 + 10.0
-    t275 = t259 + 10.0
-    t276 = s_hip_rr_x*t238
-    t277 = c_hip_rr_x*t239
-    t278 = t20 - 0.12*t276 - 0.12*t277 + tau_hip_rr_x
-    t279 = c_hip_rr_x*tau_hip_rr_y - s_hip_rr_x*t236 + t21 + 0.39*t276 + 0.39*t277
-    t280 = s_hip_rr_x*t239
-    t281 = c_hip_rr_x*t238
-    t282 = c_hip_rr_x*t236 + s_hip_rr_x*tau_hip_rr_y + t22 + 0.12*t237 + 0.39*t280 - 0.39*t281
-    t283 = t237 + t24
-    t284 = t27 - t280 + t281
-    t285 = t276 + t277 + t29
+    t238 = -s_hip_rr_x*t226
+    t239 = c_hip_rr_x*t226
+    t240 = -s_hip_rr_x*t238
+    t241 = c_hip_rr_x*t238
+    t242 = c_hip_rr_x*t239
+    t243 = -s_hip_rr_x*t227
+    t244 = c_hip_rr_x*t227
+    t245 = c_hip_rr_x*t243
+    t246 = s_hip_rr_x*t243
+    t247 = c_hip_rr_x*t244
+    t248 = s_hip_rr_x*t244
+    t249 = -s_hip_rr_x*t217
+    t250 = c_hip_rr_x*t228
+    t251 = -s_hip_rr_x*t218
+    t252 = c_hip_rr_x*t217
+    t253 = s_hip_rr_x*t228
+    t254 = c_hip_rr_x*t218
+    t255 = c_hip_rr_x*t250 - s_hip_rr_x*t251
+    t256 = c_hip_rr_x*t251 + s_hip_rr_x*t250
+    t257 = c_hip_rr_x*t254 + s_hip_rr_x*t253
+    t258 = t245 + 0.39*t256
+    t259 = t246 + 0.39*t257
+    t260 = 0.12*t216 - 0.39*t249
+    t261 = t247 + 0.12*t249 - 0.39*t255
+    t262 = t248 + 0.12*t252 - 0.39*t256
+    t263 = -0.12*t246 - 0.0468*t257
+    t264 = -0.12*t248 - 0.0144*t252 + 0.0468*t256
+    t265 = t240 + 0.39*t246 + 0.39*t259
+    t266 = t241 + 0.39*t248 + 0.0468*t252 - 0.39*t258
+    t267 = t242 - 0.39*t247 + 0.12*t260 - 0.39*t261
+    t268 = 0.0144*t257 + 0.54
+    t269 = t265 + 2.35
+    t270 = t267 + 2.39
+    t271 = t216 + 10.0
+    t272 = t255 + 10.0
+    t273 = t257 + 10.0
+    t274 = s_hip_rr_x*t236
+    t275 = c_hip_rr_x*t237
+    t276 = t20 - 0.12*t274 - 0.12*t275 + tau_hip_rr_x
+    t277 = c_hip_rr_x*tau_hip_rr_y - s_hip_rr_x*t234 + t21 + 0.39*t274 + 0.39*t275
+    t278 = s_hip_rr_x*t237
+    t279 = c_hip_rr_x*t236
+    t280 = c_hip_rr_x*t234 + s_hip_rr_x*tau_hip_rr_y + t22 + 0.12*t235 + 0.39*t278 - 0.39*t279
+    t281 = t235 + t24
+    t282 = t27 - t278 + t279
+    t283 = t274 + t275 + t29
     # shank_rl, slide leg_rl: articulated inertia
-    t286 = -qd_leg_rl*t112
-    t287 = qd_leg_rl*t111
-    t288 = t132 + 0.2*t287
-    t289 = t135 - 0.2*t286
-    t290 = t137 + t286
-    t291 = t138 + t287
+    t284 = -qd_leg_rl*t112
+    t285 = qd_leg_rl*t111
+    t286 = t132 + 0.2*t285
+    t287 = t135 - 0.2*t284
+    t288 = t137 + t284
+    t289 = t138 + t285
     # shank_rl, slide leg_rl: seen from the parent
-    t292 = t126 - 0.2
-    t293 = t126*t292 - 0.2*t126 + 0.04350000000000001
-    t294 = t126*t292 - 0.2*t126 + 0.04350000000000001
-    t295 = t293 + 0.10300000000000001
-    t296 = t294 + 0.10300000000000001
-    t297 = 0.30000000000000004 - t292
-    t298 = t292 - 0.30000000000000004
-    t299 = t118 - t126*t291 + t288
-    t300 = t121 + t126*t290 + t289
-    t301 = t122 + t136
-    t302 = t123 + t290
-    t303 = t124 + t291
-    t304 = t125 - tau_leg_rl
+    t290 = t126 - 0.2
+    t291 = t126*t290 - 0.2*t126 + 0.04350000000000001
+    t292 = t291 + 0.10300000000000001
+    t293 = 0.30000000000000004 - t290
+    t294 = t290 - 0.30000000000000004
+    t295 = t118 - t126*t289 + t286
+    t296 = t121 + t126*t288 + t287
+    t297 = t122 + t136
+    t298 = t123 + t288
+    t299 = t124 + t289
+    t300 = t125 - tau_leg_rl
     # thigh_rl, hinge hip_rl_y: articulated inertia
-    t305 = 1/t296
-    t306 = t298*t305
-    t307 = -t298*t306 + 2.5
-    t308 = -qd_hip_rl_y*t113
-    t309 = qd_hip_rl_y*t111
-    t310 = -qd_hip_rl_y*t115
-    t311 = qd_hip_rl_y*t114
-    t312 = t295*t308 + t299
-    t313 = t301 + 0.00035*t309
-    t314 = t300 - tau_hip_rl_y
-    t315 = t302 - t306*t314 + t307*t310
-    t316 = t297*t308 + t303
-    t317 = t304 + 1.5*t311
+    t301 = 1/t292
+    t302 = t294*t301
+    t303 = -t294*t302 + 2.5
+    t304 = -qd_hip_rl_y*t113
+    t305 = qd_hip_rl_y*t111
+    t306 = -qd_hip_rl_y*t115
+    t307 = qd_hip_rl_y*t114
+    t308 = t292*t304 + t295
+    t309 = t297 + 0.00035*t305
+    t310 = t296 - tau_hip_rl_y
+    t311 = t298 - t302*t310 + t303*t306
+    t312 = t293*t304 + t299
+    t313 = t300 + 1.5*t307
     # thigh_rl, hinge hip_rl_y: seen from the parent
-    t318 = c_hip_rl_y*t295
-    t319 = -s_hip_rl_y*t295
-    t320 = s_hip_rl_y*s_hip_rl_y
-    t321 = c_hip_rl_y*t318 + 0.00035*t320
-    t322 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t318
-    t323 = c_hip_rl_y*c_hip_rl_y
-    t324 = -s_hip_rl_y*t319 + 0.00035*t323
-    t325 = c_hip_rl_y*t297
-    t326 = -s_hip_rl_y*t297
-    t327 = c_hip_rl_y*t307
-    t328 = -s_hip_rl_y*t307
-    t329 = c_hip_rl_y*t327 + 1.5*t320
-    t330 = 1.5*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t327
-    t331 = -s_hip_rl_y*t328 + 1.5*t323
-    t332 = c_hip_rl_y*t312 + s_hip_rl_y*t313
-    t333 = c_hip_rl_y*t313 - s_hip_rl_y*t312
-    t334 = c_hip_rl_y*t315 + s_hip_rl_y*t317
-    t335 = c_hip_rl_y*t317 - s_hip_rl_y*t315
+    t314 = c_hip_rl_y*t292
+    t315 = -s_hip_rl_y*t292
+    t316 = s_hip_rl_y*s_hip_rl_y
+    t317 = c_hip_rl_y*t314 + 0.00035*t316
+    t318 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t314
+    t319 = c_hip_rl_y*c_hip_rl_y
+    t320 = -s_hip_rl_y*t315 + 0.00035*t319
+    t321 = c_hip_rl_y*t293
+    t322 = -s_hip_rl_y*t293
+    t323 = c_hip_rl_y*t303
+    t324 = -s_hip_rl_y*t303
+    t325 = c_hip_rl_y*t323 + 1.5*t316
+    t326 = 1.5*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t323
+    t327 = -s_hip_rl_y*t324 + 1.5*t319
+    t328 = c_hip_rl_y*t308 + s_hip_rl_y*t309
+    t329 = c_hip_rl_y*t309 - s_hip_rl_y*t308
+    t330 = c_hip_rl_y*t311 + s_hip_rl_y*t313
+    t331 = c_hip_rl_y*t313 - s_hip_rl_y*t311
     # hinge hip_rl_x: articulated inertia
-    t336 = 1/t321
-    t337 = t322*t336
-    t338 = t325*t336
-    t339 = -t322*t337 + t324
-    t340 = -t325*t337 + t326
-    t341 = -t325*t338 + 2.5
-    t342 = qd_hip_rl_x*t106
-    t343 = -qd_hip_rl_x*t105
-    t344 = qd_hip_rl_x*t110
-    t345 = -qd_hip_rl_x*t109
-    t346 = t332 - tau_hip_rl_x
-    t347 = t333 - t337*t346 + t339*t343 + t340*t344
-    t348 = t330*t345 + t334
-    t349 = t316 - t338*t346 + t340*t343 + t341*t344
-    t350 = t331*t345 + t335
+    t332 = 1/t317
+    t333 = t318*t332
+    t334 = t321*t332
+    t335 = -t318*t333 + t320
+    t336 = -t321*t333 + t322
+    t337 = -t321*t334 + 2.5
+    t338 = qd_hip_rl_x*t106
+    t339 = -qd_hip_rl_x*t105
+    t340 = qd_hip_rl_x*t110
+    t341 = -qd_hip_rl_x*t109
+    t342 = t328 - tau_hip_rl_x
+    t343 = t329 - t333*t342 + t335*t339 + t336*t340
+    t344 = t326*t341 + t330
+    t345 = t312 - t334*t342 + t336*t339 + t337*t340
+    t346 = t327*t341 + t331
     # hinge hip_rl_x: seen from the parent
-    t351 = -s_hip_rl_x*t339
-    t352 = c_hip_rl_x*t339
-    t353 = -s_hip_rl_x*t351
-    t354 = c_hip_rl_x*t351
-    t355 = c_hip_rl_x*t352
-    t356 = -s_hip_rl_x*t340
-    t357 = c_hip_rl_x*t340
-    t358 = c_hip_rl_x*t356
-    t359 = s_hip_rl_x*t356
-    t360 = c_hip_rl_x*t357
-    t361 = s_hip_rl_x*t357
-    t362 = -s_hip_rl_x*t330
-    t363 = c_hip_rl_x*t341
-    t364 = -s_hip_rl_x*t331
-    t365 = c_hip_rl_x*t330
-    t366 = s_hip_rl_x*t341
-    t367 = c_hip_rl_x*t331
-    t368 = c_hip_rl_x*t363 - s_hip_rl_x*t364
-    t369 = c_hip_rl_x*t364 + s_hip_rl_x*t363
-    t370 = c_hip_rl_x*t367 + s_hip_rl_x*t366
-    t371 = t358 + 0.39*t369
-    t372 = t359 + 0.39*t370
-    t373 = -0.12*t329 - 0.39*t362
-    t374 = t360 - 0.12*t362 - 0.39*t368
-    t375 = t361 - 0.12*t365 - 0.39*t369
-    t376 = 0.12*t359 + 0.0468*t370
-    t377 = 0.12*t361 - 0.0144*t365 - 0.0468*t369
-    t378 = t353 + 0.39*t359 + 0.39*t372
-    t379 = t354 + 0.39*t361 - 0.0468*t365 - 0.39*t371
-    t380 = t355 - 0.39*t360 - 0.12*t373 - 0.39*t374
-    t381 = t270 + 0.0144*t370
-    t382 = t265 + t376
-    t383 = t266 + t377
-    t384 = t271 + t378
-    t385 = t268 + t379
-    t386 = t272 + t380
-    t387 = -0.12*t254 + 0.12*t365
-    t388 = -0.12*t258 + 0.12*t369
-    t389 = -0.12*t259 + 0.12*t370
-    t390 = 0.39*t254 + 0.39*t365
-    t391 = t260 + t371
-    t392 = t261 + t372
-    t393 = t262 + t373
-    t394 = t263 + t374
-    t395 = t264 + t375
-    t396 = t273 + t329
-    t397 = t251 + t362
-    t398 = t254 + t365
-    t399 = t274 + t368
-    t400 = t258 + t369
-    t401 = t275 + t370
-    t402 = s_hip_rl_x*t349
-    t403 = c_hip_rl_x*t350
-    t404 = t278 + 0.12*t402 + 0.12*t403 + tau_hip_rl_x
-    t405 = c_hip_rl_x*tau_hip_rl_y - s_hip_rl_x*t347 + t279 + 0.39*t402 + 0.39*t403
-    t406 = s_hip_rl_x*t350
-    t407 = c_hip_rl_x*t349
-    t408 = c_hip_rl_x*t347 + s_hip_rl_x*tau_hip_rl_y + t282 - 0.12*t348 + 0.39*t406 - 0.39*t407
-    t409 = t283 + t348
-    t410 = t284 - t406 + t407
-    t411 = t285 + t402 + t403
+    t347 = -s_hip_rl_x*t335
+    t348 = c_hip_rl_x*t335
+    t349 = -s_hip_rl_x*t347
+    t350 = c_hip_rl_x*t347
+    t351 = c_hip_rl_x*t348
+    t352 = -s_hip_rl_x*t336
+    t353 = c_hip_rl_x*t336
+    t354 = c_hip_rl_x*t352
+    t355 = s_hip_rl_x*t352
+    t356 = c_hip_rl_x*t353
+    t357 = s_hip_rl_x*t353
+    t358 = -s_hip_rl_x*t326
+    t359 = c_hip_rl_x*t337
+    t360 = -s_hip_rl_x*t327
+    t361 = c_hip_rl_x*t326
+    t362 = s_hip_rl_x*t337
+    t363 = c_hip_rl_x*t327
+    t364 = c_hip_rl_x*t359 - s_hip_rl_x*t360
+    t365 = c_hip_rl_x*t360 + s_hip_rl_x*t359
+    t366 = c_hip_rl_x*t363 + s_hip_rl_x*t362
+    t367 = t354 + 0.39*t365
+    t368 = t355 + 0.39*t366
+    t369 = -0.12*t325 - 0.39*t358
+    t370 = t356 - 0.12*t358 - 0.39*t364
+    t371 = t357 - 0.12*t361 - 0.39*t365
+    t372 = 0.12*t355 + 0.0468*t366
+    t373 = 0.12*t357 - 0.0144*t361 - 0.0468*t365
+    t374 = t349 + 0.39*t355 + 0.39*t368
+    t375 = t350 + 0.39*t357 - 0.0468*t361 - 0.39*t367
+    t376 = t351 - 0.39*t356 - 0.12*t369 - 0.39*t370
+    t377 = t268 + 0.0144*t366
+    t378 = t263 + t372
+    t379 = t264 + t373
+    t380 = t269 + t374
+    t381 = t266 + t375
+    t382 = t270 + t376
+    t383 = -0.12*t252 + 0.12*t361
+    t384 = -0.12*t256 + 0.12*t365
+    t385 = -0.12*t257 + 0.12*t366
+    t386 = 0.39*t252 + 0.39*t361
+    t387 = t258 + t367
+    t388 = t259 + t368
+    t389 = t260 + t369
+    t390 = t261 + t370
+    t391 = t262 + t371
+    t392 = t271 + t325
+    t393 = t249 + t358
+    t394 = t252 + t361
+    t395 = t272 + t364
+    t396 = t256 + t365
+    t397 = t273 + t366
+    t398 = s_hip_rl_x*t345
+    t399 = c_hip_rl_x*t346
+    t400 = t276 + 0.12*t398 + 0.12*t399 + tau_hip_rl_x
+    t401 = c_hip_rl_x*tau_hip_rl_y - s_hip_rl_x*t343 + t277 + 0.39*t398 + 0.39*t399
+    t402 = s_hip_rl_x*t346
+    t403 = c_hip_rl_x*t345
+    t404 = c_hip_rl_x*t343 + s_hip_rl_x*tau_hip_rl_y + t280 - 0.12*t344 + 0.39*t402 - 0.39*t403
+    t405 = t281 + t344
+    t406 = t282 - t402 + t403
+    t407 = t283 + t398 + t399
     # shank_fr, slide leg_fr: articulated inertia
-    t412 = -qd_leg_fr*t76
-    t413 = qd_leg_fr*t75
-    t414 = 0.2*t413 + t96
-    t415 = -0.2*t412 + t99
-    t416 = t101 + t412
-    t417 = t102 + t413
+    t408 = -qd_leg_fr*t76
+    t409 = qd_leg_fr*t75
+    t410 = 0.2*t409 + t96
+    t411 = -0.2*t408 + t99
+    t412 = t101 + t408
+    t413 = t102 + t409
     # shank_fr, slide leg_fr: seen from the parent
-    t418 = t90 - 0.2
-    t419 = t418*t90 - 0.2*t90 + 0.04350000000000001
-    t420 = t418*t90 - 0.2*t90 + 0.04350000000000001
-    t421 = t419 + 0.10300000000000001
-    t422 = t420 + 0.10300000000000001
-    t423 = 0.30000000000000004 - t418
-    t424 = t418 - 0.30000000000000004
-    t425 = t414 - t417*t90 + t82
-    t426 = t415 + t416*t90 + t85
-    t427 = t100 + t86
-    t428 = t416 + t87
-    t429 = t417 + t88
-    t430 = t89 - tau_leg_fr
+    t414 = t90 - 0.2
+    t415 = t414*t90 - 0.2*t90 + 0.04350000000000001
+    t416 = t415 + 0.10300000000000001
+    t417 = 0.30000000000000004 - t414
+    t418 = t414 - 0.30000000000000004
+    t419 = t410 - t413*t90 + t82
+    t420 = t411 + t412*t90 + t85
+    t421 = t100 + t86
+    t422 = t412 + t87
+    t423 = t413 + t88
+    t424 = t89 - tau_leg_fr
     # thigh_fr, hinge hip_fr_y: articulated inertia
-    t431 = 1/t422
-    t432 = t424*t431
-    t433 = -t424*t432 + 2.5
-    t434 = -qd_hip_fr_y*t77
-    t435 = qd_hip_fr_y*t75
-    t436 = -qd_hip_fr_y*t79
-    t437 = qd_hip_fr_y*t78
-    t438 = t421*t434 + t425
-    t439 = t427 + 0.00035*t435
-    t440 = t426 - tau_hip_fr_y
-    t441 = t428 - t432*t440 + t433*t436
-    t442 = t423*t434 + t429
-    t443 = t430 + 1.5*t437
+    t425 = 1/t416
+    t426 = t418*t425
+    t427 = -t418*t426 + 2.5
+    t428 = -qd_hip_fr_y*t77
+    t429 = qd_hip_fr_y*t75
+    t430 = -qd_hip_fr_y*t79
+    t431 = qd_hip_fr_y*t78
+    t432 = t416*t428 + t419
+    t433 = t421 + 0.00035*t429
+    t434 = t420 - tau_hip_fr_y
+    t435 = t422 - t426*t434 + t427*t430
+    t436 = t417*t428 + t423
+    t437 = t424 + 1.5*t431
     # thigh_fr, hinge hip_fr_y: seen from the parent
-    t444 = c_hip_fr_y*t421
-    t445 = -s_hip_fr_y*t421
-    t446 = s_hip_fr_y*s_hip_fr_y
-    t447 = c_hip_fr_y*t444 + 0.00035*t446
-    t448 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t444
-    t449 = c_hip_fr_y*c_hip_fr_y
-    t450 = -s_hip_fr_y*t445 + 0.00035*t449
-    t451 = c_hip_fr_y*t423
-    t452 = -s_hip_fr_y*t423
-    t453 = c_hip_fr_y*t433
-    t454 = -s_hip_fr_y*t433
-    t455 = c_hip_fr_y*t453 + 1.5*t446
-    t456 = 1.5*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t453
-    t457 = -s_hip_fr_y*t454 + 1.5*t449
-    t458 = c_hip_fr_y*t438 + s_hip_fr_y*t439
-    t459 = c_hip_fr_y*t439 - s_hip_fr_y*t438
-    t460 = c_hip_fr_y*t441 + s_hip_fr_y*t443
-    t461 = c_hip_fr_y*t443 - s_hip_fr_y*t441
+    t438 = c_hip_fr_y*t416
+    t439 = -s_hip_fr_y*t416
+    t440 = s_hip_fr_y*s_hip_fr_y
+    t441 = c_hip_fr_y*t438 + 0.00035*t440
+    t442 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t438
+    t443 = c_hip_fr_y*c_hip_fr_y
+    t444 = -s_hip_fr_y*t439 + 0.00035*t443
+    t445 = c_hip_fr_y*t417
+    t446 = -s_hip_fr_y*t417
+    t447 = c_hip_fr_y*t427
+    t448 = -s_hip_fr_y*t427
+    t449 = c_hip_fr_y*t447 + 1.5*t440
+    t450 = 1.5*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t447
+    t451 = -s_hip_fr_y*t448 + 1.5*t443
+    t452 = c_hip_fr_y*t432 + s_hip_fr_y*t433
+    t453 = c_hip_fr_y*t433 - s_hip_fr_y*t432
+    t454 = c_hip_fr_y*t435 + s_hip_fr_y*t437
+    t455 = c_hip_fr_y*t437 - s_hip_fr_y*t435
     # hinge hip_fr_x: articulated inertia
-    t462 = 1/t447
-    t463 = t448*t462
-    t464 = t451*t462
-    t465 = -t448*t463 + t450
-    t466 = -t451*t463 + t452
-    t467 = -t451*t464 + 2.5
-    t468 = qd_hip_fr_x*t70
-    t469 = -qd_hip_fr_x*t69
-    t470 = qd_hip_fr_x*t74
-    t471 = -qd_hip_fr_x*t73
-    t472 = t458 - tau_hip_fr_x
-    t473 = t459 - t463*t472 + t465*t469 + t466*t470
-    t474 = t456*t471 + t460
-    t475 = t442 - t464*t472 + t466*t469 + t467*t470
-    t476 = t457*t471 + t461
+    t456 = 1/t441
+    t457 = t442*t456
+    t458 = t445*t456
+    t459 = -t442*t457 + t444
+    t460 = -t445*t457 + t446
+    t461 = -t445*t458 + 2.5
+    t462 = qd_hip_fr_x*t70
+    t463 = -qd_hip_fr_x*t69
+    t464 = qd_hip_fr_x*t74
+    t465 = -qd_hip_fr_x*t73
+    t466 = t452 - tau_hip_fr_x
+    t467 = t453 - t457*t466 + t459*t463 + t460*t464
+    t468 = t450*t465 + t454
+    t469 = t436 - t458*t466 + t460*t463 + t461*t464
+    t470 = t451*t465 + t455
     # hinge hip_fr_x: seen from the parent
-    t477 = -s_hip_fr_x*t465
-    t478 = c_hip_fr_x*t465
-    t479 = -s_hip_fr_x*t477
+    t471 = -s_hip_fr_x*t459
+    t472 = c_hip_fr_x*t459
+    t473 = -s_hip_fr_x*t471
+    t474 = c_hip_fr_x*t471
+    t475 = c_hip_fr_x*t472
+    t476 = -s_hip_fr_x*t460
+    t477 = c_hip_fr_x*t460
+    t478 = c_hip_fr_x*t476
+    t479 = s_hip_fr_x*t476
     t480 = c_hip_fr_x*t477
-    t481 = c_hip_fr_x*t478
-    t482 = -s_hip_fr_x*t466
-    t483 = c_hip_fr_x*t466
-    t484 = c_hip_fr_x*t482
-    t485 = s_hip_fr_x*t482
-    t486 = c_hip_fr_x*t483
-    t487 = s_hip_fr_x*t483
-    t488 = -s_hip_fr_x*t456
-    t489 = c_hip_fr_x*t467
-    t490 = -s_hip_fr_x*t457
-    t491 = c_hip_fr_x*t456
-    t492 = s_hip_fr_x*t467
-    t493 = c_hip_fr_x*t457
-    t494 = c_hip_fr_x*t489 - s_hip_fr_x*t490
-    t495 = c_hip_fr_x*t490 + s_hip_fr_x*t489
-    t496 = c_hip_fr_x*t493 + s_hip_fr_x*t492
-    t497 = t484 - 0.39*t495
-    t498 = t485 - 0.39*t496
-    t499 = 0.12*t455 + 0.39*t488
-    t500 = t486 + 0.12*t488 + 0.39*t494
-    t501 = t487 + 0.12*t491 + 0.39*t495
-    t502 = -0.12*t485 + 0.0468*t496
-    t503 = -0.12*t487 - 0.0144*t491 - 0.0468*t495
-    t504 = t479 - 0.39*t485 - 0.39*t498
-    t505 = t480 - 0.39*t487 - 0.0468*t491 + 0.39*t497
-    t506 = t481 + 0.39*t486 + 0.12*t499 + 0.39*t500
-    t507 = t381 + 0.0144*t496
-    t508 = t382 + t502
-    t509 = t383 + t503
-    t510 = t384 + t504
-    t511 = t385 + t505
-    t512 = t386 + t506
-    t513 = t387 - 0.12*t491
-    t514 = t388 - 0.12*t495
-    t515 = t389 - 0.12*t496
-    t516 = t390 - 0.39*t491
-    t517 = t391 + t497
-    t518 = t392 + t498
-    t519 = t393 + t499
-    t520 = t394 + t500
-    t521 = t395 + t501
-    t522 = t396 + t455
-    t523 = t397 + t488
-    t524 = t398 + t491
-    t525 = t399 + t494
-    t526 = t400 + t495
-    t527 = t401 + t496
-    t528 = s_hip_fr_x*t475
-    t529 = c_hip_fr_x*t476
-    t530 = t404 - 0.12*t528 - 0.12*t529 + tau_hip_fr_x
-    t531 = c_hip_fr_x*tau_hip_fr_y - s_hip_fr_x*t473 + t405 - 0.39*t528 - 0.39*t529
-    t532 = c_hip_fr_x*t475
-    t533 = s_hip_fr_x*t476
-    t534 = c_hip_fr_x*t473 + s_hip_fr_x*tau_hip_fr_y + t408 + 0.12*t474 + 0.39*t532 - 0.39*t533
-    t535 = t409 + t474
-    t536 = t410 + t532 - t533
-    t537 = t411 + t528 + t529
+    t481 = s_hip_fr_x*t477
+    t482 = -s_hip_fr_x*t450
+    t483 = c_hip_fr_x*t461
+    t484 = -s_hip_fr_x*t451
+    t485 = c_hip_fr_x*t450
+    t486 = s_hip_fr_x*t461
+    t487 = c_hip_fr_x*t451
+    t488 = c_hip_fr_x*t483 - s_hip_fr_x*t484
+    t489 = c_hip_fr_x*t484 + s_hip_fr_x*t483
+    t490 = c_hip_fr_x*t487 + s_hip_fr_x*t486
+    t491 = t478 - 0.39*t489
+    t492 = t479 - 0.39*t490
+    t493 = 0.12*t449 + 0.39*t482
+    t494 = t480 + 0.12*t482 + 0.39*t488
+    t495 = t481 + 0.12*t485 + 0.39*t489
+    t496 = -0.12*t479 + 0.0468*t490
+    t497 = -0.12*t481 - 0.0144*t485 - 0.0468*t489
+    t498 = t473 - 0.39*t479 - 0.39*t492
+    t499 = t474 - 0.39*t481 - 0.0468*t485 + 0.39*t491
+    t500 = t475 + 0.39*t480 + 0.12*t493 + 0.39*t494
+    t501 = t377 + 0.0144*t490
+    t502 = t378 + t496
+    t503 = t379 + t497
+    t504 = t380 + t498
+    t505 = t381 + t499
+    t506 = t382 + t500
+    t507 = t383 - 0.12*t485
+    t508 = t384 - 0.12*t489
+    t509 = t385 - 0.12*t490
+    t510 = t386 - 0.39*t485
+    t511 = t387 + t491
+    t512 = t388 + t492
+    t513 = t389 + t493
+    t514 = t390 + t494
+    t515 = t391 + t495
+    t516 = t392 + t449
+    t517 = t393 + t482
+    t518 = t394 + t485
+    t519 = t395 + t488
+    t520 = t396 + t489
+    t521 = t397 + t490
+    t522 = s_hip_fr_x*t469
+    t523 = c_hip_fr_x*t470
+    t524 = t400 - 0.12*t522 - 0.12*t523 + tau_hip_fr_x
+    t525 = c_hip_fr_x*tau_hip_fr_y - s_hip_fr_x*t467 + t401 - 0.39*t522 - 0.39*t523
+    t526 = c_hip_fr_x*t469
+    t527 = s_hip_fr_x*t470
+    t528 = c_hip_fr_x*t467 + s_hip_fr_x*tau_hip_fr_y + t404 + 0.12*t468 + 0.39*t526 - 0.39*t527
+    t529 = t405 + t468
+    t530 = t406 + t526 - t527
+    t531 = t407 + t522 + t523
     # shank_fl, slide leg_fl: articulated inertia
-    t538 = -qd_leg_fl*t40
-    t539 = qd_leg_fl*t39
-    t540 = 0.2*t539 + t60
-    t541 = -0.2*t538 + t63
-    t542 = t538 + t65
-    t543 = t539 + t66
+    t532 = -qd_leg_fl*t40
+    t533 = qd_leg_fl*t39
+    t534 = 0.2*t533 + t60
+    t535 = -0.2*t532 + t63
+    t536 = t532 + t65
+    t537 = t533 + t66
     # shank_fl, slide leg_fl: seen from the parent
-    t544 = t54 - 0.2
-    t545 = t54*t544 - 0.2*t54 + 0.04350000000000001
-    t546 = t54*t544 - 0.2*t54 + 0.04350000000000001
-    t547 = t545 + 0.10300000000000001
-    t548 = t546 + 0.10300000000000001
-    t549 = 0.30000000000000004 - t544
-    t550 = t544 - 0.30000000000000004
-    t551 = t46 - t54*t543 + t540
-    t552 = t49 + t54*t542 + t541
-    t553 = t50 + t64
-    t554 = t51 + t542
-    t555 = t52 + t543
-    t556 = t53 - tau_leg_fl
+    t538 = t54 - 0.2
+    t539 = t54*t538 - 0.2*t54 + 0.04350000000000001
+    t540 = t539 + 0.10300000000000001
+    t541 = 0.30000000000000004 - t538
+    t542 = t538 - 0.30000000000000004
+    t543 = t46 - t54*t537 + t534
+    t544 = t49 + t54*t536 + t535
+    t545 = t50 + t64
+    t546 = t51 + t536
+    t547 = t52 + t537
+    t548 = t53 - tau_leg_fl
     # thigh_fl, hinge hip_fl_y: articulated inertia
-    t557 = 1/t548
-    t558 = t550*t557
-    t559 = -t550*t558 + 2.5
-    t560 = -qd_hip_fl_y*t41
-    t561 = qd_hip_fl_y*t39
-    t562 = -qd_hip_fl_y*t43
-    t563 = qd_hip_fl_y*t42
-    t564 = t547*t560 + t551
-    t565 = t553 + 0.00035*t561
-    t566 = t552 - tau_hip_fl_y
-    t567 = t554 - t558*t566 + t559*t562
-    t568 = t549*t560 + t555
-    t569 = t556 + 1.5*t563
+    t549 = 1/t540
+    t550 = t542*t549
+    t551 = -t542*t550 + 2.5
+    t552 = -qd_hip_fl_y*t41
+    t553 = qd_hip_fl_y*t39
+    t554 = -qd_hip_fl_y*t43
+    t555 = qd_hip_fl_y*t42
+    t556 = t540*t552 + t543
+    t557 = t545 + 0.00035*t553
+    t558 = t544 - tau_hip_fl_y
+    t559 = t546 - t550*t558 + t551*t554
+    t560 = t541*t552 + t547
+    t561 = t548 + 1.5*t555
     # thigh_fl, hinge hip_fl_y: seen from the parent
-    t570 = c_hip_fl_y*t547
-    t571 = -s_hip_fl_y*t547
-    t572 = s_hip_fl_y*s_hip_fl_y
-    t573 = c_hip_fl_y*t570 + 0.00035*t572
-    t574 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t570
-    t575 = c_hip_fl_y*c_hip_fl_y
-    t576 = -s_hip_fl_y*t571 + 0.00035*t575
-    t577 = c_hip_fl_y*t549
-    t578 = -s_hip_fl_y*t549
-    t579 = c_hip_fl_y*t559
-    t580 = -s_hip_fl_y*t559
-    t581 = c_hip_fl_y*t579 + 1.5*t572
-    t582 = 1.5*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t579
-    t583 = -s_hip_fl_y*t580 + 1.5*t575
-    t584 = c_hip_fl_y*t564 + s_hip_fl_y*t565
-    t585 = c_hip_fl_y*t565 - s_hip_fl_y*t564
-    t586 = c_hip_fl_y*t567 + s_hip_fl_y*t569
-    t587 = c_hip_fl_y*t569 - s_hip_fl_y*t567
+    t562 = c_hip_fl_y*t540
+    t563 = -s_hip_fl_y*t540
+    t564 = s_hip_fl_y*s_hip_fl_y
+    t565 = c_hip_fl_y*t562 + 0.00035*t564
+    t566 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t562
+    t567 = c_hip_fl_y*c_hip_fl_y
+    t568 = -s_hip_fl_y*t563 + 0.00035*t567
+    t569 = c_hip_fl_y*t541
+    t570 = -s_hip_fl_y*t541
+    t571 = c_hip_fl_y*t551
+    t572 = -s_hip_fl_y*t551
+    t573 = c_hip_fl_y*t571 + 1.5*t564
+    t574 = 1.5*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t571
+    t575 = -s_hip_fl_y*t572 + 1.5*t567
+    t576 = c_hip_fl_y*t556 + s_hip_fl_y*t557
+    t577 = c_hip_fl_y*t557 - s_hip_fl_y*t556
+    t578 = c_hip_fl_y*t559 + s_hip_fl_y*t561
+    t579 = c_hip_fl_y*t561 - s_hip_fl_y*t559
     # hinge hip_fl_x: articulated inertia
-    t588 = 1/t573
-    t589 = t574*t588
-    t590 = t577*t588
-    t591 = -t574*t589 + t576
-    t592 = -t577*t589 + t578
-    t593 = -t577*t590 + 2.5
-    t594 = qd_hip_fl_x*t32
-    t595 = -qd_hip_fl_x*t31
-    t596 = qd_hip_fl_x*t38
-    t597 = -qd_hip_fl_x*t37
-    t598 = t584 - tau_hip_fl_x
-    t599 = t585 - t589*t598 + t591*t595 + t592*t596
-    t600 = t582*t597 + t586
-    t601 = t568 - t590*t598 + t592*t595 + t593*t596
-    t602 = t583*t597 + t587
+    t580 = 1/t565
+    t581 = t566*t580
+    t582 = t569*t580
+    t583 = -t566*t581 + t568
+    t584 = -t569*t581 + t570
+    t585 = -t569*t582 + 2.5
+    t586 = qd_hip_fl_x*t32
+    t587 = -qd_hip_fl_x*t31
+    t588 = qd_hip_fl_x*t38
+    t589 = -qd_hip_fl_x*t37
+    t590 = t576 - tau_hip_fl_x
+    t591 = t577 - t581*t590 + t583*t587 + t584*t588
+    t592 = t574*t589 + t578
+    t593 = t560 - t582*t590 + t584*t587 + t585*t588
+    t594 = t575*t589 + t579
     # hinge hip_fl_x: seen from the parent
-    t603 = -s_hip_fl_x*t591
-    t604 = c_hip_fl_x*t591
-    t605 = -s_hip_fl_x*t603
-    t606 = c_hip_fl_x*t603
-    t607 = c_hip_fl_x*t604
-    t608 = -s_hip_fl_x*t592
-    t609 = c_hip_fl_x*t592
-    t610 = c_hip_fl_x*t608
-    t611 = s_hip_fl_x*t608
-    t612 = c_hip_fl_x*t609
-    t613 = s_hip_fl_x*t609
-    t614 = -s_hip_fl_x*t582
-    t615 = c_hip_fl_x*t593
-    t616 = -s_hip_fl_x*t583
-    t617 = c_hip_fl_x*t582
-    t618 = s_hip_fl_x*t593
-    t619 = c_hip_fl_x*t583
-    t620 = c_hip_fl_x*t615 - s_hip_fl_x*t616
-    t621 = c_hip_fl_x*t616 + s_hip_fl_x*t615
-    t622 = c_hip_fl_x*t619 + s_hip_fl_x*t618
-    t623 = t610 - 0.39*t621
-    t624 = t611 - 0.39*t622
-    t625 = -0.12*t581 + 0.39*t614
-    t626 = t612 - 0.12*t614 + 0.39*t620
-    t627 = t613 - 0.12*t617 + 0.39*t621
-    t628 = 0.12*t611 - 0.0468*t622
-    t629 = 0.12*t613 - 0.0144*t617 + 0.0468*t621
-    t630 = t605 - 0.39*t611 - 0.39*t624
-    t631 = t606 - 0.39*t613 + 0.0468*t617 + 0.39*t623
-    t632 = t607 + 0.39*t612 - 0.12*t625 + 0.39*t626
-    t633 = t507 + 0.0144*t622
-    t634 = t508 + t628
-    t635 = t509 + t629
-    t636 = t510 + t630
-    t637 = t511 + t631
-    t638 = t512 + t632
-    t639 = t513 + 0.12*t617
-    t640 = t514 + 0.12*t621
-    t641 = t515 + 0.12*t622
-    t642 = t516 - 0.39*t617
-    t643 = t517 + t623
-    t644 = t518 + t624
-    t645 = t519 + t625
-    t646 = t520 + t626
-    t647 = t521 + t627
-    t648 = t522 + t581
-    t649 = t523 + t614
-    t650 = t524 + t617
-    t651 = t525 + t620
-    t652 = t526 + t621
-    t653 = t527 + t622
-    t654 = s_hip_fl_x*t601
-    t655 = c_hip_fl_x*t602
-    t656 = t530 + 0.12*t654 + 0.12*t655 + tau_hip_fl_x
-    t657 = c_hip_fl_x*tau_hip_fl_y - s_hip_fl_x*t599 + t531 - 0.39*t654 - 0.39*t655
-    t658 = c_hip_fl_x*t601
-    t659 = s_hip_fl_x*t602
-    t660 = c_hip_fl_x*t599 + s_hip_fl_x*tau_hip_fl_y + t534 - 0.12*t600 + 0.39*t658 - 0.39*t659
-    t661 = t535 + t600
-    t662 = t536 + t658 - t659
-    t663 = t537 + t654 + t655
+    t595 = -s_hip_fl_x*t583
+    t596 = c_hip_fl_x*t583
+    t597 = -s_hip_fl_x*t595
+    t598 = c_hip_fl_x*t595
+    t599 = c_hip_fl_x*t596
+    t600 = -s_hip_fl_x*t584
+    t601 = c_hip_fl_x*t584
+    t602 = c_hip_fl_x*t600
+    t603 = s_hip_fl_x*t600
+    t604 = c_hip_fl_x*t601
+    t605 = s_hip_fl_x*t601
+    t606 = -s_hip_fl_x*t574
+    t607 = c_hip_fl_x*t585
+    t608 = -s_hip_fl_x*t575
+    t609 = c_hip_fl_x*t574
+    t610 = s_hip_fl_x*t585
+    t611 = c_hip_fl_x*t575
+    t612 = c_hip_fl_x*t607 - s_hip_fl_x*t608
+    t613 = c_hip_fl_x*t608 + s_hip_fl_x*t607
+    t614 = c_hip_fl_x*t611 + s_hip_fl_x*t610
+    t615 = t602 - 0.39*t613
+    t616 = t603 - 0.39*t614
+    t617 = -0.12*t573 + 0.39*t606
+    t618 = t604 - 0.12*t606 + 0.39*t612
+    t619 = t605 - 0.12*t609 + 0.39*t613
+    t620 = 0.12*t603 - 0.0468*t614
+    t621 = 0.12*t605 - 0.0144*t609 + 0.0468*t613
+    t622 = t597 - 0.39*t603 - 0.39*t616
+    t623 = t598 - 0.39*t605 + 0.0468*t609 + 0.39*t615
+    t624 = t599 + 0.39*t604 - 0.12*t617 + 0.39*t618
+    t625 = t501 + 0.0144*t614
+    t626 = t502 + t620
+    t627 = t503 + t621
+    t628 = t504 + t622
+    t629 = t505 + t623
+    t630 = t506 + t624
+    t631 = t507 + 0.12*t609
+    t632 = t508 + 0.12*t613
+    t633 = t509 + 0.12*t614
+    t634 = t510 - 0.39*t609
+    t635 = t511 + t615
+    t636 = t512 + t616
+    t637 = t513 + t617
+    t638 = t514 + t618
+    t639 = t515 + t619
+    t640 = t516 + t573
+    t641 = t517 + t606
+    t642 = t518 + t609
+    t643 = t519 + t612
+    t644 = t520 + t613
+    t645 = t521 + t614
+    t646 = s_hip_fl_x*t593
+    t647 = c_hip_fl_x*t594
+    t648 = t524 + 0.12*t646 + 0.12*t647 + tau_hip_fl_x
+    t649 = c_hip_fl_x*tau_hip_fl_y - s_hip_fl_x*t591 + t525 - 0.39*t646 - 0.39*t647
+    t650 = c_hip_fl_x*t593
+    t651 = s_hip_fl_x*t594
+    t652 = c_hip_fl_x*t591 + s_hip_fl_x*tau_hip_fl_y + t528 - 0.12*t592 + 0.39*t650 - 0.39*t651
+    t653 = t529 + t592
+    t654 = t530 + t650 - t651
+    t655 = t531 + t646 + t647
     # trunk, free3d root: solve the 6x6 articulated inertia
-    t664 = 1/t633
-    t665 = t634*t664
-    t666 = t635*t664
-    t667 = t639*t664
-    t668 = t640*t664
-    t669 = t641*t664
-    t670 = -t634*t665 + t636
-    t671 = -t635*t665 + t637
-    t672 = -t639*t665 + t642
-    t673 = -t640*t665 + t643
-    t674 = -t641*t665 + t644
-    t675 = 1/t670
-    t676 = t671*t675
-    t677 = t672*t675
-    t678 = t673*t675
-    t679 = t674*t675
-    t680 = -t635*t666 + t638 - t671*t676
-    t681 = -t639*t666 + t645 - t672*t676
-    t682 = -t640*t666 + t646 - t673*t676
-    t683 = -t641*t666 + t647 - t674*t676
-    t684 = 1/t680
-    t685 = t681*t684
-    t686 = t682*t684
-    t687 = t683*t684
-    t688 = -t639*t667 + t648 - t672*t677 - t681*t685
-    t689 = -t640*t667 + t649 - t673*t677 - t682*t685
-    t690 = -t641*t667 + t650 - t674*t677 - t683*t685
-    t691 = 1/t688
-    t692 = t689*t691
-    t693 = t690*t691
-    t694 = -t640*t668 + t651 - t673*t678 - t682*t686 - t689*t692
-    t695 = -t641*t668 + t652 - t674*t678 - t683*t686 - t690*t692
-    t696 = 1/t694
-    t697 = t695*t696
-    t698 = -t641*t669 + t653 - t674*t679 - t683*t687 - t690*t693 - t695*t697
-    t699 = 1/t698
-    t700 = -t656 + tau_wx
-    t701 = -t657 - t665*t700 + tau_wy
-    t702 = -t660 - t666*t700 - t676*t701 + tau_wz
-    t703 = t10*tau_vy + t14*tau_vz + t5*tau_vx - t661 - t667*t700 - t677*t701 - t685*t702
-    t704 = t11*tau_vy + t15*tau_vz - t662 - t668*t700 - t678*t701 - t686*t702 - t692*t703 + t7*tau_vx
-    t705 = t13*tau_vy + t16*tau_vz - t663 - t669*t700 - t679*t701 - t687*t702 - t693*t703 - t697*t704 + t9*tau_vx
-    t706 = t699*t705
-    t707 = t696*t704 - t697*t706
-    t708 = t691*t703 - t692*t707 - t693*t706
-    t709 = t684*t702 - t685*t708 - t686*t707 - t687*t706
-    t710 = t675*t701 - t676*t709 - t677*t708 - t678*t707 - t679*t706
-    t711 = t664*t700 - t665*t710 - t666*t709 - t667*t708 - t668*t707 - t669*t706
+    t656 = 1/t625
+    t657 = t626*t656
+    t658 = t627*t656
+    t659 = t631*t656
+    t660 = t632*t656
+    t661 = t633*t656
+    t662 = -t626*t657 + t628
+    t663 = -t627*t657 + t629
+    t664 = -t631*t657 + t634
+    t665 = -t632*t657 + t635
+    t666 = -t633*t657 + t636
+    t667 = 1/t662
+    t668 = t663*t667
+    t669 = t664*t667
+    t670 = t665*t667
+    t671 = t666*t667
+    t672 = -t627*t658 + t630 - t663*t668
+    t673 = -t631*t658 + t637 - t664*t668
+    t674 = -t632*t658 + t638 - t665*t668
+    t675 = -t633*t658 + t639 - t666*t668
+    t676 = 1/t672
+    t677 = t673*t676
+    t678 = t674*t676
+    t679 = t675*t676
+    t680 = -t631*t659 + t640 - t664*t669 - t673*t677
+    t681 = -t632*t659 + t641 - t665*t669 - t674*t677
+    t682 = -t633*t659 + t642 - t666*t669 - t675*t677
+    t683 = 1/t680
+    t684 = t681*t683
+    t685 = t682*t683
+    t686 = -t632*t660 + t643 - t665*t670 - t674*t678 - t681*t684
+    t687 = -t633*t660 + t644 - t666*t670 - t675*t678 - t682*t684
+    t688 = 1/t686
+    t689 = t687*t688
+    t690 = -t633*t661 + t645 - t666*t671 - t675*t679 - t682*t685 - t687*t689
+    t691 = 1/t690
+    t692 = -t648 + tau_wx
+    t693 = -t649 - t657*t692 + tau_wy
+    t694 = -t652 - t658*t692 - t668*t693 + tau_wz
+    t695 = t10*tau_vy + t14*tau_vz + t5*tau_vx - t653 - t659*t692 - t669*t693 - t677*t694
+    t696 = t11*tau_vy + t15*tau_vz - t654 - t660*t692 - t670*t693 - t678*t694 - t684*t695 + t7*tau_vx
+    t697 = t13*tau_vy + t16*tau_vz - t655 - t661*t692 - t671*t693 - t679*t694 - t685*t695 - t689*t696 + t9*tau_vx
+    t698 = t691*t697
+    t699 = t688*t696 - t689*t698
+    t700 = t683*t695 - t684*t699 - t685*t698
+    t701 = t676*t694 - t677*t700 - t678*t699 - t679*t698
+    t702 = t667*t693 - t668*t701 - t669*t700 - t670*t699 - t671*t698
+    t703 = t656*t692 - t657*t702 - t658*t701 - t659*t700 - t660*t699 - t661*t698
     # trunk, free3d root: accelerations in MuJoCo's coordinates
-    t712 = t19*wy - t23 + t708
-    t713 = -t25 + t26 + t707
-    t714 = t18*wx - t28 + t706
-    t715 = t5*t712 + t7*t713 + t714*t9
-    t716 = t10*t712 + t11*t713 + t13*t714
-    t717 = t14*t712 + t15*t713 + t16*t714 - 9.81
+    t704 = t19*wy - t23 + t700
+    t705 = -t25 + t26 + t699
+    t706 = t18*wx - t28 + t698
+    t707 = t5*t704 + t7*t705 + t706*t9
+    t708 = t10*t704 + t11*t705 + t13*t706
+    t709 = t14*t704 + t15*t705 + t16*t706 - 9.81
     # hinge hip_fl_x: acceleration
-    t718 = c_hip_fl_x*t710 + s_hip_fl_x*t709 + t594
-    t719 = c_hip_fl_x*t709 - s_hip_fl_x*t710 + t595
-    t720 = t708 - 0.12*t709
-    t721 = t707 + 0.39*t709
-    t722 = t706 + 0.12*t711
-    t723 = -0.39*t710 + t722
-    t724 = c_hip_fl_x*t721 + s_hip_fl_x*t723 + t596
-    t725 = c_hip_fl_x*t723 - s_hip_fl_x*t721 + t597
-    t726 = t588*(-t573*t711 - t574*t719 - t577*t724 - t598)
+    t710 = c_hip_fl_x*t702 + s_hip_fl_x*t701 + t586
+    t711 = c_hip_fl_x*t701 - s_hip_fl_x*t702 + t587
+    t712 = t700 - 0.12*t701
+    t713 = t699 + 0.39*t701
+    t714 = t698 + 0.12*t703
+    t715 = -0.39*t702 + t714
+    t716 = c_hip_fl_x*t713 + s_hip_fl_x*t715 + t588
+    t717 = c_hip_fl_x*t715 - s_hip_fl_x*t713 + t589
+    t718 = t580*(-t565*t703 - t566*t711 - t569*t716 - t590)
     # thigh_fl, hinge hip_fl_y: acceleration
-    t727 = c_hip_fl_y*t720 - s_hip_fl_y*t725 + t562
-    t728 = c_hip_fl_y*t725 + s_hip_fl_y*t720 + t563
-    t729 = t557*(-t548*t718 - t550*t727 - t566)
+    t719 = c_hip_fl_y*t712 - s_hip_fl_y*t717 + t554
+    t720 = c_hip_fl_y*t717 + s_hip_fl_y*t712 + t555
+    t721 = t549*(-t540*t710 - t542*t719 - t558)
     # shank_fl, slide leg_fl: acceleration
-    t730 = t67 + t728 + tau_leg_fl
+    t722 = t67 + t720 + tau_leg_fl
     # hinge hip_fr_x: acceleration
-    t731 = c_hip_fr_x*t710 + s_hip_fr_x*t709 + t468
-    t732 = c_hip_fr_x*t709 - s_hip_fr_x*t710 + t469
-    t733 = t708 + 0.12*t709
-    t734 = t706 - 0.39*t710 - 0.12*t711
-    t735 = c_hip_fr_x*t721 + s_hip_fr_x*t734 + t470
-    t736 = c_hip_fr_x*t734 - s_hip_fr_x*t721 + t471
-    t737 = t462*(-t447*t711 - t448*t732 - t451*t735 - t472)
+    t723 = c_hip_fr_x*t702 + s_hip_fr_x*t701 + t462
+    t724 = c_hip_fr_x*t701 - s_hip_fr_x*t702 + t463
+    t725 = t700 + 0.12*t701
+    t726 = t698 - 0.39*t702 - 0.12*t703
+    t727 = c_hip_fr_x*t713 + s_hip_fr_x*t726 + t464
+    t728 = c_hip_fr_x*t726 - s_hip_fr_x*t713 + t465
+    t729 = t456*(-t441*t703 - t442*t724 - t445*t727 - t466)
     # thigh_fr, hinge hip_fr_y: acceleration
-    t738 = c_hip_fr_y*t733 - s_hip_fr_y*t736 + t436
-    t739 = c_hip_fr_y*t736 + s_hip_fr_y*t733 + t437
-    t740 = t431*(-t422*t731 - t424*t738 - t440)
+    t730 = c_hip_fr_y*t725 - s_hip_fr_y*t728 + t430
+    t731 = c_hip_fr_y*t728 + s_hip_fr_y*t725 + t431
+    t732 = t425*(-t416*t723 - t418*t730 - t434)
     # shank_fr, slide leg_fr: acceleration
-    t741 = t103 + t739 + tau_leg_fr
+    t733 = t103 + t731 + tau_leg_fr
     # hinge hip_rl_x: acceleration
-    t742 = c_hip_rl_x*t710 + s_hip_rl_x*t709 + t342
-    t743 = c_hip_rl_x*t709 - s_hip_rl_x*t710 + t343
-    t744 = t707 - 0.39*t709
-    t745 = 0.39*t710 + t722
-    t746 = c_hip_rl_x*t744 + s_hip_rl_x*t745 + t344
-    t747 = c_hip_rl_x*t745 - s_hip_rl_x*t744 + t345
-    t748 = t336*(-t321*t711 - t322*t743 - t325*t746 - t346)
+    t734 = c_hip_rl_x*t702 + s_hip_rl_x*t701 + t338
+    t735 = c_hip_rl_x*t701 - s_hip_rl_x*t702 + t339
+    t736 = t699 - 0.39*t701
+    t737 = 0.39*t702 + t714
+    t738 = c_hip_rl_x*t736 + s_hip_rl_x*t737 + t340
+    t739 = c_hip_rl_x*t737 - s_hip_rl_x*t736 + t341
+    t740 = t332*(-t317*t703 - t318*t735 - t321*t738 - t342)
     # thigh_rl, hinge hip_rl_y: acceleration
-    t749 = c_hip_rl_y*t720 - s_hip_rl_y*t747 + t310
-    t750 = c_hip_rl_y*t747 + s_hip_rl_y*t720 + t311
-    t751 = t305*(-t296*t742 - t298*t749 - t314)
+    t741 = c_hip_rl_y*t712 - s_hip_rl_y*t739 + t306
+    t742 = c_hip_rl_y*t739 + s_hip_rl_y*t712 + t307
+    t743 = t301*(-t292*t734 - t294*t741 - t310)
     # shank_rl, slide leg_rl: acceleration
-    t752 = t139 + t750 + tau_leg_rl
+    t744 = t139 + t742 + tau_leg_rl
     # hinge hip_rr_x: acceleration
-    t753 = c_hip_rr_x*t710 + s_hip_rr_x*t709 + t231
-    t754 = c_hip_rr_x*t709 - s_hip_rr_x*t710 + t232
-    t755 = t706 + 0.39*t710 - 0.12*t711
-    t756 = c_hip_rr_x*t744 + s_hip_rr_x*t755 + t233
-    t757 = c_hip_rr_x*t755 - s_hip_rr_x*t744 + t234
-    t758 = t225*(-t210*t711 - t211*t754 - t214*t756 - t235)
+    t745 = c_hip_rr_x*t702 + s_hip_rr_x*t701 + t229
+    t746 = c_hip_rr_x*t701 - s_hip_rr_x*t702 + t230
+    t747 = t698 + 0.39*t702 - 0.12*t703
+    t748 = c_hip_rr_x*t736 + s_hip_rr_x*t747 + t231
+    t749 = c_hip_rr_x*t747 - s_hip_rr_x*t736 + t232
+    t750 = t223*(-t208*t703 - t209*t746 - t212*t748 - t233)
     # thigh_rr, hinge hip_rr_y: acceleration
-    t759 = c_hip_rr_y*t733 - s_hip_rr_y*t757 + t199
-    t760 = c_hip_rr_y*t757 + s_hip_rr_y*t733 + t200
-    t761 = t194*(-t185*t753 - t187*t759 - t203)
+    t751 = c_hip_rr_y*t725 - s_hip_rr_y*t749 + t197
+    t752 = c_hip_rr_y*t749 + s_hip_rr_y*t725 + t198
+    t753 = t192*(-t183*t745 - t185*t751 - t201)
     # shank_rr, slide leg_rr: acceleration
-    t762 = t174 + t760 + tau_leg_rr
+    t754 = t174 + t752 + tau_leg_rr
     return [
-        t715,
-        t716,
-        t717,
-        t711,
-        t710,
+        t707,
+        t708,
         t709,
-        t726,
+        t703,
+        t702,
+        t701,
+        t718,
+        t721,
+        t722,
         t729,
-        t730,
-        t737,
+        t732,
+        t733,
         t740,
-        t741,
-        t748,
-        t751,
-        t752,
-        t758,
-        t761,
-        t762,
+        t743,
+        t744,
+        t750,
+        t753,
+        t754,
     ]
 
 

@@ -9,8 +9,8 @@ does that with ``printer``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
 from typing import TypeAlias
 
 from sympy import Expr, Integer, Symbol
@@ -48,10 +48,17 @@ Nested: TypeAlias = "Expr | Call | list[Nested] | tuple[Nested, ...]"
 
 @dataclass(frozen=True)
 class Function:
+    """One generated function; ``names`` and ``bases`` as in ``straightline.Program``."""
+
     name: str
     params: tuple[str, ...]
     statements: tuple[Statement, ...]
     result: Nested
+    names: Mapping[Symbol, str] = field(default_factory=dict)
+    bases: Mapping[Expr, Symbol] = field(default_factory=dict)
+
+    def name_of(self, sym: Symbol) -> str:
+        return self.names.get(sym, sym.name)
 
 
 @dataclass(frozen=True)
@@ -89,7 +96,16 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
         result = build(Tree(model, nodes, block))
         program = block.finish(list(_leaves(result)), cse=cse)
         outputs = iter(program.outputs)
-        functions.append(Function(name, params, program.statements, _rebuild(result, outputs)))
+        functions.append(
+            Function(
+                name,
+                params,
+                program.statements,
+                _rebuild(result, outputs),
+                program.names,
+                program.bases,
+            )
+        )
     return SymbolicSystem(model, nodes, tuple(functions))
 
 

@@ -45,7 +45,7 @@ def _program(
         outs = [block.let(o) if isinstance(o, Expr) else o for o in outs]
     program = block.finish(outs)
     result: object = list(program.outputs) if let else program.outputs[0]
-    return Function(name, PARAMS, program.statements, result)
+    return Function(name, PARAMS, program.statements, result, program.names, program.bases)
 
 
 def render_control(
