@@ -91,452 +91,432 @@ def mass_matrix(q):
     t2 = t1 - 0.2
     t3 = t1*t2 - 0.2*t1 + 0.04350000000000001
     t4 = t2 - 0.30000000000000004
-    t5 = t3 + 0.10300000000000001
+    m_hip_rr_y_hip_rr_y = t3 + 0.10300000000000001
     # thigh_rr, hinge hip_rr_y: composite inertia seen from the parent
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
-    t6 = s_hip_rr_y*t4
-    t7 = c_hip_rr_y*t4
-    t8 = c_hip_rr_y*t5
-    t9 = -s_hip_rr_y*t5
-    t10 = c_hip_rr_y*t8 + 0.00035*s_hip_rr_y*s_hip_rr_y
-    t11 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t8
-    t12 = 0.00035*c_hip_rr_y*c_hip_rr_y - s_hip_rr_y*t9
+    t5 = s_hip_rr_y*t4
+    t6 = c_hip_rr_y*t4
+    t7 = c_hip_rr_y*m_hip_rr_y_hip_rr_y
+    t8 = -s_hip_rr_y*m_hip_rr_y_hip_rr_y
+    m_hip_rr_x_hip_rr_x = c_hip_rr_y*t7 + 0.00035*s_hip_rr_y*s_hip_rr_y
+    t9 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t7
+    t10 = 0.00035*c_hip_rr_y*c_hip_rr_y - s_hip_rr_y*t8
     # hinge hip_rr_x: composite inertia seen from the parent
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t13 = s_hip_rr_x*t7
-    t14 = c_hip_rr_x*t7
-    t15 = s_hip_rr_x*t11
-    t16 = c_hip_rr_x*t5
-    t17 = -s_hip_rr_x*t12
-    t18 = c_hip_rr_x*t11
-    t19 = s_hip_rr_x*t5
-    t20 = c_hip_rr_x*t12
-    t21 = c_hip_rr_x*t16 - s_hip_rr_x*t17
-    t22 = c_hip_rr_x*t17 + s_hip_rr_x*t16
-    t23 = c_hip_rr_x*t20 + s_hip_rr_x*t19
-    t24 = t6 - 0.9750000000000001
-    t25 = -t13 - 0.3
-    t26 = -0.12*t13 + 0.12*t25
-    t27 = t10 - t26
-    t28 = -t15 + 0.39*t25 + 0.12*t6
-    t29 = 0.39*t14 + t18
-    t30 = 0.39*t24 + 0.39*t6
-    t31 = t21 - t30
-    t32 = 0.12*t14 + t22
-    t33 = t23 - t26 - t30
-    t34 = t27 + 0.54
-    t35 = t31 + 2.35
-    t36 = t33 + 2.39
+    t11 = s_hip_rr_x*t6
+    t12 = c_hip_rr_x*t6
+    t13 = s_hip_rr_x*t9
+    t14 = c_hip_rr_x*m_hip_rr_y_hip_rr_y
+    t15 = -s_hip_rr_x*t10
+    t16 = c_hip_rr_x*t9
+    t17 = s_hip_rr_x*m_hip_rr_y_hip_rr_y
+    t18 = c_hip_rr_x*t10
+    t19 = c_hip_rr_x*t14 - s_hip_rr_x*t15
+    t20 = c_hip_rr_x*t15 + s_hip_rr_x*t14
+    t21 = c_hip_rr_x*t18 + s_hip_rr_x*t17
+    t22 = t5 - 0.9750000000000001
+    t23 = -t11 - 0.3
+    t24 = -0.12*t11 + 0.12*t23
+    t25 = m_hip_rr_x_hip_rr_x - t24
+    t26 = -t13 + 0.39*t23 + 0.12*t5
+    m_wz_hip_rr_x = 0.39*t12 + t16
+    t27 = 0.39*t22 + 0.39*t5
+    t28 = t19 - t27
+    t29 = 0.12*t12 + t20
+    t30 = t21 - t24 - t27
+    t31 = t25 + 0.54
+    t32 = t28 + 2.35
+    t33 = t30 + 2.39
     # shank_rl, slide leg_rl: composite inertia seen from the parent
-    t37 = -leg_rl - 0.41
-    t38 = t37 - 0.2
-    t39 = t37*t38 - 0.2*t37 + 0.04350000000000001
-    t40 = t38 - 0.30000000000000004
-    t41 = t39 + 0.10300000000000001
+    t34 = -leg_rl - 0.41
+    t35 = t34 - 0.2
+    t36 = t34*t35 - 0.2*t34 + 0.04350000000000001
+    t37 = t35 - 0.30000000000000004
+    m_hip_rl_y_hip_rl_y = t36 + 0.10300000000000001
     # thigh_rl, hinge hip_rl_y: composite inertia seen from the parent
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
-    t42 = s_hip_rl_y*t40
-    t43 = c_hip_rl_y*t40
-    t44 = c_hip_rl_y*t41
-    t45 = -s_hip_rl_y*t41
-    t46 = c_hip_rl_y*t44 + 0.00035*s_hip_rl_y*s_hip_rl_y
-    t47 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t44
-    t48 = 0.00035*c_hip_rl_y*c_hip_rl_y - s_hip_rl_y*t45
+    t38 = s_hip_rl_y*t37
+    t39 = c_hip_rl_y*t37
+    t40 = c_hip_rl_y*m_hip_rl_y_hip_rl_y
+    t41 = -s_hip_rl_y*m_hip_rl_y_hip_rl_y
+    m_hip_rl_x_hip_rl_x = c_hip_rl_y*t40 + 0.00035*s_hip_rl_y*s_hip_rl_y
+    t42 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t40
+    t43 = 0.00035*c_hip_rl_y*c_hip_rl_y - s_hip_rl_y*t41
     # hinge hip_rl_x: composite inertia seen from the parent
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t49 = s_hip_rl_x*t43
-    t50 = c_hip_rl_x*t43
-    t51 = s_hip_rl_x*t47
-    t52 = c_hip_rl_x*t41
-    t53 = -s_hip_rl_x*t48
-    t54 = c_hip_rl_x*t47
-    t55 = s_hip_rl_x*t41
-    t56 = c_hip_rl_x*t48
-    t57 = c_hip_rl_x*t52 - s_hip_rl_x*t53
-    t58 = c_hip_rl_x*t53 + s_hip_rl_x*t52
-    t59 = c_hip_rl_x*t56 + s_hip_rl_x*t55
-    t60 = t42 - 0.9750000000000001
-    t61 = 0.3 - t49
-    t62 = -0.12*t49 + 0.12*t61
-    t63 = t46 + t62
-    t64 = -0.12*t42 - t51 + 0.39*t61
-    t65 = 0.39*t50 + t54
-    t66 = -0.39*t42 + t57 - 0.39*t60
-    t67 = -0.12*t50 + t58
-    t68 = -0.39*t42 + t59 - 0.39*t60 + t62
-    t69 = t24 + t60
-    t70 = t25 + t61
-    t71 = t14 + t50
-    t72 = t34 + t63
-    t73 = t28 + t64
-    t74 = t29 + t65
-    t75 = t35 + t66
-    t76 = t32 + t67
-    t77 = t36 + t68
+    t44 = s_hip_rl_x*t39
+    t45 = c_hip_rl_x*t39
+    t46 = s_hip_rl_x*t42
+    t47 = c_hip_rl_x*m_hip_rl_y_hip_rl_y
+    t48 = -s_hip_rl_x*t43
+    t49 = c_hip_rl_x*t42
+    t50 = s_hip_rl_x*m_hip_rl_y_hip_rl_y
+    t51 = c_hip_rl_x*t43
+    t52 = c_hip_rl_x*t47 - s_hip_rl_x*t48
+    t53 = c_hip_rl_x*t48 + s_hip_rl_x*t47
+    t54 = c_hip_rl_x*t51 + s_hip_rl_x*t50
+    t55 = t38 - 0.9750000000000001
+    t56 = 0.3 - t44
+    t57 = -0.12*t44 + 0.12*t56
+    t58 = m_hip_rl_x_hip_rl_x + t57
+    t59 = -0.12*t38 - t46 + 0.39*t56
+    m_wz_hip_rl_x = 0.39*t45 + t49
+    t60 = -0.39*t38 + t52 - 0.39*t55
+    t61 = -0.12*t45 + t53
+    t62 = -0.39*t38 + t54 - 0.39*t55 + t57
+    t63 = t22 + t55
+    t64 = t23 + t56
+    t65 = t12 + t45
+    t66 = t31 + t58
+    t67 = t26 + t59
+    t68 = m_wz_hip_rr_x + m_wz_hip_rl_x
+    t69 = t32 + t60
+    t70 = t29 + t61
+    t71 = t33 + t62
     # shank_fr, slide leg_fr: composite inertia seen from the parent
-    t78 = -leg_fr - 0.41
-    t79 = t78 - 0.2
-    t80 = t78*t79 - 0.2*t78 + 0.04350000000000001
-    t81 = t79 - 0.30000000000000004
-    t82 = t80 + 0.10300000000000001
+    t72 = -leg_fr - 0.41
+    t73 = t72 - 0.2
+    t74 = t72*t73 - 0.2*t72 + 0.04350000000000001
+    t75 = t73 - 0.30000000000000004
+    m_hip_fr_y_hip_fr_y = t74 + 0.10300000000000001
     # thigh_fr, hinge hip_fr_y: composite inertia seen from the parent
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
-    t83 = s_hip_fr_y*t81
-    t84 = c_hip_fr_y*t81
-    t85 = c_hip_fr_y*t82
-    t86 = -s_hip_fr_y*t82
-    t87 = c_hip_fr_y*t85 + 0.00035*s_hip_fr_y*s_hip_fr_y
-    t88 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t85
-    t89 = 0.00035*c_hip_fr_y*c_hip_fr_y - s_hip_fr_y*t86
+    t76 = s_hip_fr_y*t75
+    t77 = c_hip_fr_y*t75
+    t78 = c_hip_fr_y*m_hip_fr_y_hip_fr_y
+    t79 = -s_hip_fr_y*m_hip_fr_y_hip_fr_y
+    m_hip_fr_x_hip_fr_x = c_hip_fr_y*t78 + 0.00035*s_hip_fr_y*s_hip_fr_y
+    t80 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t78
+    t81 = 0.00035*c_hip_fr_y*c_hip_fr_y - s_hip_fr_y*t79
     # hinge hip_fr_x: composite inertia seen from the parent
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t90 = s_hip_fr_x*t84
-    t91 = c_hip_fr_x*t84
-    t92 = -s_hip_fr_x*t88
-    t93 = c_hip_fr_x*t82
-    t94 = -s_hip_fr_x*t89
-    t95 = c_hip_fr_x*t88
-    t96 = s_hip_fr_x*t82
-    t97 = c_hip_fr_x*t89
-    t98 = c_hip_fr_x*t93 - s_hip_fr_x*t94
-    t99 = c_hip_fr_x*t94 + s_hip_fr_x*t93
-    t100 = c_hip_fr_x*t97 + s_hip_fr_x*t96
-    t101 = t83 + 0.9750000000000001
-    t102 = -t90 - 0.3
-    t103 = -0.12*t102 + t87 + 0.12*t90
-    t104 = -0.39*t102 + 0.12*t83 + t92
-    t105 = -0.39*t91 + t95
-    t106 = 0.39*t101 + 0.39*t83
-    t107 = t106 + t98
-    t108 = 0.12*t91 + t99
-    t109 = t100 - 0.12*t102 + t106 + 0.12*t90
-    t110 = t101 + t69
-    t111 = t102 + t70
-    t112 = t71 + t91
-    t113 = t103 + t72
-    t114 = t104 + t73
-    t115 = t105 + t74
-    t116 = t107 + t75
-    t117 = t108 + t76
-    t118 = t109 + t77
+    t82 = s_hip_fr_x*t77
+    t83 = c_hip_fr_x*t77
+    t84 = -s_hip_fr_x*t80
+    t85 = c_hip_fr_x*m_hip_fr_y_hip_fr_y
+    t86 = -s_hip_fr_x*t81
+    t87 = c_hip_fr_x*t80
+    t88 = s_hip_fr_x*m_hip_fr_y_hip_fr_y
+    t89 = c_hip_fr_x*t81
+    t90 = c_hip_fr_x*t85 - s_hip_fr_x*t86
+    t91 = c_hip_fr_x*t86 + s_hip_fr_x*t85
+    t92 = c_hip_fr_x*t89 + s_hip_fr_x*t88
+    t93 = t76 + 0.9750000000000001
+    t94 = -t82 - 0.3
+    t95 = -0.12*t94 + m_hip_fr_x_hip_fr_x + 0.12*t82
+    t96 = -0.39*t94 + 0.12*t76 + t84
+    t97 = -0.39*t83 + t87
+    t98 = 0.39*t93 + 0.39*t76
+    t99 = t98 + t90
+    t100 = 0.12*t83 + t91
+    t101 = t92 - 0.12*t94 + t98 + 0.12*t82
+    t102 = t93 + t63
+    t103 = t94 + t64
+    t104 = t65 + t83
+    t105 = t95 + t66
+    t106 = t96 + t67
+    t107 = t97 + t68
+    t108 = t99 + t69
+    t109 = t100 + t70
+    t110 = t101 + t71
     # shank_fl, slide leg_fl: composite inertia seen from the parent
-    t119 = -leg_fl - 0.41
-    t120 = t119 - 0.2
-    t121 = t119*t120 - 0.2*t119 + 0.04350000000000001
-    t122 = t120 - 0.30000000000000004
-    t123 = t121 + 0.10300000000000001
+    t111 = -leg_fl - 0.41
+    t112 = t111 - 0.2
+    t113 = t111*t112 - 0.2*t111 + 0.04350000000000001
+    t114 = t112 - 0.30000000000000004
+    m_hip_fl_y_hip_fl_y = t113 + 0.10300000000000001
     # thigh_fl, hinge hip_fl_y: composite inertia seen from the parent
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
-    t124 = s_hip_fl_y*t122
-    t125 = c_hip_fl_y*t122
-    t126 = c_hip_fl_y*t123
-    t127 = -s_hip_fl_y*t123
-    t128 = c_hip_fl_y*t126 + 0.00035*s_hip_fl_y*s_hip_fl_y
-    t129 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t126
-    t130 = 0.00035*c_hip_fl_y*c_hip_fl_y - s_hip_fl_y*t127
+    t115 = s_hip_fl_y*t114
+    t116 = c_hip_fl_y*t114
+    t117 = c_hip_fl_y*m_hip_fl_y_hip_fl_y
+    t118 = -s_hip_fl_y*m_hip_fl_y_hip_fl_y
+    m_hip_fl_x_hip_fl_x = c_hip_fl_y*t117 + 0.00035*s_hip_fl_y*s_hip_fl_y
+    t119 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t117
+    t120 = 0.00035*c_hip_fl_y*c_hip_fl_y - s_hip_fl_y*t118
     # hinge hip_fl_x: composite inertia seen from the parent
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t131 = s_hip_fl_x*t125
-    t132 = c_hip_fl_x*t125
-    t133 = -s_hip_fl_x*t129
-    t134 = c_hip_fl_x*t123
-    t135 = -s_hip_fl_x*t130
-    t136 = c_hip_fl_x*t129
-    t137 = s_hip_fl_x*t123
-    t138 = c_hip_fl_x*t130
-    t139 = c_hip_fl_x*t134 - s_hip_fl_x*t135
-    t140 = c_hip_fl_x*t135 + s_hip_fl_x*t134
-    t141 = c_hip_fl_x*t138 + s_hip_fl_x*t137
-    t142 = t124 + 0.9750000000000001
-    t143 = 0.3 - t131
-    t144 = -0.12*t131 + 0.12*t143
-    t145 = t128 + t144
-    t146 = -0.12*t124 + t133 - 0.39*t143
-    t147 = -0.39*t132 + t136
-    t148 = 0.39*t124 + 0.39*t142
-    t149 = t139 + t148
-    t150 = -0.12*t132 + t140
-    t151 = t141 + t144 + t148
-    t152 = t110 + t142
-    t153 = t111 + t143
-    t154 = t112 + t132
-    t155 = t113 + t145
-    t156 = t114 + t146
-    t157 = t115 + t147
-    t158 = t116 + t149
-    t159 = t117 + t150
-    t160 = t118 + t151
+    t121 = s_hip_fl_x*t116
+    t122 = c_hip_fl_x*t116
+    t123 = -s_hip_fl_x*t119
+    t124 = c_hip_fl_x*m_hip_fl_y_hip_fl_y
+    t125 = -s_hip_fl_x*t120
+    t126 = c_hip_fl_x*t119
+    t127 = s_hip_fl_x*m_hip_fl_y_hip_fl_y
+    t128 = c_hip_fl_x*t120
+    t129 = c_hip_fl_x*t124 - s_hip_fl_x*t125
+    t130 = c_hip_fl_x*t125 + s_hip_fl_x*t124
+    t131 = c_hip_fl_x*t128 + s_hip_fl_x*t127
+    t132 = t115 + 0.9750000000000001
+    t133 = 0.3 - t121
+    t134 = -0.12*t121 + 0.12*t133
+    t135 = m_hip_fl_x_hip_fl_x + t134
+    t136 = -0.12*t115 + t123 - 0.39*t133
+    t137 = -0.39*t122 + t126
+    t138 = 0.39*t115 + 0.39*t132
+    t139 = t129 + t138
+    t140 = -0.12*t122 + t130
+    t141 = t131 + t134 + t138
+    t142 = t102 + t132
+    t143 = t103 + t133
+    t144 = t104 + t122
+    m_wx_wx = t105 + t135
+    m_wx_wy = t106 + t136
+    m_wx_wz = t107 + t137
+    m_wy_wy = t108 + t139
+    m_wy_wz = t109 + t140
+    m_wz_wz = t110 + t141
     # trunk, free3d root: the 6x6 block of the free root
-    t161 = qx*qx
-    t162 = qy*qy
-    t163 = qz*qz
-    t164 = t162 + t163
-    qscale = 2.0/(qw*qw + t161 + t164)
-    t165 = -qscale*t164 + 1.0
-    t166 = qw*qz
-    t167 = qscale*(qx*qy - t166)
-    t168 = qw*qy
-    t169 = qscale*(qx*qz + t168)
-    t170 = qscale*(qx*qy + t166)
-    t171 = -qscale*(t161 + t163) + 1.0
-    t172 = qw*qx
-    t173 = qscale*(qy*qz - t172)
-    t174 = qscale*(qx*qz - t168)
-    t175 = qscale*(qy*qz + t172)
-    t176 = -qscale*(t161 + t162) + 1.0
-    t177 = t153*t169 - t154*t167
-    t178 = -t152*t169 + t154*t165
-    t179 = t152*t167 - t153*t165
-    t180 = t153*t173 - t154*t171
-    t181 = -t152*t173 + t154*t170
-    t182 = t152*t171 - t153*t170
-    t183 = t153*t176 - t154*t175
-    t184 = -t152*t176 + t154*t174
-    t185 = t152*t175 - t153*t174
+    t145 = qx*qx
+    t146 = qy*qy
+    t147 = qz*qz
+    t148 = t146 + t147
+    qscale = 2.0/(qw*qw + t145 + t148)
+    t149 = -qscale*t148 + 1.0
+    t150 = qw*qz
+    t151 = qscale*(qx*qy - t150)
+    t152 = qw*qy
+    t153 = qscale*(qx*qz + t152)
+    t154 = qscale*(qx*qy + t150)
+    t155 = -qscale*(t145 + t147) + 1.0
+    t156 = qw*qx
+    t157 = qscale*(qy*qz - t156)
+    t158 = qscale*(qx*qz - t152)
+    t159 = qscale*(qy*qz + t156)
+    t160 = -qscale*(t145 + t146) + 1.0
+    m_vx_wx = t143*t153 - t144*t151
+    m_vx_wy = -t142*t153 + t144*t149
+    m_vx_wz = t142*t151 - t143*t149
+    m_vy_wx = t143*t157 - t144*t155
+    m_vy_wy = -t142*t157 + t144*t154
+    m_vy_wz = t142*t155 - t143*t154
+    m_vz_wx = t143*t160 - t144*t159
+    m_vz_wy = -t142*t160 + t144*t158
+    m_vz_wz = t142*t159 - t143*t158
     # hinge hip_fl_x: column 6
-    t186 = t128 - 0.12*t131
-    t187 = 0.39*t131 + t133
-    t188 = c_hip_fl_x*t129 - 0.39*t132
-    t189 = -t131*t169 - t132*t167
-    t190 = -t131*t173 - t132*t171
-    t191 = -t131*t176 - t132*t175
+    m_wx_hip_fl_x = m_hip_fl_x_hip_fl_x - 0.12*t121
+    m_wy_hip_fl_x = 0.39*t121 + t123
+    m_wz_hip_fl_x = c_hip_fl_x*t119 - 0.39*t122
+    m_vx_hip_fl_x = -t121*t153 - t122*t151
+    m_vy_hip_fl_x = -t121*t157 - t122*t155
+    m_vz_hip_fl_x = -t121*t160 - t122*t159
     # thigh_fl, hinge hip_fl_y: column 7
-    t192 = -c_hip_fl_x*t124
-    t193 = t134 - 0.39*t192
-    t194 = -s_hip_fl_x*t124
-    t195 = s_hip_fl_x*t123 - 0.12*t125 - 0.39*t194
-    t196 = t125*t165 - t167*t194 + t169*t192
-    t197 = t125*t170 - t171*t194 + t173*t192
-    t198 = t125*t174 - t175*t194 + t176*t192
+    t161 = -c_hip_fl_x*t115
+    m_wy_hip_fl_y = t124 - 0.39*t161
+    t162 = -s_hip_fl_x*t115
+    m_wz_hip_fl_y = s_hip_fl_x*m_hip_fl_y_hip_fl_y - 0.12*t116 - 0.39*t162
+    m_vx_hip_fl_y = t116*t149 - t151*t162 + t153*t161
+    m_vy_hip_fl_y = t116*t154 - t155*t162 + t157*t161
+    m_vz_hip_fl_y = t116*t158 - t159*t162 + t160*t161
     # shank_fl, slide leg_fl: column 8
-    t199 = c_hip_fl_x*c_hip_fl_y
-    t200 = c_hip_fl_y*s_hip_fl_x
-    t201 = 0.12*s_hip_fl_y + 0.39*t200
-    t202 = -s_hip_fl_y*t165 + t167*t200 - t169*t199
-    t203 = -s_hip_fl_y*t170 + t171*t200 - t173*t199
-    t204 = -s_hip_fl_y*t174 + t175*t200 - t176*t199
+    t163 = c_hip_fl_x*c_hip_fl_y
+    t164 = c_hip_fl_y*s_hip_fl_x
+    m_wz_leg_fl = 0.12*s_hip_fl_y + 0.39*t164
+    m_vx_leg_fl = -s_hip_fl_y*t149 + t151*t164 - t153*t163
+    m_vy_leg_fl = -s_hip_fl_y*t154 + t155*t164 - t157*t163
+    m_vz_leg_fl = -s_hip_fl_y*t158 + t159*t164 - t160*t163
     # hinge hip_fr_x: column 9
-    t205 = t87 + 0.12*t90
-    t206 = 0.39*t90 + t92
-    t207 = c_hip_fr_x*t88 - 0.39*t91
-    t208 = -t167*t91 - t169*t90
-    t209 = -t171*t91 - t173*t90
-    t210 = -t175*t91 - t176*t90
+    m_wx_hip_fr_x = m_hip_fr_x_hip_fr_x + 0.12*t82
+    m_wy_hip_fr_x = 0.39*t82 + t84
+    m_wz_hip_fr_x = c_hip_fr_x*t80 - 0.39*t83
+    m_vx_hip_fr_x = -t151*t83 - t153*t82
+    m_vy_hip_fr_x = -t155*t83 - t157*t82
+    m_vz_hip_fr_x = -t159*t83 - t160*t82
     # thigh_fr, hinge hip_fr_y: column 10
-    t211 = -c_hip_fr_x*t83
-    t212 = c_hip_fr_x*t82 - 0.39*t211
-    t213 = -s_hip_fr_x*t83
-    t214 = -0.39*t213 + 0.12*t84 + t96
-    t215 = t165*t84 - t167*t213 + t169*t211
-    t216 = t170*t84 - t171*t213 + t173*t211
-    t217 = t174*t84 - t175*t213 + t176*t211
+    t165 = -c_hip_fr_x*t76
+    m_wy_hip_fr_y = c_hip_fr_x*m_hip_fr_y_hip_fr_y - 0.39*t165
+    t166 = -s_hip_fr_x*t76
+    m_wz_hip_fr_y = -0.39*t166 + 0.12*t77 + t88
+    m_vx_hip_fr_y = t149*t77 - t151*t166 + t153*t165
+    m_vy_hip_fr_y = t154*t77 - t155*t166 + t157*t165
+    m_vz_hip_fr_y = t158*t77 - t159*t166 + t160*t165
     # shank_fr, slide leg_fr: column 11
-    t218 = c_hip_fr_x*c_hip_fr_y
-    t219 = c_hip_fr_y*s_hip_fr_x
-    t220 = -0.12*s_hip_fr_y + 0.39*t219
-    t221 = -s_hip_fr_y*t165 + t167*t219 - t169*t218
-    t222 = -s_hip_fr_y*t170 + t171*t219 - t173*t218
-    t223 = -s_hip_fr_y*t174 + t175*t219 - t176*t218
+    t167 = c_hip_fr_x*c_hip_fr_y
+    t168 = c_hip_fr_y*s_hip_fr_x
+    m_wz_leg_fr = -0.12*s_hip_fr_y + 0.39*t168
+    m_vx_leg_fr = -s_hip_fr_y*t149 + t151*t168 - t153*t167
+    m_vy_leg_fr = -s_hip_fr_y*t154 + t155*t168 - t157*t167
+    m_vz_leg_fr = -s_hip_fr_y*t158 + t159*t168 - t160*t167
     # hinge hip_rl_x: column 12
-    t224 = t46 - 0.12*t49
-    t225 = -0.39*t49 - t51
-    t226 = -t167*t50 - t169*t49
-    t227 = -t171*t50 - t173*t49
-    t228 = -t175*t50 - t176*t49
+    m_wx_hip_rl_x = m_hip_rl_x_hip_rl_x - 0.12*t44
+    m_wy_hip_rl_x = -0.39*t44 - t46
+    m_vx_hip_rl_x = -t151*t45 - t153*t44
+    m_vy_hip_rl_x = -t155*t45 - t157*t44
+    m_vz_hip_rl_x = -t159*t45 - t160*t44
     # thigh_rl, hinge hip_rl_y: column 13
-    t229 = -c_hip_rl_x*t42
-    t230 = 0.39*t229 + t52
-    t231 = -s_hip_rl_x*t42
-    t232 = 0.39*t231 - 0.12*t43 + t55
-    t233 = t165*t43 - t167*t231 + t169*t229
-    t234 = t170*t43 - t171*t231 + t173*t229
-    t235 = t174*t43 - t175*t231 + t176*t229
+    t169 = -c_hip_rl_x*t38
+    m_wy_hip_rl_y = 0.39*t169 + t47
+    t170 = -s_hip_rl_x*t38
+    m_wz_hip_rl_y = 0.39*t170 - 0.12*t39 + t50
+    m_vx_hip_rl_y = t149*t39 - t151*t170 + t153*t169
+    m_vy_hip_rl_y = t154*t39 - t155*t170 + t157*t169
+    m_vz_hip_rl_y = t158*t39 - t159*t170 + t160*t169
     # shank_rl, slide leg_rl: column 14
-    t236 = c_hip_rl_x*c_hip_rl_y
-    t237 = c_hip_rl_y*s_hip_rl_x
-    t238 = 0.12*s_hip_rl_y - 0.39*t237
-    t239 = -s_hip_rl_y*t165 + t167*t237 - t169*t236
-    t240 = -s_hip_rl_y*t170 + t171*t237 - t173*t236
-    t241 = -s_hip_rl_y*t174 + t175*t237 - t176*t236
+    t171 = c_hip_rl_x*c_hip_rl_y
+    t172 = c_hip_rl_y*s_hip_rl_x
+    m_wz_leg_rl = 0.12*s_hip_rl_y - 0.39*t172
+    m_vx_leg_rl = -s_hip_rl_y*t149 + t151*t172 - t153*t171
+    m_vy_leg_rl = -s_hip_rl_y*t154 + t155*t172 - t157*t171
+    m_vz_leg_rl = -s_hip_rl_y*t158 + t159*t172 - t160*t171
     # hinge hip_rr_x: column 15
-    t242 = t10 + 0.12*t13
-    t243 = -0.39*t13 - t15
-    t244 = -t13*t169 - t14*t167
-    t245 = -t13*t173 - t14*t171
-    t246 = -t13*t176 - t14*t175
+    m_wx_hip_rr_x = m_hip_rr_x_hip_rr_x + 0.12*t11
+    m_wy_hip_rr_x = -0.39*t11 - t13
+    m_vx_hip_rr_x = -t11*t153 - t12*t151
+    m_vy_hip_rr_x = -t11*t157 - t12*t155
+    m_vz_hip_rr_x = -t11*t160 - t12*t159
     # thigh_rr, hinge hip_rr_y: column 16
-    t247 = -c_hip_rr_x*t6
-    t248 = t16 + 0.39*t247
-    t249 = -s_hip_rr_x*t6
-    t250 = t19 + 0.39*t249 + 0.12*t7
-    t251 = t165*t7 - t167*t249 + t169*t247
-    t252 = t170*t7 - t171*t249 + t173*t247
-    t253 = t174*t7 - t175*t249 + t176*t247
+    t173 = -c_hip_rr_x*t5
+    m_wy_hip_rr_y = t14 + 0.39*t173
+    t174 = -s_hip_rr_x*t5
+    m_wz_hip_rr_y = t17 + 0.39*t174 + 0.12*t6
+    m_vx_hip_rr_y = t149*t6 - t151*t174 + t153*t173
+    m_vy_hip_rr_y = t154*t6 - t155*t174 + t157*t173
+    m_vz_hip_rr_y = t158*t6 - t159*t174 + t160*t173
     # shank_rr, slide leg_rr: column 17
-    t254 = c_hip_rr_x*c_hip_rr_y
-    t255 = c_hip_rr_y*s_hip_rr_x
-    t256 = -0.12*s_hip_rr_y - 0.39*t255
-    t257 = -s_hip_rr_y*t165 + t167*t255 - t169*t254
-    t258 = -s_hip_rr_y*t170 + t171*t255 - t173*t254
-    t259 = -s_hip_rr_y*t174 + t175*t255 - t176*t254
+    t175 = c_hip_rr_x*c_hip_rr_y
+    t176 = c_hip_rr_y*s_hip_rr_x
+    m_wz_leg_rr = -0.12*s_hip_rr_y - 0.39*t176
+    m_vx_leg_rr = -s_hip_rr_y*t149 + t151*t176 - t153*t175
+    m_vy_leg_rr = -s_hip_rr_y*t154 + t155*t176 - t157*t175
+    m_vz_leg_rr = -s_hip_rr_y*t158 + t159*t176 - t160*t175
     return [
         [
             20.0,
             0.0,
             0.0,
-            t177,
-            t178,
-            t179,
-            t189,
-            t196,
-            t202,
-            t208,
-            t215,
-            t221,
-            t226,
-            t233,
-            t239,
-            t244,
-            t251,
-            t257,
+            m_vx_wx,
+            m_vx_wy,
+            m_vx_wz,
+            m_vx_hip_fl_x,
+            m_vx_hip_fl_y,
+            m_vx_leg_fl,
+            m_vx_hip_fr_x,
+            m_vx_hip_fr_y,
+            m_vx_leg_fr,
+            m_vx_hip_rl_x,
+            m_vx_hip_rl_y,
+            m_vx_leg_rl,
+            m_vx_hip_rr_x,
+            m_vx_hip_rr_y,
+            m_vx_leg_rr,
         ],
         [
             0.0,
             20.0,
             0.0,
-            t180,
-            t181,
-            t182,
-            t190,
-            t197,
-            t203,
-            t209,
-            t216,
-            t222,
-            t227,
-            t234,
-            t240,
-            t245,
-            t252,
-            t258,
+            m_vy_wx,
+            m_vy_wy,
+            m_vy_wz,
+            m_vy_hip_fl_x,
+            m_vy_hip_fl_y,
+            m_vy_leg_fl,
+            m_vy_hip_fr_x,
+            m_vy_hip_fr_y,
+            m_vy_leg_fr,
+            m_vy_hip_rl_x,
+            m_vy_hip_rl_y,
+            m_vy_leg_rl,
+            m_vy_hip_rr_x,
+            m_vy_hip_rr_y,
+            m_vy_leg_rr,
         ],
         [
             0.0,
             0.0,
             20.0,
-            t183,
-            t184,
-            t185,
-            t191,
-            t198,
-            t204,
-            t210,
-            t217,
-            t223,
-            t228,
-            t235,
-            t241,
-            t246,
-            t253,
-            t259,
+            m_vz_wx,
+            m_vz_wy,
+            m_vz_wz,
+            m_vz_hip_fl_x,
+            m_vz_hip_fl_y,
+            m_vz_leg_fl,
+            m_vz_hip_fr_x,
+            m_vz_hip_fr_y,
+            m_vz_leg_fr,
+            m_vz_hip_rl_x,
+            m_vz_hip_rl_y,
+            m_vz_leg_rl,
+            m_vz_hip_rr_x,
+            m_vz_hip_rr_y,
+            m_vz_leg_rr,
         ],
         [
-            t177,
-            t180,
-            t183,
-            t155,
-            t156,
-            t157,
-            t186,
-            0.12*t192,
-            -0.12*t199,
-            t205,
-            -0.12*t211,
-            0.12*t218,
-            t224,
-            0.12*t229,
-            -0.12*t236,
-            t242,
-            -0.12*t247,
-            0.12*t254,
+            m_vx_wx,
+            m_vy_wx,
+            m_vz_wx,
+            m_wx_wx,
+            m_wx_wy,
+            m_wx_wz,
+            m_wx_hip_fl_x,
+            0.12*t161,
+            -0.12*t163,
+            m_wx_hip_fr_x,
+            -0.12*t165,
+            0.12*t167,
+            m_wx_hip_rl_x,
+            0.12*t169,
+            -0.12*t171,
+            m_wx_hip_rr_x,
+            -0.12*t173,
+            0.12*t175,
         ],
         [
-            t178,
-            t181,
-            t184,
-            t156,
-            t158,
-            t159,
-            t187,
-            t193,
-            0.39*t199,
-            t206,
-            t212,
-            0.39*t218,
-            t225,
-            t230,
-            -0.39*t236,
-            t243,
-            t248,
-            -0.39*t254,
+            m_vx_wy,
+            m_vy_wy,
+            m_vz_wy,
+            m_wx_wy,
+            m_wy_wy,
+            m_wy_wz,
+            m_wy_hip_fl_x,
+            m_wy_hip_fl_y,
+            0.39*t163,
+            m_wy_hip_fr_x,
+            m_wy_hip_fr_y,
+            0.39*t167,
+            m_wy_hip_rl_x,
+            m_wy_hip_rl_y,
+            -0.39*t171,
+            m_wy_hip_rr_x,
+            m_wy_hip_rr_y,
+            -0.39*t175,
         ],
         [
-            t179,
-            t182,
-            t185,
-            t157,
-            t159,
-            t160,
-            t188,
-            t195,
-            t201,
-            t207,
-            t214,
-            t220,
-            t65,
-            t232,
-            t238,
-            t29,
-            t250,
-            t256,
+            m_vx_wz,
+            m_vy_wz,
+            m_vz_wz,
+            m_wx_wz,
+            m_wy_wz,
+            m_wz_wz,
+            m_wz_hip_fl_x,
+            m_wz_hip_fl_y,
+            m_wz_leg_fl,
+            m_wz_hip_fr_x,
+            m_wz_hip_fr_y,
+            m_wz_leg_fr,
+            m_wz_hip_rl_x,
+            m_wz_hip_rl_y,
+            m_wz_leg_rl,
+            m_wz_hip_rr_x,
+            m_wz_hip_rr_y,
+            m_wz_leg_rr,
         ],
         [
-            t189,
-            t190,
-            t191,
-            t186,
-            t187,
-            t188,
-            t128,
+            m_vx_hip_fl_x,
+            m_vy_hip_fl_x,
+            m_vz_hip_fl_x,
+            m_wx_hip_fl_x,
+            m_wy_hip_fl_x,
+            m_wz_hip_fl_x,
+            m_hip_fl_x_hip_fl_x,
             0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            t196,
-            t197,
-            t198,
-            0.12*t192,
-            t193,
-            t195,
-            0.0,
-            t123,
             0.0,
             0.0,
             0.0,
@@ -549,12 +529,32 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t202,
-            t203,
-            t204,
-            -0.12*t199,
-            0.39*t199,
-            t201,
+            m_vx_hip_fl_y,
+            m_vy_hip_fl_y,
+            m_vz_hip_fl_y,
+            0.12*t161,
+            m_wy_hip_fl_y,
+            m_wz_hip_fl_y,
+            0.0,
+            m_hip_fl_y_hip_fl_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_vx_leg_fl,
+            m_vy_leg_fl,
+            m_vz_leg_fl,
+            -0.12*t163,
+            0.39*t163,
+            m_wz_leg_fl,
             0.0,
             0.0,
             1.0,
@@ -569,37 +569,17 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t208,
-            t209,
-            t210,
-            t205,
-            t206,
-            t207,
+            m_vx_hip_fr_x,
+            m_vy_hip_fr_x,
+            m_vz_hip_fr_x,
+            m_wx_hip_fr_x,
+            m_wy_hip_fr_x,
+            m_wz_hip_fr_x,
             0.0,
             0.0,
             0.0,
-            t87,
+            m_hip_fr_x_hip_fr_x,
             0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            t215,
-            t216,
-            t217,
-            -0.12*t211,
-            t212,
-            t214,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            t82,
             0.0,
             0.0,
             0.0,
@@ -609,12 +589,32 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t221,
-            t222,
-            t223,
-            0.12*t218,
-            0.39*t218,
-            t220,
+            m_vx_hip_fr_y,
+            m_vy_hip_fr_y,
+            m_vz_hip_fr_y,
+            -0.12*t165,
+            m_wy_hip_fr_y,
+            m_wz_hip_fr_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            m_hip_fr_y_hip_fr_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_vx_leg_fr,
+            m_vy_leg_fr,
+            m_vz_leg_fr,
+            0.12*t167,
+            0.39*t167,
+            m_wz_leg_fr,
             0.0,
             0.0,
             0.0,
@@ -629,19 +629,19 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t226,
-            t227,
-            t228,
-            t224,
-            t225,
-            t65,
+            m_vx_hip_rl_x,
+            m_vy_hip_rl_x,
+            m_vz_hip_rl_x,
+            m_wx_hip_rl_x,
+            m_wy_hip_rl_x,
+            m_wz_hip_rl_x,
             0.0,
             0.0,
             0.0,
             0.0,
             0.0,
             0.0,
-            t46,
+            m_hip_rl_x_hip_rl_x,
             0.0,
             0.0,
             0.0,
@@ -649,12 +649,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t233,
-            t234,
-            t235,
-            0.12*t229,
-            t230,
-            t232,
+            m_vx_hip_rl_y,
+            m_vy_hip_rl_y,
+            m_vz_hip_rl_y,
+            0.12*t169,
+            m_wy_hip_rl_y,
+            m_wz_hip_rl_y,
             0.0,
             0.0,
             0.0,
@@ -662,19 +662,19 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t41,
+            m_hip_rl_y_hip_rl_y,
             0.0,
             0.0,
             0.0,
             0.0,
         ],
         [
-            t239,
-            t240,
-            t241,
-            -0.12*t236,
-            -0.39*t236,
-            t238,
+            m_vx_leg_rl,
+            m_vy_leg_rl,
+            m_vz_leg_rl,
+            -0.12*t171,
+            -0.39*t171,
+            m_wz_leg_rl,
             0.0,
             0.0,
             0.0,
@@ -689,12 +689,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t244,
-            t245,
-            t246,
-            t242,
-            t243,
-            t29,
+            m_vx_hip_rr_x,
+            m_vy_hip_rr_x,
+            m_vz_hip_rr_x,
+            m_wx_hip_rr_x,
+            m_wy_hip_rr_x,
+            m_wz_hip_rr_x,
             0.0,
             0.0,
             0.0,
@@ -704,17 +704,17 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t10,
+            m_hip_rr_x_hip_rr_x,
             0.0,
             0.0,
         ],
         [
-            t251,
-            t252,
-            t253,
-            -0.12*t247,
-            t248,
-            t250,
+            m_vx_hip_rr_y,
+            m_vy_hip_rr_y,
+            m_vz_hip_rr_y,
+            -0.12*t173,
+            m_wy_hip_rr_y,
+            m_wz_hip_rr_y,
             0.0,
             0.0,
             0.0,
@@ -725,16 +725,16 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t5,
+            m_hip_rr_y_hip_rr_y,
             0.0,
         ],
         [
-            t257,
-            t258,
-            t259,
-            0.12*t254,
-            -0.39*t254,
-            t256,
+            m_vx_leg_rr,
+            m_vy_leg_rr,
+            m_vz_leg_rr,
+            0.12*t175,
+            -0.39*t175,
+            m_wz_leg_rr,
             0.0,
             0.0,
             0.0,
@@ -1072,118 +1072,118 @@ def bias_forces(q, v):
     t253 = t213*t245 - t214*t248 + t225
     # shank_rr, slide leg_rr: force on the parent
     t254 = t228 - t236*t252 + t246
-    t255 = t231 + t236*t251 + t249
-    t256 = t232 + t250
-    t257 = t233 + t251
-    t258 = t234 + t252
-    t259 = t235 + t253
+    h_hip_rr_y = t231 + t236*t251 + t249
+    t255 = t232 + t250
+    t256 = t233 + t251
+    t257 = t234 + t252
+    t258 = t235 + t253
     # thigh_rr, hinge hip_rr_y: force on the parent
-    t260 = c_hip_rr_y*t254 + s_hip_rr_y*t256
-    t261 = c_hip_rr_y*t256 - s_hip_rr_y*t254
-    t262 = c_hip_rr_y*t257 + s_hip_rr_y*t259
-    t263 = c_hip_rr_y*t259 - s_hip_rr_y*t257
+    h_hip_rr_x = c_hip_rr_y*t254 + s_hip_rr_y*t255
+    t259 = c_hip_rr_y*t255 - s_hip_rr_y*t254
+    t260 = c_hip_rr_y*t256 + s_hip_rr_y*t258
+    t261 = c_hip_rr_y*t258 - s_hip_rr_y*t256
     # hinge hip_rr_x: force on the parent
-    t264 = s_hip_rr_x*t258
-    t265 = c_hip_rr_x*t263
-    t266 = t260 - 0.12*t264 - 0.12*t265 + t31
-    t267 = c_hip_rr_x*t255 - s_hip_rr_x*t261 + 0.39*t264 + 0.39*t265 + t32
-    t268 = s_hip_rr_x*t263
-    t269 = c_hip_rr_x*t258
-    t270 = c_hip_rr_x*t261 + s_hip_rr_x*t255 + 0.12*t262 + 0.39*t268 - 0.39*t269 + t33
-    t271 = t262 + t34
-    t272 = -t268 + t269 + t35
-    t273 = t264 + t265 + t36
+    t262 = s_hip_rr_x*t257
+    t263 = c_hip_rr_x*t261
+    t264 = h_hip_rr_x - 0.12*t262 - 0.12*t263 + t31
+    t265 = c_hip_rr_x*h_hip_rr_y - s_hip_rr_x*t259 + 0.39*t262 + 0.39*t263 + t32
+    t266 = s_hip_rr_x*t261
+    t267 = c_hip_rr_x*t257
+    t268 = c_hip_rr_x*t259 + s_hip_rr_x*h_hip_rr_y + 0.12*t260 + 0.39*t266 - 0.39*t267 + t33
+    t269 = t260 + t34
+    t270 = -t266 + t267 + t35
+    t271 = t262 + t263 + t36
     # shank_rl, slide leg_rl: force on the parent
-    t274 = t175 - t183*t199 + t193
-    t275 = t178 + t183*t198 + t196
-    t276 = t179 + t197
-    t277 = t180 + t198
-    t278 = t181 + t199
-    t279 = t182 + t200
+    t272 = t175 - t183*t199 + t193
+    h_hip_rl_y = t178 + t183*t198 + t196
+    t273 = t179 + t197
+    t274 = t180 + t198
+    t275 = t181 + t199
+    t276 = t182 + t200
     # thigh_rl, hinge hip_rl_y: force on the parent
-    t280 = c_hip_rl_y*t274 + s_hip_rl_y*t276
-    t281 = c_hip_rl_y*t276 - s_hip_rl_y*t274
-    t282 = c_hip_rl_y*t277 + s_hip_rl_y*t279
-    t283 = c_hip_rl_y*t279 - s_hip_rl_y*t277
+    h_hip_rl_x = c_hip_rl_y*t272 + s_hip_rl_y*t273
+    t277 = c_hip_rl_y*t273 - s_hip_rl_y*t272
+    t278 = c_hip_rl_y*t274 + s_hip_rl_y*t276
+    t279 = c_hip_rl_y*t276 - s_hip_rl_y*t274
     # hinge hip_rl_x: force on the parent
-    t284 = s_hip_rl_x*t278
-    t285 = c_hip_rl_x*t283
-    t286 = t266 + t280 + 0.12*t284 + 0.12*t285
-    t287 = c_hip_rl_x*t275 - s_hip_rl_x*t281 + t267 + 0.39*t284 + 0.39*t285
-    t288 = s_hip_rl_x*t283
-    t289 = c_hip_rl_x*t278
-    t290 = c_hip_rl_x*t281 + s_hip_rl_x*t275 + t270 - 0.12*t282 + 0.39*t288 - 0.39*t289
-    t291 = t271 + t282
-    t292 = t272 - t288 + t289
-    t293 = t273 + t284 + t285
+    t280 = s_hip_rl_x*t275
+    t281 = c_hip_rl_x*t279
+    t282 = t264 + h_hip_rl_x + 0.12*t280 + 0.12*t281
+    t283 = c_hip_rl_x*h_hip_rl_y - s_hip_rl_x*t277 + t265 + 0.39*t280 + 0.39*t281
+    t284 = s_hip_rl_x*t279
+    t285 = c_hip_rl_x*t275
+    t286 = c_hip_rl_x*t277 + s_hip_rl_x*h_hip_rl_y + t268 - 0.12*t278 + 0.39*t284 - 0.39*t285
+    t287 = t269 + t278
+    t288 = t270 - t284 + t285
+    t289 = t271 + t280 + t281
     # shank_fr, slide leg_fr: force on the parent
-    t294 = t121 - t129*t145 + t139
-    t295 = t124 + t129*t144 + t142
-    t296 = t125 + t143
-    t297 = t126 + t144
-    t298 = t127 + t145
-    t299 = t128 + t146
+    t290 = t121 - t129*t145 + t139
+    h_hip_fr_y = t124 + t129*t144 + t142
+    t291 = t125 + t143
+    t292 = t126 + t144
+    t293 = t127 + t145
+    t294 = t128 + t146
     # thigh_fr, hinge hip_fr_y: force on the parent
-    t300 = c_hip_fr_y*t294 + s_hip_fr_y*t296
-    t301 = c_hip_fr_y*t296 - s_hip_fr_y*t294
-    t302 = c_hip_fr_y*t297 + s_hip_fr_y*t299
-    t303 = c_hip_fr_y*t299 - s_hip_fr_y*t297
+    h_hip_fr_x = c_hip_fr_y*t290 + s_hip_fr_y*t291
+    t295 = c_hip_fr_y*t291 - s_hip_fr_y*t290
+    t296 = c_hip_fr_y*t292 + s_hip_fr_y*t294
+    t297 = c_hip_fr_y*t294 - s_hip_fr_y*t292
     # hinge hip_fr_x: force on the parent
-    t304 = s_hip_fr_x*t298
-    t305 = c_hip_fr_x*t303
-    t306 = t286 + t300 - 0.12*t304 - 0.12*t305
-    t307 = c_hip_fr_x*t295 - s_hip_fr_x*t301 + t287 - 0.39*t304 - 0.39*t305
-    t308 = c_hip_fr_x*t298
-    t309 = s_hip_fr_x*t303
-    t310 = c_hip_fr_x*t301 + s_hip_fr_x*t295 + t290 + 0.12*t302 + 0.39*t308 - 0.39*t309
-    t311 = t291 + t302
-    t312 = t292 + t308 - t309
-    t313 = t293 + t304 + t305
+    t298 = s_hip_fr_x*t293
+    t299 = c_hip_fr_x*t297
+    t300 = t282 + h_hip_fr_x - 0.12*t298 - 0.12*t299
+    t301 = c_hip_fr_x*h_hip_fr_y - s_hip_fr_x*t295 + t283 - 0.39*t298 - 0.39*t299
+    t302 = c_hip_fr_x*t293
+    t303 = s_hip_fr_x*t297
+    t304 = c_hip_fr_x*t295 + s_hip_fr_x*h_hip_fr_y + t286 + 0.12*t296 + 0.39*t302 - 0.39*t303
+    t305 = t287 + t296
+    t306 = t288 + t302 - t303
+    t307 = t289 + t298 + t299
     # shank_fl, slide leg_fl: force on the parent
-    t314 = t67 - t75*t91 + t85
-    t315 = t70 + t75*t90 + t88
-    t316 = t71 + t89
-    t317 = t72 + t90
-    t318 = t73 + t91
-    t319 = t74 + t92
+    t308 = t67 - t75*t91 + t85
+    h_hip_fl_y = t70 + t75*t90 + t88
+    t309 = t71 + t89
+    t310 = t72 + t90
+    t311 = t73 + t91
+    t312 = t74 + t92
     # thigh_fl, hinge hip_fl_y: force on the parent
-    t320 = c_hip_fl_y*t314 + s_hip_fl_y*t316
-    t321 = c_hip_fl_y*t316 - s_hip_fl_y*t314
-    t322 = c_hip_fl_y*t317 + s_hip_fl_y*t319
-    t323 = c_hip_fl_y*t319 - s_hip_fl_y*t317
+    h_hip_fl_x = c_hip_fl_y*t308 + s_hip_fl_y*t309
+    t313 = c_hip_fl_y*t309 - s_hip_fl_y*t308
+    t314 = c_hip_fl_y*t310 + s_hip_fl_y*t312
+    t315 = c_hip_fl_y*t312 - s_hip_fl_y*t310
     # hinge hip_fl_x: force on the parent
-    t324 = s_hip_fl_x*t318
-    t325 = c_hip_fl_x*t323
-    t326 = t306 + t320 + 0.12*t324 + 0.12*t325
-    t327 = c_hip_fl_x*t315 - s_hip_fl_x*t321 + t307 - 0.39*t324 - 0.39*t325
-    t328 = c_hip_fl_x*t318
-    t329 = s_hip_fl_x*t323
-    t330 = c_hip_fl_x*t321 + s_hip_fl_x*t315 + t310 - 0.12*t322 + 0.39*t328 - 0.39*t329
-    t331 = t311 + t322
-    t332 = t312 + t328 - t329
-    t333 = t313 + t324 + t325
+    t316 = s_hip_fl_x*t311
+    t317 = c_hip_fl_x*t315
+    h_wx = t300 + h_hip_fl_x + 0.12*t316 + 0.12*t317
+    h_wy = c_hip_fl_x*h_hip_fl_y - s_hip_fl_x*t313 + t301 - 0.39*t316 - 0.39*t317
+    t318 = c_hip_fl_x*t311
+    t319 = s_hip_fl_x*t315
+    h_wz = c_hip_fl_x*t313 + s_hip_fl_x*h_hip_fl_y + t304 - 0.12*t314 + 0.39*t318 - 0.39*t319
+    t320 = t305 + t314
+    t321 = t306 + t318 - t319
+    t322 = t307 + t316 + t317
     # trunk, free3d root: world force and body torque
-    t334 = t331*t5 + t332*t7 + t333*t9
-    t335 = t10*t331 + t11*t332 + t13*t333
-    t336 = t14*t331 + t15*t332 + t16*t333
+    h_vx = t320*t5 + t321*t7 + t322*t9
+    h_vy = t10*t320 + t11*t321 + t13*t322
+    h_vz = t14*t320 + t15*t321 + t16*t322
     return [
-        t334,
-        t335,
-        t336,
-        t326,
-        t327,
-        t330,
-        t320,
-        t315,
+        h_vx,
+        h_vy,
+        h_vz,
+        h_wx,
+        h_wy,
+        h_wz,
+        h_hip_fl_x,
+        h_hip_fl_y,
         -t92,
-        t300,
-        t295,
+        h_hip_fr_x,
+        h_hip_fr_y,
         -t146,
-        t280,
-        t275,
+        h_hip_rl_x,
+        h_hip_rl_y,
         -t200,
-        t260,
-        t255,
+        h_hip_rr_x,
+        h_hip_rr_y,
         -t253,
     ]
 
@@ -1997,92 +1997,92 @@ def forward_dynamics(q, v, tau):
     t698 = t691*t697
     t699 = t688*t696 - t689*t698
     t700 = t683*t695 - t684*t699 - t685*t698
-    t701 = t676*t694 - t677*t700 - t678*t699 - t679*t698
-    t702 = t667*t693 - t668*t701 - t669*t700 - t670*t699 - t671*t698
-    t703 = t656*t692 - t657*t702 - t658*t701 - t659*t700 - t660*t699 - t661*t698
+    qdd_wz = t676*t694 - t677*t700 - t678*t699 - t679*t698
+    qdd_wy = t667*t693 - t668*qdd_wz - t669*t700 - t670*t699 - t671*t698
+    qdd_wx = t656*t692 - t657*qdd_wy - t658*qdd_wz - t659*t700 - t660*t699 - t661*t698
     # trunk, free3d root: accelerations in MuJoCo's coordinates
-    t704 = t19*wy - t23 + t700
-    t705 = -t25 + t26 + t699
-    t706 = t18*wx - t28 + t698
-    t707 = t5*t704 + t7*t705 + t706*t9
-    t708 = t10*t704 + t11*t705 + t13*t706
-    t709 = t14*t704 + t15*t705 + t16*t706 - 9.81
+    t701 = t19*wy - t23 + t700
+    t702 = -t25 + t26 + t699
+    t703 = t18*wx - t28 + t698
+    qdd_vx = t5*t701 + t7*t702 + t703*t9
+    qdd_vy = t10*t701 + t11*t702 + t13*t703
+    qdd_vz = t14*t701 + t15*t702 + t16*t703 - 9.81
     # hinge hip_fl_x: acceleration
-    t710 = c_hip_fl_x*t702 + s_hip_fl_x*t701 + t586
-    t711 = c_hip_fl_x*t701 - s_hip_fl_x*t702 + t587
-    t712 = t700 - 0.12*t701
-    t713 = t699 + 0.39*t701
-    t714 = t698 + 0.12*t703
-    t715 = -0.39*t702 + t714
-    t716 = c_hip_fl_x*t713 + s_hip_fl_x*t715 + t588
-    t717 = c_hip_fl_x*t715 - s_hip_fl_x*t713 + t589
-    t718 = t580*(-t565*t703 - t566*t711 - t569*t716 - t590)
+    t704 = c_hip_fl_x*qdd_wy + s_hip_fl_x*qdd_wz + t586
+    t705 = c_hip_fl_x*qdd_wz - s_hip_fl_x*qdd_wy + t587
+    t706 = t700 - 0.12*qdd_wz
+    t707 = t699 + 0.39*qdd_wz
+    t708 = t698 + 0.12*qdd_wx
+    t709 = -0.39*qdd_wy + t708
+    t710 = c_hip_fl_x*t707 + s_hip_fl_x*t709 + t588
+    t711 = c_hip_fl_x*t709 - s_hip_fl_x*t707 + t589
+    qdd_hip_fl_x = t580*(-t565*qdd_wx - t566*t705 - t569*t710 - t590)
     # thigh_fl, hinge hip_fl_y: acceleration
-    t719 = c_hip_fl_y*t712 - s_hip_fl_y*t717 + t554
-    t720 = c_hip_fl_y*t717 + s_hip_fl_y*t712 + t555
-    t721 = t549*(-t540*t710 - t542*t719 - t558)
+    t712 = c_hip_fl_y*t706 - s_hip_fl_y*t711 + t554
+    t713 = c_hip_fl_y*t711 + s_hip_fl_y*t706 + t555
+    qdd_hip_fl_y = t549*(-t540*t704 - t542*t712 - t558)
     # shank_fl, slide leg_fl: acceleration
-    t722 = t67 + t720 + tau_leg_fl
+    qdd_leg_fl = t67 + t713 + tau_leg_fl
     # hinge hip_fr_x: acceleration
-    t723 = c_hip_fr_x*t702 + s_hip_fr_x*t701 + t462
-    t724 = c_hip_fr_x*t701 - s_hip_fr_x*t702 + t463
-    t725 = t700 + 0.12*t701
-    t726 = t698 - 0.39*t702 - 0.12*t703
-    t727 = c_hip_fr_x*t713 + s_hip_fr_x*t726 + t464
-    t728 = c_hip_fr_x*t726 - s_hip_fr_x*t713 + t465
-    t729 = t456*(-t441*t703 - t442*t724 - t445*t727 - t466)
+    t714 = c_hip_fr_x*qdd_wy + s_hip_fr_x*qdd_wz + t462
+    t715 = c_hip_fr_x*qdd_wz - s_hip_fr_x*qdd_wy + t463
+    t716 = t700 + 0.12*qdd_wz
+    t717 = t698 - 0.39*qdd_wy - 0.12*qdd_wx
+    t718 = c_hip_fr_x*t707 + s_hip_fr_x*t717 + t464
+    t719 = c_hip_fr_x*t717 - s_hip_fr_x*t707 + t465
+    qdd_hip_fr_x = t456*(-t441*qdd_wx - t442*t715 - t445*t718 - t466)
     # thigh_fr, hinge hip_fr_y: acceleration
-    t730 = c_hip_fr_y*t725 - s_hip_fr_y*t728 + t430
-    t731 = c_hip_fr_y*t728 + s_hip_fr_y*t725 + t431
-    t732 = t425*(-t416*t723 - t418*t730 - t434)
+    t720 = c_hip_fr_y*t716 - s_hip_fr_y*t719 + t430
+    t721 = c_hip_fr_y*t719 + s_hip_fr_y*t716 + t431
+    qdd_hip_fr_y = t425*(-t416*t714 - t418*t720 - t434)
     # shank_fr, slide leg_fr: acceleration
-    t733 = t103 + t731 + tau_leg_fr
+    qdd_leg_fr = t103 + t721 + tau_leg_fr
     # hinge hip_rl_x: acceleration
-    t734 = c_hip_rl_x*t702 + s_hip_rl_x*t701 + t338
-    t735 = c_hip_rl_x*t701 - s_hip_rl_x*t702 + t339
-    t736 = t699 - 0.39*t701
-    t737 = 0.39*t702 + t714
-    t738 = c_hip_rl_x*t736 + s_hip_rl_x*t737 + t340
-    t739 = c_hip_rl_x*t737 - s_hip_rl_x*t736 + t341
-    t740 = t332*(-t317*t703 - t318*t735 - t321*t738 - t342)
+    t722 = c_hip_rl_x*qdd_wy + s_hip_rl_x*qdd_wz + t338
+    t723 = c_hip_rl_x*qdd_wz - s_hip_rl_x*qdd_wy + t339
+    t724 = t699 - 0.39*qdd_wz
+    t725 = 0.39*qdd_wy + t708
+    t726 = c_hip_rl_x*t724 + s_hip_rl_x*t725 + t340
+    t727 = c_hip_rl_x*t725 - s_hip_rl_x*t724 + t341
+    qdd_hip_rl_x = t332*(-t317*qdd_wx - t318*t723 - t321*t726 - t342)
     # thigh_rl, hinge hip_rl_y: acceleration
-    t741 = c_hip_rl_y*t712 - s_hip_rl_y*t739 + t306
-    t742 = c_hip_rl_y*t739 + s_hip_rl_y*t712 + t307
-    t743 = t301*(-t292*t734 - t294*t741 - t310)
+    t728 = c_hip_rl_y*t706 - s_hip_rl_y*t727 + t306
+    t729 = c_hip_rl_y*t727 + s_hip_rl_y*t706 + t307
+    qdd_hip_rl_y = t301*(-t292*t722 - t294*t728 - t310)
     # shank_rl, slide leg_rl: acceleration
-    t744 = t139 + t742 + tau_leg_rl
+    qdd_leg_rl = t139 + t729 + tau_leg_rl
     # hinge hip_rr_x: acceleration
-    t745 = c_hip_rr_x*t702 + s_hip_rr_x*t701 + t229
-    t746 = c_hip_rr_x*t701 - s_hip_rr_x*t702 + t230
-    t747 = t698 + 0.39*t702 - 0.12*t703
-    t748 = c_hip_rr_x*t736 + s_hip_rr_x*t747 + t231
-    t749 = c_hip_rr_x*t747 - s_hip_rr_x*t736 + t232
-    t750 = t223*(-t208*t703 - t209*t746 - t212*t748 - t233)
+    t730 = c_hip_rr_x*qdd_wy + s_hip_rr_x*qdd_wz + t229
+    t731 = c_hip_rr_x*qdd_wz - s_hip_rr_x*qdd_wy + t230
+    t732 = t698 + 0.39*qdd_wy - 0.12*qdd_wx
+    t733 = c_hip_rr_x*t724 + s_hip_rr_x*t732 + t231
+    t734 = c_hip_rr_x*t732 - s_hip_rr_x*t724 + t232
+    qdd_hip_rr_x = t223*(-t208*qdd_wx - t209*t731 - t212*t733 - t233)
     # thigh_rr, hinge hip_rr_y: acceleration
-    t751 = c_hip_rr_y*t725 - s_hip_rr_y*t749 + t197
-    t752 = c_hip_rr_y*t749 + s_hip_rr_y*t725 + t198
-    t753 = t192*(-t183*t745 - t185*t751 - t201)
+    t735 = c_hip_rr_y*t716 - s_hip_rr_y*t734 + t197
+    t736 = c_hip_rr_y*t734 + s_hip_rr_y*t716 + t198
+    qdd_hip_rr_y = t192*(-t183*t730 - t185*t735 - t201)
     # shank_rr, slide leg_rr: acceleration
-    t754 = t174 + t752 + tau_leg_rr
+    qdd_leg_rr = t174 + t736 + tau_leg_rr
     return [
-        t707,
-        t708,
-        t709,
-        t703,
-        t702,
-        t701,
-        t718,
-        t721,
-        t722,
-        t729,
-        t732,
-        t733,
-        t740,
-        t743,
-        t744,
-        t750,
-        t753,
-        t754,
+        qdd_vx,
+        qdd_vy,
+        qdd_vz,
+        qdd_wx,
+        qdd_wy,
+        qdd_wz,
+        qdd_hip_fl_x,
+        qdd_hip_fl_y,
+        qdd_leg_fl,
+        qdd_hip_fr_x,
+        qdd_hip_fr_y,
+        qdd_leg_fr,
+        qdd_hip_rl_x,
+        qdd_hip_rl_y,
+        qdd_leg_rl,
+        qdd_hip_rr_x,
+        qdd_hip_rr_y,
+        qdd_leg_rr,
     ]
 
 
@@ -2110,19 +2110,19 @@ def state_derivative(q, v, tau):
     qd_hip_rr_x = v[15]
     qd_hip_rr_y = v[16]
     qd_leg_rr = v[17]
-    t1 = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
-    t2 = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
-    t3 = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
-    t4 = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
+    qdot_qw = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
+    qdot_qx = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
+    qdot_qy = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
+    qdot_qz = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
     return (
         [
             vx,
             vy,
             vz,
-            t1,
-            t2,
-            t3,
-            t4,
+            qdot_qw,
+            qdot_qx,
+            qdot_qy,
+            qdot_qz,
             qd_hip_fl_x,
             qd_hip_fl_y,
             qd_leg_fl,
@@ -2199,73 +2199,78 @@ def contact_positions(q):
     t30 = t1*t27 + t19
     t31 = t1*t28 + t21
     t32 = t1*t29 + t23
-    t33 = -0.4*t27 + t30
-    t34 = -0.4*t28 + t31
-    t35 = -0.4*t29 + t32
+    toe_fl_x = -0.4*t27 + t30
+    toe_fl_y = -0.4*t28 + t31
+    toe_fl_z = -0.4*t29 + t32
     # toe_fr
-    t36 = -leg_fr - 0.41
+    t33 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t37 = t18 - 0.12*t8
-    t38 = -0.12*t12 + t20
-    t39 = -0.12*t16 + t22
-    t40 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t41 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t42 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t43 = c_hip_fr_y*t40 + s_hip_fr_y*t6
-    t44 = c_hip_fr_y*t41 + s_hip_fr_y*t11
-    t45 = c_hip_fr_y*t42 + s_hip_fr_y*t15
-    t46 = t36*t43 + t37
-    t47 = t36*t44 + t38
-    t48 = t36*t45 + t39
-    t49 = -0.4*t43 + t46
-    t50 = -0.4*t44 + t47
-    t51 = -0.4*t45 + t48
+    t34 = t18 - 0.12*t8
+    t35 = -0.12*t12 + t20
+    t36 = -0.12*t16 + t22
+    t37 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t38 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t39 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t40 = c_hip_fr_y*t37 + s_hip_fr_y*t6
+    t41 = c_hip_fr_y*t38 + s_hip_fr_y*t11
+    t42 = c_hip_fr_y*t39 + s_hip_fr_y*t15
+    t43 = t33*t40 + t34
+    t44 = t33*t41 + t35
+    t45 = t33*t42 + t36
+    toe_fr_x = -0.4*t40 + t43
+    toe_fr_y = -0.4*t41 + t44
+    toe_fr_z = -0.4*t42 + t45
     # toe_rl
-    t52 = -leg_rl - 0.41
+    t46 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t53 = -0.39*t6 + 0.12*t8 + x
-    t54 = -0.39*t11 + 0.12*t12 + y
-    t55 = -0.39*t15 + 0.12*t16 + z
-    t56 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t57 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t58 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t59 = c_hip_rl_y*t56 + s_hip_rl_y*t6
-    t60 = c_hip_rl_y*t57 + s_hip_rl_y*t11
-    t61 = c_hip_rl_y*t58 + s_hip_rl_y*t15
-    t62 = t52*t59 + t53
-    t63 = t52*t60 + t54
-    t64 = t52*t61 + t55
-    t65 = -0.4*t59 + t62
-    t66 = -0.4*t60 + t63
-    t67 = -0.4*t61 + t64
+    t47 = -0.39*t6 + 0.12*t8 + x
+    t48 = -0.39*t11 + 0.12*t12 + y
+    t49 = -0.39*t15 + 0.12*t16 + z
+    t50 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t51 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t52 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t53 = c_hip_rl_y*t50 + s_hip_rl_y*t6
+    t54 = c_hip_rl_y*t51 + s_hip_rl_y*t11
+    t55 = c_hip_rl_y*t52 + s_hip_rl_y*t15
+    t56 = t46*t53 + t47
+    t57 = t46*t54 + t48
+    t58 = t46*t55 + t49
+    toe_rl_x = -0.4*t53 + t56
+    toe_rl_y = -0.4*t54 + t57
+    toe_rl_z = -0.4*t55 + t58
     # toe_rr
-    t68 = -leg_rr - 0.41
+    t59 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t69 = -0.39*t6 - 0.12*t8 + x
-    t70 = -0.39*t11 - 0.12*t12 + y
-    t71 = -0.39*t15 - 0.12*t16 + z
-    t72 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t73 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t74 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t75 = c_hip_rr_y*t72 + s_hip_rr_y*t6
-    t76 = c_hip_rr_y*t73 + s_hip_rr_y*t11
-    t77 = c_hip_rr_y*t74 + s_hip_rr_y*t15
-    t78 = t68*t75 + t69
-    t79 = t68*t76 + t70
-    t80 = t68*t77 + t71
-    t81 = -0.4*t75 + t78
-    t82 = -0.4*t76 + t79
-    t83 = -0.4*t77 + t80
-    return [(t33, t34, t35), (t49, t50, t51), (t65, t66, t67), (t81, t82, t83)]
+    t60 = -0.39*t6 - 0.12*t8 + x
+    t61 = -0.39*t11 - 0.12*t12 + y
+    t62 = -0.39*t15 - 0.12*t16 + z
+    t63 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t64 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t65 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t66 = c_hip_rr_y*t63 + s_hip_rr_y*t6
+    t67 = c_hip_rr_y*t64 + s_hip_rr_y*t11
+    t68 = c_hip_rr_y*t65 + s_hip_rr_y*t15
+    t69 = t59*t66 + t60
+    t70 = t59*t67 + t61
+    t71 = t59*t68 + t62
+    toe_rr_x = -0.4*t66 + t69
+    toe_rr_y = -0.4*t67 + t70
+    toe_rr_z = -0.4*t68 + t71
+    return [
+        (toe_fl_x, toe_fl_y, toe_fl_z),
+        (toe_fr_x, toe_fr_y, toe_fr_z),
+        (toe_rl_x, toe_rl_y, toe_rl_z),
+        (toe_rr_x, toe_rr_y, toe_rr_z),
+    ]
 
 
 def contact_velocities(q, v):
@@ -2372,154 +2377,159 @@ def contact_velocities(q, v):
     t57 = t14*t50 - t17*t49
     t58 = -t10*t50 + t17*t48
     t59 = t10*t49 - t14*t48
-    t60 = qd_hip_fl_x*t45 + qd_hip_fl_y*t42 - qd_leg_fl*t30 + t51*wx + t54*wy + t57*wz + vx
-    t61 = qd_hip_fl_x*t46 + qd_hip_fl_y*t43 - qd_leg_fl*t31 + t52*wx + t55*wy + t58*wz + vy
-    t62 = qd_hip_fl_x*t47 + qd_hip_fl_y*t44 - qd_leg_fl*t32 + t53*wx + t56*wy + t59*wz + vz
+    toe_fl_vx = qd_hip_fl_x*t45 + qd_hip_fl_y*t42 - qd_leg_fl*t30 + t51*wx + t54*wy + t57*wz + vx
+    toe_fl_vy = qd_hip_fl_x*t46 + qd_hip_fl_y*t43 - qd_leg_fl*t31 + t52*wx + t55*wy + t58*wz + vy
+    toe_fl_vz = qd_hip_fl_x*t47 + qd_hip_fl_y*t44 - qd_leg_fl*t32 + t53*wx + t56*wy + t59*wz + vz
     # toe_fr
-    t63 = -leg_fr - 0.41
+    t60 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t64 = t18 - 0.12*t8
-    t65 = -0.12*t12 + t20
-    t66 = -0.12*t16 + t22
-    t67 = c_hip_fr_x*t8 + s_hip_fr_x*t10
-    t68 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t69 = c_hip_fr_x*t12 + s_hip_fr_x*t14
-    t70 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t71 = c_hip_fr_x*t16 + s_hip_fr_x*t17
-    t72 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t73 = c_hip_fr_y*t68 + s_hip_fr_y*t6
-    t74 = c_hip_fr_y*t70 + s_hip_fr_y*t11
-    t75 = c_hip_fr_y*t72 + s_hip_fr_y*t15
-    t76 = t63*t73 + t64
-    t77 = t63*t74 + t65
-    t78 = t63*t75 + t66
-    t79 = -0.4*t73 + t76
-    t80 = -0.4*t74 + t77
-    t81 = -0.4*t75 + t78
-    t82 = -t64 + t79
-    t83 = -t65 + t80
-    t84 = -t66 + t81
-    t85 = t69*t84 - t71*t83
-    t86 = -t67*t84 + t71*t82
-    t87 = t67*t83 - t69*t82
-    t88 = t11*t84 - t15*t83
-    t89 = t15*t82 - t6*t84
-    t90 = -t11*t82 + t6*t83
-    t91 = t79 - x
-    t92 = t80 - y
-    t93 = t81 - z
-    t94 = t11*t93 - t15*t92
-    t95 = t15*t91 - t6*t93
-    t96 = -t11*t91 + t6*t92
-    t97 = t12*t93 - t16*t92
-    t98 = t16*t91 - t8*t93
-    t99 = -t12*t91 + t8*t92
-    t100 = t14*t93 - t17*t92
-    t101 = -t10*t93 + t17*t91
-    t102 = t10*t92 - t14*t91
-    t103 = qd_hip_fr_x*t88 + qd_hip_fr_y*t85 - qd_leg_fr*t73 + t100*wz + t94*wx + t97*wy + vx
-    t104 = qd_hip_fr_x*t89 + qd_hip_fr_y*t86 - qd_leg_fr*t74 + t101*wz + t95*wx + t98*wy + vy
-    t105 = qd_hip_fr_x*t90 + qd_hip_fr_y*t87 - qd_leg_fr*t75 + t102*wz + t96*wx + t99*wy + vz
+    t61 = t18 - 0.12*t8
+    t62 = -0.12*t12 + t20
+    t63 = -0.12*t16 + t22
+    t64 = c_hip_fr_x*t8 + s_hip_fr_x*t10
+    t65 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t66 = c_hip_fr_x*t12 + s_hip_fr_x*t14
+    t67 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t68 = c_hip_fr_x*t16 + s_hip_fr_x*t17
+    t69 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t70 = c_hip_fr_y*t65 + s_hip_fr_y*t6
+    t71 = c_hip_fr_y*t67 + s_hip_fr_y*t11
+    t72 = c_hip_fr_y*t69 + s_hip_fr_y*t15
+    t73 = t60*t70 + t61
+    t74 = t60*t71 + t62
+    t75 = t60*t72 + t63
+    t76 = -0.4*t70 + t73
+    t77 = -0.4*t71 + t74
+    t78 = -0.4*t72 + t75
+    t79 = -t61 + t76
+    t80 = -t62 + t77
+    t81 = -t63 + t78
+    t82 = t66*t81 - t68*t80
+    t83 = -t64*t81 + t68*t79
+    t84 = t64*t80 - t66*t79
+    t85 = t11*t81 - t15*t80
+    t86 = t15*t79 - t6*t81
+    t87 = -t11*t79 + t6*t80
+    t88 = t76 - x
+    t89 = t77 - y
+    t90 = t78 - z
+    t91 = t11*t90 - t15*t89
+    t92 = t15*t88 - t6*t90
+    t93 = -t11*t88 + t6*t89
+    t94 = t12*t90 - t16*t89
+    t95 = t16*t88 - t8*t90
+    t96 = -t12*t88 + t8*t89
+    t97 = t14*t90 - t17*t89
+    t98 = -t10*t90 + t17*t88
+    t99 = t10*t89 - t14*t88
+    toe_fr_vx = qd_hip_fr_x*t85 + qd_hip_fr_y*t82 - qd_leg_fr*t70 + t97*wz + t91*wx + t94*wy + vx
+    toe_fr_vy = qd_hip_fr_x*t86 + qd_hip_fr_y*t83 - qd_leg_fr*t71 + t98*wz + t92*wx + t95*wy + vy
+    toe_fr_vz = qd_hip_fr_x*t87 + qd_hip_fr_y*t84 - qd_leg_fr*t72 + t99*wz + t93*wx + t96*wy + vz
     # toe_rl
-    t106 = -leg_rl - 0.41
+    t100 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t107 = -0.39*t6 + 0.12*t8 + x
-    t108 = -0.39*t11 + 0.12*t12 + y
-    t109 = -0.39*t15 + 0.12*t16 + z
-    t110 = c_hip_rl_x*t8 + s_hip_rl_x*t10
-    t111 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t112 = c_hip_rl_x*t12 + s_hip_rl_x*t14
-    t113 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t114 = c_hip_rl_x*t16 + s_hip_rl_x*t17
-    t115 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t116 = c_hip_rl_y*t111 + s_hip_rl_y*t6
-    t117 = c_hip_rl_y*t113 + s_hip_rl_y*t11
-    t118 = c_hip_rl_y*t115 + s_hip_rl_y*t15
-    t119 = t106*t116 + t107
-    t120 = t106*t117 + t108
-    t121 = t106*t118 + t109
-    t122 = -0.4*t116 + t119
-    t123 = -0.4*t117 + t120
-    t124 = -0.4*t118 + t121
-    t125 = -t107 + t122
-    t126 = -t108 + t123
-    t127 = -t109 + t124
-    t128 = t112*t127 - t114*t126
-    t129 = -t110*t127 + t114*t125
-    t130 = t110*t126 - t112*t125
-    t131 = t11*t127 - t126*t15
-    t132 = t125*t15 - t127*t6
-    t133 = -t11*t125 + t126*t6
-    t134 = t122 - x
-    t135 = t123 - y
-    t136 = t124 - z
-    t137 = t11*t136 - t135*t15
-    t138 = t134*t15 - t136*t6
-    t139 = -t11*t134 + t135*t6
-    t140 = t12*t136 - t135*t16
-    t141 = t134*t16 - t136*t8
-    t142 = -t12*t134 + t135*t8
-    t143 = -t135*t17 + t136*t14
-    t144 = -t10*t136 + t134*t17
-    t145 = t10*t135 - t134*t14
-    t146 = qd_hip_rl_x*t131 + qd_hip_rl_y*t128 - qd_leg_rl*t116 + t137*wx + t140*wy + t143*wz + vx
-    t147 = qd_hip_rl_x*t132 + qd_hip_rl_y*t129 - qd_leg_rl*t117 + t138*wx + t141*wy + t144*wz + vy
-    t148 = qd_hip_rl_x*t133 + qd_hip_rl_y*t130 - qd_leg_rl*t118 + t139*wx + t142*wy + t145*wz + vz
+    t101 = -0.39*t6 + 0.12*t8 + x
+    t102 = -0.39*t11 + 0.12*t12 + y
+    t103 = -0.39*t15 + 0.12*t16 + z
+    t104 = c_hip_rl_x*t8 + s_hip_rl_x*t10
+    t105 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t106 = c_hip_rl_x*t12 + s_hip_rl_x*t14
+    t107 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t108 = c_hip_rl_x*t16 + s_hip_rl_x*t17
+    t109 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t110 = c_hip_rl_y*t105 + s_hip_rl_y*t6
+    t111 = c_hip_rl_y*t107 + s_hip_rl_y*t11
+    t112 = c_hip_rl_y*t109 + s_hip_rl_y*t15
+    t113 = t100*t110 + t101
+    t114 = t100*t111 + t102
+    t115 = t100*t112 + t103
+    t116 = -0.4*t110 + t113
+    t117 = -0.4*t111 + t114
+    t118 = -0.4*t112 + t115
+    t119 = -t101 + t116
+    t120 = -t102 + t117
+    t121 = -t103 + t118
+    t122 = t106*t121 - t108*t120
+    t123 = -t104*t121 + t108*t119
+    t124 = t104*t120 - t106*t119
+    t125 = t11*t121 - t120*t15
+    t126 = t119*t15 - t121*t6
+    t127 = -t11*t119 + t120*t6
+    t128 = t116 - x
+    t129 = t117 - y
+    t130 = t118 - z
+    t131 = t11*t130 - t129*t15
+    t132 = t128*t15 - t130*t6
+    t133 = -t11*t128 + t129*t6
+    t134 = t12*t130 - t129*t16
+    t135 = t128*t16 - t130*t8
+    t136 = -t12*t128 + t129*t8
+    t137 = -t129*t17 + t130*t14
+    t138 = -t10*t130 + t128*t17
+    t139 = t10*t129 - t128*t14
+    toe_rl_vx = qd_hip_rl_x*t125 + qd_hip_rl_y*t122 - qd_leg_rl*t110 + t131*wx + t134*wy + t137*wz + vx
+    toe_rl_vy = qd_hip_rl_x*t126 + qd_hip_rl_y*t123 - qd_leg_rl*t111 + t132*wx + t135*wy + t138*wz + vy
+    toe_rl_vz = qd_hip_rl_x*t127 + qd_hip_rl_y*t124 - qd_leg_rl*t112 + t133*wx + t136*wy + t139*wz + vz
     # toe_rr
-    t149 = -leg_rr - 0.41
+    t140 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t150 = -0.39*t6 - 0.12*t8 + x
-    t151 = -0.39*t11 - 0.12*t12 + y
-    t152 = -0.39*t15 - 0.12*t16 + z
-    t153 = c_hip_rr_x*t8 + s_hip_rr_x*t10
-    t154 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t155 = c_hip_rr_x*t12 + s_hip_rr_x*t14
-    t156 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t157 = c_hip_rr_x*t16 + s_hip_rr_x*t17
-    t158 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t159 = c_hip_rr_y*t154 + s_hip_rr_y*t6
-    t160 = c_hip_rr_y*t156 + s_hip_rr_y*t11
-    t161 = c_hip_rr_y*t158 + s_hip_rr_y*t15
-    t162 = t149*t159 + t150
-    t163 = t149*t160 + t151
-    t164 = t149*t161 + t152
-    t165 = -0.4*t159 + t162
-    t166 = -0.4*t160 + t163
-    t167 = -0.4*t161 + t164
-    t168 = -t150 + t165
-    t169 = -t151 + t166
-    t170 = -t152 + t167
-    t171 = t155*t170 - t157*t169
-    t172 = -t153*t170 + t157*t168
-    t173 = t153*t169 - t155*t168
-    t174 = t11*t170 - t15*t169
-    t175 = t15*t168 - t170*t6
-    t176 = -t11*t168 + t169*t6
-    t177 = t165 - x
-    t178 = t166 - y
-    t179 = t167 - z
-    t180 = t11*t179 - t15*t178
-    t181 = t15*t177 - t179*t6
-    t182 = -t11*t177 + t178*t6
-    t183 = t12*t179 - t16*t178
-    t184 = t16*t177 - t179*t8
-    t185 = -t12*t177 + t178*t8
-    t186 = t14*t179 - t17*t178
-    t187 = -t10*t179 + t17*t177
-    t188 = t10*t178 - t14*t177
-    t189 = qd_hip_rr_x*t174 + qd_hip_rr_y*t171 - qd_leg_rr*t159 + t180*wx + t183*wy + t186*wz + vx
-    t190 = qd_hip_rr_x*t175 + qd_hip_rr_y*t172 - qd_leg_rr*t160 + t181*wx + t184*wy + t187*wz + vy
-    t191 = qd_hip_rr_x*t176 + qd_hip_rr_y*t173 - qd_leg_rr*t161 + t182*wx + t185*wy + t188*wz + vz
-    return [(t60, t61, t62), (t103, t104, t105), (t146, t147, t148), (t189, t190, t191)]
+    t141 = -0.39*t6 - 0.12*t8 + x
+    t142 = -0.39*t11 - 0.12*t12 + y
+    t143 = -0.39*t15 - 0.12*t16 + z
+    t144 = c_hip_rr_x*t8 + s_hip_rr_x*t10
+    t145 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t146 = c_hip_rr_x*t12 + s_hip_rr_x*t14
+    t147 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t148 = c_hip_rr_x*t16 + s_hip_rr_x*t17
+    t149 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t150 = c_hip_rr_y*t145 + s_hip_rr_y*t6
+    t151 = c_hip_rr_y*t147 + s_hip_rr_y*t11
+    t152 = c_hip_rr_y*t149 + s_hip_rr_y*t15
+    t153 = t140*t150 + t141
+    t154 = t140*t151 + t142
+    t155 = t140*t152 + t143
+    t156 = -0.4*t150 + t153
+    t157 = -0.4*t151 + t154
+    t158 = -0.4*t152 + t155
+    t159 = -t141 + t156
+    t160 = -t142 + t157
+    t161 = -t143 + t158
+    t162 = t146*t161 - t148*t160
+    t163 = -t144*t161 + t148*t159
+    t164 = t144*t160 - t146*t159
+    t165 = t11*t161 - t15*t160
+    t166 = t15*t159 - t161*t6
+    t167 = -t11*t159 + t160*t6
+    t168 = t156 - x
+    t169 = t157 - y
+    t170 = t158 - z
+    t171 = t11*t170 - t15*t169
+    t172 = t15*t168 - t170*t6
+    t173 = -t11*t168 + t169*t6
+    t174 = t12*t170 - t16*t169
+    t175 = t16*t168 - t170*t8
+    t176 = -t12*t168 + t169*t8
+    t177 = t14*t170 - t17*t169
+    t178 = -t10*t170 + t17*t168
+    t179 = t10*t169 - t14*t168
+    toe_rr_vx = qd_hip_rr_x*t165 + qd_hip_rr_y*t162 - qd_leg_rr*t150 + t171*wx + t174*wy + t177*wz + vx
+    toe_rr_vy = qd_hip_rr_x*t166 + qd_hip_rr_y*t163 - qd_leg_rr*t151 + t172*wx + t175*wy + t178*wz + vy
+    toe_rr_vz = qd_hip_rr_x*t167 + qd_hip_rr_y*t164 - qd_leg_rr*t152 + t173*wx + t176*wy + t179*wz + vz
+    return [
+        (toe_fl_vx, toe_fl_vy, toe_fl_vz),
+        (toe_fr_vx, toe_fr_vy, toe_fr_vz),
+        (toe_rl_vx, toe_rl_vy, toe_rl_vz),
+        (toe_rr_vx, toe_rr_vy, toe_rr_vz),
+    ]
 
 
 def contact_jacobians(q):
@@ -2590,170 +2600,170 @@ def contact_jacobians(q):
     t39 = -t19 + t36
     t40 = -t21 + t37
     t41 = -t23 + t38
-    t42 = t26*t41 - t28*t40
-    t43 = -t24*t41 + t28*t39
-    t44 = t24*t40 - t26*t39
-    t45 = t11*t41 - t15*t40
-    t46 = t15*t39 - t41*t6
-    t47 = -t11*t39 + t40*t6
-    t48 = t36 - x
-    t49 = t37 - y
-    t50 = t38 - z
-    t51 = t11*t50 - t15*t49
-    t52 = t15*t48 - t50*t6
-    t53 = -t11*t48 + t49*t6
-    t54 = t12*t50 - t16*t49
-    t55 = t16*t48 - t50*t8
-    t56 = -t12*t48 + t49*t8
-    t57 = t14*t50 - t17*t49
-    t58 = -t10*t50 + t17*t48
-    t59 = t10*t49 - t14*t48
+    toe_fl_jx_hip_fl_y = t26*t41 - t28*t40
+    toe_fl_jy_hip_fl_y = -t24*t41 + t28*t39
+    toe_fl_jz_hip_fl_y = t24*t40 - t26*t39
+    toe_fl_jx_hip_fl_x = t11*t41 - t15*t40
+    toe_fl_jy_hip_fl_x = t15*t39 - t41*t6
+    toe_fl_jz_hip_fl_x = -t11*t39 + t40*t6
+    t42 = t36 - x
+    t43 = t37 - y
+    t44 = t38 - z
+    toe_fl_jx_wx = t11*t44 - t15*t43
+    toe_fl_jy_wx = t15*t42 - t44*t6
+    toe_fl_jz_wx = -t11*t42 + t43*t6
+    toe_fl_jx_wy = t12*t44 - t16*t43
+    toe_fl_jy_wy = t16*t42 - t44*t8
+    toe_fl_jz_wy = -t12*t42 + t43*t8
+    toe_fl_jx_wz = t14*t44 - t17*t43
+    toe_fl_jy_wz = -t10*t44 + t17*t42
+    toe_fl_jz_wz = t10*t43 - t14*t42
     # toe_fr
-    t60 = -leg_fr - 0.41
+    t45 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t61 = t18 - 0.12*t8
-    t62 = -0.12*t12 + t20
-    t63 = -0.12*t16 + t22
-    t64 = c_hip_fr_x*t8 + s_hip_fr_x*t10
-    t65 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t66 = c_hip_fr_x*t12 + s_hip_fr_x*t14
-    t67 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t68 = c_hip_fr_x*t16 + s_hip_fr_x*t17
-    t69 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t70 = c_hip_fr_y*t65 + s_hip_fr_y*t6
-    t71 = c_hip_fr_y*t67 + s_hip_fr_y*t11
-    t72 = c_hip_fr_y*t69 + s_hip_fr_y*t15
-    t73 = t60*t70 + t61
-    t74 = t60*t71 + t62
-    t75 = t60*t72 + t63
-    t76 = -0.4*t70 + t73
-    t77 = -0.4*t71 + t74
-    t78 = -0.4*t72 + t75
-    t79 = -t61 + t76
-    t80 = -t62 + t77
-    t81 = -t63 + t78
-    t82 = t66*t81 - t68*t80
-    t83 = -t64*t81 + t68*t79
-    t84 = t64*t80 - t66*t79
-    t85 = t11*t81 - t15*t80
-    t86 = t15*t79 - t6*t81
-    t87 = -t11*t79 + t6*t80
-    t88 = t76 - x
-    t89 = t77 - y
-    t90 = t78 - z
-    t91 = t11*t90 - t15*t89
-    t92 = t15*t88 - t6*t90
-    t93 = -t11*t88 + t6*t89
-    t94 = t12*t90 - t16*t89
-    t95 = t16*t88 - t8*t90
-    t96 = -t12*t88 + t8*t89
-    t97 = t14*t90 - t17*t89
-    t98 = -t10*t90 + t17*t88
-    t99 = t10*t89 - t14*t88
+    t46 = t18 - 0.12*t8
+    t47 = -0.12*t12 + t20
+    t48 = -0.12*t16 + t22
+    t49 = c_hip_fr_x*t8 + s_hip_fr_x*t10
+    t50 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t51 = c_hip_fr_x*t12 + s_hip_fr_x*t14
+    t52 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t53 = c_hip_fr_x*t16 + s_hip_fr_x*t17
+    t54 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t55 = c_hip_fr_y*t50 + s_hip_fr_y*t6
+    t56 = c_hip_fr_y*t52 + s_hip_fr_y*t11
+    t57 = c_hip_fr_y*t54 + s_hip_fr_y*t15
+    t58 = t45*t55 + t46
+    t59 = t45*t56 + t47
+    t60 = t45*t57 + t48
+    t61 = -0.4*t55 + t58
+    t62 = -0.4*t56 + t59
+    t63 = -0.4*t57 + t60
+    t64 = -t46 + t61
+    t65 = -t47 + t62
+    t66 = -t48 + t63
+    toe_fr_jx_hip_fr_y = t51*t66 - t53*t65
+    toe_fr_jy_hip_fr_y = -t49*t66 + t53*t64
+    toe_fr_jz_hip_fr_y = t49*t65 - t51*t64
+    toe_fr_jx_hip_fr_x = t11*t66 - t15*t65
+    toe_fr_jy_hip_fr_x = t15*t64 - t6*t66
+    toe_fr_jz_hip_fr_x = -t11*t64 + t6*t65
+    t67 = t61 - x
+    t68 = t62 - y
+    t69 = t63 - z
+    toe_fr_jx_wx = t11*t69 - t15*t68
+    toe_fr_jy_wx = t15*t67 - t6*t69
+    toe_fr_jz_wx = -t11*t67 + t6*t68
+    toe_fr_jx_wy = t12*t69 - t16*t68
+    toe_fr_jy_wy = t16*t67 - t8*t69
+    toe_fr_jz_wy = -t12*t67 + t8*t68
+    toe_fr_jx_wz = t14*t69 - t17*t68
+    toe_fr_jy_wz = -t10*t69 + t17*t67
+    toe_fr_jz_wz = t10*t68 - t14*t67
     # toe_rl
-    t100 = -leg_rl - 0.41
+    t70 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t101 = -0.39*t6 + 0.12*t8 + x
-    t102 = -0.39*t11 + 0.12*t12 + y
-    t103 = -0.39*t15 + 0.12*t16 + z
-    t104 = c_hip_rl_x*t8 + s_hip_rl_x*t10
-    t105 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t106 = c_hip_rl_x*t12 + s_hip_rl_x*t14
-    t107 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t108 = c_hip_rl_x*t16 + s_hip_rl_x*t17
-    t109 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t110 = c_hip_rl_y*t105 + s_hip_rl_y*t6
-    t111 = c_hip_rl_y*t107 + s_hip_rl_y*t11
-    t112 = c_hip_rl_y*t109 + s_hip_rl_y*t15
-    t113 = t100*t110 + t101
-    t114 = t100*t111 + t102
-    t115 = t100*t112 + t103
-    t116 = -0.4*t110 + t113
-    t117 = -0.4*t111 + t114
-    t118 = -0.4*t112 + t115
-    t119 = -t101 + t116
-    t120 = -t102 + t117
-    t121 = -t103 + t118
-    t122 = t106*t121 - t108*t120
-    t123 = -t104*t121 + t108*t119
-    t124 = t104*t120 - t106*t119
-    t125 = t11*t121 - t120*t15
-    t126 = t119*t15 - t121*t6
-    t127 = -t11*t119 + t120*t6
-    t128 = t116 - x
-    t129 = t117 - y
-    t130 = t118 - z
-    t131 = t11*t130 - t129*t15
-    t132 = t128*t15 - t130*t6
-    t133 = -t11*t128 + t129*t6
-    t134 = t12*t130 - t129*t16
-    t135 = t128*t16 - t130*t8
-    t136 = -t12*t128 + t129*t8
-    t137 = -t129*t17 + t130*t14
-    t138 = -t10*t130 + t128*t17
-    t139 = t10*t129 - t128*t14
+    t71 = -0.39*t6 + 0.12*t8 + x
+    t72 = -0.39*t11 + 0.12*t12 + y
+    t73 = -0.39*t15 + 0.12*t16 + z
+    t74 = c_hip_rl_x*t8 + s_hip_rl_x*t10
+    t75 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t76 = c_hip_rl_x*t12 + s_hip_rl_x*t14
+    t77 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t78 = c_hip_rl_x*t16 + s_hip_rl_x*t17
+    t79 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t80 = c_hip_rl_y*t75 + s_hip_rl_y*t6
+    t81 = c_hip_rl_y*t77 + s_hip_rl_y*t11
+    t82 = c_hip_rl_y*t79 + s_hip_rl_y*t15
+    t83 = t70*t80 + t71
+    t84 = t70*t81 + t72
+    t85 = t70*t82 + t73
+    t86 = -0.4*t80 + t83
+    t87 = -0.4*t81 + t84
+    t88 = -0.4*t82 + t85
+    t89 = -t71 + t86
+    t90 = -t72 + t87
+    t91 = -t73 + t88
+    toe_rl_jx_hip_rl_y = t76*t91 - t78*t90
+    toe_rl_jy_hip_rl_y = -t74*t91 + t78*t89
+    toe_rl_jz_hip_rl_y = t74*t90 - t76*t89
+    toe_rl_jx_hip_rl_x = t11*t91 - t90*t15
+    toe_rl_jy_hip_rl_x = t89*t15 - t91*t6
+    toe_rl_jz_hip_rl_x = -t11*t89 + t90*t6
+    t92 = t86 - x
+    t93 = t87 - y
+    t94 = t88 - z
+    toe_rl_jx_wx = t11*t94 - t93*t15
+    toe_rl_jy_wx = t92*t15 - t94*t6
+    toe_rl_jz_wx = -t11*t92 + t93*t6
+    toe_rl_jx_wy = t12*t94 - t93*t16
+    toe_rl_jy_wy = t92*t16 - t94*t8
+    toe_rl_jz_wy = -t12*t92 + t93*t8
+    toe_rl_jx_wz = -t93*t17 + t94*t14
+    toe_rl_jy_wz = -t10*t94 + t92*t17
+    toe_rl_jz_wz = t10*t93 - t92*t14
     # toe_rr
-    t140 = -leg_rr - 0.41
+    t95 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t141 = -0.39*t6 - 0.12*t8 + x
-    t142 = -0.39*t11 - 0.12*t12 + y
-    t143 = -0.39*t15 - 0.12*t16 + z
-    t144 = c_hip_rr_x*t8 + s_hip_rr_x*t10
-    t145 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t146 = c_hip_rr_x*t12 + s_hip_rr_x*t14
-    t147 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t148 = c_hip_rr_x*t16 + s_hip_rr_x*t17
-    t149 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t150 = c_hip_rr_y*t145 + s_hip_rr_y*t6
-    t151 = c_hip_rr_y*t147 + s_hip_rr_y*t11
-    t152 = c_hip_rr_y*t149 + s_hip_rr_y*t15
-    t153 = t140*t150 + t141
-    t154 = t140*t151 + t142
-    t155 = t140*t152 + t143
-    t156 = -0.4*t150 + t153
-    t157 = -0.4*t151 + t154
-    t158 = -0.4*t152 + t155
-    t159 = -t141 + t156
-    t160 = -t142 + t157
-    t161 = -t143 + t158
-    t162 = t146*t161 - t148*t160
-    t163 = -t144*t161 + t148*t159
-    t164 = t144*t160 - t146*t159
-    t165 = t11*t161 - t15*t160
-    t166 = t15*t159 - t161*t6
-    t167 = -t11*t159 + t160*t6
-    t168 = t156 - x
-    t169 = t157 - y
-    t170 = t158 - z
-    t171 = t11*t170 - t15*t169
-    t172 = t15*t168 - t170*t6
-    t173 = -t11*t168 + t169*t6
-    t174 = t12*t170 - t16*t169
-    t175 = t16*t168 - t170*t8
-    t176 = -t12*t168 + t169*t8
-    t177 = t14*t170 - t169*t17
-    t178 = -t10*t170 + t168*t17
-    t179 = t10*t169 - t14*t168
+    t96 = -0.39*t6 - 0.12*t8 + x
+    t97 = -0.39*t11 - 0.12*t12 + y
+    t98 = -0.39*t15 - 0.12*t16 + z
+    t99 = c_hip_rr_x*t8 + s_hip_rr_x*t10
+    t100 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t101 = c_hip_rr_x*t12 + s_hip_rr_x*t14
+    t102 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t103 = c_hip_rr_x*t16 + s_hip_rr_x*t17
+    t104 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t105 = c_hip_rr_y*t100 + s_hip_rr_y*t6
+    t106 = c_hip_rr_y*t102 + s_hip_rr_y*t11
+    t107 = c_hip_rr_y*t104 + s_hip_rr_y*t15
+    t108 = t95*t105 + t96
+    t109 = t95*t106 + t97
+    t110 = t95*t107 + t98
+    t111 = -0.4*t105 + t108
+    t112 = -0.4*t106 + t109
+    t113 = -0.4*t107 + t110
+    t114 = -t96 + t111
+    t115 = -t97 + t112
+    t116 = -t98 + t113
+    toe_rr_jx_hip_rr_y = t101*t116 - t103*t115
+    toe_rr_jy_hip_rr_y = -t99*t116 + t103*t114
+    toe_rr_jz_hip_rr_y = t99*t115 - t101*t114
+    toe_rr_jx_hip_rr_x = t11*t116 - t15*t115
+    toe_rr_jy_hip_rr_x = t15*t114 - t116*t6
+    toe_rr_jz_hip_rr_x = -t11*t114 + t115*t6
+    t117 = t111 - x
+    t118 = t112 - y
+    t119 = t113 - z
+    toe_rr_jx_wx = t11*t119 - t15*t118
+    toe_rr_jy_wx = t15*t117 - t119*t6
+    toe_rr_jz_wx = -t11*t117 + t118*t6
+    toe_rr_jx_wy = t12*t119 - t16*t118
+    toe_rr_jy_wy = t16*t117 - t119*t8
+    toe_rr_jz_wy = -t12*t117 + t118*t8
+    toe_rr_jx_wz = t14*t119 - t118*t17
+    toe_rr_jy_wz = -t10*t119 + t117*t17
+    toe_rr_jz_wz = t10*t118 - t14*t117
     return [
         [
             [
                 1.0,
                 0.0,
                 0.0,
-                t51,
-                t54,
-                t57,
-                t45,
-                t42,
+                toe_fl_jx_wx,
+                toe_fl_jx_wy,
+                toe_fl_jx_wz,
+                toe_fl_jx_hip_fl_x,
+                toe_fl_jx_hip_fl_y,
                 -t30,
                 0.0,
                 0.0,
@@ -2769,11 +2779,11 @@ def contact_jacobians(q):
                 0.0,
                 1.0,
                 0.0,
-                t52,
-                t55,
-                t58,
-                t46,
-                t43,
+                toe_fl_jy_wx,
+                toe_fl_jy_wy,
+                toe_fl_jy_wz,
+                toe_fl_jy_hip_fl_x,
+                toe_fl_jy_hip_fl_y,
                 -t31,
                 0.0,
                 0.0,
@@ -2789,11 +2799,11 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 1.0,
-                t53,
-                t56,
-                t59,
-                t47,
-                t44,
+                toe_fl_jz_wx,
+                toe_fl_jz_wy,
+                toe_fl_jz_wz,
+                toe_fl_jz_hip_fl_x,
+                toe_fl_jz_hip_fl_y,
                 -t32,
                 0.0,
                 0.0,
@@ -2811,15 +2821,15 @@ def contact_jacobians(q):
                 1.0,
                 0.0,
                 0.0,
-                t91,
-                t94,
-                t97,
+                toe_fr_jx_wx,
+                toe_fr_jx_wy,
+                toe_fr_jx_wz,
                 0.0,
                 0.0,
                 0.0,
-                t85,
-                t82,
-                -t70,
+                toe_fr_jx_hip_fr_x,
+                toe_fr_jx_hip_fr_y,
+                -t55,
                 0.0,
                 0.0,
                 0.0,
@@ -2831,15 +2841,15 @@ def contact_jacobians(q):
                 0.0,
                 1.0,
                 0.0,
-                t92,
-                t95,
-                t98,
+                toe_fr_jy_wx,
+                toe_fr_jy_wy,
+                toe_fr_jy_wz,
                 0.0,
                 0.0,
                 0.0,
-                t86,
-                t83,
-                -t71,
+                toe_fr_jy_hip_fr_x,
+                toe_fr_jy_hip_fr_y,
+                -t56,
                 0.0,
                 0.0,
                 0.0,
@@ -2851,80 +2861,18 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 1.0,
-                t93,
-                t96,
-                t99,
+                toe_fr_jz_wx,
+                toe_fr_jz_wy,
+                toe_fr_jz_wz,
                 0.0,
                 0.0,
                 0.0,
-                t87,
-                t84,
-                -t72,
+                toe_fr_jz_hip_fr_x,
+                toe_fr_jz_hip_fr_y,
+                -t57,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-        ],
-        [
-            [
-                1.0,
-                0.0,
-                0.0,
-                t131,
-                t134,
-                t137,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t125,
-                t122,
-                -t110,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                1.0,
-                0.0,
-                t132,
-                t135,
-                t138,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t126,
-                t123,
-                -t111,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                1.0,
-                t133,
-                t136,
-                t139,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t127,
-                t124,
-                -t112,
                 0.0,
                 0.0,
                 0.0,
@@ -2935,49 +2883,71 @@ def contact_jacobians(q):
                 1.0,
                 0.0,
                 0.0,
-                t171,
-                t174,
-                t177,
+                toe_rl_jx_wx,
+                toe_rl_jx_wy,
+                toe_rl_jx_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_rl_jx_hip_rl_x,
+                toe_rl_jx_hip_rl_y,
+                -t80,
                 0.0,
                 0.0,
                 0.0,
-                t165,
-                t162,
-                -t150,
             ],
             [
                 0.0,
                 1.0,
                 0.0,
-                t172,
-                t175,
-                t178,
+                toe_rl_jy_wx,
+                toe_rl_jy_wy,
+                toe_rl_jy_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_rl_jy_hip_rl_x,
+                toe_rl_jy_hip_rl_y,
+                -t81,
                 0.0,
                 0.0,
                 0.0,
-                t166,
-                t163,
-                -t151,
             ],
             [
                 0.0,
                 0.0,
                 1.0,
-                t173,
-                t176,
-                t179,
+                toe_rl_jz_wx,
+                toe_rl_jz_wy,
+                toe_rl_jz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rl_jz_hip_rl_x,
+                toe_rl_jz_hip_rl_y,
+                -t82,
+                0.0,
+                0.0,
+                0.0,
+            ],
+        ],
+        [
+            [
+                1.0,
+                0.0,
+                0.0,
+                toe_rr_jx_wx,
+                toe_rr_jx_wy,
+                toe_rr_jx_wz,
                 0.0,
                 0.0,
                 0.0,
@@ -2987,9 +2957,49 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t167,
-                t164,
-                -t152,
+                toe_rr_jx_hip_rr_x,
+                toe_rr_jx_hip_rr_y,
+                -t105,
+            ],
+            [
+                0.0,
+                1.0,
+                0.0,
+                toe_rr_jy_wx,
+                toe_rr_jy_wy,
+                toe_rr_jy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rr_jy_hip_rr_x,
+                toe_rr_jy_hip_rr_y,
+                -t106,
+            ],
+            [
+                0.0,
+                0.0,
+                1.0,
+                toe_rr_jz_wx,
+                toe_rr_jz_wy,
+                toe_rr_jz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rr_jz_hip_rr_x,
+                toe_rr_jz_hip_rr_y,
+                -t107,
             ],
         ],
     ]
@@ -3013,50 +3023,50 @@ def contact_angular_jacobians(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
-    t17 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t18 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t19 = c_hip_fl_x*t15 + s_hip_fl_x*t16
+    toe_fl_jwx_wx = -qscale*t4 + 1.0
+    t5 = qw*qz
+    toe_fl_jwx_wy = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    toe_fl_jwx_wz = qscale*(qx*qz + t6)
+    toe_fl_jwy_wx = qscale*(qx*qy + t5)
+    toe_fl_jwy_wy = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    toe_fl_jwy_wz = qscale*(qy*qz - t7)
+    toe_fl_jwz_wx = qscale*(qx*qz - t6)
+    toe_fl_jwz_wy = qscale*(qy*qz + t7)
+    toe_fl_jwz_wz = -qscale*(t1 + t2) + 1.0
+    toe_fl_jwx_hip_fl_y = c_hip_fl_x*toe_fl_jwx_wy + s_hip_fl_x*toe_fl_jwx_wz
+    toe_fl_jwy_hip_fl_y = c_hip_fl_x*toe_fl_jwy_wy + s_hip_fl_x*toe_fl_jwy_wz
+    toe_fl_jwz_hip_fl_y = c_hip_fl_x*toe_fl_jwz_wy + s_hip_fl_x*toe_fl_jwz_wz
     # toe_fr
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t20 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t21 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t22 = c_hip_fr_x*t15 + s_hip_fr_x*t16
+    toe_fr_jwx_hip_fr_y = c_hip_fr_x*toe_fl_jwx_wy + s_hip_fr_x*toe_fl_jwx_wz
+    toe_fr_jwy_hip_fr_y = c_hip_fr_x*toe_fl_jwy_wy + s_hip_fr_x*toe_fl_jwy_wz
+    toe_fr_jwz_hip_fr_y = c_hip_fr_x*toe_fl_jwz_wy + s_hip_fr_x*toe_fl_jwz_wz
     # toe_rl
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t23 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t24 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t25 = c_hip_rl_x*t15 + s_hip_rl_x*t16
+    toe_rl_jwx_hip_rl_y = c_hip_rl_x*toe_fl_jwx_wy + s_hip_rl_x*toe_fl_jwx_wz
+    toe_rl_jwy_hip_rl_y = c_hip_rl_x*toe_fl_jwy_wy + s_hip_rl_x*toe_fl_jwy_wz
+    toe_rl_jwz_hip_rl_y = c_hip_rl_x*toe_fl_jwz_wy + s_hip_rl_x*toe_fl_jwz_wz
     # toe_rr
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t26 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t27 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t28 = c_hip_rr_x*t15 + s_hip_rr_x*t16
+    toe_rr_jwx_hip_rr_y = c_hip_rr_x*toe_fl_jwx_wy + s_hip_rr_x*toe_fl_jwx_wz
+    toe_rr_jwy_hip_rr_y = c_hip_rr_x*toe_fl_jwy_wy + s_hip_rr_x*toe_fl_jwy_wz
+    toe_rr_jwz_hip_rr_y = c_hip_rr_x*toe_fl_jwz_wy + s_hip_rr_x*toe_fl_jwz_wz
     return [
         [
             [
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
-                t5,
-                t17,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
@@ -3072,11 +3082,11 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t11,
-                t13,
-                t10,
-                t18,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
@@ -3092,76 +3102,14 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
-                t14,
-                t19,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-        ],
-        [
-            [
-                0.0,
-                0.0,
-                0.0,
-                t5,
-                t7,
-                t9,
-                0.0,
-                0.0,
-                0.0,
-                t5,
-                t20,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t11,
-                t13,
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t21,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t14,
-                t15,
-                t16,
-                0.0,
-                0.0,
-                0.0,
-                t14,
-                t22,
                 0.0,
                 0.0,
                 0.0,
@@ -3176,37 +3124,17 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwx_wx,
+                toe_fr_jwx_hip_fr_y,
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t23,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t11,
-                t13,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t24,
                 0.0,
                 0.0,
                 0.0,
@@ -3216,17 +3144,37 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_fr_jwy_hip_fr_y,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t25,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fr_jwz_hip_fr_y,
+                0.0,
+                0.0,
+                0.0,
                 0.0,
                 0.0,
                 0.0,
@@ -3238,49 +3186,71 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwx_wx,
+                toe_rl_jwx_hip_rl_y,
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t26,
                 0.0,
             ],
             [
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t11,
-                t13,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwy_wx,
+                toe_rl_jwy_hip_rl_y,
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t27,
                 0.0,
             ],
             [
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_rl_jwz_hip_rl_y,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+        ],
+        [
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
@@ -3290,8 +3260,48 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t28,
+                toe_fl_jwx_wx,
+                toe_rr_jwx_hip_rr_y,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_rr_jwy_hip_rr_y,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_rr_jwz_hip_rr_y,
                 0.0,
             ],
         ],
@@ -3325,131 +3335,248 @@ def body_poses(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
+    trunk_r11 = -qscale*t4 + 1.0
+    t5 = qw*qz
+    trunk_r12 = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    trunk_r13 = qscale*(qx*qz + t6)
+    trunk_r21 = qscale*(qx*qy + t5)
+    trunk_r22 = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    trunk_r23 = qscale*(qy*qz - t7)
+    trunk_r31 = qscale*(qx*qz - t6)
+    trunk_r32 = qscale*(qy*qz + t7)
+    trunk_r33 = -qscale*(t1 + t2) + 1.0
     # thigh_fl
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t17 = 0.39*t5 + x
-    t18 = t17 + 0.12*t7
-    t19 = 0.39*t10 + y
-    t20 = 0.12*t11 + t19
-    t21 = 0.39*t14 + z
-    t22 = 0.12*t15 + t21
-    t23 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t24 = c_hip_fl_x*t9 - s_hip_fl_x*t7
-    t25 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t26 = c_hip_fl_x*t13 - s_hip_fl_x*t11
-    t27 = c_hip_fl_x*t15 + s_hip_fl_x*t16
-    t28 = c_hip_fl_x*t16 - s_hip_fl_x*t15
-    t29 = c_hip_fl_y*t5 - s_hip_fl_y*t24
-    t30 = c_hip_fl_y*t24 + s_hip_fl_y*t5
-    t31 = c_hip_fl_y*t10 - s_hip_fl_y*t26
-    t32 = c_hip_fl_y*t26 + s_hip_fl_y*t10
-    t33 = c_hip_fl_y*t14 - s_hip_fl_y*t28
-    t34 = c_hip_fl_y*t28 + s_hip_fl_y*t14
+    t8 = 0.39*trunk_r11 + x
+    thigh_fl_x = t8 + 0.12*trunk_r12
+    t9 = 0.39*trunk_r21 + y
+    thigh_fl_y = 0.12*trunk_r22 + t9
+    t10 = 0.39*trunk_r31 + z
+    thigh_fl_z = 0.12*trunk_r32 + t10
+    thigh_fl_r12 = c_hip_fl_x*trunk_r12 + s_hip_fl_x*trunk_r13
+    t11 = c_hip_fl_x*trunk_r13 - s_hip_fl_x*trunk_r12
+    thigh_fl_r22 = c_hip_fl_x*trunk_r22 + s_hip_fl_x*trunk_r23
+    t12 = c_hip_fl_x*trunk_r23 - s_hip_fl_x*trunk_r22
+    thigh_fl_r32 = c_hip_fl_x*trunk_r32 + s_hip_fl_x*trunk_r33
+    t13 = c_hip_fl_x*trunk_r33 - s_hip_fl_x*trunk_r32
+    thigh_fl_r11 = c_hip_fl_y*trunk_r11 - s_hip_fl_y*t11
+    thigh_fl_r13 = c_hip_fl_y*t11 + s_hip_fl_y*trunk_r11
+    thigh_fl_r21 = c_hip_fl_y*trunk_r21 - s_hip_fl_y*t12
+    thigh_fl_r23 = c_hip_fl_y*t12 + s_hip_fl_y*trunk_r21
+    thigh_fl_r31 = c_hip_fl_y*trunk_r31 - s_hip_fl_y*t13
+    thigh_fl_r33 = c_hip_fl_y*t13 + s_hip_fl_y*trunk_r31
     # shank_fl
-    t35 = -leg_fl - 0.41
-    t36 = t18 + t30*t35
-    t37 = t20 + t32*t35
-    t38 = t22 + t34*t35
+    t14 = -leg_fl - 0.41
+    shank_fl_x = thigh_fl_x + thigh_fl_r13*t14
+    shank_fl_y = thigh_fl_y + thigh_fl_r23*t14
+    shank_fl_z = thigh_fl_z + thigh_fl_r33*t14
     # thigh_fr
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t39 = t17 - 0.12*t7
-    t40 = -0.12*t11 + t19
-    t41 = -0.12*t15 + t21
-    t42 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t43 = c_hip_fr_x*t9 - s_hip_fr_x*t7
-    t44 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t45 = c_hip_fr_x*t13 - s_hip_fr_x*t11
-    t46 = c_hip_fr_x*t15 + s_hip_fr_x*t16
-    t47 = c_hip_fr_x*t16 - s_hip_fr_x*t15
-    t48 = c_hip_fr_y*t5 - s_hip_fr_y*t43
-    t49 = c_hip_fr_y*t43 + s_hip_fr_y*t5
-    t50 = c_hip_fr_y*t10 - s_hip_fr_y*t45
-    t51 = c_hip_fr_y*t45 + s_hip_fr_y*t10
-    t52 = c_hip_fr_y*t14 - s_hip_fr_y*t47
-    t53 = c_hip_fr_y*t47 + s_hip_fr_y*t14
+    thigh_fr_x = t8 - 0.12*trunk_r12
+    thigh_fr_y = -0.12*trunk_r22 + t9
+    thigh_fr_z = -0.12*trunk_r32 + t10
+    thigh_fr_r12 = c_hip_fr_x*trunk_r12 + s_hip_fr_x*trunk_r13
+    t15 = c_hip_fr_x*trunk_r13 - s_hip_fr_x*trunk_r12
+    thigh_fr_r22 = c_hip_fr_x*trunk_r22 + s_hip_fr_x*trunk_r23
+    t16 = c_hip_fr_x*trunk_r23 - s_hip_fr_x*trunk_r22
+    thigh_fr_r32 = c_hip_fr_x*trunk_r32 + s_hip_fr_x*trunk_r33
+    t17 = c_hip_fr_x*trunk_r33 - s_hip_fr_x*trunk_r32
+    thigh_fr_r11 = c_hip_fr_y*trunk_r11 - s_hip_fr_y*t15
+    thigh_fr_r13 = c_hip_fr_y*t15 + s_hip_fr_y*trunk_r11
+    thigh_fr_r21 = c_hip_fr_y*trunk_r21 - s_hip_fr_y*t16
+    thigh_fr_r23 = c_hip_fr_y*t16 + s_hip_fr_y*trunk_r21
+    thigh_fr_r31 = c_hip_fr_y*trunk_r31 - s_hip_fr_y*t17
+    thigh_fr_r33 = c_hip_fr_y*t17 + s_hip_fr_y*trunk_r31
     # shank_fr
-    t54 = -leg_fr - 0.41
-    t55 = t39 + t49*t54
-    t56 = t40 + t51*t54
-    t57 = t41 + t53*t54
+    t18 = -leg_fr - 0.41
+    shank_fr_x = thigh_fr_x + thigh_fr_r13*t18
+    shank_fr_y = thigh_fr_y + thigh_fr_r23*t18
+    shank_fr_z = thigh_fr_z + thigh_fr_r33*t18
     # thigh_rl
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t58 = -0.39*t5 + 0.12*t7 + x
-    t59 = -0.39*t10 + 0.12*t11 + y
-    t60 = -0.39*t14 + 0.12*t15 + z
-    t61 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t62 = c_hip_rl_x*t9 - s_hip_rl_x*t7
-    t63 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t64 = c_hip_rl_x*t13 - s_hip_rl_x*t11
-    t65 = c_hip_rl_x*t15 + s_hip_rl_x*t16
-    t66 = c_hip_rl_x*t16 - s_hip_rl_x*t15
-    t67 = c_hip_rl_y*t5 - s_hip_rl_y*t62
-    t68 = c_hip_rl_y*t62 + s_hip_rl_y*t5
-    t69 = c_hip_rl_y*t10 - s_hip_rl_y*t64
-    t70 = c_hip_rl_y*t64 + s_hip_rl_y*t10
-    t71 = c_hip_rl_y*t14 - s_hip_rl_y*t66
-    t72 = c_hip_rl_y*t66 + s_hip_rl_y*t14
+    thigh_rl_x = -0.39*trunk_r11 + 0.12*trunk_r12 + x
+    thigh_rl_y = -0.39*trunk_r21 + 0.12*trunk_r22 + y
+    thigh_rl_z = -0.39*trunk_r31 + 0.12*trunk_r32 + z
+    thigh_rl_r12 = c_hip_rl_x*trunk_r12 + s_hip_rl_x*trunk_r13
+    t19 = c_hip_rl_x*trunk_r13 - s_hip_rl_x*trunk_r12
+    thigh_rl_r22 = c_hip_rl_x*trunk_r22 + s_hip_rl_x*trunk_r23
+    t20 = c_hip_rl_x*trunk_r23 - s_hip_rl_x*trunk_r22
+    thigh_rl_r32 = c_hip_rl_x*trunk_r32 + s_hip_rl_x*trunk_r33
+    t21 = c_hip_rl_x*trunk_r33 - s_hip_rl_x*trunk_r32
+    thigh_rl_r11 = c_hip_rl_y*trunk_r11 - s_hip_rl_y*t19
+    thigh_rl_r13 = c_hip_rl_y*t19 + s_hip_rl_y*trunk_r11
+    thigh_rl_r21 = c_hip_rl_y*trunk_r21 - s_hip_rl_y*t20
+    thigh_rl_r23 = c_hip_rl_y*t20 + s_hip_rl_y*trunk_r21
+    thigh_rl_r31 = c_hip_rl_y*trunk_r31 - s_hip_rl_y*t21
+    thigh_rl_r33 = c_hip_rl_y*t21 + s_hip_rl_y*trunk_r31
     # shank_rl
-    t73 = -leg_rl - 0.41
-    t74 = t58 + t68*t73
-    t75 = t59 + t70*t73
-    t76 = t60 + t72*t73
+    t22 = -leg_rl - 0.41
+    shank_rl_x = thigh_rl_x + thigh_rl_r13*t22
+    shank_rl_y = thigh_rl_y + thigh_rl_r23*t22
+    shank_rl_z = thigh_rl_z + thigh_rl_r33*t22
     # thigh_rr
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t77 = -0.39*t5 - 0.12*t7 + x
-    t78 = -0.39*t10 - 0.12*t11 + y
-    t79 = -0.39*t14 - 0.12*t15 + z
-    t80 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t81 = c_hip_rr_x*t9 - s_hip_rr_x*t7
-    t82 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t83 = c_hip_rr_x*t13 - s_hip_rr_x*t11
-    t84 = c_hip_rr_x*t15 + s_hip_rr_x*t16
-    t85 = c_hip_rr_x*t16 - s_hip_rr_x*t15
-    t86 = c_hip_rr_y*t5 - s_hip_rr_y*t81
-    t87 = c_hip_rr_y*t81 + s_hip_rr_y*t5
-    t88 = c_hip_rr_y*t10 - s_hip_rr_y*t83
-    t89 = c_hip_rr_y*t83 + s_hip_rr_y*t10
-    t90 = c_hip_rr_y*t14 - s_hip_rr_y*t85
-    t91 = c_hip_rr_y*t85 + s_hip_rr_y*t14
+    thigh_rr_x = -0.39*trunk_r11 - 0.12*trunk_r12 + x
+    thigh_rr_y = -0.39*trunk_r21 - 0.12*trunk_r22 + y
+    thigh_rr_z = -0.39*trunk_r31 - 0.12*trunk_r32 + z
+    thigh_rr_r12 = c_hip_rr_x*trunk_r12 + s_hip_rr_x*trunk_r13
+    t23 = c_hip_rr_x*trunk_r13 - s_hip_rr_x*trunk_r12
+    thigh_rr_r22 = c_hip_rr_x*trunk_r22 + s_hip_rr_x*trunk_r23
+    t24 = c_hip_rr_x*trunk_r23 - s_hip_rr_x*trunk_r22
+    thigh_rr_r32 = c_hip_rr_x*trunk_r32 + s_hip_rr_x*trunk_r33
+    t25 = c_hip_rr_x*trunk_r33 - s_hip_rr_x*trunk_r32
+    thigh_rr_r11 = c_hip_rr_y*trunk_r11 - s_hip_rr_y*t23
+    thigh_rr_r13 = c_hip_rr_y*t23 + s_hip_rr_y*trunk_r11
+    thigh_rr_r21 = c_hip_rr_y*trunk_r21 - s_hip_rr_y*t24
+    thigh_rr_r23 = c_hip_rr_y*t24 + s_hip_rr_y*trunk_r21
+    thigh_rr_r31 = c_hip_rr_y*trunk_r31 - s_hip_rr_y*t25
+    thigh_rr_r33 = c_hip_rr_y*t25 + s_hip_rr_y*trunk_r31
     # shank_rr
-    t92 = -leg_rr - 0.41
-    t93 = t77 + t87*t92
-    t94 = t78 + t89*t92
-    t95 = t79 + t91*t92
+    t26 = -leg_rr - 0.41
+    shank_rr_x = thigh_rr_x + thigh_rr_r13*t26
+    shank_rr_y = thigh_rr_y + thigh_rr_r23*t26
+    shank_rr_z = thigh_rr_z + thigh_rr_r33*t26
     return [
-        ((x, y, z), (t5, t7, t9, t10, t11, t13, t14, t15, t16)),
-        ((t18, t20, t22), (t29, t23, t30, t31, t25, t32, t33, t27, t34)),
-        ((t36, t37, t38), (t29, t23, t30, t31, t25, t32, t33, t27, t34)),
-        ((t39, t40, t41), (t48, t42, t49, t50, t44, t51, t52, t46, t53)),
-        ((t55, t56, t57), (t48, t42, t49, t50, t44, t51, t52, t46, t53)),
-        ((t58, t59, t60), (t67, t61, t68, t69, t63, t70, t71, t65, t72)),
-        ((t74, t75, t76), (t67, t61, t68, t69, t63, t70, t71, t65, t72)),
-        ((t77, t78, t79), (t86, t80, t87, t88, t82, t89, t90, t84, t91)),
-        ((t93, t94, t95), (t86, t80, t87, t88, t82, t89, t90, t84, t91)),
+        (
+            (x, y, z),
+            (
+                trunk_r11,
+                trunk_r12,
+                trunk_r13,
+                trunk_r21,
+                trunk_r22,
+                trunk_r23,
+                trunk_r31,
+                trunk_r32,
+                trunk_r33,
+            ),
+        ),
+        (
+            (thigh_fl_x, thigh_fl_y, thigh_fl_z),
+            (
+                thigh_fl_r11,
+                thigh_fl_r12,
+                thigh_fl_r13,
+                thigh_fl_r21,
+                thigh_fl_r22,
+                thigh_fl_r23,
+                thigh_fl_r31,
+                thigh_fl_r32,
+                thigh_fl_r33,
+            ),
+        ),
+        (
+            (shank_fl_x, shank_fl_y, shank_fl_z),
+            (
+                thigh_fl_r11,
+                thigh_fl_r12,
+                thigh_fl_r13,
+                thigh_fl_r21,
+                thigh_fl_r22,
+                thigh_fl_r23,
+                thigh_fl_r31,
+                thigh_fl_r32,
+                thigh_fl_r33,
+            ),
+        ),
+        (
+            (thigh_fr_x, thigh_fr_y, thigh_fr_z),
+            (
+                thigh_fr_r11,
+                thigh_fr_r12,
+                thigh_fr_r13,
+                thigh_fr_r21,
+                thigh_fr_r22,
+                thigh_fr_r23,
+                thigh_fr_r31,
+                thigh_fr_r32,
+                thigh_fr_r33,
+            ),
+        ),
+        (
+            (shank_fr_x, shank_fr_y, shank_fr_z),
+            (
+                thigh_fr_r11,
+                thigh_fr_r12,
+                thigh_fr_r13,
+                thigh_fr_r21,
+                thigh_fr_r22,
+                thigh_fr_r23,
+                thigh_fr_r31,
+                thigh_fr_r32,
+                thigh_fr_r33,
+            ),
+        ),
+        (
+            (thigh_rl_x, thigh_rl_y, thigh_rl_z),
+            (
+                thigh_rl_r11,
+                thigh_rl_r12,
+                thigh_rl_r13,
+                thigh_rl_r21,
+                thigh_rl_r22,
+                thigh_rl_r23,
+                thigh_rl_r31,
+                thigh_rl_r32,
+                thigh_rl_r33,
+            ),
+        ),
+        (
+            (shank_rl_x, shank_rl_y, shank_rl_z),
+            (
+                thigh_rl_r11,
+                thigh_rl_r12,
+                thigh_rl_r13,
+                thigh_rl_r21,
+                thigh_rl_r22,
+                thigh_rl_r23,
+                thigh_rl_r31,
+                thigh_rl_r32,
+                thigh_rl_r33,
+            ),
+        ),
+        (
+            (thigh_rr_x, thigh_rr_y, thigh_rr_z),
+            (
+                thigh_rr_r11,
+                thigh_rr_r12,
+                thigh_rr_r13,
+                thigh_rr_r21,
+                thigh_rr_r22,
+                thigh_rr_r23,
+                thigh_rr_r31,
+                thigh_rr_r32,
+                thigh_rr_r33,
+            ),
+        ),
+        (
+            (shank_rr_x, shank_rr_y, shank_rr_z),
+            (
+                thigh_rr_r11,
+                thigh_rr_r12,
+                thigh_rr_r13,
+                thigh_rr_r21,
+                thigh_rr_r22,
+                thigh_rr_r23,
+                thigh_rr_r31,
+                thigh_rr_r32,
+                thigh_rr_r33,
+            ),
+        ),
     ]
 
 
@@ -3510,278 +3637,278 @@ def body_velocities(q, v):
     t14 = qscale*(qx*qz - t8)
     t15 = qscale*(qy*qz + t12)
     t16 = -qscale*(t1 + t2) + 1.0
-    t17 = t5*wx + t7*wy + t9*wz
-    t18 = t10*wx + t11*wy + t13*wz
-    t19 = t14*wx + t15*wy + t16*wz
+    trunk_wx = t5*wx + t7*wy + t9*wz
+    trunk_wy = t10*wx + t11*wy + t13*wz
+    trunk_wz = t14*wx + t15*wy + t16*wz
     # thigh_fl
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t20 = 0.39*t5 + x
-    t21 = t20 + 0.12*t7
-    t22 = 0.39*t10 + y
-    t23 = 0.12*t11 + t22
-    t24 = 0.39*t14 + z
-    t25 = 0.12*t15 + t24
-    t26 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t27 = c_hip_fl_x*t9 - s_hip_fl_x*t7
-    t28 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t29 = c_hip_fl_x*t13 - s_hip_fl_x*t11
-    t30 = c_hip_fl_x*t15 + s_hip_fl_x*t16
-    t31 = c_hip_fl_x*t16 - s_hip_fl_x*t15
-    t32 = c_hip_fl_y*t27 + s_hip_fl_y*t5
-    t33 = c_hip_fl_y*t29 + s_hip_fl_y*t10
-    t34 = c_hip_fl_y*t31 + s_hip_fl_y*t14
-    t35 = t21 - x
-    t36 = t23 - y
-    t37 = t25 - z
-    t38 = t10*t37 - t14*t36
-    t39 = t14*t35 - t37*t5
-    t40 = -t10*t35 + t36*t5
-    t41 = t11*t37 - t15*t36
-    t42 = t15*t35 - t37*t7
-    t43 = -t11*t35 + t36*t7
-    t44 = t13*t37 - t16*t36
-    t45 = t16*t35 - t37*t9
-    t46 = -t13*t35 + t36*t9
-    t47 = t38*wx + t41*wy + t44*wz + vx
-    t48 = t39*wx + t42*wy + t45*wz + vy
-    t49 = t40*wx + t43*wy + t46*wz + vz
-    t50 = qd_hip_fl_x*t5 + qd_hip_fl_y*t26 + t17
-    t51 = qd_hip_fl_x*t10 + qd_hip_fl_y*t28 + t18
-    t52 = qd_hip_fl_x*t14 + qd_hip_fl_y*t30 + t19
+    t17 = 0.39*t5 + x
+    t18 = t17 + 0.12*t7
+    t19 = 0.39*t10 + y
+    t20 = 0.12*t11 + t19
+    t21 = 0.39*t14 + z
+    t22 = 0.12*t15 + t21
+    t23 = c_hip_fl_x*t7 + s_hip_fl_x*t9
+    t24 = c_hip_fl_x*t9 - s_hip_fl_x*t7
+    t25 = c_hip_fl_x*t11 + s_hip_fl_x*t13
+    t26 = c_hip_fl_x*t13 - s_hip_fl_x*t11
+    t27 = c_hip_fl_x*t15 + s_hip_fl_x*t16
+    t28 = c_hip_fl_x*t16 - s_hip_fl_x*t15
+    t29 = c_hip_fl_y*t24 + s_hip_fl_y*t5
+    t30 = c_hip_fl_y*t26 + s_hip_fl_y*t10
+    t31 = c_hip_fl_y*t28 + s_hip_fl_y*t14
+    t32 = t18 - x
+    t33 = t20 - y
+    t34 = t22 - z
+    t35 = t10*t34 - t14*t33
+    t36 = t14*t32 - t34*t5
+    t37 = -t10*t32 + t33*t5
+    t38 = t11*t34 - t15*t33
+    t39 = t15*t32 - t34*t7
+    t40 = -t11*t32 + t33*t7
+    t41 = t13*t34 - t16*t33
+    t42 = t16*t32 - t34*t9
+    t43 = -t13*t32 + t33*t9
+    thigh_fl_vx = t35*wx + t38*wy + t41*wz + vx
+    thigh_fl_vy = t36*wx + t39*wy + t42*wz + vy
+    thigh_fl_vz = t37*wx + t40*wy + t43*wz + vz
+    thigh_fl_wx = qd_hip_fl_x*t5 + qd_hip_fl_y*t23 + trunk_wx
+    thigh_fl_wy = qd_hip_fl_x*t10 + qd_hip_fl_y*t25 + trunk_wy
+    thigh_fl_wz = qd_hip_fl_x*t14 + qd_hip_fl_y*t27 + trunk_wz
     # shank_fl
-    t53 = -leg_fl - 0.41
-    t54 = t21 + t32*t53
-    t55 = t23 + t33*t53
-    t56 = t25 + t34*t53
-    t57 = -t21 + t54
-    t58 = -t23 + t55
-    t59 = -t25 + t56
-    t60 = t28*t59 - t30*t58
-    t61 = -t26*t59 + t30*t57
-    t62 = t26*t58 - t28*t57
-    t63 = t10*t59 - t14*t58
-    t64 = t14*t57 - t5*t59
-    t65 = -t10*t57 + t5*t58
-    t66 = t54 - x
-    t67 = t55 - y
-    t68 = t56 - z
-    t69 = t10*t68 - t14*t67
-    t70 = t14*t66 - t5*t68
-    t71 = -t10*t66 + t5*t67
-    t72 = t11*t68 - t15*t67
-    t73 = t15*t66 - t68*t7
-    t74 = -t11*t66 + t67*t7
-    t75 = t13*t68 - t16*t67
-    t76 = t16*t66 - t68*t9
-    t77 = -t13*t66 + t67*t9
-    t78 = qd_hip_fl_x*t63 + qd_hip_fl_y*t60 - qd_leg_fl*t32 + t69*wx + t72*wy + t75*wz + vx
-    t79 = qd_hip_fl_x*t64 + qd_hip_fl_y*t61 - qd_leg_fl*t33 + t70*wx + t73*wy + t76*wz + vy
-    t80 = qd_hip_fl_x*t65 + qd_hip_fl_y*t62 - qd_leg_fl*t34 + t71*wx + t74*wy + t77*wz + vz
+    t44 = -leg_fl - 0.41
+    t45 = t18 + t29*t44
+    t46 = t20 + t30*t44
+    t47 = t22 + t31*t44
+    t48 = -t18 + t45
+    t49 = -t20 + t46
+    t50 = -t22 + t47
+    t51 = t25*t50 - t27*t49
+    t52 = -t23*t50 + t27*t48
+    t53 = t23*t49 - t25*t48
+    t54 = t10*t50 - t14*t49
+    t55 = t14*t48 - t5*t50
+    t56 = -t10*t48 + t5*t49
+    t57 = t45 - x
+    t58 = t46 - y
+    t59 = t47 - z
+    t60 = t10*t59 - t14*t58
+    t61 = t14*t57 - t5*t59
+    t62 = -t10*t57 + t5*t58
+    t63 = t11*t59 - t15*t58
+    t64 = t15*t57 - t59*t7
+    t65 = -t11*t57 + t58*t7
+    t66 = t13*t59 - t16*t58
+    t67 = t16*t57 - t59*t9
+    t68 = -t13*t57 + t58*t9
+    shank_fl_vx = qd_hip_fl_x*t54 + qd_hip_fl_y*t51 - qd_leg_fl*t29 + t60*wx + t63*wy + t66*wz + vx
+    shank_fl_vy = qd_hip_fl_x*t55 + qd_hip_fl_y*t52 - qd_leg_fl*t30 + t61*wx + t64*wy + t67*wz + vy
+    shank_fl_vz = qd_hip_fl_x*t56 + qd_hip_fl_y*t53 - qd_leg_fl*t31 + t62*wx + t65*wy + t68*wz + vz
     # thigh_fr
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t81 = t20 - 0.12*t7
-    t82 = -0.12*t11 + t22
-    t83 = -0.12*t15 + t24
-    t84 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t85 = c_hip_fr_x*t9 - s_hip_fr_x*t7
-    t86 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t87 = c_hip_fr_x*t13 - s_hip_fr_x*t11
-    t88 = c_hip_fr_x*t15 + s_hip_fr_x*t16
-    t89 = c_hip_fr_x*t16 - s_hip_fr_x*t15
-    t90 = c_hip_fr_y*t85 + s_hip_fr_y*t5
-    t91 = c_hip_fr_y*t87 + s_hip_fr_y*t10
-    t92 = c_hip_fr_y*t89 + s_hip_fr_y*t14
-    t93 = t81 - x
-    t94 = t82 - y
-    t95 = t83 - z
-    t96 = t10*t95 - t14*t94
-    t97 = t14*t93 - t5*t95
-    t98 = -t10*t93 + t5*t94
-    t99 = t11*t95 - t15*t94
-    t100 = t15*t93 - t7*t95
-    t101 = -t11*t93 + t7*t94
-    t102 = t13*t95 - t16*t94
-    t103 = t16*t93 - t9*t95
-    t104 = -t13*t93 + t9*t94
-    t105 = t102*wz + t96*wx + t99*wy + vx
-    t106 = t100*wy + t103*wz + t97*wx + vy
-    t107 = t101*wy + t104*wz + t98*wx + vz
-    t108 = qd_hip_fr_x*t5 + qd_hip_fr_y*t84 + t17
-    t109 = qd_hip_fr_x*t10 + qd_hip_fr_y*t86 + t18
-    t110 = qd_hip_fr_x*t14 + qd_hip_fr_y*t88 + t19
+    t69 = t17 - 0.12*t7
+    t70 = -0.12*t11 + t19
+    t71 = -0.12*t15 + t21
+    t72 = c_hip_fr_x*t7 + s_hip_fr_x*t9
+    t73 = c_hip_fr_x*t9 - s_hip_fr_x*t7
+    t74 = c_hip_fr_x*t11 + s_hip_fr_x*t13
+    t75 = c_hip_fr_x*t13 - s_hip_fr_x*t11
+    t76 = c_hip_fr_x*t15 + s_hip_fr_x*t16
+    t77 = c_hip_fr_x*t16 - s_hip_fr_x*t15
+    t78 = c_hip_fr_y*t73 + s_hip_fr_y*t5
+    t79 = c_hip_fr_y*t75 + s_hip_fr_y*t10
+    t80 = c_hip_fr_y*t77 + s_hip_fr_y*t14
+    t81 = t69 - x
+    t82 = t70 - y
+    t83 = t71 - z
+    t84 = t10*t83 - t14*t82
+    t85 = t14*t81 - t5*t83
+    t86 = -t10*t81 + t5*t82
+    t87 = t11*t83 - t15*t82
+    t88 = t15*t81 - t7*t83
+    t89 = -t11*t81 + t7*t82
+    t90 = t13*t83 - t16*t82
+    t91 = t16*t81 - t9*t83
+    t92 = -t13*t81 + t9*t82
+    thigh_fr_vx = t90*wz + t84*wx + t87*wy + vx
+    thigh_fr_vy = t88*wy + t91*wz + t85*wx + vy
+    thigh_fr_vz = t89*wy + t92*wz + t86*wx + vz
+    thigh_fr_wx = qd_hip_fr_x*t5 + qd_hip_fr_y*t72 + trunk_wx
+    thigh_fr_wy = qd_hip_fr_x*t10 + qd_hip_fr_y*t74 + trunk_wy
+    thigh_fr_wz = qd_hip_fr_x*t14 + qd_hip_fr_y*t76 + trunk_wz
     # shank_fr
-    t111 = -leg_fr - 0.41
-    t112 = t111*t90 + t81
-    t113 = t111*t91 + t82
-    t114 = t111*t92 + t83
-    t115 = t112 - t81
-    t116 = t113 - t82
-    t117 = t114 - t83
-    t118 = -t116*t88 + t117*t86
-    t119 = t115*t88 - t117*t84
-    t120 = -t115*t86 + t116*t84
-    t121 = t10*t117 - t116*t14
-    t122 = t115*t14 - t117*t5
-    t123 = -t10*t115 + t116*t5
-    t124 = t112 - x
-    t125 = t113 - y
-    t126 = t114 - z
-    t127 = t10*t126 - t125*t14
-    t128 = t124*t14 - t126*t5
-    t129 = -t10*t124 + t125*t5
-    t130 = t11*t126 - t125*t15
-    t131 = t124*t15 - t126*t7
-    t132 = -t11*t124 + t125*t7
-    t133 = -t125*t16 + t126*t13
-    t134 = t124*t16 - t126*t9
-    t135 = -t124*t13 + t125*t9
-    t136 = qd_hip_fr_x*t121 + qd_hip_fr_y*t118 - qd_leg_fr*t90 + t127*wx + t130*wy + t133*wz + vx
-    t137 = qd_hip_fr_x*t122 + qd_hip_fr_y*t119 - qd_leg_fr*t91 + t128*wx + t131*wy + t134*wz + vy
-    t138 = qd_hip_fr_x*t123 + qd_hip_fr_y*t120 - qd_leg_fr*t92 + t129*wx + t132*wy + t135*wz + vz
+    t93 = -leg_fr - 0.41
+    t94 = t93*t78 + t69
+    t95 = t93*t79 + t70
+    t96 = t93*t80 + t71
+    t97 = t94 - t69
+    t98 = t95 - t70
+    t99 = t96 - t71
+    t100 = -t98*t76 + t99*t74
+    t101 = t97*t76 - t99*t72
+    t102 = -t97*t74 + t98*t72
+    t103 = t10*t99 - t98*t14
+    t104 = t97*t14 - t99*t5
+    t105 = -t10*t97 + t98*t5
+    t106 = t94 - x
+    t107 = t95 - y
+    t108 = t96 - z
+    t109 = t10*t108 - t107*t14
+    t110 = t106*t14 - t108*t5
+    t111 = -t10*t106 + t107*t5
+    t112 = t11*t108 - t107*t15
+    t113 = t106*t15 - t108*t7
+    t114 = -t11*t106 + t107*t7
+    t115 = -t107*t16 + t108*t13
+    t116 = t106*t16 - t108*t9
+    t117 = -t106*t13 + t107*t9
+    shank_fr_vx = qd_hip_fr_x*t103 + qd_hip_fr_y*t100 - qd_leg_fr*t78 + t109*wx + t112*wy + t115*wz + vx
+    shank_fr_vy = qd_hip_fr_x*t104 + qd_hip_fr_y*t101 - qd_leg_fr*t79 + t110*wx + t113*wy + t116*wz + vy
+    shank_fr_vz = qd_hip_fr_x*t105 + qd_hip_fr_y*t102 - qd_leg_fr*t80 + t111*wx + t114*wy + t117*wz + vz
     # thigh_rl
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t139 = -0.39*t5 + 0.12*t7 + x
-    t140 = -0.39*t10 + 0.12*t11 + y
-    t141 = -0.39*t14 + 0.12*t15 + z
-    t142 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t143 = c_hip_rl_x*t9 - s_hip_rl_x*t7
-    t144 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t145 = c_hip_rl_x*t13 - s_hip_rl_x*t11
-    t146 = c_hip_rl_x*t15 + s_hip_rl_x*t16
-    t147 = c_hip_rl_x*t16 - s_hip_rl_x*t15
-    t148 = c_hip_rl_y*t143 + s_hip_rl_y*t5
-    t149 = c_hip_rl_y*t145 + s_hip_rl_y*t10
-    t150 = c_hip_rl_y*t147 + s_hip_rl_y*t14
-    t151 = t139 - x
-    t152 = t140 - y
-    t153 = t141 - z
-    t154 = t10*t153 - t14*t152
-    t155 = t14*t151 - t153*t5
-    t156 = -t10*t151 + t152*t5
-    t157 = t11*t153 - t15*t152
-    t158 = t15*t151 - t153*t7
-    t159 = -t11*t151 + t152*t7
-    t160 = t13*t153 - t152*t16
-    t161 = t151*t16 - t153*t9
-    t162 = -t13*t151 + t152*t9
-    t163 = t154*wx + t157*wy + t160*wz + vx
-    t164 = t155*wx + t158*wy + t161*wz + vy
-    t165 = t156*wx + t159*wy + t162*wz + vz
-    t166 = qd_hip_rl_x*t5 + qd_hip_rl_y*t142 + t17
-    t167 = qd_hip_rl_x*t10 + qd_hip_rl_y*t144 + t18
-    t168 = qd_hip_rl_x*t14 + qd_hip_rl_y*t146 + t19
+    t118 = -0.39*t5 + 0.12*t7 + x
+    t119 = -0.39*t10 + 0.12*t11 + y
+    t120 = -0.39*t14 + 0.12*t15 + z
+    t121 = c_hip_rl_x*t7 + s_hip_rl_x*t9
+    t122 = c_hip_rl_x*t9 - s_hip_rl_x*t7
+    t123 = c_hip_rl_x*t11 + s_hip_rl_x*t13
+    t124 = c_hip_rl_x*t13 - s_hip_rl_x*t11
+    t125 = c_hip_rl_x*t15 + s_hip_rl_x*t16
+    t126 = c_hip_rl_x*t16 - s_hip_rl_x*t15
+    t127 = c_hip_rl_y*t122 + s_hip_rl_y*t5
+    t128 = c_hip_rl_y*t124 + s_hip_rl_y*t10
+    t129 = c_hip_rl_y*t126 + s_hip_rl_y*t14
+    t130 = t118 - x
+    t131 = t119 - y
+    t132 = t120 - z
+    t133 = t10*t132 - t14*t131
+    t134 = t14*t130 - t132*t5
+    t135 = -t10*t130 + t131*t5
+    t136 = t11*t132 - t15*t131
+    t137 = t15*t130 - t132*t7
+    t138 = -t11*t130 + t131*t7
+    t139 = t13*t132 - t131*t16
+    t140 = t130*t16 - t132*t9
+    t141 = -t13*t130 + t131*t9
+    thigh_rl_vx = t133*wx + t136*wy + t139*wz + vx
+    thigh_rl_vy = t134*wx + t137*wy + t140*wz + vy
+    thigh_rl_vz = t135*wx + t138*wy + t141*wz + vz
+    thigh_rl_wx = qd_hip_rl_x*t5 + qd_hip_rl_y*t121 + trunk_wx
+    thigh_rl_wy = qd_hip_rl_x*t10 + qd_hip_rl_y*t123 + trunk_wy
+    thigh_rl_wz = qd_hip_rl_x*t14 + qd_hip_rl_y*t125 + trunk_wz
     # shank_rl
-    t169 = -leg_rl - 0.41
-    t170 = t139 + t148*t169
-    t171 = t140 + t149*t169
-    t172 = t141 + t150*t169
-    t173 = -t139 + t170
-    t174 = -t140 + t171
-    t175 = -t141 + t172
-    t176 = t144*t175 - t146*t174
-    t177 = -t142*t175 + t146*t173
-    t178 = t142*t174 - t144*t173
-    t179 = t10*t175 - t14*t174
-    t180 = t14*t173 - t175*t5
-    t181 = -t10*t173 + t174*t5
-    t182 = t170 - x
-    t183 = t171 - y
-    t184 = t172 - z
-    t185 = t10*t184 - t14*t183
-    t186 = t14*t182 - t184*t5
-    t187 = -t10*t182 + t183*t5
-    t188 = t11*t184 - t15*t183
-    t189 = t15*t182 - t184*t7
-    t190 = -t11*t182 + t183*t7
-    t191 = t13*t184 - t16*t183
-    t192 = t16*t182 - t184*t9
-    t193 = -t13*t182 + t183*t9
-    t194 = qd_hip_rl_x*t179 + qd_hip_rl_y*t176 - qd_leg_rl*t148 + t185*wx + t188*wy + t191*wz + vx
-    t195 = qd_hip_rl_x*t180 + qd_hip_rl_y*t177 - qd_leg_rl*t149 + t186*wx + t189*wy + t192*wz + vy
-    t196 = qd_hip_rl_x*t181 + qd_hip_rl_y*t178 - qd_leg_rl*t150 + t187*wx + t190*wy + t193*wz + vz
+    t142 = -leg_rl - 0.41
+    t143 = t118 + t127*t142
+    t144 = t119 + t128*t142
+    t145 = t120 + t129*t142
+    t146 = -t118 + t143
+    t147 = -t119 + t144
+    t148 = -t120 + t145
+    t149 = t123*t148 - t125*t147
+    t150 = -t121*t148 + t125*t146
+    t151 = t121*t147 - t123*t146
+    t152 = t10*t148 - t14*t147
+    t153 = t14*t146 - t148*t5
+    t154 = -t10*t146 + t147*t5
+    t155 = t143 - x
+    t156 = t144 - y
+    t157 = t145 - z
+    t158 = t10*t157 - t14*t156
+    t159 = t14*t155 - t157*t5
+    t160 = -t10*t155 + t156*t5
+    t161 = t11*t157 - t15*t156
+    t162 = t15*t155 - t157*t7
+    t163 = -t11*t155 + t156*t7
+    t164 = t13*t157 - t16*t156
+    t165 = t16*t155 - t157*t9
+    t166 = -t13*t155 + t156*t9
+    shank_rl_vx = qd_hip_rl_x*t152 + qd_hip_rl_y*t149 - qd_leg_rl*t127 + t158*wx + t161*wy + t164*wz + vx
+    shank_rl_vy = qd_hip_rl_x*t153 + qd_hip_rl_y*t150 - qd_leg_rl*t128 + t159*wx + t162*wy + t165*wz + vy
+    shank_rl_vz = qd_hip_rl_x*t154 + qd_hip_rl_y*t151 - qd_leg_rl*t129 + t160*wx + t163*wy + t166*wz + vz
     # thigh_rr
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t197 = -0.39*t5 - 0.12*t7 + x
-    t198 = -0.39*t10 - 0.12*t11 + y
-    t199 = -0.39*t14 - 0.12*t15 + z
-    t200 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t201 = c_hip_rr_x*t9 - s_hip_rr_x*t7
-    t202 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t203 = c_hip_rr_x*t13 - s_hip_rr_x*t11
-    t204 = c_hip_rr_x*t15 + s_hip_rr_x*t16
-    t205 = c_hip_rr_x*t16 - s_hip_rr_x*t15
-    t206 = c_hip_rr_y*t201 + s_hip_rr_y*t5
-    t207 = c_hip_rr_y*t203 + s_hip_rr_y*t10
-    t208 = c_hip_rr_y*t205 + s_hip_rr_y*t14
-    t209 = t197 - x
-    t210 = t198 - y
-    t211 = t199 - z
-    t212 = t10*t211 - t14*t210
-    t213 = t14*t209 - t211*t5
-    t214 = -t10*t209 + t210*t5
-    t215 = t11*t211 - t15*t210
-    t216 = t15*t209 - t211*t7
-    t217 = -t11*t209 + t210*t7
-    t218 = t13*t211 - t16*t210
-    t219 = t16*t209 - t211*t9
-    t220 = -t13*t209 + t210*t9
-    t221 = t212*wx + t215*wy + t218*wz + vx
-    t222 = t213*wx + t216*wy + t219*wz + vy
-    t223 = t214*wx + t217*wy + t220*wz + vz
-    t224 = qd_hip_rr_x*t5 + qd_hip_rr_y*t200 + t17
-    t225 = qd_hip_rr_x*t10 + qd_hip_rr_y*t202 + t18
-    t226 = qd_hip_rr_x*t14 + qd_hip_rr_y*t204 + t19
+    t167 = -0.39*t5 - 0.12*t7 + x
+    t168 = -0.39*t10 - 0.12*t11 + y
+    t169 = -0.39*t14 - 0.12*t15 + z
+    t170 = c_hip_rr_x*t7 + s_hip_rr_x*t9
+    t171 = c_hip_rr_x*t9 - s_hip_rr_x*t7
+    t172 = c_hip_rr_x*t11 + s_hip_rr_x*t13
+    t173 = c_hip_rr_x*t13 - s_hip_rr_x*t11
+    t174 = c_hip_rr_x*t15 + s_hip_rr_x*t16
+    t175 = c_hip_rr_x*t16 - s_hip_rr_x*t15
+    t176 = c_hip_rr_y*t171 + s_hip_rr_y*t5
+    t177 = c_hip_rr_y*t173 + s_hip_rr_y*t10
+    t178 = c_hip_rr_y*t175 + s_hip_rr_y*t14
+    t179 = t167 - x
+    t180 = t168 - y
+    t181 = t169 - z
+    t182 = t10*t181 - t14*t180
+    t183 = t14*t179 - t181*t5
+    t184 = -t10*t179 + t180*t5
+    t185 = t11*t181 - t15*t180
+    t186 = t15*t179 - t181*t7
+    t187 = -t11*t179 + t180*t7
+    t188 = t13*t181 - t16*t180
+    t189 = t16*t179 - t181*t9
+    t190 = -t13*t179 + t180*t9
+    thigh_rr_vx = t182*wx + t185*wy + t188*wz + vx
+    thigh_rr_vy = t183*wx + t186*wy + t189*wz + vy
+    thigh_rr_vz = t184*wx + t187*wy + t190*wz + vz
+    thigh_rr_wx = qd_hip_rr_x*t5 + qd_hip_rr_y*t170 + trunk_wx
+    thigh_rr_wy = qd_hip_rr_x*t10 + qd_hip_rr_y*t172 + trunk_wy
+    thigh_rr_wz = qd_hip_rr_x*t14 + qd_hip_rr_y*t174 + trunk_wz
     # shank_rr
-    t227 = -leg_rr - 0.41
-    t228 = t197 + t206*t227
-    t229 = t198 + t207*t227
-    t230 = t199 + t208*t227
-    t231 = -t197 + t228
-    t232 = -t198 + t229
-    t233 = -t199 + t230
-    t234 = t202*t233 - t204*t232
-    t235 = -t200*t233 + t204*t231
-    t236 = t200*t232 - t202*t231
-    t237 = t10*t233 - t14*t232
-    t238 = t14*t231 - t233*t5
-    t239 = -t10*t231 + t232*t5
-    t240 = t228 - x
-    t241 = t229 - y
-    t242 = t230 - z
-    t243 = t10*t242 - t14*t241
-    t244 = t14*t240 - t242*t5
-    t245 = -t10*t240 + t241*t5
-    t246 = t11*t242 - t15*t241
-    t247 = t15*t240 - t242*t7
-    t248 = -t11*t240 + t241*t7
-    t249 = t13*t242 - t16*t241
-    t250 = t16*t240 - t242*t9
-    t251 = -t13*t240 + t241*t9
-    t252 = qd_hip_rr_x*t237 + qd_hip_rr_y*t234 - qd_leg_rr*t206 + t243*wx + t246*wy + t249*wz + vx
-    t253 = qd_hip_rr_x*t238 + qd_hip_rr_y*t235 - qd_leg_rr*t207 + t244*wx + t247*wy + t250*wz + vy
-    t254 = qd_hip_rr_x*t239 + qd_hip_rr_y*t236 - qd_leg_rr*t208 + t245*wx + t248*wy + t251*wz + vz
+    t191 = -leg_rr - 0.41
+    t192 = t167 + t176*t191
+    t193 = t168 + t177*t191
+    t194 = t169 + t178*t191
+    t195 = -t167 + t192
+    t196 = -t168 + t193
+    t197 = -t169 + t194
+    t198 = t172*t197 - t174*t196
+    t199 = -t170*t197 + t174*t195
+    t200 = t170*t196 - t172*t195
+    t201 = t10*t197 - t14*t196
+    t202 = t14*t195 - t197*t5
+    t203 = -t10*t195 + t196*t5
+    t204 = t192 - x
+    t205 = t193 - y
+    t206 = t194 - z
+    t207 = t10*t206 - t14*t205
+    t208 = t14*t204 - t206*t5
+    t209 = -t10*t204 + t205*t5
+    t210 = t11*t206 - t15*t205
+    t211 = t15*t204 - t206*t7
+    t212 = -t11*t204 + t205*t7
+    t213 = t13*t206 - t16*t205
+    t214 = t16*t204 - t206*t9
+    t215 = -t13*t204 + t205*t9
+    shank_rr_vx = qd_hip_rr_x*t201 + qd_hip_rr_y*t198 - qd_leg_rr*t176 + t207*wx + t210*wy + t213*wz + vx
+    shank_rr_vy = qd_hip_rr_x*t202 + qd_hip_rr_y*t199 - qd_leg_rr*t177 + t208*wx + t211*wy + t214*wz + vy
+    shank_rr_vz = qd_hip_rr_x*t203 + qd_hip_rr_y*t200 - qd_leg_rr*t178 + t209*wx + t212*wy + t215*wz + vz
     return [
-        ((vx, vy, vz), (t17, t18, t19)),
-        ((t47, t48, t49), (t50, t51, t52)),
-        ((t78, t79, t80), (t50, t51, t52)),
-        ((t105, t106, t107), (t108, t109, t110)),
-        ((t136, t137, t138), (t108, t109, t110)),
-        ((t163, t164, t165), (t166, t167, t168)),
-        ((t194, t195, t196), (t166, t167, t168)),
-        ((t221, t222, t223), (t224, t225, t226)),
-        ((t252, t253, t254), (t224, t225, t226)),
+        ((vx, vy, vz), (trunk_wx, trunk_wy, trunk_wz)),
+        ((thigh_fl_vx, thigh_fl_vy, thigh_fl_vz), (thigh_fl_wx, thigh_fl_wy, thigh_fl_wz)),
+        ((shank_fl_vx, shank_fl_vy, shank_fl_vz), (thigh_fl_wx, thigh_fl_wy, thigh_fl_wz)),
+        ((thigh_fr_vx, thigh_fr_vy, thigh_fr_vz), (thigh_fr_wx, thigh_fr_wy, thigh_fr_wz)),
+        ((shank_fr_vx, shank_fr_vy, shank_fr_vz), (thigh_fr_wx, thigh_fr_wy, thigh_fr_wz)),
+        ((thigh_rl_vx, thigh_rl_vy, thigh_rl_vz), (thigh_rl_wx, thigh_rl_wy, thigh_rl_wz)),
+        ((shank_rl_vx, shank_rl_vy, shank_rl_vz), (thigh_rl_wx, thigh_rl_wy, thigh_rl_wz)),
+        ((thigh_rr_vx, thigh_rr_vy, thigh_rr_vz), (thigh_rr_wx, thigh_rr_wy, thigh_rr_wz)),
+        ((shank_rr_vx, shank_rr_vy, shank_rr_vz), (thigh_rr_wx, thigh_rr_wy, thigh_rr_wz)),
     ]
 
 
@@ -3927,11 +4054,10 @@ def center_of_mass(q):
     t93 = -0.2*t83 + t90
     t94 = -0.2*t84 + t91
     t95 = -0.2*t85 + t92
-    return (
-        0.07500000000000001*t29 + 0.05*t36 + 0.07500000000000001*t48 + 0.05*t55 + 0.07500000000000001*t67 + 0.05*t74 + 0.07500000000000001*t86 + 0.05*t93 + 0.5*x,
-        0.07500000000000001*t30 + 0.05*t37 + 0.07500000000000001*t49 + 0.05*t56 + 0.07500000000000001*t68 + 0.05*t75 + 0.07500000000000001*t87 + 0.05*t94 + 0.5*y,
-        0.07500000000000001*t31 + 0.05*t38 + 0.07500000000000001*t50 + 0.05*t57 + 0.07500000000000001*t69 + 0.05*t76 + 0.07500000000000001*t88 + 0.05*t95 + 0.5*z,
-    )
+    com_x = 0.07500000000000001*t29 + 0.05*t36 + 0.07500000000000001*t48 + 0.05*t55 + 0.07500000000000001*t67 + 0.05*t74 + 0.07500000000000001*t86 + 0.05*t93 + 0.5*x
+    com_y = 0.07500000000000001*t30 + 0.05*t37 + 0.07500000000000001*t49 + 0.05*t56 + 0.07500000000000001*t68 + 0.05*t75 + 0.07500000000000001*t87 + 0.05*t94 + 0.5*y
+    com_z = 0.07500000000000001*t31 + 0.05*t38 + 0.07500000000000001*t50 + 0.05*t57 + 0.07500000000000001*t69 + 0.05*t76 + 0.07500000000000001*t88 + 0.05*t95 + 0.5*z
+    return (com_x, com_y, com_z)
 
 
 def center_of_mass_velocity(q, v):

@@ -18,6 +18,7 @@ from sympy import Expr, Integer, Symbol
 from legdsl.ir.model import Model
 from legdsl.lower import recursions
 from legdsl.lower.linktree import RESERVED, Node, Tree, build_nodes, rigid_inertia, vec
+from legdsl.lower.names import output_names
 from legdsl.lower.spatial import (
     EYE,
     ZERO,
@@ -94,7 +95,10 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
     for name, params, build in builders:
         block = Block(RESERVED)
         result = build(Tree(model, nodes, block))
-        program = block.finish(list(_leaves(result)), cse=cse)
+        leaves = list(_leaves(result))
+        names = output_names(model, name)
+        assert not names or len(names) == len(leaves), name
+        program = block.finish(leaves, cse=cse, names=names or None)
         outputs = iter(program.outputs)
         functions.append(
             Function(
