@@ -126,7 +126,7 @@ def _layout(model: Model) -> list[tuple[str, str, str, str]]:
             continue
         for dof in joint.dofs:
             unit, how = ("rad", "hinge about") if dof.motion == "hinge" else ("m", "slide along")
-            axis = ", ".join(f"{c:g}" for c in dof.axis)
+            axis = ", ".join(_short(c) for c in dof.axis)
             rows.append((f"q[{dof.q_index}]", dof.name, unit, f"{joint.name}: {how} ({axis})"))
     for joint in model.joints:
         if joint.is_free_3d:
@@ -148,6 +148,12 @@ def _layout(model: Model) -> list[tuple[str, str, str, str]]:
             unit = "rad/s" if dof.motion == "hinge" else "m/s"
             rows.append((f"v[{dof.v_index}]", dof.name, unit, f"rate of {dof.name}"))
     return rows
+
+
+def _short(x: float) -> str:
+    """``repr(float)`` (the shortest text that reads back to ``x``) without a trailing ``.0``."""
+    text = repr(float(x))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def _table(rows: list[tuple[str, str, str, str]]) -> list[str]:
