@@ -193,3 +193,28 @@ def test_an_output_returned_twice_is_named_once() -> None:
     printed, _ = compiled(program)
     assert "m_a_b = " in printed and "m_b_a" not in printed
     assert "return [m_a_b, m_a_b]" in printed
+
+
+def test_a_repeat_is_merged_only_if_it_rounds_alike() -> None:
+    from legdsl.lower.straightline import _merge_repeats
+
+    x, y = sympy.symbols("x y")
+    t1, t5, t7, t9, t20, t21 = (Symbol(f"t{k}") for k in (1, 5, 7, 9, 20, 21))
+    body: list[Assign | Comment] = [
+        Assign(t1, x * y),
+        Assign(t5, sympy.sin(x)),
+        Assign(t7, sympy.cos(y)),
+        Assign(t9, x * y),  # repeats t1
+        Assign(t20, t1 + t5 + t7),  # adds t1 + t5 first
+        Assign(t21, t9 + t5 + t7),  # the same value, but sympy orders it t5 + t7 + t9
+    ]
+    kept, alias = _merge_repeats(body)
+    assert alias == {t9: t1}
+    assert [st.target for st in kept if isinstance(st, Assign)] == [t1, t5, t7, t20, t21]
+    # the two orders do round differently, so merging t21 into t20 would change values
+    rng = random.Random(5)
+    differ = 0
+    for _ in range(2000):
+        a, b, c = (rng.uniform(-1, 1) * 10 ** rng.uniform(-3, 3) for _ in range(3))
+        differ += (a + b) + c != (b + c) + a
+    assert differ > 0

@@ -345,20 +345,41 @@ def _merge_repeats(
     ``let`` reuses the temporary of an identical expression, but two values can
     become identical later, once ``cse`` and ``_inline_cheap`` have rewritten them
     (and then so can the values computed from them). The values keep their
-    symbols, so their terms keep their order: see ``Program``.
+    symbols, so their terms keep their order: see ``Program``. A value computed
+    from a merged one is merged in turn only if it adds and multiplies in the
+    same order as the value it repeats, so that both round alike.
     """
     alias: dict[Symbol, Symbol] = {}
-    first: dict[Expr, Symbol] = {}
+    first: dict[Expr, Assign] = {}
     out: list[Assign | Comment] = []
     for st in body:
         if isinstance(st, Assign):
             value = st.value.xreplace(alias) if alias else st.value
-            if value in first:
-                alias[st.target] = first[value]
+            earlier = first.get(value)
+            if earlier is not None and (
+                st.value == earlier.value
+                or evaluation_order(st.value, alias) == evaluation_order(earlier.value, alias)
+            ):
+                alias[st.target] = earlier.target
                 continue
-            first[value] = st.target
+            first.setdefault(value, st)
         out.append(st)
     return out, alias
+
+
+def evaluation_order(expr: Expr, alias: Mapping[Symbol, Symbol]) -> object:
+    """The tree the printer walks: sums and products in the order they are printed in."""
+    if expr.is_Symbol:
+        return alias.get(expr, expr).name
+    if expr.is_Atom:
+        return (type(expr).__name__, str(expr))
+    if expr.is_Add:
+        args = expr.as_ordered_terms()
+    elif expr.is_Mul:
+        args = expr.as_ordered_factors()
+    else:
+        args = list(expr.args)
+    return (type(expr).__name__, tuple(evaluation_order(a, alias) for a in args))
 
 
 def _inline_cheap(
