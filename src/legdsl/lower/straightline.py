@@ -252,23 +252,28 @@ class Block:
         first (or found among the values already assigned), so that it is evaluated once.
         """
         bases: dict[Expr, Symbol] = {}
-        known: dict[Expr, Symbol] = {}  # the values assigned so far
+        known: dict[Expr, Assign] = {}  # the values assigned so far
         out: list[Assign | Comment] = []
+
+        def same(base: Expr, earlier: Assign) -> bool:
+            return base == earlier.value or (
+                evaluation_order(base, alias) == evaluation_order(earlier.value, alias)
+            )
 
         def name_bases(expr: Expr) -> None:
             for sub in sympy.postorder_traversal(expr):
                 if is_unrolled_power(sub) and not sub.base.is_Atom and sub.base not in bases:
-                    target = known.get(sub.base.xreplace(alias))
-                    if target is None:
-                        target = self._temporary()
-                        out.append(Assign(target, sub.base))
-                        known[sub.base.xreplace(alias)] = target
-                    bases[sub.base] = target
+                    earlier = known.get(sub.base.xreplace(alias))
+                    if earlier is None or not same(sub.base, earlier):
+                        earlier = Assign(self._temporary(), sub.base)
+                        out.append(earlier)
+                        known.setdefault(sub.base.xreplace(alias), earlier)
+                    bases[sub.base] = earlier.target
 
         for st in body:
             if isinstance(st, Assign):
                 name_bases(st.value)
-                known.setdefault(st.value.xreplace(alias), st.target)
+                known.setdefault(st.value.xreplace(alias), st)
             out.append(st)
         for o in outputs:
             name_bases(o)
