@@ -9,7 +9,11 @@ small, constants stay folded, and the code grows linearly with the link tree.
 ``Block.finish`` then drops every assignment that no output needs, runs
 sympy's ``cse`` over what is left, and numbers the temporaries ``t1, t2, ...``
 in the order they are assigned, so the result does not depend on how many
-temporaries were made and thrown away, nor on the hash seed.
+temporaries were made and thrown away, nor on the hash seed. After that it
+only drops assignments and chooses printed names (``Program``): a value
+assigned twice is assigned once, the base of an unrolled power such as
+``min(a, b)**2`` gets a temporary, and the outputs get names such as
+``toe_x``. The sympy names stay, so that no sum or product changes order.
 """
 
 from __future__ import annotations
