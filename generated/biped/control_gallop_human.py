@@ -115,13 +115,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_y = r[13]
     predicted_apex = r[14]
     thrust_stroke = r[15]
-    t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
-    t2 = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
-    t3 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    t4 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_stance_2 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
+    new_extend_at = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
     return [
-        t1,
-        t2,
+        new_stance_2,
+        new_extend_at,
         coord_hip_r_y_value,
         coord_hip_r_x_value,
         landed_1,
@@ -129,8 +129,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         stance_1,
         lifted_1,
         leg_rest_at_lift,
-        t3,
-        t4,
+        new_step_speed,
+        new_speed_trim,
         time,
         com_x,
         com_y,
@@ -160,17 +160,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     stance_1 = r[6]
     lifted_1 = r[7]
     speed_trim = r[10]
-    t1 = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
-    t2 = max(short, -slew*tis)
-    t3 = math.cos(body_trunk_yaw)
-    t4 = math.sin(body_trunk_yaw)
-    t5 = com_vx*t3 + com_vy*t4
-    t6 = 0.5*((stance_1) if (stance_1 > 0.0) else (stance_guess))
-    t7 = k_speed*(-speed - speed_trim + t5) - leg_left_hip_x + t5*t6
-    t8 = -com_vx*t4 + com_vy*t3
-    t9 = k_speed*t8 - leg_left_hip_y + t6*t8
+    leg_l_spring_rest = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
+    leg_r_spring_rest = max(short, -slew*tis)
+    t1 = math.cos(body_trunk_yaw)
+    t2 = math.sin(body_trunk_yaw)
+    t3 = com_vx*t1 + com_vy*t2
+    t4 = 0.5*((stance_1) if (stance_1 > 0.0) else (stance_guess))
+    left_x_goal = k_speed*(-speed - speed_trim + t3) - leg_left_hip_x + t3*t4
+    t5 = -com_vx*t2 + com_vy*t1
+    left_y_goal = k_speed*t5 - leg_left_hip_y + t4*t5
     return [
-        t1,
+        leg_l_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -179,7 +179,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
         0.0,
         swing_kp,
         0.0,
-        t2,
+        leg_r_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -190,8 +190,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         0.0,
         held_pitch,
         held_roll,
-        t7,
-        t9,
+        left_x_goal,
+        left_y_goal,
     ]
 
 
@@ -219,8 +219,8 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     lifted_x = r[12]
     lifted_y = r[13]
     predicted_apex = r[14]
-    t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
-    t2 = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
+    new_thrust_stroke = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
         stance_2,
         extend_at,
@@ -236,8 +236,8 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        t1,
-        t2,
+        new_predicted_apex,
+        new_thrust_stroke,
     ]
 
 
@@ -283,30 +283,30 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     stance_2 = r[0]
     speed_trim = r[10]
     thrust_stroke = r[15]
-    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
-    t2 = act_leg_l_spring_force/leg_left_length
-    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
-    t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t5 = -body_trunk_yaw + heading + time*turn_rate
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t5), math.cos(t5))
-    t7 = min(0.0, max(short, short + swing_slew*(-swing_wait + tis)))
-    t8 = math.cos(body_trunk_yaw)
-    t9 = math.sin(body_trunk_yaw)
-    t10 = com_vx*t8 + com_vy*t9
-    t11 = k_speed*(-speed - speed_trim + t10) - leg_right_hip_x + 0.5*stance_2*t10
-    t12 = -com_vx*t9 + com_vy*t8
-    t13 = k_speed*t12 - leg_right_hip_y + 0.5*stance_2*t12
+    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
+    t1 = act_leg_l_spring_force/leg_left_length
+    hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
+    hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
+    t2 = -body_trunk_yaw + heading + time*turn_rate
+    hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t2), math.cos(t2))
+    leg_r_spring_rest = min(0.0, max(short, short + swing_slew*(-swing_wait + tis)))
+    t3 = math.cos(body_trunk_yaw)
+    t4 = math.sin(body_trunk_yaw)
+    t5 = com_vx*t3 + com_vy*t4
+    right_x_goal = k_speed*(-speed - speed_trim + t5) - leg_right_hip_x + 0.5*stance_2*t5
+    t6 = -com_vx*t4 + com_vy*t3
+    right_y_goal = k_speed*t6 - leg_right_hip_y + 0.5*stance_2*t6
     return [
-        t1,
+        leg_l_spring_rest,
         0.0,
         0.0,
         0.0,
         0.0,
-        t3,
-        t4,
+        hip_l_motor_force,
+        hip_l_roll_motor_force,
         kp_yaw,
-        t6,
-        t7,
+        hip_l_yaw_setpoint,
+        leg_r_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -315,8 +315,8 @@ def action_SINGLE_1_0(s, u, p, r, tis):
         0.0,
         swing_kp,
         0.0,
-        t11,
-        t13,
+        right_x_goal,
+        right_y_goal,
     ]
 
 
@@ -400,39 +400,39 @@ def action_DOUBLE_0(s, u, p, r, tis):
     lift_slew = p[19]
     pitch_lead = p[22]
     thrust_stroke = r[15]
-    t1 = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
-    t2 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
-    t3 = act_leg_l_spring_force/leg_left_length
-    t4 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
-    t5 = t3*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x) + t4
-    t6 = 0.5*body_trunk_roll*kp_roll + 0.5*body_trunk_roll_rate*kv_roll
-    t7 = t3*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y) + t6
-    t8 = act_leg_r_spring_force/leg_right_length
-    t9 = t4 + t8*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
-    t10 = t6 + t8*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t11 = -body_trunk_yaw + heading + time*turn_rate
-    t12 = body_trunk_yaw_rate*yaw_lead + math.atan2(-math.sin(t11), math.cos(t11))
-    t13 = coord_hip_l_z_value + t12
-    t14 = coord_hip_r_z_value + t12
+    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
+    leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
+    t1 = act_leg_l_spring_force/leg_left_length
+    t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
+    hip_l_motor_force = t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x) + t2
+    t3 = 0.5*body_trunk_roll*kp_roll + 0.5*body_trunk_roll_rate*kv_roll
+    hip_l_roll_motor_force = t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y) + t3
+    t4 = act_leg_r_spring_force/leg_right_length
+    hip_r_motor_force = t2 + t4*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
+    hip_r_roll_motor_force = t3 + t4*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
+    t5 = -body_trunk_yaw + heading + time*turn_rate
+    t6 = body_trunk_yaw_rate*yaw_lead + math.atan2(-math.sin(t5), math.cos(t5))
+    hip_l_yaw_setpoint = coord_hip_l_z_value + t6
+    hip_r_yaw_setpoint = coord_hip_r_z_value + t6
     return [
-        t1,
-        t2,
+        leg_l_spring_rest,
+        leg_r_spring_rest,
         0.0,
         0.0,
         0.0,
         0.0,
-        t5,
-        t7,
+        hip_l_motor_force,
+        hip_l_roll_motor_force,
         0.0,
         0.0,
         0.0,
         0.0,
-        t9,
-        t10,
+        hip_r_motor_force,
+        hip_r_roll_motor_force,
         0.5*kp_yaw,
         0.5*kp_yaw,
-        t13,
-        t14,
+        hip_l_yaw_setpoint,
+        hip_r_yaw_setpoint,
     ]
 
 
@@ -454,7 +454,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     lifted_y = r[13]
     predicted_apex = r[14]
     thrust_stroke = r[15]
-    t1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
+    new_stance_1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
         extend_at,
@@ -462,7 +462,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         held_roll,
         landed_1,
         landed_2,
-        t1,
+        new_stance_1,
         time,
         act_leg_l_spring_rest,
         step_speed,
@@ -512,25 +512,25 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     pitch_lead = p[22]
     leg_rest_at_lift = r[8]
     thrust_stroke = r[15]
-    t1 = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
-    t2 = act_leg_r_spring_force/leg_right_length
-    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
-    t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t5 = -body_trunk_yaw + heading + time*turn_rate
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t5), math.cos(t5))
-    t7 = max(short, leg_rest_at_lift - lift_slew*tis)
-    t8 = -coord_hip_r_y_value*mirror_gain
+    leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
+    t1 = act_leg_r_spring_force/leg_right_length
+    hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
+    hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
+    t2 = -body_trunk_yaw + heading + time*turn_rate
+    hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
+    leg_l_spring_rest = max(short, leg_rest_at_lift - lift_slew*tis)
+    hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror_gain
     return [
-        t1,
+        leg_r_spring_rest,
         0.0,
         0.0,
         0.0,
         0.0,
-        t3,
-        t4,
+        hip_r_motor_force,
+        hip_r_roll_motor_force,
         kp_yaw,
-        t6,
-        t7,
+        hip_r_yaw_setpoint,
+        leg_l_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -539,7 +539,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         0.0,
         swing_kp,
         0.0,
-        t8,
+        hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
     ]
 

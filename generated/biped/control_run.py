@@ -152,10 +152,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_x = r[5]
     lifted_y = r[6]
     predicted_apex = r[7]
-    t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    return [t1, landed, t2, t3, time, com_x, com_y, predicted_apex]
+    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -183,18 +183,18 @@ def action_FLIGHT_0(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
-    t2 = min(0.0, short + t1)
-    t3 = max(short, -t1)
-    t4 = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_l_y_value*mirror
-    t5 = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_l_x_value
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-speed - speed_trim + t8) - leg_left_hip_x + 0.5*stance*t8
-    t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 - leg_left_hip_y + 0.5*stance*t10
+    leg_l_spring_rest = min(0.0, short + t1)
+    leg_r_spring_rest = max(short, -t1)
+    hip_r_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_l_y_value*mirror
+    hip_r_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_l_x_value
+    t2 = math.cos(body_trunk_yaw)
+    t3 = math.sin(body_trunk_yaw)
+    t4 = com_vx*t2 + com_vy*t3
+    left_x_goal = k_speed*(-speed - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4
+    t5 = -com_vx*t3 + com_vy*t2
+    left_y_goal = k_speed*t5 - leg_left_hip_y + 0.5*stance*t5
     return [
-        t2,
+        leg_l_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -203,18 +203,18 @@ def action_FLIGHT_0(s, u, p, r, tis):
         0.0,
         0.0,
         swing_kp,
-        t3,
+        leg_r_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
         swing_kp,
         swing_kv,
         0.0,
-        t4,
-        t5,
+        hip_r_pitch_setpoint,
+        hip_r_roll_setpoint,
         0.0,
-        t9,
-        t11,
+        left_x_goal,
+        left_y_goal,
     ]
 
 
@@ -239,7 +239,7 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
-    t1 = -coord_hip_l_y_value*mirror
+    hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -254,7 +254,7 @@ def action_LOADING_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t1,
+        hip_r_pitch_setpoint,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -311,21 +311,21 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     t1 = act_leg_l_spring_force/leg_left_length
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
-    t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -coord_hip_l_y_value*mirror
+    hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
+    hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
+    hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
         0.0,
         0.0,
-        t2,
-        t3,
+        hip_l_motor_force,
+        hip_l_roll_motor_force,
         kp_yaw,
-        t6,
+        hip_l_yaw_setpoint,
         short,
         swing_kp,
         swing_kv,
@@ -333,7 +333,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t7,
+        hip_r_pitch_setpoint,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -351,8 +351,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     lifted = r[4]
     lifted_x = r[5]
     lifted_y = r[6]
-    t1 = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, t1]
+    new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, new_predicted_apex]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -396,24 +396,24 @@ def action_THRUST_0(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     predicted_apex = r[7]
-    t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
-    t2 = act_leg_l_spring_force/leg_left_length
-    t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
-    t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t6), math.cos(t6))
-    t8 = -coord_hip_l_y_value*mirror
+    leg_l_spring_rest = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    t1 = act_leg_l_spring_force/leg_left_length
+    hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
+    hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
+    hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
-        t1,
+        leg_l_spring_rest,
         0.0,
         0.0,
         0.0,
         0.0,
-        t3,
-        t4,
+        hip_l_motor_force,
+        hip_l_roll_motor_force,
         kp_yaw,
-        t7,
+        hip_l_yaw_setpoint,
         short,
         swing_kp,
         swing_kv,
@@ -421,7 +421,7 @@ def action_THRUST_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t8,
+        hip_r_pitch_setpoint,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -448,7 +448,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
-    t1 = -coord_hip_l_y_value*mirror
+    hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
         0.0,
         0.0,
@@ -464,7 +464,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t1,
+        hip_r_pitch_setpoint,
         -coord_hip_l_x_value,
         0.0,
     ]
@@ -487,10 +487,10 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted_x = r[5]
     lifted_y = r[6]
     predicted_apex = r[7]
-    t1 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    t2 = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    t3 = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
-    return [t1, landed, t2, t3, time, com_x, com_y, predicted_apex]
+    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
+    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
@@ -518,18 +518,18 @@ def action_FLIGHT_1(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
-    t2 = min(0.0, short + t1)
-    t3 = max(short, -t1)
-    t4 = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_r_y_value*mirror
-    t5 = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_r_x_value
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-speed - speed_trim + t8) - leg_right_hip_x + 0.5*stance*t8
-    t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 - leg_right_hip_y + 0.5*stance*t10
+    leg_r_spring_rest = min(0.0, short + t1)
+    leg_l_spring_rest = max(short, -t1)
+    hip_l_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_r_y_value*mirror
+    hip_l_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_r_x_value
+    t2 = math.cos(body_trunk_yaw)
+    t3 = math.sin(body_trunk_yaw)
+    t4 = com_vx*t2 + com_vy*t3
+    right_x_goal = k_speed*(-speed - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4
+    t5 = -com_vx*t3 + com_vy*t2
+    right_y_goal = k_speed*t5 - leg_right_hip_y + 0.5*stance*t5
     return [
-        t2,
+        leg_r_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
@@ -538,18 +538,18 @@ def action_FLIGHT_1(s, u, p, r, tis):
         0.0,
         0.0,
         swing_kp,
-        t3,
+        leg_l_spring_rest,
         swing_kp,
         swing_kv,
         0.0,
         swing_kp,
         swing_kv,
         0.0,
-        t4,
-        t5,
+        hip_l_pitch_setpoint,
+        hip_l_roll_setpoint,
         0.0,
-        t9,
-        t11,
+        right_x_goal,
+        right_y_goal,
     ]
 
 
@@ -574,7 +574,7 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
-    t1 = -coord_hip_r_y_value*mirror
+    hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -589,7 +589,7 @@ def action_LOADING_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t1,
+        hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -646,21 +646,21 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     t1 = act_leg_r_spring_force/leg_right_length
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
-    t3 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -coord_hip_r_y_value*mirror
+    hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
+    hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
+    hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
         0.0,
         0.0,
-        t2,
-        t3,
+        hip_r_motor_force,
+        hip_r_roll_motor_force,
         kp_yaw,
-        t6,
+        hip_r_yaw_setpoint,
         short,
         swing_kp,
         swing_kv,
@@ -668,7 +668,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t7,
+        hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -686,8 +686,8 @@ def entry_THRUST_1(s, u, p, r, tis):
     lifted = r[4]
     lifted_x = r[5]
     lifted_y = r[6]
-    t1 = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, t1]
+    new_predicted_apex = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
+    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, new_predicted_apex]
 
 
 def action_THRUST_1(s, u, p, r, tis):
@@ -731,24 +731,24 @@ def action_THRUST_1(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     predicted_apex = r[7]
-    t1 = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
-    t2 = act_leg_r_spring_force/leg_right_length
-    t3 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t2*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
-    t4 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t2*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t6), math.cos(t6))
-    t8 = -coord_hip_r_y_value*mirror
+    leg_r_spring_rest = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    t1 = act_leg_r_spring_force/leg_right_length
+    hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
+    hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
+    hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
-        t1,
+        leg_r_spring_rest,
         0.0,
         0.0,
         0.0,
         0.0,
-        t3,
-        t4,
+        hip_r_motor_force,
+        hip_r_roll_motor_force,
         kp_yaw,
-        t7,
+        hip_r_yaw_setpoint,
         short,
         swing_kp,
         swing_kv,
@@ -756,7 +756,7 @@ def action_THRUST_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t8,
+        hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
         0.0,
     ]
@@ -783,7 +783,7 @@ def action_UNLOADING_1(s, u, p, r, tis):
     swing_kv = p[11]
     mirror = p[16]
     short = p[17]
-    t1 = -coord_hip_r_y_value*mirror
+    hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
         0.0,
         0.0,
@@ -799,7 +799,7 @@ def action_UNLOADING_1(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        t1,
+        hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
         0.0,
     ]

@@ -90,221 +90,281 @@ def mass_matrix(q):
     t10 = c_hip_r_z*t6
     t11 = c_hip_r_z*t7 - s_hip_r_z*t8
     t12 = c_hip_r_z*t8 + s_hip_r_z*t7
-    t13 = c_hip_r_z*t10 + s_hip_r_z*t9
+    m_hip_r_y_hip_r_y = c_hip_r_z*t10 + s_hip_r_z*t9
     # hinge hip_r_y: composite inertia seen from the parent
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
-    t14 = s_hip_r_y*t4
-    t15 = c_hip_r_y*t4
-    t16 = c_hip_r_y*t11
-    t17 = c_hip_r_y*t12
-    t18 = -s_hip_r_y*t11
-    t19 = -s_hip_r_y*t12
-    t20 = c_hip_r_y*t16 + 0.00158*s_hip_r_y*s_hip_r_y
-    t21 = 0.00158*c_hip_r_y*s_hip_r_y - s_hip_r_y*t16
-    t22 = 0.00158*c_hip_r_y*c_hip_r_y - s_hip_r_y*t18
+    t13 = s_hip_r_y*t4
+    t14 = c_hip_r_y*t4
+    t15 = c_hip_r_y*t11
+    m_hip_r_x_hip_r_y = c_hip_r_y*t12
+    t16 = -s_hip_r_y*t11
+    t17 = -s_hip_r_y*t12
+    m_hip_r_x_hip_r_x = c_hip_r_y*t15 + 0.00158*s_hip_r_y*s_hip_r_y
+    t18 = 0.00158*c_hip_r_y*s_hip_r_y - s_hip_r_y*t15
+    t19 = 0.00158*c_hip_r_y*c_hip_r_y - s_hip_r_y*t16
     # hinge hip_r_x: composite inertia seen from the parent
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t23 = s_hip_r_x*t15
-    t24 = c_hip_r_x*t15
-    t25 = c_hip_r_x*t17 - s_hip_r_x*t21
-    t26 = s_hip_r_x*t19
-    t27 = c_hip_r_x*t13 - t26
-    t28 = c_hip_r_x*t19
-    t29 = -s_hip_r_x*t22 + t28
-    t30 = c_hip_r_x*t21 + s_hip_r_x*t17
-    t31 = s_hip_r_x*t13 + t28
-    t32 = c_hip_r_x*t22 + t26
-    t33 = c_hip_r_x*t27 - s_hip_r_x*t29
-    t34 = c_hip_r_x*t29 + s_hip_r_x*t27
-    t35 = c_hip_r_x*t32 + s_hip_r_x*t31
-    t36 = -t23 - 0.14687999999999998
-    t37 = -0.072*t23 + 0.072*t36
-    t38 = t20 - t37
-    t39 = 0.072*t14 + t25
-    t40 = 0.072*t24 + t34
-    t41 = t35 - t37
-    t42 = t38 + 0.17
-    t43 = t33 + 0.17
-    t44 = t41 + 0.3
+    t20 = s_hip_r_x*t14
+    t21 = c_hip_r_x*t14
+    m_wy_hip_r_x = c_hip_r_x*m_hip_r_x_hip_r_y - s_hip_r_x*t18
+    t22 = s_hip_r_x*t17
+    m_wy_hip_r_y = c_hip_r_x*m_hip_r_y_hip_r_y - t22
+    t23 = c_hip_r_x*t17
+    t24 = -s_hip_r_x*t19 + t23
+    m_wz_hip_r_x = c_hip_r_x*t18 + s_hip_r_x*m_hip_r_x_hip_r_y
+    t25 = s_hip_r_x*m_hip_r_y_hip_r_y + t23
+    t26 = c_hip_r_x*t19 + t22
+    t27 = c_hip_r_x*m_wy_hip_r_y - s_hip_r_x*t24
+    t28 = c_hip_r_x*t24 + s_hip_r_x*m_wy_hip_r_y
+    t29 = c_hip_r_x*t26 + s_hip_r_x*t25
+    t30 = -t20 - 0.14687999999999998
+    t31 = -0.072*t20 + 0.072*t30
+    t32 = m_hip_r_x_hip_r_x - t31
+    t33 = 0.072*t13 + m_wy_hip_r_x
+    t34 = 0.072*t21 + t28
+    t35 = t29 - t31
+    t36 = t32 + 0.17
+    t37 = t27 + 0.17
+    t38 = t35 + 0.3
     # shank_l, slide leg_l: composite inertia seen from the parent
-    t45 = -leg_l - 0.2
-    t46 = 0.64*t45 - 0.1408
-    t47 = t45*t46 - 0.1408*t45 + 0.050976
-    t48 = t46 - 0.13299999999999998
-    t49 = t47 + 0.030634999999999996
-    t50 = t47 + 0.029635
+    t39 = -leg_l - 0.2
+    t40 = 0.64*t39 - 0.1408
+    t41 = t39*t40 - 0.1408*t39 + 0.050976
+    t42 = t40 - 0.13299999999999998
+    t43 = t41 + 0.030634999999999996
+    t44 = t41 + 0.029635
     # thigh_l, hinge hip_l_z: composite inertia seen from the parent
     c_hip_l_z = math.cos(hip_l_z)
     s_hip_l_z = math.sin(hip_l_z)
-    t51 = c_hip_l_z*t49
-    t52 = -s_hip_l_z*t50
-    t53 = s_hip_l_z*t49
-    t54 = c_hip_l_z*t50
-    t55 = c_hip_l_z*t51 - s_hip_l_z*t52
-    t56 = c_hip_l_z*t52 + s_hip_l_z*t51
-    t57 = c_hip_l_z*t54 + s_hip_l_z*t53
+    t45 = c_hip_l_z*t43
+    t46 = -s_hip_l_z*t44
+    t47 = s_hip_l_z*t43
+    t48 = c_hip_l_z*t44
+    t49 = c_hip_l_z*t45 - s_hip_l_z*t46
+    t50 = c_hip_l_z*t46 + s_hip_l_z*t45
+    m_hip_l_y_hip_l_y = c_hip_l_z*t48 + s_hip_l_z*t47
     # hinge hip_l_y: composite inertia seen from the parent
     c_hip_l_y = math.cos(hip_l_y)
     s_hip_l_y = math.sin(hip_l_y)
-    t58 = s_hip_l_y*t48
-    t59 = c_hip_l_y*t48
-    t60 = c_hip_l_y*t55
-    t61 = c_hip_l_y*t56
-    t62 = -s_hip_l_y*t55
-    t63 = -s_hip_l_y*t56
-    t64 = c_hip_l_y*t60 + 0.00158*s_hip_l_y*s_hip_l_y
-    t65 = 0.00158*c_hip_l_y*s_hip_l_y - s_hip_l_y*t60
-    t66 = 0.00158*c_hip_l_y*c_hip_l_y - s_hip_l_y*t62
+    t51 = s_hip_l_y*t42
+    t52 = c_hip_l_y*t42
+    t53 = c_hip_l_y*t49
+    m_hip_l_x_hip_l_y = c_hip_l_y*t50
+    t54 = -s_hip_l_y*t49
+    t55 = -s_hip_l_y*t50
+    m_hip_l_x_hip_l_x = c_hip_l_y*t53 + 0.00158*s_hip_l_y*s_hip_l_y
+    t56 = 0.00158*c_hip_l_y*s_hip_l_y - s_hip_l_y*t53
+    t57 = 0.00158*c_hip_l_y*c_hip_l_y - s_hip_l_y*t54
     # hinge hip_l_x: composite inertia seen from the parent
     c_hip_l_x = math.cos(hip_l_x)
     s_hip_l_x = math.sin(hip_l_x)
-    t67 = s_hip_l_x*t59
-    t68 = c_hip_l_x*t59
-    t69 = c_hip_l_x*t61 - s_hip_l_x*t65
-    t70 = s_hip_l_x*t63
-    t71 = c_hip_l_x*t57 - t70
-    t72 = c_hip_l_x*t63
-    t73 = -s_hip_l_x*t66 + t72
-    t74 = c_hip_l_x*t65 + s_hip_l_x*t61
-    t75 = s_hip_l_x*t57 + t72
-    t76 = c_hip_l_x*t66 + t70
-    t77 = c_hip_l_x*t71 - s_hip_l_x*t73
-    t78 = c_hip_l_x*t73 + s_hip_l_x*t71
-    t79 = c_hip_l_x*t76 + s_hip_l_x*t75
-    t80 = 0.14687999999999998 - t67
-    t81 = -0.072*t67 + 0.072*t80
-    t82 = t64 + t81
-    t83 = -0.072*t58 + t69
-    t84 = -0.072*t68 + t78
-    t85 = t79 + t81
-    t86 = t14 + t58
-    t87 = t36 + t80
-    t88 = t24 + t68
-    t89 = t42 + t82
-    t90 = t39 + t83
-    t91 = t30 + t74
-    t92 = t43 + t77
-    t93 = t40 + t84
-    t94 = t44 + t85
+    t58 = s_hip_l_x*t52
+    t59 = c_hip_l_x*t52
+    m_wy_hip_l_x = c_hip_l_x*m_hip_l_x_hip_l_y - s_hip_l_x*t56
+    t60 = s_hip_l_x*t55
+    m_wy_hip_l_y = c_hip_l_x*m_hip_l_y_hip_l_y - t60
+    t61 = c_hip_l_x*t55
+    t62 = -s_hip_l_x*t57 + t61
+    m_wz_hip_l_x = c_hip_l_x*t56 + s_hip_l_x*m_hip_l_x_hip_l_y
+    t63 = s_hip_l_x*m_hip_l_y_hip_l_y + t61
+    t64 = c_hip_l_x*t57 + t60
+    t65 = c_hip_l_x*m_wy_hip_l_y - s_hip_l_x*t62
+    t66 = c_hip_l_x*t62 + s_hip_l_x*m_wy_hip_l_y
+    t67 = c_hip_l_x*t64 + s_hip_l_x*t63
+    t68 = 0.14687999999999998 - t58
+    t69 = -0.072*t58 + 0.072*t68
+    t70 = m_hip_l_x_hip_l_x + t69
+    t71 = -0.072*t51 + m_wy_hip_l_x
+    t72 = -0.072*t59 + t66
+    t73 = t67 + t69
+    t74 = t13 + t51
+    t75 = t30 + t68
+    t76 = t21 + t59
+    m_wx_wx = t36 + t70
+    m_wx_wy = t33 + t71
+    m_wx_wz = m_wz_hip_r_x + m_wz_hip_l_x
+    m_wy_wy = t37 + t65
+    m_wy_wz = t34 + t72
+    m_wz_wz = t38 + t73
     # trunk, free3d root: the 6x6 block of the free root
-    t95 = qx*qx
-    t96 = qy*qy
-    t97 = qz*qz
-    t98 = t96 + t97
-    qscale = 2.0/(qw*qw + t95 + t98)
-    t99 = -qscale*t98 + 1.0
-    t100 = qw*qz
-    t101 = qscale*(qx*qy - t100)
-    t102 = qw*qy
-    t103 = qscale*(qx*qz + t102)
-    t104 = qscale*(qx*qy + t100)
-    t105 = -qscale*(t95 + t97) + 1.0
-    t106 = qw*qx
-    t107 = qscale*(qy*qz - t106)
-    t108 = qscale*(qx*qz - t102)
-    t109 = qscale*(qy*qz + t106)
-    t110 = -qscale*(t95 + t96) + 1.0
-    t111 = -t101*t88 + t103*t87
-    t112 = -t103*t86 + t88*t99
-    t113 = t101*t86 - t87*t99
-    t114 = -t105*t88 + t107*t87
-    t115 = t104*t88 - t107*t86
-    t116 = -t104*t87 + t105*t86
-    t117 = -t109*t88 + t110*t87
-    t118 = t108*t88 - t110*t86
-    t119 = -t108*t87 + t109*t86
+    t77 = qx*qx
+    t78 = qy*qy
+    t79 = qz*qz
+    t80 = t78 + t79
+    qscale = 2.0/(qw*qw + t77 + t80)
+    t81 = -qscale*t80 + 1.0
+    t82 = qw*qz
+    t83 = qscale*(qx*qy - t82)
+    t84 = qw*qy
+    t85 = qscale*(qx*qz + t84)
+    t86 = qscale*(qx*qy + t82)
+    t87 = -qscale*(t77 + t79) + 1.0
+    t88 = qw*qx
+    t89 = qscale*(qy*qz - t88)
+    t90 = qscale*(qx*qz - t84)
+    t91 = qscale*(qy*qz + t88)
+    t92 = -qscale*(t77 + t78) + 1.0
+    m_vx_wx = -t83*t76 + t85*t75
+    m_vx_wy = -t85*t74 + t76*t81
+    m_vx_wz = t83*t74 - t75*t81
+    m_vy_wx = -t87*t76 + t89*t75
+    m_vy_wy = t86*t76 - t89*t74
+    m_vy_wz = -t86*t75 + t87*t74
+    m_vz_wx = -t91*t76 + t92*t75
+    m_vz_wy = t90*t76 - t92*t74
+    m_vz_wz = -t90*t75 + t91*t74
     # hinge hip_l_x: column 6
-    t120 = t64 - 0.072*t67
-    t121 = -t101*t68 - t103*t67
-    t122 = -t105*t68 - t107*t67
-    t123 = -t109*t68 - t110*t67
+    m_wx_hip_l_x = m_hip_l_x_hip_l_x - 0.072*t58
+    m_vx_hip_l_x = -t83*t59 - t85*t58
+    m_vy_hip_l_x = -t87*t59 - t89*t58
+    m_vz_hip_l_x = -t91*t59 - t92*t58
     # hinge hip_l_y: column 7
-    t124 = -c_hip_l_x*t58
-    t125 = 0.072*t124 + t61
-    t126 = -0.072*t59 + t75
-    t127 = s_hip_l_x*t58
-    t128 = t101*t127 + t103*t124 + t59*t99
-    t129 = t104*t59 + t105*t127 + t107*t124
-    t130 = t108*t59 + t109*t127 + t110*t124
+    t93 = -c_hip_l_x*t51
+    m_wx_hip_l_y = 0.072*t93 + m_hip_l_x_hip_l_y
+    m_wz_hip_l_y = -0.072*t52 + t63
+    t94 = s_hip_l_x*t51
+    m_vx_hip_l_y = t83*t94 + t85*t93 + t52*t81
+    m_vy_hip_l_y = t86*t52 + t87*t94 + t89*t93
+    m_vz_hip_l_y = t90*t52 + t91*t94 + t92*t93
     # thigh_l, hinge hip_l_z: column 8
-    t131 = -0.00158*c_hip_l_y*s_hip_l_x
-    t132 = 0.00158*c_hip_l_x*c_hip_l_y
+    m_wy_hip_l_z = -0.00158*c_hip_l_y*s_hip_l_x
+    m_wz_hip_l_z = 0.00158*c_hip_l_x*c_hip_l_y
     # shank_l, slide leg_l: column 9
-    t133 = c_hip_l_x*c_hip_l_y
-    t134 = 0.64*c_hip_l_y*s_hip_l_x
-    t135 = -0.64*s_hip_l_y*t99 + t101*t134 - 0.64*t103*t133
-    t136 = -0.64*s_hip_l_y*t104 + t105*t134 - 0.64*t107*t133
-    t137 = -0.64*s_hip_l_y*t108 + t109*t134 - 0.64*t110*t133
+    t95 = c_hip_l_x*c_hip_l_y
+    t96 = 0.64*c_hip_l_y*s_hip_l_x
+    m_vx_leg_l = -0.64*s_hip_l_y*t81 + t83*t96 - 0.64*t85*t95
+    m_vy_leg_l = -0.64*s_hip_l_y*t86 + t87*t96 - 0.64*t89*t95
+    m_vz_leg_l = -0.64*s_hip_l_y*t90 + t91*t96 - 0.64*t92*t95
     # hinge hip_r_x: column 10
-    t138 = t20 + 0.072*t23
-    t139 = -t101*t24 - t103*t23
-    t140 = -t105*t24 - t107*t23
-    t141 = -t109*t24 - t110*t23
+    m_wx_hip_r_x = m_hip_r_x_hip_r_x + 0.072*t20
+    m_vx_hip_r_x = -t83*t21 - t85*t20
+    m_vy_hip_r_x = -t87*t21 - t89*t20
+    m_vz_hip_r_x = -t91*t21 - t92*t20
     # hinge hip_r_y: column 11
-    t142 = -c_hip_r_x*t14
-    t143 = -0.072*t142 + t17
-    t144 = 0.072*t15 + t31
-    t145 = s_hip_r_x*t14
-    t146 = t101*t145 + t103*t142 + t15*t99
-    t147 = t104*t15 + t105*t145 + t107*t142
-    t148 = t108*t15 + t109*t145 + t110*t142
+    t97 = -c_hip_r_x*t13
+    m_wx_hip_r_y = -0.072*t97 + m_hip_r_x_hip_r_y
+    m_wz_hip_r_y = 0.072*t14 + t25
+    t98 = s_hip_r_x*t13
+    m_vx_hip_r_y = t83*t98 + t85*t97 + t14*t81
+    m_vy_hip_r_y = t86*t14 + t87*t98 + t89*t97
+    m_vz_hip_r_y = t90*t14 + t91*t98 + t92*t97
     # thigh_r, hinge hip_r_z: column 12
-    t149 = -0.00158*c_hip_r_y*s_hip_r_x
-    t150 = 0.00158*c_hip_r_x*c_hip_r_y
+    m_wy_hip_r_z = -0.00158*c_hip_r_y*s_hip_r_x
+    m_wz_hip_r_z = 0.00158*c_hip_r_x*c_hip_r_y
     # shank_r, slide leg_r: column 13
-    t151 = c_hip_r_x*c_hip_r_y
-    t152 = 0.64*c_hip_r_y*s_hip_r_x
-    t153 = -0.64*s_hip_r_y*t99 + t101*t152 - 0.64*t103*t151
-    t154 = -0.64*s_hip_r_y*t104 + t105*t152 - 0.64*t107*t151
-    t155 = -0.64*s_hip_r_y*t108 + t109*t152 - 0.64*t110*t151
+    t99 = c_hip_r_x*c_hip_r_y
+    t100 = 0.64*c_hip_r_y*s_hip_r_x
+    m_vx_leg_r = -0.64*s_hip_r_y*t81 + t83*t100 - 0.64*t85*t99
+    m_vy_leg_r = -0.64*s_hip_r_y*t86 + t87*t100 - 0.64*t89*t99
+    m_vz_leg_r = -0.64*s_hip_r_y*t90 + t91*t100 - 0.64*t92*t99
     return [
-        [27.18, 0.0, 0.0, t111, t112, t113, t121, t128, 0.0, t135, t139, t146, 0.0, t153],
-        [0.0, 27.18, 0.0, t114, t115, t116, t122, t129, 0.0, t136, t140, t147, 0.0, t154],
-        [0.0, 0.0, 27.18, t117, t118, t119, t123, t130, 0.0, t137, t141, t148, 0.0, t155],
         [
-            t111,
-            t114,
-            t117,
-            t89,
-            t90,
-            t91,
-            t120,
-            t125,
-            0.00158*s_hip_l_y,
-            -0.046079999999999996*t133,
-            t138,
-            t143,
-            0.00158*s_hip_r_y,
-            0.046079999999999996*t151,
+            27.18,
+            0.0,
+            0.0,
+            m_vx_wx,
+            m_vx_wy,
+            m_vx_wz,
+            m_vx_hip_l_x,
+            m_vx_hip_l_y,
+            0.0,
+            m_vx_leg_l,
+            m_vx_hip_r_x,
+            m_vx_hip_r_y,
+            0.0,
+            m_vx_leg_r,
         ],
-        [t112, t115, t118, t90, t92, t93, t69, t71, t131, 0.0, t25, t27, t149, 0.0],
         [
-            t113,
-            t116,
-            t119,
-            t91,
-            t93,
-            t94,
-            t74,
-            t126,
-            t132,
+            0.0,
+            27.18,
+            0.0,
+            m_vy_wx,
+            m_vy_wy,
+            m_vy_wz,
+            m_vy_hip_l_x,
+            m_vy_hip_l_y,
+            0.0,
+            m_vy_leg_l,
+            m_vy_hip_r_x,
+            m_vy_hip_r_y,
+            0.0,
+            m_vy_leg_r,
+        ],
+        [
+            0.0,
+            0.0,
+            27.18,
+            m_vz_wx,
+            m_vz_wy,
+            m_vz_wz,
+            m_vz_hip_l_x,
+            m_vz_hip_l_y,
+            0.0,
+            m_vz_leg_l,
+            m_vz_hip_r_x,
+            m_vz_hip_r_y,
+            0.0,
+            m_vz_leg_r,
+        ],
+        [
+            m_vx_wx,
+            m_vy_wx,
+            m_vz_wx,
+            m_wx_wx,
+            m_wx_wy,
+            m_wx_wz,
+            m_wx_hip_l_x,
+            m_wx_hip_l_y,
+            0.00158*s_hip_l_y,
+            -0.046079999999999996*t95,
+            m_wx_hip_r_x,
+            m_wx_hip_r_y,
+            0.00158*s_hip_r_y,
+            0.046079999999999996*t99,
+        ],
+        [
+            m_vx_wy,
+            m_vy_wy,
+            m_vz_wy,
+            m_wx_wy,
+            m_wy_wy,
+            m_wy_wz,
+            m_wy_hip_l_x,
+            m_wy_hip_l_y,
+            m_wy_hip_l_z,
+            0.0,
+            m_wy_hip_r_x,
+            m_wy_hip_r_y,
+            m_wy_hip_r_z,
+            0.0,
+        ],
+        [
+            m_vx_wz,
+            m_vy_wz,
+            m_vz_wz,
+            m_wx_wz,
+            m_wy_wz,
+            m_wz_wz,
+            m_wz_hip_l_x,
+            m_wz_hip_l_y,
+            m_wz_hip_l_z,
             0.046079999999999996*s_hip_l_y,
-            t30,
-            t144,
-            t150,
+            m_wz_hip_r_x,
+            m_wz_hip_r_y,
+            m_wz_hip_r_z,
             -0.046079999999999996*s_hip_r_y,
         ],
         [
-            t121,
-            t122,
-            t123,
-            t120,
-            t69,
-            t74,
-            t64,
-            t61,
+            m_vx_hip_l_x,
+            m_vy_hip_l_x,
+            m_vz_hip_l_x,
+            m_wx_hip_l_x,
+            m_wy_hip_l_x,
+            m_wz_hip_l_x,
+            m_hip_l_x_hip_l_x,
+            m_hip_l_x_hip_l_y,
             0.00158*s_hip_l_y,
             0.0,
             0.0,
@@ -312,14 +372,29 @@ def mass_matrix(q):
             0.0,
             0.0,
         ],
-        [t128, t129, t130, t125, t71, t126, t61, t57, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [
+            m_vx_hip_l_y,
+            m_vy_hip_l_y,
+            m_vz_hip_l_y,
+            m_wx_hip_l_y,
+            m_wy_hip_l_y,
+            m_wz_hip_l_y,
+            m_hip_l_x_hip_l_y,
+            m_hip_l_y_hip_l_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
         [
             0.0,
             0.0,
             0.0,
             0.00158*s_hip_l_y,
-            t131,
-            t132,
+            m_wy_hip_l_z,
+            m_wz_hip_l_z,
             0.00158*s_hip_l_y,
             0.0,
             0.00158,
@@ -330,10 +405,10 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t135,
-            t136,
-            t137,
-            -0.046079999999999996*t133,
+            m_vx_leg_l,
+            m_vy_leg_l,
+            m_vz_leg_l,
+            -0.046079999999999996*t95,
             0.0,
             0.046079999999999996*s_hip_l_y,
             0.0,
@@ -346,29 +421,44 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t139,
-            t140,
-            t141,
-            t138,
-            t25,
-            t30,
+            m_vx_hip_r_x,
+            m_vy_hip_r_x,
+            m_vz_hip_r_x,
+            m_wx_hip_r_x,
+            m_wy_hip_r_x,
+            m_wz_hip_r_x,
             0.0,
             0.0,
             0.0,
             0.0,
-            t20,
-            t17,
+            m_hip_r_x_hip_r_x,
+            m_hip_r_x_hip_r_y,
             0.00158*s_hip_r_y,
             0.0,
         ],
-        [t146, t147, t148, t143, t27, t144, 0.0, 0.0, 0.0, 0.0, t17, t13, 0.0, 0.0],
+        [
+            m_vx_hip_r_y,
+            m_vy_hip_r_y,
+            m_vz_hip_r_y,
+            m_wx_hip_r_y,
+            m_wy_hip_r_y,
+            m_wz_hip_r_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            m_hip_r_x_hip_r_y,
+            m_hip_r_y_hip_r_y,
+            0.0,
+            0.0,
+        ],
         [
             0.0,
             0.0,
             0.0,
             0.00158*s_hip_r_y,
-            t149,
-            t150,
+            m_wy_hip_r_z,
+            m_wz_hip_r_z,
             0.0,
             0.0,
             0.0,
@@ -379,10 +469,10 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t153,
-            t154,
-            t155,
-            0.046079999999999996*t151,
+            m_vx_leg_r,
+            m_vy_leg_r,
+            m_vz_leg_r,
+            0.046079999999999996*t99,
             0.0,
             -0.046079999999999996*s_hip_r_y,
             0.0,
@@ -619,60 +709,75 @@ def bias_forces(q, v):
     # shank_r, slide leg_r: force on the parent
     t170 = t144 - t152*t168 + t162
     t171 = t147 + t152*t167 + t165
-    t172 = t148 + t166
-    t173 = t149 + t167
-    t174 = t150 + t168
-    t175 = t151 + t169
+    h_hip_r_z = t148 + t166
+    t172 = t149 + t167
+    t173 = t150 + t168
+    t174 = t151 + t169
     # thigh_r, hinge hip_r_z: force on the parent
-    t176 = c_hip_r_z*t170 - s_hip_r_z*t171
-    t177 = c_hip_r_z*t171 + s_hip_r_z*t170
-    t178 = c_hip_r_z*t173 - s_hip_r_z*t174
-    t179 = c_hip_r_z*t174 + s_hip_r_z*t173
+    t175 = c_hip_r_z*t170 - s_hip_r_z*t171
+    h_hip_r_y = c_hip_r_z*t171 + s_hip_r_z*t170
+    t176 = c_hip_r_z*t172 - s_hip_r_z*t173
+    t177 = c_hip_r_z*t173 + s_hip_r_z*t172
     # hinge hip_r_y: force on the parent
-    t180 = c_hip_r_y*t176 + s_hip_r_y*t172
-    t181 = c_hip_r_y*t172 - s_hip_r_y*t176
-    t182 = c_hip_r_y*t178 + s_hip_r_y*t175
-    t183 = c_hip_r_y*t175 - s_hip_r_y*t178
+    h_hip_r_x = c_hip_r_y*t175 + s_hip_r_y*h_hip_r_z
+    t178 = c_hip_r_y*h_hip_r_z - s_hip_r_y*t175
+    t179 = c_hip_r_y*t176 + s_hip_r_y*t174
+    t180 = c_hip_r_y*t174 - s_hip_r_y*t176
     # hinge hip_r_x: force on the parent
-    t184 = s_hip_r_x*t179
-    t185 = c_hip_r_x*t183
-    t186 = t180 - 0.072*t184 - 0.072*t185 + t31
-    t187 = c_hip_r_x*t177 - s_hip_r_x*t181 + t32
-    t188 = c_hip_r_x*t181 + s_hip_r_x*t177 + 0.072*t182
-    t189 = t182 + t33
-    t190 = c_hip_r_x*t179 - s_hip_r_x*t183 + t34
-    t191 = t184 + t185 + t35
+    t181 = s_hip_r_x*t177
+    t182 = c_hip_r_x*t180
+    t183 = h_hip_r_x - 0.072*t181 - 0.072*t182 + t31
+    t184 = c_hip_r_x*h_hip_r_y - s_hip_r_x*t178 + t32
+    t185 = c_hip_r_x*t178 + s_hip_r_x*h_hip_r_y + 0.072*t179
+    t186 = t179 + t33
+    t187 = c_hip_r_x*t177 - s_hip_r_x*t180 + t34
+    t188 = t181 + t182 + t35
     # shank_l, slide leg_l: force on the parent
-    t192 = -t101*t85 + t77 + t95
-    t193 = t100*t85 + t80 + t98
-    t194 = t81 + t99
-    t195 = t100 + t82
-    t196 = t101 + t83
-    t197 = t102 + t84
+    t189 = -t101*t85 + t77 + t95
+    t190 = t100*t85 + t80 + t98
+    h_hip_l_z = t81 + t99
+    t191 = t100 + t82
+    t192 = t101 + t83
+    t193 = t102 + t84
     # thigh_l, hinge hip_l_z: force on the parent
-    t198 = c_hip_l_z*t192 - s_hip_l_z*t193
-    t199 = c_hip_l_z*t193 + s_hip_l_z*t192
-    t200 = c_hip_l_z*t195 - s_hip_l_z*t196
-    t201 = c_hip_l_z*t196 + s_hip_l_z*t195
+    t194 = c_hip_l_z*t189 - s_hip_l_z*t190
+    h_hip_l_y = c_hip_l_z*t190 + s_hip_l_z*t189
+    t195 = c_hip_l_z*t191 - s_hip_l_z*t192
+    t196 = c_hip_l_z*t192 + s_hip_l_z*t191
     # hinge hip_l_y: force on the parent
-    t202 = c_hip_l_y*t198 + s_hip_l_y*t194
-    t203 = c_hip_l_y*t194 - s_hip_l_y*t198
-    t204 = c_hip_l_y*t200 + s_hip_l_y*t197
-    t205 = c_hip_l_y*t197 - s_hip_l_y*t200
+    h_hip_l_x = c_hip_l_y*t194 + s_hip_l_y*h_hip_l_z
+    t197 = c_hip_l_y*h_hip_l_z - s_hip_l_y*t194
+    t198 = c_hip_l_y*t195 + s_hip_l_y*t193
+    t199 = c_hip_l_y*t193 - s_hip_l_y*t195
     # hinge hip_l_x: force on the parent
-    t206 = s_hip_l_x*t201
-    t207 = c_hip_l_x*t205
-    t208 = t186 + t202 + 0.072*t206 + 0.072*t207
-    t209 = c_hip_l_x*t199 - s_hip_l_x*t203 + t187
-    t210 = c_hip_l_x*t203 + s_hip_l_x*t199 + t188 - 0.072*t204
-    t211 = t189 + t204
-    t212 = c_hip_l_x*t201 - s_hip_l_x*t205 + t190
-    t213 = t191 + t206 + t207
+    t200 = s_hip_l_x*t196
+    t201 = c_hip_l_x*t199
+    h_wx = t183 + h_hip_l_x + 0.072*t200 + 0.072*t201
+    h_wy = c_hip_l_x*h_hip_l_y - s_hip_l_x*t197 + t184
+    h_wz = c_hip_l_x*t197 + s_hip_l_x*h_hip_l_y + t185 - 0.072*t198
+    t202 = t186 + t198
+    t203 = c_hip_l_x*t196 - s_hip_l_x*t199 + t187
+    t204 = t188 + t200 + t201
     # trunk, free3d root: world force and body torque
-    t214 = t211*t5 + t212*t7 + t213*t9
-    t215 = t10*t211 + t11*t212 + t13*t213
-    t216 = t14*t211 + t15*t212 + t16*t213
-    return [t214, t215, t216, t208, t209, t210, t202, t199, t194, -t102, t180, t177, t172, -t169]
+    h_vx = t202*t5 + t203*t7 + t204*t9
+    h_vy = t10*t202 + t11*t203 + t13*t204
+    h_vz = t14*t202 + t15*t203 + t16*t204
+    return [
+        h_vx,
+        h_vy,
+        h_vz,
+        h_wx,
+        h_wy,
+        h_wz,
+        h_hip_l_x,
+        h_hip_l_y,
+        h_hip_l_z,
+        -t102,
+        h_hip_r_x,
+        h_hip_r_y,
+        h_hip_r_z,
+        -t169,
+    ]
 
 
 def forward_dynamics(q, v, tau):
@@ -859,480 +964,493 @@ def forward_dynamics(q, v, tau):
     # shank_r, slide leg_r: seen from the parent
     t117 = 0.64*t97 - 0.1408
     t118 = t117*t97 - 0.1408*t97 + 0.050976
-    t119 = t117*t97 - 0.1408*t97 + 0.050976
-    t120 = t118 + 0.030634999999999996
-    t121 = t119 + 0.029635
-    t122 = 0.13299999999999998 - t117
-    t123 = t117 - 0.13299999999999998
-    t124 = t113 - t116*t97 + t89
-    t125 = t114 + t115*t97 + t92
-    t126 = t107 + t93
-    t127 = t115 + t94
-    t128 = t116 + t95
-    t129 = t96 - tau_leg_r
+    t119 = t118 + 0.030634999999999996
+    t120 = t118 + 0.029635
+    t121 = 0.13299999999999998 - t117
+    t122 = t117 - 0.13299999999999998
+    t123 = t113 - t116*t97 + t89
+    t124 = t114 + t115*t97 + t92
+    t125 = t107 + t93
+    t126 = t115 + t94
+    t127 = t116 + t95
+    t128 = t96 - tau_leg_r
     # thigh_r, hinge hip_r_z: articulated inertia
-    t130 = qd_hip_r_z*t83
-    t131 = -qd_hip_r_z*t82
-    t132 = qd_hip_r_z*t86
-    t133 = -qd_hip_r_z*t85
-    t134 = t120*t130 + t122*t133 + t124
-    t135 = t121*t131 + t123*t132 + t125
-    t136 = 1.1102230246251565e-16*t126 + 0.9999999999999999*tau_hip_r_z
-    t137 = t123*t131 + t127 + 2.04*t132
-    t138 = t122*t130 + t128 + 2.04*t133
+    t129 = qd_hip_r_z*t83
+    t130 = -qd_hip_r_z*t82
+    t131 = qd_hip_r_z*t86
+    t132 = -qd_hip_r_z*t85
+    t133 = t119*t129 + t121*t132 + t123
+    t134 = t120*t130 + t122*t131 + t124
+    t135 = 1.1102230246251565e-16*t125 + 0.9999999999999999*tau_hip_r_z
+    t136 = t122*t130 + t126 + 2.04*t131
+    t137 = t121*t129 + t127 + 2.04*t132
     # thigh_r, hinge hip_r_z: seen from the parent
-    t139 = c_hip_r_z*t120
-    t140 = -s_hip_r_z*t121
-    t141 = s_hip_r_z*t120
-    t142 = c_hip_r_z*t121
-    t143 = c_hip_r_z*t139 - s_hip_r_z*t140
-    t144 = c_hip_r_z*t140 + s_hip_r_z*t139
-    t145 = c_hip_r_z*t142 + s_hip_r_z*t141
-    t146 = -s_hip_r_z*t123
+    t138 = c_hip_r_z*t119
+    t139 = -s_hip_r_z*t120
+    t140 = s_hip_r_z*t119
+    t141 = c_hip_r_z*t120
+    t142 = c_hip_r_z*t138 - s_hip_r_z*t139
+    t143 = c_hip_r_z*t139 + s_hip_r_z*t138
+    t144 = c_hip_r_z*t141 + s_hip_r_z*t140
+    t145 = -s_hip_r_z*t122
+    t146 = c_hip_r_z*t121
     t147 = c_hip_r_z*t122
-    t148 = c_hip_r_z*t123
-    t149 = s_hip_r_z*t122
-    t150 = c_hip_r_z*t146 - s_hip_r_z*t147
-    t151 = c_hip_r_z*t147 + s_hip_r_z*t146
-    t152 = c_hip_r_z*t148 - s_hip_r_z*t149
-    t153 = c_hip_r_z*t149 + s_hip_r_z*t148
-    t154 = 2.04*c_hip_r_z*c_hip_r_z + 2.04*s_hip_r_z*s_hip_r_z
-    t155 = c_hip_r_z*t134 - s_hip_r_z*t135
-    t156 = c_hip_r_z*t135 + s_hip_r_z*t134
-    t157 = c_hip_r_z*t137 - s_hip_r_z*t138
-    t158 = c_hip_r_z*t138 + s_hip_r_z*t137
+    t148 = s_hip_r_z*t121
+    t149 = c_hip_r_z*t145 - s_hip_r_z*t146
+    t150 = c_hip_r_z*t146 + s_hip_r_z*t145
+    t151 = c_hip_r_z*t147 - s_hip_r_z*t148
+    t152 = c_hip_r_z*t148 + s_hip_r_z*t147
+    t153 = 2.04*c_hip_r_z*c_hip_r_z + 2.04*s_hip_r_z*s_hip_r_z
+    t154 = c_hip_r_z*t133 - s_hip_r_z*t134
+    t155 = c_hip_r_z*t134 + s_hip_r_z*t133
+    t156 = c_hip_r_z*t136 - s_hip_r_z*t137
+    t157 = c_hip_r_z*t137 + s_hip_r_z*t136
     # hinge hip_r_y: articulated inertia
-    t159 = 1/t145
-    t160 = t144*t159
-    t161 = t152*t159
-    t162 = t153*t159
-    t163 = t143 - t144*t160
-    t164 = t144 - t145*t160
-    t165 = t150 - t152*t160
-    t166 = t151 - t153*t160
-    t167 = -t152*t161 + t154
-    t168 = -t153*t161
-    t169 = -t153*t162 + t154
-    t170 = -qd_hip_r_y*t79
-    t171 = qd_hip_r_y*t77
-    t172 = -qd_hip_r_y*t81
-    t173 = qd_hip_r_y*t80
-    t174 = t156 - tau_hip_r_y
-    t175 = t155 - t160*t174 + t163*t170 + t165*t172
-    t176 = t164*t170 + tau_hip_r_y
-    t177 = t136 + 2.168404344971009e-19*t171
-    t178 = t157 - t161*t174 + t165*t170 + t167*t172
-    t179 = t158 - t162*t174 + t166*t170 + t168*t172
-    t180 = t129 + 1.4*t173
+    t158 = 1/t144
+    t159 = t143*t158
+    t160 = t151*t158
+    t161 = t152*t158
+    t162 = t142 - t143*t159
+    t163 = t143 - t144*t159
+    t164 = t149 - t151*t159
+    t165 = t150 - t152*t159
+    t166 = -t151*t160 + t153
+    t167 = -t152*t160
+    t168 = -t152*t161 + t153
+    t169 = -qd_hip_r_y*t79
+    t170 = qd_hip_r_y*t77
+    t171 = -qd_hip_r_y*t81
+    t172 = qd_hip_r_y*t80
+    t173 = t155 - tau_hip_r_y
+    t174 = t154 - t159*t173 + t162*t169 + t164*t171
+    t175 = t163*t169 + tau_hip_r_y
+    t176 = t135 + 2.168404344971009e-19*t170
+    t177 = t156 - t160*t173 + t164*t169 + t166*t171
+    t178 = t157 - t161*t173 + t165*t169 + t167*t171
+    t179 = t128 + 1.4*t172
     # hinge hip_r_y: seen from the parent
+    t180 = c_hip_r_y*t162
     t181 = c_hip_r_y*t163
-    t182 = c_hip_r_y*t164
+    t182 = -s_hip_r_y*t162
     t183 = -s_hip_r_y*t163
-    t184 = -s_hip_r_y*t164
-    t185 = s_hip_r_y*s_hip_r_y
-    t186 = c_hip_r_y*t181 + 2.168404344971009e-19*t185
-    t187 = 2.168404344971009e-19*c_hip_r_y*s_hip_r_y - s_hip_r_y*t181
-    t188 = c_hip_r_y*c_hip_r_y
-    t189 = -s_hip_r_y*t183 + 2.168404344971009e-19*t188
+    t184 = s_hip_r_y*s_hip_r_y
+    t185 = c_hip_r_y*t180 + 2.168404344971009e-19*t184
+    t186 = 2.168404344971009e-19*c_hip_r_y*s_hip_r_y - s_hip_r_y*t180
+    t187 = c_hip_r_y*c_hip_r_y
+    t188 = -s_hip_r_y*t182 + 2.168404344971009e-19*t187
+    t189 = c_hip_r_y*t164
     t190 = c_hip_r_y*t165
-    t191 = c_hip_r_y*t166
+    t191 = -s_hip_r_y*t164
     t192 = -s_hip_r_y*t165
-    t193 = -s_hip_r_y*t166
-    t194 = c_hip_r_y*t190
-    t195 = -s_hip_r_y*t190
-    t196 = c_hip_r_y*t192
-    t197 = -s_hip_r_y*t192
+    t193 = c_hip_r_y*t189
+    t194 = -s_hip_r_y*t189
+    t195 = c_hip_r_y*t191
+    t196 = -s_hip_r_y*t191
+    t197 = c_hip_r_y*t166
     t198 = c_hip_r_y*t167
-    t199 = c_hip_r_y*t168
+    t199 = -s_hip_r_y*t166
     t200 = -s_hip_r_y*t167
-    t201 = -s_hip_r_y*t168
-    t202 = c_hip_r_y*t198 + 1.4*t185
-    t203 = 1.4*c_hip_r_y*s_hip_r_y - s_hip_r_y*t198
-    t204 = -s_hip_r_y*t200 + 1.4*t188
-    t205 = c_hip_r_y*t175 + s_hip_r_y*t177
-    t206 = c_hip_r_y*t177 - s_hip_r_y*t175
-    t207 = c_hip_r_y*t178 + s_hip_r_y*t180
-    t208 = c_hip_r_y*t180 - s_hip_r_y*t178
+    t201 = c_hip_r_y*t197 + 1.4*t184
+    t202 = 1.4*c_hip_r_y*s_hip_r_y - s_hip_r_y*t197
+    t203 = -s_hip_r_y*t199 + 1.4*t187
+    t204 = c_hip_r_y*t174 + s_hip_r_y*t176
+    t205 = c_hip_r_y*t176 - s_hip_r_y*t174
+    t206 = c_hip_r_y*t177 + s_hip_r_y*t179
+    t207 = c_hip_r_y*t179 - s_hip_r_y*t177
     # hinge hip_r_x: articulated inertia
-    t209 = 1/t186
-    t210 = t182*t209
-    t211 = t187*t209
-    t212 = t194*t209
-    t213 = t191*t209
-    t214 = t195*t209
-    t215 = -t182*t210
-    t216 = t184 - t187*t210
-    t217 = -t187*t211 + t189
-    t218 = -t194*t210
-    t219 = -t191*t210
-    t220 = -t195*t210
-    t221 = -t194*t211 + t196
-    t222 = -t191*t211 + t193
-    t223 = -t195*t211 + t197
-    t224 = -t194*t212 + t202
-    t225 = -t191*t212 + t199
-    t226 = -t195*t212 + t203
-    t227 = t169 - t191*t213
-    t228 = -t195*t213 + t201
-    t229 = -t195*t214 + t204
-    t230 = qd_hip_r_x*t72
-    t231 = -qd_hip_r_x*t71
-    t232 = qd_hip_r_x*t76
-    t233 = -qd_hip_r_x*t75
-    t234 = t205 - tau_hip_r_x
-    t235 = t176 - t210*t234 + t215*t230 + t216*t231 + t219*t232 + t220*t233
-    t236 = t206 - t211*t234 + t216*t230 + t217*t231 + t222*t232 + t223*t233
-    t237 = t207 - t212*t234 + t218*t230 + t221*t231 + t225*t232 + t226*t233
-    t238 = t179 - t213*t234 + t219*t230 + t222*t231 + t227*t232 + t228*t233
-    t239 = t208 - t214*t234 + t220*t230 + t223*t231 + t228*t232 + t229*t233
+    t208 = 1/t185
+    t209 = t181*t208
+    t210 = t186*t208
+    t211 = t193*t208
+    t212 = t190*t208
+    t213 = t194*t208
+    t214 = -t181*t209
+    t215 = t183 - t186*t209
+    t216 = -t186*t210 + t188
+    t217 = -t193*t209
+    t218 = -t190*t209
+    t219 = -t194*t209
+    t220 = -t193*t210 + t195
+    t221 = -t190*t210 + t192
+    t222 = -t194*t210 + t196
+    t223 = -t193*t211 + t201
+    t224 = -t190*t211 + t198
+    t225 = -t194*t211 + t202
+    t226 = t168 - t190*t212
+    t227 = -t194*t212 + t200
+    t228 = -t194*t213 + t203
+    t229 = qd_hip_r_x*t72
+    t230 = -qd_hip_r_x*t71
+    t231 = qd_hip_r_x*t76
+    t232 = -qd_hip_r_x*t75
+    t233 = t204 - tau_hip_r_x
+    t234 = t175 - t209*t233 + t214*t229 + t215*t230 + t218*t231 + t219*t232
+    t235 = t205 - t210*t233 + t215*t229 + t216*t230 + t221*t231 + t222*t232
+    t236 = t206 - t211*t233 + t217*t229 + t220*t230 + t224*t231 + t225*t232
+    t237 = t178 - t212*t233 + t218*t229 + t221*t230 + t226*t231 + t227*t232
+    t238 = t207 - t213*t233 + t219*t229 + t222*t230 + t227*t231 + t228*t232
     # hinge hip_r_x: seen from the parent
-    t240 = s_hip_r_x*t216
-    t241 = c_hip_r_x*t215 - t240
-    t242 = c_hip_r_x*t216
-    t243 = -s_hip_r_x*t217 + t242
-    t244 = s_hip_r_x*t215 + t242
-    t245 = c_hip_r_x*t217 + t240
-    t246 = c_hip_r_x*t241 - s_hip_r_x*t243
-    t247 = c_hip_r_x*t243 + s_hip_r_x*t241
-    t248 = c_hip_r_x*t245 + s_hip_r_x*t244
+    t239 = s_hip_r_x*t215
+    t240 = c_hip_r_x*t214 - t239
+    t241 = c_hip_r_x*t215
+    t242 = -s_hip_r_x*t216 + t241
+    t243 = s_hip_r_x*t214 + t241
+    t244 = c_hip_r_x*t216 + t239
+    t245 = c_hip_r_x*t240 - s_hip_r_x*t242
+    t246 = c_hip_r_x*t242 + s_hip_r_x*t240
+    t247 = c_hip_r_x*t244 + s_hip_r_x*t243
+    t248 = c_hip_r_x*t217 - s_hip_r_x*t220
     t249 = c_hip_r_x*t218 - s_hip_r_x*t221
     t250 = c_hip_r_x*t219 - s_hip_r_x*t222
-    t251 = c_hip_r_x*t220 - s_hip_r_x*t223
+    t251 = c_hip_r_x*t220 + s_hip_r_x*t217
     t252 = c_hip_r_x*t221 + s_hip_r_x*t218
     t253 = c_hip_r_x*t222 + s_hip_r_x*t219
-    t254 = c_hip_r_x*t223 + s_hip_r_x*t220
-    t255 = c_hip_r_x*t250 - s_hip_r_x*t251
-    t256 = c_hip_r_x*t251 + s_hip_r_x*t250
-    t257 = c_hip_r_x*t253 - s_hip_r_x*t254
-    t258 = c_hip_r_x*t254 + s_hip_r_x*t253
-    t259 = c_hip_r_x*t225 - s_hip_r_x*t226
-    t260 = s_hip_r_x*t228
-    t261 = c_hip_r_x*t227 - t260
-    t262 = c_hip_r_x*t228
-    t263 = -s_hip_r_x*t229 + t262
-    t264 = c_hip_r_x*t226 + s_hip_r_x*t225
-    t265 = s_hip_r_x*t227 + t262
-    t266 = c_hip_r_x*t229 + t260
-    t267 = c_hip_r_x*t261 - s_hip_r_x*t263
-    t268 = c_hip_r_x*t263 + s_hip_r_x*t261
-    t269 = c_hip_r_x*t266 + s_hip_r_x*t265
-    t270 = 0.072*t224 + t252
-    t271 = t257 + 0.072*t259
-    t272 = t258 + 0.072*t264
-    t273 = -0.072*t258 - 0.005183999999999999*t264
-    t274 = t247 + 0.072*t249
-    t275 = t248 + 0.072*t252 + 0.072*t270
-    t276 = 0.005183999999999999*t269 + 0.17
-    t277 = t246 + 0.17
-    t278 = t275 + 0.3
-    t279 = t224 + 23.1
-    t280 = t267 + 23.1
-    t281 = t269 + 23.1
-    t282 = s_hip_r_x*t238
-    t283 = c_hip_r_x*t239
-    t284 = t20 - 0.072*t282 - 0.072*t283 + tau_hip_r_x
-    t285 = c_hip_r_x*t235 - s_hip_r_x*t236 + t21
-    t286 = c_hip_r_x*t236 + s_hip_r_x*t235 + 0.072*t237
-    t287 = t23 + t237
-    t288 = c_hip_r_x*t238 - s_hip_r_x*t239 + t26
-    t289 = t28 + t282 + t283
+    t254 = c_hip_r_x*t249 - s_hip_r_x*t250
+    t255 = c_hip_r_x*t250 + s_hip_r_x*t249
+    t256 = c_hip_r_x*t252 - s_hip_r_x*t253
+    t257 = c_hip_r_x*t253 + s_hip_r_x*t252
+    t258 = c_hip_r_x*t224 - s_hip_r_x*t225
+    t259 = s_hip_r_x*t227
+    t260 = c_hip_r_x*t226 - t259
+    t261 = c_hip_r_x*t227
+    t262 = -s_hip_r_x*t228 + t261
+    t263 = c_hip_r_x*t225 + s_hip_r_x*t224
+    t264 = s_hip_r_x*t226 + t261
+    t265 = c_hip_r_x*t228 + t259
+    t266 = c_hip_r_x*t260 - s_hip_r_x*t262
+    t267 = c_hip_r_x*t262 + s_hip_r_x*t260
+    t268 = c_hip_r_x*t265 + s_hip_r_x*t264
+    t269 = 0.072*t223 + t251
+    t270 = t256 + 0.072*t258
+    t271 = t257 + 0.072*t263
+    t272 = -0.072*t257 - 0.005183999999999999*t263
+    t273 = t246 + 0.072*t248
+    t274 = t247 + 0.072*t251 + 0.072*t269
+    t275 = 0.005183999999999999*t268 + 0.17
+    t276 = t245 + 0.17
+    t277 = t274 + 0.3
+    t278 = t223 + 23.1
+    t279 = t266 + 23.1
+    t280 = t268 + 23.1
+    t281 = s_hip_r_x*t237
+    t282 = c_hip_r_x*t238
+    t283 = t20 - 0.072*t281 - 0.072*t282 + tau_hip_r_x
+    t284 = c_hip_r_x*t234 - s_hip_r_x*t235 + t21
+    t285 = c_hip_r_x*t235 + s_hip_r_x*t234 + 0.072*t236
+    t286 = t23 + t236
+    t287 = c_hip_r_x*t237 - s_hip_r_x*t238 + t26
+    t288 = t28 + t281 + t282
     # shank_l, slide leg_l: articulated inertia
-    t290 = -qd_leg_l*t42
-    t291 = qd_leg_l*t41
-    t292 = 0.1408*t291 + t62
-    t293 = -0.1408*t290 + t65
-    t294 = 0.64*t290 + t67
-    t295 = 0.64*t291 + t68
+    t289 = -qd_leg_l*t42
+    t290 = qd_leg_l*t41
+    t291 = 0.1408*t290 + t62
+    t292 = -0.1408*t289 + t65
+    t293 = 0.64*t289 + t67
+    t294 = 0.64*t290 + t68
     # shank_l, slide leg_l: seen from the parent
-    t296 = 0.64*t56 - 0.1408
-    t297 = t296*t56 - 0.1408*t56 + 0.050976
-    t298 = t296*t56 - 0.1408*t56 + 0.050976
-    t299 = t297 + 0.030634999999999996
-    t300 = t298 + 0.029635
-    t301 = 0.13299999999999998 - t296
-    t302 = t296 - 0.13299999999999998
-    t303 = t292 - t295*t56 + t48
-    t304 = t293 + t294*t56 + t51
-    t305 = t52 + t66
-    t306 = t294 + t53
-    t307 = t295 + t54
-    t308 = t55 - tau_leg_l
+    t295 = 0.64*t56 - 0.1408
+    t296 = t295*t56 - 0.1408*t56 + 0.050976
+    t297 = t296 + 0.030634999999999996
+    t298 = t296 + 0.029635
+    t299 = 0.13299999999999998 - t295
+    t300 = t295 - 0.13299999999999998
+    t301 = t291 - t294*t56 + t48
+    t302 = t292 + t293*t56 + t51
+    t303 = t52 + t66
+    t304 = t293 + t53
+    t305 = t294 + t54
+    t306 = t55 - tau_leg_l
     # thigh_l, hinge hip_l_z: articulated inertia
-    t309 = qd_hip_l_z*t42
-    t310 = -qd_hip_l_z*t41
-    t311 = qd_hip_l_z*t45
-    t312 = -qd_hip_l_z*t44
-    t313 = t299*t309 + t301*t312 + t303
-    t314 = t300*t310 + t302*t311 + t304
-    t315 = 1.1102230246251565e-16*t305 + 0.9999999999999999*tau_hip_l_z
-    t316 = t302*t310 + t306 + 2.04*t311
-    t317 = t301*t309 + t307 + 2.04*t312
+    t307 = qd_hip_l_z*t42
+    t308 = -qd_hip_l_z*t41
+    t309 = qd_hip_l_z*t45
+    t310 = -qd_hip_l_z*t44
+    t311 = t297*t307 + t299*t310 + t301
+    t312 = t298*t308 + t300*t309 + t302
+    t313 = 1.1102230246251565e-16*t303 + 0.9999999999999999*tau_hip_l_z
+    t314 = t300*t308 + t304 + 2.04*t309
+    t315 = t299*t307 + t305 + 2.04*t310
     # thigh_l, hinge hip_l_z: seen from the parent
-    t318 = c_hip_l_z*t299
-    t319 = -s_hip_l_z*t300
-    t320 = s_hip_l_z*t299
-    t321 = c_hip_l_z*t300
-    t322 = c_hip_l_z*t318 - s_hip_l_z*t319
-    t323 = c_hip_l_z*t319 + s_hip_l_z*t318
-    t324 = c_hip_l_z*t321 + s_hip_l_z*t320
-    t325 = -s_hip_l_z*t302
-    t326 = c_hip_l_z*t301
-    t327 = c_hip_l_z*t302
-    t328 = s_hip_l_z*t301
+    t316 = c_hip_l_z*t297
+    t317 = -s_hip_l_z*t298
+    t318 = s_hip_l_z*t297
+    t319 = c_hip_l_z*t298
+    t320 = c_hip_l_z*t316 - s_hip_l_z*t317
+    t321 = c_hip_l_z*t317 + s_hip_l_z*t316
+    t322 = c_hip_l_z*t319 + s_hip_l_z*t318
+    t323 = -s_hip_l_z*t300
+    t324 = c_hip_l_z*t299
+    t325 = c_hip_l_z*t300
+    t326 = s_hip_l_z*t299
+    t327 = c_hip_l_z*t323 - s_hip_l_z*t324
+    t328 = c_hip_l_z*t324 + s_hip_l_z*t323
     t329 = c_hip_l_z*t325 - s_hip_l_z*t326
     t330 = c_hip_l_z*t326 + s_hip_l_z*t325
-    t331 = c_hip_l_z*t327 - s_hip_l_z*t328
-    t332 = c_hip_l_z*t328 + s_hip_l_z*t327
-    t333 = 2.04*c_hip_l_z*c_hip_l_z + 2.04*s_hip_l_z*s_hip_l_z
-    t334 = c_hip_l_z*t313 - s_hip_l_z*t314
-    t335 = c_hip_l_z*t314 + s_hip_l_z*t313
-    t336 = c_hip_l_z*t316 - s_hip_l_z*t317
-    t337 = c_hip_l_z*t317 + s_hip_l_z*t316
+    t331 = 2.04*c_hip_l_z*c_hip_l_z + 2.04*s_hip_l_z*s_hip_l_z
+    t332 = c_hip_l_z*t311 - s_hip_l_z*t312
+    t333 = c_hip_l_z*t312 + s_hip_l_z*t311
+    t334 = c_hip_l_z*t314 - s_hip_l_z*t315
+    t335 = c_hip_l_z*t315 + s_hip_l_z*t314
     # hinge hip_l_y: articulated inertia
-    t338 = 1/t324
-    t339 = t323*t338
-    t340 = t331*t338
-    t341 = t332*t338
-    t342 = t322 - t323*t339
-    t343 = t323 - t324*t339
-    t344 = t329 - t331*t339
-    t345 = t330 - t332*t339
-    t346 = -t331*t340 + t333
-    t347 = -t332*t340
-    t348 = -t332*t341 + t333
-    t349 = -qd_hip_l_y*t38
-    t350 = qd_hip_l_y*t36
-    t351 = -qd_hip_l_y*t40
-    t352 = qd_hip_l_y*t39
-    t353 = t335 - tau_hip_l_y
-    t354 = t334 - t339*t353 + t342*t349 + t344*t351
-    t355 = t343*t349 + tau_hip_l_y
-    t356 = t315 + 2.168404344971009e-19*t350
-    t357 = t336 - t340*t353 + t344*t349 + t346*t351
-    t358 = t337 - t341*t353 + t345*t349 + t347*t351
-    t359 = t308 + 1.4*t352
+    t336 = 1/t322
+    t337 = t321*t336
+    t338 = t329*t336
+    t339 = t330*t336
+    t340 = t320 - t321*t337
+    t341 = t321 - t322*t337
+    t342 = t327 - t329*t337
+    t343 = t328 - t330*t337
+    t344 = -t329*t338 + t331
+    t345 = -t330*t338
+    t346 = -t330*t339 + t331
+    t347 = -qd_hip_l_y*t38
+    t348 = qd_hip_l_y*t36
+    t349 = -qd_hip_l_y*t40
+    t350 = qd_hip_l_y*t39
+    t351 = t333 - tau_hip_l_y
+    t352 = t332 - t337*t351 + t340*t347 + t342*t349
+    t353 = t341*t347 + tau_hip_l_y
+    t354 = t313 + 2.168404344971009e-19*t348
+    t355 = t334 - t338*t351 + t342*t347 + t344*t349
+    t356 = t335 - t339*t351 + t343*t347 + t345*t349
+    t357 = t306 + 1.4*t350
     # hinge hip_l_y: seen from the parent
-    t360 = c_hip_l_y*t342
-    t361 = c_hip_l_y*t343
-    t362 = -s_hip_l_y*t342
-    t363 = -s_hip_l_y*t343
-    t364 = s_hip_l_y*s_hip_l_y
-    t365 = c_hip_l_y*t360 + 2.168404344971009e-19*t364
-    t366 = 2.168404344971009e-19*c_hip_l_y*s_hip_l_y - s_hip_l_y*t360
-    t367 = c_hip_l_y*c_hip_l_y
-    t368 = -s_hip_l_y*t362 + 2.168404344971009e-19*t367
-    t369 = c_hip_l_y*t344
-    t370 = c_hip_l_y*t345
-    t371 = -s_hip_l_y*t344
-    t372 = -s_hip_l_y*t345
+    t358 = c_hip_l_y*t340
+    t359 = c_hip_l_y*t341
+    t360 = -s_hip_l_y*t340
+    t361 = -s_hip_l_y*t341
+    t362 = s_hip_l_y*s_hip_l_y
+    t363 = c_hip_l_y*t358 + 2.168404344971009e-19*t362
+    t364 = 2.168404344971009e-19*c_hip_l_y*s_hip_l_y - s_hip_l_y*t358
+    t365 = c_hip_l_y*c_hip_l_y
+    t366 = -s_hip_l_y*t360 + 2.168404344971009e-19*t365
+    t367 = c_hip_l_y*t342
+    t368 = c_hip_l_y*t343
+    t369 = -s_hip_l_y*t342
+    t370 = -s_hip_l_y*t343
+    t371 = c_hip_l_y*t367
+    t372 = -s_hip_l_y*t367
     t373 = c_hip_l_y*t369
     t374 = -s_hip_l_y*t369
-    t375 = c_hip_l_y*t371
-    t376 = -s_hip_l_y*t371
-    t377 = c_hip_l_y*t346
-    t378 = c_hip_l_y*t347
-    t379 = -s_hip_l_y*t346
-    t380 = -s_hip_l_y*t347
-    t381 = c_hip_l_y*t377 + 1.4*t364
-    t382 = 1.4*c_hip_l_y*s_hip_l_y - s_hip_l_y*t377
-    t383 = -s_hip_l_y*t379 + 1.4*t367
-    t384 = c_hip_l_y*t354 + s_hip_l_y*t356
-    t385 = c_hip_l_y*t356 - s_hip_l_y*t354
-    t386 = c_hip_l_y*t357 + s_hip_l_y*t359
-    t387 = c_hip_l_y*t359 - s_hip_l_y*t357
+    t375 = c_hip_l_y*t344
+    t376 = c_hip_l_y*t345
+    t377 = -s_hip_l_y*t344
+    t378 = -s_hip_l_y*t345
+    t379 = c_hip_l_y*t375 + 1.4*t362
+    t380 = 1.4*c_hip_l_y*s_hip_l_y - s_hip_l_y*t375
+    t381 = -s_hip_l_y*t377 + 1.4*t365
+    t382 = c_hip_l_y*t352 + s_hip_l_y*t354
+    t383 = c_hip_l_y*t354 - s_hip_l_y*t352
+    t384 = c_hip_l_y*t355 + s_hip_l_y*t357
+    t385 = c_hip_l_y*t357 - s_hip_l_y*t355
     # hinge hip_l_x: articulated inertia
-    t388 = 1/t365
-    t389 = t361*t388
-    t390 = t366*t388
-    t391 = t373*t388
-    t392 = t370*t388
-    t393 = t374*t388
-    t394 = -t361*t389
-    t395 = t363 - t366*t389
-    t396 = -t366*t390 + t368
-    t397 = -t373*t389
-    t398 = -t370*t389
-    t399 = -t374*t389
-    t400 = -t373*t390 + t375
-    t401 = -t370*t390 + t372
-    t402 = -t374*t390 + t376
-    t403 = -t373*t391 + t381
-    t404 = -t370*t391 + t378
-    t405 = -t374*t391 + t382
-    t406 = t348 - t370*t392
-    t407 = -t374*t392 + t380
-    t408 = -t374*t393 + t383
-    t409 = qd_hip_l_x*t31
-    t410 = -qd_hip_l_x*t30
-    t411 = qd_hip_l_x*t35
-    t412 = -qd_hip_l_x*t34
-    t413 = t384 - tau_hip_l_x
-    t414 = t355 - t389*t413 + t394*t409 + t395*t410 + t398*t411 + t399*t412
-    t415 = t385 - t390*t413 + t395*t409 + t396*t410 + t401*t411 + t402*t412
-    t416 = t386 - t391*t413 + t397*t409 + t400*t410 + t404*t411 + t405*t412
-    t417 = t358 - t392*t413 + t398*t409 + t401*t410 + t406*t411 + t407*t412
-    t418 = t387 - t393*t413 + t399*t409 + t402*t410 + t407*t411 + t408*t412
+    t386 = 1/t363
+    t387 = t359*t386
+    t388 = t364*t386
+    t389 = t371*t386
+    t390 = t368*t386
+    t391 = t372*t386
+    t392 = -t359*t387
+    t393 = t361 - t364*t387
+    t394 = -t364*t388 + t366
+    t395 = -t371*t387
+    t396 = -t368*t387
+    t397 = -t372*t387
+    t398 = -t371*t388 + t373
+    t399 = -t368*t388 + t370
+    t400 = -t372*t388 + t374
+    t401 = -t371*t389 + t379
+    t402 = -t368*t389 + t376
+    t403 = -t372*t389 + t380
+    t404 = t346 - t368*t390
+    t405 = -t372*t390 + t378
+    t406 = -t372*t391 + t381
+    t407 = qd_hip_l_x*t31
+    t408 = -qd_hip_l_x*t30
+    t409 = qd_hip_l_x*t35
+    t410 = -qd_hip_l_x*t34
+    t411 = t382 - tau_hip_l_x
+    t412 = t353 - t387*t411 + t392*t407 + t393*t408 + t396*t409 + t397*t410
+    t413 = t383 - t388*t411 + t393*t407 + t394*t408 + t399*t409 + t400*t410
+    t414 = t384 - t389*t411 + t395*t407 + t398*t408 + t402*t409 + t403*t410
+    t415 = t356 - t390*t411 + t396*t407 + t399*t408 + t404*t409 + t405*t410
+    t416 = t385 - t391*t411 + t397*t407 + t400*t408 + t405*t409 + t406*t410
     # hinge hip_l_x: seen from the parent
-    t419 = s_hip_l_x*t395
-    t420 = c_hip_l_x*t394 - t419
-    t421 = c_hip_l_x*t395
-    t422 = -s_hip_l_x*t396 + t421
-    t423 = s_hip_l_x*t394 + t421
-    t424 = c_hip_l_x*t396 + t419
-    t425 = c_hip_l_x*t420 - s_hip_l_x*t422
-    t426 = c_hip_l_x*t422 + s_hip_l_x*t420
-    t427 = c_hip_l_x*t424 + s_hip_l_x*t423
+    t417 = s_hip_l_x*t393
+    t418 = c_hip_l_x*t392 - t417
+    t419 = c_hip_l_x*t393
+    t420 = -s_hip_l_x*t394 + t419
+    t421 = s_hip_l_x*t392 + t419
+    t422 = c_hip_l_x*t394 + t417
+    t423 = c_hip_l_x*t418 - s_hip_l_x*t420
+    t424 = c_hip_l_x*t420 + s_hip_l_x*t418
+    t425 = c_hip_l_x*t422 + s_hip_l_x*t421
+    t426 = c_hip_l_x*t395 - s_hip_l_x*t398
+    t427 = c_hip_l_x*t396 - s_hip_l_x*t399
     t428 = c_hip_l_x*t397 - s_hip_l_x*t400
-    t429 = c_hip_l_x*t398 - s_hip_l_x*t401
-    t430 = c_hip_l_x*t399 - s_hip_l_x*t402
+    t429 = c_hip_l_x*t398 + s_hip_l_x*t395
+    t430 = c_hip_l_x*t399 + s_hip_l_x*t396
     t431 = c_hip_l_x*t400 + s_hip_l_x*t397
-    t432 = c_hip_l_x*t401 + s_hip_l_x*t398
-    t433 = c_hip_l_x*t402 + s_hip_l_x*t399
-    t434 = c_hip_l_x*t429 - s_hip_l_x*t430
-    t435 = c_hip_l_x*t430 + s_hip_l_x*t429
-    t436 = c_hip_l_x*t432 - s_hip_l_x*t433
-    t437 = c_hip_l_x*t433 + s_hip_l_x*t432
-    t438 = c_hip_l_x*t404 - s_hip_l_x*t405
-    t439 = s_hip_l_x*t407
-    t440 = c_hip_l_x*t406 - t439
-    t441 = c_hip_l_x*t407
-    t442 = -s_hip_l_x*t408 + t441
-    t443 = c_hip_l_x*t405 + s_hip_l_x*t404
-    t444 = s_hip_l_x*t406 + t441
-    t445 = c_hip_l_x*t408 + t439
-    t446 = c_hip_l_x*t440 - s_hip_l_x*t442
-    t447 = c_hip_l_x*t442 + s_hip_l_x*t440
-    t448 = c_hip_l_x*t445 + s_hip_l_x*t444
-    t449 = -0.072*t403 + t431
-    t450 = t436 - 0.072*t438
-    t451 = t437 - 0.072*t443
-    t452 = 0.072*t437 - 0.005183999999999999*t443
-    t453 = t426 - 0.072*t428
-    t454 = t427 - 0.072*t431 - 0.072*t449
-    t455 = t276 + 0.005183999999999999*t448
-    t456 = -0.072*t256 + 0.072*t435
-    t457 = t273 + t452
-    t458 = t277 + t425
-    t459 = t274 + t453
-    t460 = t278 + t454
-    t461 = -0.072*t264 + 0.072*t443
-    t462 = -0.072*t268 + 0.072*t447
-    t463 = -0.072*t269 + 0.072*t448
-    t464 = t249 + t428
-    t465 = t255 + t434
-    t466 = t256 + t435
-    t467 = t270 + t449
-    t468 = t271 + t450
-    t469 = t272 + t451
-    t470 = t279 + t403
-    t471 = t259 + t438
-    t472 = t264 + t443
+    t432 = c_hip_l_x*t427 - s_hip_l_x*t428
+    t433 = c_hip_l_x*t428 + s_hip_l_x*t427
+    t434 = c_hip_l_x*t430 - s_hip_l_x*t431
+    t435 = c_hip_l_x*t431 + s_hip_l_x*t430
+    t436 = c_hip_l_x*t402 - s_hip_l_x*t403
+    t437 = s_hip_l_x*t405
+    t438 = c_hip_l_x*t404 - t437
+    t439 = c_hip_l_x*t405
+    t440 = -s_hip_l_x*t406 + t439
+    t441 = c_hip_l_x*t403 + s_hip_l_x*t402
+    t442 = s_hip_l_x*t404 + t439
+    t443 = c_hip_l_x*t406 + t437
+    t444 = c_hip_l_x*t438 - s_hip_l_x*t440
+    t445 = c_hip_l_x*t440 + s_hip_l_x*t438
+    t446 = c_hip_l_x*t443 + s_hip_l_x*t442
+    t447 = -0.072*t401 + t429
+    t448 = t434 - 0.072*t436
+    t449 = t435 - 0.072*t441
+    t450 = 0.072*t435 - 0.005183999999999999*t441
+    t451 = t424 - 0.072*t426
+    t452 = t425 - 0.072*t429 - 0.072*t447
+    t453 = t275 + 0.005183999999999999*t446
+    t454 = -0.072*t255 + 0.072*t433
+    t455 = t272 + t450
+    t456 = t276 + t423
+    t457 = t273 + t451
+    t458 = t277 + t452
+    t459 = -0.072*t263 + 0.072*t441
+    t460 = -0.072*t267 + 0.072*t445
+    t461 = -0.072*t268 + 0.072*t446
+    t462 = t248 + t426
+    t463 = t254 + t432
+    t464 = t255 + t433
+    t465 = t269 + t447
+    t466 = t270 + t448
+    t467 = t271 + t449
+    t468 = t278 + t401
+    t469 = t258 + t436
+    t470 = t263 + t441
+    t471 = t279 + t444
+    t472 = t267 + t445
     t473 = t280 + t446
-    t474 = t268 + t447
-    t475 = t281 + t448
-    t476 = s_hip_l_x*t417
-    t477 = c_hip_l_x*t418
-    t478 = t284 + 0.072*t476 + 0.072*t477 + tau_hip_l_x
-    t479 = c_hip_l_x*t414 - s_hip_l_x*t415 + t285
-    t480 = c_hip_l_x*t415 + s_hip_l_x*t414 + t286 - 0.072*t416
-    t481 = t287 + t416
-    t482 = c_hip_l_x*t417 - s_hip_l_x*t418 + t288
-    t483 = t289 + t476 + t477
+    t474 = s_hip_l_x*t415
+    t475 = c_hip_l_x*t416
+    t476 = t283 + 0.072*t474 + 0.072*t475 + tau_hip_l_x
+    t477 = c_hip_l_x*t412 - s_hip_l_x*t413 + t284
+    t478 = c_hip_l_x*t413 + s_hip_l_x*t412 + t285 - 0.072*t414
+    t479 = t286 + t414
+    t480 = c_hip_l_x*t415 - s_hip_l_x*t416 + t287
+    t481 = t288 + t474 + t475
     # trunk, free3d root: solve the 6x6 articulated inertia
-    t484 = 1/t455
-    t485 = t456*t484
-    t486 = t457*t484
-    t487 = t461*t484
-    t488 = t462*t484
-    t489 = t463*t484
-    t490 = -t456*t485 + t458
-    t491 = -t457*t485 + t459
-    t492 = -t461*t485 + t464
-    t493 = -t462*t485 + t465
-    t494 = -t463*t485 + t466
-    t495 = 1/t490
-    t496 = t491*t495
-    t497 = t492*t495
-    t498 = t493*t495
-    t499 = t494*t495
-    t500 = -t457*t486 + t460 - t491*t496
-    t501 = -t461*t486 + t467 - t492*t496
-    t502 = -t462*t486 + t468 - t493*t496
-    t503 = -t463*t486 + t469 - t494*t496
-    t504 = 1/t500
-    t505 = t501*t504
-    t506 = t502*t504
-    t507 = t503*t504
-    t508 = -t461*t487 + t470 - t492*t497 - t501*t505
-    t509 = -t462*t487 + t471 - t493*t497 - t502*t505
-    t510 = -t463*t487 + t472 - t494*t497 - t503*t505
-    t511 = 1/t508
-    t512 = t509*t511
-    t513 = t510*t511
-    t514 = -t462*t488 + t473 - t493*t498 - t502*t506 - t509*t512
-    t515 = -t463*t488 + t474 - t494*t498 - t503*t506 - t510*t512
-    t516 = 1/t514
-    t517 = t515*t516
-    t518 = -t463*t489 + t475 - t494*t499 - t503*t507 - t510*t513 - t515*t517
-    t519 = 1/t518
-    t520 = -t478 + tau_wx
-    t521 = -t479 - t485*t520 + tau_wy
-    t522 = -t480 - t486*t520 - t496*t521 + tau_wz
-    t523 = t10*tau_vy + t14*tau_vz - t481 - t487*t520 - t497*t521 + t5*tau_vx - t505*t522
-    t524 = t11*tau_vy + t15*tau_vz - t482 - t488*t520 - t498*t521 - t506*t522 - t512*t523 + t7*tau_vx
-    t525 = t13*tau_vy + t16*tau_vz - t483 - t489*t520 - t499*t521 - t507*t522 - t513*t523 - t517*t524 + t9*tau_vx
-    t526 = t519*t525
-    t527 = t516*t524 - t517*t526
-    t528 = t511*t523 - t512*t527 - t513*t526
-    t529 = t504*t522 - t505*t528 - t506*t527 - t507*t526
-    t530 = t495*t521 - t496*t529 - t497*t528 - t498*t527 - t499*t526
-    t531 = t484*t520 - t485*t530 - t486*t529 - t487*t528 - t488*t527 - t489*t526
+    t482 = 1/t453
+    t483 = t454*t482
+    t484 = t455*t482
+    t485 = t459*t482
+    t486 = t460*t482
+    t487 = t461*t482
+    t488 = -t454*t483 + t456
+    t489 = -t455*t483 + t457
+    t490 = -t459*t483 + t462
+    t491 = -t460*t483 + t463
+    t492 = -t461*t483 + t464
+    t493 = 1/t488
+    t494 = t489*t493
+    t495 = t490*t493
+    t496 = t491*t493
+    t497 = t492*t493
+    t498 = -t455*t484 + t458 - t489*t494
+    t499 = -t459*t484 + t465 - t490*t494
+    t500 = -t460*t484 + t466 - t491*t494
+    t501 = -t461*t484 + t467 - t492*t494
+    t502 = 1/t498
+    t503 = t499*t502
+    t504 = t500*t502
+    t505 = t501*t502
+    t506 = -t459*t485 + t468 - t490*t495 - t499*t503
+    t507 = -t460*t485 + t469 - t491*t495 - t500*t503
+    t508 = -t461*t485 + t470 - t492*t495 - t501*t503
+    t509 = 1/t506
+    t510 = t507*t509
+    t511 = t508*t509
+    t512 = -t460*t486 + t471 - t491*t496 - t500*t504 - t507*t510
+    t513 = -t461*t486 + t472 - t492*t496 - t501*t504 - t508*t510
+    t514 = 1/t512
+    t515 = t513*t514
+    t516 = -t461*t487 + t473 - t492*t497 - t501*t505 - t508*t511 - t513*t515
+    t517 = 1/t516
+    t518 = -t476 + tau_wx
+    t519 = -t477 - t483*t518 + tau_wy
+    t520 = -t478 - t484*t518 - t494*t519 + tau_wz
+    t521 = t10*tau_vy + t14*tau_vz - t479 - t485*t518 - t495*t519 + t5*tau_vx - t503*t520
+    t522 = t11*tau_vy + t15*tau_vz - t480 - t486*t518 - t496*t519 - t504*t520 - t510*t521 + t7*tau_vx
+    t523 = t13*tau_vy + t16*tau_vz - t481 - t487*t518 - t497*t519 - t505*t520 - t511*t521 - t515*t522 + t9*tau_vx
+    t524 = t517*t523
+    t525 = t514*t522 - t515*t524
+    t526 = t509*t521 - t510*t525 - t511*t524
+    qdd_wz = t502*t520 - t503*t526 - t504*t525 - t505*t524
+    qdd_wy = t493*t519 - t494*qdd_wz - t495*t526 - t496*t525 - t497*t524
+    qdd_wx = t482*t518 - t483*qdd_wy - t484*qdd_wz - t485*t526 - t486*t525 - t487*t524
     # trunk, free3d root: accelerations in MuJoCo's coordinates
-    t532 = t19*wy - t22 + t528
-    t533 = t24 - t25 + t527
-    t534 = t18*wx - t27 + t526
-    t535 = t5*t532 + t533*t7 + t534*t9
-    t536 = t10*t532 + t11*t533 + t13*t534
-    t537 = t14*t532 + t15*t533 + t16*t534 - 9.81
+    t527 = t19*wy - t22 + t526
+    t528 = t24 - t25 + t525
+    t529 = t18*wx - t27 + t524
+    qdd_vx = t5*t527 + t528*t7 + t529*t9
+    qdd_vy = t10*t527 + t11*t528 + t13*t529
+    qdd_vz = t14*t527 + t15*t528 + t16*t529 - 9.81
     # hinge hip_l_x: acceleration
-    t538 = c_hip_l_x*t530 + s_hip_l_x*t529 + t409
-    t539 = c_hip_l_x*t529 - s_hip_l_x*t530 + t410
-    t540 = t528 - 0.072*t529
-    t541 = t526 + 0.072*t531
-    t542 = c_hip_l_x*t527 + s_hip_l_x*t541 + t411
-    t543 = c_hip_l_x*t541 - s_hip_l_x*t527 + t412
-    t544 = t388*(-t361*t538 - t365*t531 - t366*t539 - t370*t542 - t373*t540 - t374*t543 - t413)
-    t545 = t531 + t544
+    t530 = c_hip_l_x*qdd_wy + s_hip_l_x*qdd_wz + t407
+    t531 = c_hip_l_x*qdd_wz - s_hip_l_x*qdd_wy + t408
+    t532 = t526 - 0.072*qdd_wz
+    t533 = t524 + 0.072*qdd_wx
+    t534 = c_hip_l_x*t525 + s_hip_l_x*t533 + t409
+    t535 = c_hip_l_x*t533 - s_hip_l_x*t525 + t410
+    qdd_hip_l_x = t386*(-t359*t530 - t363*qdd_wx - t364*t531 - t368*t534 - t371*t532 - t372*t535 - t411)
+    t536 = qdd_wx + qdd_hip_l_x
     # hinge hip_l_y: acceleration
-    t546 = c_hip_l_y*t545 - s_hip_l_y*t539 + t349
-    t547 = c_hip_l_y*t539 + s_hip_l_y*t545 + t350
-    t548 = c_hip_l_y*t540 - s_hip_l_y*t543 + t351
-    t549 = c_hip_l_y*t543 + s_hip_l_y*t540 + t352
-    t550 = t338*(-t323*t546 - t324*t538 - t331*t548 - t332*t542 - t353)
+    t537 = c_hip_l_y*t536 - s_hip_l_y*t531 + t347
+    t538 = c_hip_l_y*t531 + s_hip_l_y*t536 + t348
+    t539 = c_hip_l_y*t532 - s_hip_l_y*t535 + t349
+    t540 = c_hip_l_y*t535 + s_hip_l_y*t532 + t350
+    qdd_hip_l_y = t336*(-t321*t537 - t322*t530 - t329*t539 - t330*t534 - t351)
     # thigh_l, hinge hip_l_z: acceleration
-    t551 = -632.9113924050632*t305 - 0.9999999999999999*t547 + 632.9113924050632*tau_hip_l_z
+    qdd_hip_l_z = -632.9113924050632*t303 - 0.9999999999999999*t538 + 632.9113924050632*tau_hip_l_z
     # shank_l, slide leg_l: acceleration
-    t552 = t549 + 1.5625*t69 + 1.5625*tau_leg_l
+    qdd_leg_l = t540 + 1.5625*t69 + 1.5625*tau_leg_l
     # hinge hip_r_x: acceleration
-    t553 = c_hip_r_x*t530 + s_hip_r_x*t529 + t230
-    t554 = c_hip_r_x*t529 - s_hip_r_x*t530 + t231
-    t555 = t528 + 0.072*t529
-    t556 = t526 - 0.072*t531
-    t557 = c_hip_r_x*t527 + s_hip_r_x*t556 + t232
-    t558 = c_hip_r_x*t556 - s_hip_r_x*t527 + t233
-    t559 = t209*(-t182*t553 - t186*t531 - t187*t554 - t191*t557 - t194*t555 - t195*t558 - t234)
-    t560 = t531 + t559
+    t541 = c_hip_r_x*qdd_wy + s_hip_r_x*qdd_wz + t229
+    t542 = c_hip_r_x*qdd_wz - s_hip_r_x*qdd_wy + t230
+    t543 = t526 + 0.072*qdd_wz
+    t544 = t524 - 0.072*qdd_wx
+    t545 = c_hip_r_x*t525 + s_hip_r_x*t544 + t231
+    t546 = c_hip_r_x*t544 - s_hip_r_x*t525 + t232
+    qdd_hip_r_x = t208*(-t181*t541 - t185*qdd_wx - t186*t542 - t190*t545 - t193*t543 - t194*t546 - t233)
+    t547 = qdd_wx + qdd_hip_r_x
     # hinge hip_r_y: acceleration
-    t561 = c_hip_r_y*t560 - s_hip_r_y*t554 + t170
-    t562 = c_hip_r_y*t554 + s_hip_r_y*t560 + t171
-    t563 = c_hip_r_y*t555 - s_hip_r_y*t558 + t172
-    t564 = c_hip_r_y*t558 + s_hip_r_y*t555 + t173
-    t565 = t159*(-t144*t561 - t145*t553 - t152*t563 - t153*t557 - t174)
+    t548 = c_hip_r_y*t547 - s_hip_r_y*t542 + t169
+    t549 = c_hip_r_y*t542 + s_hip_r_y*t547 + t170
+    t550 = c_hip_r_y*t543 - s_hip_r_y*t546 + t171
+    t551 = c_hip_r_y*t546 + s_hip_r_y*t543 + t172
+    qdd_hip_r_y = t158*(-t143*t548 - t144*t541 - t151*t550 - t152*t545 - t173)
     # thigh_r, hinge hip_r_z: acceleration
-    t566 = -632.9113924050632*t126 - 0.9999999999999999*t562 + 632.9113924050632*tau_hip_r_z
+    qdd_hip_r_z = -632.9113924050632*t125 - 0.9999999999999999*t549 + 632.9113924050632*tau_hip_r_z
     # shank_r, slide leg_r: acceleration
-    t567 = 1.5625*t110 + t564 + 1.5625*tau_leg_r
-    return [t535, t536, t537, t531, t530, t529, t544, t550, t551, t552, t559, t565, t566, t567]
+    qdd_leg_r = 1.5625*t110 + t551 + 1.5625*tau_leg_r
+    return [
+        qdd_vx,
+        qdd_vy,
+        qdd_vz,
+        qdd_wx,
+        qdd_wy,
+        qdd_wz,
+        qdd_hip_l_x,
+        qdd_hip_l_y,
+        qdd_hip_l_z,
+        qdd_leg_l,
+        qdd_hip_r_x,
+        qdd_hip_r_y,
+        qdd_hip_r_z,
+        qdd_leg_r,
+    ]
 
 
 def state_derivative(q, v, tau):
@@ -1355,19 +1473,19 @@ def state_derivative(q, v, tau):
     qd_hip_r_y = v[11]
     qd_hip_r_z = v[12]
     qd_leg_r = v[13]
-    t1 = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
-    t2 = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
-    t3 = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
-    t4 = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
+    qdot_qw = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
+    qdot_qx = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
+    qdot_qy = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
+    qdot_qz = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
     return (
         [
             vx,
             vy,
             vz,
-            t1,
-            t2,
-            t3,
-            t4,
+            qdot_qw,
+            qdot_qx,
+            qdot_qy,
+            qdot_qz,
             qd_hip_l_x,
             qd_hip_l_y,
             qd_hip_l_z,
@@ -1431,31 +1549,31 @@ def contact_positions(q):
     t27 = t1*t24 + t18
     t28 = t1*t25 + t19
     t29 = t1*t26 + t20
-    t30 = -0.63*t24 + t27
-    t31 = -0.63*t25 + t28
-    t32 = -0.63*t26 + t29
+    toe_l_x = -0.63*t24 + t27
+    toe_l_y = -0.63*t25 + t28
+    toe_l_z = -0.63*t26 + t29
     # toe_r
-    t33 = -leg_r - 0.2
+    t30 = -leg_r - 0.2
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t34 = -0.072*t8 + x
-    t35 = -0.072*t12 + y
-    t36 = -0.072*t16 + z
-    t37 = c_hip_r_x*t10 - s_hip_r_x*t8
-    t38 = c_hip_r_x*t14 - s_hip_r_x*t12
-    t39 = c_hip_r_x*t17 - s_hip_r_x*t16
-    t40 = c_hip_r_y*t37 + s_hip_r_y*t6
-    t41 = c_hip_r_y*t38 + s_hip_r_y*t11
-    t42 = c_hip_r_y*t39 + s_hip_r_y*t15
-    t43 = t33*t40 + t34
-    t44 = t33*t41 + t35
-    t45 = t33*t42 + t36
-    t46 = -0.63*t40 + t43
-    t47 = -0.63*t41 + t44
-    t48 = -0.63*t42 + t45
-    return [(t30, t31, t32), (t46, t47, t48)]
+    t31 = -0.072*t8 + x
+    t32 = -0.072*t12 + y
+    t33 = -0.072*t16 + z
+    t34 = c_hip_r_x*t10 - s_hip_r_x*t8
+    t35 = c_hip_r_x*t14 - s_hip_r_x*t12
+    t36 = c_hip_r_x*t17 - s_hip_r_x*t16
+    t37 = c_hip_r_y*t34 + s_hip_r_y*t6
+    t38 = c_hip_r_y*t35 + s_hip_r_y*t11
+    t39 = c_hip_r_y*t36 + s_hip_r_y*t15
+    t40 = t30*t37 + t31
+    t41 = t30*t38 + t32
+    t42 = t30*t39 + t33
+    toe_r_x = -0.63*t37 + t40
+    toe_r_y = -0.63*t38 + t41
+    toe_r_z = -0.63*t39 + t42
+    return [(toe_l_x, toe_l_y, toe_l_z), (toe_r_x, toe_r_y, toe_r_z)]
 
 
 def contact_velocities(q, v):
@@ -1552,61 +1670,61 @@ def contact_velocities(q, v):
     t57 = t14*t50 - t17*t49
     t58 = -t10*t50 + t17*t48
     t59 = t10*t49 - t14*t48
-    t60 = qd_hip_l_x*t45 + qd_hip_l_y*t42 + qd_hip_l_z*t39 - qd_leg_l*t27 + t51*wx + t54*wy + t57*wz + vx
-    t61 = qd_hip_l_x*t46 + qd_hip_l_y*t43 + qd_hip_l_z*t40 - qd_leg_l*t28 + t52*wx + t55*wy + t58*wz + vy
-    t62 = qd_hip_l_x*t47 + qd_hip_l_y*t44 + qd_hip_l_z*t41 - qd_leg_l*t29 + t53*wx + t56*wy + t59*wz + vz
+    toe_l_vx = qd_hip_l_x*t45 + qd_hip_l_y*t42 + qd_hip_l_z*t39 - qd_leg_l*t27 + t51*wx + t54*wy + t57*wz + vx
+    toe_l_vy = qd_hip_l_x*t46 + qd_hip_l_y*t43 + qd_hip_l_z*t40 - qd_leg_l*t28 + t52*wx + t55*wy + t58*wz + vy
+    toe_l_vz = qd_hip_l_x*t47 + qd_hip_l_y*t44 + qd_hip_l_z*t41 - qd_leg_l*t29 + t53*wx + t56*wy + t59*wz + vz
     # toe_r
-    t63 = -leg_r - 0.2
+    t60 = -leg_r - 0.2
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t64 = -0.072*t8 + x
-    t65 = -0.072*t12 + y
-    t66 = -0.072*t16 + z
-    t67 = c_hip_r_x*t8 + s_hip_r_x*t10
-    t68 = c_hip_r_x*t10 - s_hip_r_x*t8
-    t69 = c_hip_r_x*t12 + s_hip_r_x*t14
-    t70 = c_hip_r_x*t14 - s_hip_r_x*t12
-    t71 = c_hip_r_x*t16 + s_hip_r_x*t17
-    t72 = c_hip_r_x*t17 - s_hip_r_x*t16
-    t73 = c_hip_r_y*t68 + s_hip_r_y*t6
-    t74 = c_hip_r_y*t70 + s_hip_r_y*t11
-    t75 = c_hip_r_y*t72 + s_hip_r_y*t15
-    t76 = t63*t73 + t64
-    t77 = t63*t74 + t65
-    t78 = t63*t75 + t66
-    t79 = -0.63*t73 + t76
-    t80 = -0.63*t74 + t77
-    t81 = -0.63*t75 + t78
-    t82 = -t64 + t79
-    t83 = -t65 + t80
-    t84 = -t66 + t81
-    t85 = t74*t84 - t75*t83
-    t86 = -t73*t84 + t75*t82
-    t87 = t73*t83 - t74*t82
-    t88 = t69*t84 - t71*t83
-    t89 = -t67*t84 + t71*t82
-    t90 = t67*t83 - t69*t82
-    t91 = t11*t84 - t15*t83
-    t92 = t15*t82 - t6*t84
-    t93 = -t11*t82 + t6*t83
-    t94 = t79 - x
-    t95 = t80 - y
-    t96 = t81 - z
-    t97 = t11*t96 - t15*t95
-    t98 = t15*t94 - t6*t96
-    t99 = -t11*t94 + t6*t95
-    t100 = t12*t96 - t16*t95
-    t101 = t16*t94 - t8*t96
-    t102 = -t12*t94 + t8*t95
-    t103 = t14*t96 - t17*t95
-    t104 = -t10*t96 + t17*t94
-    t105 = t10*t95 - t14*t94
-    t106 = qd_hip_r_x*t91 + qd_hip_r_y*t88 + qd_hip_r_z*t85 - qd_leg_r*t73 + t100*wy + t103*wz + t97*wx + vx
-    t107 = qd_hip_r_x*t92 + qd_hip_r_y*t89 + qd_hip_r_z*t86 - qd_leg_r*t74 + t101*wy + t104*wz + t98*wx + vy
-    t108 = qd_hip_r_x*t93 + qd_hip_r_y*t90 + qd_hip_r_z*t87 - qd_leg_r*t75 + t102*wy + t105*wz + t99*wx + vz
-    return [(t60, t61, t62), (t106, t107, t108)]
+    t61 = -0.072*t8 + x
+    t62 = -0.072*t12 + y
+    t63 = -0.072*t16 + z
+    t64 = c_hip_r_x*t8 + s_hip_r_x*t10
+    t65 = c_hip_r_x*t10 - s_hip_r_x*t8
+    t66 = c_hip_r_x*t12 + s_hip_r_x*t14
+    t67 = c_hip_r_x*t14 - s_hip_r_x*t12
+    t68 = c_hip_r_x*t16 + s_hip_r_x*t17
+    t69 = c_hip_r_x*t17 - s_hip_r_x*t16
+    t70 = c_hip_r_y*t65 + s_hip_r_y*t6
+    t71 = c_hip_r_y*t67 + s_hip_r_y*t11
+    t72 = c_hip_r_y*t69 + s_hip_r_y*t15
+    t73 = t60*t70 + t61
+    t74 = t60*t71 + t62
+    t75 = t60*t72 + t63
+    t76 = -0.63*t70 + t73
+    t77 = -0.63*t71 + t74
+    t78 = -0.63*t72 + t75
+    t79 = -t61 + t76
+    t80 = -t62 + t77
+    t81 = -t63 + t78
+    t82 = t71*t81 - t72*t80
+    t83 = -t70*t81 + t72*t79
+    t84 = t70*t80 - t71*t79
+    t85 = t66*t81 - t68*t80
+    t86 = -t64*t81 + t68*t79
+    t87 = t64*t80 - t66*t79
+    t88 = t11*t81 - t15*t80
+    t89 = t15*t79 - t6*t81
+    t90 = -t11*t79 + t6*t80
+    t91 = t76 - x
+    t92 = t77 - y
+    t93 = t78 - z
+    t94 = t11*t93 - t15*t92
+    t95 = t15*t91 - t6*t93
+    t96 = -t11*t91 + t6*t92
+    t97 = t12*t93 - t16*t92
+    t98 = t16*t91 - t8*t93
+    t99 = -t12*t91 + t8*t92
+    t100 = t14*t93 - t17*t92
+    t101 = -t10*t93 + t17*t91
+    t102 = t10*t92 - t14*t91
+    toe_r_vx = qd_hip_r_x*t88 + qd_hip_r_y*t85 + qd_hip_r_z*t82 - qd_leg_r*t70 + t97*wy + t100*wz + t94*wx + vx
+    toe_r_vy = qd_hip_r_x*t89 + qd_hip_r_y*t86 + qd_hip_r_z*t83 - qd_leg_r*t71 + t98*wy + t101*wz + t95*wx + vy
+    toe_r_vz = qd_hip_r_x*t90 + qd_hip_r_y*t87 + qd_hip_r_z*t84 - qd_leg_r*t72 + t99*wy + t102*wz + t96*wx + vz
+    return [(toe_l_vx, toe_l_vy, toe_l_vz), (toe_r_vx, toe_r_vy, toe_r_vz)]
 
 
 def contact_jacobians(q):
@@ -1668,85 +1786,175 @@ def contact_jacobians(q):
     t36 = -t18 + t33
     t37 = -t19 + t34
     t38 = -t20 + t35
-    t39 = t28*t38 - t29*t37
-    t40 = -t27*t38 + t29*t36
-    t41 = t27*t37 - t28*t36
-    t42 = t23*t38 - t25*t37
-    t43 = -t21*t38 + t25*t36
-    t44 = t21*t37 - t23*t36
-    t45 = t11*t38 - t15*t37
-    t46 = t15*t36 - t38*t6
-    t47 = -t11*t36 + t37*t6
-    t48 = t33 - x
-    t49 = t34 - y
-    t50 = t35 - z
-    t51 = t11*t50 - t15*t49
-    t52 = t15*t48 - t50*t6
-    t53 = -t11*t48 + t49*t6
-    t54 = t12*t50 - t16*t49
-    t55 = t16*t48 - t50*t8
-    t56 = -t12*t48 + t49*t8
-    t57 = t14*t50 - t17*t49
-    t58 = -t10*t50 + t17*t48
-    t59 = t10*t49 - t14*t48
+    toe_l_jx_hip_l_z = t28*t38 - t29*t37
+    toe_l_jy_hip_l_z = -t27*t38 + t29*t36
+    toe_l_jz_hip_l_z = t27*t37 - t28*t36
+    toe_l_jx_hip_l_y = t23*t38 - t25*t37
+    toe_l_jy_hip_l_y = -t21*t38 + t25*t36
+    toe_l_jz_hip_l_y = t21*t37 - t23*t36
+    toe_l_jx_hip_l_x = t11*t38 - t15*t37
+    toe_l_jy_hip_l_x = t15*t36 - t38*t6
+    toe_l_jz_hip_l_x = -t11*t36 + t37*t6
+    t39 = t33 - x
+    t40 = t34 - y
+    t41 = t35 - z
+    toe_l_jx_wx = t11*t41 - t15*t40
+    toe_l_jy_wx = t15*t39 - t41*t6
+    toe_l_jz_wx = -t11*t39 + t40*t6
+    toe_l_jx_wy = t12*t41 - t16*t40
+    toe_l_jy_wy = t16*t39 - t41*t8
+    toe_l_jz_wy = -t12*t39 + t40*t8
+    toe_l_jx_wz = t14*t41 - t17*t40
+    toe_l_jy_wz = -t10*t41 + t17*t39
+    toe_l_jz_wz = t10*t40 - t14*t39
     # toe_r
-    t60 = -leg_r - 0.2
+    t42 = -leg_r - 0.2
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t61 = -0.072*t8 + x
-    t62 = -0.072*t12 + y
-    t63 = -0.072*t16 + z
-    t64 = c_hip_r_x*t8 + s_hip_r_x*t10
-    t65 = c_hip_r_x*t10 - s_hip_r_x*t8
-    t66 = c_hip_r_x*t12 + s_hip_r_x*t14
-    t67 = c_hip_r_x*t14 - s_hip_r_x*t12
-    t68 = c_hip_r_x*t16 + s_hip_r_x*t17
-    t69 = c_hip_r_x*t17 - s_hip_r_x*t16
-    t70 = c_hip_r_y*t65 + s_hip_r_y*t6
-    t71 = c_hip_r_y*t67 + s_hip_r_y*t11
-    t72 = c_hip_r_y*t69 + s_hip_r_y*t15
-    t73 = t60*t70 + t61
-    t74 = t60*t71 + t62
-    t75 = t60*t72 + t63
-    t76 = -0.63*t70 + t73
-    t77 = -0.63*t71 + t74
-    t78 = -0.63*t72 + t75
-    t79 = -t61 + t76
-    t80 = -t62 + t77
-    t81 = -t63 + t78
-    t82 = t71*t81 - t72*t80
-    t83 = -t70*t81 + t72*t79
-    t84 = t70*t80 - t71*t79
-    t85 = t66*t81 - t68*t80
-    t86 = -t64*t81 + t68*t79
-    t87 = t64*t80 - t66*t79
-    t88 = t11*t81 - t15*t80
-    t89 = t15*t79 - t6*t81
-    t90 = -t11*t79 + t6*t80
-    t91 = t76 - x
-    t92 = t77 - y
-    t93 = t78 - z
-    t94 = t11*t93 - t15*t92
-    t95 = t15*t91 - t6*t93
-    t96 = -t11*t91 + t6*t92
-    t97 = t12*t93 - t16*t92
-    t98 = t16*t91 - t8*t93
-    t99 = -t12*t91 + t8*t92
-    t100 = t14*t93 - t17*t92
-    t101 = -t10*t93 + t17*t91
-    t102 = t10*t92 - t14*t91
+    t43 = -0.072*t8 + x
+    t44 = -0.072*t12 + y
+    t45 = -0.072*t16 + z
+    t46 = c_hip_r_x*t8 + s_hip_r_x*t10
+    t47 = c_hip_r_x*t10 - s_hip_r_x*t8
+    t48 = c_hip_r_x*t12 + s_hip_r_x*t14
+    t49 = c_hip_r_x*t14 - s_hip_r_x*t12
+    t50 = c_hip_r_x*t16 + s_hip_r_x*t17
+    t51 = c_hip_r_x*t17 - s_hip_r_x*t16
+    t52 = c_hip_r_y*t47 + s_hip_r_y*t6
+    t53 = c_hip_r_y*t49 + s_hip_r_y*t11
+    t54 = c_hip_r_y*t51 + s_hip_r_y*t15
+    t55 = t42*t52 + t43
+    t56 = t42*t53 + t44
+    t57 = t42*t54 + t45
+    t58 = -0.63*t52 + t55
+    t59 = -0.63*t53 + t56
+    t60 = -0.63*t54 + t57
+    t61 = -t43 + t58
+    t62 = -t44 + t59
+    t63 = -t45 + t60
+    toe_r_jx_hip_r_z = t53*t63 - t54*t62
+    toe_r_jy_hip_r_z = -t52*t63 + t54*t61
+    toe_r_jz_hip_r_z = t52*t62 - t53*t61
+    toe_r_jx_hip_r_y = t48*t63 - t50*t62
+    toe_r_jy_hip_r_y = -t46*t63 + t50*t61
+    toe_r_jz_hip_r_y = t46*t62 - t48*t61
+    toe_r_jx_hip_r_x = t11*t63 - t15*t62
+    toe_r_jy_hip_r_x = t15*t61 - t6*t63
+    toe_r_jz_hip_r_x = -t11*t61 + t6*t62
+    t64 = t58 - x
+    t65 = t59 - y
+    t66 = t60 - z
+    toe_r_jx_wx = t11*t66 - t15*t65
+    toe_r_jy_wx = t15*t64 - t6*t66
+    toe_r_jz_wx = -t11*t64 + t6*t65
+    toe_r_jx_wy = t12*t66 - t16*t65
+    toe_r_jy_wy = t16*t64 - t8*t66
+    toe_r_jz_wy = -t12*t64 + t8*t65
+    toe_r_jx_wz = t14*t66 - t17*t65
+    toe_r_jy_wz = -t10*t66 + t17*t64
+    toe_r_jz_wz = t10*t65 - t14*t64
     return [
         [
-            [1.0, 0.0, 0.0, t51, t54, t57, t45, t42, t39, -t27, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0, t52, t55, t58, t46, t43, t40, -t28, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0, t53, t56, t59, t47, t44, t41, -t29, 0.0, 0.0, 0.0, 0.0],
+            [
+                1.0,
+                0.0,
+                0.0,
+                toe_l_jx_wx,
+                toe_l_jx_wy,
+                toe_l_jx_wz,
+                toe_l_jx_hip_l_x,
+                toe_l_jx_hip_l_y,
+                toe_l_jx_hip_l_z,
+                -t27,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                0.0,
+                1.0,
+                0.0,
+                toe_l_jy_wx,
+                toe_l_jy_wy,
+                toe_l_jy_wz,
+                toe_l_jy_hip_l_x,
+                toe_l_jy_hip_l_y,
+                toe_l_jy_hip_l_z,
+                -t28,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                1.0,
+                toe_l_jz_wx,
+                toe_l_jz_wy,
+                toe_l_jz_wz,
+                toe_l_jz_hip_l_x,
+                toe_l_jz_hip_l_y,
+                toe_l_jz_hip_l_z,
+                -t29,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
         ],
         [
-            [1.0, 0.0, 0.0, t94, t97, t100, 0.0, 0.0, 0.0, 0.0, t88, t85, t82, -t70],
-            [0.0, 1.0, 0.0, t95, t98, t101, 0.0, 0.0, 0.0, 0.0, t89, t86, t83, -t71],
-            [0.0, 0.0, 1.0, t96, t99, t102, 0.0, 0.0, 0.0, 0.0, t90, t87, t84, -t72],
+            [
+                1.0,
+                0.0,
+                0.0,
+                toe_r_jx_wx,
+                toe_r_jx_wy,
+                toe_r_jx_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_r_jx_hip_r_x,
+                toe_r_jx_hip_r_y,
+                toe_r_jx_hip_r_z,
+                -t52,
+            ],
+            [
+                0.0,
+                1.0,
+                0.0,
+                toe_r_jy_wx,
+                toe_r_jy_wy,
+                toe_r_jy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_r_jy_hip_r_x,
+                toe_r_jy_hip_r_y,
+                toe_r_jy_hip_r_z,
+                -t53,
+            ],
+            [
+                0.0,
+                0.0,
+                1.0,
+                toe_r_jz_wx,
+                toe_r_jz_wy,
+                toe_r_jz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_r_jz_hip_r_x,
+                toe_r_jz_hip_r_y,
+                toe_r_jz_hip_r_z,
+                -t54,
+            ],
         ],
     ]
 
@@ -1771,51 +1979,141 @@ def contact_angular_jacobians(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
-    t17 = c_hip_l_x*t7 + s_hip_l_x*t9
-    t18 = c_hip_l_x*t9 - s_hip_l_x*t7
-    t19 = c_hip_l_x*t11 + s_hip_l_x*t13
-    t20 = c_hip_l_x*t13 - s_hip_l_x*t11
-    t21 = c_hip_l_x*t15 + s_hip_l_x*t16
-    t22 = c_hip_l_x*t16 - s_hip_l_x*t15
-    t23 = c_hip_l_y*t18 + s_hip_l_y*t5
-    t24 = c_hip_l_y*t20 + s_hip_l_y*t10
-    t25 = c_hip_l_y*t22 + s_hip_l_y*t14
+    toe_l_jwx_wx = -qscale*t4 + 1.0
+    t5 = qw*qz
+    toe_l_jwx_wy = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    toe_l_jwx_wz = qscale*(qx*qz + t6)
+    toe_l_jwy_wx = qscale*(qx*qy + t5)
+    toe_l_jwy_wy = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    toe_l_jwy_wz = qscale*(qy*qz - t7)
+    toe_l_jwz_wx = qscale*(qx*qz - t6)
+    toe_l_jwz_wy = qscale*(qy*qz + t7)
+    toe_l_jwz_wz = -qscale*(t1 + t2) + 1.0
+    toe_l_jwx_hip_l_y = c_hip_l_x*toe_l_jwx_wy + s_hip_l_x*toe_l_jwx_wz
+    t8 = c_hip_l_x*toe_l_jwx_wz - s_hip_l_x*toe_l_jwx_wy
+    toe_l_jwy_hip_l_y = c_hip_l_x*toe_l_jwy_wy + s_hip_l_x*toe_l_jwy_wz
+    t9 = c_hip_l_x*toe_l_jwy_wz - s_hip_l_x*toe_l_jwy_wy
+    toe_l_jwz_hip_l_y = c_hip_l_x*toe_l_jwz_wy + s_hip_l_x*toe_l_jwz_wz
+    t10 = c_hip_l_x*toe_l_jwz_wz - s_hip_l_x*toe_l_jwz_wy
+    toe_l_jwx_hip_l_z = c_hip_l_y*t8 + s_hip_l_y*toe_l_jwx_wx
+    toe_l_jwy_hip_l_z = c_hip_l_y*t9 + s_hip_l_y*toe_l_jwy_wx
+    toe_l_jwz_hip_l_z = c_hip_l_y*t10 + s_hip_l_y*toe_l_jwz_wx
     # toe_r
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t26 = c_hip_r_x*t7 + s_hip_r_x*t9
-    t27 = c_hip_r_x*t9 - s_hip_r_x*t7
-    t28 = c_hip_r_x*t11 + s_hip_r_x*t13
-    t29 = c_hip_r_x*t13 - s_hip_r_x*t11
-    t30 = c_hip_r_x*t15 + s_hip_r_x*t16
-    t31 = c_hip_r_x*t16 - s_hip_r_x*t15
-    t32 = c_hip_r_y*t27 + s_hip_r_y*t5
-    t33 = c_hip_r_y*t29 + s_hip_r_y*t10
-    t34 = c_hip_r_y*t31 + s_hip_r_y*t14
+    toe_r_jwx_hip_r_y = c_hip_r_x*toe_l_jwx_wy + s_hip_r_x*toe_l_jwx_wz
+    t11 = c_hip_r_x*toe_l_jwx_wz - s_hip_r_x*toe_l_jwx_wy
+    toe_r_jwy_hip_r_y = c_hip_r_x*toe_l_jwy_wy + s_hip_r_x*toe_l_jwy_wz
+    t12 = c_hip_r_x*toe_l_jwy_wz - s_hip_r_x*toe_l_jwy_wy
+    toe_r_jwz_hip_r_y = c_hip_r_x*toe_l_jwz_wy + s_hip_r_x*toe_l_jwz_wz
+    t13 = c_hip_r_x*toe_l_jwz_wz - s_hip_r_x*toe_l_jwz_wy
+    toe_r_jwx_hip_r_z = c_hip_r_y*t11 + s_hip_r_y*toe_l_jwx_wx
+    toe_r_jwy_hip_r_z = c_hip_r_y*t12 + s_hip_r_y*toe_l_jwy_wx
+    toe_r_jwz_hip_r_z = c_hip_r_y*t13 + s_hip_r_y*toe_l_jwz_wx
     return [
         [
-            [0.0, 0.0, 0.0, t5, t7, t9, t5, t17, t23, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 0.0, 0.0, t10, t11, t13, t10, t19, t24, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 0.0, 0.0, t14, t15, t16, t14, t21, t25, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwx_wx,
+                toe_l_jwx_wy,
+                toe_l_jwx_wz,
+                toe_l_jwx_wx,
+                toe_l_jwx_hip_l_y,
+                toe_l_jwx_hip_l_z,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwy_wx,
+                toe_l_jwy_wy,
+                toe_l_jwy_wz,
+                toe_l_jwy_wx,
+                toe_l_jwy_hip_l_y,
+                toe_l_jwy_hip_l_z,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwz_wx,
+                toe_l_jwz_wy,
+                toe_l_jwz_wz,
+                toe_l_jwz_wx,
+                toe_l_jwz_hip_l_y,
+                toe_l_jwz_hip_l_z,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
         ],
         [
-            [0.0, 0.0, 0.0, t5, t7, t9, 0.0, 0.0, 0.0, 0.0, t5, t26, t32, 0.0],
-            [0.0, 0.0, 0.0, t10, t11, t13, 0.0, 0.0, 0.0, 0.0, t10, t28, t33, 0.0],
-            [0.0, 0.0, 0.0, t14, t15, t16, 0.0, 0.0, 0.0, 0.0, t14, t30, t34, 0.0],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwx_wx,
+                toe_l_jwx_wy,
+                toe_l_jwx_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwx_wx,
+                toe_r_jwx_hip_r_y,
+                toe_r_jwx_hip_r_z,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwy_wx,
+                toe_l_jwy_wy,
+                toe_l_jwy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwy_wx,
+                toe_r_jwy_hip_r_y,
+                toe_r_jwy_hip_r_z,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwz_wx,
+                toe_l_jwz_wy,
+                toe_l_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_l_jwz_wx,
+                toe_r_jwz_hip_r_y,
+                toe_r_jwz_hip_r_z,
+                0.0,
+            ],
         ],
     ]
 
@@ -1843,18 +2141,18 @@ def body_poses(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
+    trunk_r11 = -qscale*t4 + 1.0
+    t5 = qw*qz
+    trunk_r12 = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    trunk_r13 = qscale*(qx*qz + t6)
+    trunk_r21 = qscale*(qx*qy + t5)
+    trunk_r22 = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    trunk_r23 = qscale*(qy*qz - t7)
+    trunk_r31 = qscale*(qx*qz - t6)
+    trunk_r32 = qscale*(qy*qz + t7)
+    trunk_r33 = -qscale*(t1 + t2) + 1.0
     # thigh_l
     c_hip_l_z = math.cos(hip_l_z)
     s_hip_l_z = math.sin(hip_l_z)
@@ -1862,32 +2160,32 @@ def body_poses(q):
     s_hip_l_y = math.sin(hip_l_y)
     c_hip_l_x = math.cos(hip_l_x)
     s_hip_l_x = math.sin(hip_l_x)
-    t17 = 0.072*t7 + x
-    t18 = 0.072*t11 + y
-    t19 = 0.072*t15 + z
-    t20 = c_hip_l_x*t7 + s_hip_l_x*t9
-    t21 = c_hip_l_x*t9 - s_hip_l_x*t7
-    t22 = c_hip_l_x*t11 + s_hip_l_x*t13
-    t23 = c_hip_l_x*t13 - s_hip_l_x*t11
-    t24 = c_hip_l_x*t15 + s_hip_l_x*t16
-    t25 = c_hip_l_x*t16 - s_hip_l_x*t15
-    t26 = c_hip_l_y*t5 - s_hip_l_y*t21
-    t27 = c_hip_l_y*t21 + s_hip_l_y*t5
-    t28 = c_hip_l_y*t10 - s_hip_l_y*t23
-    t29 = c_hip_l_y*t23 + s_hip_l_y*t10
-    t30 = c_hip_l_y*t14 - s_hip_l_y*t25
-    t31 = c_hip_l_y*t25 + s_hip_l_y*t14
-    t32 = c_hip_l_z*t26 + s_hip_l_z*t20
-    t33 = c_hip_l_z*t20 - s_hip_l_z*t26
-    t34 = c_hip_l_z*t28 + s_hip_l_z*t22
-    t35 = c_hip_l_z*t22 - s_hip_l_z*t28
-    t36 = c_hip_l_z*t30 + s_hip_l_z*t24
-    t37 = c_hip_l_z*t24 - s_hip_l_z*t30
+    thigh_l_x = 0.072*trunk_r12 + x
+    thigh_l_y = 0.072*trunk_r22 + y
+    thigh_l_z = 0.072*trunk_r32 + z
+    t8 = c_hip_l_x*trunk_r12 + s_hip_l_x*trunk_r13
+    t9 = c_hip_l_x*trunk_r13 - s_hip_l_x*trunk_r12
+    t10 = c_hip_l_x*trunk_r22 + s_hip_l_x*trunk_r23
+    t11 = c_hip_l_x*trunk_r23 - s_hip_l_x*trunk_r22
+    t12 = c_hip_l_x*trunk_r32 + s_hip_l_x*trunk_r33
+    t13 = c_hip_l_x*trunk_r33 - s_hip_l_x*trunk_r32
+    t14 = c_hip_l_y*trunk_r11 - s_hip_l_y*t9
+    thigh_l_r13 = c_hip_l_y*t9 + s_hip_l_y*trunk_r11
+    t15 = c_hip_l_y*trunk_r21 - s_hip_l_y*t11
+    thigh_l_r23 = c_hip_l_y*t11 + s_hip_l_y*trunk_r21
+    t16 = c_hip_l_y*trunk_r31 - s_hip_l_y*t13
+    thigh_l_r33 = c_hip_l_y*t13 + s_hip_l_y*trunk_r31
+    thigh_l_r11 = c_hip_l_z*t14 + s_hip_l_z*t8
+    thigh_l_r12 = c_hip_l_z*t8 - s_hip_l_z*t14
+    thigh_l_r21 = c_hip_l_z*t15 + s_hip_l_z*t10
+    thigh_l_r22 = c_hip_l_z*t10 - s_hip_l_z*t15
+    thigh_l_r31 = c_hip_l_z*t16 + s_hip_l_z*t12
+    thigh_l_r32 = c_hip_l_z*t12 - s_hip_l_z*t16
     # shank_l
-    t38 = -leg_l - 0.2
-    t39 = t17 + t27*t38
-    t40 = t18 + t29*t38
-    t41 = t19 + t31*t38
+    t17 = -leg_l - 0.2
+    shank_l_x = thigh_l_x + thigh_l_r13*t17
+    shank_l_y = thigh_l_y + thigh_l_r23*t17
+    shank_l_z = thigh_l_z + thigh_l_r33*t17
     # thigh_r
     c_hip_r_z = math.cos(hip_r_z)
     s_hip_r_z = math.sin(hip_r_z)
@@ -1895,38 +2193,103 @@ def body_poses(q):
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t42 = -0.072*t7 + x
-    t43 = -0.072*t11 + y
-    t44 = -0.072*t15 + z
-    t45 = c_hip_r_x*t7 + s_hip_r_x*t9
-    t46 = c_hip_r_x*t9 - s_hip_r_x*t7
-    t47 = c_hip_r_x*t11 + s_hip_r_x*t13
-    t48 = c_hip_r_x*t13 - s_hip_r_x*t11
-    t49 = c_hip_r_x*t15 + s_hip_r_x*t16
-    t50 = c_hip_r_x*t16 - s_hip_r_x*t15
-    t51 = c_hip_r_y*t5 - s_hip_r_y*t46
-    t52 = c_hip_r_y*t46 + s_hip_r_y*t5
-    t53 = c_hip_r_y*t10 - s_hip_r_y*t48
-    t54 = c_hip_r_y*t48 + s_hip_r_y*t10
-    t55 = c_hip_r_y*t14 - s_hip_r_y*t50
-    t56 = c_hip_r_y*t50 + s_hip_r_y*t14
-    t57 = c_hip_r_z*t51 + s_hip_r_z*t45
-    t58 = c_hip_r_z*t45 - s_hip_r_z*t51
-    t59 = c_hip_r_z*t53 + s_hip_r_z*t47
-    t60 = c_hip_r_z*t47 - s_hip_r_z*t53
-    t61 = c_hip_r_z*t55 + s_hip_r_z*t49
-    t62 = c_hip_r_z*t49 - s_hip_r_z*t55
+    thigh_r_x = -0.072*trunk_r12 + x
+    thigh_r_y = -0.072*trunk_r22 + y
+    thigh_r_z = -0.072*trunk_r32 + z
+    t18 = c_hip_r_x*trunk_r12 + s_hip_r_x*trunk_r13
+    t19 = c_hip_r_x*trunk_r13 - s_hip_r_x*trunk_r12
+    t20 = c_hip_r_x*trunk_r22 + s_hip_r_x*trunk_r23
+    t21 = c_hip_r_x*trunk_r23 - s_hip_r_x*trunk_r22
+    t22 = c_hip_r_x*trunk_r32 + s_hip_r_x*trunk_r33
+    t23 = c_hip_r_x*trunk_r33 - s_hip_r_x*trunk_r32
+    t24 = c_hip_r_y*trunk_r11 - s_hip_r_y*t19
+    thigh_r_r13 = c_hip_r_y*t19 + s_hip_r_y*trunk_r11
+    t25 = c_hip_r_y*trunk_r21 - s_hip_r_y*t21
+    thigh_r_r23 = c_hip_r_y*t21 + s_hip_r_y*trunk_r21
+    t26 = c_hip_r_y*trunk_r31 - s_hip_r_y*t23
+    thigh_r_r33 = c_hip_r_y*t23 + s_hip_r_y*trunk_r31
+    thigh_r_r11 = c_hip_r_z*t24 + s_hip_r_z*t18
+    thigh_r_r12 = c_hip_r_z*t18 - s_hip_r_z*t24
+    thigh_r_r21 = c_hip_r_z*t25 + s_hip_r_z*t20
+    thigh_r_r22 = c_hip_r_z*t20 - s_hip_r_z*t25
+    thigh_r_r31 = c_hip_r_z*t26 + s_hip_r_z*t22
+    thigh_r_r32 = c_hip_r_z*t22 - s_hip_r_z*t26
     # shank_r
-    t63 = -leg_r - 0.2
-    t64 = t42 + t52*t63
-    t65 = t43 + t54*t63
-    t66 = t44 + t56*t63
+    t27 = -leg_r - 0.2
+    shank_r_x = thigh_r_x + thigh_r_r13*t27
+    shank_r_y = thigh_r_y + thigh_r_r23*t27
+    shank_r_z = thigh_r_z + thigh_r_r33*t27
     return [
-        ((x, y, z), (t5, t7, t9, t10, t11, t13, t14, t15, t16)),
-        ((t17, t18, t19), (t32, t33, t27, t34, t35, t29, t36, t37, t31)),
-        ((t39, t40, t41), (t32, t33, t27, t34, t35, t29, t36, t37, t31)),
-        ((t42, t43, t44), (t57, t58, t52, t59, t60, t54, t61, t62, t56)),
-        ((t64, t65, t66), (t57, t58, t52, t59, t60, t54, t61, t62, t56)),
+        (
+            (x, y, z),
+            (
+                trunk_r11,
+                trunk_r12,
+                trunk_r13,
+                trunk_r21,
+                trunk_r22,
+                trunk_r23,
+                trunk_r31,
+                trunk_r32,
+                trunk_r33,
+            ),
+        ),
+        (
+            (thigh_l_x, thigh_l_y, thigh_l_z),
+            (
+                thigh_l_r11,
+                thigh_l_r12,
+                thigh_l_r13,
+                thigh_l_r21,
+                thigh_l_r22,
+                thigh_l_r23,
+                thigh_l_r31,
+                thigh_l_r32,
+                thigh_l_r33,
+            ),
+        ),
+        (
+            (shank_l_x, shank_l_y, shank_l_z),
+            (
+                thigh_l_r11,
+                thigh_l_r12,
+                thigh_l_r13,
+                thigh_l_r21,
+                thigh_l_r22,
+                thigh_l_r23,
+                thigh_l_r31,
+                thigh_l_r32,
+                thigh_l_r33,
+            ),
+        ),
+        (
+            (thigh_r_x, thigh_r_y, thigh_r_z),
+            (
+                thigh_r_r11,
+                thigh_r_r12,
+                thigh_r_r13,
+                thigh_r_r21,
+                thigh_r_r22,
+                thigh_r_r23,
+                thigh_r_r31,
+                thigh_r_r32,
+                thigh_r_r33,
+            ),
+        ),
+        (
+            (shank_r_x, shank_r_y, shank_r_z),
+            (
+                thigh_r_r11,
+                thigh_r_r12,
+                thigh_r_r13,
+                thigh_r_r21,
+                thigh_r_r22,
+                thigh_r_r23,
+                thigh_r_r31,
+                thigh_r_r32,
+                thigh_r_r33,
+            ),
+        ),
     ]
 
 
@@ -1977,149 +2340,149 @@ def body_velocities(q, v):
     t14 = qscale*(qx*qz - t8)
     t15 = qscale*(qy*qz + t12)
     t16 = -qscale*(t1 + t2) + 1.0
-    t17 = t5*wx + t7*wy + t9*wz
-    t18 = t10*wx + t11*wy + t13*wz
-    t19 = t14*wx + t15*wy + t16*wz
+    trunk_wx = t5*wx + t7*wy + t9*wz
+    trunk_wy = t10*wx + t11*wy + t13*wz
+    trunk_wz = t14*wx + t15*wy + t16*wz
     # thigh_l
     c_hip_l_y = math.cos(hip_l_y)
     s_hip_l_y = math.sin(hip_l_y)
     c_hip_l_x = math.cos(hip_l_x)
     s_hip_l_x = math.sin(hip_l_x)
-    t20 = 0.072*t7 + x
-    t21 = 0.072*t11 + y
-    t22 = 0.072*t15 + z
-    t23 = c_hip_l_x*t7 + s_hip_l_x*t9
-    t24 = c_hip_l_x*t9 - s_hip_l_x*t7
-    t25 = c_hip_l_x*t11 + s_hip_l_x*t13
-    t26 = c_hip_l_x*t13 - s_hip_l_x*t11
-    t27 = c_hip_l_x*t15 + s_hip_l_x*t16
-    t28 = c_hip_l_x*t16 - s_hip_l_x*t15
-    t29 = c_hip_l_y*t24 + s_hip_l_y*t5
-    t30 = c_hip_l_y*t26 + s_hip_l_y*t10
-    t31 = c_hip_l_y*t28 + s_hip_l_y*t14
-    t32 = t20 - x
-    t33 = t21 - y
-    t34 = t22 - z
-    t35 = t10*t34 - t14*t33
-    t36 = t14*t32 - t34*t5
-    t37 = -t10*t32 + t33*t5
-    t38 = t11*t34 - t15*t33
-    t39 = t15*t32 - t34*t7
-    t40 = -t11*t32 + t33*t7
-    t41 = t13*t34 - t16*t33
-    t42 = t16*t32 - t34*t9
-    t43 = -t13*t32 + t33*t9
-    t44 = t35*wx + t38*wy + t41*wz + vx
-    t45 = t36*wx + t39*wy + t42*wz + vy
-    t46 = t37*wx + t40*wy + t43*wz + vz
-    t47 = qd_hip_l_x*t5 + qd_hip_l_y*t23 + qd_hip_l_z*t29 + t17
-    t48 = qd_hip_l_x*t10 + qd_hip_l_y*t25 + qd_hip_l_z*t30 + t18
-    t49 = qd_hip_l_x*t14 + qd_hip_l_y*t27 + qd_hip_l_z*t31 + t19
+    t17 = 0.072*t7 + x
+    t18 = 0.072*t11 + y
+    t19 = 0.072*t15 + z
+    t20 = c_hip_l_x*t7 + s_hip_l_x*t9
+    t21 = c_hip_l_x*t9 - s_hip_l_x*t7
+    t22 = c_hip_l_x*t11 + s_hip_l_x*t13
+    t23 = c_hip_l_x*t13 - s_hip_l_x*t11
+    t24 = c_hip_l_x*t15 + s_hip_l_x*t16
+    t25 = c_hip_l_x*t16 - s_hip_l_x*t15
+    t26 = c_hip_l_y*t21 + s_hip_l_y*t5
+    t27 = c_hip_l_y*t23 + s_hip_l_y*t10
+    t28 = c_hip_l_y*t25 + s_hip_l_y*t14
+    t29 = t17 - x
+    t30 = t18 - y
+    t31 = t19 - z
+    t32 = t10*t31 - t14*t30
+    t33 = t14*t29 - t31*t5
+    t34 = -t10*t29 + t30*t5
+    t35 = t11*t31 - t15*t30
+    t36 = t15*t29 - t31*t7
+    t37 = -t11*t29 + t30*t7
+    t38 = t13*t31 - t16*t30
+    t39 = t16*t29 - t31*t9
+    t40 = -t13*t29 + t30*t9
+    thigh_l_vx = t32*wx + t35*wy + t38*wz + vx
+    thigh_l_vy = t33*wx + t36*wy + t39*wz + vy
+    thigh_l_vz = t34*wx + t37*wy + t40*wz + vz
+    thigh_l_wx = qd_hip_l_x*t5 + qd_hip_l_y*t20 + qd_hip_l_z*t26 + trunk_wx
+    thigh_l_wy = qd_hip_l_x*t10 + qd_hip_l_y*t22 + qd_hip_l_z*t27 + trunk_wy
+    thigh_l_wz = qd_hip_l_x*t14 + qd_hip_l_y*t24 + qd_hip_l_z*t28 + trunk_wz
     # shank_l
-    t50 = -leg_l - 0.2
-    t51 = t20 + t29*t50
-    t52 = t21 + t30*t50
-    t53 = t22 + t31*t50
-    t54 = -t20 + t51
-    t55 = -t21 + t52
-    t56 = -t22 + t53
-    t57 = t30*t56 - t31*t55
-    t58 = -t29*t56 + t31*t54
-    t59 = t29*t55 - t30*t54
-    t60 = t25*t56 - t27*t55
-    t61 = -t23*t56 + t27*t54
-    t62 = t23*t55 - t25*t54
-    t63 = t10*t56 - t14*t55
-    t64 = t14*t54 - t5*t56
-    t65 = -t10*t54 + t5*t55
-    t66 = t51 - x
-    t67 = t52 - y
-    t68 = t53 - z
-    t69 = t10*t68 - t14*t67
-    t70 = t14*t66 - t5*t68
-    t71 = -t10*t66 + t5*t67
-    t72 = t11*t68 - t15*t67
-    t73 = t15*t66 - t68*t7
-    t74 = -t11*t66 + t67*t7
-    t75 = t13*t68 - t16*t67
-    t76 = t16*t66 - t68*t9
-    t77 = -t13*t66 + t67*t9
-    t78 = qd_hip_l_x*t63 + qd_hip_l_y*t60 + qd_hip_l_z*t57 - qd_leg_l*t29 + t69*wx + t72*wy + t75*wz + vx
-    t79 = qd_hip_l_x*t64 + qd_hip_l_y*t61 + qd_hip_l_z*t58 - qd_leg_l*t30 + t70*wx + t73*wy + t76*wz + vy
-    t80 = qd_hip_l_x*t65 + qd_hip_l_y*t62 + qd_hip_l_z*t59 - qd_leg_l*t31 + t71*wx + t74*wy + t77*wz + vz
+    t41 = -leg_l - 0.2
+    t42 = t17 + t26*t41
+    t43 = t18 + t27*t41
+    t44 = t19 + t28*t41
+    t45 = -t17 + t42
+    t46 = -t18 + t43
+    t47 = -t19 + t44
+    t48 = t27*t47 - t28*t46
+    t49 = -t26*t47 + t28*t45
+    t50 = t26*t46 - t27*t45
+    t51 = t22*t47 - t24*t46
+    t52 = -t20*t47 + t24*t45
+    t53 = t20*t46 - t22*t45
+    t54 = t10*t47 - t14*t46
+    t55 = t14*t45 - t5*t47
+    t56 = -t10*t45 + t5*t46
+    t57 = t42 - x
+    t58 = t43 - y
+    t59 = t44 - z
+    t60 = t10*t59 - t14*t58
+    t61 = t14*t57 - t5*t59
+    t62 = -t10*t57 + t5*t58
+    t63 = t11*t59 - t15*t58
+    t64 = t15*t57 - t59*t7
+    t65 = -t11*t57 + t58*t7
+    t66 = t13*t59 - t16*t58
+    t67 = t16*t57 - t59*t9
+    t68 = -t13*t57 + t58*t9
+    shank_l_vx = qd_hip_l_x*t54 + qd_hip_l_y*t51 + qd_hip_l_z*t48 - qd_leg_l*t26 + t60*wx + t63*wy + t66*wz + vx
+    shank_l_vy = qd_hip_l_x*t55 + qd_hip_l_y*t52 + qd_hip_l_z*t49 - qd_leg_l*t27 + t61*wx + t64*wy + t67*wz + vy
+    shank_l_vz = qd_hip_l_x*t56 + qd_hip_l_y*t53 + qd_hip_l_z*t50 - qd_leg_l*t28 + t62*wx + t65*wy + t68*wz + vz
     # thigh_r
     c_hip_r_y = math.cos(hip_r_y)
     s_hip_r_y = math.sin(hip_r_y)
     c_hip_r_x = math.cos(hip_r_x)
     s_hip_r_x = math.sin(hip_r_x)
-    t81 = -0.072*t7 + x
-    t82 = -0.072*t11 + y
-    t83 = -0.072*t15 + z
-    t84 = c_hip_r_x*t7 + s_hip_r_x*t9
-    t85 = c_hip_r_x*t9 - s_hip_r_x*t7
-    t86 = c_hip_r_x*t11 + s_hip_r_x*t13
-    t87 = c_hip_r_x*t13 - s_hip_r_x*t11
-    t88 = c_hip_r_x*t15 + s_hip_r_x*t16
-    t89 = c_hip_r_x*t16 - s_hip_r_x*t15
-    t90 = c_hip_r_y*t85 + s_hip_r_y*t5
-    t91 = c_hip_r_y*t87 + s_hip_r_y*t10
-    t92 = c_hip_r_y*t89 + s_hip_r_y*t14
-    t93 = t81 - x
-    t94 = t82 - y
-    t95 = t83 - z
-    t96 = t10*t95 - t14*t94
-    t97 = t14*t93 - t5*t95
-    t98 = -t10*t93 + t5*t94
-    t99 = t11*t95 - t15*t94
-    t100 = t15*t93 - t7*t95
-    t101 = -t11*t93 + t7*t94
-    t102 = t13*t95 - t16*t94
-    t103 = t16*t93 - t9*t95
-    t104 = -t13*t93 + t9*t94
-    t105 = t102*wz + t96*wx + t99*wy + vx
-    t106 = t100*wy + t103*wz + t97*wx + vy
-    t107 = t101*wy + t104*wz + t98*wx + vz
-    t108 = qd_hip_r_x*t5 + qd_hip_r_y*t84 + qd_hip_r_z*t90 + t17
-    t109 = qd_hip_r_x*t10 + qd_hip_r_y*t86 + qd_hip_r_z*t91 + t18
-    t110 = qd_hip_r_x*t14 + qd_hip_r_y*t88 + qd_hip_r_z*t92 + t19
+    t69 = -0.072*t7 + x
+    t70 = -0.072*t11 + y
+    t71 = -0.072*t15 + z
+    t72 = c_hip_r_x*t7 + s_hip_r_x*t9
+    t73 = c_hip_r_x*t9 - s_hip_r_x*t7
+    t74 = c_hip_r_x*t11 + s_hip_r_x*t13
+    t75 = c_hip_r_x*t13 - s_hip_r_x*t11
+    t76 = c_hip_r_x*t15 + s_hip_r_x*t16
+    t77 = c_hip_r_x*t16 - s_hip_r_x*t15
+    t78 = c_hip_r_y*t73 + s_hip_r_y*t5
+    t79 = c_hip_r_y*t75 + s_hip_r_y*t10
+    t80 = c_hip_r_y*t77 + s_hip_r_y*t14
+    t81 = t69 - x
+    t82 = t70 - y
+    t83 = t71 - z
+    t84 = t10*t83 - t14*t82
+    t85 = t14*t81 - t5*t83
+    t86 = -t10*t81 + t5*t82
+    t87 = t11*t83 - t15*t82
+    t88 = t15*t81 - t7*t83
+    t89 = -t11*t81 + t7*t82
+    t90 = t13*t83 - t16*t82
+    t91 = t16*t81 - t9*t83
+    t92 = -t13*t81 + t9*t82
+    thigh_r_vx = t90*wz + t84*wx + t87*wy + vx
+    thigh_r_vy = t88*wy + t91*wz + t85*wx + vy
+    thigh_r_vz = t89*wy + t92*wz + t86*wx + vz
+    thigh_r_wx = qd_hip_r_x*t5 + qd_hip_r_y*t72 + qd_hip_r_z*t78 + trunk_wx
+    thigh_r_wy = qd_hip_r_x*t10 + qd_hip_r_y*t74 + qd_hip_r_z*t79 + trunk_wy
+    thigh_r_wz = qd_hip_r_x*t14 + qd_hip_r_y*t76 + qd_hip_r_z*t80 + trunk_wz
     # shank_r
-    t111 = -leg_r - 0.2
-    t112 = t111*t90 + t81
-    t113 = t111*t91 + t82
-    t114 = t111*t92 + t83
-    t115 = t112 - t81
-    t116 = t113 - t82
-    t117 = t114 - t83
-    t118 = -t116*t92 + t117*t91
-    t119 = t115*t92 - t117*t90
-    t120 = -t115*t91 + t116*t90
-    t121 = -t116*t88 + t117*t86
-    t122 = t115*t88 - t117*t84
-    t123 = -t115*t86 + t116*t84
-    t124 = t10*t117 - t116*t14
-    t125 = t115*t14 - t117*t5
-    t126 = -t10*t115 + t116*t5
-    t127 = t112 - x
-    t128 = t113 - y
-    t129 = t114 - z
-    t130 = t10*t129 - t128*t14
-    t131 = t127*t14 - t129*t5
-    t132 = -t10*t127 + t128*t5
-    t133 = t11*t129 - t128*t15
-    t134 = t127*t15 - t129*t7
-    t135 = -t11*t127 + t128*t7
-    t136 = -t128*t16 + t129*t13
-    t137 = t127*t16 - t129*t9
-    t138 = -t127*t13 + t128*t9
-    t139 = qd_hip_r_x*t124 + qd_hip_r_y*t121 + qd_hip_r_z*t118 - qd_leg_r*t90 + t130*wx + t133*wy + t136*wz + vx
-    t140 = qd_hip_r_x*t125 + qd_hip_r_y*t122 + qd_hip_r_z*t119 - qd_leg_r*t91 + t131*wx + t134*wy + t137*wz + vy
-    t141 = qd_hip_r_x*t126 + qd_hip_r_y*t123 + qd_hip_r_z*t120 - qd_leg_r*t92 + t132*wx + t135*wy + t138*wz + vz
+    t93 = -leg_r - 0.2
+    t94 = t93*t78 + t69
+    t95 = t93*t79 + t70
+    t96 = t93*t80 + t71
+    t97 = t94 - t69
+    t98 = t95 - t70
+    t99 = t96 - t71
+    t100 = -t98*t80 + t99*t79
+    t101 = t97*t80 - t99*t78
+    t102 = -t97*t79 + t98*t78
+    t103 = -t98*t76 + t99*t74
+    t104 = t97*t76 - t99*t72
+    t105 = -t97*t74 + t98*t72
+    t106 = t10*t99 - t98*t14
+    t107 = t97*t14 - t99*t5
+    t108 = -t10*t97 + t98*t5
+    t109 = t94 - x
+    t110 = t95 - y
+    t111 = t96 - z
+    t112 = t10*t111 - t110*t14
+    t113 = t109*t14 - t111*t5
+    t114 = -t10*t109 + t110*t5
+    t115 = t11*t111 - t110*t15
+    t116 = t109*t15 - t111*t7
+    t117 = -t11*t109 + t110*t7
+    t118 = -t110*t16 + t111*t13
+    t119 = t109*t16 - t111*t9
+    t120 = -t109*t13 + t110*t9
+    shank_r_vx = qd_hip_r_x*t106 + qd_hip_r_y*t103 + qd_hip_r_z*t100 - qd_leg_r*t78 + t112*wx + t115*wy + t118*wz + vx
+    shank_r_vy = qd_hip_r_x*t107 + qd_hip_r_y*t104 + qd_hip_r_z*t101 - qd_leg_r*t79 + t113*wx + t116*wy + t119*wz + vy
+    shank_r_vz = qd_hip_r_x*t108 + qd_hip_r_y*t105 + qd_hip_r_z*t102 - qd_leg_r*t80 + t114*wx + t117*wy + t120*wz + vz
     return [
-        ((vx, vy, vz), (t17, t18, t19)),
-        ((t44, t45, t46), (t47, t48, t49)),
-        ((t78, t79, t80), (t47, t48, t49)),
-        ((t105, t106, t107), (t108, t109, t110)),
-        ((t139, t140, t141), (t108, t109, t110)),
+        ((vx, vy, vz), (trunk_wx, trunk_wy, trunk_wz)),
+        ((thigh_l_vx, thigh_l_vy, thigh_l_vz), (thigh_l_wx, thigh_l_wy, thigh_l_wz)),
+        ((shank_l_vx, shank_l_vy, shank_l_vz), (thigh_l_wx, thigh_l_wy, thigh_l_wz)),
+        ((thigh_r_vx, thigh_r_vy, thigh_r_vz), (thigh_r_wx, thigh_r_wy, thigh_r_wz)),
+        ((shank_r_vx, shank_r_vy, shank_r_vz), (thigh_r_wx, thigh_r_wy, thigh_r_wz)),
     ]
 
 
@@ -2206,11 +2569,10 @@ def center_of_mass(q):
     t52 = -0.22*t42 + t49
     t53 = -0.22*t43 + t50
     t54 = -0.22*t44 + t51
-    return (
-        0.05150846210448859*t26 + 0.0235467255334805*t33 + 0.05150846210448859*t45 + 0.0235467255334805*t52 + 0.8498896247240618*x,
-        0.05150846210448859*t27 + 0.0235467255334805*t34 + 0.05150846210448859*t46 + 0.0235467255334805*t53 + 0.8498896247240618*y,
-        0.05150846210448859*t28 + 0.0235467255334805*t35 + 0.05150846210448859*t47 + 0.0235467255334805*t54 + 0.8498896247240618*z,
-    )
+    com_x = 0.05150846210448859*t26 + 0.0235467255334805*t33 + 0.05150846210448859*t45 + 0.0235467255334805*t52 + 0.8498896247240618*x
+    com_y = 0.05150846210448859*t27 + 0.0235467255334805*t34 + 0.05150846210448859*t46 + 0.0235467255334805*t53 + 0.8498896247240618*y
+    com_z = 0.05150846210448859*t28 + 0.0235467255334805*t35 + 0.05150846210448859*t47 + 0.0235467255334805*t54 + 0.8498896247240618*z
+    return (com_x, com_y, com_z)
 
 
 def center_of_mass_velocity(q, v):

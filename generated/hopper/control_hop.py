@@ -89,8 +89,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[8]
     speed_trim = r[0]
     predicted_apex = r[1]
-    t1 = k_trim*(-com_vx + speed) + speed_trim
-    return [t1, predicted_apex]
+    new_speed_trim = k_trim*(-com_vx + speed) + speed_trim
+    return [new_speed_trim, predicted_apex]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -104,8 +104,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     swing_kp = p[4]
     swing_kv = p[5]
     speed_trim = r[0]
-    t1 = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed - speed_trim) - leg_main_hip_x
-    return [0.0, swing_kp, swing_kv, 0.0, t1]
+    main_x_goal = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed - speed_trim) - leg_main_hip_x
+    return [0.0, swing_kp, swing_kv, 0.0, main_x_goal]
 
 
 def entry_LOADING_0(s, u, p, r, tis):
@@ -133,8 +133,8 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     body_body_pitch_rate = s[3]
     kp = p[2]
     kv = p[3]
-    t1 = body_body_pitch*kp + body_body_pitch_rate*kv
-    return [0.0, 0.0, t1]
+    hip_motor_force = body_body_pitch*kp + body_body_pitch_rate*kv
+    return [0.0, 0.0, hip_motor_force]
 
 
 def entry_THRUST_0(s, u, p, r, tis):
@@ -143,8 +143,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_leg_spring_k = s[1]
     com_z = s[5]
     speed_trim = r[0]
-    t1 = 0.004591747711013765*act_leg_spring_force*act_leg_spring_force/act_leg_spring_k + com_z
-    return [speed_trim, t1]
+    new_predicted_apex = 0.004591747711013765*act_leg_spring_force*act_leg_spring_force/act_leg_spring_k + com_z
+    return [speed_trim, new_predicted_apex]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -157,9 +157,9 @@ def action_THRUST_0(s, u, p, r, tis):
     stroke = p[6]
     k_height = p[7]
     predicted_apex = r[1]
-    t1 = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
-    t2 = body_body_pitch*kp + body_body_pitch_rate*kv
-    return [t1, 0.0, 0.0, t2]
+    leg_spring_rest = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
+    hip_motor_force = body_body_pitch*kp + body_body_pitch_rate*kv
+    return [leg_spring_rest, 0.0, 0.0, hip_motor_force]
 
 
 def entry_UNLOADING_0(s, u, p, r, tis):

@@ -46,32 +46,29 @@ def mass_matrix(q):
     t2 = 0.3*t1 - 0.075
     t3 = t1*t2 - 0.075*t1 + 0.02475
     t4 = t2 - 0.12
-    t5 = t3 + 0.027999999999999997
+    m_pitch_hip = t3 + 0.027999999999999997
     # thigh, hinge hip: composite inertia seen from the parent
     c_hip = math.cos(hip)
     s_hip = math.sin(hip)
-    t6 = s_hip*t4
-    t7 = c_hip*t4
-    t8 = t5 + 0.4
+    t5 = s_hip*t4
+    t6 = c_hip*t4
+    m_pitch_pitch = m_pitch_hip + 0.4
     # body, hinge pitch: composite inertia seen from the parent
     c_pitch = math.cos(pitch)
     s_pitch = math.sin(pitch)
-    t9 = c_pitch*t7 - s_pitch*t6
+    m_x_pitch = c_pitch*t6 - s_pitch*t5
     # body, hinge pitch: column 2
-    t10 = s_pitch*t7
-    t11 = -c_pitch*t6 - t10
-    # thigh, hinge hip: column 3
-    t12 = c_pitch*t7 - s_pitch*t6
-    t13 = -c_pitch*t6 - t10
+    t7 = s_pitch*t6
+    m_z_pitch = -c_pitch*t5 - t7
     # shank, slide leg: column 4
-    t14 = -0.3*c_hip*s_pitch - 0.3*c_pitch*s_hip
-    t15 = -0.3*c_hip*c_pitch + 0.3*s_hip*s_pitch
+    m_x_leg = -0.3*c_hip*s_pitch - 0.3*c_pitch*s_hip
+    m_z_leg = -0.3*c_hip*c_pitch + 0.3*s_hip*s_pitch
     return [
-        [11.1, 0.0, t9, t12, t14],
-        [0.0, 11.1, t11, t13, t15],
-        [t9, t11, t8, t5, 0.0],
-        [t12, t13, t5, t5, 0.0],
-        [t14, t15, 0.0, 0.0, 0.3],
+        [11.1, 0.0, m_x_pitch, m_x_pitch, m_x_leg],
+        [0.0, 11.1, m_z_pitch, m_z_pitch, m_z_leg],
+        [m_x_pitch, m_z_pitch, m_pitch_pitch, m_pitch_hip, 0.0],
+        [m_x_pitch, m_z_pitch, m_pitch_hip, m_pitch_hip, 0.0],
+        [m_x_leg, m_z_leg, 0.0, 0.0, 0.3],
     ]
 
 
@@ -121,16 +118,16 @@ def bias_forces(q, v):
     t27 = 0.3*t22*t9 + 0.3*t24
     t28 = 0.3*t15 - t25*t9
     # shank, slide leg: force on the parent
-    t29 = t17 + t20*t27 + t26
-    t30 = t18 + t27
-    t31 = t19 + t28
+    h_pitch = t17 + t20*t27 + t26
+    t29 = t18 + t27
+    t30 = t19 + t28
     # thigh, hinge hip: force on the parent
-    t32 = c_hip*t30 + s_hip*t31 + t7
-    t33 = c_hip*t31 - s_hip*t30 + t8
+    t31 = c_hip*t29 + s_hip*t30 + t7
+    t32 = c_hip*t30 - s_hip*t29 + t8
     # body, hinge pitch: force on the parent
-    t34 = c_pitch*t32 + s_pitch*t33
-    t35 = c_pitch*t33 - s_pitch*t32
-    return [t34, t35, t29, t29, -t28]
+    h_x = c_pitch*t31 + s_pitch*t32
+    h_z = c_pitch*t32 - s_pitch*t31
+    return [h_x, h_z, h_pitch, h_pitch, -t28]
 
 
 def forward_dynamics(q, v, tau):
@@ -227,21 +224,21 @@ def forward_dynamics(q, v, tau):
     t63 = t58 - tau_z
     t64 = t57 - t60*t63
     # slide x: acceleration
-    t65 = (-9.81*t62 - t64 + tau_x)/t61
+    qdd_x = (-9.81*t62 - t64 + tau_x)/t61
     # slide z: acceleration
-    t66 = t59*(-t55*t65 - 9.81*t56 - t63)
-    t67 = t66 + 9.81
+    qdd_z = t59*(-t55*qdd_x - 9.81*t56 - t63)
+    t65 = qdd_z + 9.81
     # body, hinge pitch: acceleration
-    t68 = c_pitch*t65 - s_pitch*t67 - t3
-    t69 = c_pitch*t67 + s_pitch*t65 + t4
-    t70 = -2.5*tau_hip + 2.5*tau_pitch
+    t66 = c_pitch*qdd_x - s_pitch*t65 - t3
+    t67 = c_pitch*t65 + s_pitch*qdd_x + t4
+    qdd_pitch = -2.5*tau_hip + 2.5*tau_pitch
     # thigh, hinge hip: acceleration
-    t71 = c_hip*t68 - s_hip*t69 + t32
-    t72 = c_hip*t69 + s_hip*t68 + t33
-    t73 = t29*(-t24*t70 - t25*t71 - t34)
+    t68 = c_hip*t66 - s_hip*t67 + t32
+    t69 = c_hip*t67 + s_hip*t66 + t33
+    qdd_hip = t29*(-t24*qdd_pitch - t25*t68 - t34)
     # shank, slide leg: acceleration
-    t74 = 3.3333333333333335*t18 + t72 + 3.3333333333333335*tau_leg
-    return [t65, t66, t70, t73, t74]
+    qdd_leg = 3.3333333333333335*t18 + t69 + 3.3333333333333335*tau_leg
+    return [qdd_x, qdd_z, qdd_pitch, qdd_hip, qdd_leg]
 
 
 def state_derivative(q, v, tau):
@@ -271,9 +268,9 @@ def contact_positions(q):
     t3 = c_hip*s_pitch + c_pitch*s_hip
     t4 = t1*t3 + x
     t5 = t1*t2 + z
-    t6 = -0.5*t3 + t4
-    t7 = -0.5*t2 + t5
-    return [(t6, 0.0, t7)]
+    toe_x = -0.5*t3 + t4
+    toe_z = -0.5*t2 + t5
+    return [(toe_x, 0.0, toe_z)]
 
 
 def contact_velocities(q, v):
@@ -302,9 +299,9 @@ def contact_velocities(q, v):
     t7 = -0.5*t2 + t5
     t8 = t6 - x
     t9 = t7 - z
-    t10 = qd_hip*t9 - qd_leg*t3 + qd_pitch*t9 + qd_x
-    t11 = -qd_hip*t8 - qd_leg*t2 - qd_pitch*t8 + qd_z
-    return [(t10, 0.0, t11)]
+    toe_vx = qd_hip*t9 - qd_leg*t3 + qd_pitch*t9 + qd_x
+    toe_vz = -qd_hip*t8 - qd_leg*t2 - qd_pitch*t8 + qd_z
+    return [(toe_vx, 0.0, toe_vz)]
 
 
 def contact_jacobians(q):
@@ -327,8 +324,14 @@ def contact_jacobians(q):
     t6 = -0.5*t3 + t4
     t7 = -0.5*t2 + t5
     t8 = t6 - x
-    t9 = t7 - z
-    return [[[1.0, 0.0, t9, t9, -t3], [0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, -t8, -t8, -t2]]]
+    toe_jx_pitch = t7 - z
+    return [
+        [
+            [1.0, 0.0, toe_jx_pitch, toe_jx_pitch, -t3],
+            [0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, -t8, -t8, -t2],
+        ],
+    ]
 
 
 def contact_angular_jacobians(q):
@@ -349,16 +352,19 @@ def body_poses(q):
     # thigh
     c_hip = math.cos(hip)
     s_hip = math.sin(hip)
-    t1 = c_hip*c_pitch - s_hip*s_pitch
-    t2 = c_hip*s_pitch + c_pitch*s_hip
+    thigh_r11 = c_hip*c_pitch - s_hip*s_pitch
+    thigh_r13 = c_hip*s_pitch + c_pitch*s_hip
     # shank
-    t3 = -leg - 0.3
-    t4 = t2*t3 + x
-    t5 = t1*t3 + z
+    t1 = -leg - 0.3
+    shank_x = thigh_r13*t1 + x
+    shank_z = thigh_r11*t1 + z
     return [
         ((x, 0.0, z), (c_pitch, 0.0, s_pitch, 0.0, 1.0, 0.0, -s_pitch, 0.0, c_pitch)),
-        ((x, 0.0, z), (t1, 0.0, t2, 0.0, 1.0, 0.0, -t2, 0.0, t1)),
-        ((t4, 0.0, t5), (t1, 0.0, t2, 0.0, 1.0, 0.0, -t2, 0.0, t1)),
+        ((x, 0.0, z), (thigh_r11, 0.0, thigh_r13, 0.0, 1.0, 0.0, -thigh_r13, 0.0, thigh_r11)),
+        (
+            (shank_x, 0.0, shank_z),
+            (thigh_r11, 0.0, thigh_r13, 0.0, 1.0, 0.0, -thigh_r13, 0.0, thigh_r11),
+        ),
     ]
 
 
@@ -382,19 +388,19 @@ def body_velocities(q, v):
     s_hip = math.sin(hip)
     t1 = c_hip*c_pitch - s_hip*s_pitch
     t2 = c_hip*s_pitch + c_pitch*s_hip
-    t3 = qd_hip + qd_pitch
+    thigh_wy = qd_hip + qd_pitch
     # shank
-    t4 = -leg - 0.3
-    t5 = t2*t4 + x
-    t6 = t1*t4 + z
-    t7 = t5 - x
-    t8 = t6 - z
-    t9 = qd_hip*t8 - qd_leg*t2 + qd_pitch*t8 + qd_x
-    t10 = -qd_hip*t7 - qd_leg*t1 - qd_pitch*t7 + qd_z
+    t3 = -leg - 0.3
+    t4 = t2*t3 + x
+    t5 = t1*t3 + z
+    t6 = t4 - x
+    t7 = t5 - z
+    shank_vx = qd_hip*t7 - qd_leg*t2 + qd_pitch*t7 + qd_x
+    shank_vz = -qd_hip*t6 - qd_leg*t1 - qd_pitch*t6 + qd_z
     return [
         ((qd_x, 0.0, qd_z), (0.0, qd_pitch, 0.0)),
-        ((qd_x, 0.0, qd_z), (0.0, t3, 0.0)),
-        ((t9, 0.0, t10), (0.0, t3, 0.0)),
+        ((qd_x, 0.0, qd_z), (0.0, thigh_wy, 0.0)),
+        ((shank_vx, 0.0, shank_vz), (0.0, thigh_wy, 0.0)),
     ]
 
 
@@ -421,11 +427,9 @@ def center_of_mass(q):
     t7 = t1*t5 + z
     t8 = -0.25*t2 + t6
     t9 = -0.25*t1 + t7
-    return (
-        0.07207207207207206*t3 + 0.02702702702702702*t8 + 0.9009009009009007*x,
-        0.0,
-        0.07207207207207206*t4 + 0.02702702702702702*t9 + 0.9009009009009007*z,
-    )
+    com_x = 0.07207207207207206*t3 + 0.02702702702702702*t8 + 0.9009009009009007*x
+    com_z = 0.07207207207207206*t4 + 0.02702702702702702*t9 + 0.9009009009009007*z
+    return (com_x, 0.0, com_z)
 
 
 def center_of_mass_velocity(q, v):

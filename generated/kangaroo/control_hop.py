@@ -121,9 +121,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     desired_now = r[1]
     speed_trim = r[2]
     t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    t2 = desired_now + min(t1, max(-t1, -desired_now + speed))
-    t3 = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
-    return [predicted_apex, t2, t3]
+    new_desired_now = desired_now + min(t1, max(-t1, -desired_now + speed))
+    new_speed_trim = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
+    return [predicted_apex, new_desired_now, new_speed_trim]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -159,33 +159,34 @@ def action_FLIGHT_0(s, u, p, r, tis):
     tail_kv = p[32]
     desired_now = r[1]
     speed_trim = r[2]
-    t1 = min(ankle_rest, ramp*time + start_rest)
-    t2 = (com_vz > 0.0)
-    t3 = 0.8*((tuck) if t2 else (reach))
-    t4 = min(t3, max(-t3, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
-    t5 = t4*t4
-    t6 = -t5 + ((tuck*tuck) if t2 else (reach*reach))
-    t7 = 0.174*math.cos(coord_ankle_value) + 0.26
-    t8 = math.sin(coord_ankle_value)
-    t9 = t7*t7 + 0.030275999999999997*t8*t8
-    t10 = t9**0.5
-    t11 = min(1.0, max(-1.0, 3.846153846153846*(-t9 + min(0.97*t10 + 0.1261, (t5 + t6)**0.5)*min(0.97*t10 + 0.1261, (t5 + t6)**0.5) - 0.016900000000000002)/t10))
-    t12 = -body_trunk_pitch + math.atan2(-t4, t6**0.5) - math.atan2(t10*(1.0 - t11*t11)**0.5, t10*t11 + 0.13)
-    t13 = math.acos(t11) - math.atan2(0.174*t8, t7)
-    t14 = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
+    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
+    t1 = (com_vz > 0.0)
+    t2 = 0.8*((tuck) if t1 else (reach))
+    t3 = min(t2, max(-t2, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
+    t4 = t3*t3
+    t5 = -t4 + ((tuck*tuck) if t1 else (reach*reach))
+    t6 = 0.174*math.cos(coord_ankle_value) + 0.26
+    t7 = math.sin(coord_ankle_value)
+    t8 = t6*t6 + 0.030275999999999997*t7*t7
+    t9 = math.sqrt(t8)
+    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4 + t5))
+    t11 = min(1.0, max(-1.0, 3.846153846153846*(-t8 + t10*t10 - 0.016900000000000002)/t9))
+    hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t3, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
+    knee_servo_setpoint = math.acos(t11) - math.atan2(0.174*t7, t6)
+    tail_motor_force = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
-        t1,
+        ankle_spring_rest,
         swing_kp,
         swing_kv,
         swing_kp,
         swing_kv,
         0.0,
-        t12,
-        t13,
+        hip_servo_setpoint,
+        knee_servo_setpoint,
         tail_k,
         tail_b,
         tail_up,
-        t14,
+        tail_motor_force,
         -body_trunk_pitch,
         ankle_k,
     ]
@@ -216,15 +217,15 @@ def action_LOADING_0(s, u, p, r, tis):
     pitch_lead = p[21]
     tail_down = p[26]
     tail_b = p[27]
-    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
         hip_kv,
-        t1,
+        hip_servo_setpoint,
         0.0,
         0.0,
-        t2,
+        knee_motor_force,
         tail_k,
         tail_b,
         tail_down,
@@ -259,15 +260,15 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     pitch_lead = p[21]
     tail_down = p[26]
     tail_b = p[27]
-    t1 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t2 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
         hip_kv,
-        t1,
+        hip_servo_setpoint,
         0.0,
         0.0,
-        t2,
+        knee_motor_force,
         tail_k,
         tail_b,
         tail_down,
@@ -284,8 +285,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     com_z = s[6]
     desired_now = r[1]
     speed_trim = r[2]
-    t1 = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [t1, desired_now, speed_trim]
+    new_predicted_apex = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
+    return [new_predicted_apex, desired_now, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -315,17 +316,17 @@ def action_THRUST_0(s, u, p, r, tis):
     tail_down = p[26]
     tail_b = p[27]
     predicted_apex = r[0]
-    t1 = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
-    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
+    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
-        t1,
+        ankle_spring_rest,
         hip_kp,
         hip_kv,
-        t2,
+        hip_servo_setpoint,
         0.0,
         0.0,
-        t3,
+        knee_motor_force,
         tail_k,
         tail_b,
         tail_down,
@@ -364,17 +365,17 @@ def action_UNLOADING_0(s, u, p, r, tis):
     pitch_lead = p[21]
     tail_up = p[25]
     tail_b = p[27]
-    t1 = min(ankle_rest, ramp*time + start_rest)
-    t2 = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
-    t3 = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
+    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
-        t1,
+        ankle_spring_rest,
         hip_kp,
         hip_kv,
-        t2,
+        hip_servo_setpoint,
         0.0,
         0.0,
-        t3,
+        knee_motor_force,
         tail_k,
         tail_b,
         tail_up,

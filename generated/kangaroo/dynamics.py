@@ -68,133 +68,232 @@ def mass_matrix(q):
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
     t6 = -0.005244*c_tail_tip - 0.011454000000000002
-    t7 = 0.0008705040000000001*c_tail_tip + 0.000558544
-    t8 = -0.166*t6 + t7
-    t9 = t6 - 0.009940000000000001
-    t10 = t8 + 0.0010357399999999998
+    m_tail_mid_tail_tip = 0.0008705040000000001*c_tail_tip + 0.000558544
+    t7 = -0.166*t6 + m_tail_mid_tail_tip
+    t8 = t6 - 0.009940000000000001
+    m_tail_mid_tail_mid = t7 + 0.0010357399999999998
     # tail2, hinge tail_mid: composite inertia seen from the parent
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t11 = c_tail_mid*t9
-    t12 = 0.005244*s_tail_mid*s_tail_tip
-    t13 = t11 + t12
-    t14 = 0.005244*c_tail_mid*s_tail_tip - s_tail_mid*t9
-    t15 = t13 - 0.034694
-    t16 = t10 - 0.166*t13 - 0.166*t15
-    t17 = t15 - 0.01896
-    t18 = t16 + 0.00207784
+    t9 = c_tail_mid*t8
+    t10 = 0.005244*s_tail_mid*s_tail_tip
+    t11 = t9 + t10
+    t12 = 0.005244*c_tail_mid*s_tail_tip - s_tail_mid*t8
+    t13 = t11 - 0.034694
+    t14 = m_tail_mid_tail_mid - 0.166*t11 - 0.166*t13
+    t15 = t13 - 0.01896
+    m_tail_base_tail_base = t14 + 0.00207784
     # tail1, hinge tail_base: composite inertia seen from the parent
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t19 = s_tail_base*t14
-    t20 = c_tail_base*t17
-    t21 = t19 + t20
-    t22 = c_tail_base*t14
-    t23 = -s_tail_base*t17 + t22
-    t24 = t21 - 0.0898
-    t25 = t18 - 0.2*t21 - 0.2*t24
-    t26 = t24 + t3
-    t27 = t2 + t23
-    t28 = t25 + t5
+    t16 = s_tail_base*t12
+    t17 = c_tail_base*t15
+    t18 = t16 + t17
+    t19 = c_tail_base*t12
+    t20 = -s_tail_base*t15 + t19
+    t21 = t18 - 0.0898
+    t22 = m_tail_base_tail_base - 0.2*t18 - 0.2*t21
+    t23 = t21 + t3
+    t24 = t2 + t20
+    t25 = t22 + t5
     # foot, hinge ankle: composite inertia seen from the parent
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t29 = -0.011480000000000002*c_ankle - 0.0364
-    t30 = 0.0029848000000000006*c_ankle + 0.0013213600000000002
-    t31 = -0.26*t29 + t30
-    t32 = t29 - 0.063
-    t33 = t31 + 0.009914999999999998
+    t26 = -0.011480000000000002*c_ankle - 0.0364
+    m_knee_ankle = 0.0029848000000000006*c_ankle + 0.0013213600000000002
+    t27 = -0.26*t26 + m_knee_ankle
+    t28 = t26 - 0.063
+    m_knee_knee = t27 + 0.009914999999999998
     # shin, hinge knee: composite inertia seen from the parent
     c_knee = math.cos(knee)
     s_knee = math.sin(knee)
-    t34 = 0.011480000000000002*c_knee*s_ankle
-    t35 = s_knee*t32 - t34
-    t36 = c_knee*t32
-    t37 = 0.011480000000000002*s_ankle*s_knee + t36
-    t38 = t37 - 0.09620000000000001
-    t39 = t33 - 0.13*t37 - 0.13*t38
-    t40 = t38 - 0.10368000000000001
-    t41 = t39 + 0.01053552
+    t29 = 0.011480000000000002*c_knee*s_ankle
+    t30 = s_knee*t28 - t29
+    t31 = c_knee*t28
+    t32 = 0.011480000000000002*s_ankle*s_knee + t31
+    t33 = t32 - 0.09620000000000001
+    t34 = m_knee_knee - 0.13*t32 - 0.13*t33
+    t35 = t33 - 0.10368000000000001
+    m_hip_hip = t34 + 0.01053552
     # thigh, hinge hip: composite inertia seen from the parent
     c_hip = math.cos(hip)
     s_hip = math.sin(hip)
-    t42 = c_hip*t35
-    t43 = s_hip*t40
-    t44 = t42 + t43
-    t45 = c_hip*t40 - s_hip*t35
-    t46 = t44 - 0.25960000000000005
-    t47 = t41 - 0.11*t44 - 0.11*t46
-    t48 = t26 + t46
-    t49 = t27 + t45
-    t50 = t28 + t47
+    t36 = c_hip*t30
+    t37 = s_hip*t35
+    t38 = t36 + t37
+    t39 = c_hip*t35 - s_hip*t30
+    t40 = t38 - 0.25960000000000005
+    t41 = m_hip_hip - 0.11*t38 - 0.11*t40
+    t42 = t23 + t40
+    t43 = t24 + t39
+    m_pitch_pitch = t25 + t41
     # trunk, hinge pitch: composite inertia seen from the parent
     c_pitch = math.cos(pitch)
     s_pitch = math.sin(pitch)
-    t51 = c_pitch*t49 - s_pitch*t48
+    m_x_pitch = c_pitch*t43 - s_pitch*t42
     # trunk, hinge pitch: column 2
-    t52 = -c_pitch*t48 - s_pitch*t49
+    m_z_pitch = -c_pitch*t42 - s_pitch*t43
     # thigh, hinge hip: column 3
-    t53 = t41 - 0.11*t42 - 0.11*t43
-    t54 = c_pitch*t45 - s_pitch*t44
-    t55 = -c_pitch*t44 - s_pitch*t45
+    m_pitch_hip = m_hip_hip - 0.11*t36 - 0.11*t37
+    m_x_hip = c_pitch*t39 - s_pitch*t38
+    m_z_hip = -c_pitch*t38 - s_pitch*t39
     # shin, hinge knee: column 4
-    t56 = 0.0014924000000000003*s_ankle*s_knee
-    t57 = t33 - 0.13*t36 - t56
-    t58 = -c_hip*t35
-    t59 = s_hip*t37
-    t60 = t57 + 0.11*t58 - 0.11*t59
-    t61 = c_hip*t37 - s_hip*t35
-    t62 = t58 - t59
-    t63 = c_pitch*t61 + s_pitch*t62
-    t64 = c_pitch*t62 - s_pitch*t61
+    t44 = 0.0014924000000000003*s_ankle*s_knee
+    m_hip_knee = m_knee_knee - 0.13*t31 - t44
+    t45 = -c_hip*t30
+    t46 = s_hip*t32
+    m_pitch_knee = m_hip_knee + 0.11*t45 - 0.11*t46
+    t47 = c_hip*t32 - s_hip*t30
+    t48 = t45 - t46
+    m_x_knee = c_pitch*t47 + s_pitch*t48
+    m_z_knee = c_pitch*t48 - s_pitch*t47
     # foot, hinge ankle: column 5
-    t65 = 0.0014924000000000003*c_ankle*c_knee + t30 - t56
-    t66 = -0.011480000000000002*c_ankle*c_knee + 0.011480000000000002*s_ankle*s_knee
-    t67 = 0.011480000000000002*c_ankle*s_knee + t34
-    t68 = s_hip*t66
-    t69 = 0.11*c_hip*t67 + t65 - 0.11*t68
-    t70 = c_hip*t66 + s_hip*t67
-    t71 = c_hip*t67 - t68
-    t72 = c_pitch*t70 + s_pitch*t71
-    t73 = c_pitch*t71 - s_pitch*t70
+    m_hip_ankle = 0.0014924000000000003*c_ankle*c_knee + m_knee_ankle - t44
+    t49 = -0.011480000000000002*c_ankle*c_knee + 0.011480000000000002*s_ankle*s_knee
+    t50 = 0.011480000000000002*c_ankle*s_knee + t29
+    t51 = s_hip*t49
+    m_pitch_ankle = 0.11*c_hip*t50 + m_hip_ankle - 0.11*t51
+    t52 = c_hip*t49 + s_hip*t50
+    t53 = c_hip*t50 - t51
+    m_x_ankle = c_pitch*t52 + s_pitch*t53
+    m_z_ankle = c_pitch*t53 - s_pitch*t52
     # tail1, hinge tail_base: column 6
-    t74 = t18 - 0.2*t19 - 0.2*t20
-    t75 = c_pitch*t23 - s_pitch*t21
-    t76 = -c_pitch*t21 - s_pitch*t23
+    m_pitch_tail_base = m_tail_base_tail_base - 0.2*t16 - 0.2*t17
+    m_x_tail_base = c_pitch*t20 - s_pitch*t18
+    m_z_tail_base = -c_pitch*t18 - s_pitch*t20
     # tail2, hinge tail_mid: column 7
-    t77 = 0.0008705040000000001*s_tail_mid*s_tail_tip
-    t78 = t10 - 0.166*t11 - t77
-    t79 = -c_tail_base*t13
-    t80 = -0.2*t19 + t78 + 0.2*t79
-    t81 = -s_tail_base*t13 + t22
-    t82 = -t19 + t79
-    t83 = c_pitch*t81 + s_pitch*t82
-    t84 = c_pitch*t82 - s_pitch*t81
+    t54 = 0.0008705040000000001*s_tail_mid*s_tail_tip
+    m_tail_base_tail_mid = m_tail_mid_tail_mid - 0.166*t9 - t54
+    t55 = -c_tail_base*t11
+    m_pitch_tail_mid = -0.2*t16 + m_tail_base_tail_mid + 0.2*t55
+    t56 = -s_tail_base*t11 + t19
+    t57 = -t16 + t55
+    m_x_tail_mid = c_pitch*t56 + s_pitch*t57
+    m_z_tail_mid = c_pitch*t57 - s_pitch*t56
     # tail3, hinge tail_tip: column 8
-    t85 = 0.0008705040000000001*c_tail_mid*c_tail_tip + t7 - t77
-    t86 = 0.005244*c_tail_mid*s_tail_tip + 0.005244*c_tail_tip*s_tail_mid
-    t87 = 0.005244*c_tail_mid*c_tail_tip - t12
-    t88 = s_tail_base*t86
-    t89 = 0.2*c_tail_base*t87 + t85 - 0.2*t88
-    t90 = c_tail_base*t86 + s_tail_base*t87
-    t91 = c_tail_base*t87 - t88
-    t92 = c_pitch*t90 + s_pitch*t91
-    t93 = c_pitch*t91 - s_pitch*t90
+    m_tail_base_tail_tip = 0.0008705040000000001*c_tail_mid*c_tail_tip + m_tail_mid_tail_tip - t54
+    t58 = 0.005244*c_tail_mid*s_tail_tip + 0.005244*c_tail_tip*s_tail_mid
+    t59 = 0.005244*c_tail_mid*c_tail_tip - t10
+    t60 = s_tail_base*t58
+    m_pitch_tail_tip = 0.2*c_tail_base*t59 + m_tail_base_tail_tip - 0.2*t60
+    t61 = c_tail_base*t58 + s_tail_base*t59
+    t62 = c_tail_base*t59 - t60
+    m_x_tail_tip = c_pitch*t61 + s_pitch*t62
+    m_z_tail_tip = c_pitch*t62 - s_pitch*t61
     # head, hinge neck: column 9
-    t94 = 0.002772*c_neck + 0.002772*s_neck + 0.001516
-    t95 = c_pitch*t2 - s_pitch*t1
-    t96 = -c_pitch*t1 - s_pitch*t2
+    m_pitch_neck = 0.002772*c_neck + 0.002772*s_neck + 0.001516
+    m_x_neck = c_pitch*t2 - s_pitch*t1
+    m_z_neck = -c_pitch*t1 - s_pitch*t2
     return [
-        [6.809, 0.0, t51, t54, t63, t72, t75, t83, t92, t95],
-        [0.0, 6.809, t52, t55, t64, t73, t76, t84, t93, t96],
-        [t51, t52, t50, t53, t60, t69, t74, t80, t89, t94],
-        [t54, t55, t53, t41, t57, t65, 0.0, 0.0, 0.0, 0.0],
-        [t63, t64, t60, t57, t33, t30, 0.0, 0.0, 0.0, 0.0],
-        [t72, t73, t69, t65, t30, 0.0013213600000000002, 0.0, 0.0, 0.0, 0.0],
-        [t75, t76, t74, 0.0, 0.0, 0.0, t18, t78, t85, 0.0],
-        [t83, t84, t80, 0.0, 0.0, 0.0, t78, t10, t7, 0.0],
-        [t92, t93, t89, 0.0, 0.0, 0.0, t85, t7, 0.000558544, 0.0],
-        [t95, t96, t94, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.001516],
+        [
+            6.809,
+            0.0,
+            m_x_pitch,
+            m_x_hip,
+            m_x_knee,
+            m_x_ankle,
+            m_x_tail_base,
+            m_x_tail_mid,
+            m_x_tail_tip,
+            m_x_neck,
+        ],
+        [
+            0.0,
+            6.809,
+            m_z_pitch,
+            m_z_hip,
+            m_z_knee,
+            m_z_ankle,
+            m_z_tail_base,
+            m_z_tail_mid,
+            m_z_tail_tip,
+            m_z_neck,
+        ],
+        [
+            m_x_pitch,
+            m_z_pitch,
+            m_pitch_pitch,
+            m_pitch_hip,
+            m_pitch_knee,
+            m_pitch_ankle,
+            m_pitch_tail_base,
+            m_pitch_tail_mid,
+            m_pitch_tail_tip,
+            m_pitch_neck,
+        ],
+        [
+            m_x_hip,
+            m_z_hip,
+            m_pitch_hip,
+            m_hip_hip,
+            m_hip_knee,
+            m_hip_ankle,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_x_knee,
+            m_z_knee,
+            m_pitch_knee,
+            m_hip_knee,
+            m_knee_knee,
+            m_knee_ankle,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_x_ankle,
+            m_z_ankle,
+            m_pitch_ankle,
+            m_hip_ankle,
+            m_knee_ankle,
+            0.0013213600000000002,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_x_tail_base,
+            m_z_tail_base,
+            m_pitch_tail_base,
+            0.0,
+            0.0,
+            0.0,
+            m_tail_base_tail_base,
+            m_tail_base_tail_mid,
+            m_tail_base_tail_tip,
+            0.0,
+        ],
+        [
+            m_x_tail_mid,
+            m_z_tail_mid,
+            m_pitch_tail_mid,
+            0.0,
+            0.0,
+            0.0,
+            m_tail_base_tail_mid,
+            m_tail_mid_tail_mid,
+            m_tail_mid_tail_tip,
+            0.0,
+        ],
+        [
+            m_x_tail_tip,
+            m_z_tail_tip,
+            m_pitch_tail_tip,
+            0.0,
+            0.0,
+            0.0,
+            m_tail_base_tail_tip,
+            m_tail_mid_tail_tip,
+            0.000558544,
+            0.0,
+        ],
+        [m_x_neck, m_z_neck, m_pitch_neck, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.001516],
     ]
 
 
@@ -271,116 +370,116 @@ def bias_forces(q, v):
     t39 = c_ankle*t27 - s_ankle*t28 + t37
     t40 = c_ankle*t28 + s_ankle*t27 + t38
     t41 = -0.011480000000000002*t33 + 0.14*t35
-    t42 = -0.14*t35*t36 + t36*t41 - 0.011480000000000002*t39
-    t43 = 0.14*t33*t36 + 0.14*t39
-    t44 = -t33*t41 + 0.14*t40
+    h_ankle = -0.14*t35*t36 + t36*t41 - 0.011480000000000002*t39
+    t42 = 0.14*t33*t36 + 0.14*t39
+    t43 = -t33*t41 + 0.14*t40
     # tail1, hinge tail_base: velocity, acceleration, force
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t45 = qd_pitch + qd_tail_base
-    t46 = 0.2*qd_pitch + t2
-    t47 = c_tail_base*t1 - s_tail_base*t46
-    t48 = c_tail_base*t46 + s_tail_base*t1
-    t49 = -qd_tail_base*t48
-    t50 = qd_tail_base*t47
-    t51 = c_tail_base*t5 - s_tail_base*t6 + t49
-    t52 = c_tail_base*t6 + s_tail_base*t5 + t50
-    t53 = 0.01896*t45 + 0.24*t48
-    t54 = 0.24*t47*t48 - t47*t53 + 0.01896*t52
-    t55 = t45*t53 + 0.24*t51
-    t56 = -0.24*t45*t47 + 0.24*t52
+    t44 = qd_pitch + qd_tail_base
+    t45 = 0.2*qd_pitch + t2
+    t46 = c_tail_base*t1 - s_tail_base*t45
+    t47 = c_tail_base*t45 + s_tail_base*t1
+    t48 = -qd_tail_base*t47
+    t49 = qd_tail_base*t46
+    t50 = c_tail_base*t5 - s_tail_base*t6 + t48
+    t51 = c_tail_base*t6 + s_tail_base*t5 + t49
+    t52 = 0.01896*t44 + 0.24*t47
+    t53 = 0.24*t46*t47 - t46*t52 + 0.01896*t51
+    t54 = t44*t52 + 0.24*t50
+    t55 = -0.24*t44*t46 + 0.24*t51
     # tail2, hinge tail_mid: velocity, acceleration, force
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t57 = qd_tail_mid + t45
-    t58 = 0.166*t45 + t48
-    t59 = c_tail_mid*t47 - s_tail_mid*t58
-    t60 = c_tail_mid*t58 + s_tail_mid*t47
-    t61 = -qd_tail_mid*t60
-    t62 = qd_tail_mid*t59
-    t63 = c_tail_mid*t51 - s_tail_mid*t52 + t61
-    t64 = c_tail_mid*t52 + s_tail_mid*t51 + t62
-    t65 = 0.009940000000000001*t57 + 0.14*t60
-    t66 = 0.14*t59*t60 - t59*t65 + 0.009940000000000001*t64
-    t67 = t57*t65 + 0.14*t63
-    t68 = -0.14*t57*t59 + 0.14*t64
+    t56 = qd_tail_mid + t44
+    t57 = 0.166*t44 + t47
+    t58 = c_tail_mid*t46 - s_tail_mid*t57
+    t59 = c_tail_mid*t57 + s_tail_mid*t46
+    t60 = -qd_tail_mid*t59
+    t61 = qd_tail_mid*t58
+    t62 = c_tail_mid*t50 - s_tail_mid*t51 + t60
+    t63 = c_tail_mid*t51 + s_tail_mid*t50 + t61
+    t64 = 0.009940000000000001*t56 + 0.14*t59
+    t65 = 0.14*t58*t59 - t58*t64 + 0.009940000000000001*t63
+    t66 = t56*t64 + 0.14*t62
+    t67 = -0.14*t56*t58 + 0.14*t63
     # tail3, hinge tail_tip: velocity, acceleration, force
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t69 = qd_tail_tip + t57
-    t70 = 0.166*t57 + t60
-    t71 = c_tail_tip*t59 - s_tail_tip*t70
-    t72 = c_tail_tip*t70 + s_tail_tip*t59
-    t73 = -qd_tail_tip*t72
-    t74 = qd_tail_tip*t71
-    t75 = c_tail_tip*t63 - s_tail_tip*t64 + t73
-    t76 = c_tail_tip*t64 + s_tail_tip*t63 + t74
-    t77 = 0.005244*t69 + 0.069*t72
-    t78 = 0.069*t71*t72 - t71*t77 + 0.005244*t76
-    t79 = t69*t77 + 0.069*t75
-    t80 = -0.069*t69*t71 + 0.069*t76
+    t68 = qd_tail_tip + t56
+    t69 = 0.166*t56 + t59
+    t70 = c_tail_tip*t58 - s_tail_tip*t69
+    t71 = c_tail_tip*t69 + s_tail_tip*t58
+    t72 = -qd_tail_tip*t71
+    t73 = qd_tail_tip*t70
+    t74 = c_tail_tip*t62 - s_tail_tip*t63 + t72
+    t75 = c_tail_tip*t63 + s_tail_tip*t62 + t73
+    t76 = 0.005244*t68 + 0.069*t71
+    h_tail_tip = 0.069*t70*t71 - t70*t76 + 0.005244*t75
+    t77 = t68*t76 + 0.069*t74
+    t78 = -0.069*t68*t70 + 0.069*t75
     # head, hinge neck: velocity, acceleration, force
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t81 = qd_neck + qd_pitch
-    t82 = -0.21*qd_pitch + t2
-    t83 = c_neck*t1 - s_neck*t82
-    t84 = c_neck*t82 + s_neck*t1
-    t85 = -qd_neck*t84
-    t86 = qd_neck*t83
-    t87 = c_neck*t5 - s_neck*t6 + t85
-    t88 = c_neck*t6 + s_neck*t5 + t86
-    t89 = -0.013200000000000002*t81 + 0.33*t84
-    t90 = 0.013200000000000002*t81 + 0.33*t83
-    t91 = -t83*t89 + t84*t90 + 0.013200000000000002*t87 - 0.013200000000000002*t88
-    t92 = t81*t89 + 0.33*t87
-    t93 = -t81*t90 + 0.33*t88
+    t79 = qd_neck + qd_pitch
+    t80 = -0.21*qd_pitch + t2
+    t81 = c_neck*t1 - s_neck*t80
+    t82 = c_neck*t80 + s_neck*t1
+    t83 = -qd_neck*t82
+    t84 = qd_neck*t81
+    t85 = c_neck*t5 - s_neck*t6 + t83
+    t86 = c_neck*t6 + s_neck*t5 + t84
+    t87 = -0.013200000000000002*t79 + 0.33*t82
+    t88 = 0.013200000000000002*t79 + 0.33*t81
+    h_neck = -t81*t87 + t82*t88 + 0.013200000000000002*t85 - 0.013200000000000002*t86
+    t89 = t79*t87 + 0.33*t85
+    t90 = -t79*t88 + 0.33*t86
     # head, hinge neck: force on the parent
-    t94 = s_neck*t92
-    t95 = c_neck*t93
-    t96 = t91 + 0.21*t94 - 0.21*t95
-    t97 = c_neck*t92 + s_neck*t93 + t7
-    t98 = t8 - t94 + t95
+    t91 = s_neck*t89
+    t92 = c_neck*t90
+    t93 = h_neck + 0.21*t91 - 0.21*t92
+    t94 = c_neck*t89 + s_neck*t90 + t7
+    t95 = t8 - t91 + t92
     # tail3, hinge tail_tip: force on the parent
-    t99 = c_tail_tip*t80
-    t100 = s_tail_tip*t79
-    t101 = -0.166*t100 + t66 + t78 + 0.166*t99
-    t102 = c_tail_tip*t79 + s_tail_tip*t80 + t67
-    t103 = -t100 + t68 + t99
+    t96 = c_tail_tip*t78
+    t97 = s_tail_tip*t77
+    h_tail_mid = -0.166*t97 + t65 + h_tail_tip + 0.166*t96
+    t98 = c_tail_tip*t77 + s_tail_tip*t78 + t66
+    t99 = -t97 + t67 + t96
     # tail2, hinge tail_mid: force on the parent
-    t104 = c_tail_mid*t103
-    t105 = s_tail_mid*t102
-    t106 = t101 + 0.166*t104 - 0.166*t105 + t54
-    t107 = c_tail_mid*t102 + s_tail_mid*t103 + t55
-    t108 = t104 - t105 + t56
+    t100 = c_tail_mid*t99
+    t101 = s_tail_mid*t98
+    h_tail_base = h_tail_mid + 0.166*t100 - 0.166*t101 + t53
+    t102 = c_tail_mid*t98 + s_tail_mid*t99 + t54
+    t103 = t100 - t101 + t55
     # tail1, hinge tail_base: force on the parent
-    t109 = c_tail_base*t108
-    t110 = s_tail_base*t107
-    t111 = t106 + 0.2*t109 - 0.2*t110 + t96
-    t112 = c_tail_base*t107 + s_tail_base*t108 + t97
-    t113 = t109 - t110 + t98
+    t104 = c_tail_base*t103
+    t105 = s_tail_base*t102
+    t106 = h_tail_base + 0.2*t104 - 0.2*t105 + t93
+    t107 = c_tail_base*t102 + s_tail_base*t103 + t94
+    t108 = t104 - t105 + t95
     # foot, hinge ankle: force on the parent
-    t114 = c_ankle*t43
-    t115 = s_ankle*t44
-    t116 = -0.26*t114 - 0.26*t115 + t30 + t42
-    t117 = t114 + t115 + t31
-    t118 = c_ankle*t44 - s_ankle*t43 + t32
+    t109 = c_ankle*t42
+    t110 = s_ankle*t43
+    h_knee = -0.26*t109 - 0.26*t110 + t30 + h_ankle
+    t111 = t109 + t110 + t31
+    t112 = c_ankle*t43 - s_ankle*t42 + t32
     # shin, hinge knee: force on the parent
-    t119 = c_knee*t117
-    t120 = s_knee*t118
-    t121 = t116 - 0.13*t119 - 0.13*t120 + t18
-    t122 = t119 + t120 + t19
-    t123 = c_knee*t118 - s_knee*t117 + t20
+    t113 = c_knee*t111
+    t114 = s_knee*t112
+    h_hip = h_knee - 0.13*t113 - 0.13*t114 + t18
+    t115 = t113 + t114 + t19
+    t116 = c_knee*t112 - s_knee*t111 + t20
     # thigh, hinge hip: force on the parent
-    t124 = c_hip*t123
-    t125 = s_hip*t122
-    t126 = t111 + t121 + 0.11*t124 - 0.11*t125
-    t127 = c_hip*t122 + s_hip*t123 + t112
-    t128 = t113 + t124 - t125
+    t117 = c_hip*t116
+    t118 = s_hip*t115
+    h_pitch = t106 + h_hip + 0.11*t117 - 0.11*t118
+    t119 = c_hip*t115 + s_hip*t116 + t107
+    t120 = t108 + t117 - t118
     # trunk, hinge pitch: force on the parent
-    t129 = c_pitch*t127 + s_pitch*t128
-    t130 = c_pitch*t128 - s_pitch*t127
-    return [t129, t130, t126, t121, t116, t42, t106, t101, t78, t91]
+    h_x = c_pitch*t119 + s_pitch*t120
+    h_z = c_pitch*t120 - s_pitch*t119
+    return [h_x, h_z, h_pitch, h_hip, h_knee, h_ankle, h_tail_base, h_tail_mid, h_tail_tip, h_neck]
 
 
 def forward_dynamics(q, v, tau):
@@ -712,50 +811,61 @@ def forward_dynamics(q, v, tau):
     t256 = t251 - tau_z
     t257 = t250 - t253*t256
     # slide x: acceleration
-    t258 = (-9.81*t255 - t257 + tau_x)/t254
+    qdd_x = (-9.81*t255 - t257 + tau_x)/t254
     # slide z: acceleration
-    t259 = t252*(-t248*t258 - 9.81*t249 - t256)
-    t260 = t259 + 9.81
+    qdd_z = t252*(-t248*qdd_x - 9.81*t249 - t256)
+    t258 = qdd_z + 9.81
     # trunk, hinge pitch: acceleration
-    t261 = c_pitch*t258 - s_pitch*t260 - t3
-    t262 = c_pitch*t260 + s_pitch*t258 + t4
-    t263 = t233*(-t223*t261 - t224*t262 - t239)
+    t259 = c_pitch*qdd_x - s_pitch*t258 - t3
+    t260 = c_pitch*t258 + s_pitch*qdd_x + t4
+    qdd_pitch = t233*(-t223*t259 - t224*t260 - t239)
     # thigh, hinge hip: acceleration
-    t264 = t262 + 0.11*t263
-    t265 = c_hip*t261 - s_hip*t264 + t209
-    t266 = c_hip*t264 + s_hip*t261 + t210
-    t267 = t203*(0.13*t192*t266 - t194*t263 - t195*t265 - t211)
-    t268 = t263 + t267
+    t261 = t260 + 0.11*qdd_pitch
+    t262 = c_hip*t259 - s_hip*t261 + t209
+    t263 = c_hip*t261 + s_hip*t259 + t210
+    qdd_hip = t203*(0.13*t192*t263 - t194*qdd_pitch - t195*t262 - t211)
+    t264 = qdd_pitch + qdd_hip
     # shin, hinge knee: acceleration
-    t269 = t265 - 0.13*t268
-    t270 = c_knee*t269 - s_knee*t266 + t181
-    t271 = c_knee*t266 + s_knee*t269 + t182
-    t272 = t175*(0.26*t164*t271 - t166*t268 - t167*t270 - t183)
-    t273 = t268 + t272
+    t265 = t262 - 0.13*t264
+    t266 = c_knee*t265 - s_knee*t263 + t181
+    t267 = c_knee*t263 + s_knee*t265 + t182
+    qdd_knee = t175*(0.26*t164*t267 - t166*t264 - t167*t266 - t183)
+    t268 = t264 + qdd_knee
     # foot, hinge ankle: acceleration
-    t274 = c_ankle*(t270 - 0.26*t273) - s_ankle*t271 + t157
-    t275 = -756.7960283344432*t26 - t273 + 8.68801840527941*t274 + 756.7960283344432*tau_ankle
+    t269 = c_ankle*(t266 - 0.26*t268) - s_ankle*t267 + t157
+    qdd_ankle = -756.7960283344432*t26 - t268 + 8.68801840527941*t269 + 756.7960283344432*tau_ankle
     # tail1, hinge tail_base: acceleration
-    t276 = t262 + 0.2*t263
-    t277 = c_tail_base*t261 - s_tail_base*t276 + t133
-    t278 = c_tail_base*t276 + s_tail_base*t261 + t134
-    t279 = t127*(-0.166*t116*t277 - t118*t263 - t119*t278 - t135)
-    t280 = t263 + t279
+    t270 = t260 + 0.2*qdd_pitch
+    t271 = c_tail_base*t259 - s_tail_base*t270 + t133
+    t272 = c_tail_base*t270 + s_tail_base*t259 + t134
+    qdd_tail_base = t127*(-0.166*t116*t271 - t118*qdd_pitch - t119*t272 - t135)
+    t273 = qdd_pitch + qdd_tail_base
     # tail2, hinge tail_mid: acceleration
-    t281 = t278 + 0.166*t280
-    t282 = c_tail_mid*t277 - s_tail_mid*t281 + t105
-    t283 = c_tail_mid*t281 + s_tail_mid*t277 + t106
-    t284 = t99*(-t107 - t280*t90 - 0.166*t282*t88 - t283*t91)
-    t285 = t280 + t284
+    t274 = t272 + 0.166*t273
+    t275 = c_tail_mid*t271 - s_tail_mid*t274 + t105
+    t276 = c_tail_mid*t274 + s_tail_mid*t271 + t106
+    qdd_tail_mid = t99*(-t107 - t273*t90 - 0.166*t275*t88 - t276*t91)
+    t277 = t273 + qdd_tail_mid
     # tail3, hinge tail_tip: acceleration
-    t286 = c_tail_tip*(t283 + 0.166*t285) + s_tail_tip*t282 + t82
-    t287 = -t285 - 9.388696324730013*t286 - 1790.369245753244*t50 + 1790.369245753244*tau_tail_tip
+    t278 = c_tail_tip*(t276 + 0.166*t277) + s_tail_tip*t275 + t82
+    qdd_tail_tip = -t277 - 9.388696324730013*t278 - 1790.369245753244*t50 + 1790.369245753244*tau_tail_tip
     # head, hinge neck: acceleration
-    t288 = t262 - 0.21*t263
-    t289 = c_neck*t261 - s_neck*t288 + t62
-    t290 = c_neck*t288 + s_neck*t261 + t63
-    t291 = -t263 - 8.707124010554091*t289 + 8.707124010554091*t290 - 659.6306068601583*t59 + 659.6306068601583*tau_neck
-    return [t258, t259, t263, t267, t272, t275, t279, t284, t287, t291]
+    t279 = t260 - 0.21*qdd_pitch
+    t280 = c_neck*t259 - s_neck*t279 + t62
+    t281 = c_neck*t279 + s_neck*t259 + t63
+    qdd_neck = -qdd_pitch - 8.707124010554091*t280 + 8.707124010554091*t281 - 659.6306068601583*t59 + 659.6306068601583*tau_neck
+    return [
+        qdd_x,
+        qdd_z,
+        qdd_pitch,
+        qdd_hip,
+        qdd_knee,
+        qdd_ankle,
+        qdd_tail_base,
+        qdd_tail_mid,
+        qdd_tail_tip,
+        qdd_neck,
+    ]
 
 
 def state_derivative(q, v, tau):
@@ -818,13 +928,12 @@ def contact_positions(q):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
-    t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    toe_x = t12 - 0.174*t14
+    toe_z = t13 - 0.174*t15
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -832,25 +941,24 @@ def contact_positions(q):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t19 = -0.2*c_pitch + x
-    t20 = 0.2*s_pitch + z
-    t21 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t22 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t23 = t19 - 0.166*t21
-    t24 = t20 + 0.166*t22
-    t25 = c_tail_mid*t21
-    t26 = -s_tail_mid*t22 + t25
-    t27 = s_tail_mid*t21
-    t28 = c_tail_mid*t22 + t27
-    t29 = -c_tail_mid*t22 - t27
-    t30 = -s_tail_mid*t22 + t25
-    t31 = t23 - 0.166*t26
-    t32 = t24 - 0.166*t29
-    t33 = c_tail_tip*t26 - s_tail_tip*t28
-    t34 = c_tail_tip*t29 - s_tail_tip*t30
-    t35 = t31 - 0.166*t33
-    t36 = t32 - 0.166*t34
-    return [(t17, 0.0, t18), (t35, 0.0, t36)]
+    t16 = -0.2*c_pitch + x
+    t17 = 0.2*s_pitch + z
+    t18 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t19 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t20 = t16 - 0.166*t18
+    t21 = t17 + 0.166*t19
+    t22 = c_tail_mid*t18
+    t23 = -s_tail_mid*t19 + t22
+    t24 = s_tail_mid*t18
+    t25 = c_tail_mid*t19 + t24
+    t26 = -c_tail_mid*t19 - t24
+    t27 = t20 - 0.166*t23
+    t28 = t21 - 0.166*t26
+    t29 = c_tail_tip*t23 - s_tail_tip*t25
+    t30 = c_tail_tip*t26 - s_tail_tip*t23
+    tail_end_x = t27 - 0.166*t29
+    tail_end_z = t28 - 0.166*t30
+    return [(toe_x, 0.0, toe_z), (tail_end_x, 0.0, tail_end_z)]
 
 
 def contact_velocities(q, v):
@@ -893,23 +1001,22 @@ def contact_velocities(q, v):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    t16 = t12 - 0.174*t14
     t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
+    t18 = -t12 + t16
     t19 = -t13 + t17
-    t20 = -t14 + t18
-    t21 = t17 - t5
-    t22 = t18 - t6
-    t23 = -t1 + t17
-    t24 = t18 - t2
-    t25 = t17 - x
-    t26 = t18 - z
-    t27 = qd_ankle*t20 + qd_hip*t24 + qd_knee*t22 + qd_pitch*t26 + qd_x
-    t28 = -qd_ankle*t19 - qd_hip*t23 - qd_knee*t21 - qd_pitch*t25 + qd_z
+    t20 = t16 - t5
+    t21 = t17 - t6
+    t22 = -t1 + t16
+    t23 = t17 - t2
+    t24 = t16 - x
+    t25 = t17 - z
+    toe_vx = qd_ankle*t19 + qd_hip*t23 + qd_knee*t21 + qd_pitch*t25 + qd_x
+    toe_vz = -qd_ankle*t18 - qd_hip*t22 - qd_knee*t20 - qd_pitch*t24 + qd_z
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -917,35 +1024,34 @@ def contact_velocities(q, v):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t29 = -0.2*c_pitch + x
-    t30 = 0.2*s_pitch + z
-    t31 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t32 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t33 = t29 - 0.166*t31
-    t34 = t30 + 0.166*t32
-    t35 = c_tail_mid*t31
-    t36 = -s_tail_mid*t32 + t35
-    t37 = s_tail_mid*t31
-    t38 = c_tail_mid*t32 + t37
-    t39 = -c_tail_mid*t32 - t37
-    t40 = -s_tail_mid*t32 + t35
-    t41 = t33 - 0.166*t36
-    t42 = t34 - 0.166*t39
-    t43 = c_tail_tip*t36 - s_tail_tip*t38
-    t44 = c_tail_tip*t39 - s_tail_tip*t40
-    t45 = t41 - 0.166*t43
-    t46 = t42 - 0.166*t44
-    t47 = -t41 + t45
-    t48 = -t42 + t46
-    t49 = -t33 + t45
-    t50 = -t34 + t46
-    t51 = -t29 + t45
-    t52 = -t30 + t46
-    t53 = t45 - x
-    t54 = t46 - z
-    t55 = qd_pitch*t54 + qd_tail_base*t52 + qd_tail_mid*t50 + qd_tail_tip*t48 + qd_x
-    t56 = -qd_pitch*t53 - qd_tail_base*t51 - qd_tail_mid*t49 - qd_tail_tip*t47 + qd_z
-    return [(t27, 0.0, t28), (t55, 0.0, t56)]
+    t26 = -0.2*c_pitch + x
+    t27 = 0.2*s_pitch + z
+    t28 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t29 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t30 = t26 - 0.166*t28
+    t31 = t27 + 0.166*t29
+    t32 = c_tail_mid*t28
+    t33 = -s_tail_mid*t29 + t32
+    t34 = s_tail_mid*t28
+    t35 = c_tail_mid*t29 + t34
+    t36 = -c_tail_mid*t29 - t34
+    t37 = t30 - 0.166*t33
+    t38 = t31 - 0.166*t36
+    t39 = c_tail_tip*t33 - s_tail_tip*t35
+    t40 = c_tail_tip*t36 - s_tail_tip*t33
+    t41 = t37 - 0.166*t39
+    t42 = t38 - 0.166*t40
+    t43 = -t37 + t41
+    t44 = -t38 + t42
+    t45 = -t30 + t41
+    t46 = -t31 + t42
+    t47 = -t26 + t41
+    t48 = -t27 + t42
+    t49 = t41 - x
+    t50 = t42 - z
+    tail_end_vx = qd_pitch*t50 + qd_tail_base*t48 + qd_tail_mid*t46 + qd_tail_tip*t44 + qd_x
+    tail_end_vz = -qd_pitch*t49 - qd_tail_base*t47 - qd_tail_mid*t45 - qd_tail_tip*t43 + qd_z
+    return [(toe_vx, 0.0, toe_vz), (tail_end_vx, 0.0, tail_end_vz)]
 
 
 def contact_jacobians(q):
@@ -979,21 +1085,20 @@ def contact_jacobians(q):
     t9 = s_knee*t3
     t10 = c_knee*t4 + t9
     t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t10 + s_ankle*t8
-    t16 = c_ankle*t12 + s_ankle*t11
+    t12 = -0.26*t10 + t5
+    t13 = -0.26*t8 + t6
+    t14 = c_ankle*t10 + s_ankle*t8
+    t15 = c_ankle*t8 + s_ankle*t11
+    t16 = t12 - 0.174*t14
     t17 = t13 - 0.174*t15
-    t18 = t14 - 0.174*t16
-    t19 = -t13 + t17
-    t20 = -t14 + t18
-    t21 = t17 - t5
-    t22 = t18 - t6
-    t23 = -t1 + t17
-    t24 = t18 - t2
-    t25 = t17 - x
-    t26 = t18 - z
+    t18 = -t12 + t16
+    toe_jx_ankle = -t13 + t17
+    t19 = t16 - t5
+    toe_jx_knee = t17 - t6
+    t20 = -t1 + t16
+    toe_jx_hip = t17 - t2
+    t21 = t16 - x
+    toe_jx_pitch = t17 - z
     # tail_end
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
@@ -1001,42 +1106,63 @@ def contact_jacobians(q):
     s_tail_mid = math.sin(tail_mid)
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t27 = -0.2*c_pitch + x
-    t28 = 0.2*s_pitch + z
-    t29 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t30 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t31 = t27 - 0.166*t29
-    t32 = t28 + 0.166*t30
-    t33 = c_tail_mid*t29
-    t34 = -s_tail_mid*t30 + t33
-    t35 = s_tail_mid*t29
-    t36 = c_tail_mid*t30 + t35
-    t37 = -c_tail_mid*t30 - t35
-    t38 = -s_tail_mid*t30 + t33
-    t39 = t31 - 0.166*t34
-    t40 = t32 - 0.166*t37
-    t41 = c_tail_tip*t34 - s_tail_tip*t36
-    t42 = c_tail_tip*t37 - s_tail_tip*t38
-    t43 = t39 - 0.166*t41
-    t44 = t40 - 0.166*t42
-    t45 = -t39 + t43
-    t46 = -t40 + t44
-    t47 = -t31 + t43
-    t48 = -t32 + t44
-    t49 = -t27 + t43
-    t50 = -t28 + t44
-    t51 = t43 - x
-    t52 = t44 - z
+    t22 = -0.2*c_pitch + x
+    t23 = 0.2*s_pitch + z
+    t24 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t25 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t26 = t22 - 0.166*t24
+    t27 = t23 + 0.166*t25
+    t28 = c_tail_mid*t24
+    t29 = -s_tail_mid*t25 + t28
+    t30 = s_tail_mid*t24
+    t31 = c_tail_mid*t25 + t30
+    t32 = -c_tail_mid*t25 - t30
+    t33 = t26 - 0.166*t29
+    t34 = t27 - 0.166*t32
+    t35 = c_tail_tip*t29 - s_tail_tip*t31
+    t36 = c_tail_tip*t32 - s_tail_tip*t29
+    t37 = t33 - 0.166*t35
+    t38 = t34 - 0.166*t36
+    t39 = -t33 + t37
+    tail_end_jx_tail_tip = -t34 + t38
+    t40 = -t26 + t37
+    tail_end_jx_tail_mid = -t27 + t38
+    t41 = -t22 + t37
+    tail_end_jx_tail_base = -t23 + t38
+    t42 = t37 - x
+    tail_end_jx_pitch = t38 - z
     return [
         [
-            [1.0, 0.0, t26, t24, t22, t20, 0.0, 0.0, 0.0, 0.0],
+            [
+                1.0,
+                0.0,
+                toe_jx_pitch,
+                toe_jx_hip,
+                toe_jx_knee,
+                toe_jx_ankle,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, -t25, -t23, -t21, -t19, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, -t21, -t20, -t19, -t18, 0.0, 0.0, 0.0, 0.0],
         ],
         [
-            [1.0, 0.0, t52, 0.0, 0.0, 0.0, t50, t48, t46, 0.0],
+            [
+                1.0,
+                0.0,
+                tail_end_jx_pitch,
+                0.0,
+                0.0,
+                0.0,
+                tail_end_jx_tail_base,
+                tail_end_jx_tail_mid,
+                tail_end_jx_tail_tip,
+                0.0,
+            ],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, -t51, 0.0, 0.0, 0.0, -t49, -t47, -t45, 0.0],
+            [0.0, 1.0, -t42, 0.0, 0.0, 0.0, -t41, -t40, -t39, 0.0],
         ],
     ]
 
@@ -1075,73 +1201,92 @@ def body_poses(q):
     # thigh
     c_hip = math.cos(hip)
     s_hip = math.sin(hip)
-    t1 = -0.11*c_pitch + x
-    t2 = 0.11*s_pitch + z
-    t3 = c_hip*c_pitch - s_hip*s_pitch
-    t4 = c_hip*s_pitch + c_pitch*s_hip
+    thigh_x = -0.11*c_pitch + x
+    thigh_z = 0.11*s_pitch + z
+    thigh_r11 = c_hip*c_pitch - s_hip*s_pitch
+    thigh_r13 = c_hip*s_pitch + c_pitch*s_hip
     # shin
     c_knee = math.cos(knee)
     s_knee = math.sin(knee)
-    t5 = t1 - 0.13*t4
-    t6 = t2 - 0.13*t3
-    t7 = c_knee*t3
-    t8 = -s_knee*t4 + t7
-    t9 = s_knee*t3
-    t10 = c_knee*t4 + t9
-    t11 = -c_knee*t4 - t9
-    t12 = -s_knee*t4 + t7
+    shin_x = thigh_x - 0.13*thigh_r13
+    shin_z = thigh_z - 0.13*thigh_r11
+    t1 = c_knee*thigh_r11
+    shin_r11 = -s_knee*thigh_r13 + t1
+    t2 = s_knee*thigh_r11
+    shin_r13 = c_knee*thigh_r13 + t2
+    shin_r31 = -c_knee*thigh_r13 - t2
     # foot
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t13 = -0.26*t10 + t5
-    t14 = -0.26*t12 + t6
-    t15 = c_ankle*t8 - s_ankle*t10
-    t16 = c_ankle*t10 + s_ankle*t8
-    t17 = c_ankle*t11 - s_ankle*t12
-    t18 = c_ankle*t12 + s_ankle*t11
+    foot_x = -0.26*shin_r13 + shin_x
+    foot_z = -0.26*shin_r11 + shin_z
+    foot_r11 = c_ankle*shin_r11 - s_ankle*shin_r13
+    foot_r13 = c_ankle*shin_r13 + s_ankle*shin_r11
+    foot_r31 = c_ankle*shin_r31 - s_ankle*shin_r11
+    foot_r33 = c_ankle*shin_r11 + s_ankle*shin_r31
     # tail1
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t19 = -0.2*c_pitch + x
-    t20 = 0.2*s_pitch + z
-    t21 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t22 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    tail1_x = -0.2*c_pitch + x
+    tail1_z = 0.2*s_pitch + z
+    tail1_r11 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    tail1_r13 = c_pitch*s_tail_base + c_tail_base*s_pitch
     # tail2
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t23 = t19 - 0.166*t21
-    t24 = t20 + 0.166*t22
-    t25 = c_tail_mid*t21
-    t26 = -s_tail_mid*t22 + t25
-    t27 = s_tail_mid*t21
-    t28 = c_tail_mid*t22 + t27
-    t29 = -c_tail_mid*t22 - t27
-    t30 = -s_tail_mid*t22 + t25
+    tail2_x = tail1_x - 0.166*tail1_r11
+    tail2_z = tail1_z + 0.166*tail1_r13
+    t3 = c_tail_mid*tail1_r11
+    tail2_r11 = -s_tail_mid*tail1_r13 + t3
+    t4 = s_tail_mid*tail1_r11
+    tail2_r13 = c_tail_mid*tail1_r13 + t4
+    tail2_r31 = -c_tail_mid*tail1_r13 - t4
     # tail3
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t31 = t23 - 0.166*t26
-    t32 = t24 - 0.166*t29
-    t33 = c_tail_tip*t26 - s_tail_tip*t28
-    t34 = c_tail_tip*t28 + s_tail_tip*t26
-    t35 = c_tail_tip*t29 - s_tail_tip*t30
-    t36 = c_tail_tip*t30 + s_tail_tip*t29
+    tail3_x = tail2_x - 0.166*tail2_r11
+    tail3_z = tail2_z - 0.166*tail2_r31
+    tail3_r11 = c_tail_tip*tail2_r11 - s_tail_tip*tail2_r13
+    tail3_r13 = c_tail_tip*tail2_r13 + s_tail_tip*tail2_r11
+    tail3_r31 = c_tail_tip*tail2_r31 - s_tail_tip*tail2_r11
+    tail3_r33 = c_tail_tip*tail2_r11 + s_tail_tip*tail2_r31
     # head
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t37 = 0.21*c_pitch + x
-    t38 = -0.21*s_pitch + z
-    t39 = c_neck*c_pitch - s_neck*s_pitch
-    t40 = c_neck*s_pitch + c_pitch*s_neck
+    head_x = 0.21*c_pitch + x
+    head_z = -0.21*s_pitch + z
+    head_r11 = c_neck*c_pitch - s_neck*s_pitch
+    head_r13 = c_neck*s_pitch + c_pitch*s_neck
     return [
         ((x, 0.0, z), (c_pitch, 0.0, s_pitch, 0.0, 1.0, 0.0, -s_pitch, 0.0, c_pitch)),
-        ((t1, 0.0, t2), (t3, 0.0, t4, 0.0, 1.0, 0.0, -t4, 0.0, t3)),
-        ((t5, 0.0, t6), (t8, 0.0, t10, 0.0, 1.0, 0.0, t11, 0.0, t12)),
-        ((t13, 0.0, t14), (t15, 0.0, t16, 0.0, 1.0, 0.0, t17, 0.0, t18)),
-        ((t19, 0.0, t20), (t21, 0.0, t22, 0.0, 1.0, 0.0, -t22, 0.0, t21)),
-        ((t23, 0.0, t24), (t26, 0.0, t28, 0.0, 1.0, 0.0, t29, 0.0, t30)),
-        ((t31, 0.0, t32), (t33, 0.0, t34, 0.0, 1.0, 0.0, t35, 0.0, t36)),
-        ((t37, 0.0, t38), (t39, 0.0, t40, 0.0, 1.0, 0.0, -t40, 0.0, t39)),
+        (
+            (thigh_x, 0.0, thigh_z),
+            (thigh_r11, 0.0, thigh_r13, 0.0, 1.0, 0.0, -thigh_r13, 0.0, thigh_r11),
+        ),
+        (
+            (shin_x, 0.0, shin_z),
+            (shin_r11, 0.0, shin_r13, 0.0, 1.0, 0.0, shin_r31, 0.0, shin_r11),
+        ),
+        (
+            (foot_x, 0.0, foot_z),
+            (foot_r11, 0.0, foot_r13, 0.0, 1.0, 0.0, foot_r31, 0.0, foot_r33),
+        ),
+        (
+            (tail1_x, 0.0, tail1_z),
+            (tail1_r11, 0.0, tail1_r13, 0.0, 1.0, 0.0, -tail1_r13, 0.0, tail1_r11),
+        ),
+        (
+            (tail2_x, 0.0, tail2_z),
+            (tail2_r11, 0.0, tail2_r13, 0.0, 1.0, 0.0, tail2_r31, 0.0, tail2_r11),
+        ),
+        (
+            (tail3_x, 0.0, tail3_z),
+            (tail3_r11, 0.0, tail3_r13, 0.0, 1.0, 0.0, tail3_r31, 0.0, tail3_r33),
+        ),
+        (
+            (head_x, 0.0, head_z),
+            (head_r11, 0.0, head_r13, 0.0, 1.0, 0.0, -head_r13, 0.0, head_r11),
+        ),
     ]
 
 
@@ -1176,90 +1321,90 @@ def body_velocities(q, v):
     t4 = c_hip*s_pitch + c_pitch*s_hip
     t5 = t1 - x
     t6 = t2 - z
-    t7 = qd_pitch*t6 + qd_x
-    t8 = -qd_pitch*t5 + qd_z
-    t9 = qd_hip + qd_pitch
+    thigh_vx = qd_pitch*t6 + qd_x
+    thigh_vz = -qd_pitch*t5 + qd_z
+    thigh_wy = qd_hip + qd_pitch
     # shin
     c_knee = math.cos(knee)
     s_knee = math.sin(knee)
-    t10 = t1 - 0.13*t4
-    t11 = t2 - 0.13*t3
-    t12 = c_knee*t4 + s_knee*t3
-    t13 = c_knee*t3 - s_knee*t4
-    t14 = -t1 + t10
-    t15 = t11 - t2
-    t16 = t10 - x
-    t17 = t11 - z
-    t18 = qd_hip*t15 + qd_pitch*t17 + qd_x
-    t19 = -qd_hip*t14 - qd_pitch*t16 + qd_z
-    t20 = qd_knee + t9
+    t7 = t1 - 0.13*t4
+    t8 = t2 - 0.13*t3
+    t9 = c_knee*t4 + s_knee*t3
+    t10 = c_knee*t3 - s_knee*t4
+    t11 = -t1 + t7
+    t12 = t8 - t2
+    t13 = t7 - x
+    t14 = t8 - z
+    shin_vx = qd_hip*t12 + qd_pitch*t14 + qd_x
+    shin_vz = -qd_hip*t11 - qd_pitch*t13 + qd_z
+    shin_wy = qd_knee + thigh_wy
     # foot
-    t21 = t10 - 0.26*t12
-    t22 = t11 - 0.26*t13
-    t23 = -t10 + t21
-    t24 = -t11 + t22
-    t25 = -t1 + t21
-    t26 = -t2 + t22
-    t27 = t21 - x
-    t28 = t22 - z
-    t29 = qd_hip*t26 + qd_knee*t24 + qd_pitch*t28 + qd_x
-    t30 = -qd_hip*t25 - qd_knee*t23 - qd_pitch*t27 + qd_z
-    t31 = qd_ankle + t20
+    t15 = t7 - 0.26*t9
+    t16 = t8 - 0.26*t10
+    t17 = -t7 + t15
+    t18 = -t8 + t16
+    t19 = -t1 + t15
+    t20 = -t2 + t16
+    t21 = t15 - x
+    t22 = t16 - z
+    foot_vx = qd_hip*t20 + qd_knee*t18 + qd_pitch*t22 + qd_x
+    foot_vz = -qd_hip*t19 - qd_knee*t17 - qd_pitch*t21 + qd_z
+    foot_wy = qd_ankle + shin_wy
     # tail1
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t32 = -0.2*c_pitch + x
-    t33 = 0.2*s_pitch + z
-    t34 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t35 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t36 = t32 - x
-    t37 = t33 - z
-    t38 = qd_pitch*t37 + qd_x
-    t39 = -qd_pitch*t36 + qd_z
-    t40 = qd_pitch + qd_tail_base
+    t23 = -0.2*c_pitch + x
+    t24 = 0.2*s_pitch + z
+    t25 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t26 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t27 = t23 - x
+    t28 = t24 - z
+    tail1_vx = qd_pitch*t28 + qd_x
+    tail1_vz = -qd_pitch*t27 + qd_z
+    tail1_wy = qd_pitch + qd_tail_base
     # tail2
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t41 = t32 - 0.166*t34
-    t42 = t33 + 0.166*t35
-    t43 = c_tail_mid*t34 - s_tail_mid*t35
-    t44 = -c_tail_mid*t35 - s_tail_mid*t34
-    t45 = -t32 + t41
-    t46 = -t33 + t42
-    t47 = t41 - x
-    t48 = t42 - z
-    t49 = qd_pitch*t48 + qd_tail_base*t46 + qd_x
-    t50 = -qd_pitch*t47 - qd_tail_base*t45 + qd_z
-    t51 = qd_tail_mid + t40
+    t29 = t23 - 0.166*t25
+    t30 = t24 + 0.166*t26
+    t31 = c_tail_mid*t25 - s_tail_mid*t26
+    t32 = -c_tail_mid*t26 - s_tail_mid*t25
+    t33 = -t23 + t29
+    t34 = -t24 + t30
+    t35 = t29 - x
+    t36 = t30 - z
+    tail2_vx = qd_pitch*t36 + qd_tail_base*t34 + qd_x
+    tail2_vz = -qd_pitch*t35 - qd_tail_base*t33 + qd_z
+    tail2_wy = qd_tail_mid + tail1_wy
     # tail3
-    t52 = t41 - 0.166*t43
-    t53 = t42 - 0.166*t44
-    t54 = -t41 + t52
-    t55 = -t42 + t53
-    t56 = -t32 + t52
-    t57 = -t33 + t53
-    t58 = t52 - x
-    t59 = t53 - z
-    t60 = qd_pitch*t59 + qd_tail_base*t57 + qd_tail_mid*t55 + qd_x
-    t61 = -qd_pitch*t58 - qd_tail_base*t56 - qd_tail_mid*t54 + qd_z
-    t62 = qd_tail_tip + t51
+    t37 = t29 - 0.166*t31
+    t38 = t30 - 0.166*t32
+    t39 = -t29 + t37
+    t40 = -t30 + t38
+    t41 = -t23 + t37
+    t42 = -t24 + t38
+    t43 = t37 - x
+    t44 = t38 - z
+    tail3_vx = qd_pitch*t44 + qd_tail_base*t42 + qd_tail_mid*t40 + qd_x
+    tail3_vz = -qd_pitch*t43 - qd_tail_base*t41 - qd_tail_mid*t39 + qd_z
+    tail3_wy = qd_tail_tip + tail2_wy
     # head
-    t63 = 0.21*c_pitch + x
-    t64 = -0.21*s_pitch + z
-    t65 = t63 - x
-    t66 = t64 - z
-    t67 = qd_pitch*t66 + qd_x
-    t68 = -qd_pitch*t65 + qd_z
-    t69 = qd_neck + qd_pitch
+    t45 = 0.21*c_pitch + x
+    t46 = -0.21*s_pitch + z
+    t47 = t45 - x
+    t48 = t46 - z
+    head_vx = qd_pitch*t48 + qd_x
+    head_vz = -qd_pitch*t47 + qd_z
+    head_wy = qd_neck + qd_pitch
     return [
         ((qd_x, 0.0, qd_z), (0.0, qd_pitch, 0.0)),
-        ((t7, 0.0, t8), (0.0, t9, 0.0)),
-        ((t18, 0.0, t19), (0.0, t20, 0.0)),
-        ((t29, 0.0, t30), (0.0, t31, 0.0)),
-        ((t38, 0.0, t39), (0.0, t40, 0.0)),
-        ((t49, 0.0, t50), (0.0, t51, 0.0)),
-        ((t60, 0.0, t61), (0.0, t62, 0.0)),
-        ((t67, 0.0, t68), (0.0, t69, 0.0)),
+        ((thigh_vx, 0.0, thigh_vz), (0.0, thigh_wy, 0.0)),
+        ((shin_vx, 0.0, shin_vz), (0.0, shin_wy, 0.0)),
+        ((foot_vx, 0.0, foot_vz), (0.0, foot_wy, 0.0)),
+        ((tail1_vx, 0.0, tail1_vz), (0.0, tail1_wy, 0.0)),
+        ((tail2_vx, 0.0, tail2_vz), (0.0, tail2_wy, 0.0)),
+        ((tail3_vx, 0.0, tail3_vz), (0.0, tail3_wy, 0.0)),
+        ((head_vx, 0.0, head_vz), (0.0, head_wy, 0.0)),
     ]
 
 
@@ -1297,63 +1442,59 @@ def center_of_mass(q):
     t11 = s_knee*t3
     t12 = c_knee*t4 + t11
     t13 = -c_knee*t4 - t11
-    t14 = -s_knee*t4 + t9
-    t15 = -0.105*t12 + t7
-    t16 = -0.105*t14 + t8
+    t14 = -0.105*t12 + t7
+    t15 = -0.105*t10 + t8
     # foot: mass centre
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t17 = -0.26*t12 + t7
-    t18 = -0.26*t14 + t8
-    t19 = c_ankle*t12 + s_ankle*t10
-    t20 = c_ankle*t14 + s_ankle*t13
+    t16 = -0.26*t12 + t7
+    t17 = -0.26*t10 + t8
+    t18 = c_ankle*t12 + s_ankle*t10
+    t19 = c_ankle*t10 + s_ankle*t13
+    t20 = t16 - 0.082*t18
     t21 = t17 - 0.082*t19
-    t22 = t18 - 0.082*t20
     # tail1: mass centre
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t23 = -0.2*c_pitch + x
-    t24 = 0.2*s_pitch + z
-    t25 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t26 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t27 = t23 - 0.079*t25
-    t28 = t24 + 0.079*t26
+    t22 = -0.2*c_pitch + x
+    t23 = 0.2*s_pitch + z
+    t24 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t25 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t26 = t22 - 0.079*t24
+    t27 = t23 + 0.079*t25
     # tail2: mass centre
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t29 = t23 - 0.166*t25
-    t30 = t24 + 0.166*t26
-    t31 = c_tail_mid*t25
-    t32 = -s_tail_mid*t26 + t31
-    t33 = s_tail_mid*t25
-    t34 = c_tail_mid*t26 + t33
-    t35 = -c_tail_mid*t26 - t33
-    t36 = -s_tail_mid*t26 + t31
-    t37 = t29 - 0.071*t32
-    t38 = t30 - 0.071*t35
+    t28 = t22 - 0.166*t24
+    t29 = t23 + 0.166*t25
+    t30 = c_tail_mid*t24
+    t31 = -s_tail_mid*t25 + t30
+    t32 = s_tail_mid*t24
+    t33 = c_tail_mid*t25 + t32
+    t34 = -c_tail_mid*t25 - t32
+    t35 = t28 - 0.071*t31
+    t36 = t29 - 0.071*t34
     # tail3: mass centre
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t39 = t29 - 0.166*t32
-    t40 = t30 - 0.166*t35
-    t41 = c_tail_tip*t32 - s_tail_tip*t34
-    t42 = c_tail_tip*t35 - s_tail_tip*t36
-    t43 = t39 - 0.076*t41
-    t44 = t40 - 0.076*t42
+    t37 = t28 - 0.166*t31
+    t38 = t29 - 0.166*t34
+    t39 = c_tail_tip*t31 - s_tail_tip*t33
+    t40 = c_tail_tip*t34 - s_tail_tip*t31
+    t41 = t37 - 0.076*t39
+    t42 = t38 - 0.076*t40
     # head: mass centre
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t45 = 0.21*c_pitch + x
-    t46 = -0.21*s_pitch + z
-    t47 = c_neck*c_pitch - s_neck*s_pitch
-    t48 = c_neck*s_pitch + c_pitch*s_neck
-    t49 = t45 + 0.04*t47 + 0.04*t48
-    t50 = t46 + 0.04*t47 - 0.04*t48
-    return (
-        0.08811866647084741*t15 + 0.020561022176531066*t21 + 0.035247466588338966*t27 + 0.020561022176531066*t37 + 0.010133646644147454*t43 + 0.04846526655896608*t49 + 0.23792039947128804*t5 + 0.53899250991335*x,
-        0.0,
-        0.08811866647084741*t16 + 0.020561022176531066*t22 + 0.035247466588338966*t28 + 0.020561022176531066*t38 + 0.010133646644147454*t44 + 0.04846526655896608*t50 + 0.23792039947128804*t6 + 0.53899250991335*z,
-    )
+    t43 = 0.21*c_pitch + x
+    t44 = -0.21*s_pitch + z
+    t45 = c_neck*c_pitch - s_neck*s_pitch
+    t46 = c_neck*s_pitch + c_pitch*s_neck
+    t47 = t43 + 0.04*t45 + 0.04*t46
+    t48 = t44 + 0.04*t45 - 0.04*t46
+    com_x = 0.08811866647084741*t14 + 0.020561022176531066*t20 + 0.035247466588338966*t26 + 0.020561022176531066*t35 + 0.010133646644147454*t41 + 0.04846526655896608*t47 + 0.23792039947128804*t5 + 0.53899250991335*x
+    com_z = 0.08811866647084741*t15 + 0.020561022176531066*t21 + 0.035247466588338966*t27 + 0.020561022176531066*t36 + 0.010133646644147454*t42 + 0.04846526655896608*t48 + 0.23792039947128804*t6 + 0.53899250991335*z
+    return (com_x, 0.0, com_z)
 
 
 def center_of_mass_velocity(q, v):
@@ -1400,125 +1541,123 @@ def center_of_mass_velocity(q, v):
     t11 = s_knee*t3
     t12 = c_knee*t4 + t11
     t13 = -c_knee*t4 - t11
-    t14 = -s_knee*t4 + t9
-    t15 = -0.105*t12 + t7
-    t16 = -0.105*t14 + t8
+    t14 = -0.105*t12 + t7
+    t15 = -0.105*t10 + t8
     # foot: mass centre
     c_ankle = math.cos(ankle)
     s_ankle = math.sin(ankle)
-    t17 = -0.26*t12 + t7
-    t18 = -0.26*t14 + t8
-    t19 = c_ankle*t12 + s_ankle*t10
-    t20 = c_ankle*t14 + s_ankle*t13
+    t16 = -0.26*t12 + t7
+    t17 = -0.26*t10 + t8
+    t18 = c_ankle*t12 + s_ankle*t10
+    t19 = c_ankle*t10 + s_ankle*t13
+    t20 = t16 - 0.082*t18
     t21 = t17 - 0.082*t19
-    t22 = t18 - 0.082*t20
     # tail1: mass centre
     c_tail_base = math.cos(tail_base)
     s_tail_base = math.sin(tail_base)
-    t23 = -0.2*c_pitch + x
-    t24 = 0.2*s_pitch + z
-    t25 = c_pitch*c_tail_base - s_pitch*s_tail_base
-    t26 = c_pitch*s_tail_base + c_tail_base*s_pitch
-    t27 = t23 - 0.079*t25
-    t28 = t24 + 0.079*t26
+    t22 = -0.2*c_pitch + x
+    t23 = 0.2*s_pitch + z
+    t24 = c_pitch*c_tail_base - s_pitch*s_tail_base
+    t25 = c_pitch*s_tail_base + c_tail_base*s_pitch
+    t26 = t22 - 0.079*t24
+    t27 = t23 + 0.079*t25
     # tail2: mass centre
     c_tail_mid = math.cos(tail_mid)
     s_tail_mid = math.sin(tail_mid)
-    t29 = t23 - 0.166*t25
-    t30 = t24 + 0.166*t26
-    t31 = c_tail_mid*t25
-    t32 = -s_tail_mid*t26 + t31
-    t33 = s_tail_mid*t25
-    t34 = c_tail_mid*t26 + t33
-    t35 = -c_tail_mid*t26 - t33
-    t36 = -s_tail_mid*t26 + t31
-    t37 = t29 - 0.071*t32
-    t38 = t30 - 0.071*t35
+    t28 = t22 - 0.166*t24
+    t29 = t23 + 0.166*t25
+    t30 = c_tail_mid*t24
+    t31 = -s_tail_mid*t25 + t30
+    t32 = s_tail_mid*t24
+    t33 = c_tail_mid*t25 + t32
+    t34 = -c_tail_mid*t25 - t32
+    t35 = t28 - 0.071*t31
+    t36 = t29 - 0.071*t34
     # tail3: mass centre
     c_tail_tip = math.cos(tail_tip)
     s_tail_tip = math.sin(tail_tip)
-    t39 = t29 - 0.166*t32
-    t40 = t30 - 0.166*t35
-    t41 = c_tail_tip*t32 - s_tail_tip*t34
-    t42 = c_tail_tip*t35 - s_tail_tip*t36
-    t43 = t39 - 0.076*t41
-    t44 = t40 - 0.076*t42
+    t37 = t28 - 0.166*t31
+    t38 = t29 - 0.166*t34
+    t39 = c_tail_tip*t31 - s_tail_tip*t33
+    t40 = c_tail_tip*t34 - s_tail_tip*t31
+    t41 = t37 - 0.076*t39
+    t42 = t38 - 0.076*t40
     # head: mass centre
     c_neck = math.cos(neck)
     s_neck = math.sin(neck)
-    t45 = 0.21*c_pitch + x
-    t46 = -0.21*s_pitch + z
-    t47 = c_neck*c_pitch - s_neck*s_pitch
-    t48 = c_neck*s_pitch + c_pitch*s_neck
-    t49 = t45 + 0.04*t47 + 0.04*t48
-    t50 = t46 + 0.04*t47 - 0.04*t48
-    t51 = -t1 + t5
-    t52 = -t2 + t6
-    t53 = t5 - x
-    t54 = t6 - z
-    t55 = t15 - t7
-    t56 = t16 - t8
-    t57 = -t1 + t15
-    t58 = t16 - t2
-    t59 = t15 - x
-    t60 = t16 - z
-    t61 = 1.62*t54 + 0.6*t60
-    t62 = -1.62*t53 - 0.6*t59
-    t63 = 1.62*t52 + 0.6*t58
-    t64 = -1.62*t51 - 0.6*t57
-    t65 = -t17 + t21
-    t66 = -t18 + t22
-    t67 = t21 - t7
-    t68 = t22 - t8
-    t69 = -t1 + t21
-    t70 = -t2 + t22
-    t71 = t21 - x
-    t72 = t22 - z
-    t73 = t61 + 0.14*t72
-    t74 = t62 - 0.14*t71
-    t75 = t63 + 0.14*t70
-    t76 = t64 - 0.14*t69
-    t77 = 0.6*t56 + 0.14*t68
-    t78 = -0.6*t55 - 0.14*t67
-    t79 = -t23 + t27
-    t80 = -t24 + t28
-    t81 = t27 - x
-    t82 = t28 - z
-    t83 = t73 + 0.24*t82
-    t84 = t74 - 0.24*t81
-    t85 = -t29 + t37
-    t86 = -t30 + t38
-    t87 = -t23 + t37
-    t88 = -t24 + t38
-    t89 = t37 - x
-    t90 = t38 - z
-    t91 = t83 + 0.14*t90
-    t92 = t84 - 0.14*t89
-    t93 = 0.24*t80 + 0.14*t88
-    t94 = -0.24*t79 - 0.14*t87
-    t95 = -t39 + t43
-    t96 = -t40 + t44
-    t97 = -t29 + t43
-    t98 = -t30 + t44
-    t99 = -t23 + t43
-    t100 = -t24 + t44
-    t101 = t43 - x
-    t102 = t44 - z
-    t103 = 0.069*t102 + t91
-    t104 = -0.069*t101 + t92
-    t105 = 0.069*t100 + t93
-    t106 = t94 - 0.069*t99
-    t107 = 0.14*t86 + 0.069*t98
-    t108 = -0.14*t85 - 0.069*t97
-    t109 = -t45 + t49
-    t110 = -t46 + t50
-    t111 = t49 - x
-    t112 = t50 - z
-    t113 = t103 + 0.33*t112
-    t114 = t104 - 0.33*t111
-    t115 = 0.14*qd_ankle*t66 + qd_hip*t75 + qd_knee*t77 + 0.33*qd_neck*t110 + qd_pitch*t113 + qd_tail_base*t105 + qd_tail_mid*t107 + 0.069*qd_tail_tip*t96 + 6.808999999999999*qd_x
-    t116 = -0.14*qd_ankle*t65 + qd_hip*t76 + qd_knee*t78 - 0.33*qd_neck*t109 + qd_pitch*t114 + qd_tail_base*t106 + qd_tail_mid*t108 - 0.069*qd_tail_tip*t95 + 6.808999999999999*qd_z
-    return (0.14686444411807903*t115, 0.0, 0.14686444411807903*t116)
+    t43 = 0.21*c_pitch + x
+    t44 = -0.21*s_pitch + z
+    t45 = c_neck*c_pitch - s_neck*s_pitch
+    t46 = c_neck*s_pitch + c_pitch*s_neck
+    t47 = t43 + 0.04*t45 + 0.04*t46
+    t48 = t44 + 0.04*t45 - 0.04*t46
+    t49 = -t1 + t5
+    t50 = -t2 + t6
+    t51 = t5 - x
+    t52 = t6 - z
+    t53 = t14 - t7
+    t54 = t15 - t8
+    t55 = -t1 + t14
+    t56 = t15 - t2
+    t57 = t14 - x
+    t58 = t15 - z
+    t59 = 1.62*t52 + 0.6*t58
+    t60 = -1.62*t51 - 0.6*t57
+    t61 = 1.62*t50 + 0.6*t56
+    t62 = -1.62*t49 - 0.6*t55
+    t63 = -t16 + t20
+    t64 = -t17 + t21
+    t65 = t20 - t7
+    t66 = t21 - t8
+    t67 = -t1 + t20
+    t68 = -t2 + t21
+    t69 = t20 - x
+    t70 = t21 - z
+    t71 = t59 + 0.14*t70
+    t72 = t60 - 0.14*t69
+    t73 = t61 + 0.14*t68
+    t74 = t62 - 0.14*t67
+    t75 = 0.6*t54 + 0.14*t66
+    t76 = -0.6*t53 - 0.14*t65
+    t77 = -t22 + t26
+    t78 = -t23 + t27
+    t79 = t26 - x
+    t80 = t27 - z
+    t81 = t71 + 0.24*t80
+    t82 = t72 - 0.24*t79
+    t83 = -t28 + t35
+    t84 = -t29 + t36
+    t85 = -t22 + t35
+    t86 = -t23 + t36
+    t87 = t35 - x
+    t88 = t36 - z
+    t89 = t81 + 0.14*t88
+    t90 = t82 - 0.14*t87
+    t91 = 0.24*t78 + 0.14*t86
+    t92 = -0.24*t77 - 0.14*t85
+    t93 = -t37 + t41
+    t94 = -t38 + t42
+    t95 = -t28 + t41
+    t96 = -t29 + t42
+    t97 = -t22 + t41
+    t98 = -t23 + t42
+    t99 = t41 - x
+    t100 = t42 - z
+    t101 = 0.069*t100 + t89
+    t102 = -0.069*t99 + t90
+    t103 = 0.069*t98 + t91
+    t104 = t92 - 0.069*t97
+    t105 = 0.14*t84 + 0.069*t96
+    t106 = -0.14*t83 - 0.069*t95
+    t107 = -t43 + t47
+    t108 = -t44 + t48
+    t109 = t47 - x
+    t110 = t48 - z
+    t111 = t101 + 0.33*t110
+    t112 = t102 - 0.33*t109
+    t113 = 0.14*qd_ankle*t64 + qd_hip*t73 + qd_knee*t75 + 0.33*qd_neck*t108 + qd_pitch*t111 + qd_tail_base*t103 + qd_tail_mid*t105 + 0.069*qd_tail_tip*t94 + 6.808999999999999*qd_x
+    t114 = -0.14*qd_ankle*t63 + qd_hip*t74 + qd_knee*t76 - 0.33*qd_neck*t107 + qd_pitch*t112 + qd_tail_base*t104 + qd_tail_mid*t106 - 0.069*qd_tail_tip*t93 + 6.808999999999999*qd_z
+    return (0.14686444411807903*t113, 0.0, 0.14686444411807903*t114)
 
 
 def kinetic_energy(q, v):

@@ -91,454 +91,432 @@ def mass_matrix(q):
     t2 = t1 - 0.2
     t3 = t1*t2 - 0.2*t1 + 0.04350000000000001
     t4 = t2 - 0.30000000000000004
-    t5 = t3 + 0.10300000000000001
+    m_hip_rr_y_hip_rr_y = t3 + 0.10300000000000001
     # thigh_rr, hinge hip_rr_y: composite inertia seen from the parent
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
-    t6 = s_hip_rr_y*t4
-    t7 = c_hip_rr_y*t4
-    t8 = c_hip_rr_y*t5
-    t9 = -s_hip_rr_y*t5
-    t10 = c_hip_rr_y*t8 + 0.00035*s_hip_rr_y*s_hip_rr_y
-    t11 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t8
-    t12 = 0.00035*c_hip_rr_y*c_hip_rr_y - s_hip_rr_y*t9
+    t5 = s_hip_rr_y*t4
+    t6 = c_hip_rr_y*t4
+    t7 = c_hip_rr_y*m_hip_rr_y_hip_rr_y
+    t8 = -s_hip_rr_y*m_hip_rr_y_hip_rr_y
+    m_hip_rr_x_hip_rr_x = c_hip_rr_y*t7 + 0.00035*s_hip_rr_y*s_hip_rr_y
+    t9 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t7
+    t10 = 0.00035*c_hip_rr_y*c_hip_rr_y - s_hip_rr_y*t8
     # hinge hip_rr_x: composite inertia seen from the parent
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t13 = s_hip_rr_x*t7
-    t14 = c_hip_rr_x*t7
-    t15 = s_hip_rr_x*t11
-    t16 = c_hip_rr_x*t5
-    t17 = -s_hip_rr_x*t12
-    t18 = c_hip_rr_x*t11
-    t19 = s_hip_rr_x*t5
-    t20 = c_hip_rr_x*t12
-    t21 = c_hip_rr_x*t16 - s_hip_rr_x*t17
-    t22 = c_hip_rr_x*t17 + s_hip_rr_x*t16
-    t23 = c_hip_rr_x*t20 + s_hip_rr_x*t19
-    t24 = t6 - 0.9750000000000001
-    t25 = -t13 - 0.3
-    t26 = -0.12*t13 + 0.12*t25
-    t27 = t10 - t26
-    t28 = -t15 + 0.39*t25 + 0.12*t6
-    t29 = 0.39*t14 + t18
-    t30 = 0.39*t24 + 0.39*t6
-    t31 = t21 - t30
-    t32 = 0.12*t14 + t22
-    t33 = t23 - t26 - t30
-    t34 = t27 + 0.54
-    t35 = t31 + 2.35
-    t36 = t33 + 2.39
+    t11 = s_hip_rr_x*t6
+    t12 = c_hip_rr_x*t6
+    t13 = s_hip_rr_x*t9
+    t14 = c_hip_rr_x*m_hip_rr_y_hip_rr_y
+    t15 = -s_hip_rr_x*t10
+    t16 = c_hip_rr_x*t9
+    t17 = s_hip_rr_x*m_hip_rr_y_hip_rr_y
+    t18 = c_hip_rr_x*t10
+    t19 = c_hip_rr_x*t14 - s_hip_rr_x*t15
+    t20 = c_hip_rr_x*t15 + s_hip_rr_x*t14
+    t21 = c_hip_rr_x*t18 + s_hip_rr_x*t17
+    t22 = t5 - 0.9750000000000001
+    t23 = -t11 - 0.3
+    t24 = -0.12*t11 + 0.12*t23
+    t25 = m_hip_rr_x_hip_rr_x - t24
+    t26 = -t13 + 0.39*t23 + 0.12*t5
+    m_wz_hip_rr_x = 0.39*t12 + t16
+    t27 = 0.39*t22 + 0.39*t5
+    t28 = t19 - t27
+    t29 = 0.12*t12 + t20
+    t30 = t21 - t24 - t27
+    t31 = t25 + 0.54
+    t32 = t28 + 2.35
+    t33 = t30 + 2.39
     # shank_rl, slide leg_rl: composite inertia seen from the parent
-    t37 = -leg_rl - 0.41
-    t38 = t37 - 0.2
-    t39 = t37*t38 - 0.2*t37 + 0.04350000000000001
-    t40 = t38 - 0.30000000000000004
-    t41 = t39 + 0.10300000000000001
+    t34 = -leg_rl - 0.41
+    t35 = t34 - 0.2
+    t36 = t34*t35 - 0.2*t34 + 0.04350000000000001
+    t37 = t35 - 0.30000000000000004
+    m_hip_rl_y_hip_rl_y = t36 + 0.10300000000000001
     # thigh_rl, hinge hip_rl_y: composite inertia seen from the parent
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
-    t42 = s_hip_rl_y*t40
-    t43 = c_hip_rl_y*t40
-    t44 = c_hip_rl_y*t41
-    t45 = -s_hip_rl_y*t41
-    t46 = c_hip_rl_y*t44 + 0.00035*s_hip_rl_y*s_hip_rl_y
-    t47 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t44
-    t48 = 0.00035*c_hip_rl_y*c_hip_rl_y - s_hip_rl_y*t45
+    t38 = s_hip_rl_y*t37
+    t39 = c_hip_rl_y*t37
+    t40 = c_hip_rl_y*m_hip_rl_y_hip_rl_y
+    t41 = -s_hip_rl_y*m_hip_rl_y_hip_rl_y
+    m_hip_rl_x_hip_rl_x = c_hip_rl_y*t40 + 0.00035*s_hip_rl_y*s_hip_rl_y
+    t42 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t40
+    t43 = 0.00035*c_hip_rl_y*c_hip_rl_y - s_hip_rl_y*t41
     # hinge hip_rl_x: composite inertia seen from the parent
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t49 = s_hip_rl_x*t43
-    t50 = c_hip_rl_x*t43
-    t51 = s_hip_rl_x*t47
-    t52 = c_hip_rl_x*t41
-    t53 = -s_hip_rl_x*t48
-    t54 = c_hip_rl_x*t47
-    t55 = s_hip_rl_x*t41
-    t56 = c_hip_rl_x*t48
-    t57 = c_hip_rl_x*t52 - s_hip_rl_x*t53
-    t58 = c_hip_rl_x*t53 + s_hip_rl_x*t52
-    t59 = c_hip_rl_x*t56 + s_hip_rl_x*t55
-    t60 = t42 - 0.9750000000000001
-    t61 = 0.3 - t49
-    t62 = -0.12*t49 + 0.12*t61
-    t63 = t46 + t62
-    t64 = -0.12*t42 - t51 + 0.39*t61
-    t65 = 0.39*t50 + t54
-    t66 = -0.39*t42 + t57 - 0.39*t60
-    t67 = -0.12*t50 + t58
-    t68 = -0.39*t42 + t59 - 0.39*t60 + t62
-    t69 = t24 + t60
-    t70 = t25 + t61
-    t71 = t14 + t50
-    t72 = t34 + t63
-    t73 = t28 + t64
-    t74 = t29 + t65
-    t75 = t35 + t66
-    t76 = t32 + t67
-    t77 = t36 + t68
+    t44 = s_hip_rl_x*t39
+    t45 = c_hip_rl_x*t39
+    t46 = s_hip_rl_x*t42
+    t47 = c_hip_rl_x*m_hip_rl_y_hip_rl_y
+    t48 = -s_hip_rl_x*t43
+    t49 = c_hip_rl_x*t42
+    t50 = s_hip_rl_x*m_hip_rl_y_hip_rl_y
+    t51 = c_hip_rl_x*t43
+    t52 = c_hip_rl_x*t47 - s_hip_rl_x*t48
+    t53 = c_hip_rl_x*t48 + s_hip_rl_x*t47
+    t54 = c_hip_rl_x*t51 + s_hip_rl_x*t50
+    t55 = t38 - 0.9750000000000001
+    t56 = 0.3 - t44
+    t57 = -0.12*t44 + 0.12*t56
+    t58 = m_hip_rl_x_hip_rl_x + t57
+    t59 = -0.12*t38 - t46 + 0.39*t56
+    m_wz_hip_rl_x = 0.39*t45 + t49
+    t60 = -0.39*t38 + t52 - 0.39*t55
+    t61 = -0.12*t45 + t53
+    t62 = -0.39*t38 + t54 - 0.39*t55 + t57
+    t63 = t22 + t55
+    t64 = t23 + t56
+    t65 = t12 + t45
+    t66 = t31 + t58
+    t67 = t26 + t59
+    t68 = m_wz_hip_rr_x + m_wz_hip_rl_x
+    t69 = t32 + t60
+    t70 = t29 + t61
+    t71 = t33 + t62
     # shank_fr, slide leg_fr: composite inertia seen from the parent
-    t78 = -leg_fr - 0.41
-    t79 = t78 - 0.2
-    t80 = t78*t79 - 0.2*t78 + 0.04350000000000001
-    t81 = t79 - 0.30000000000000004
-    t82 = t80 + 0.10300000000000001
+    t72 = -leg_fr - 0.41
+    t73 = t72 - 0.2
+    t74 = t72*t73 - 0.2*t72 + 0.04350000000000001
+    t75 = t73 - 0.30000000000000004
+    m_hip_fr_y_hip_fr_y = t74 + 0.10300000000000001
     # thigh_fr, hinge hip_fr_y: composite inertia seen from the parent
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
-    t83 = s_hip_fr_y*t81
-    t84 = c_hip_fr_y*t81
-    t85 = c_hip_fr_y*t82
-    t86 = -s_hip_fr_y*t82
-    t87 = c_hip_fr_y*t85 + 0.00035*s_hip_fr_y*s_hip_fr_y
-    t88 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t85
-    t89 = 0.00035*c_hip_fr_y*c_hip_fr_y - s_hip_fr_y*t86
+    t76 = s_hip_fr_y*t75
+    t77 = c_hip_fr_y*t75
+    t78 = c_hip_fr_y*m_hip_fr_y_hip_fr_y
+    t79 = -s_hip_fr_y*m_hip_fr_y_hip_fr_y
+    m_hip_fr_x_hip_fr_x = c_hip_fr_y*t78 + 0.00035*s_hip_fr_y*s_hip_fr_y
+    t80 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t78
+    t81 = 0.00035*c_hip_fr_y*c_hip_fr_y - s_hip_fr_y*t79
     # hinge hip_fr_x: composite inertia seen from the parent
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t90 = s_hip_fr_x*t84
-    t91 = c_hip_fr_x*t84
-    t92 = -s_hip_fr_x*t88
-    t93 = c_hip_fr_x*t82
-    t94 = -s_hip_fr_x*t89
-    t95 = c_hip_fr_x*t88
-    t96 = s_hip_fr_x*t82
-    t97 = c_hip_fr_x*t89
-    t98 = c_hip_fr_x*t93 - s_hip_fr_x*t94
-    t99 = c_hip_fr_x*t94 + s_hip_fr_x*t93
-    t100 = c_hip_fr_x*t97 + s_hip_fr_x*t96
-    t101 = t83 + 0.9750000000000001
-    t102 = -t90 - 0.3
-    t103 = -0.12*t102 + t87 + 0.12*t90
-    t104 = -0.39*t102 + 0.12*t83 + t92
-    t105 = -0.39*t91 + t95
-    t106 = 0.39*t101 + 0.39*t83
-    t107 = t106 + t98
-    t108 = 0.12*t91 + t99
-    t109 = t100 - 0.12*t102 + t106 + 0.12*t90
-    t110 = t101 + t69
-    t111 = t102 + t70
-    t112 = t71 + t91
-    t113 = t103 + t72
-    t114 = t104 + t73
-    t115 = t105 + t74
-    t116 = t107 + t75
-    t117 = t108 + t76
-    t118 = t109 + t77
+    t82 = s_hip_fr_x*t77
+    t83 = c_hip_fr_x*t77
+    t84 = -s_hip_fr_x*t80
+    t85 = c_hip_fr_x*m_hip_fr_y_hip_fr_y
+    t86 = -s_hip_fr_x*t81
+    t87 = c_hip_fr_x*t80
+    t88 = s_hip_fr_x*m_hip_fr_y_hip_fr_y
+    t89 = c_hip_fr_x*t81
+    t90 = c_hip_fr_x*t85 - s_hip_fr_x*t86
+    t91 = c_hip_fr_x*t86 + s_hip_fr_x*t85
+    t92 = c_hip_fr_x*t89 + s_hip_fr_x*t88
+    t93 = t76 + 0.9750000000000001
+    t94 = -t82 - 0.3
+    t95 = -0.12*t94 + m_hip_fr_x_hip_fr_x + 0.12*t82
+    t96 = -0.39*t94 + 0.12*t76 + t84
+    t97 = -0.39*t83 + t87
+    t98 = 0.39*t93 + 0.39*t76
+    t99 = t98 + t90
+    t100 = 0.12*t83 + t91
+    t101 = t92 - 0.12*t94 + t98 + 0.12*t82
+    t102 = t93 + t63
+    t103 = t94 + t64
+    t104 = t65 + t83
+    t105 = t95 + t66
+    t106 = t96 + t67
+    t107 = t97 + t68
+    t108 = t99 + t69
+    t109 = t100 + t70
+    t110 = t101 + t71
     # shank_fl, slide leg_fl: composite inertia seen from the parent
-    t119 = -leg_fl - 0.41
-    t120 = t119 - 0.2
-    t121 = t119*t120 - 0.2*t119 + 0.04350000000000001
-    t122 = t120 - 0.30000000000000004
-    t123 = t121 + 0.10300000000000001
+    t111 = -leg_fl - 0.41
+    t112 = t111 - 0.2
+    t113 = t111*t112 - 0.2*t111 + 0.04350000000000001
+    t114 = t112 - 0.30000000000000004
+    m_hip_fl_y_hip_fl_y = t113 + 0.10300000000000001
     # thigh_fl, hinge hip_fl_y: composite inertia seen from the parent
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
-    t124 = s_hip_fl_y*t122
-    t125 = c_hip_fl_y*t122
-    t126 = c_hip_fl_y*t123
-    t127 = -s_hip_fl_y*t123
-    t128 = c_hip_fl_y*t126 + 0.00035*s_hip_fl_y*s_hip_fl_y
-    t129 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t126
-    t130 = 0.00035*c_hip_fl_y*c_hip_fl_y - s_hip_fl_y*t127
+    t115 = s_hip_fl_y*t114
+    t116 = c_hip_fl_y*t114
+    t117 = c_hip_fl_y*m_hip_fl_y_hip_fl_y
+    t118 = -s_hip_fl_y*m_hip_fl_y_hip_fl_y
+    m_hip_fl_x_hip_fl_x = c_hip_fl_y*t117 + 0.00035*s_hip_fl_y*s_hip_fl_y
+    t119 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t117
+    t120 = 0.00035*c_hip_fl_y*c_hip_fl_y - s_hip_fl_y*t118
     # hinge hip_fl_x: composite inertia seen from the parent
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t131 = s_hip_fl_x*t125
-    t132 = c_hip_fl_x*t125
-    t133 = -s_hip_fl_x*t129
-    t134 = c_hip_fl_x*t123
-    t135 = -s_hip_fl_x*t130
-    t136 = c_hip_fl_x*t129
-    t137 = s_hip_fl_x*t123
-    t138 = c_hip_fl_x*t130
-    t139 = c_hip_fl_x*t134 - s_hip_fl_x*t135
-    t140 = c_hip_fl_x*t135 + s_hip_fl_x*t134
-    t141 = c_hip_fl_x*t138 + s_hip_fl_x*t137
-    t142 = t124 + 0.9750000000000001
-    t143 = 0.3 - t131
-    t144 = -0.12*t131 + 0.12*t143
-    t145 = t128 + t144
-    t146 = -0.12*t124 + t133 - 0.39*t143
-    t147 = -0.39*t132 + t136
-    t148 = 0.39*t124 + 0.39*t142
-    t149 = t139 + t148
-    t150 = -0.12*t132 + t140
-    t151 = t141 + t144 + t148
-    t152 = t110 + t142
-    t153 = t111 + t143
-    t154 = t112 + t132
-    t155 = t113 + t145
-    t156 = t114 + t146
-    t157 = t115 + t147
-    t158 = t116 + t149
-    t159 = t117 + t150
-    t160 = t118 + t151
+    t121 = s_hip_fl_x*t116
+    t122 = c_hip_fl_x*t116
+    t123 = -s_hip_fl_x*t119
+    t124 = c_hip_fl_x*m_hip_fl_y_hip_fl_y
+    t125 = -s_hip_fl_x*t120
+    t126 = c_hip_fl_x*t119
+    t127 = s_hip_fl_x*m_hip_fl_y_hip_fl_y
+    t128 = c_hip_fl_x*t120
+    t129 = c_hip_fl_x*t124 - s_hip_fl_x*t125
+    t130 = c_hip_fl_x*t125 + s_hip_fl_x*t124
+    t131 = c_hip_fl_x*t128 + s_hip_fl_x*t127
+    t132 = t115 + 0.9750000000000001
+    t133 = 0.3 - t121
+    t134 = -0.12*t121 + 0.12*t133
+    t135 = m_hip_fl_x_hip_fl_x + t134
+    t136 = -0.12*t115 + t123 - 0.39*t133
+    t137 = -0.39*t122 + t126
+    t138 = 0.39*t115 + 0.39*t132
+    t139 = t129 + t138
+    t140 = -0.12*t122 + t130
+    t141 = t131 + t134 + t138
+    t142 = t102 + t132
+    t143 = t103 + t133
+    t144 = t104 + t122
+    m_wx_wx = t105 + t135
+    m_wx_wy = t106 + t136
+    m_wx_wz = t107 + t137
+    m_wy_wy = t108 + t139
+    m_wy_wz = t109 + t140
+    m_wz_wz = t110 + t141
     # trunk, free3d root: the 6x6 block of the free root
-    t161 = qx*qx
-    t162 = qy*qy
-    t163 = qz*qz
-    t164 = t162 + t163
-    qscale = 2.0/(qw*qw + t161 + t164)
-    t165 = -qscale*t164 + 1.0
-    t166 = qw*qz
-    t167 = qscale*(qx*qy - t166)
-    t168 = qw*qy
-    t169 = qscale*(qx*qz + t168)
-    t170 = qscale*(qx*qy + t166)
-    t171 = -qscale*(t161 + t163) + 1.0
-    t172 = qw*qx
-    t173 = qscale*(qy*qz - t172)
-    t174 = qscale*(qx*qz - t168)
-    t175 = qscale*(qy*qz + t172)
-    t176 = -qscale*(t161 + t162) + 1.0
-    t177 = t153*t169 - t154*t167
-    t178 = -t152*t169 + t154*t165
-    t179 = t152*t167 - t153*t165
-    t180 = t153*t173 - t154*t171
-    t181 = -t152*t173 + t154*t170
-    t182 = t152*t171 - t153*t170
-    t183 = t153*t176 - t154*t175
-    t184 = -t152*t176 + t154*t174
-    t185 = t152*t175 - t153*t174
+    t145 = qx*qx
+    t146 = qy*qy
+    t147 = qz*qz
+    t148 = t146 + t147
+    qscale = 2.0/(qw*qw + t145 + t148)
+    t149 = -qscale*t148 + 1.0
+    t150 = qw*qz
+    t151 = qscale*(qx*qy - t150)
+    t152 = qw*qy
+    t153 = qscale*(qx*qz + t152)
+    t154 = qscale*(qx*qy + t150)
+    t155 = -qscale*(t145 + t147) + 1.0
+    t156 = qw*qx
+    t157 = qscale*(qy*qz - t156)
+    t158 = qscale*(qx*qz - t152)
+    t159 = qscale*(qy*qz + t156)
+    t160 = -qscale*(t145 + t146) + 1.0
+    m_vx_wx = t143*t153 - t144*t151
+    m_vx_wy = -t142*t153 + t144*t149
+    m_vx_wz = t142*t151 - t143*t149
+    m_vy_wx = t143*t157 - t144*t155
+    m_vy_wy = -t142*t157 + t144*t154
+    m_vy_wz = t142*t155 - t143*t154
+    m_vz_wx = t143*t160 - t144*t159
+    m_vz_wy = -t142*t160 + t144*t158
+    m_vz_wz = t142*t159 - t143*t158
     # hinge hip_fl_x: column 6
-    t186 = t128 - 0.12*t131
-    t187 = 0.39*t131 + t133
-    t188 = c_hip_fl_x*t129 - 0.39*t132
-    t189 = -t131*t169 - t132*t167
-    t190 = -t131*t173 - t132*t171
-    t191 = -t131*t176 - t132*t175
+    m_wx_hip_fl_x = m_hip_fl_x_hip_fl_x - 0.12*t121
+    m_wy_hip_fl_x = 0.39*t121 + t123
+    m_wz_hip_fl_x = c_hip_fl_x*t119 - 0.39*t122
+    m_vx_hip_fl_x = -t121*t153 - t122*t151
+    m_vy_hip_fl_x = -t121*t157 - t122*t155
+    m_vz_hip_fl_x = -t121*t160 - t122*t159
     # thigh_fl, hinge hip_fl_y: column 7
-    t192 = -c_hip_fl_x*t124
-    t193 = t134 - 0.39*t192
-    t194 = -s_hip_fl_x*t124
-    t195 = s_hip_fl_x*t123 - 0.12*t125 - 0.39*t194
-    t196 = t125*t165 - t167*t194 + t169*t192
-    t197 = t125*t170 - t171*t194 + t173*t192
-    t198 = t125*t174 - t175*t194 + t176*t192
+    t161 = -c_hip_fl_x*t115
+    m_wy_hip_fl_y = t124 - 0.39*t161
+    t162 = -s_hip_fl_x*t115
+    m_wz_hip_fl_y = s_hip_fl_x*m_hip_fl_y_hip_fl_y - 0.12*t116 - 0.39*t162
+    m_vx_hip_fl_y = t116*t149 - t151*t162 + t153*t161
+    m_vy_hip_fl_y = t116*t154 - t155*t162 + t157*t161
+    m_vz_hip_fl_y = t116*t158 - t159*t162 + t160*t161
     # shank_fl, slide leg_fl: column 8
-    t199 = c_hip_fl_x*c_hip_fl_y
-    t200 = c_hip_fl_y*s_hip_fl_x
-    t201 = 0.12*s_hip_fl_y + 0.39*t200
-    t202 = -s_hip_fl_y*t165 + t167*t200 - t169*t199
-    t203 = -s_hip_fl_y*t170 + t171*t200 - t173*t199
-    t204 = -s_hip_fl_y*t174 + t175*t200 - t176*t199
+    t163 = c_hip_fl_x*c_hip_fl_y
+    t164 = c_hip_fl_y*s_hip_fl_x
+    m_wz_leg_fl = 0.12*s_hip_fl_y + 0.39*t164
+    m_vx_leg_fl = -s_hip_fl_y*t149 + t151*t164 - t153*t163
+    m_vy_leg_fl = -s_hip_fl_y*t154 + t155*t164 - t157*t163
+    m_vz_leg_fl = -s_hip_fl_y*t158 + t159*t164 - t160*t163
     # hinge hip_fr_x: column 9
-    t205 = t87 + 0.12*t90
-    t206 = 0.39*t90 + t92
-    t207 = c_hip_fr_x*t88 - 0.39*t91
-    t208 = -t167*t91 - t169*t90
-    t209 = -t171*t91 - t173*t90
-    t210 = -t175*t91 - t176*t90
+    m_wx_hip_fr_x = m_hip_fr_x_hip_fr_x + 0.12*t82
+    m_wy_hip_fr_x = 0.39*t82 + t84
+    m_wz_hip_fr_x = c_hip_fr_x*t80 - 0.39*t83
+    m_vx_hip_fr_x = -t151*t83 - t153*t82
+    m_vy_hip_fr_x = -t155*t83 - t157*t82
+    m_vz_hip_fr_x = -t159*t83 - t160*t82
     # thigh_fr, hinge hip_fr_y: column 10
-    t211 = -c_hip_fr_x*t83
-    t212 = c_hip_fr_x*t82 - 0.39*t211
-    t213 = -s_hip_fr_x*t83
-    t214 = -0.39*t213 + 0.12*t84 + t96
-    t215 = t165*t84 - t167*t213 + t169*t211
-    t216 = t170*t84 - t171*t213 + t173*t211
-    t217 = t174*t84 - t175*t213 + t176*t211
+    t165 = -c_hip_fr_x*t76
+    m_wy_hip_fr_y = c_hip_fr_x*m_hip_fr_y_hip_fr_y - 0.39*t165
+    t166 = -s_hip_fr_x*t76
+    m_wz_hip_fr_y = -0.39*t166 + 0.12*t77 + t88
+    m_vx_hip_fr_y = t149*t77 - t151*t166 + t153*t165
+    m_vy_hip_fr_y = t154*t77 - t155*t166 + t157*t165
+    m_vz_hip_fr_y = t158*t77 - t159*t166 + t160*t165
     # shank_fr, slide leg_fr: column 11
-    t218 = c_hip_fr_x*c_hip_fr_y
-    t219 = c_hip_fr_y*s_hip_fr_x
-    t220 = -0.12*s_hip_fr_y + 0.39*t219
-    t221 = -s_hip_fr_y*t165 + t167*t219 - t169*t218
-    t222 = -s_hip_fr_y*t170 + t171*t219 - t173*t218
-    t223 = -s_hip_fr_y*t174 + t175*t219 - t176*t218
+    t167 = c_hip_fr_x*c_hip_fr_y
+    t168 = c_hip_fr_y*s_hip_fr_x
+    m_wz_leg_fr = -0.12*s_hip_fr_y + 0.39*t168
+    m_vx_leg_fr = -s_hip_fr_y*t149 + t151*t168 - t153*t167
+    m_vy_leg_fr = -s_hip_fr_y*t154 + t155*t168 - t157*t167
+    m_vz_leg_fr = -s_hip_fr_y*t158 + t159*t168 - t160*t167
     # hinge hip_rl_x: column 12
-    t224 = t46 - 0.12*t49
-    t225 = -0.39*t49 - t51
-    t226 = 0.39*t50 + t54
-    t227 = -t167*t50 - t169*t49
-    t228 = -t171*t50 - t173*t49
-    t229 = -t175*t50 - t176*t49
+    m_wx_hip_rl_x = m_hip_rl_x_hip_rl_x - 0.12*t44
+    m_wy_hip_rl_x = -0.39*t44 - t46
+    m_vx_hip_rl_x = -t151*t45 - t153*t44
+    m_vy_hip_rl_x = -t155*t45 - t157*t44
+    m_vz_hip_rl_x = -t159*t45 - t160*t44
     # thigh_rl, hinge hip_rl_y: column 13
-    t230 = -c_hip_rl_x*t42
-    t231 = 0.39*t230 + t52
-    t232 = -s_hip_rl_x*t42
-    t233 = 0.39*t232 - 0.12*t43 + t55
-    t234 = t165*t43 - t167*t232 + t169*t230
-    t235 = t170*t43 - t171*t232 + t173*t230
-    t236 = t174*t43 - t175*t232 + t176*t230
+    t169 = -c_hip_rl_x*t38
+    m_wy_hip_rl_y = 0.39*t169 + t47
+    t170 = -s_hip_rl_x*t38
+    m_wz_hip_rl_y = 0.39*t170 - 0.12*t39 + t50
+    m_vx_hip_rl_y = t149*t39 - t151*t170 + t153*t169
+    m_vy_hip_rl_y = t154*t39 - t155*t170 + t157*t169
+    m_vz_hip_rl_y = t158*t39 - t159*t170 + t160*t169
     # shank_rl, slide leg_rl: column 14
-    t237 = c_hip_rl_x*c_hip_rl_y
-    t238 = c_hip_rl_y*s_hip_rl_x
-    t239 = 0.12*s_hip_rl_y - 0.39*t238
-    t240 = -s_hip_rl_y*t165 + t167*t238 - t169*t237
-    t241 = -s_hip_rl_y*t170 + t171*t238 - t173*t237
-    t242 = -s_hip_rl_y*t174 + t175*t238 - t176*t237
+    t171 = c_hip_rl_x*c_hip_rl_y
+    t172 = c_hip_rl_y*s_hip_rl_x
+    m_wz_leg_rl = 0.12*s_hip_rl_y - 0.39*t172
+    m_vx_leg_rl = -s_hip_rl_y*t149 + t151*t172 - t153*t171
+    m_vy_leg_rl = -s_hip_rl_y*t154 + t155*t172 - t157*t171
+    m_vz_leg_rl = -s_hip_rl_y*t158 + t159*t172 - t160*t171
     # hinge hip_rr_x: column 15
-    t243 = t10 + 0.12*t13
-    t244 = -0.39*t13 - t15
-    t245 = 0.39*t14 + t18
-    t246 = -t13*t169 - t14*t167
-    t247 = -t13*t173 - t14*t171
-    t248 = -t13*t176 - t14*t175
+    m_wx_hip_rr_x = m_hip_rr_x_hip_rr_x + 0.12*t11
+    m_wy_hip_rr_x = -0.39*t11 - t13
+    m_vx_hip_rr_x = -t11*t153 - t12*t151
+    m_vy_hip_rr_x = -t11*t157 - t12*t155
+    m_vz_hip_rr_x = -t11*t160 - t12*t159
     # thigh_rr, hinge hip_rr_y: column 16
-    t249 = -c_hip_rr_x*t6
-    t250 = t16 + 0.39*t249
-    t251 = -s_hip_rr_x*t6
-    t252 = t19 + 0.39*t251 + 0.12*t7
-    t253 = t165*t7 - t167*t251 + t169*t249
-    t254 = t170*t7 - t171*t251 + t173*t249
-    t255 = t174*t7 - t175*t251 + t176*t249
+    t173 = -c_hip_rr_x*t5
+    m_wy_hip_rr_y = t14 + 0.39*t173
+    t174 = -s_hip_rr_x*t5
+    m_wz_hip_rr_y = t17 + 0.39*t174 + 0.12*t6
+    m_vx_hip_rr_y = t149*t6 - t151*t174 + t153*t173
+    m_vy_hip_rr_y = t154*t6 - t155*t174 + t157*t173
+    m_vz_hip_rr_y = t158*t6 - t159*t174 + t160*t173
     # shank_rr, slide leg_rr: column 17
-    t256 = c_hip_rr_x*c_hip_rr_y
-    t257 = c_hip_rr_y*s_hip_rr_x
-    t258 = -0.12*s_hip_rr_y - 0.39*t257
-    t259 = -s_hip_rr_y*t165 + t167*t257 - t169*t256
-    t260 = -s_hip_rr_y*t170 + t171*t257 - t173*t256
-    t261 = -s_hip_rr_y*t174 + t175*t257 - t176*t256
+    t175 = c_hip_rr_x*c_hip_rr_y
+    t176 = c_hip_rr_y*s_hip_rr_x
+    m_wz_leg_rr = -0.12*s_hip_rr_y - 0.39*t176
+    m_vx_leg_rr = -s_hip_rr_y*t149 + t151*t176 - t153*t175
+    m_vy_leg_rr = -s_hip_rr_y*t154 + t155*t176 - t157*t175
+    m_vz_leg_rr = -s_hip_rr_y*t158 + t159*t176 - t160*t175
     return [
         [
             20.0,
             0.0,
             0.0,
-            t177,
-            t178,
-            t179,
-            t189,
-            t196,
-            t202,
-            t208,
-            t215,
-            t221,
-            t227,
-            t234,
-            t240,
-            t246,
-            t253,
-            t259,
+            m_vx_wx,
+            m_vx_wy,
+            m_vx_wz,
+            m_vx_hip_fl_x,
+            m_vx_hip_fl_y,
+            m_vx_leg_fl,
+            m_vx_hip_fr_x,
+            m_vx_hip_fr_y,
+            m_vx_leg_fr,
+            m_vx_hip_rl_x,
+            m_vx_hip_rl_y,
+            m_vx_leg_rl,
+            m_vx_hip_rr_x,
+            m_vx_hip_rr_y,
+            m_vx_leg_rr,
         ],
         [
             0.0,
             20.0,
             0.0,
-            t180,
-            t181,
-            t182,
-            t190,
-            t197,
-            t203,
-            t209,
-            t216,
-            t222,
-            t228,
-            t235,
-            t241,
-            t247,
-            t254,
-            t260,
+            m_vy_wx,
+            m_vy_wy,
+            m_vy_wz,
+            m_vy_hip_fl_x,
+            m_vy_hip_fl_y,
+            m_vy_leg_fl,
+            m_vy_hip_fr_x,
+            m_vy_hip_fr_y,
+            m_vy_leg_fr,
+            m_vy_hip_rl_x,
+            m_vy_hip_rl_y,
+            m_vy_leg_rl,
+            m_vy_hip_rr_x,
+            m_vy_hip_rr_y,
+            m_vy_leg_rr,
         ],
         [
             0.0,
             0.0,
             20.0,
-            t183,
-            t184,
-            t185,
-            t191,
-            t198,
-            t204,
-            t210,
-            t217,
-            t223,
-            t229,
-            t236,
-            t242,
-            t248,
-            t255,
-            t261,
+            m_vz_wx,
+            m_vz_wy,
+            m_vz_wz,
+            m_vz_hip_fl_x,
+            m_vz_hip_fl_y,
+            m_vz_leg_fl,
+            m_vz_hip_fr_x,
+            m_vz_hip_fr_y,
+            m_vz_leg_fr,
+            m_vz_hip_rl_x,
+            m_vz_hip_rl_y,
+            m_vz_leg_rl,
+            m_vz_hip_rr_x,
+            m_vz_hip_rr_y,
+            m_vz_leg_rr,
         ],
         [
-            t177,
-            t180,
-            t183,
-            t155,
-            t156,
-            t157,
-            t186,
-            0.12*t192,
-            -0.12*t199,
-            t205,
-            -0.12*t211,
-            0.12*t218,
-            t224,
-            0.12*t230,
-            -0.12*t237,
-            t243,
-            -0.12*t249,
-            0.12*t256,
+            m_vx_wx,
+            m_vy_wx,
+            m_vz_wx,
+            m_wx_wx,
+            m_wx_wy,
+            m_wx_wz,
+            m_wx_hip_fl_x,
+            0.12*t161,
+            -0.12*t163,
+            m_wx_hip_fr_x,
+            -0.12*t165,
+            0.12*t167,
+            m_wx_hip_rl_x,
+            0.12*t169,
+            -0.12*t171,
+            m_wx_hip_rr_x,
+            -0.12*t173,
+            0.12*t175,
         ],
         [
-            t178,
-            t181,
-            t184,
-            t156,
-            t158,
-            t159,
-            t187,
-            t193,
-            0.39*t199,
-            t206,
-            t212,
-            0.39*t218,
-            t225,
-            t231,
-            -0.39*t237,
-            t244,
-            t250,
-            -0.39*t256,
+            m_vx_wy,
+            m_vy_wy,
+            m_vz_wy,
+            m_wx_wy,
+            m_wy_wy,
+            m_wy_wz,
+            m_wy_hip_fl_x,
+            m_wy_hip_fl_y,
+            0.39*t163,
+            m_wy_hip_fr_x,
+            m_wy_hip_fr_y,
+            0.39*t167,
+            m_wy_hip_rl_x,
+            m_wy_hip_rl_y,
+            -0.39*t171,
+            m_wy_hip_rr_x,
+            m_wy_hip_rr_y,
+            -0.39*t175,
         ],
         [
-            t179,
-            t182,
-            t185,
-            t157,
-            t159,
-            t160,
-            t188,
-            t195,
-            t201,
-            t207,
-            t214,
-            t220,
-            t226,
-            t233,
-            t239,
-            t245,
-            t252,
-            t258,
+            m_vx_wz,
+            m_vy_wz,
+            m_vz_wz,
+            m_wx_wz,
+            m_wy_wz,
+            m_wz_wz,
+            m_wz_hip_fl_x,
+            m_wz_hip_fl_y,
+            m_wz_leg_fl,
+            m_wz_hip_fr_x,
+            m_wz_hip_fr_y,
+            m_wz_leg_fr,
+            m_wz_hip_rl_x,
+            m_wz_hip_rl_y,
+            m_wz_leg_rl,
+            m_wz_hip_rr_x,
+            m_wz_hip_rr_y,
+            m_wz_leg_rr,
         ],
         [
-            t189,
-            t190,
-            t191,
-            t186,
-            t187,
-            t188,
-            t128,
+            m_vx_hip_fl_x,
+            m_vy_hip_fl_x,
+            m_vz_hip_fl_x,
+            m_wx_hip_fl_x,
+            m_wy_hip_fl_x,
+            m_wz_hip_fl_x,
+            m_hip_fl_x_hip_fl_x,
             0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            t196,
-            t197,
-            t198,
-            0.12*t192,
-            t193,
-            t195,
-            0.0,
-            t123,
             0.0,
             0.0,
             0.0,
@@ -551,12 +529,32 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t202,
-            t203,
-            t204,
-            -0.12*t199,
-            0.39*t199,
-            t201,
+            m_vx_hip_fl_y,
+            m_vy_hip_fl_y,
+            m_vz_hip_fl_y,
+            0.12*t161,
+            m_wy_hip_fl_y,
+            m_wz_hip_fl_y,
+            0.0,
+            m_hip_fl_y_hip_fl_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_vx_leg_fl,
+            m_vy_leg_fl,
+            m_vz_leg_fl,
+            -0.12*t163,
+            0.39*t163,
+            m_wz_leg_fl,
             0.0,
             0.0,
             1.0,
@@ -571,37 +569,17 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t208,
-            t209,
-            t210,
-            t205,
-            t206,
-            t207,
+            m_vx_hip_fr_x,
+            m_vy_hip_fr_x,
+            m_vz_hip_fr_x,
+            m_wx_hip_fr_x,
+            m_wy_hip_fr_x,
+            m_wz_hip_fr_x,
             0.0,
             0.0,
             0.0,
-            t87,
+            m_hip_fr_x_hip_fr_x,
             0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            t215,
-            t216,
-            t217,
-            -0.12*t211,
-            t212,
-            t214,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            t82,
             0.0,
             0.0,
             0.0,
@@ -611,12 +589,32 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t221,
-            t222,
-            t223,
-            0.12*t218,
-            0.39*t218,
-            t220,
+            m_vx_hip_fr_y,
+            m_vy_hip_fr_y,
+            m_vz_hip_fr_y,
+            -0.12*t165,
+            m_wy_hip_fr_y,
+            m_wz_hip_fr_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            m_hip_fr_y_hip_fr_y,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            m_vx_leg_fr,
+            m_vy_leg_fr,
+            m_vz_leg_fr,
+            0.12*t167,
+            0.39*t167,
+            m_wz_leg_fr,
             0.0,
             0.0,
             0.0,
@@ -631,19 +629,19 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t227,
-            t228,
-            t229,
-            t224,
-            t225,
-            t226,
+            m_vx_hip_rl_x,
+            m_vy_hip_rl_x,
+            m_vz_hip_rl_x,
+            m_wx_hip_rl_x,
+            m_wy_hip_rl_x,
+            m_wz_hip_rl_x,
             0.0,
             0.0,
             0.0,
             0.0,
             0.0,
             0.0,
-            t46,
+            m_hip_rl_x_hip_rl_x,
             0.0,
             0.0,
             0.0,
@@ -651,12 +649,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t234,
-            t235,
-            t236,
-            0.12*t230,
-            t231,
-            t233,
+            m_vx_hip_rl_y,
+            m_vy_hip_rl_y,
+            m_vz_hip_rl_y,
+            0.12*t169,
+            m_wy_hip_rl_y,
+            m_wz_hip_rl_y,
             0.0,
             0.0,
             0.0,
@@ -664,19 +662,19 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t41,
+            m_hip_rl_y_hip_rl_y,
             0.0,
             0.0,
             0.0,
             0.0,
         ],
         [
-            t240,
-            t241,
-            t242,
-            -0.12*t237,
-            -0.39*t237,
-            t239,
+            m_vx_leg_rl,
+            m_vy_leg_rl,
+            m_vz_leg_rl,
+            -0.12*t171,
+            -0.39*t171,
+            m_wz_leg_rl,
             0.0,
             0.0,
             0.0,
@@ -691,12 +689,12 @@ def mass_matrix(q):
             0.0,
         ],
         [
-            t246,
-            t247,
-            t248,
-            t243,
-            t244,
-            t245,
+            m_vx_hip_rr_x,
+            m_vy_hip_rr_x,
+            m_vz_hip_rr_x,
+            m_wx_hip_rr_x,
+            m_wy_hip_rr_x,
+            m_wz_hip_rr_x,
             0.0,
             0.0,
             0.0,
@@ -706,17 +704,17 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t10,
+            m_hip_rr_x_hip_rr_x,
             0.0,
             0.0,
         ],
         [
-            t253,
-            t254,
-            t255,
-            -0.12*t249,
-            t250,
-            t252,
+            m_vx_hip_rr_y,
+            m_vy_hip_rr_y,
+            m_vz_hip_rr_y,
+            -0.12*t173,
+            m_wy_hip_rr_y,
+            m_wz_hip_rr_y,
             0.0,
             0.0,
             0.0,
@@ -727,16 +725,16 @@ def mass_matrix(q):
             0.0,
             0.0,
             0.0,
-            t5,
+            m_hip_rr_y_hip_rr_y,
             0.0,
         ],
         [
-            t259,
-            t260,
-            t261,
-            0.12*t256,
-            -0.39*t256,
-            t258,
+            m_vx_leg_rr,
+            m_vy_leg_rr,
+            m_vz_leg_rr,
+            0.12*t175,
+            -0.39*t175,
+            m_wz_leg_rr,
             0.0,
             0.0,
             0.0,
@@ -1074,118 +1072,118 @@ def bias_forces(q, v):
     t253 = t213*t245 - t214*t248 + t225
     # shank_rr, slide leg_rr: force on the parent
     t254 = t228 - t236*t252 + t246
-    t255 = t231 + t236*t251 + t249
-    t256 = t232 + t250
-    t257 = t233 + t251
-    t258 = t234 + t252
-    t259 = t235 + t253
+    h_hip_rr_y = t231 + t236*t251 + t249
+    t255 = t232 + t250
+    t256 = t233 + t251
+    t257 = t234 + t252
+    t258 = t235 + t253
     # thigh_rr, hinge hip_rr_y: force on the parent
-    t260 = c_hip_rr_y*t254 + s_hip_rr_y*t256
-    t261 = c_hip_rr_y*t256 - s_hip_rr_y*t254
-    t262 = c_hip_rr_y*t257 + s_hip_rr_y*t259
-    t263 = c_hip_rr_y*t259 - s_hip_rr_y*t257
+    h_hip_rr_x = c_hip_rr_y*t254 + s_hip_rr_y*t255
+    t259 = c_hip_rr_y*t255 - s_hip_rr_y*t254
+    t260 = c_hip_rr_y*t256 + s_hip_rr_y*t258
+    t261 = c_hip_rr_y*t258 - s_hip_rr_y*t256
     # hinge hip_rr_x: force on the parent
-    t264 = s_hip_rr_x*t258
-    t265 = c_hip_rr_x*t263
-    t266 = t260 - 0.12*t264 - 0.12*t265 + t31
-    t267 = c_hip_rr_x*t255 - s_hip_rr_x*t261 + 0.39*t264 + 0.39*t265 + t32
-    t268 = s_hip_rr_x*t263
-    t269 = c_hip_rr_x*t258
-    t270 = c_hip_rr_x*t261 + s_hip_rr_x*t255 + 0.12*t262 + 0.39*t268 - 0.39*t269 + t33
-    t271 = t262 + t34
-    t272 = -t268 + t269 + t35
-    t273 = t264 + t265 + t36
+    t262 = s_hip_rr_x*t257
+    t263 = c_hip_rr_x*t261
+    t264 = h_hip_rr_x - 0.12*t262 - 0.12*t263 + t31
+    t265 = c_hip_rr_x*h_hip_rr_y - s_hip_rr_x*t259 + 0.39*t262 + 0.39*t263 + t32
+    t266 = s_hip_rr_x*t261
+    t267 = c_hip_rr_x*t257
+    t268 = c_hip_rr_x*t259 + s_hip_rr_x*h_hip_rr_y + 0.12*t260 + 0.39*t266 - 0.39*t267 + t33
+    t269 = t260 + t34
+    t270 = -t266 + t267 + t35
+    t271 = t262 + t263 + t36
     # shank_rl, slide leg_rl: force on the parent
-    t274 = t175 - t183*t199 + t193
-    t275 = t178 + t183*t198 + t196
-    t276 = t179 + t197
-    t277 = t180 + t198
-    t278 = t181 + t199
-    t279 = t182 + t200
+    t272 = t175 - t183*t199 + t193
+    h_hip_rl_y = t178 + t183*t198 + t196
+    t273 = t179 + t197
+    t274 = t180 + t198
+    t275 = t181 + t199
+    t276 = t182 + t200
     # thigh_rl, hinge hip_rl_y: force on the parent
-    t280 = c_hip_rl_y*t274 + s_hip_rl_y*t276
-    t281 = c_hip_rl_y*t276 - s_hip_rl_y*t274
-    t282 = c_hip_rl_y*t277 + s_hip_rl_y*t279
-    t283 = c_hip_rl_y*t279 - s_hip_rl_y*t277
+    h_hip_rl_x = c_hip_rl_y*t272 + s_hip_rl_y*t273
+    t277 = c_hip_rl_y*t273 - s_hip_rl_y*t272
+    t278 = c_hip_rl_y*t274 + s_hip_rl_y*t276
+    t279 = c_hip_rl_y*t276 - s_hip_rl_y*t274
     # hinge hip_rl_x: force on the parent
-    t284 = s_hip_rl_x*t278
-    t285 = c_hip_rl_x*t283
-    t286 = t266 + t280 + 0.12*t284 + 0.12*t285
-    t287 = c_hip_rl_x*t275 - s_hip_rl_x*t281 + t267 + 0.39*t284 + 0.39*t285
-    t288 = s_hip_rl_x*t283
-    t289 = c_hip_rl_x*t278
-    t290 = c_hip_rl_x*t281 + s_hip_rl_x*t275 + t270 - 0.12*t282 + 0.39*t288 - 0.39*t289
-    t291 = t271 + t282
-    t292 = t272 - t288 + t289
-    t293 = t273 + t284 + t285
+    t280 = s_hip_rl_x*t275
+    t281 = c_hip_rl_x*t279
+    t282 = t264 + h_hip_rl_x + 0.12*t280 + 0.12*t281
+    t283 = c_hip_rl_x*h_hip_rl_y - s_hip_rl_x*t277 + t265 + 0.39*t280 + 0.39*t281
+    t284 = s_hip_rl_x*t279
+    t285 = c_hip_rl_x*t275
+    t286 = c_hip_rl_x*t277 + s_hip_rl_x*h_hip_rl_y + t268 - 0.12*t278 + 0.39*t284 - 0.39*t285
+    t287 = t269 + t278
+    t288 = t270 - t284 + t285
+    t289 = t271 + t280 + t281
     # shank_fr, slide leg_fr: force on the parent
-    t294 = t121 - t129*t145 + t139
-    t295 = t124 + t129*t144 + t142
-    t296 = t125 + t143
-    t297 = t126 + t144
-    t298 = t127 + t145
-    t299 = t128 + t146
+    t290 = t121 - t129*t145 + t139
+    h_hip_fr_y = t124 + t129*t144 + t142
+    t291 = t125 + t143
+    t292 = t126 + t144
+    t293 = t127 + t145
+    t294 = t128 + t146
     # thigh_fr, hinge hip_fr_y: force on the parent
-    t300 = c_hip_fr_y*t294 + s_hip_fr_y*t296
-    t301 = c_hip_fr_y*t296 - s_hip_fr_y*t294
-    t302 = c_hip_fr_y*t297 + s_hip_fr_y*t299
-    t303 = c_hip_fr_y*t299 - s_hip_fr_y*t297
+    h_hip_fr_x = c_hip_fr_y*t290 + s_hip_fr_y*t291
+    t295 = c_hip_fr_y*t291 - s_hip_fr_y*t290
+    t296 = c_hip_fr_y*t292 + s_hip_fr_y*t294
+    t297 = c_hip_fr_y*t294 - s_hip_fr_y*t292
     # hinge hip_fr_x: force on the parent
-    t304 = s_hip_fr_x*t298
-    t305 = c_hip_fr_x*t303
-    t306 = t286 + t300 - 0.12*t304 - 0.12*t305
-    t307 = c_hip_fr_x*t295 - s_hip_fr_x*t301 + t287 - 0.39*t304 - 0.39*t305
-    t308 = c_hip_fr_x*t298
-    t309 = s_hip_fr_x*t303
-    t310 = c_hip_fr_x*t301 + s_hip_fr_x*t295 + t290 + 0.12*t302 + 0.39*t308 - 0.39*t309
-    t311 = t291 + t302
-    t312 = t292 + t308 - t309
-    t313 = t293 + t304 + t305
+    t298 = s_hip_fr_x*t293
+    t299 = c_hip_fr_x*t297
+    t300 = t282 + h_hip_fr_x - 0.12*t298 - 0.12*t299
+    t301 = c_hip_fr_x*h_hip_fr_y - s_hip_fr_x*t295 + t283 - 0.39*t298 - 0.39*t299
+    t302 = c_hip_fr_x*t293
+    t303 = s_hip_fr_x*t297
+    t304 = c_hip_fr_x*t295 + s_hip_fr_x*h_hip_fr_y + t286 + 0.12*t296 + 0.39*t302 - 0.39*t303
+    t305 = t287 + t296
+    t306 = t288 + t302 - t303
+    t307 = t289 + t298 + t299
     # shank_fl, slide leg_fl: force on the parent
-    t314 = t67 - t75*t91 + t85
-    t315 = t70 + t75*t90 + t88
-    t316 = t71 + t89
-    t317 = t72 + t90
-    t318 = t73 + t91
-    t319 = t74 + t92
+    t308 = t67 - t75*t91 + t85
+    h_hip_fl_y = t70 + t75*t90 + t88
+    t309 = t71 + t89
+    t310 = t72 + t90
+    t311 = t73 + t91
+    t312 = t74 + t92
     # thigh_fl, hinge hip_fl_y: force on the parent
-    t320 = c_hip_fl_y*t314 + s_hip_fl_y*t316
-    t321 = c_hip_fl_y*t316 - s_hip_fl_y*t314
-    t322 = c_hip_fl_y*t317 + s_hip_fl_y*t319
-    t323 = c_hip_fl_y*t319 - s_hip_fl_y*t317
+    h_hip_fl_x = c_hip_fl_y*t308 + s_hip_fl_y*t309
+    t313 = c_hip_fl_y*t309 - s_hip_fl_y*t308
+    t314 = c_hip_fl_y*t310 + s_hip_fl_y*t312
+    t315 = c_hip_fl_y*t312 - s_hip_fl_y*t310
     # hinge hip_fl_x: force on the parent
-    t324 = s_hip_fl_x*t318
-    t325 = c_hip_fl_x*t323
-    t326 = t306 + t320 + 0.12*t324 + 0.12*t325
-    t327 = c_hip_fl_x*t315 - s_hip_fl_x*t321 + t307 - 0.39*t324 - 0.39*t325
-    t328 = c_hip_fl_x*t318
-    t329 = s_hip_fl_x*t323
-    t330 = c_hip_fl_x*t321 + s_hip_fl_x*t315 + t310 - 0.12*t322 + 0.39*t328 - 0.39*t329
-    t331 = t311 + t322
-    t332 = t312 + t328 - t329
-    t333 = t313 + t324 + t325
+    t316 = s_hip_fl_x*t311
+    t317 = c_hip_fl_x*t315
+    h_wx = t300 + h_hip_fl_x + 0.12*t316 + 0.12*t317
+    h_wy = c_hip_fl_x*h_hip_fl_y - s_hip_fl_x*t313 + t301 - 0.39*t316 - 0.39*t317
+    t318 = c_hip_fl_x*t311
+    t319 = s_hip_fl_x*t315
+    h_wz = c_hip_fl_x*t313 + s_hip_fl_x*h_hip_fl_y + t304 - 0.12*t314 + 0.39*t318 - 0.39*t319
+    t320 = t305 + t314
+    t321 = t306 + t318 - t319
+    t322 = t307 + t316 + t317
     # trunk, free3d root: world force and body torque
-    t334 = t331*t5 + t332*t7 + t333*t9
-    t335 = t10*t331 + t11*t332 + t13*t333
-    t336 = t14*t331 + t15*t332 + t16*t333
+    h_vx = t320*t5 + t321*t7 + t322*t9
+    h_vy = t10*t320 + t11*t321 + t13*t322
+    h_vz = t14*t320 + t15*t321 + t16*t322
     return [
-        t334,
-        t335,
-        t336,
-        t326,
-        t327,
-        t330,
-        t320,
-        t315,
+        h_vx,
+        h_vy,
+        h_vz,
+        h_wx,
+        h_wy,
+        h_wz,
+        h_hip_fl_x,
+        h_hip_fl_y,
         -t92,
-        t300,
-        t295,
+        h_hip_fr_x,
+        h_hip_fr_y,
         -t146,
-        t280,
-        t275,
+        h_hip_rl_x,
+        h_hip_rl_y,
         -t200,
-        t260,
-        t255,
+        h_hip_rr_x,
+        h_hip_rr_y,
         -t253,
     ]
 
@@ -1458,641 +1456,633 @@ def forward_dynamics(q, v, tau):
     # shank_rr, slide leg_rr: seen from the parent
     t181 = t161 - 0.2
     t182 = t161*t181 - 0.2*t161 + 0.04350000000000001
-    t183 = t161*t181 - 0.2*t161 + 0.04350000000000001
-    t184 = t182 + 0.10300000000000001
-    t185 = t183 + 0.10300000000000001
-    t186 = 0.30000000000000004 - t181
-    t187 = t181 - 0.30000000000000004
-    t188 = t153 - t161*t180 + t177
-    t189 = t156 + t161*t179 + t178
-    t190 = t157 + t171
-    t191 = t158 + t179
-    t192 = t159 + t180
-    t193 = t160 - tau_leg_rr
+    t183 = t182 + 0.10300000000000001
+    t184 = 0.30000000000000004 - t181
+    t185 = t181 - 0.30000000000000004
+    t186 = t153 - t161*t180 + t177
+    t187 = t156 + t161*t179 + t178
+    t188 = t157 + t171
+    t189 = t158 + t179
+    t190 = t159 + t180
+    t191 = t160 - tau_leg_rr
     # thigh_rr, hinge hip_rr_y: articulated inertia
-    t194 = 1/t185
-    t195 = t187*t194
-    t196 = -t187*t195 + 2.5
-    t197 = -qd_hip_rr_y*t148
-    t198 = qd_hip_rr_y*t146
-    t199 = -qd_hip_rr_y*t150
-    t200 = qd_hip_rr_y*t149
-    t201 = t184*t197 + t188
-    t202 = t190 + 0.00035*t198
-    t203 = t189 - tau_hip_rr_y
-    t204 = t191 - t195*t203 + t196*t199
-    t205 = t186*t197 + t192
-    t206 = t193 + 1.5*t200
+    t192 = 1/t183
+    t193 = t185*t192
+    t194 = -t185*t193 + 2.5
+    t195 = -qd_hip_rr_y*t148
+    t196 = qd_hip_rr_y*t146
+    t197 = -qd_hip_rr_y*t150
+    t198 = qd_hip_rr_y*t149
+    t199 = t183*t195 + t186
+    t200 = t188 + 0.00035*t196
+    t201 = t187 - tau_hip_rr_y
+    t202 = t189 - t193*t201 + t194*t197
+    t203 = t184*t195 + t190
+    t204 = t191 + 1.5*t198
     # thigh_rr, hinge hip_rr_y: seen from the parent
-    t207 = c_hip_rr_y*t184
-    t208 = -s_hip_rr_y*t184
-    t209 = s_hip_rr_y*s_hip_rr_y
-    t210 = c_hip_rr_y*t207 + 0.00035*t209
-    t211 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t207
-    t212 = c_hip_rr_y*c_hip_rr_y
-    t213 = -s_hip_rr_y*t208 + 0.00035*t212
-    t214 = c_hip_rr_y*t186
-    t215 = -s_hip_rr_y*t186
-    t216 = c_hip_rr_y*t196
-    t217 = -s_hip_rr_y*t196
-    t218 = c_hip_rr_y*t216 + 1.5*t209
-    t219 = 1.5*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t216
-    t220 = -s_hip_rr_y*t217 + 1.5*t212
-    t221 = c_hip_rr_y*t201 + s_hip_rr_y*t202
-    t222 = c_hip_rr_y*t202 - s_hip_rr_y*t201
-    t223 = c_hip_rr_y*t204 + s_hip_rr_y*t206
-    t224 = c_hip_rr_y*t206 - s_hip_rr_y*t204
+    t205 = c_hip_rr_y*t183
+    t206 = -s_hip_rr_y*t183
+    t207 = s_hip_rr_y*s_hip_rr_y
+    t208 = c_hip_rr_y*t205 + 0.00035*t207
+    t209 = 0.00035*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t205
+    t210 = c_hip_rr_y*c_hip_rr_y
+    t211 = -s_hip_rr_y*t206 + 0.00035*t210
+    t212 = c_hip_rr_y*t184
+    t213 = -s_hip_rr_y*t184
+    t214 = c_hip_rr_y*t194
+    t215 = -s_hip_rr_y*t194
+    t216 = c_hip_rr_y*t214 + 1.5*t207
+    t217 = 1.5*c_hip_rr_y*s_hip_rr_y - s_hip_rr_y*t214
+    t218 = -s_hip_rr_y*t215 + 1.5*t210
+    t219 = c_hip_rr_y*t199 + s_hip_rr_y*t200
+    t220 = c_hip_rr_y*t200 - s_hip_rr_y*t199
+    t221 = c_hip_rr_y*t202 + s_hip_rr_y*t204
+    t222 = c_hip_rr_y*t204 - s_hip_rr_y*t202
     # hinge hip_rr_x: articulated inertia
-    t225 = 1/t210
-    t226 = t211*t225
-    t227 = t214*t225
-    t228 = -t211*t226 + t213
-    t229 = -t214*t226 + t215
-    t230 = -t214*t227 + 2.5
-    t231 = qd_hip_rr_x*t142
-    t232 = -qd_hip_rr_x*t141
-    t233 = qd_hip_rr_x*t145
-    t234 = -qd_hip_rr_x*t144
-    t235 = t221 - tau_hip_rr_x
-    t236 = t222 - t226*t235 + t228*t232 + t229*t233
-    t237 = t219*t234 + t223
-    t238 = t205 - t227*t235 + t229*t232 + t230*t233
-    t239 = t220*t234 + t224
+    t223 = 1/t208
+    t224 = t209*t223
+    t225 = t212*t223
+    t226 = -t209*t224 + t211
+    t227 = -t212*t224 + t213
+    t228 = -t212*t225 + 2.5
+    t229 = qd_hip_rr_x*t142
+    t230 = -qd_hip_rr_x*t141
+    t231 = qd_hip_rr_x*t145
+    t232 = -qd_hip_rr_x*t144
+    t233 = t219 - tau_hip_rr_x
+    t234 = t220 - t224*t233 + t226*t230 + t227*t231
+    t235 = t217*t232 + t221
+    t236 = t203 - t225*t233 + t227*t230 + t228*t231
+    t237 = t218*t232 + t222
     # hinge hip_rr_x: seen from the parent
-    t240 = -s_hip_rr_x*t228
-    t241 = c_hip_rr_x*t228
-    t242 = -s_hip_rr_x*t240
-    t243 = c_hip_rr_x*t240
-    t244 = c_hip_rr_x*t241
-    t245 = -s_hip_rr_x*t229
-    t246 = c_hip_rr_x*t229
-    t247 = c_hip_rr_x*t245
-    t248 = s_hip_rr_x*t245
-    t249 = c_hip_rr_x*t246
-    t250 = s_hip_rr_x*t246
-    t251 = -s_hip_rr_x*t219
-    t252 = c_hip_rr_x*t230
-    t253 = -s_hip_rr_x*t220
-    t254 = c_hip_rr_x*t219
-    t255 = s_hip_rr_x*t230
-    t256 = c_hip_rr_x*t220
-    t257 = c_hip_rr_x*t252 - s_hip_rr_x*t253
-    t258 = c_hip_rr_x*t253 + s_hip_rr_x*t252
-    t259 = c_hip_rr_x*t256 + s_hip_rr_x*t255
-    t260 = t247 + 0.39*t258
-    t261 = t248 + 0.39*t259
-    t262 = 0.12*t218 - 0.39*t251
-    t263 = t249 + 0.12*t251 - 0.39*t257
-    t264 = t250 + 0.12*t254 - 0.39*t258
-    t265 = -0.12*t248 - 0.0468*t259
-    t266 = -0.12*t250 - 0.0144*t254 + 0.0468*t258
-    t267 = t242 + 0.39*t248 + 0.39*t261
-    t268 = t243 + 0.39*t250 + 0.0468*t254 - 0.39*t260
-    t269 = t244 - 0.39*t249 + 0.12*t262 - 0.39*t263
-    t270 = 0.0144*t259 + 0.54
-    t271 = t267 + 2.35
-    t272 = t269 + 2.39
-    t273 = t218 + 10.0
-    t274 = t257 + 10.0
-    t275 = t259 + 10.0
-    t276 = s_hip_rr_x*t238
-    t277 = c_hip_rr_x*t239
-    t278 = t20 - 0.12*t276 - 0.12*t277 + tau_hip_rr_x
-    t279 = c_hip_rr_x*tau_hip_rr_y - s_hip_rr_x*t236 + t21 + 0.39*t276 + 0.39*t277
-    t280 = s_hip_rr_x*t239
-    t281 = c_hip_rr_x*t238
-    t282 = c_hip_rr_x*t236 + s_hip_rr_x*tau_hip_rr_y + t22 + 0.12*t237 + 0.39*t280 - 0.39*t281
-    t283 = t237 + t24
-    t284 = t27 - t280 + t281
-    t285 = t276 + t277 + t29
+    t238 = -s_hip_rr_x*t226
+    t239 = c_hip_rr_x*t226
+    t240 = -s_hip_rr_x*t238
+    t241 = c_hip_rr_x*t238
+    t242 = c_hip_rr_x*t239
+    t243 = -s_hip_rr_x*t227
+    t244 = c_hip_rr_x*t227
+    t245 = c_hip_rr_x*t243
+    t246 = s_hip_rr_x*t243
+    t247 = c_hip_rr_x*t244
+    t248 = s_hip_rr_x*t244
+    t249 = -s_hip_rr_x*t217
+    t250 = c_hip_rr_x*t228
+    t251 = -s_hip_rr_x*t218
+    t252 = c_hip_rr_x*t217
+    t253 = s_hip_rr_x*t228
+    t254 = c_hip_rr_x*t218
+    t255 = c_hip_rr_x*t250 - s_hip_rr_x*t251
+    t256 = c_hip_rr_x*t251 + s_hip_rr_x*t250
+    t257 = c_hip_rr_x*t254 + s_hip_rr_x*t253
+    t258 = t245 + 0.39*t256
+    t259 = t246 + 0.39*t257
+    t260 = 0.12*t216 - 0.39*t249
+    t261 = t247 + 0.12*t249 - 0.39*t255
+    t262 = t248 + 0.12*t252 - 0.39*t256
+    t263 = -0.12*t246 - 0.0468*t257
+    t264 = -0.12*t248 - 0.0144*t252 + 0.0468*t256
+    t265 = t240 + 0.39*t246 + 0.39*t259
+    t266 = t241 + 0.39*t248 + 0.0468*t252 - 0.39*t258
+    t267 = t242 - 0.39*t247 + 0.12*t260 - 0.39*t261
+    t268 = 0.0144*t257 + 0.54
+    t269 = t265 + 2.35
+    t270 = t267 + 2.39
+    t271 = t216 + 10.0
+    t272 = t255 + 10.0
+    t273 = t257 + 10.0
+    t274 = s_hip_rr_x*t236
+    t275 = c_hip_rr_x*t237
+    t276 = t20 - 0.12*t274 - 0.12*t275 + tau_hip_rr_x
+    t277 = c_hip_rr_x*tau_hip_rr_y - s_hip_rr_x*t234 + t21 + 0.39*t274 + 0.39*t275
+    t278 = s_hip_rr_x*t237
+    t279 = c_hip_rr_x*t236
+    t280 = c_hip_rr_x*t234 + s_hip_rr_x*tau_hip_rr_y + t22 + 0.12*t235 + 0.39*t278 - 0.39*t279
+    t281 = t235 + t24
+    t282 = t27 - t278 + t279
+    t283 = t274 + t275 + t29
     # shank_rl, slide leg_rl: articulated inertia
-    t286 = -qd_leg_rl*t112
-    t287 = qd_leg_rl*t111
-    t288 = t132 + 0.2*t287
-    t289 = t135 - 0.2*t286
-    t290 = t137 + t286
-    t291 = t138 + t287
+    t284 = -qd_leg_rl*t112
+    t285 = qd_leg_rl*t111
+    t286 = t132 + 0.2*t285
+    t287 = t135 - 0.2*t284
+    t288 = t137 + t284
+    t289 = t138 + t285
     # shank_rl, slide leg_rl: seen from the parent
-    t292 = t126 - 0.2
-    t293 = t126*t292 - 0.2*t126 + 0.04350000000000001
-    t294 = t126*t292 - 0.2*t126 + 0.04350000000000001
-    t295 = t293 + 0.10300000000000001
-    t296 = t294 + 0.10300000000000001
-    t297 = 0.30000000000000004 - t292
-    t298 = t292 - 0.30000000000000004
-    t299 = t118 - t126*t291 + t288
-    t300 = t121 + t126*t290 + t289
-    t301 = t122 + t136
-    t302 = t123 + t290
-    t303 = t124 + t291
-    t304 = t125 - tau_leg_rl
+    t290 = t126 - 0.2
+    t291 = t126*t290 - 0.2*t126 + 0.04350000000000001
+    t292 = t291 + 0.10300000000000001
+    t293 = 0.30000000000000004 - t290
+    t294 = t290 - 0.30000000000000004
+    t295 = t118 - t126*t289 + t286
+    t296 = t121 + t126*t288 + t287
+    t297 = t122 + t136
+    t298 = t123 + t288
+    t299 = t124 + t289
+    t300 = t125 - tau_leg_rl
     # thigh_rl, hinge hip_rl_y: articulated inertia
-    t305 = 1/t296
-    t306 = t298*t305
-    t307 = -t298*t306 + 2.5
-    t308 = -qd_hip_rl_y*t113
-    t309 = qd_hip_rl_y*t111
-    t310 = -qd_hip_rl_y*t115
-    t311 = qd_hip_rl_y*t114
-    t312 = t295*t308 + t299
-    t313 = t301 + 0.00035*t309
-    t314 = t300 - tau_hip_rl_y
-    t315 = t302 - t306*t314 + t307*t310
-    t316 = t297*t308 + t303
-    t317 = t304 + 1.5*t311
+    t301 = 1/t292
+    t302 = t294*t301
+    t303 = -t294*t302 + 2.5
+    t304 = -qd_hip_rl_y*t113
+    t305 = qd_hip_rl_y*t111
+    t306 = -qd_hip_rl_y*t115
+    t307 = qd_hip_rl_y*t114
+    t308 = t292*t304 + t295
+    t309 = t297 + 0.00035*t305
+    t310 = t296 - tau_hip_rl_y
+    t311 = t298 - t302*t310 + t303*t306
+    t312 = t293*t304 + t299
+    t313 = t300 + 1.5*t307
     # thigh_rl, hinge hip_rl_y: seen from the parent
-    t318 = c_hip_rl_y*t295
-    t319 = -s_hip_rl_y*t295
-    t320 = s_hip_rl_y*s_hip_rl_y
-    t321 = c_hip_rl_y*t318 + 0.00035*t320
-    t322 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t318
-    t323 = c_hip_rl_y*c_hip_rl_y
-    t324 = -s_hip_rl_y*t319 + 0.00035*t323
-    t325 = c_hip_rl_y*t297
-    t326 = -s_hip_rl_y*t297
-    t327 = c_hip_rl_y*t307
-    t328 = -s_hip_rl_y*t307
-    t329 = c_hip_rl_y*t327 + 1.5*t320
-    t330 = 1.5*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t327
-    t331 = -s_hip_rl_y*t328 + 1.5*t323
-    t332 = c_hip_rl_y*t312 + s_hip_rl_y*t313
-    t333 = c_hip_rl_y*t313 - s_hip_rl_y*t312
-    t334 = c_hip_rl_y*t315 + s_hip_rl_y*t317
-    t335 = c_hip_rl_y*t317 - s_hip_rl_y*t315
+    t314 = c_hip_rl_y*t292
+    t315 = -s_hip_rl_y*t292
+    t316 = s_hip_rl_y*s_hip_rl_y
+    t317 = c_hip_rl_y*t314 + 0.00035*t316
+    t318 = 0.00035*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t314
+    t319 = c_hip_rl_y*c_hip_rl_y
+    t320 = -s_hip_rl_y*t315 + 0.00035*t319
+    t321 = c_hip_rl_y*t293
+    t322 = -s_hip_rl_y*t293
+    t323 = c_hip_rl_y*t303
+    t324 = -s_hip_rl_y*t303
+    t325 = c_hip_rl_y*t323 + 1.5*t316
+    t326 = 1.5*c_hip_rl_y*s_hip_rl_y - s_hip_rl_y*t323
+    t327 = -s_hip_rl_y*t324 + 1.5*t319
+    t328 = c_hip_rl_y*t308 + s_hip_rl_y*t309
+    t329 = c_hip_rl_y*t309 - s_hip_rl_y*t308
+    t330 = c_hip_rl_y*t311 + s_hip_rl_y*t313
+    t331 = c_hip_rl_y*t313 - s_hip_rl_y*t311
     # hinge hip_rl_x: articulated inertia
-    t336 = 1/t321
-    t337 = t322*t336
-    t338 = t325*t336
-    t339 = -t322*t337 + t324
-    t340 = -t325*t337 + t326
-    t341 = -t325*t338 + 2.5
-    t342 = qd_hip_rl_x*t106
-    t343 = -qd_hip_rl_x*t105
-    t344 = qd_hip_rl_x*t110
-    t345 = -qd_hip_rl_x*t109
-    t346 = t332 - tau_hip_rl_x
-    t347 = t333 - t337*t346 + t339*t343 + t340*t344
-    t348 = t330*t345 + t334
-    t349 = t316 - t338*t346 + t340*t343 + t341*t344
-    t350 = t331*t345 + t335
+    t332 = 1/t317
+    t333 = t318*t332
+    t334 = t321*t332
+    t335 = -t318*t333 + t320
+    t336 = -t321*t333 + t322
+    t337 = -t321*t334 + 2.5
+    t338 = qd_hip_rl_x*t106
+    t339 = -qd_hip_rl_x*t105
+    t340 = qd_hip_rl_x*t110
+    t341 = -qd_hip_rl_x*t109
+    t342 = t328 - tau_hip_rl_x
+    t343 = t329 - t333*t342 + t335*t339 + t336*t340
+    t344 = t326*t341 + t330
+    t345 = t312 - t334*t342 + t336*t339 + t337*t340
+    t346 = t327*t341 + t331
     # hinge hip_rl_x: seen from the parent
-    t351 = -s_hip_rl_x*t339
-    t352 = c_hip_rl_x*t339
-    t353 = -s_hip_rl_x*t351
-    t354 = c_hip_rl_x*t351
-    t355 = c_hip_rl_x*t352
-    t356 = -s_hip_rl_x*t340
-    t357 = c_hip_rl_x*t340
-    t358 = c_hip_rl_x*t356
-    t359 = s_hip_rl_x*t356
-    t360 = c_hip_rl_x*t357
-    t361 = s_hip_rl_x*t357
-    t362 = -s_hip_rl_x*t330
-    t363 = c_hip_rl_x*t341
-    t364 = -s_hip_rl_x*t331
-    t365 = c_hip_rl_x*t330
-    t366 = s_hip_rl_x*t341
-    t367 = c_hip_rl_x*t331
-    t368 = c_hip_rl_x*t363 - s_hip_rl_x*t364
-    t369 = c_hip_rl_x*t364 + s_hip_rl_x*t363
-    t370 = c_hip_rl_x*t367 + s_hip_rl_x*t366
-    t371 = t358 + 0.39*t369
-    t372 = t359 + 0.39*t370
-    t373 = -0.12*t329 - 0.39*t362
-    t374 = t360 - 0.12*t362 - 0.39*t368
-    t375 = t361 - 0.12*t365 - 0.39*t369
-    t376 = 0.12*t359 + 0.0468*t370
-    t377 = 0.12*t361 - 0.0144*t365 - 0.0468*t369
-    t378 = t353 + 0.39*t359 + 0.39*t372
-    t379 = t354 + 0.39*t361 - 0.0468*t365 - 0.39*t371
-    t380 = t355 - 0.39*t360 - 0.12*t373 - 0.39*t374
-    t381 = t270 + 0.0144*t370
-    t382 = t265 + t376
-    t383 = t266 + t377
-    t384 = t271 + t378
-    t385 = t268 + t379
-    t386 = t272 + t380
-    t387 = -0.12*t254 + 0.12*t365
-    t388 = -0.12*t258 + 0.12*t369
-    t389 = -0.12*t259 + 0.12*t370
-    t390 = 0.39*t254 + 0.39*t365
-    t391 = t260 + t371
-    t392 = t261 + t372
-    t393 = t262 + t373
-    t394 = t263 + t374
-    t395 = t264 + t375
-    t396 = t273 + t329
-    t397 = t251 + t362
-    t398 = t254 + t365
-    t399 = t274 + t368
-    t400 = t258 + t369
-    t401 = t275 + t370
-    t402 = s_hip_rl_x*t349
-    t403 = c_hip_rl_x*t350
-    t404 = t278 + 0.12*t402 + 0.12*t403 + tau_hip_rl_x
-    t405 = c_hip_rl_x*tau_hip_rl_y - s_hip_rl_x*t347 + t279 + 0.39*t402 + 0.39*t403
-    t406 = s_hip_rl_x*t350
-    t407 = c_hip_rl_x*t349
-    t408 = c_hip_rl_x*t347 + s_hip_rl_x*tau_hip_rl_y + t282 - 0.12*t348 + 0.39*t406 - 0.39*t407
-    t409 = t283 + t348
-    t410 = t284 - t406 + t407
-    t411 = t285 + t402 + t403
+    t347 = -s_hip_rl_x*t335
+    t348 = c_hip_rl_x*t335
+    t349 = -s_hip_rl_x*t347
+    t350 = c_hip_rl_x*t347
+    t351 = c_hip_rl_x*t348
+    t352 = -s_hip_rl_x*t336
+    t353 = c_hip_rl_x*t336
+    t354 = c_hip_rl_x*t352
+    t355 = s_hip_rl_x*t352
+    t356 = c_hip_rl_x*t353
+    t357 = s_hip_rl_x*t353
+    t358 = -s_hip_rl_x*t326
+    t359 = c_hip_rl_x*t337
+    t360 = -s_hip_rl_x*t327
+    t361 = c_hip_rl_x*t326
+    t362 = s_hip_rl_x*t337
+    t363 = c_hip_rl_x*t327
+    t364 = c_hip_rl_x*t359 - s_hip_rl_x*t360
+    t365 = c_hip_rl_x*t360 + s_hip_rl_x*t359
+    t366 = c_hip_rl_x*t363 + s_hip_rl_x*t362
+    t367 = t354 + 0.39*t365
+    t368 = t355 + 0.39*t366
+    t369 = -0.12*t325 - 0.39*t358
+    t370 = t356 - 0.12*t358 - 0.39*t364
+    t371 = t357 - 0.12*t361 - 0.39*t365
+    t372 = 0.12*t355 + 0.0468*t366
+    t373 = 0.12*t357 - 0.0144*t361 - 0.0468*t365
+    t374 = t349 + 0.39*t355 + 0.39*t368
+    t375 = t350 + 0.39*t357 - 0.0468*t361 - 0.39*t367
+    t376 = t351 - 0.39*t356 - 0.12*t369 - 0.39*t370
+    t377 = t268 + 0.0144*t366
+    t378 = t263 + t372
+    t379 = t264 + t373
+    t380 = t269 + t374
+    t381 = t266 + t375
+    t382 = t270 + t376
+    t383 = -0.12*t252 + 0.12*t361
+    t384 = -0.12*t256 + 0.12*t365
+    t385 = -0.12*t257 + 0.12*t366
+    t386 = 0.39*t252 + 0.39*t361
+    t387 = t258 + t367
+    t388 = t259 + t368
+    t389 = t260 + t369
+    t390 = t261 + t370
+    t391 = t262 + t371
+    t392 = t271 + t325
+    t393 = t249 + t358
+    t394 = t252 + t361
+    t395 = t272 + t364
+    t396 = t256 + t365
+    t397 = t273 + t366
+    t398 = s_hip_rl_x*t345
+    t399 = c_hip_rl_x*t346
+    t400 = t276 + 0.12*t398 + 0.12*t399 + tau_hip_rl_x
+    t401 = c_hip_rl_x*tau_hip_rl_y - s_hip_rl_x*t343 + t277 + 0.39*t398 + 0.39*t399
+    t402 = s_hip_rl_x*t346
+    t403 = c_hip_rl_x*t345
+    t404 = c_hip_rl_x*t343 + s_hip_rl_x*tau_hip_rl_y + t280 - 0.12*t344 + 0.39*t402 - 0.39*t403
+    t405 = t281 + t344
+    t406 = t282 - t402 + t403
+    t407 = t283 + t398 + t399
     # shank_fr, slide leg_fr: articulated inertia
-    t412 = -qd_leg_fr*t76
-    t413 = qd_leg_fr*t75
-    t414 = 0.2*t413 + t96
-    t415 = -0.2*t412 + t99
-    t416 = t101 + t412
-    t417 = t102 + t413
+    t408 = -qd_leg_fr*t76
+    t409 = qd_leg_fr*t75
+    t410 = 0.2*t409 + t96
+    t411 = -0.2*t408 + t99
+    t412 = t101 + t408
+    t413 = t102 + t409
     # shank_fr, slide leg_fr: seen from the parent
-    t418 = t90 - 0.2
-    t419 = t418*t90 - 0.2*t90 + 0.04350000000000001
-    t420 = t418*t90 - 0.2*t90 + 0.04350000000000001
-    t421 = t419 + 0.10300000000000001
-    t422 = t420 + 0.10300000000000001
-    t423 = 0.30000000000000004 - t418
-    t424 = t418 - 0.30000000000000004
-    t425 = t414 - t417*t90 + t82
-    t426 = t415 + t416*t90 + t85
-    t427 = t100 + t86
-    t428 = t416 + t87
-    t429 = t417 + t88
-    t430 = t89 - tau_leg_fr
+    t414 = t90 - 0.2
+    t415 = t414*t90 - 0.2*t90 + 0.04350000000000001
+    t416 = t415 + 0.10300000000000001
+    t417 = 0.30000000000000004 - t414
+    t418 = t414 - 0.30000000000000004
+    t419 = t410 - t413*t90 + t82
+    t420 = t411 + t412*t90 + t85
+    t421 = t100 + t86
+    t422 = t412 + t87
+    t423 = t413 + t88
+    t424 = t89 - tau_leg_fr
     # thigh_fr, hinge hip_fr_y: articulated inertia
-    t431 = 1/t422
-    t432 = t424*t431
-    t433 = -t424*t432 + 2.5
-    t434 = -qd_hip_fr_y*t77
-    t435 = qd_hip_fr_y*t75
-    t436 = -qd_hip_fr_y*t79
-    t437 = qd_hip_fr_y*t78
-    t438 = t421*t434 + t425
-    t439 = t427 + 0.00035*t435
-    t440 = t426 - tau_hip_fr_y
-    t441 = t428 - t432*t440 + t433*t436
-    t442 = t423*t434 + t429
-    t443 = t430 + 1.5*t437
+    t425 = 1/t416
+    t426 = t418*t425
+    t427 = -t418*t426 + 2.5
+    t428 = -qd_hip_fr_y*t77
+    t429 = qd_hip_fr_y*t75
+    t430 = -qd_hip_fr_y*t79
+    t431 = qd_hip_fr_y*t78
+    t432 = t416*t428 + t419
+    t433 = t421 + 0.00035*t429
+    t434 = t420 - tau_hip_fr_y
+    t435 = t422 - t426*t434 + t427*t430
+    t436 = t417*t428 + t423
+    t437 = t424 + 1.5*t431
     # thigh_fr, hinge hip_fr_y: seen from the parent
-    t444 = c_hip_fr_y*t421
-    t445 = -s_hip_fr_y*t421
-    t446 = s_hip_fr_y*s_hip_fr_y
-    t447 = c_hip_fr_y*t444 + 0.00035*t446
-    t448 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t444
-    t449 = c_hip_fr_y*c_hip_fr_y
-    t450 = -s_hip_fr_y*t445 + 0.00035*t449
-    t451 = c_hip_fr_y*t423
-    t452 = -s_hip_fr_y*t423
-    t453 = c_hip_fr_y*t433
-    t454 = -s_hip_fr_y*t433
-    t455 = c_hip_fr_y*t453 + 1.5*t446
-    t456 = 1.5*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t453
-    t457 = -s_hip_fr_y*t454 + 1.5*t449
-    t458 = c_hip_fr_y*t438 + s_hip_fr_y*t439
-    t459 = c_hip_fr_y*t439 - s_hip_fr_y*t438
-    t460 = c_hip_fr_y*t441 + s_hip_fr_y*t443
-    t461 = c_hip_fr_y*t443 - s_hip_fr_y*t441
+    t438 = c_hip_fr_y*t416
+    t439 = -s_hip_fr_y*t416
+    t440 = s_hip_fr_y*s_hip_fr_y
+    t441 = c_hip_fr_y*t438 + 0.00035*t440
+    t442 = 0.00035*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t438
+    t443 = c_hip_fr_y*c_hip_fr_y
+    t444 = -s_hip_fr_y*t439 + 0.00035*t443
+    t445 = c_hip_fr_y*t417
+    t446 = -s_hip_fr_y*t417
+    t447 = c_hip_fr_y*t427
+    t448 = -s_hip_fr_y*t427
+    t449 = c_hip_fr_y*t447 + 1.5*t440
+    t450 = 1.5*c_hip_fr_y*s_hip_fr_y - s_hip_fr_y*t447
+    t451 = -s_hip_fr_y*t448 + 1.5*t443
+    t452 = c_hip_fr_y*t432 + s_hip_fr_y*t433
+    t453 = c_hip_fr_y*t433 - s_hip_fr_y*t432
+    t454 = c_hip_fr_y*t435 + s_hip_fr_y*t437
+    t455 = c_hip_fr_y*t437 - s_hip_fr_y*t435
     # hinge hip_fr_x: articulated inertia
-    t462 = 1/t447
-    t463 = t448*t462
-    t464 = t451*t462
-    t465 = -t448*t463 + t450
-    t466 = -t451*t463 + t452
-    t467 = -t451*t464 + 2.5
-    t468 = qd_hip_fr_x*t70
-    t469 = -qd_hip_fr_x*t69
-    t470 = qd_hip_fr_x*t74
-    t471 = -qd_hip_fr_x*t73
-    t472 = t458 - tau_hip_fr_x
-    t473 = t459 - t463*t472 + t465*t469 + t466*t470
-    t474 = t456*t471 + t460
-    t475 = t442 - t464*t472 + t466*t469 + t467*t470
-    t476 = t457*t471 + t461
+    t456 = 1/t441
+    t457 = t442*t456
+    t458 = t445*t456
+    t459 = -t442*t457 + t444
+    t460 = -t445*t457 + t446
+    t461 = -t445*t458 + 2.5
+    t462 = qd_hip_fr_x*t70
+    t463 = -qd_hip_fr_x*t69
+    t464 = qd_hip_fr_x*t74
+    t465 = -qd_hip_fr_x*t73
+    t466 = t452 - tau_hip_fr_x
+    t467 = t453 - t457*t466 + t459*t463 + t460*t464
+    t468 = t450*t465 + t454
+    t469 = t436 - t458*t466 + t460*t463 + t461*t464
+    t470 = t451*t465 + t455
     # hinge hip_fr_x: seen from the parent
-    t477 = -s_hip_fr_x*t465
-    t478 = c_hip_fr_x*t465
-    t479 = -s_hip_fr_x*t477
+    t471 = -s_hip_fr_x*t459
+    t472 = c_hip_fr_x*t459
+    t473 = -s_hip_fr_x*t471
+    t474 = c_hip_fr_x*t471
+    t475 = c_hip_fr_x*t472
+    t476 = -s_hip_fr_x*t460
+    t477 = c_hip_fr_x*t460
+    t478 = c_hip_fr_x*t476
+    t479 = s_hip_fr_x*t476
     t480 = c_hip_fr_x*t477
-    t481 = c_hip_fr_x*t478
-    t482 = -s_hip_fr_x*t466
-    t483 = c_hip_fr_x*t466
-    t484 = c_hip_fr_x*t482
-    t485 = s_hip_fr_x*t482
-    t486 = c_hip_fr_x*t483
-    t487 = s_hip_fr_x*t483
-    t488 = -s_hip_fr_x*t456
-    t489 = c_hip_fr_x*t467
-    t490 = -s_hip_fr_x*t457
-    t491 = c_hip_fr_x*t456
-    t492 = s_hip_fr_x*t467
-    t493 = c_hip_fr_x*t457
-    t494 = c_hip_fr_x*t489 - s_hip_fr_x*t490
-    t495 = c_hip_fr_x*t490 + s_hip_fr_x*t489
-    t496 = c_hip_fr_x*t493 + s_hip_fr_x*t492
-    t497 = t484 - 0.39*t495
-    t498 = t485 - 0.39*t496
-    t499 = 0.12*t455 + 0.39*t488
-    t500 = t486 + 0.12*t488 + 0.39*t494
-    t501 = t487 + 0.12*t491 + 0.39*t495
-    t502 = -0.12*t485 + 0.0468*t496
-    t503 = -0.12*t487 - 0.0144*t491 - 0.0468*t495
-    t504 = t479 - 0.39*t485 - 0.39*t498
-    t505 = t480 - 0.39*t487 - 0.0468*t491 + 0.39*t497
-    t506 = t481 + 0.39*t486 + 0.12*t499 + 0.39*t500
-    t507 = t381 + 0.0144*t496
-    t508 = t382 + t502
-    t509 = t383 + t503
-    t510 = t384 + t504
-    t511 = t385 + t505
-    t512 = t386 + t506
-    t513 = t387 - 0.12*t491
-    t514 = t388 - 0.12*t495
-    t515 = t389 - 0.12*t496
-    t516 = t390 - 0.39*t491
-    t517 = t391 + t497
-    t518 = t392 + t498
-    t519 = t393 + t499
-    t520 = t394 + t500
-    t521 = t395 + t501
-    t522 = t396 + t455
-    t523 = t397 + t488
-    t524 = t398 + t491
-    t525 = t399 + t494
-    t526 = t400 + t495
-    t527 = t401 + t496
-    t528 = s_hip_fr_x*t475
-    t529 = c_hip_fr_x*t476
-    t530 = t404 - 0.12*t528 - 0.12*t529 + tau_hip_fr_x
-    t531 = c_hip_fr_x*tau_hip_fr_y - s_hip_fr_x*t473 + t405 - 0.39*t528 - 0.39*t529
-    t532 = c_hip_fr_x*t475
-    t533 = s_hip_fr_x*t476
-    t534 = c_hip_fr_x*t473 + s_hip_fr_x*tau_hip_fr_y + t408 + 0.12*t474 + 0.39*t532 - 0.39*t533
-    t535 = t409 + t474
-    t536 = t410 + t532 - t533
-    t537 = t411 + t528 + t529
+    t481 = s_hip_fr_x*t477
+    t482 = -s_hip_fr_x*t450
+    t483 = c_hip_fr_x*t461
+    t484 = -s_hip_fr_x*t451
+    t485 = c_hip_fr_x*t450
+    t486 = s_hip_fr_x*t461
+    t487 = c_hip_fr_x*t451
+    t488 = c_hip_fr_x*t483 - s_hip_fr_x*t484
+    t489 = c_hip_fr_x*t484 + s_hip_fr_x*t483
+    t490 = c_hip_fr_x*t487 + s_hip_fr_x*t486
+    t491 = t478 - 0.39*t489
+    t492 = t479 - 0.39*t490
+    t493 = 0.12*t449 + 0.39*t482
+    t494 = t480 + 0.12*t482 + 0.39*t488
+    t495 = t481 + 0.12*t485 + 0.39*t489
+    t496 = -0.12*t479 + 0.0468*t490
+    t497 = -0.12*t481 - 0.0144*t485 - 0.0468*t489
+    t498 = t473 - 0.39*t479 - 0.39*t492
+    t499 = t474 - 0.39*t481 - 0.0468*t485 + 0.39*t491
+    t500 = t475 + 0.39*t480 + 0.12*t493 + 0.39*t494
+    t501 = t377 + 0.0144*t490
+    t502 = t378 + t496
+    t503 = t379 + t497
+    t504 = t380 + t498
+    t505 = t381 + t499
+    t506 = t382 + t500
+    t507 = t383 - 0.12*t485
+    t508 = t384 - 0.12*t489
+    t509 = t385 - 0.12*t490
+    t510 = t386 - 0.39*t485
+    t511 = t387 + t491
+    t512 = t388 + t492
+    t513 = t389 + t493
+    t514 = t390 + t494
+    t515 = t391 + t495
+    t516 = t392 + t449
+    t517 = t393 + t482
+    t518 = t394 + t485
+    t519 = t395 + t488
+    t520 = t396 + t489
+    t521 = t397 + t490
+    t522 = s_hip_fr_x*t469
+    t523 = c_hip_fr_x*t470
+    t524 = t400 - 0.12*t522 - 0.12*t523 + tau_hip_fr_x
+    t525 = c_hip_fr_x*tau_hip_fr_y - s_hip_fr_x*t467 + t401 - 0.39*t522 - 0.39*t523
+    t526 = c_hip_fr_x*t469
+    t527 = s_hip_fr_x*t470
+    t528 = c_hip_fr_x*t467 + s_hip_fr_x*tau_hip_fr_y + t404 + 0.12*t468 + 0.39*t526 - 0.39*t527
+    t529 = t405 + t468
+    t530 = t406 + t526 - t527
+    t531 = t407 + t522 + t523
     # shank_fl, slide leg_fl: articulated inertia
-    t538 = -qd_leg_fl*t40
-    t539 = qd_leg_fl*t39
-    t540 = 0.2*t539 + t60
-    t541 = -0.2*t538 + t63
-    t542 = t538 + t65
-    t543 = t539 + t66
+    t532 = -qd_leg_fl*t40
+    t533 = qd_leg_fl*t39
+    t534 = 0.2*t533 + t60
+    t535 = -0.2*t532 + t63
+    t536 = t532 + t65
+    t537 = t533 + t66
     # shank_fl, slide leg_fl: seen from the parent
-    t544 = t54 - 0.2
-    t545 = t54*t544 - 0.2*t54 + 0.04350000000000001
-    t546 = t54*t544 - 0.2*t54 + 0.04350000000000001
-    t547 = t545 + 0.10300000000000001
-    t548 = t546 + 0.10300000000000001
-    t549 = 0.30000000000000004 - t544
-    t550 = t544 - 0.30000000000000004
-    t551 = t46 - t54*t543 + t540
-    t552 = t49 + t54*t542 + t541
-    t553 = t50 + t64
-    t554 = t51 + t542
-    t555 = t52 + t543
-    t556 = t53 - tau_leg_fl
+    t538 = t54 - 0.2
+    t539 = t54*t538 - 0.2*t54 + 0.04350000000000001
+    t540 = t539 + 0.10300000000000001
+    t541 = 0.30000000000000004 - t538
+    t542 = t538 - 0.30000000000000004
+    t543 = t46 - t54*t537 + t534
+    t544 = t49 + t54*t536 + t535
+    t545 = t50 + t64
+    t546 = t51 + t536
+    t547 = t52 + t537
+    t548 = t53 - tau_leg_fl
     # thigh_fl, hinge hip_fl_y: articulated inertia
-    t557 = 1/t548
-    t558 = t550*t557
-    t559 = -t550*t558 + 2.5
-    t560 = -qd_hip_fl_y*t41
-    t561 = qd_hip_fl_y*t39
-    t562 = -qd_hip_fl_y*t43
-    t563 = qd_hip_fl_y*t42
-    t564 = t547*t560 + t551
-    t565 = t553 + 0.00035*t561
-    t566 = t552 - tau_hip_fl_y
-    t567 = t554 - t558*t566 + t559*t562
-    t568 = t549*t560 + t555
-    t569 = t556 + 1.5*t563
+    t549 = 1/t540
+    t550 = t542*t549
+    t551 = -t542*t550 + 2.5
+    t552 = -qd_hip_fl_y*t41
+    t553 = qd_hip_fl_y*t39
+    t554 = -qd_hip_fl_y*t43
+    t555 = qd_hip_fl_y*t42
+    t556 = t540*t552 + t543
+    t557 = t545 + 0.00035*t553
+    t558 = t544 - tau_hip_fl_y
+    t559 = t546 - t550*t558 + t551*t554
+    t560 = t541*t552 + t547
+    t561 = t548 + 1.5*t555
     # thigh_fl, hinge hip_fl_y: seen from the parent
-    t570 = c_hip_fl_y*t547
-    t571 = -s_hip_fl_y*t547
-    t572 = s_hip_fl_y*s_hip_fl_y
-    t573 = c_hip_fl_y*t570 + 0.00035*t572
-    t574 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t570
-    t575 = c_hip_fl_y*c_hip_fl_y
-    t576 = -s_hip_fl_y*t571 + 0.00035*t575
-    t577 = c_hip_fl_y*t549
-    t578 = -s_hip_fl_y*t549
-    t579 = c_hip_fl_y*t559
-    t580 = -s_hip_fl_y*t559
-    t581 = c_hip_fl_y*t579 + 1.5*t572
-    t582 = 1.5*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t579
-    t583 = -s_hip_fl_y*t580 + 1.5*t575
-    t584 = c_hip_fl_y*t564 + s_hip_fl_y*t565
-    t585 = c_hip_fl_y*t565 - s_hip_fl_y*t564
-    t586 = c_hip_fl_y*t567 + s_hip_fl_y*t569
-    t587 = c_hip_fl_y*t569 - s_hip_fl_y*t567
+    t562 = c_hip_fl_y*t540
+    t563 = -s_hip_fl_y*t540
+    t564 = s_hip_fl_y*s_hip_fl_y
+    t565 = c_hip_fl_y*t562 + 0.00035*t564
+    t566 = 0.00035*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t562
+    t567 = c_hip_fl_y*c_hip_fl_y
+    t568 = -s_hip_fl_y*t563 + 0.00035*t567
+    t569 = c_hip_fl_y*t541
+    t570 = -s_hip_fl_y*t541
+    t571 = c_hip_fl_y*t551
+    t572 = -s_hip_fl_y*t551
+    t573 = c_hip_fl_y*t571 + 1.5*t564
+    t574 = 1.5*c_hip_fl_y*s_hip_fl_y - s_hip_fl_y*t571
+    t575 = -s_hip_fl_y*t572 + 1.5*t567
+    t576 = c_hip_fl_y*t556 + s_hip_fl_y*t557
+    t577 = c_hip_fl_y*t557 - s_hip_fl_y*t556
+    t578 = c_hip_fl_y*t559 + s_hip_fl_y*t561
+    t579 = c_hip_fl_y*t561 - s_hip_fl_y*t559
     # hinge hip_fl_x: articulated inertia
-    t588 = 1/t573
-    t589 = t574*t588
-    t590 = t577*t588
-    t591 = -t574*t589 + t576
-    t592 = -t577*t589 + t578
-    t593 = -t577*t590 + 2.5
-    t594 = qd_hip_fl_x*t32
-    t595 = -qd_hip_fl_x*t31
-    t596 = qd_hip_fl_x*t38
-    t597 = -qd_hip_fl_x*t37
-    t598 = t584 - tau_hip_fl_x
-    t599 = t585 - t589*t598 + t591*t595 + t592*t596
-    t600 = t582*t597 + t586
-    t601 = t568 - t590*t598 + t592*t595 + t593*t596
-    t602 = t583*t597 + t587
+    t580 = 1/t565
+    t581 = t566*t580
+    t582 = t569*t580
+    t583 = -t566*t581 + t568
+    t584 = -t569*t581 + t570
+    t585 = -t569*t582 + 2.5
+    t586 = qd_hip_fl_x*t32
+    t587 = -qd_hip_fl_x*t31
+    t588 = qd_hip_fl_x*t38
+    t589 = -qd_hip_fl_x*t37
+    t590 = t576 - tau_hip_fl_x
+    t591 = t577 - t581*t590 + t583*t587 + t584*t588
+    t592 = t574*t589 + t578
+    t593 = t560 - t582*t590 + t584*t587 + t585*t588
+    t594 = t575*t589 + t579
     # hinge hip_fl_x: seen from the parent
-    t603 = -s_hip_fl_x*t591
-    t604 = c_hip_fl_x*t591
-    t605 = -s_hip_fl_x*t603
-    t606 = c_hip_fl_x*t603
-    t607 = c_hip_fl_x*t604
-    t608 = -s_hip_fl_x*t592
-    t609 = c_hip_fl_x*t592
-    t610 = c_hip_fl_x*t608
-    t611 = s_hip_fl_x*t608
-    t612 = c_hip_fl_x*t609
-    t613 = s_hip_fl_x*t609
-    t614 = -s_hip_fl_x*t582
-    t615 = c_hip_fl_x*t593
-    t616 = -s_hip_fl_x*t583
-    t617 = c_hip_fl_x*t582
-    t618 = s_hip_fl_x*t593
-    t619 = c_hip_fl_x*t583
-    t620 = c_hip_fl_x*t615 - s_hip_fl_x*t616
-    t621 = c_hip_fl_x*t616 + s_hip_fl_x*t615
-    t622 = c_hip_fl_x*t619 + s_hip_fl_x*t618
-    t623 = t610 - 0.39*t621
-    t624 = t611 - 0.39*t622
-    t625 = -0.12*t581 + 0.39*t614
-    t626 = t612 - 0.12*t614 + 0.39*t620
-    t627 = t613 - 0.12*t617 + 0.39*t621
-    t628 = 0.12*t611 - 0.0468*t622
-    t629 = 0.12*t613 - 0.0144*t617 + 0.0468*t621
-    t630 = t605 - 0.39*t611 - 0.39*t624
-    t631 = t606 - 0.39*t613 + 0.0468*t617 + 0.39*t623
-    t632 = t607 + 0.39*t612 - 0.12*t625 + 0.39*t626
-    t633 = t507 + 0.0144*t622
-    t634 = t508 + t628
-    t635 = t509 + t629
-    t636 = t510 + t630
-    t637 = t511 + t631
-    t638 = t512 + t632
-    t639 = t513 + 0.12*t617
-    t640 = t514 + 0.12*t621
-    t641 = t515 + 0.12*t622
-    t642 = t516 - 0.39*t617
-    t643 = t517 + t623
-    t644 = t518 + t624
-    t645 = t519 + t625
-    t646 = t520 + t626
-    t647 = t521 + t627
-    t648 = t522 + t581
-    t649 = t523 + t614
-    t650 = t524 + t617
-    t651 = t525 + t620
-    t652 = t526 + t621
-    t653 = t527 + t622
-    t654 = s_hip_fl_x*t601
-    t655 = c_hip_fl_x*t602
-    t656 = t530 + 0.12*t654 + 0.12*t655 + tau_hip_fl_x
-    t657 = c_hip_fl_x*tau_hip_fl_y - s_hip_fl_x*t599 + t531 - 0.39*t654 - 0.39*t655
-    t658 = c_hip_fl_x*t601
-    t659 = s_hip_fl_x*t602
-    t660 = c_hip_fl_x*t599 + s_hip_fl_x*tau_hip_fl_y + t534 - 0.12*t600 + 0.39*t658 - 0.39*t659
-    t661 = t535 + t600
-    t662 = t536 + t658 - t659
-    t663 = t537 + t654 + t655
+    t595 = -s_hip_fl_x*t583
+    t596 = c_hip_fl_x*t583
+    t597 = -s_hip_fl_x*t595
+    t598 = c_hip_fl_x*t595
+    t599 = c_hip_fl_x*t596
+    t600 = -s_hip_fl_x*t584
+    t601 = c_hip_fl_x*t584
+    t602 = c_hip_fl_x*t600
+    t603 = s_hip_fl_x*t600
+    t604 = c_hip_fl_x*t601
+    t605 = s_hip_fl_x*t601
+    t606 = -s_hip_fl_x*t574
+    t607 = c_hip_fl_x*t585
+    t608 = -s_hip_fl_x*t575
+    t609 = c_hip_fl_x*t574
+    t610 = s_hip_fl_x*t585
+    t611 = c_hip_fl_x*t575
+    t612 = c_hip_fl_x*t607 - s_hip_fl_x*t608
+    t613 = c_hip_fl_x*t608 + s_hip_fl_x*t607
+    t614 = c_hip_fl_x*t611 + s_hip_fl_x*t610
+    t615 = t602 - 0.39*t613
+    t616 = t603 - 0.39*t614
+    t617 = -0.12*t573 + 0.39*t606
+    t618 = t604 - 0.12*t606 + 0.39*t612
+    t619 = t605 - 0.12*t609 + 0.39*t613
+    t620 = 0.12*t603 - 0.0468*t614
+    t621 = 0.12*t605 - 0.0144*t609 + 0.0468*t613
+    t622 = t597 - 0.39*t603 - 0.39*t616
+    t623 = t598 - 0.39*t605 + 0.0468*t609 + 0.39*t615
+    t624 = t599 + 0.39*t604 - 0.12*t617 + 0.39*t618
+    t625 = t501 + 0.0144*t614
+    t626 = t502 + t620
+    t627 = t503 + t621
+    t628 = t504 + t622
+    t629 = t505 + t623
+    t630 = t506 + t624
+    t631 = t507 + 0.12*t609
+    t632 = t508 + 0.12*t613
+    t633 = t509 + 0.12*t614
+    t634 = t510 - 0.39*t609
+    t635 = t511 + t615
+    t636 = t512 + t616
+    t637 = t513 + t617
+    t638 = t514 + t618
+    t639 = t515 + t619
+    t640 = t516 + t573
+    t641 = t517 + t606
+    t642 = t518 + t609
+    t643 = t519 + t612
+    t644 = t520 + t613
+    t645 = t521 + t614
+    t646 = s_hip_fl_x*t593
+    t647 = c_hip_fl_x*t594
+    t648 = t524 + 0.12*t646 + 0.12*t647 + tau_hip_fl_x
+    t649 = c_hip_fl_x*tau_hip_fl_y - s_hip_fl_x*t591 + t525 - 0.39*t646 - 0.39*t647
+    t650 = c_hip_fl_x*t593
+    t651 = s_hip_fl_x*t594
+    t652 = c_hip_fl_x*t591 + s_hip_fl_x*tau_hip_fl_y + t528 - 0.12*t592 + 0.39*t650 - 0.39*t651
+    t653 = t529 + t592
+    t654 = t530 + t650 - t651
+    t655 = t531 + t646 + t647
     # trunk, free3d root: solve the 6x6 articulated inertia
-    t664 = 1/t633
-    t665 = t634*t664
-    t666 = t635*t664
-    t667 = t639*t664
-    t668 = t640*t664
-    t669 = t641*t664
-    t670 = -t634*t665 + t636
-    t671 = -t635*t665 + t637
-    t672 = -t639*t665 + t642
-    t673 = -t640*t665 + t643
-    t674 = -t641*t665 + t644
-    t675 = 1/t670
-    t676 = t671*t675
-    t677 = t672*t675
-    t678 = t673*t675
-    t679 = t674*t675
-    t680 = -t635*t666 + t638 - t671*t676
-    t681 = -t639*t666 + t645 - t672*t676
-    t682 = -t640*t666 + t646 - t673*t676
-    t683 = -t641*t666 + t647 - t674*t676
-    t684 = 1/t680
-    t685 = t681*t684
-    t686 = t682*t684
-    t687 = t683*t684
-    t688 = -t639*t667 + t648 - t672*t677 - t681*t685
-    t689 = -t640*t667 + t649 - t673*t677 - t682*t685
-    t690 = -t641*t667 + t650 - t674*t677 - t683*t685
-    t691 = 1/t688
-    t692 = t689*t691
-    t693 = t690*t691
-    t694 = -t640*t668 + t651 - t673*t678 - t682*t686 - t689*t692
-    t695 = -t641*t668 + t652 - t674*t678 - t683*t686 - t690*t692
-    t696 = 1/t694
-    t697 = t695*t696
-    t698 = -t641*t669 + t653 - t674*t679 - t683*t687 - t690*t693 - t695*t697
-    t699 = 1/t698
-    t700 = -t656 + tau_wx
-    t701 = -t657 - t665*t700 + tau_wy
-    t702 = -t660 - t666*t700 - t676*t701 + tau_wz
-    t703 = t10*tau_vy + t14*tau_vz + t5*tau_vx - t661 - t667*t700 - t677*t701 - t685*t702
-    t704 = t11*tau_vy + t15*tau_vz - t662 - t668*t700 - t678*t701 - t686*t702 - t692*t703 + t7*tau_vx
-    t705 = t13*tau_vy + t16*tau_vz - t663 - t669*t700 - t679*t701 - t687*t702 - t693*t703 - t697*t704 + t9*tau_vx
-    t706 = t699*t705
-    t707 = t696*t704 - t697*t706
-    t708 = t691*t703 - t692*t707 - t693*t706
-    t709 = t684*t702 - t685*t708 - t686*t707 - t687*t706
-    t710 = t675*t701 - t676*t709 - t677*t708 - t678*t707 - t679*t706
-    t711 = t664*t700 - t665*t710 - t666*t709 - t667*t708 - t668*t707 - t669*t706
+    t656 = 1/t625
+    t657 = t626*t656
+    t658 = t627*t656
+    t659 = t631*t656
+    t660 = t632*t656
+    t661 = t633*t656
+    t662 = -t626*t657 + t628
+    t663 = -t627*t657 + t629
+    t664 = -t631*t657 + t634
+    t665 = -t632*t657 + t635
+    t666 = -t633*t657 + t636
+    t667 = 1/t662
+    t668 = t663*t667
+    t669 = t664*t667
+    t670 = t665*t667
+    t671 = t666*t667
+    t672 = -t627*t658 + t630 - t663*t668
+    t673 = -t631*t658 + t637 - t664*t668
+    t674 = -t632*t658 + t638 - t665*t668
+    t675 = -t633*t658 + t639 - t666*t668
+    t676 = 1/t672
+    t677 = t673*t676
+    t678 = t674*t676
+    t679 = t675*t676
+    t680 = -t631*t659 + t640 - t664*t669 - t673*t677
+    t681 = -t632*t659 + t641 - t665*t669 - t674*t677
+    t682 = -t633*t659 + t642 - t666*t669 - t675*t677
+    t683 = 1/t680
+    t684 = t681*t683
+    t685 = t682*t683
+    t686 = -t632*t660 + t643 - t665*t670 - t674*t678 - t681*t684
+    t687 = -t633*t660 + t644 - t666*t670 - t675*t678 - t682*t684
+    t688 = 1/t686
+    t689 = t687*t688
+    t690 = -t633*t661 + t645 - t666*t671 - t675*t679 - t682*t685 - t687*t689
+    t691 = 1/t690
+    t692 = -t648 + tau_wx
+    t693 = -t649 - t657*t692 + tau_wy
+    t694 = -t652 - t658*t692 - t668*t693 + tau_wz
+    t695 = t10*tau_vy + t14*tau_vz + t5*tau_vx - t653 - t659*t692 - t669*t693 - t677*t694
+    t696 = t11*tau_vy + t15*tau_vz - t654 - t660*t692 - t670*t693 - t678*t694 - t684*t695 + t7*tau_vx
+    t697 = t13*tau_vy + t16*tau_vz - t655 - t661*t692 - t671*t693 - t679*t694 - t685*t695 - t689*t696 + t9*tau_vx
+    t698 = t691*t697
+    t699 = t688*t696 - t689*t698
+    t700 = t683*t695 - t684*t699 - t685*t698
+    qdd_wz = t676*t694 - t677*t700 - t678*t699 - t679*t698
+    qdd_wy = t667*t693 - t668*qdd_wz - t669*t700 - t670*t699 - t671*t698
+    qdd_wx = t656*t692 - t657*qdd_wy - t658*qdd_wz - t659*t700 - t660*t699 - t661*t698
     # trunk, free3d root: accelerations in MuJoCo's coordinates
-    t712 = t19*wy - t23 + t708
-    t713 = -t25 + t26 + t707
-    t714 = t18*wx - t28 + t706
-    t715 = t5*t712 + t7*t713 + t714*t9
-    t716 = t10*t712 + t11*t713 + t13*t714
-    t717 = t14*t712 + t15*t713 + t16*t714 - 9.81
+    t701 = t19*wy - t23 + t700
+    t702 = -t25 + t26 + t699
+    t703 = t18*wx - t28 + t698
+    qdd_vx = t5*t701 + t7*t702 + t703*t9
+    qdd_vy = t10*t701 + t11*t702 + t13*t703
+    qdd_vz = t14*t701 + t15*t702 + t16*t703 - 9.81
     # hinge hip_fl_x: acceleration
-    t718 = c_hip_fl_x*t710 + s_hip_fl_x*t709 + t594
-    t719 = c_hip_fl_x*t709 - s_hip_fl_x*t710 + t595
-    t720 = t708 - 0.12*t709
-    t721 = t707 + 0.39*t709
-    t722 = t706 + 0.12*t711
-    t723 = -0.39*t710 + t722
-    t724 = c_hip_fl_x*t721 + s_hip_fl_x*t723 + t596
-    t725 = c_hip_fl_x*t723 - s_hip_fl_x*t721 + t597
-    t726 = t588*(-t573*t711 - t574*t719 - t577*t724 - t598)
+    t704 = c_hip_fl_x*qdd_wy + s_hip_fl_x*qdd_wz + t586
+    t705 = c_hip_fl_x*qdd_wz - s_hip_fl_x*qdd_wy + t587
+    t706 = t700 - 0.12*qdd_wz
+    t707 = t699 + 0.39*qdd_wz
+    t708 = t698 + 0.12*qdd_wx
+    t709 = -0.39*qdd_wy + t708
+    t710 = c_hip_fl_x*t707 + s_hip_fl_x*t709 + t588
+    t711 = c_hip_fl_x*t709 - s_hip_fl_x*t707 + t589
+    qdd_hip_fl_x = t580*(-t565*qdd_wx - t566*t705 - t569*t710 - t590)
     # thigh_fl, hinge hip_fl_y: acceleration
-    t727 = c_hip_fl_y*t720 - s_hip_fl_y*t725 + t562
-    t728 = c_hip_fl_y*t725 + s_hip_fl_y*t720 + t563
-    t729 = t557*(-t548*t718 - t550*t727 - t566)
+    t712 = c_hip_fl_y*t706 - s_hip_fl_y*t711 + t554
+    t713 = c_hip_fl_y*t711 + s_hip_fl_y*t706 + t555
+    qdd_hip_fl_y = t549*(-t540*t704 - t542*t712 - t558)
     # shank_fl, slide leg_fl: acceleration
-    t730 = t67 + t728 + tau_leg_fl
+    qdd_leg_fl = t67 + t713 + tau_leg_fl
     # hinge hip_fr_x: acceleration
-    t731 = c_hip_fr_x*t710 + s_hip_fr_x*t709 + t468
-    t732 = c_hip_fr_x*t709 - s_hip_fr_x*t710 + t469
-    t733 = t708 + 0.12*t709
-    t734 = t706 - 0.39*t710 - 0.12*t711
-    t735 = c_hip_fr_x*t721 + s_hip_fr_x*t734 + t470
-    t736 = c_hip_fr_x*t734 - s_hip_fr_x*t721 + t471
-    t737 = t462*(-t447*t711 - t448*t732 - t451*t735 - t472)
+    t714 = c_hip_fr_x*qdd_wy + s_hip_fr_x*qdd_wz + t462
+    t715 = c_hip_fr_x*qdd_wz - s_hip_fr_x*qdd_wy + t463
+    t716 = t700 + 0.12*qdd_wz
+    t717 = t698 - 0.39*qdd_wy - 0.12*qdd_wx
+    t718 = c_hip_fr_x*t707 + s_hip_fr_x*t717 + t464
+    t719 = c_hip_fr_x*t717 - s_hip_fr_x*t707 + t465
+    qdd_hip_fr_x = t456*(-t441*qdd_wx - t442*t715 - t445*t718 - t466)
     # thigh_fr, hinge hip_fr_y: acceleration
-    t738 = c_hip_fr_y*t733 - s_hip_fr_y*t736 + t436
-    t739 = c_hip_fr_y*t736 + s_hip_fr_y*t733 + t437
-    t740 = t431*(-t422*t731 - t424*t738 - t440)
+    t720 = c_hip_fr_y*t716 - s_hip_fr_y*t719 + t430
+    t721 = c_hip_fr_y*t719 + s_hip_fr_y*t716 + t431
+    qdd_hip_fr_y = t425*(-t416*t714 - t418*t720 - t434)
     # shank_fr, slide leg_fr: acceleration
-    t741 = t103 + t739 + tau_leg_fr
+    qdd_leg_fr = t103 + t721 + tau_leg_fr
     # hinge hip_rl_x: acceleration
-    t742 = c_hip_rl_x*t710 + s_hip_rl_x*t709 + t342
-    t743 = c_hip_rl_x*t709 - s_hip_rl_x*t710 + t343
-    t744 = t707 - 0.39*t709
-    t745 = 0.39*t710 + t722
-    t746 = c_hip_rl_x*t744 + s_hip_rl_x*t745 + t344
-    t747 = c_hip_rl_x*t745 - s_hip_rl_x*t744 + t345
-    t748 = t336*(-t321*t711 - t322*t743 - t325*t746 - t346)
+    t722 = c_hip_rl_x*qdd_wy + s_hip_rl_x*qdd_wz + t338
+    t723 = c_hip_rl_x*qdd_wz - s_hip_rl_x*qdd_wy + t339
+    t724 = t699 - 0.39*qdd_wz
+    t725 = 0.39*qdd_wy + t708
+    t726 = c_hip_rl_x*t724 + s_hip_rl_x*t725 + t340
+    t727 = c_hip_rl_x*t725 - s_hip_rl_x*t724 + t341
+    qdd_hip_rl_x = t332*(-t317*qdd_wx - t318*t723 - t321*t726 - t342)
     # thigh_rl, hinge hip_rl_y: acceleration
-    t749 = c_hip_rl_y*t720 - s_hip_rl_y*t747 + t310
-    t750 = c_hip_rl_y*t747 + s_hip_rl_y*t720 + t311
-    t751 = t305*(-t296*t742 - t298*t749 - t314)
+    t728 = c_hip_rl_y*t706 - s_hip_rl_y*t727 + t306
+    t729 = c_hip_rl_y*t727 + s_hip_rl_y*t706 + t307
+    qdd_hip_rl_y = t301*(-t292*t722 - t294*t728 - t310)
     # shank_rl, slide leg_rl: acceleration
-    t752 = t139 + t750 + tau_leg_rl
+    qdd_leg_rl = t139 + t729 + tau_leg_rl
     # hinge hip_rr_x: acceleration
-    t753 = c_hip_rr_x*t710 + s_hip_rr_x*t709 + t231
-    t754 = c_hip_rr_x*t709 - s_hip_rr_x*t710 + t232
-    t755 = t706 + 0.39*t710 - 0.12*t711
-    t756 = c_hip_rr_x*t744 + s_hip_rr_x*t755 + t233
-    t757 = c_hip_rr_x*t755 - s_hip_rr_x*t744 + t234
-    t758 = t225*(-t210*t711 - t211*t754 - t214*t756 - t235)
+    t730 = c_hip_rr_x*qdd_wy + s_hip_rr_x*qdd_wz + t229
+    t731 = c_hip_rr_x*qdd_wz - s_hip_rr_x*qdd_wy + t230
+    t732 = t698 + 0.39*qdd_wy - 0.12*qdd_wx
+    t733 = c_hip_rr_x*t724 + s_hip_rr_x*t732 + t231
+    t734 = c_hip_rr_x*t732 - s_hip_rr_x*t724 + t232
+    qdd_hip_rr_x = t223*(-t208*qdd_wx - t209*t731 - t212*t733 - t233)
     # thigh_rr, hinge hip_rr_y: acceleration
-    t759 = c_hip_rr_y*t733 - s_hip_rr_y*t757 + t199
-    t760 = c_hip_rr_y*t757 + s_hip_rr_y*t733 + t200
-    t761 = t194*(-t185*t753 - t187*t759 - t203)
+    t735 = c_hip_rr_y*t716 - s_hip_rr_y*t734 + t197
+    t736 = c_hip_rr_y*t734 + s_hip_rr_y*t716 + t198
+    qdd_hip_rr_y = t192*(-t183*t730 - t185*t735 - t201)
     # shank_rr, slide leg_rr: acceleration
-    t762 = t174 + t760 + tau_leg_rr
+    qdd_leg_rr = t174 + t736 + tau_leg_rr
     return [
-        t715,
-        t716,
-        t717,
-        t711,
-        t710,
-        t709,
-        t726,
-        t729,
-        t730,
-        t737,
-        t740,
-        t741,
-        t748,
-        t751,
-        t752,
-        t758,
-        t761,
-        t762,
+        qdd_vx,
+        qdd_vy,
+        qdd_vz,
+        qdd_wx,
+        qdd_wy,
+        qdd_wz,
+        qdd_hip_fl_x,
+        qdd_hip_fl_y,
+        qdd_leg_fl,
+        qdd_hip_fr_x,
+        qdd_hip_fr_y,
+        qdd_leg_fr,
+        qdd_hip_rl_x,
+        qdd_hip_rl_y,
+        qdd_leg_rl,
+        qdd_hip_rr_x,
+        qdd_hip_rr_y,
+        qdd_leg_rr,
     ]
 
 
@@ -2120,19 +2110,19 @@ def state_derivative(q, v, tau):
     qd_hip_rr_x = v[15]
     qd_hip_rr_y = v[16]
     qd_leg_rr = v[17]
-    t1 = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
-    t2 = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
-    t3 = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
-    t4 = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
+    qdot_qw = -0.5*qx*wx - 0.5*qy*wy - 0.5*qz*wz
+    qdot_qx = 0.5*qw*wx + 0.5*qy*wz - 0.5*qz*wy
+    qdot_qy = 0.5*qw*wy - 0.5*qx*wz + 0.5*qz*wx
+    qdot_qz = 0.5*qw*wz + 0.5*qx*wy - 0.5*qy*wx
     return (
         [
             vx,
             vy,
             vz,
-            t1,
-            t2,
-            t3,
-            t4,
+            qdot_qw,
+            qdot_qx,
+            qdot_qy,
+            qdot_qz,
             qd_hip_fl_x,
             qd_hip_fl_y,
             qd_leg_fl,
@@ -2209,73 +2199,78 @@ def contact_positions(q):
     t30 = t1*t27 + t19
     t31 = t1*t28 + t21
     t32 = t1*t29 + t23
-    t33 = -0.4*t27 + t30
-    t34 = -0.4*t28 + t31
-    t35 = -0.4*t29 + t32
+    toe_fl_x = -0.4*t27 + t30
+    toe_fl_y = -0.4*t28 + t31
+    toe_fl_z = -0.4*t29 + t32
     # toe_fr
-    t36 = -leg_fr - 0.41
+    t33 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t37 = t18 - 0.12*t8
-    t38 = -0.12*t12 + t20
-    t39 = -0.12*t16 + t22
-    t40 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t41 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t42 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t43 = c_hip_fr_y*t40 + s_hip_fr_y*t6
-    t44 = c_hip_fr_y*t41 + s_hip_fr_y*t11
-    t45 = c_hip_fr_y*t42 + s_hip_fr_y*t15
-    t46 = t36*t43 + t37
-    t47 = t36*t44 + t38
-    t48 = t36*t45 + t39
-    t49 = -0.4*t43 + t46
-    t50 = -0.4*t44 + t47
-    t51 = -0.4*t45 + t48
+    t34 = t18 - 0.12*t8
+    t35 = -0.12*t12 + t20
+    t36 = -0.12*t16 + t22
+    t37 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t38 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t39 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t40 = c_hip_fr_y*t37 + s_hip_fr_y*t6
+    t41 = c_hip_fr_y*t38 + s_hip_fr_y*t11
+    t42 = c_hip_fr_y*t39 + s_hip_fr_y*t15
+    t43 = t33*t40 + t34
+    t44 = t33*t41 + t35
+    t45 = t33*t42 + t36
+    toe_fr_x = -0.4*t40 + t43
+    toe_fr_y = -0.4*t41 + t44
+    toe_fr_z = -0.4*t42 + t45
     # toe_rl
-    t52 = -leg_rl - 0.41
+    t46 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t53 = -0.39*t6 + 0.12*t8 + x
-    t54 = -0.39*t11 + 0.12*t12 + y
-    t55 = -0.39*t15 + 0.12*t16 + z
-    t56 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t57 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t58 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t59 = c_hip_rl_y*t56 + s_hip_rl_y*t6
-    t60 = c_hip_rl_y*t57 + s_hip_rl_y*t11
-    t61 = c_hip_rl_y*t58 + s_hip_rl_y*t15
-    t62 = t52*t59 + t53
-    t63 = t52*t60 + t54
-    t64 = t52*t61 + t55
-    t65 = -0.4*t59 + t62
-    t66 = -0.4*t60 + t63
-    t67 = -0.4*t61 + t64
+    t47 = -0.39*t6 + 0.12*t8 + x
+    t48 = -0.39*t11 + 0.12*t12 + y
+    t49 = -0.39*t15 + 0.12*t16 + z
+    t50 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t51 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t52 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t53 = c_hip_rl_y*t50 + s_hip_rl_y*t6
+    t54 = c_hip_rl_y*t51 + s_hip_rl_y*t11
+    t55 = c_hip_rl_y*t52 + s_hip_rl_y*t15
+    t56 = t46*t53 + t47
+    t57 = t46*t54 + t48
+    t58 = t46*t55 + t49
+    toe_rl_x = -0.4*t53 + t56
+    toe_rl_y = -0.4*t54 + t57
+    toe_rl_z = -0.4*t55 + t58
     # toe_rr
-    t68 = -leg_rr - 0.41
+    t59 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t69 = -0.39*t6 - 0.12*t8 + x
-    t70 = -0.39*t11 - 0.12*t12 + y
-    t71 = -0.39*t15 - 0.12*t16 + z
-    t72 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t73 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t74 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t75 = c_hip_rr_y*t72 + s_hip_rr_y*t6
-    t76 = c_hip_rr_y*t73 + s_hip_rr_y*t11
-    t77 = c_hip_rr_y*t74 + s_hip_rr_y*t15
-    t78 = t68*t75 + t69
-    t79 = t68*t76 + t70
-    t80 = t68*t77 + t71
-    t81 = -0.4*t75 + t78
-    t82 = -0.4*t76 + t79
-    t83 = -0.4*t77 + t80
-    return [(t33, t34, t35), (t49, t50, t51), (t65, t66, t67), (t81, t82, t83)]
+    t60 = -0.39*t6 - 0.12*t8 + x
+    t61 = -0.39*t11 - 0.12*t12 + y
+    t62 = -0.39*t15 - 0.12*t16 + z
+    t63 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t64 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t65 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t66 = c_hip_rr_y*t63 + s_hip_rr_y*t6
+    t67 = c_hip_rr_y*t64 + s_hip_rr_y*t11
+    t68 = c_hip_rr_y*t65 + s_hip_rr_y*t15
+    t69 = t59*t66 + t60
+    t70 = t59*t67 + t61
+    t71 = t59*t68 + t62
+    toe_rr_x = -0.4*t66 + t69
+    toe_rr_y = -0.4*t67 + t70
+    toe_rr_z = -0.4*t68 + t71
+    return [
+        (toe_fl_x, toe_fl_y, toe_fl_z),
+        (toe_fr_x, toe_fr_y, toe_fr_z),
+        (toe_rl_x, toe_rl_y, toe_rl_z),
+        (toe_rr_x, toe_rr_y, toe_rr_z),
+    ]
 
 
 def contact_velocities(q, v):
@@ -2382,154 +2377,159 @@ def contact_velocities(q, v):
     t57 = t14*t50 - t17*t49
     t58 = -t10*t50 + t17*t48
     t59 = t10*t49 - t14*t48
-    t60 = qd_hip_fl_x*t45 + qd_hip_fl_y*t42 - qd_leg_fl*t30 + t51*wx + t54*wy + t57*wz + vx
-    t61 = qd_hip_fl_x*t46 + qd_hip_fl_y*t43 - qd_leg_fl*t31 + t52*wx + t55*wy + t58*wz + vy
-    t62 = qd_hip_fl_x*t47 + qd_hip_fl_y*t44 - qd_leg_fl*t32 + t53*wx + t56*wy + t59*wz + vz
+    toe_fl_vx = qd_hip_fl_x*t45 + qd_hip_fl_y*t42 - qd_leg_fl*t30 + t51*wx + t54*wy + t57*wz + vx
+    toe_fl_vy = qd_hip_fl_x*t46 + qd_hip_fl_y*t43 - qd_leg_fl*t31 + t52*wx + t55*wy + t58*wz + vy
+    toe_fl_vz = qd_hip_fl_x*t47 + qd_hip_fl_y*t44 - qd_leg_fl*t32 + t53*wx + t56*wy + t59*wz + vz
     # toe_fr
-    t63 = -leg_fr - 0.41
+    t60 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t64 = t18 - 0.12*t8
-    t65 = -0.12*t12 + t20
-    t66 = -0.12*t16 + t22
-    t67 = c_hip_fr_x*t8 + s_hip_fr_x*t10
-    t68 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t69 = c_hip_fr_x*t12 + s_hip_fr_x*t14
-    t70 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t71 = c_hip_fr_x*t16 + s_hip_fr_x*t17
-    t72 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t73 = c_hip_fr_y*t68 + s_hip_fr_y*t6
-    t74 = c_hip_fr_y*t70 + s_hip_fr_y*t11
-    t75 = c_hip_fr_y*t72 + s_hip_fr_y*t15
-    t76 = t63*t73 + t64
-    t77 = t63*t74 + t65
-    t78 = t63*t75 + t66
-    t79 = -0.4*t73 + t76
-    t80 = -0.4*t74 + t77
-    t81 = -0.4*t75 + t78
-    t82 = -t64 + t79
-    t83 = -t65 + t80
-    t84 = -t66 + t81
-    t85 = t69*t84 - t71*t83
-    t86 = -t67*t84 + t71*t82
-    t87 = t67*t83 - t69*t82
-    t88 = t11*t84 - t15*t83
-    t89 = t15*t82 - t6*t84
-    t90 = -t11*t82 + t6*t83
-    t91 = t79 - x
-    t92 = t80 - y
-    t93 = t81 - z
-    t94 = t11*t93 - t15*t92
-    t95 = t15*t91 - t6*t93
-    t96 = -t11*t91 + t6*t92
-    t97 = t12*t93 - t16*t92
-    t98 = t16*t91 - t8*t93
-    t99 = -t12*t91 + t8*t92
-    t100 = t14*t93 - t17*t92
-    t101 = -t10*t93 + t17*t91
-    t102 = t10*t92 - t14*t91
-    t103 = qd_hip_fr_x*t88 + qd_hip_fr_y*t85 - qd_leg_fr*t73 + t100*wz + t94*wx + t97*wy + vx
-    t104 = qd_hip_fr_x*t89 + qd_hip_fr_y*t86 - qd_leg_fr*t74 + t101*wz + t95*wx + t98*wy + vy
-    t105 = qd_hip_fr_x*t90 + qd_hip_fr_y*t87 - qd_leg_fr*t75 + t102*wz + t96*wx + t99*wy + vz
+    t61 = t18 - 0.12*t8
+    t62 = -0.12*t12 + t20
+    t63 = -0.12*t16 + t22
+    t64 = c_hip_fr_x*t8 + s_hip_fr_x*t10
+    t65 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t66 = c_hip_fr_x*t12 + s_hip_fr_x*t14
+    t67 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t68 = c_hip_fr_x*t16 + s_hip_fr_x*t17
+    t69 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t70 = c_hip_fr_y*t65 + s_hip_fr_y*t6
+    t71 = c_hip_fr_y*t67 + s_hip_fr_y*t11
+    t72 = c_hip_fr_y*t69 + s_hip_fr_y*t15
+    t73 = t60*t70 + t61
+    t74 = t60*t71 + t62
+    t75 = t60*t72 + t63
+    t76 = -0.4*t70 + t73
+    t77 = -0.4*t71 + t74
+    t78 = -0.4*t72 + t75
+    t79 = -t61 + t76
+    t80 = -t62 + t77
+    t81 = -t63 + t78
+    t82 = t66*t81 - t68*t80
+    t83 = -t64*t81 + t68*t79
+    t84 = t64*t80 - t66*t79
+    t85 = t11*t81 - t15*t80
+    t86 = t15*t79 - t6*t81
+    t87 = -t11*t79 + t6*t80
+    t88 = t76 - x
+    t89 = t77 - y
+    t90 = t78 - z
+    t91 = t11*t90 - t15*t89
+    t92 = t15*t88 - t6*t90
+    t93 = -t11*t88 + t6*t89
+    t94 = t12*t90 - t16*t89
+    t95 = t16*t88 - t8*t90
+    t96 = -t12*t88 + t8*t89
+    t97 = t14*t90 - t17*t89
+    t98 = -t10*t90 + t17*t88
+    t99 = t10*t89 - t14*t88
+    toe_fr_vx = qd_hip_fr_x*t85 + qd_hip_fr_y*t82 - qd_leg_fr*t70 + t97*wz + t91*wx + t94*wy + vx
+    toe_fr_vy = qd_hip_fr_x*t86 + qd_hip_fr_y*t83 - qd_leg_fr*t71 + t98*wz + t92*wx + t95*wy + vy
+    toe_fr_vz = qd_hip_fr_x*t87 + qd_hip_fr_y*t84 - qd_leg_fr*t72 + t99*wz + t93*wx + t96*wy + vz
     # toe_rl
-    t106 = -leg_rl - 0.41
+    t100 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t107 = -0.39*t6 + 0.12*t8 + x
-    t108 = -0.39*t11 + 0.12*t12 + y
-    t109 = -0.39*t15 + 0.12*t16 + z
-    t110 = c_hip_rl_x*t8 + s_hip_rl_x*t10
-    t111 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t112 = c_hip_rl_x*t12 + s_hip_rl_x*t14
-    t113 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t114 = c_hip_rl_x*t16 + s_hip_rl_x*t17
-    t115 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t116 = c_hip_rl_y*t111 + s_hip_rl_y*t6
-    t117 = c_hip_rl_y*t113 + s_hip_rl_y*t11
-    t118 = c_hip_rl_y*t115 + s_hip_rl_y*t15
-    t119 = t106*t116 + t107
-    t120 = t106*t117 + t108
-    t121 = t106*t118 + t109
-    t122 = -0.4*t116 + t119
-    t123 = -0.4*t117 + t120
-    t124 = -0.4*t118 + t121
-    t125 = -t107 + t122
-    t126 = -t108 + t123
-    t127 = -t109 + t124
-    t128 = t112*t127 - t114*t126
-    t129 = -t110*t127 + t114*t125
-    t130 = t110*t126 - t112*t125
-    t131 = t11*t127 - t126*t15
-    t132 = t125*t15 - t127*t6
-    t133 = -t11*t125 + t126*t6
-    t134 = t122 - x
-    t135 = t123 - y
-    t136 = t124 - z
-    t137 = t11*t136 - t135*t15
-    t138 = t134*t15 - t136*t6
-    t139 = -t11*t134 + t135*t6
-    t140 = t12*t136 - t135*t16
-    t141 = t134*t16 - t136*t8
-    t142 = -t12*t134 + t135*t8
-    t143 = -t135*t17 + t136*t14
-    t144 = -t10*t136 + t134*t17
-    t145 = t10*t135 - t134*t14
-    t146 = qd_hip_rl_x*t131 + qd_hip_rl_y*t128 - qd_leg_rl*t116 + t137*wx + t140*wy + t143*wz + vx
-    t147 = qd_hip_rl_x*t132 + qd_hip_rl_y*t129 - qd_leg_rl*t117 + t138*wx + t141*wy + t144*wz + vy
-    t148 = qd_hip_rl_x*t133 + qd_hip_rl_y*t130 - qd_leg_rl*t118 + t139*wx + t142*wy + t145*wz + vz
+    t101 = -0.39*t6 + 0.12*t8 + x
+    t102 = -0.39*t11 + 0.12*t12 + y
+    t103 = -0.39*t15 + 0.12*t16 + z
+    t104 = c_hip_rl_x*t8 + s_hip_rl_x*t10
+    t105 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t106 = c_hip_rl_x*t12 + s_hip_rl_x*t14
+    t107 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t108 = c_hip_rl_x*t16 + s_hip_rl_x*t17
+    t109 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t110 = c_hip_rl_y*t105 + s_hip_rl_y*t6
+    t111 = c_hip_rl_y*t107 + s_hip_rl_y*t11
+    t112 = c_hip_rl_y*t109 + s_hip_rl_y*t15
+    t113 = t100*t110 + t101
+    t114 = t100*t111 + t102
+    t115 = t100*t112 + t103
+    t116 = -0.4*t110 + t113
+    t117 = -0.4*t111 + t114
+    t118 = -0.4*t112 + t115
+    t119 = -t101 + t116
+    t120 = -t102 + t117
+    t121 = -t103 + t118
+    t122 = t106*t121 - t108*t120
+    t123 = -t104*t121 + t108*t119
+    t124 = t104*t120 - t106*t119
+    t125 = t11*t121 - t120*t15
+    t126 = t119*t15 - t121*t6
+    t127 = -t11*t119 + t120*t6
+    t128 = t116 - x
+    t129 = t117 - y
+    t130 = t118 - z
+    t131 = t11*t130 - t129*t15
+    t132 = t128*t15 - t130*t6
+    t133 = -t11*t128 + t129*t6
+    t134 = t12*t130 - t129*t16
+    t135 = t128*t16 - t130*t8
+    t136 = -t12*t128 + t129*t8
+    t137 = -t129*t17 + t130*t14
+    t138 = -t10*t130 + t128*t17
+    t139 = t10*t129 - t128*t14
+    toe_rl_vx = qd_hip_rl_x*t125 + qd_hip_rl_y*t122 - qd_leg_rl*t110 + t131*wx + t134*wy + t137*wz + vx
+    toe_rl_vy = qd_hip_rl_x*t126 + qd_hip_rl_y*t123 - qd_leg_rl*t111 + t132*wx + t135*wy + t138*wz + vy
+    toe_rl_vz = qd_hip_rl_x*t127 + qd_hip_rl_y*t124 - qd_leg_rl*t112 + t133*wx + t136*wy + t139*wz + vz
     # toe_rr
-    t149 = -leg_rr - 0.41
+    t140 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t150 = -0.39*t6 - 0.12*t8 + x
-    t151 = -0.39*t11 - 0.12*t12 + y
-    t152 = -0.39*t15 - 0.12*t16 + z
-    t153 = c_hip_rr_x*t8 + s_hip_rr_x*t10
-    t154 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t155 = c_hip_rr_x*t12 + s_hip_rr_x*t14
-    t156 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t157 = c_hip_rr_x*t16 + s_hip_rr_x*t17
-    t158 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t159 = c_hip_rr_y*t154 + s_hip_rr_y*t6
-    t160 = c_hip_rr_y*t156 + s_hip_rr_y*t11
-    t161 = c_hip_rr_y*t158 + s_hip_rr_y*t15
-    t162 = t149*t159 + t150
-    t163 = t149*t160 + t151
-    t164 = t149*t161 + t152
-    t165 = -0.4*t159 + t162
-    t166 = -0.4*t160 + t163
-    t167 = -0.4*t161 + t164
-    t168 = -t150 + t165
-    t169 = -t151 + t166
-    t170 = -t152 + t167
-    t171 = t155*t170 - t157*t169
-    t172 = -t153*t170 + t157*t168
-    t173 = t153*t169 - t155*t168
-    t174 = t11*t170 - t15*t169
-    t175 = t15*t168 - t170*t6
-    t176 = -t11*t168 + t169*t6
-    t177 = t165 - x
-    t178 = t166 - y
-    t179 = t167 - z
-    t180 = t11*t179 - t15*t178
-    t181 = t15*t177 - t179*t6
-    t182 = -t11*t177 + t178*t6
-    t183 = t12*t179 - t16*t178
-    t184 = t16*t177 - t179*t8
-    t185 = -t12*t177 + t178*t8
-    t186 = t14*t179 - t17*t178
-    t187 = -t10*t179 + t17*t177
-    t188 = t10*t178 - t14*t177
-    t189 = qd_hip_rr_x*t174 + qd_hip_rr_y*t171 - qd_leg_rr*t159 + t180*wx + t183*wy + t186*wz + vx
-    t190 = qd_hip_rr_x*t175 + qd_hip_rr_y*t172 - qd_leg_rr*t160 + t181*wx + t184*wy + t187*wz + vy
-    t191 = qd_hip_rr_x*t176 + qd_hip_rr_y*t173 - qd_leg_rr*t161 + t182*wx + t185*wy + t188*wz + vz
-    return [(t60, t61, t62), (t103, t104, t105), (t146, t147, t148), (t189, t190, t191)]
+    t141 = -0.39*t6 - 0.12*t8 + x
+    t142 = -0.39*t11 - 0.12*t12 + y
+    t143 = -0.39*t15 - 0.12*t16 + z
+    t144 = c_hip_rr_x*t8 + s_hip_rr_x*t10
+    t145 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t146 = c_hip_rr_x*t12 + s_hip_rr_x*t14
+    t147 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t148 = c_hip_rr_x*t16 + s_hip_rr_x*t17
+    t149 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t150 = c_hip_rr_y*t145 + s_hip_rr_y*t6
+    t151 = c_hip_rr_y*t147 + s_hip_rr_y*t11
+    t152 = c_hip_rr_y*t149 + s_hip_rr_y*t15
+    t153 = t140*t150 + t141
+    t154 = t140*t151 + t142
+    t155 = t140*t152 + t143
+    t156 = -0.4*t150 + t153
+    t157 = -0.4*t151 + t154
+    t158 = -0.4*t152 + t155
+    t159 = -t141 + t156
+    t160 = -t142 + t157
+    t161 = -t143 + t158
+    t162 = t146*t161 - t148*t160
+    t163 = -t144*t161 + t148*t159
+    t164 = t144*t160 - t146*t159
+    t165 = t11*t161 - t15*t160
+    t166 = t15*t159 - t161*t6
+    t167 = -t11*t159 + t160*t6
+    t168 = t156 - x
+    t169 = t157 - y
+    t170 = t158 - z
+    t171 = t11*t170 - t15*t169
+    t172 = t15*t168 - t170*t6
+    t173 = -t11*t168 + t169*t6
+    t174 = t12*t170 - t16*t169
+    t175 = t16*t168 - t170*t8
+    t176 = -t12*t168 + t169*t8
+    t177 = t14*t170 - t17*t169
+    t178 = -t10*t170 + t17*t168
+    t179 = t10*t169 - t14*t168
+    toe_rr_vx = qd_hip_rr_x*t165 + qd_hip_rr_y*t162 - qd_leg_rr*t150 + t171*wx + t174*wy + t177*wz + vx
+    toe_rr_vy = qd_hip_rr_x*t166 + qd_hip_rr_y*t163 - qd_leg_rr*t151 + t172*wx + t175*wy + t178*wz + vy
+    toe_rr_vz = qd_hip_rr_x*t167 + qd_hip_rr_y*t164 - qd_leg_rr*t152 + t173*wx + t176*wy + t179*wz + vz
+    return [
+        (toe_fl_vx, toe_fl_vy, toe_fl_vz),
+        (toe_fr_vx, toe_fr_vy, toe_fr_vz),
+        (toe_rl_vx, toe_rl_vy, toe_rl_vz),
+        (toe_rr_vx, toe_rr_vy, toe_rr_vz),
+    ]
 
 
 def contact_jacobians(q):
@@ -2600,170 +2600,170 @@ def contact_jacobians(q):
     t39 = -t19 + t36
     t40 = -t21 + t37
     t41 = -t23 + t38
-    t42 = t26*t41 - t28*t40
-    t43 = -t24*t41 + t28*t39
-    t44 = t24*t40 - t26*t39
-    t45 = t11*t41 - t15*t40
-    t46 = t15*t39 - t41*t6
-    t47 = -t11*t39 + t40*t6
-    t48 = t36 - x
-    t49 = t37 - y
-    t50 = t38 - z
-    t51 = t11*t50 - t15*t49
-    t52 = t15*t48 - t50*t6
-    t53 = -t11*t48 + t49*t6
-    t54 = t12*t50 - t16*t49
-    t55 = t16*t48 - t50*t8
-    t56 = -t12*t48 + t49*t8
-    t57 = t14*t50 - t17*t49
-    t58 = -t10*t50 + t17*t48
-    t59 = t10*t49 - t14*t48
+    toe_fl_jx_hip_fl_y = t26*t41 - t28*t40
+    toe_fl_jy_hip_fl_y = -t24*t41 + t28*t39
+    toe_fl_jz_hip_fl_y = t24*t40 - t26*t39
+    toe_fl_jx_hip_fl_x = t11*t41 - t15*t40
+    toe_fl_jy_hip_fl_x = t15*t39 - t41*t6
+    toe_fl_jz_hip_fl_x = -t11*t39 + t40*t6
+    t42 = t36 - x
+    t43 = t37 - y
+    t44 = t38 - z
+    toe_fl_jx_wx = t11*t44 - t15*t43
+    toe_fl_jy_wx = t15*t42 - t44*t6
+    toe_fl_jz_wx = -t11*t42 + t43*t6
+    toe_fl_jx_wy = t12*t44 - t16*t43
+    toe_fl_jy_wy = t16*t42 - t44*t8
+    toe_fl_jz_wy = -t12*t42 + t43*t8
+    toe_fl_jx_wz = t14*t44 - t17*t43
+    toe_fl_jy_wz = -t10*t44 + t17*t42
+    toe_fl_jz_wz = t10*t43 - t14*t42
     # toe_fr
-    t60 = -leg_fr - 0.41
+    t45 = -leg_fr - 0.41
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t61 = t18 - 0.12*t8
-    t62 = -0.12*t12 + t20
-    t63 = -0.12*t16 + t22
-    t64 = c_hip_fr_x*t8 + s_hip_fr_x*t10
-    t65 = c_hip_fr_x*t10 - s_hip_fr_x*t8
-    t66 = c_hip_fr_x*t12 + s_hip_fr_x*t14
-    t67 = c_hip_fr_x*t14 - s_hip_fr_x*t12
-    t68 = c_hip_fr_x*t16 + s_hip_fr_x*t17
-    t69 = c_hip_fr_x*t17 - s_hip_fr_x*t16
-    t70 = c_hip_fr_y*t65 + s_hip_fr_y*t6
-    t71 = c_hip_fr_y*t67 + s_hip_fr_y*t11
-    t72 = c_hip_fr_y*t69 + s_hip_fr_y*t15
-    t73 = t60*t70 + t61
-    t74 = t60*t71 + t62
-    t75 = t60*t72 + t63
-    t76 = -0.4*t70 + t73
-    t77 = -0.4*t71 + t74
-    t78 = -0.4*t72 + t75
-    t79 = -t61 + t76
-    t80 = -t62 + t77
-    t81 = -t63 + t78
-    t82 = t66*t81 - t68*t80
-    t83 = -t64*t81 + t68*t79
-    t84 = t64*t80 - t66*t79
-    t85 = t11*t81 - t15*t80
-    t86 = t15*t79 - t6*t81
-    t87 = -t11*t79 + t6*t80
-    t88 = t76 - x
-    t89 = t77 - y
-    t90 = t78 - z
-    t91 = t11*t90 - t15*t89
-    t92 = t15*t88 - t6*t90
-    t93 = -t11*t88 + t6*t89
-    t94 = t12*t90 - t16*t89
-    t95 = t16*t88 - t8*t90
-    t96 = -t12*t88 + t8*t89
-    t97 = t14*t90 - t17*t89
-    t98 = -t10*t90 + t17*t88
-    t99 = t10*t89 - t14*t88
+    t46 = t18 - 0.12*t8
+    t47 = -0.12*t12 + t20
+    t48 = -0.12*t16 + t22
+    t49 = c_hip_fr_x*t8 + s_hip_fr_x*t10
+    t50 = c_hip_fr_x*t10 - s_hip_fr_x*t8
+    t51 = c_hip_fr_x*t12 + s_hip_fr_x*t14
+    t52 = c_hip_fr_x*t14 - s_hip_fr_x*t12
+    t53 = c_hip_fr_x*t16 + s_hip_fr_x*t17
+    t54 = c_hip_fr_x*t17 - s_hip_fr_x*t16
+    t55 = c_hip_fr_y*t50 + s_hip_fr_y*t6
+    t56 = c_hip_fr_y*t52 + s_hip_fr_y*t11
+    t57 = c_hip_fr_y*t54 + s_hip_fr_y*t15
+    t58 = t45*t55 + t46
+    t59 = t45*t56 + t47
+    t60 = t45*t57 + t48
+    t61 = -0.4*t55 + t58
+    t62 = -0.4*t56 + t59
+    t63 = -0.4*t57 + t60
+    t64 = -t46 + t61
+    t65 = -t47 + t62
+    t66 = -t48 + t63
+    toe_fr_jx_hip_fr_y = t51*t66 - t53*t65
+    toe_fr_jy_hip_fr_y = -t49*t66 + t53*t64
+    toe_fr_jz_hip_fr_y = t49*t65 - t51*t64
+    toe_fr_jx_hip_fr_x = t11*t66 - t15*t65
+    toe_fr_jy_hip_fr_x = t15*t64 - t6*t66
+    toe_fr_jz_hip_fr_x = -t11*t64 + t6*t65
+    t67 = t61 - x
+    t68 = t62 - y
+    t69 = t63 - z
+    toe_fr_jx_wx = t11*t69 - t15*t68
+    toe_fr_jy_wx = t15*t67 - t6*t69
+    toe_fr_jz_wx = -t11*t67 + t6*t68
+    toe_fr_jx_wy = t12*t69 - t16*t68
+    toe_fr_jy_wy = t16*t67 - t8*t69
+    toe_fr_jz_wy = -t12*t67 + t8*t68
+    toe_fr_jx_wz = t14*t69 - t17*t68
+    toe_fr_jy_wz = -t10*t69 + t17*t67
+    toe_fr_jz_wz = t10*t68 - t14*t67
     # toe_rl
-    t100 = -leg_rl - 0.41
+    t70 = -leg_rl - 0.41
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t101 = -0.39*t6 + 0.12*t8 + x
-    t102 = -0.39*t11 + 0.12*t12 + y
-    t103 = -0.39*t15 + 0.12*t16 + z
-    t104 = c_hip_rl_x*t8 + s_hip_rl_x*t10
-    t105 = c_hip_rl_x*t10 - s_hip_rl_x*t8
-    t106 = c_hip_rl_x*t12 + s_hip_rl_x*t14
-    t107 = c_hip_rl_x*t14 - s_hip_rl_x*t12
-    t108 = c_hip_rl_x*t16 + s_hip_rl_x*t17
-    t109 = c_hip_rl_x*t17 - s_hip_rl_x*t16
-    t110 = c_hip_rl_y*t105 + s_hip_rl_y*t6
-    t111 = c_hip_rl_y*t107 + s_hip_rl_y*t11
-    t112 = c_hip_rl_y*t109 + s_hip_rl_y*t15
-    t113 = t100*t110 + t101
-    t114 = t100*t111 + t102
-    t115 = t100*t112 + t103
-    t116 = -0.4*t110 + t113
-    t117 = -0.4*t111 + t114
-    t118 = -0.4*t112 + t115
-    t119 = -t101 + t116
-    t120 = -t102 + t117
-    t121 = -t103 + t118
-    t122 = t106*t121 - t108*t120
-    t123 = -t104*t121 + t108*t119
-    t124 = t104*t120 - t106*t119
-    t125 = t11*t121 - t120*t15
-    t126 = t119*t15 - t121*t6
-    t127 = -t11*t119 + t120*t6
-    t128 = t116 - x
-    t129 = t117 - y
-    t130 = t118 - z
-    t131 = t11*t130 - t129*t15
-    t132 = t128*t15 - t130*t6
-    t133 = -t11*t128 + t129*t6
-    t134 = t12*t130 - t129*t16
-    t135 = t128*t16 - t130*t8
-    t136 = -t12*t128 + t129*t8
-    t137 = -t129*t17 + t130*t14
-    t138 = -t10*t130 + t128*t17
-    t139 = t10*t129 - t128*t14
+    t71 = -0.39*t6 + 0.12*t8 + x
+    t72 = -0.39*t11 + 0.12*t12 + y
+    t73 = -0.39*t15 + 0.12*t16 + z
+    t74 = c_hip_rl_x*t8 + s_hip_rl_x*t10
+    t75 = c_hip_rl_x*t10 - s_hip_rl_x*t8
+    t76 = c_hip_rl_x*t12 + s_hip_rl_x*t14
+    t77 = c_hip_rl_x*t14 - s_hip_rl_x*t12
+    t78 = c_hip_rl_x*t16 + s_hip_rl_x*t17
+    t79 = c_hip_rl_x*t17 - s_hip_rl_x*t16
+    t80 = c_hip_rl_y*t75 + s_hip_rl_y*t6
+    t81 = c_hip_rl_y*t77 + s_hip_rl_y*t11
+    t82 = c_hip_rl_y*t79 + s_hip_rl_y*t15
+    t83 = t70*t80 + t71
+    t84 = t70*t81 + t72
+    t85 = t70*t82 + t73
+    t86 = -0.4*t80 + t83
+    t87 = -0.4*t81 + t84
+    t88 = -0.4*t82 + t85
+    t89 = -t71 + t86
+    t90 = -t72 + t87
+    t91 = -t73 + t88
+    toe_rl_jx_hip_rl_y = t76*t91 - t78*t90
+    toe_rl_jy_hip_rl_y = -t74*t91 + t78*t89
+    toe_rl_jz_hip_rl_y = t74*t90 - t76*t89
+    toe_rl_jx_hip_rl_x = t11*t91 - t90*t15
+    toe_rl_jy_hip_rl_x = t89*t15 - t91*t6
+    toe_rl_jz_hip_rl_x = -t11*t89 + t90*t6
+    t92 = t86 - x
+    t93 = t87 - y
+    t94 = t88 - z
+    toe_rl_jx_wx = t11*t94 - t93*t15
+    toe_rl_jy_wx = t92*t15 - t94*t6
+    toe_rl_jz_wx = -t11*t92 + t93*t6
+    toe_rl_jx_wy = t12*t94 - t93*t16
+    toe_rl_jy_wy = t92*t16 - t94*t8
+    toe_rl_jz_wy = -t12*t92 + t93*t8
+    toe_rl_jx_wz = -t93*t17 + t94*t14
+    toe_rl_jy_wz = -t10*t94 + t92*t17
+    toe_rl_jz_wz = t10*t93 - t92*t14
     # toe_rr
-    t140 = -leg_rr - 0.41
+    t95 = -leg_rr - 0.41
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t141 = -0.39*t6 - 0.12*t8 + x
-    t142 = -0.39*t11 - 0.12*t12 + y
-    t143 = -0.39*t15 - 0.12*t16 + z
-    t144 = c_hip_rr_x*t8 + s_hip_rr_x*t10
-    t145 = c_hip_rr_x*t10 - s_hip_rr_x*t8
-    t146 = c_hip_rr_x*t12 + s_hip_rr_x*t14
-    t147 = c_hip_rr_x*t14 - s_hip_rr_x*t12
-    t148 = c_hip_rr_x*t16 + s_hip_rr_x*t17
-    t149 = c_hip_rr_x*t17 - s_hip_rr_x*t16
-    t150 = c_hip_rr_y*t145 + s_hip_rr_y*t6
-    t151 = c_hip_rr_y*t147 + s_hip_rr_y*t11
-    t152 = c_hip_rr_y*t149 + s_hip_rr_y*t15
-    t153 = t140*t150 + t141
-    t154 = t140*t151 + t142
-    t155 = t140*t152 + t143
-    t156 = -0.4*t150 + t153
-    t157 = -0.4*t151 + t154
-    t158 = -0.4*t152 + t155
-    t159 = -t141 + t156
-    t160 = -t142 + t157
-    t161 = -t143 + t158
-    t162 = t146*t161 - t148*t160
-    t163 = -t144*t161 + t148*t159
-    t164 = t144*t160 - t146*t159
-    t165 = t11*t161 - t15*t160
-    t166 = t15*t159 - t161*t6
-    t167 = -t11*t159 + t160*t6
-    t168 = t156 - x
-    t169 = t157 - y
-    t170 = t158 - z
-    t171 = t11*t170 - t15*t169
-    t172 = t15*t168 - t170*t6
-    t173 = -t11*t168 + t169*t6
-    t174 = t12*t170 - t16*t169
-    t175 = t16*t168 - t170*t8
-    t176 = -t12*t168 + t169*t8
-    t177 = t14*t170 - t169*t17
-    t178 = -t10*t170 + t168*t17
-    t179 = t10*t169 - t14*t168
+    t96 = -0.39*t6 - 0.12*t8 + x
+    t97 = -0.39*t11 - 0.12*t12 + y
+    t98 = -0.39*t15 - 0.12*t16 + z
+    t99 = c_hip_rr_x*t8 + s_hip_rr_x*t10
+    t100 = c_hip_rr_x*t10 - s_hip_rr_x*t8
+    t101 = c_hip_rr_x*t12 + s_hip_rr_x*t14
+    t102 = c_hip_rr_x*t14 - s_hip_rr_x*t12
+    t103 = c_hip_rr_x*t16 + s_hip_rr_x*t17
+    t104 = c_hip_rr_x*t17 - s_hip_rr_x*t16
+    t105 = c_hip_rr_y*t100 + s_hip_rr_y*t6
+    t106 = c_hip_rr_y*t102 + s_hip_rr_y*t11
+    t107 = c_hip_rr_y*t104 + s_hip_rr_y*t15
+    t108 = t95*t105 + t96
+    t109 = t95*t106 + t97
+    t110 = t95*t107 + t98
+    t111 = -0.4*t105 + t108
+    t112 = -0.4*t106 + t109
+    t113 = -0.4*t107 + t110
+    t114 = -t96 + t111
+    t115 = -t97 + t112
+    t116 = -t98 + t113
+    toe_rr_jx_hip_rr_y = t101*t116 - t103*t115
+    toe_rr_jy_hip_rr_y = -t99*t116 + t103*t114
+    toe_rr_jz_hip_rr_y = t99*t115 - t101*t114
+    toe_rr_jx_hip_rr_x = t11*t116 - t15*t115
+    toe_rr_jy_hip_rr_x = t15*t114 - t116*t6
+    toe_rr_jz_hip_rr_x = -t11*t114 + t115*t6
+    t117 = t111 - x
+    t118 = t112 - y
+    t119 = t113 - z
+    toe_rr_jx_wx = t11*t119 - t15*t118
+    toe_rr_jy_wx = t15*t117 - t119*t6
+    toe_rr_jz_wx = -t11*t117 + t118*t6
+    toe_rr_jx_wy = t12*t119 - t16*t118
+    toe_rr_jy_wy = t16*t117 - t119*t8
+    toe_rr_jz_wy = -t12*t117 + t118*t8
+    toe_rr_jx_wz = t14*t119 - t118*t17
+    toe_rr_jy_wz = -t10*t119 + t117*t17
+    toe_rr_jz_wz = t10*t118 - t14*t117
     return [
         [
             [
                 1.0,
                 0.0,
                 0.0,
-                t51,
-                t54,
-                t57,
-                t45,
-                t42,
+                toe_fl_jx_wx,
+                toe_fl_jx_wy,
+                toe_fl_jx_wz,
+                toe_fl_jx_hip_fl_x,
+                toe_fl_jx_hip_fl_y,
                 -t30,
                 0.0,
                 0.0,
@@ -2779,11 +2779,11 @@ def contact_jacobians(q):
                 0.0,
                 1.0,
                 0.0,
-                t52,
-                t55,
-                t58,
-                t46,
-                t43,
+                toe_fl_jy_wx,
+                toe_fl_jy_wy,
+                toe_fl_jy_wz,
+                toe_fl_jy_hip_fl_x,
+                toe_fl_jy_hip_fl_y,
                 -t31,
                 0.0,
                 0.0,
@@ -2799,11 +2799,11 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 1.0,
-                t53,
-                t56,
-                t59,
-                t47,
-                t44,
+                toe_fl_jz_wx,
+                toe_fl_jz_wy,
+                toe_fl_jz_wz,
+                toe_fl_jz_hip_fl_x,
+                toe_fl_jz_hip_fl_y,
                 -t32,
                 0.0,
                 0.0,
@@ -2821,15 +2821,15 @@ def contact_jacobians(q):
                 1.0,
                 0.0,
                 0.0,
-                t91,
-                t94,
-                t97,
+                toe_fr_jx_wx,
+                toe_fr_jx_wy,
+                toe_fr_jx_wz,
                 0.0,
                 0.0,
                 0.0,
-                t85,
-                t82,
-                -t70,
+                toe_fr_jx_hip_fr_x,
+                toe_fr_jx_hip_fr_y,
+                -t55,
                 0.0,
                 0.0,
                 0.0,
@@ -2841,15 +2841,15 @@ def contact_jacobians(q):
                 0.0,
                 1.0,
                 0.0,
-                t92,
-                t95,
-                t98,
+                toe_fr_jy_wx,
+                toe_fr_jy_wy,
+                toe_fr_jy_wz,
                 0.0,
                 0.0,
                 0.0,
-                t86,
-                t83,
-                -t71,
+                toe_fr_jy_hip_fr_x,
+                toe_fr_jy_hip_fr_y,
+                -t56,
                 0.0,
                 0.0,
                 0.0,
@@ -2861,80 +2861,18 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 1.0,
-                t93,
-                t96,
-                t99,
+                toe_fr_jz_wx,
+                toe_fr_jz_wy,
+                toe_fr_jz_wz,
                 0.0,
                 0.0,
                 0.0,
-                t87,
-                t84,
-                -t72,
+                toe_fr_jz_hip_fr_x,
+                toe_fr_jz_hip_fr_y,
+                -t57,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-        ],
-        [
-            [
-                1.0,
-                0.0,
-                0.0,
-                t131,
-                t134,
-                t137,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t125,
-                t122,
-                -t110,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                1.0,
-                0.0,
-                t132,
-                t135,
-                t138,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t126,
-                t123,
-                -t111,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                1.0,
-                t133,
-                t136,
-                t139,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t127,
-                t124,
-                -t112,
                 0.0,
                 0.0,
                 0.0,
@@ -2945,49 +2883,71 @@ def contact_jacobians(q):
                 1.0,
                 0.0,
                 0.0,
-                t171,
-                t174,
-                t177,
+                toe_rl_jx_wx,
+                toe_rl_jx_wy,
+                toe_rl_jx_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_rl_jx_hip_rl_x,
+                toe_rl_jx_hip_rl_y,
+                -t80,
                 0.0,
                 0.0,
                 0.0,
-                t165,
-                t162,
-                -t150,
             ],
             [
                 0.0,
                 1.0,
                 0.0,
-                t172,
-                t175,
-                t178,
+                toe_rl_jy_wx,
+                toe_rl_jy_wy,
+                toe_rl_jy_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_rl_jy_hip_rl_x,
+                toe_rl_jy_hip_rl_y,
+                -t81,
                 0.0,
                 0.0,
                 0.0,
-                t166,
-                t163,
-                -t151,
             ],
             [
                 0.0,
                 0.0,
                 1.0,
-                t173,
-                t176,
-                t179,
+                toe_rl_jz_wx,
+                toe_rl_jz_wy,
+                toe_rl_jz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rl_jz_hip_rl_x,
+                toe_rl_jz_hip_rl_y,
+                -t82,
+                0.0,
+                0.0,
+                0.0,
+            ],
+        ],
+        [
+            [
+                1.0,
+                0.0,
+                0.0,
+                toe_rr_jx_wx,
+                toe_rr_jx_wy,
+                toe_rr_jx_wz,
                 0.0,
                 0.0,
                 0.0,
@@ -2997,9 +2957,49 @@ def contact_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t167,
-                t164,
-                -t152,
+                toe_rr_jx_hip_rr_x,
+                toe_rr_jx_hip_rr_y,
+                -t105,
+            ],
+            [
+                0.0,
+                1.0,
+                0.0,
+                toe_rr_jy_wx,
+                toe_rr_jy_wy,
+                toe_rr_jy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rr_jy_hip_rr_x,
+                toe_rr_jy_hip_rr_y,
+                -t106,
+            ],
+            [
+                0.0,
+                0.0,
+                1.0,
+                toe_rr_jz_wx,
+                toe_rr_jz_wy,
+                toe_rr_jz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_rr_jz_hip_rr_x,
+                toe_rr_jz_hip_rr_y,
+                -t107,
             ],
         ],
     ]
@@ -3023,50 +3023,50 @@ def contact_angular_jacobians(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
-    t17 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t18 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t19 = c_hip_fl_x*t15 + s_hip_fl_x*t16
+    toe_fl_jwx_wx = -qscale*t4 + 1.0
+    t5 = qw*qz
+    toe_fl_jwx_wy = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    toe_fl_jwx_wz = qscale*(qx*qz + t6)
+    toe_fl_jwy_wx = qscale*(qx*qy + t5)
+    toe_fl_jwy_wy = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    toe_fl_jwy_wz = qscale*(qy*qz - t7)
+    toe_fl_jwz_wx = qscale*(qx*qz - t6)
+    toe_fl_jwz_wy = qscale*(qy*qz + t7)
+    toe_fl_jwz_wz = -qscale*(t1 + t2) + 1.0
+    toe_fl_jwx_hip_fl_y = c_hip_fl_x*toe_fl_jwx_wy + s_hip_fl_x*toe_fl_jwx_wz
+    toe_fl_jwy_hip_fl_y = c_hip_fl_x*toe_fl_jwy_wy + s_hip_fl_x*toe_fl_jwy_wz
+    toe_fl_jwz_hip_fl_y = c_hip_fl_x*toe_fl_jwz_wy + s_hip_fl_x*toe_fl_jwz_wz
     # toe_fr
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t20 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t21 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t22 = c_hip_fr_x*t15 + s_hip_fr_x*t16
+    toe_fr_jwx_hip_fr_y = c_hip_fr_x*toe_fl_jwx_wy + s_hip_fr_x*toe_fl_jwx_wz
+    toe_fr_jwy_hip_fr_y = c_hip_fr_x*toe_fl_jwy_wy + s_hip_fr_x*toe_fl_jwy_wz
+    toe_fr_jwz_hip_fr_y = c_hip_fr_x*toe_fl_jwz_wy + s_hip_fr_x*toe_fl_jwz_wz
     # toe_rl
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t23 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t24 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t25 = c_hip_rl_x*t15 + s_hip_rl_x*t16
+    toe_rl_jwx_hip_rl_y = c_hip_rl_x*toe_fl_jwx_wy + s_hip_rl_x*toe_fl_jwx_wz
+    toe_rl_jwy_hip_rl_y = c_hip_rl_x*toe_fl_jwy_wy + s_hip_rl_x*toe_fl_jwy_wz
+    toe_rl_jwz_hip_rl_y = c_hip_rl_x*toe_fl_jwz_wy + s_hip_rl_x*toe_fl_jwz_wz
     # toe_rr
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t26 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t27 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t28 = c_hip_rr_x*t15 + s_hip_rr_x*t16
+    toe_rr_jwx_hip_rr_y = c_hip_rr_x*toe_fl_jwx_wy + s_hip_rr_x*toe_fl_jwx_wz
+    toe_rr_jwy_hip_rr_y = c_hip_rr_x*toe_fl_jwy_wy + s_hip_rr_x*toe_fl_jwy_wz
+    toe_rr_jwz_hip_rr_y = c_hip_rr_x*toe_fl_jwz_wy + s_hip_rr_x*toe_fl_jwz_wz
     return [
         [
             [
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
-                t5,
-                t17,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
@@ -3082,11 +3082,11 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t11,
-                t13,
-                t10,
-                t18,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
@@ -3102,76 +3102,14 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
-                t14,
-                t19,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_hip_fl_y,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-        ],
-        [
-            [
-                0.0,
-                0.0,
-                0.0,
-                t5,
-                t7,
-                t9,
-                0.0,
-                0.0,
-                0.0,
-                t5,
-                t20,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t11,
-                t13,
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t21,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t14,
-                t15,
-                t16,
-                0.0,
-                0.0,
-                0.0,
-                t14,
-                t22,
                 0.0,
                 0.0,
                 0.0,
@@ -3186,37 +3124,17 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwx_wx,
+                toe_fr_jwx_hip_fr_y,
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t23,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t11,
-                t13,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t10,
-                t24,
                 0.0,
                 0.0,
                 0.0,
@@ -3226,17 +3144,37 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_fr_jwy_hip_fr_y,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t25,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fr_jwz_hip_fr_y,
+                0.0,
+                0.0,
+                0.0,
                 0.0,
                 0.0,
                 0.0,
@@ -3248,49 +3186,71 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t7,
-                t9,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwx_wx,
+                toe_rl_jwx_hip_rl_y,
                 0.0,
                 0.0,
                 0.0,
-                t5,
-                t26,
                 0.0,
             ],
             [
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t11,
-                t13,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
+                toe_fl_jwy_wx,
+                toe_rl_jwy_hip_rl_y,
                 0.0,
                 0.0,
                 0.0,
-                t10,
-                t27,
                 0.0,
             ],
             [
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t15,
-                t16,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_rl_jwz_hip_rl_y,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+        ],
+        [
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwx_wx,
+                toe_fl_jwx_wy,
+                toe_fl_jwx_wz,
                 0.0,
                 0.0,
                 0.0,
@@ -3300,8 +3260,48 @@ def contact_angular_jacobians(q):
                 0.0,
                 0.0,
                 0.0,
-                t14,
-                t28,
+                toe_fl_jwx_wx,
+                toe_rr_jwx_hip_rr_y,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_fl_jwy_wy,
+                toe_fl_jwy_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwy_wx,
+                toe_rr_jwy_hip_rr_y,
+                0.0,
+            ],
+            [
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_fl_jwz_wy,
+                toe_fl_jwz_wz,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                toe_fl_jwz_wx,
+                toe_rr_jwz_hip_rr_y,
                 0.0,
             ],
         ],
@@ -3335,131 +3335,248 @@ def body_poses(q):
     t3 = qz*qz
     t4 = t2 + t3
     qscale = 2.0/(qw*qw + t1 + t4)
-    t5 = -qscale*t4 + 1.0
-    t6 = qw*qz
-    t7 = qscale*(qx*qy - t6)
-    t8 = qw*qy
-    t9 = qscale*(qx*qz + t8)
-    t10 = qscale*(qx*qy + t6)
-    t11 = -qscale*(t1 + t3) + 1.0
-    t12 = qw*qx
-    t13 = qscale*(qy*qz - t12)
-    t14 = qscale*(qx*qz - t8)
-    t15 = qscale*(qy*qz + t12)
-    t16 = -qscale*(t1 + t2) + 1.0
+    trunk_r11 = -qscale*t4 + 1.0
+    t5 = qw*qz
+    trunk_r12 = qscale*(qx*qy - t5)
+    t6 = qw*qy
+    trunk_r13 = qscale*(qx*qz + t6)
+    trunk_r21 = qscale*(qx*qy + t5)
+    trunk_r22 = -qscale*(t1 + t3) + 1.0
+    t7 = qw*qx
+    trunk_r23 = qscale*(qy*qz - t7)
+    trunk_r31 = qscale*(qx*qz - t6)
+    trunk_r32 = qscale*(qy*qz + t7)
+    trunk_r33 = -qscale*(t1 + t2) + 1.0
     # thigh_fl
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t17 = 0.39*t5 + x
-    t18 = t17 + 0.12*t7
-    t19 = 0.39*t10 + y
-    t20 = 0.12*t11 + t19
-    t21 = 0.39*t14 + z
-    t22 = 0.12*t15 + t21
-    t23 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t24 = c_hip_fl_x*t9 - s_hip_fl_x*t7
-    t25 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t26 = c_hip_fl_x*t13 - s_hip_fl_x*t11
-    t27 = c_hip_fl_x*t15 + s_hip_fl_x*t16
-    t28 = c_hip_fl_x*t16 - s_hip_fl_x*t15
-    t29 = c_hip_fl_y*t5 - s_hip_fl_y*t24
-    t30 = c_hip_fl_y*t24 + s_hip_fl_y*t5
-    t31 = c_hip_fl_y*t10 - s_hip_fl_y*t26
-    t32 = c_hip_fl_y*t26 + s_hip_fl_y*t10
-    t33 = c_hip_fl_y*t14 - s_hip_fl_y*t28
-    t34 = c_hip_fl_y*t28 + s_hip_fl_y*t14
+    t8 = 0.39*trunk_r11 + x
+    thigh_fl_x = t8 + 0.12*trunk_r12
+    t9 = 0.39*trunk_r21 + y
+    thigh_fl_y = 0.12*trunk_r22 + t9
+    t10 = 0.39*trunk_r31 + z
+    thigh_fl_z = 0.12*trunk_r32 + t10
+    thigh_fl_r12 = c_hip_fl_x*trunk_r12 + s_hip_fl_x*trunk_r13
+    t11 = c_hip_fl_x*trunk_r13 - s_hip_fl_x*trunk_r12
+    thigh_fl_r22 = c_hip_fl_x*trunk_r22 + s_hip_fl_x*trunk_r23
+    t12 = c_hip_fl_x*trunk_r23 - s_hip_fl_x*trunk_r22
+    thigh_fl_r32 = c_hip_fl_x*trunk_r32 + s_hip_fl_x*trunk_r33
+    t13 = c_hip_fl_x*trunk_r33 - s_hip_fl_x*trunk_r32
+    thigh_fl_r11 = c_hip_fl_y*trunk_r11 - s_hip_fl_y*t11
+    thigh_fl_r13 = c_hip_fl_y*t11 + s_hip_fl_y*trunk_r11
+    thigh_fl_r21 = c_hip_fl_y*trunk_r21 - s_hip_fl_y*t12
+    thigh_fl_r23 = c_hip_fl_y*t12 + s_hip_fl_y*trunk_r21
+    thigh_fl_r31 = c_hip_fl_y*trunk_r31 - s_hip_fl_y*t13
+    thigh_fl_r33 = c_hip_fl_y*t13 + s_hip_fl_y*trunk_r31
     # shank_fl
-    t35 = -leg_fl - 0.41
-    t36 = t18 + t30*t35
-    t37 = t20 + t32*t35
-    t38 = t22 + t34*t35
+    t14 = -leg_fl - 0.41
+    shank_fl_x = thigh_fl_x + thigh_fl_r13*t14
+    shank_fl_y = thigh_fl_y + thigh_fl_r23*t14
+    shank_fl_z = thigh_fl_z + thigh_fl_r33*t14
     # thigh_fr
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t39 = t17 - 0.12*t7
-    t40 = -0.12*t11 + t19
-    t41 = -0.12*t15 + t21
-    t42 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t43 = c_hip_fr_x*t9 - s_hip_fr_x*t7
-    t44 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t45 = c_hip_fr_x*t13 - s_hip_fr_x*t11
-    t46 = c_hip_fr_x*t15 + s_hip_fr_x*t16
-    t47 = c_hip_fr_x*t16 - s_hip_fr_x*t15
-    t48 = c_hip_fr_y*t5 - s_hip_fr_y*t43
-    t49 = c_hip_fr_y*t43 + s_hip_fr_y*t5
-    t50 = c_hip_fr_y*t10 - s_hip_fr_y*t45
-    t51 = c_hip_fr_y*t45 + s_hip_fr_y*t10
-    t52 = c_hip_fr_y*t14 - s_hip_fr_y*t47
-    t53 = c_hip_fr_y*t47 + s_hip_fr_y*t14
+    thigh_fr_x = t8 - 0.12*trunk_r12
+    thigh_fr_y = -0.12*trunk_r22 + t9
+    thigh_fr_z = -0.12*trunk_r32 + t10
+    thigh_fr_r12 = c_hip_fr_x*trunk_r12 + s_hip_fr_x*trunk_r13
+    t15 = c_hip_fr_x*trunk_r13 - s_hip_fr_x*trunk_r12
+    thigh_fr_r22 = c_hip_fr_x*trunk_r22 + s_hip_fr_x*trunk_r23
+    t16 = c_hip_fr_x*trunk_r23 - s_hip_fr_x*trunk_r22
+    thigh_fr_r32 = c_hip_fr_x*trunk_r32 + s_hip_fr_x*trunk_r33
+    t17 = c_hip_fr_x*trunk_r33 - s_hip_fr_x*trunk_r32
+    thigh_fr_r11 = c_hip_fr_y*trunk_r11 - s_hip_fr_y*t15
+    thigh_fr_r13 = c_hip_fr_y*t15 + s_hip_fr_y*trunk_r11
+    thigh_fr_r21 = c_hip_fr_y*trunk_r21 - s_hip_fr_y*t16
+    thigh_fr_r23 = c_hip_fr_y*t16 + s_hip_fr_y*trunk_r21
+    thigh_fr_r31 = c_hip_fr_y*trunk_r31 - s_hip_fr_y*t17
+    thigh_fr_r33 = c_hip_fr_y*t17 + s_hip_fr_y*trunk_r31
     # shank_fr
-    t54 = -leg_fr - 0.41
-    t55 = t39 + t49*t54
-    t56 = t40 + t51*t54
-    t57 = t41 + t53*t54
+    t18 = -leg_fr - 0.41
+    shank_fr_x = thigh_fr_x + thigh_fr_r13*t18
+    shank_fr_y = thigh_fr_y + thigh_fr_r23*t18
+    shank_fr_z = thigh_fr_z + thigh_fr_r33*t18
     # thigh_rl
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t58 = -0.39*t5 + 0.12*t7 + x
-    t59 = -0.39*t10 + 0.12*t11 + y
-    t60 = -0.39*t14 + 0.12*t15 + z
-    t61 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t62 = c_hip_rl_x*t9 - s_hip_rl_x*t7
-    t63 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t64 = c_hip_rl_x*t13 - s_hip_rl_x*t11
-    t65 = c_hip_rl_x*t15 + s_hip_rl_x*t16
-    t66 = c_hip_rl_x*t16 - s_hip_rl_x*t15
-    t67 = c_hip_rl_y*t5 - s_hip_rl_y*t62
-    t68 = c_hip_rl_y*t62 + s_hip_rl_y*t5
-    t69 = c_hip_rl_y*t10 - s_hip_rl_y*t64
-    t70 = c_hip_rl_y*t64 + s_hip_rl_y*t10
-    t71 = c_hip_rl_y*t14 - s_hip_rl_y*t66
-    t72 = c_hip_rl_y*t66 + s_hip_rl_y*t14
+    thigh_rl_x = -0.39*trunk_r11 + 0.12*trunk_r12 + x
+    thigh_rl_y = -0.39*trunk_r21 + 0.12*trunk_r22 + y
+    thigh_rl_z = -0.39*trunk_r31 + 0.12*trunk_r32 + z
+    thigh_rl_r12 = c_hip_rl_x*trunk_r12 + s_hip_rl_x*trunk_r13
+    t19 = c_hip_rl_x*trunk_r13 - s_hip_rl_x*trunk_r12
+    thigh_rl_r22 = c_hip_rl_x*trunk_r22 + s_hip_rl_x*trunk_r23
+    t20 = c_hip_rl_x*trunk_r23 - s_hip_rl_x*trunk_r22
+    thigh_rl_r32 = c_hip_rl_x*trunk_r32 + s_hip_rl_x*trunk_r33
+    t21 = c_hip_rl_x*trunk_r33 - s_hip_rl_x*trunk_r32
+    thigh_rl_r11 = c_hip_rl_y*trunk_r11 - s_hip_rl_y*t19
+    thigh_rl_r13 = c_hip_rl_y*t19 + s_hip_rl_y*trunk_r11
+    thigh_rl_r21 = c_hip_rl_y*trunk_r21 - s_hip_rl_y*t20
+    thigh_rl_r23 = c_hip_rl_y*t20 + s_hip_rl_y*trunk_r21
+    thigh_rl_r31 = c_hip_rl_y*trunk_r31 - s_hip_rl_y*t21
+    thigh_rl_r33 = c_hip_rl_y*t21 + s_hip_rl_y*trunk_r31
     # shank_rl
-    t73 = -leg_rl - 0.41
-    t74 = t58 + t68*t73
-    t75 = t59 + t70*t73
-    t76 = t60 + t72*t73
+    t22 = -leg_rl - 0.41
+    shank_rl_x = thigh_rl_x + thigh_rl_r13*t22
+    shank_rl_y = thigh_rl_y + thigh_rl_r23*t22
+    shank_rl_z = thigh_rl_z + thigh_rl_r33*t22
     # thigh_rr
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t77 = -0.39*t5 - 0.12*t7 + x
-    t78 = -0.39*t10 - 0.12*t11 + y
-    t79 = -0.39*t14 - 0.12*t15 + z
-    t80 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t81 = c_hip_rr_x*t9 - s_hip_rr_x*t7
-    t82 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t83 = c_hip_rr_x*t13 - s_hip_rr_x*t11
-    t84 = c_hip_rr_x*t15 + s_hip_rr_x*t16
-    t85 = c_hip_rr_x*t16 - s_hip_rr_x*t15
-    t86 = c_hip_rr_y*t5 - s_hip_rr_y*t81
-    t87 = c_hip_rr_y*t81 + s_hip_rr_y*t5
-    t88 = c_hip_rr_y*t10 - s_hip_rr_y*t83
-    t89 = c_hip_rr_y*t83 + s_hip_rr_y*t10
-    t90 = c_hip_rr_y*t14 - s_hip_rr_y*t85
-    t91 = c_hip_rr_y*t85 + s_hip_rr_y*t14
+    thigh_rr_x = -0.39*trunk_r11 - 0.12*trunk_r12 + x
+    thigh_rr_y = -0.39*trunk_r21 - 0.12*trunk_r22 + y
+    thigh_rr_z = -0.39*trunk_r31 - 0.12*trunk_r32 + z
+    thigh_rr_r12 = c_hip_rr_x*trunk_r12 + s_hip_rr_x*trunk_r13
+    t23 = c_hip_rr_x*trunk_r13 - s_hip_rr_x*trunk_r12
+    thigh_rr_r22 = c_hip_rr_x*trunk_r22 + s_hip_rr_x*trunk_r23
+    t24 = c_hip_rr_x*trunk_r23 - s_hip_rr_x*trunk_r22
+    thigh_rr_r32 = c_hip_rr_x*trunk_r32 + s_hip_rr_x*trunk_r33
+    t25 = c_hip_rr_x*trunk_r33 - s_hip_rr_x*trunk_r32
+    thigh_rr_r11 = c_hip_rr_y*trunk_r11 - s_hip_rr_y*t23
+    thigh_rr_r13 = c_hip_rr_y*t23 + s_hip_rr_y*trunk_r11
+    thigh_rr_r21 = c_hip_rr_y*trunk_r21 - s_hip_rr_y*t24
+    thigh_rr_r23 = c_hip_rr_y*t24 + s_hip_rr_y*trunk_r21
+    thigh_rr_r31 = c_hip_rr_y*trunk_r31 - s_hip_rr_y*t25
+    thigh_rr_r33 = c_hip_rr_y*t25 + s_hip_rr_y*trunk_r31
     # shank_rr
-    t92 = -leg_rr - 0.41
-    t93 = t77 + t87*t92
-    t94 = t78 + t89*t92
-    t95 = t79 + t91*t92
+    t26 = -leg_rr - 0.41
+    shank_rr_x = thigh_rr_x + thigh_rr_r13*t26
+    shank_rr_y = thigh_rr_y + thigh_rr_r23*t26
+    shank_rr_z = thigh_rr_z + thigh_rr_r33*t26
     return [
-        ((x, y, z), (t5, t7, t9, t10, t11, t13, t14, t15, t16)),
-        ((t18, t20, t22), (t29, t23, t30, t31, t25, t32, t33, t27, t34)),
-        ((t36, t37, t38), (t29, t23, t30, t31, t25, t32, t33, t27, t34)),
-        ((t39, t40, t41), (t48, t42, t49, t50, t44, t51, t52, t46, t53)),
-        ((t55, t56, t57), (t48, t42, t49, t50, t44, t51, t52, t46, t53)),
-        ((t58, t59, t60), (t67, t61, t68, t69, t63, t70, t71, t65, t72)),
-        ((t74, t75, t76), (t67, t61, t68, t69, t63, t70, t71, t65, t72)),
-        ((t77, t78, t79), (t86, t80, t87, t88, t82, t89, t90, t84, t91)),
-        ((t93, t94, t95), (t86, t80, t87, t88, t82, t89, t90, t84, t91)),
+        (
+            (x, y, z),
+            (
+                trunk_r11,
+                trunk_r12,
+                trunk_r13,
+                trunk_r21,
+                trunk_r22,
+                trunk_r23,
+                trunk_r31,
+                trunk_r32,
+                trunk_r33,
+            ),
+        ),
+        (
+            (thigh_fl_x, thigh_fl_y, thigh_fl_z),
+            (
+                thigh_fl_r11,
+                thigh_fl_r12,
+                thigh_fl_r13,
+                thigh_fl_r21,
+                thigh_fl_r22,
+                thigh_fl_r23,
+                thigh_fl_r31,
+                thigh_fl_r32,
+                thigh_fl_r33,
+            ),
+        ),
+        (
+            (shank_fl_x, shank_fl_y, shank_fl_z),
+            (
+                thigh_fl_r11,
+                thigh_fl_r12,
+                thigh_fl_r13,
+                thigh_fl_r21,
+                thigh_fl_r22,
+                thigh_fl_r23,
+                thigh_fl_r31,
+                thigh_fl_r32,
+                thigh_fl_r33,
+            ),
+        ),
+        (
+            (thigh_fr_x, thigh_fr_y, thigh_fr_z),
+            (
+                thigh_fr_r11,
+                thigh_fr_r12,
+                thigh_fr_r13,
+                thigh_fr_r21,
+                thigh_fr_r22,
+                thigh_fr_r23,
+                thigh_fr_r31,
+                thigh_fr_r32,
+                thigh_fr_r33,
+            ),
+        ),
+        (
+            (shank_fr_x, shank_fr_y, shank_fr_z),
+            (
+                thigh_fr_r11,
+                thigh_fr_r12,
+                thigh_fr_r13,
+                thigh_fr_r21,
+                thigh_fr_r22,
+                thigh_fr_r23,
+                thigh_fr_r31,
+                thigh_fr_r32,
+                thigh_fr_r33,
+            ),
+        ),
+        (
+            (thigh_rl_x, thigh_rl_y, thigh_rl_z),
+            (
+                thigh_rl_r11,
+                thigh_rl_r12,
+                thigh_rl_r13,
+                thigh_rl_r21,
+                thigh_rl_r22,
+                thigh_rl_r23,
+                thigh_rl_r31,
+                thigh_rl_r32,
+                thigh_rl_r33,
+            ),
+        ),
+        (
+            (shank_rl_x, shank_rl_y, shank_rl_z),
+            (
+                thigh_rl_r11,
+                thigh_rl_r12,
+                thigh_rl_r13,
+                thigh_rl_r21,
+                thigh_rl_r22,
+                thigh_rl_r23,
+                thigh_rl_r31,
+                thigh_rl_r32,
+                thigh_rl_r33,
+            ),
+        ),
+        (
+            (thigh_rr_x, thigh_rr_y, thigh_rr_z),
+            (
+                thigh_rr_r11,
+                thigh_rr_r12,
+                thigh_rr_r13,
+                thigh_rr_r21,
+                thigh_rr_r22,
+                thigh_rr_r23,
+                thigh_rr_r31,
+                thigh_rr_r32,
+                thigh_rr_r33,
+            ),
+        ),
+        (
+            (shank_rr_x, shank_rr_y, shank_rr_z),
+            (
+                thigh_rr_r11,
+                thigh_rr_r12,
+                thigh_rr_r13,
+                thigh_rr_r21,
+                thigh_rr_r22,
+                thigh_rr_r23,
+                thigh_rr_r31,
+                thigh_rr_r32,
+                thigh_rr_r33,
+            ),
+        ),
     ]
 
 
@@ -3520,278 +3637,278 @@ def body_velocities(q, v):
     t14 = qscale*(qx*qz - t8)
     t15 = qscale*(qy*qz + t12)
     t16 = -qscale*(t1 + t2) + 1.0
-    t17 = t5*wx + t7*wy + t9*wz
-    t18 = t10*wx + t11*wy + t13*wz
-    t19 = t14*wx + t15*wy + t16*wz
+    trunk_wx = t5*wx + t7*wy + t9*wz
+    trunk_wy = t10*wx + t11*wy + t13*wz
+    trunk_wz = t14*wx + t15*wy + t16*wz
     # thigh_fl
     c_hip_fl_y = math.cos(hip_fl_y)
     s_hip_fl_y = math.sin(hip_fl_y)
     c_hip_fl_x = math.cos(hip_fl_x)
     s_hip_fl_x = math.sin(hip_fl_x)
-    t20 = 0.39*t5 + x
-    t21 = t20 + 0.12*t7
-    t22 = 0.39*t10 + y
-    t23 = 0.12*t11 + t22
-    t24 = 0.39*t14 + z
-    t25 = 0.12*t15 + t24
-    t26 = c_hip_fl_x*t7 + s_hip_fl_x*t9
-    t27 = c_hip_fl_x*t9 - s_hip_fl_x*t7
-    t28 = c_hip_fl_x*t11 + s_hip_fl_x*t13
-    t29 = c_hip_fl_x*t13 - s_hip_fl_x*t11
-    t30 = c_hip_fl_x*t15 + s_hip_fl_x*t16
-    t31 = c_hip_fl_x*t16 - s_hip_fl_x*t15
-    t32 = c_hip_fl_y*t27 + s_hip_fl_y*t5
-    t33 = c_hip_fl_y*t29 + s_hip_fl_y*t10
-    t34 = c_hip_fl_y*t31 + s_hip_fl_y*t14
-    t35 = t21 - x
-    t36 = t23 - y
-    t37 = t25 - z
-    t38 = t10*t37 - t14*t36
-    t39 = t14*t35 - t37*t5
-    t40 = -t10*t35 + t36*t5
-    t41 = t11*t37 - t15*t36
-    t42 = t15*t35 - t37*t7
-    t43 = -t11*t35 + t36*t7
-    t44 = t13*t37 - t16*t36
-    t45 = t16*t35 - t37*t9
-    t46 = -t13*t35 + t36*t9
-    t47 = t38*wx + t41*wy + t44*wz + vx
-    t48 = t39*wx + t42*wy + t45*wz + vy
-    t49 = t40*wx + t43*wy + t46*wz + vz
-    t50 = qd_hip_fl_x*t5 + qd_hip_fl_y*t26 + t17
-    t51 = qd_hip_fl_x*t10 + qd_hip_fl_y*t28 + t18
-    t52 = qd_hip_fl_x*t14 + qd_hip_fl_y*t30 + t19
+    t17 = 0.39*t5 + x
+    t18 = t17 + 0.12*t7
+    t19 = 0.39*t10 + y
+    t20 = 0.12*t11 + t19
+    t21 = 0.39*t14 + z
+    t22 = 0.12*t15 + t21
+    t23 = c_hip_fl_x*t7 + s_hip_fl_x*t9
+    t24 = c_hip_fl_x*t9 - s_hip_fl_x*t7
+    t25 = c_hip_fl_x*t11 + s_hip_fl_x*t13
+    t26 = c_hip_fl_x*t13 - s_hip_fl_x*t11
+    t27 = c_hip_fl_x*t15 + s_hip_fl_x*t16
+    t28 = c_hip_fl_x*t16 - s_hip_fl_x*t15
+    t29 = c_hip_fl_y*t24 + s_hip_fl_y*t5
+    t30 = c_hip_fl_y*t26 + s_hip_fl_y*t10
+    t31 = c_hip_fl_y*t28 + s_hip_fl_y*t14
+    t32 = t18 - x
+    t33 = t20 - y
+    t34 = t22 - z
+    t35 = t10*t34 - t14*t33
+    t36 = t14*t32 - t34*t5
+    t37 = -t10*t32 + t33*t5
+    t38 = t11*t34 - t15*t33
+    t39 = t15*t32 - t34*t7
+    t40 = -t11*t32 + t33*t7
+    t41 = t13*t34 - t16*t33
+    t42 = t16*t32 - t34*t9
+    t43 = -t13*t32 + t33*t9
+    thigh_fl_vx = t35*wx + t38*wy + t41*wz + vx
+    thigh_fl_vy = t36*wx + t39*wy + t42*wz + vy
+    thigh_fl_vz = t37*wx + t40*wy + t43*wz + vz
+    thigh_fl_wx = qd_hip_fl_x*t5 + qd_hip_fl_y*t23 + trunk_wx
+    thigh_fl_wy = qd_hip_fl_x*t10 + qd_hip_fl_y*t25 + trunk_wy
+    thigh_fl_wz = qd_hip_fl_x*t14 + qd_hip_fl_y*t27 + trunk_wz
     # shank_fl
-    t53 = -leg_fl - 0.41
-    t54 = t21 + t32*t53
-    t55 = t23 + t33*t53
-    t56 = t25 + t34*t53
-    t57 = -t21 + t54
-    t58 = -t23 + t55
-    t59 = -t25 + t56
-    t60 = t28*t59 - t30*t58
-    t61 = -t26*t59 + t30*t57
-    t62 = t26*t58 - t28*t57
-    t63 = t10*t59 - t14*t58
-    t64 = t14*t57 - t5*t59
-    t65 = -t10*t57 + t5*t58
-    t66 = t54 - x
-    t67 = t55 - y
-    t68 = t56 - z
-    t69 = t10*t68 - t14*t67
-    t70 = t14*t66 - t5*t68
-    t71 = -t10*t66 + t5*t67
-    t72 = t11*t68 - t15*t67
-    t73 = t15*t66 - t68*t7
-    t74 = -t11*t66 + t67*t7
-    t75 = t13*t68 - t16*t67
-    t76 = t16*t66 - t68*t9
-    t77 = -t13*t66 + t67*t9
-    t78 = qd_hip_fl_x*t63 + qd_hip_fl_y*t60 - qd_leg_fl*t32 + t69*wx + t72*wy + t75*wz + vx
-    t79 = qd_hip_fl_x*t64 + qd_hip_fl_y*t61 - qd_leg_fl*t33 + t70*wx + t73*wy + t76*wz + vy
-    t80 = qd_hip_fl_x*t65 + qd_hip_fl_y*t62 - qd_leg_fl*t34 + t71*wx + t74*wy + t77*wz + vz
+    t44 = -leg_fl - 0.41
+    t45 = t18 + t29*t44
+    t46 = t20 + t30*t44
+    t47 = t22 + t31*t44
+    t48 = -t18 + t45
+    t49 = -t20 + t46
+    t50 = -t22 + t47
+    t51 = t25*t50 - t27*t49
+    t52 = -t23*t50 + t27*t48
+    t53 = t23*t49 - t25*t48
+    t54 = t10*t50 - t14*t49
+    t55 = t14*t48 - t5*t50
+    t56 = -t10*t48 + t5*t49
+    t57 = t45 - x
+    t58 = t46 - y
+    t59 = t47 - z
+    t60 = t10*t59 - t14*t58
+    t61 = t14*t57 - t5*t59
+    t62 = -t10*t57 + t5*t58
+    t63 = t11*t59 - t15*t58
+    t64 = t15*t57 - t59*t7
+    t65 = -t11*t57 + t58*t7
+    t66 = t13*t59 - t16*t58
+    t67 = t16*t57 - t59*t9
+    t68 = -t13*t57 + t58*t9
+    shank_fl_vx = qd_hip_fl_x*t54 + qd_hip_fl_y*t51 - qd_leg_fl*t29 + t60*wx + t63*wy + t66*wz + vx
+    shank_fl_vy = qd_hip_fl_x*t55 + qd_hip_fl_y*t52 - qd_leg_fl*t30 + t61*wx + t64*wy + t67*wz + vy
+    shank_fl_vz = qd_hip_fl_x*t56 + qd_hip_fl_y*t53 - qd_leg_fl*t31 + t62*wx + t65*wy + t68*wz + vz
     # thigh_fr
     c_hip_fr_y = math.cos(hip_fr_y)
     s_hip_fr_y = math.sin(hip_fr_y)
     c_hip_fr_x = math.cos(hip_fr_x)
     s_hip_fr_x = math.sin(hip_fr_x)
-    t81 = t20 - 0.12*t7
-    t82 = -0.12*t11 + t22
-    t83 = -0.12*t15 + t24
-    t84 = c_hip_fr_x*t7 + s_hip_fr_x*t9
-    t85 = c_hip_fr_x*t9 - s_hip_fr_x*t7
-    t86 = c_hip_fr_x*t11 + s_hip_fr_x*t13
-    t87 = c_hip_fr_x*t13 - s_hip_fr_x*t11
-    t88 = c_hip_fr_x*t15 + s_hip_fr_x*t16
-    t89 = c_hip_fr_x*t16 - s_hip_fr_x*t15
-    t90 = c_hip_fr_y*t85 + s_hip_fr_y*t5
-    t91 = c_hip_fr_y*t87 + s_hip_fr_y*t10
-    t92 = c_hip_fr_y*t89 + s_hip_fr_y*t14
-    t93 = t81 - x
-    t94 = t82 - y
-    t95 = t83 - z
-    t96 = t10*t95 - t14*t94
-    t97 = t14*t93 - t5*t95
-    t98 = -t10*t93 + t5*t94
-    t99 = t11*t95 - t15*t94
-    t100 = t15*t93 - t7*t95
-    t101 = -t11*t93 + t7*t94
-    t102 = t13*t95 - t16*t94
-    t103 = t16*t93 - t9*t95
-    t104 = -t13*t93 + t9*t94
-    t105 = t102*wz + t96*wx + t99*wy + vx
-    t106 = t100*wy + t103*wz + t97*wx + vy
-    t107 = t101*wy + t104*wz + t98*wx + vz
-    t108 = qd_hip_fr_x*t5 + qd_hip_fr_y*t84 + t17
-    t109 = qd_hip_fr_x*t10 + qd_hip_fr_y*t86 + t18
-    t110 = qd_hip_fr_x*t14 + qd_hip_fr_y*t88 + t19
+    t69 = t17 - 0.12*t7
+    t70 = -0.12*t11 + t19
+    t71 = -0.12*t15 + t21
+    t72 = c_hip_fr_x*t7 + s_hip_fr_x*t9
+    t73 = c_hip_fr_x*t9 - s_hip_fr_x*t7
+    t74 = c_hip_fr_x*t11 + s_hip_fr_x*t13
+    t75 = c_hip_fr_x*t13 - s_hip_fr_x*t11
+    t76 = c_hip_fr_x*t15 + s_hip_fr_x*t16
+    t77 = c_hip_fr_x*t16 - s_hip_fr_x*t15
+    t78 = c_hip_fr_y*t73 + s_hip_fr_y*t5
+    t79 = c_hip_fr_y*t75 + s_hip_fr_y*t10
+    t80 = c_hip_fr_y*t77 + s_hip_fr_y*t14
+    t81 = t69 - x
+    t82 = t70 - y
+    t83 = t71 - z
+    t84 = t10*t83 - t14*t82
+    t85 = t14*t81 - t5*t83
+    t86 = -t10*t81 + t5*t82
+    t87 = t11*t83 - t15*t82
+    t88 = t15*t81 - t7*t83
+    t89 = -t11*t81 + t7*t82
+    t90 = t13*t83 - t16*t82
+    t91 = t16*t81 - t9*t83
+    t92 = -t13*t81 + t9*t82
+    thigh_fr_vx = t90*wz + t84*wx + t87*wy + vx
+    thigh_fr_vy = t88*wy + t91*wz + t85*wx + vy
+    thigh_fr_vz = t89*wy + t92*wz + t86*wx + vz
+    thigh_fr_wx = qd_hip_fr_x*t5 + qd_hip_fr_y*t72 + trunk_wx
+    thigh_fr_wy = qd_hip_fr_x*t10 + qd_hip_fr_y*t74 + trunk_wy
+    thigh_fr_wz = qd_hip_fr_x*t14 + qd_hip_fr_y*t76 + trunk_wz
     # shank_fr
-    t111 = -leg_fr - 0.41
-    t112 = t111*t90 + t81
-    t113 = t111*t91 + t82
-    t114 = t111*t92 + t83
-    t115 = t112 - t81
-    t116 = t113 - t82
-    t117 = t114 - t83
-    t118 = -t116*t88 + t117*t86
-    t119 = t115*t88 - t117*t84
-    t120 = -t115*t86 + t116*t84
-    t121 = t10*t117 - t116*t14
-    t122 = t115*t14 - t117*t5
-    t123 = -t10*t115 + t116*t5
-    t124 = t112 - x
-    t125 = t113 - y
-    t126 = t114 - z
-    t127 = t10*t126 - t125*t14
-    t128 = t124*t14 - t126*t5
-    t129 = -t10*t124 + t125*t5
-    t130 = t11*t126 - t125*t15
-    t131 = t124*t15 - t126*t7
-    t132 = -t11*t124 + t125*t7
-    t133 = -t125*t16 + t126*t13
-    t134 = t124*t16 - t126*t9
-    t135 = -t124*t13 + t125*t9
-    t136 = qd_hip_fr_x*t121 + qd_hip_fr_y*t118 - qd_leg_fr*t90 + t127*wx + t130*wy + t133*wz + vx
-    t137 = qd_hip_fr_x*t122 + qd_hip_fr_y*t119 - qd_leg_fr*t91 + t128*wx + t131*wy + t134*wz + vy
-    t138 = qd_hip_fr_x*t123 + qd_hip_fr_y*t120 - qd_leg_fr*t92 + t129*wx + t132*wy + t135*wz + vz
+    t93 = -leg_fr - 0.41
+    t94 = t93*t78 + t69
+    t95 = t93*t79 + t70
+    t96 = t93*t80 + t71
+    t97 = t94 - t69
+    t98 = t95 - t70
+    t99 = t96 - t71
+    t100 = -t98*t76 + t99*t74
+    t101 = t97*t76 - t99*t72
+    t102 = -t97*t74 + t98*t72
+    t103 = t10*t99 - t98*t14
+    t104 = t97*t14 - t99*t5
+    t105 = -t10*t97 + t98*t5
+    t106 = t94 - x
+    t107 = t95 - y
+    t108 = t96 - z
+    t109 = t10*t108 - t107*t14
+    t110 = t106*t14 - t108*t5
+    t111 = -t10*t106 + t107*t5
+    t112 = t11*t108 - t107*t15
+    t113 = t106*t15 - t108*t7
+    t114 = -t11*t106 + t107*t7
+    t115 = -t107*t16 + t108*t13
+    t116 = t106*t16 - t108*t9
+    t117 = -t106*t13 + t107*t9
+    shank_fr_vx = qd_hip_fr_x*t103 + qd_hip_fr_y*t100 - qd_leg_fr*t78 + t109*wx + t112*wy + t115*wz + vx
+    shank_fr_vy = qd_hip_fr_x*t104 + qd_hip_fr_y*t101 - qd_leg_fr*t79 + t110*wx + t113*wy + t116*wz + vy
+    shank_fr_vz = qd_hip_fr_x*t105 + qd_hip_fr_y*t102 - qd_leg_fr*t80 + t111*wx + t114*wy + t117*wz + vz
     # thigh_rl
     c_hip_rl_y = math.cos(hip_rl_y)
     s_hip_rl_y = math.sin(hip_rl_y)
     c_hip_rl_x = math.cos(hip_rl_x)
     s_hip_rl_x = math.sin(hip_rl_x)
-    t139 = -0.39*t5 + 0.12*t7 + x
-    t140 = -0.39*t10 + 0.12*t11 + y
-    t141 = -0.39*t14 + 0.12*t15 + z
-    t142 = c_hip_rl_x*t7 + s_hip_rl_x*t9
-    t143 = c_hip_rl_x*t9 - s_hip_rl_x*t7
-    t144 = c_hip_rl_x*t11 + s_hip_rl_x*t13
-    t145 = c_hip_rl_x*t13 - s_hip_rl_x*t11
-    t146 = c_hip_rl_x*t15 + s_hip_rl_x*t16
-    t147 = c_hip_rl_x*t16 - s_hip_rl_x*t15
-    t148 = c_hip_rl_y*t143 + s_hip_rl_y*t5
-    t149 = c_hip_rl_y*t145 + s_hip_rl_y*t10
-    t150 = c_hip_rl_y*t147 + s_hip_rl_y*t14
-    t151 = t139 - x
-    t152 = t140 - y
-    t153 = t141 - z
-    t154 = t10*t153 - t14*t152
-    t155 = t14*t151 - t153*t5
-    t156 = -t10*t151 + t152*t5
-    t157 = t11*t153 - t15*t152
-    t158 = t15*t151 - t153*t7
-    t159 = -t11*t151 + t152*t7
-    t160 = t13*t153 - t152*t16
-    t161 = t151*t16 - t153*t9
-    t162 = -t13*t151 + t152*t9
-    t163 = t154*wx + t157*wy + t160*wz + vx
-    t164 = t155*wx + t158*wy + t161*wz + vy
-    t165 = t156*wx + t159*wy + t162*wz + vz
-    t166 = qd_hip_rl_x*t5 + qd_hip_rl_y*t142 + t17
-    t167 = qd_hip_rl_x*t10 + qd_hip_rl_y*t144 + t18
-    t168 = qd_hip_rl_x*t14 + qd_hip_rl_y*t146 + t19
+    t118 = -0.39*t5 + 0.12*t7 + x
+    t119 = -0.39*t10 + 0.12*t11 + y
+    t120 = -0.39*t14 + 0.12*t15 + z
+    t121 = c_hip_rl_x*t7 + s_hip_rl_x*t9
+    t122 = c_hip_rl_x*t9 - s_hip_rl_x*t7
+    t123 = c_hip_rl_x*t11 + s_hip_rl_x*t13
+    t124 = c_hip_rl_x*t13 - s_hip_rl_x*t11
+    t125 = c_hip_rl_x*t15 + s_hip_rl_x*t16
+    t126 = c_hip_rl_x*t16 - s_hip_rl_x*t15
+    t127 = c_hip_rl_y*t122 + s_hip_rl_y*t5
+    t128 = c_hip_rl_y*t124 + s_hip_rl_y*t10
+    t129 = c_hip_rl_y*t126 + s_hip_rl_y*t14
+    t130 = t118 - x
+    t131 = t119 - y
+    t132 = t120 - z
+    t133 = t10*t132 - t14*t131
+    t134 = t14*t130 - t132*t5
+    t135 = -t10*t130 + t131*t5
+    t136 = t11*t132 - t15*t131
+    t137 = t15*t130 - t132*t7
+    t138 = -t11*t130 + t131*t7
+    t139 = t13*t132 - t131*t16
+    t140 = t130*t16 - t132*t9
+    t141 = -t13*t130 + t131*t9
+    thigh_rl_vx = t133*wx + t136*wy + t139*wz + vx
+    thigh_rl_vy = t134*wx + t137*wy + t140*wz + vy
+    thigh_rl_vz = t135*wx + t138*wy + t141*wz + vz
+    thigh_rl_wx = qd_hip_rl_x*t5 + qd_hip_rl_y*t121 + trunk_wx
+    thigh_rl_wy = qd_hip_rl_x*t10 + qd_hip_rl_y*t123 + trunk_wy
+    thigh_rl_wz = qd_hip_rl_x*t14 + qd_hip_rl_y*t125 + trunk_wz
     # shank_rl
-    t169 = -leg_rl - 0.41
-    t170 = t139 + t148*t169
-    t171 = t140 + t149*t169
-    t172 = t141 + t150*t169
-    t173 = -t139 + t170
-    t174 = -t140 + t171
-    t175 = -t141 + t172
-    t176 = t144*t175 - t146*t174
-    t177 = -t142*t175 + t146*t173
-    t178 = t142*t174 - t144*t173
-    t179 = t10*t175 - t14*t174
-    t180 = t14*t173 - t175*t5
-    t181 = -t10*t173 + t174*t5
-    t182 = t170 - x
-    t183 = t171 - y
-    t184 = t172 - z
-    t185 = t10*t184 - t14*t183
-    t186 = t14*t182 - t184*t5
-    t187 = -t10*t182 + t183*t5
-    t188 = t11*t184 - t15*t183
-    t189 = t15*t182 - t184*t7
-    t190 = -t11*t182 + t183*t7
-    t191 = t13*t184 - t16*t183
-    t192 = t16*t182 - t184*t9
-    t193 = -t13*t182 + t183*t9
-    t194 = qd_hip_rl_x*t179 + qd_hip_rl_y*t176 - qd_leg_rl*t148 + t185*wx + t188*wy + t191*wz + vx
-    t195 = qd_hip_rl_x*t180 + qd_hip_rl_y*t177 - qd_leg_rl*t149 + t186*wx + t189*wy + t192*wz + vy
-    t196 = qd_hip_rl_x*t181 + qd_hip_rl_y*t178 - qd_leg_rl*t150 + t187*wx + t190*wy + t193*wz + vz
+    t142 = -leg_rl - 0.41
+    t143 = t118 + t127*t142
+    t144 = t119 + t128*t142
+    t145 = t120 + t129*t142
+    t146 = -t118 + t143
+    t147 = -t119 + t144
+    t148 = -t120 + t145
+    t149 = t123*t148 - t125*t147
+    t150 = -t121*t148 + t125*t146
+    t151 = t121*t147 - t123*t146
+    t152 = t10*t148 - t14*t147
+    t153 = t14*t146 - t148*t5
+    t154 = -t10*t146 + t147*t5
+    t155 = t143 - x
+    t156 = t144 - y
+    t157 = t145 - z
+    t158 = t10*t157 - t14*t156
+    t159 = t14*t155 - t157*t5
+    t160 = -t10*t155 + t156*t5
+    t161 = t11*t157 - t15*t156
+    t162 = t15*t155 - t157*t7
+    t163 = -t11*t155 + t156*t7
+    t164 = t13*t157 - t16*t156
+    t165 = t16*t155 - t157*t9
+    t166 = -t13*t155 + t156*t9
+    shank_rl_vx = qd_hip_rl_x*t152 + qd_hip_rl_y*t149 - qd_leg_rl*t127 + t158*wx + t161*wy + t164*wz + vx
+    shank_rl_vy = qd_hip_rl_x*t153 + qd_hip_rl_y*t150 - qd_leg_rl*t128 + t159*wx + t162*wy + t165*wz + vy
+    shank_rl_vz = qd_hip_rl_x*t154 + qd_hip_rl_y*t151 - qd_leg_rl*t129 + t160*wx + t163*wy + t166*wz + vz
     # thigh_rr
     c_hip_rr_y = math.cos(hip_rr_y)
     s_hip_rr_y = math.sin(hip_rr_y)
     c_hip_rr_x = math.cos(hip_rr_x)
     s_hip_rr_x = math.sin(hip_rr_x)
-    t197 = -0.39*t5 - 0.12*t7 + x
-    t198 = -0.39*t10 - 0.12*t11 + y
-    t199 = -0.39*t14 - 0.12*t15 + z
-    t200 = c_hip_rr_x*t7 + s_hip_rr_x*t9
-    t201 = c_hip_rr_x*t9 - s_hip_rr_x*t7
-    t202 = c_hip_rr_x*t11 + s_hip_rr_x*t13
-    t203 = c_hip_rr_x*t13 - s_hip_rr_x*t11
-    t204 = c_hip_rr_x*t15 + s_hip_rr_x*t16
-    t205 = c_hip_rr_x*t16 - s_hip_rr_x*t15
-    t206 = c_hip_rr_y*t201 + s_hip_rr_y*t5
-    t207 = c_hip_rr_y*t203 + s_hip_rr_y*t10
-    t208 = c_hip_rr_y*t205 + s_hip_rr_y*t14
-    t209 = t197 - x
-    t210 = t198 - y
-    t211 = t199 - z
-    t212 = t10*t211 - t14*t210
-    t213 = t14*t209 - t211*t5
-    t214 = -t10*t209 + t210*t5
-    t215 = t11*t211 - t15*t210
-    t216 = t15*t209 - t211*t7
-    t217 = -t11*t209 + t210*t7
-    t218 = t13*t211 - t16*t210
-    t219 = t16*t209 - t211*t9
-    t220 = -t13*t209 + t210*t9
-    t221 = t212*wx + t215*wy + t218*wz + vx
-    t222 = t213*wx + t216*wy + t219*wz + vy
-    t223 = t214*wx + t217*wy + t220*wz + vz
-    t224 = qd_hip_rr_x*t5 + qd_hip_rr_y*t200 + t17
-    t225 = qd_hip_rr_x*t10 + qd_hip_rr_y*t202 + t18
-    t226 = qd_hip_rr_x*t14 + qd_hip_rr_y*t204 + t19
+    t167 = -0.39*t5 - 0.12*t7 + x
+    t168 = -0.39*t10 - 0.12*t11 + y
+    t169 = -0.39*t14 - 0.12*t15 + z
+    t170 = c_hip_rr_x*t7 + s_hip_rr_x*t9
+    t171 = c_hip_rr_x*t9 - s_hip_rr_x*t7
+    t172 = c_hip_rr_x*t11 + s_hip_rr_x*t13
+    t173 = c_hip_rr_x*t13 - s_hip_rr_x*t11
+    t174 = c_hip_rr_x*t15 + s_hip_rr_x*t16
+    t175 = c_hip_rr_x*t16 - s_hip_rr_x*t15
+    t176 = c_hip_rr_y*t171 + s_hip_rr_y*t5
+    t177 = c_hip_rr_y*t173 + s_hip_rr_y*t10
+    t178 = c_hip_rr_y*t175 + s_hip_rr_y*t14
+    t179 = t167 - x
+    t180 = t168 - y
+    t181 = t169 - z
+    t182 = t10*t181 - t14*t180
+    t183 = t14*t179 - t181*t5
+    t184 = -t10*t179 + t180*t5
+    t185 = t11*t181 - t15*t180
+    t186 = t15*t179 - t181*t7
+    t187 = -t11*t179 + t180*t7
+    t188 = t13*t181 - t16*t180
+    t189 = t16*t179 - t181*t9
+    t190 = -t13*t179 + t180*t9
+    thigh_rr_vx = t182*wx + t185*wy + t188*wz + vx
+    thigh_rr_vy = t183*wx + t186*wy + t189*wz + vy
+    thigh_rr_vz = t184*wx + t187*wy + t190*wz + vz
+    thigh_rr_wx = qd_hip_rr_x*t5 + qd_hip_rr_y*t170 + trunk_wx
+    thigh_rr_wy = qd_hip_rr_x*t10 + qd_hip_rr_y*t172 + trunk_wy
+    thigh_rr_wz = qd_hip_rr_x*t14 + qd_hip_rr_y*t174 + trunk_wz
     # shank_rr
-    t227 = -leg_rr - 0.41
-    t228 = t197 + t206*t227
-    t229 = t198 + t207*t227
-    t230 = t199 + t208*t227
-    t231 = -t197 + t228
-    t232 = -t198 + t229
-    t233 = -t199 + t230
-    t234 = t202*t233 - t204*t232
-    t235 = -t200*t233 + t204*t231
-    t236 = t200*t232 - t202*t231
-    t237 = t10*t233 - t14*t232
-    t238 = t14*t231 - t233*t5
-    t239 = -t10*t231 + t232*t5
-    t240 = t228 - x
-    t241 = t229 - y
-    t242 = t230 - z
-    t243 = t10*t242 - t14*t241
-    t244 = t14*t240 - t242*t5
-    t245 = -t10*t240 + t241*t5
-    t246 = t11*t242 - t15*t241
-    t247 = t15*t240 - t242*t7
-    t248 = -t11*t240 + t241*t7
-    t249 = t13*t242 - t16*t241
-    t250 = t16*t240 - t242*t9
-    t251 = -t13*t240 + t241*t9
-    t252 = qd_hip_rr_x*t237 + qd_hip_rr_y*t234 - qd_leg_rr*t206 + t243*wx + t246*wy + t249*wz + vx
-    t253 = qd_hip_rr_x*t238 + qd_hip_rr_y*t235 - qd_leg_rr*t207 + t244*wx + t247*wy + t250*wz + vy
-    t254 = qd_hip_rr_x*t239 + qd_hip_rr_y*t236 - qd_leg_rr*t208 + t245*wx + t248*wy + t251*wz + vz
+    t191 = -leg_rr - 0.41
+    t192 = t167 + t176*t191
+    t193 = t168 + t177*t191
+    t194 = t169 + t178*t191
+    t195 = -t167 + t192
+    t196 = -t168 + t193
+    t197 = -t169 + t194
+    t198 = t172*t197 - t174*t196
+    t199 = -t170*t197 + t174*t195
+    t200 = t170*t196 - t172*t195
+    t201 = t10*t197 - t14*t196
+    t202 = t14*t195 - t197*t5
+    t203 = -t10*t195 + t196*t5
+    t204 = t192 - x
+    t205 = t193 - y
+    t206 = t194 - z
+    t207 = t10*t206 - t14*t205
+    t208 = t14*t204 - t206*t5
+    t209 = -t10*t204 + t205*t5
+    t210 = t11*t206 - t15*t205
+    t211 = t15*t204 - t206*t7
+    t212 = -t11*t204 + t205*t7
+    t213 = t13*t206 - t16*t205
+    t214 = t16*t204 - t206*t9
+    t215 = -t13*t204 + t205*t9
+    shank_rr_vx = qd_hip_rr_x*t201 + qd_hip_rr_y*t198 - qd_leg_rr*t176 + t207*wx + t210*wy + t213*wz + vx
+    shank_rr_vy = qd_hip_rr_x*t202 + qd_hip_rr_y*t199 - qd_leg_rr*t177 + t208*wx + t211*wy + t214*wz + vy
+    shank_rr_vz = qd_hip_rr_x*t203 + qd_hip_rr_y*t200 - qd_leg_rr*t178 + t209*wx + t212*wy + t215*wz + vz
     return [
-        ((vx, vy, vz), (t17, t18, t19)),
-        ((t47, t48, t49), (t50, t51, t52)),
-        ((t78, t79, t80), (t50, t51, t52)),
-        ((t105, t106, t107), (t108, t109, t110)),
-        ((t136, t137, t138), (t108, t109, t110)),
-        ((t163, t164, t165), (t166, t167, t168)),
-        ((t194, t195, t196), (t166, t167, t168)),
-        ((t221, t222, t223), (t224, t225, t226)),
-        ((t252, t253, t254), (t224, t225, t226)),
+        ((vx, vy, vz), (trunk_wx, trunk_wy, trunk_wz)),
+        ((thigh_fl_vx, thigh_fl_vy, thigh_fl_vz), (thigh_fl_wx, thigh_fl_wy, thigh_fl_wz)),
+        ((shank_fl_vx, shank_fl_vy, shank_fl_vz), (thigh_fl_wx, thigh_fl_wy, thigh_fl_wz)),
+        ((thigh_fr_vx, thigh_fr_vy, thigh_fr_vz), (thigh_fr_wx, thigh_fr_wy, thigh_fr_wz)),
+        ((shank_fr_vx, shank_fr_vy, shank_fr_vz), (thigh_fr_wx, thigh_fr_wy, thigh_fr_wz)),
+        ((thigh_rl_vx, thigh_rl_vy, thigh_rl_vz), (thigh_rl_wx, thigh_rl_wy, thigh_rl_wz)),
+        ((shank_rl_vx, shank_rl_vy, shank_rl_vz), (thigh_rl_wx, thigh_rl_wy, thigh_rl_wz)),
+        ((thigh_rr_vx, thigh_rr_vy, thigh_rr_vz), (thigh_rr_wx, thigh_rr_wy, thigh_rr_wz)),
+        ((shank_rr_vx, shank_rr_vy, shank_rr_vz), (thigh_rr_wx, thigh_rr_wy, thigh_rr_wz)),
     ]
 
 
@@ -3937,11 +4054,10 @@ def center_of_mass(q):
     t93 = -0.2*t83 + t90
     t94 = -0.2*t84 + t91
     t95 = -0.2*t85 + t92
-    return (
-        0.07500000000000001*t29 + 0.05*t36 + 0.07500000000000001*t48 + 0.05*t55 + 0.07500000000000001*t67 + 0.05*t74 + 0.07500000000000001*t86 + 0.05*t93 + 0.5*x,
-        0.07500000000000001*t30 + 0.05*t37 + 0.07500000000000001*t49 + 0.05*t56 + 0.07500000000000001*t68 + 0.05*t75 + 0.07500000000000001*t87 + 0.05*t94 + 0.5*y,
-        0.07500000000000001*t31 + 0.05*t38 + 0.07500000000000001*t50 + 0.05*t57 + 0.07500000000000001*t69 + 0.05*t76 + 0.07500000000000001*t88 + 0.05*t95 + 0.5*z,
-    )
+    com_x = 0.07500000000000001*t29 + 0.05*t36 + 0.07500000000000001*t48 + 0.05*t55 + 0.07500000000000001*t67 + 0.05*t74 + 0.07500000000000001*t86 + 0.05*t93 + 0.5*x
+    com_y = 0.07500000000000001*t30 + 0.05*t37 + 0.07500000000000001*t49 + 0.05*t56 + 0.07500000000000001*t68 + 0.05*t75 + 0.07500000000000001*t87 + 0.05*t94 + 0.5*y
+    com_z = 0.07500000000000001*t31 + 0.05*t38 + 0.07500000000000001*t50 + 0.05*t57 + 0.07500000000000001*t69 + 0.05*t76 + 0.07500000000000001*t88 + 0.05*t95 + 0.5*z
+    return (com_x, com_y, com_z)
 
 
 def center_of_mass_velocity(q, v):

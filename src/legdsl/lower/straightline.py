@@ -9,14 +9,18 @@ small, constants stay folded, and the code grows linearly with the link tree.
 ``Block.finish`` then drops every assignment that no output needs, runs
 sympy's ``cse`` over what is left, and numbers the temporaries ``t1, t2, ...``
 in the order they are assigned, so the result does not depend on how many
-temporaries were made and thrown away, nor on the hash seed.
+temporaries were made and thrown away, nor on the hash seed. After that it
+only drops assignments and chooses printed names (``Program``): a value
+assigned twice is assigned once, the base of an unrolled power such as
+``min(a, b)**2`` gets a temporary, and the outputs get names such as
+``toe_x``. The sympy names stay, so that no sum or product changes order.
 """
 
 from __future__ import annotations
 
 import keyword
-from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass, field
 
 import sympy
 from sympy import Expr, Float, Integer, Rational, Symbol
@@ -37,6 +41,15 @@ def fold(expr: Expr) -> Expr:
     # fractions such as 1/2 print and run as floats
     numbers |= {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
     return expr.xreplace(numbers) if numbers else expr
+
+
+# Powers of a name up to this exponent print as products (x*x*x).
+UNROLLED_POWER = 4
+
+
+def is_unrolled_power(expr: Expr) -> bool:
+    """``x**2`` ... ``x**4`` and ``x**-2`` ... ``x**-4``: printed as products of the base."""
+    return bool(expr.is_Pow and expr.exp.is_Integer and 1 < abs(int(expr.exp)) <= UNROLLED_POWER)
 
 
 def is_cheap(expr: Expr) -> bool:
@@ -94,10 +107,23 @@ def python_name(wanted: str, taken: set[str]) -> str:
 
 @dataclass(frozen=True)
 class Program:
-    """A finished function body: statements, and the outputs in terms of their targets."""
+    """A finished function body: statements, and the outputs in terms of their targets.
+
+    Every symbol keeps its canonical name (``t1, t2, ...`` as numbered before
+    repeated values are merged, bases named and outputs named): sympy orders the
+    terms of a sum or product by symbol name, so these names fix the order in
+    which the printed code adds and multiplies, and so every rounding. ``names``
+    says what a symbol prints as instead. ``bases`` names the base of a power the
+    printer unrolls (``b = min(x, y)``, then ``b*b``).
+    """
 
     statements: tuple[Statement, ...]
     outputs: tuple[Expr, ...]
+    names: Mapping[Symbol, str] = field(default_factory=dict)
+    bases: Mapping[Expr, Symbol] = field(default_factory=dict)
+
+    def name(self, sym: Symbol) -> str:
+        return self.names.get(sym, sym.name)
 
 
 class Block:
@@ -139,25 +165,66 @@ class Block:
         known = self._known.get(expr)
         if known is not None:
             return known
-        self._count += 1
-        sym = Symbol(f"{TEMPORARY}{self._count}")  # numbered t1, t2, ... in finish()
+        sym = self._temporary()  # numbered t1, t2, ... in finish()
         self._statements.append(Assign(sym, expr))
         self._known[expr] = sym
         return sym
+
+    def _temporary(self) -> Symbol:
+        self._count += 1
+        return Symbol(f"{TEMPORARY}{self._count}")
 
     def note(self, text: str) -> None:
         """A comment before the statements that follow (dropped if all of them are dead)."""
         self._statements.append(Comment(text))
 
-    def finish(self, outputs: Iterable[Expr], cse: bool = True) -> Program:
+    def finish(
+        self,
+        outputs: Iterable[Expr],
+        cse: bool = True,
+        names: Iterable[str | None] | None = None,
+    ) -> Program:
+        """The program computing ``outputs``; ``names`` (one per output, or None) names them.
+
+        Dead code goes, sympy's ``cse`` runs, trivial temporaries go back inline,
+        and the temporaries are numbered ``t1, t2, ...``. Then an assignment of a
+        value already assigned is dropped (its target prints as the first one),
+        the non-trivial base of a small integer power gets a temporary of its own,
+        and an output that is a temporary or a bigger expression is assigned to
+        its name from ``names``. The last three only rename and drop: see
+        ``Program``. Finally the temporaries left print as ``t1, t2, ...`` again.
+        """
         outs = [fold(o) for o in outputs]
         live = _drop_dead(self._statements, outs)
         if cse:
             live = _common_subexpressions(live)
         live, outs = _inline_cheap(live, outs)
-        return self._number(live, outs)
+        body, outs, temporaries = self._number(live, outs)
+        body, alias = _merge_repeats(body)
+        body, bases = self._name_bases(body, outs, alias)
+        display: dict[Symbol, str] = {}
+        if names is not None:
+            body, outs = self._name_outputs(body, outs, list(names), display, temporaries, alias)
+        n = 0
+        for st in body:
+            if (
+                isinstance(st, Assign)
+                and st.target not in display
+                and (st.target in temporaries or is_temporary(st.target))
+            ):
+                n += 1
+                while f"t{n}" in self._taken:
+                    n += 1
+                display[st.target] = f"t{n}"
+        for sym, target in alias.items():
+            display[sym] = display.get(target, target.name)
+        unpacks = self._unpacks([*(s.value for s in body if isinstance(s, Assign)), *outs])
+        return Program((*unpacks, *_drop_empty_headings(body)), tuple(outs), display, bases)
 
-    def _number(self, body: list[Assign | Comment], outputs: list[Expr]) -> Program:
+    def _number(
+        self, body: list[Assign | Comment], outputs: list[Expr]
+    ) -> tuple[list[Assign | Comment], list[Expr], set[Symbol]]:
+        """Temporaries named ``t1, t2, ...`` in order (the names that order their terms)."""
         rename: dict[Symbol, Symbol] = {}
         n = 0
         for st in body:
@@ -166,24 +233,92 @@ class Block:
                 while f"t{n}" in self._taken:
                     n += 1
                 rename[st.target] = Symbol(f"t{n}")
-        needed = _symbols_of([*(s.value for s in body if isinstance(s, Assign)), *outputs])
+        statements = [
+            Assign(rename.get(st.target, st.target), st.value.xreplace(rename))
+            if isinstance(st, Assign)
+            else st
+            for st in body
+        ]
+        return statements, [o.xreplace(rename) for o in outputs], set(rename.values())
+
+    def _unpacks(self, exprs: list[Expr]) -> list[Unpack]:
+        needed = _symbols_of(exprs)
         unpacks = [u for s, u in self._inputs.items() if s in needed]
         unpacks.sort(key=lambda u: (ARRAYS.index(u.array), u.index))
-        statements: list[Statement] = [*unpacks]
-        for k, st in enumerate(body):
-            if isinstance(st, Comment) and not isinstance(_at(body, k + 1), Assign):
-                continue  # a heading over nothing
+        return unpacks
+
+    def _name_bases(
+        self, body: list[Assign | Comment], outputs: list[Expr], alias: dict[Symbol, Symbol]
+    ) -> tuple[list[Assign | Comment], dict[Expr, Symbol]]:
+        """A temporary for the base of every unrolled power of something bigger than a name.
+
+        The printer writes ``x**2`` as ``x*x``; the base of ``min(a, b)**2`` is assigned
+        first (or found among the values already assigned), so that it is evaluated once.
+        """
+        bases: dict[Expr, Symbol] = {}
+        known: dict[Expr, Assign] = {}  # the values assigned so far
+        out: list[Assign | Comment] = []
+
+        def same(base: Expr, earlier: Assign) -> bool:
+            return base == earlier.value or (
+                evaluation_order(base, alias) == evaluation_order(earlier.value, alias)
+            )
+
+        def name_bases(expr: Expr) -> None:
+            for sub in sympy.postorder_traversal(expr):
+                if is_unrolled_power(sub) and not sub.base.is_Atom and sub.base not in bases:
+                    earlier = known.get(sub.base.xreplace(alias))
+                    if earlier is None or not same(sub.base, earlier):
+                        earlier = Assign(self._temporary(), sub.base)
+                        out.append(earlier)
+                        known.setdefault(sub.base.xreplace(alias), earlier)
+                    bases[sub.base] = earlier.target
+
+        for st in body:
             if isinstance(st, Assign):
-                statements.append(
-                    Assign(rename.get(st.target, st.target), st.value.xreplace(rename))
-                )
-            else:
-                statements.append(st)
-        return Program(tuple(statements), tuple(o.xreplace(rename) for o in outputs))
+                name_bases(st.value)
+                known.setdefault(st.value.xreplace(alias), st)
+            out.append(st)
+        for o in outputs:
+            name_bases(o)
+        return out, bases
+
+    def _name_outputs(
+        self,
+        body: list[Assign | Comment],
+        outputs: list[Expr],
+        names: list[str | None],
+        display: dict[Symbol, str],
+        temporaries: set[Symbol],
+        alias: dict[Symbol, Symbol],
+    ) -> tuple[list[Assign | Comment], list[Expr]]:
+        """Outputs that are temporaries print under their names; bigger ones are assigned."""
+        assigned: dict[Expr, Symbol] = {}
+        tail: list[Assign | Comment] = []
+        outs: list[Expr] = []
+        for value, wanted in zip(outputs, names, strict=True):
+            value = alias.get(value, value) if value.is_Symbol else value
+            if wanted is None or value in display:
+                pass
+            elif value in temporaries:
+                display[value] = python_name(wanted, self._taken)
+            elif not is_cheap(value):
+                if value not in assigned:
+                    assigned[value] = self._temporary()
+                    display[assigned[value]] = python_name(wanted, self._taken)
+                    tail.append(Assign(assigned[value], value))
+                value = assigned[value]
+            outs.append(value)
+        return body + tail, outs
 
 
-def _at(body: list[Assign | Comment], k: int) -> Assign | Comment | None:
-    return body[k] if k < len(body) else None
+def _drop_empty_headings(body: list[Assign | Comment]) -> list[Assign | Comment]:
+    """Comments that no assignment follows (before the next comment) head nothing."""
+    return [
+        st
+        for k, st in enumerate(body)
+        if isinstance(st, Assign) or (k + 1 < len(body) and isinstance(body[k + 1], Assign))
+    ]
 
 
 def _symbols_of(exprs: Iterable[Expr]) -> set[Symbol]:
@@ -209,6 +344,51 @@ def _drop_dead(statements: list[Assign | Comment], outputs: list[Expr]) -> list[
             heading_used = False
     kept.reverse()
     return kept
+
+
+def _merge_repeats(
+    body: list[Assign | Comment],
+) -> tuple[list[Assign | Comment], dict[Symbol, Symbol]]:
+    """Drop an assignment whose value an earlier one already computes; say which it repeats.
+
+    ``let`` reuses the temporary of an identical expression, but two values can
+    become identical later, once ``cse`` and ``_inline_cheap`` have rewritten them
+    (and then so can the values computed from them). The values keep their
+    symbols, so their terms keep their order: see ``Program``. A value computed
+    from a merged one is merged in turn only if it adds and multiplies in the
+    same order as the value it repeats, so that both round alike.
+    """
+    alias: dict[Symbol, Symbol] = {}
+    first: dict[Expr, Assign] = {}
+    out: list[Assign | Comment] = []
+    for st in body:
+        if isinstance(st, Assign):
+            value = st.value.xreplace(alias) if alias else st.value
+            earlier = first.get(value)
+            if earlier is not None and (
+                st.value == earlier.value
+                or evaluation_order(st.value, alias) == evaluation_order(earlier.value, alias)
+            ):
+                alias[st.target] = earlier.target
+                continue
+            first.setdefault(value, st)
+        out.append(st)
+    return out, alias
+
+
+def evaluation_order(expr: Expr, alias: Mapping[Symbol, Symbol]) -> object:
+    """The tree the printer walks: sums and products in the order they are printed in."""
+    if expr.is_Symbol:
+        return alias.get(expr, expr).name
+    if expr.is_Atom:
+        return (type(expr).__name__, str(expr))
+    if expr.is_Add:
+        args = expr.as_ordered_terms()
+    elif expr.is_Mul:
+        args = expr.as_ordered_factors()
+    else:
+        args = list(expr.args)
+    return (type(expr).__name__, tuple(evaluation_order(a, alias) for a in args))
 
 
 def _inline_cheap(

@@ -9,8 +9,8 @@ does that with ``printer``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
 from typing import TypeAlias
 
 from sympy import Expr, Integer, Symbol
@@ -18,6 +18,7 @@ from sympy import Expr, Integer, Symbol
 from legdsl.ir.model import Model
 from legdsl.lower import recursions
 from legdsl.lower.linktree import RESERVED, Node, Tree, build_nodes, rigid_inertia, vec
+from legdsl.lower.names import output_names
 from legdsl.lower.spatial import (
     EYE,
     ZERO,
@@ -48,10 +49,17 @@ Nested: TypeAlias = "Expr | Call | list[Nested] | tuple[Nested, ...]"
 
 @dataclass(frozen=True)
 class Function:
+    """One generated function; ``names`` and ``bases`` as in ``straightline.Program``."""
+
     name: str
     params: tuple[str, ...]
     statements: tuple[Statement, ...]
     result: Nested
+    names: Mapping[Symbol, str] = field(default_factory=dict)
+    bases: Mapping[Expr, Symbol] = field(default_factory=dict)
+
+    def name_of(self, sym: Symbol) -> str:
+        return self.names.get(sym, sym.name)
 
 
 @dataclass(frozen=True)
@@ -87,9 +95,21 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
     for name, params, build in builders:
         block = Block(RESERVED)
         result = build(Tree(model, nodes, block))
-        program = block.finish(list(_leaves(result)), cse=cse)
+        leaves = list(_leaves(result))
+        names = output_names(model, name)
+        assert not names or len(names) == len(leaves), name
+        program = block.finish(leaves, cse=cse, names=names or None)
         outputs = iter(program.outputs)
-        functions.append(Function(name, params, program.statements, _rebuild(result, outputs)))
+        functions.append(
+            Function(
+                name,
+                params,
+                program.statements,
+                _rebuild(result, outputs),
+                program.names,
+                program.bases,
+            )
+        )
     return SymbolicSystem(model, nodes, tuple(functions))
 
 

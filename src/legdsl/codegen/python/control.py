@@ -21,9 +21,16 @@ PARAMS = ("s", "u", "p", "r", "tis")
 
 
 def _program(
-    name: str, exprs: list[sympy.Basic], lc: LoweredController, let: bool = True
+    name: str,
+    exprs: list[sympy.Basic],
+    lc: LoweredController,
+    let: bool = True,
+    names: list[str] | None = None,
 ) -> Function:
-    """A generated function of (s, u, p, r, tis) returning ``exprs`` (a list, or one value)."""
+    """A generated function of (s, u, p, r, tis) returning ``exprs`` (a list, or one value).
+
+    ``names`` (one per value) are what a returned value is assigned to.
+    """
     block = Block(reserved=(*PARAMS, "math", name))
     subs: dict[Symbol, sympy.Basic] = {}
     arrays = {
@@ -43,9 +50,9 @@ def _program(
     outs = [e.xreplace(subs) for e in exprs]
     if let:
         outs = [block.let(o) if isinstance(o, Expr) else o for o in outs]
-    program = block.finish(outs)
+    program = block.finish(outs, names=names)
     result: object = list(program.outputs) if let else program.outputs[0]
-    return Function(name, PARAMS, program.statements, result)
+    return Function(name, PARAMS, program.statements, result, program.names, program.bases)
 
 
 def render_control(
@@ -73,7 +80,9 @@ def render_control(
         state = lc.states[s]
         new = dict(body.records)
         values = [new.get(name, Symbol(f"record_{name}")) for name in lc.records]
-        fn = _program(f"entry_{state}_{b}", values, lc)
+        fn = _program(
+            f"entry_{state}_{b}", values, lc, names=[f"new_{name}" for name in lc.records]
+        )
         done = ", ".join(new) or "none"
         functions.append(
             (fn, f"The records on entering {state} under binding {b} (changed: {done}).")
@@ -82,7 +91,10 @@ def render_control(
         targets = [f"{st.actuator}.{st.key}" for st in body.settings]
         targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
         goals = [g for p in body.places for g in p.goals]
-        fn = _program(f"action_{state}_{b}", [st.value for st in body.settings] + goals, lc)
+        names = [f"{st.actuator}_{st.key}" for st in body.settings]
+        names += [f"{p.leg}_{axis}_goal" for p in body.places for axis in p.axes]
+        values = [st.value for st in body.settings] + goals
+        fn = _program(f"action_{state}_{b}", values, lc, names=names)
         functions.append(
             (fn, f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}.")
         )

@@ -12,7 +12,7 @@ import jinja2
 import sympy
 
 from legdsl import __version__
-from legdsl.codegen.python.printer import print_expr
+from legdsl.codegen.python.printer import LegPrinter
 from legdsl.ir.model import Controller, Model
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Call, Function, Nested, SymbolicSystem
@@ -33,41 +33,43 @@ def _environment() -> jinja2.Environment:
     )
 
 
-def format_result(value: Nested, indent: str) -> str:
+def format_result(value: Nested, indent: str, printer: LegPrinter | None = None) -> str:
     """A returned value on one line if it fits, else one item per line."""
-    flat = _one_line(value)
+    printer = printer or LegPrinter()
+    flat = _one_line(value, printer)
     if len(indent) + len("return ") + len(flat) <= LINE_LENGTH or not isinstance(
         value, list | tuple
     ):
         return flat
     open_, close = ("[", "]") if isinstance(value, list) else ("(", ")")
     inner = indent + INDENT
-    items = [f"{inner}{format_result(item, inner)}," for item in value]
+    items = [f"{inner}{format_result(item, inner, printer)}," for item in value]
     return "\n".join([open_, *items, f"{indent}{close}"])
 
 
-def _one_line(value: Nested) -> str:
+def _one_line(value: Nested, printer: LegPrinter) -> str:
     if isinstance(value, Call):
         return value.text
     if isinstance(value, list):
-        return "[" + ", ".join(_one_line(v) for v in value) + "]"
+        return "[" + ", ".join(_one_line(v, printer) for v in value) + "]"
     if isinstance(value, tuple):
-        inner = ", ".join(_one_line(v) for v in value)
+        inner = ", ".join(_one_line(v, printer) for v in value)
         return f"({inner},)" if len(value) == 1 else f"({inner})"
-    return print_expr(value)
+    return printer.print(value)
 
 
 def function_body(function: Function) -> str:
     """The indented statements and return of one generated function."""
+    printer = LegPrinter(function.names, function.bases)
     lines: list[str] = []
     for st in function.statements:
         if isinstance(st, Unpack):
             lines.append(f"{INDENT}{st.target.name} = {st.array}[{st.index}]")
         elif isinstance(st, Assign):
-            lines.append(f"{INDENT}{st.target.name} = {print_expr(st.value)}")
+            lines.append(f"{INDENT}{function.name_of(st.target)} = {printer.print(st.value)}")
         elif isinstance(st, Comment):
             lines.append(f"{INDENT}# {st.text}")
-    lines.append(f"{INDENT}return {format_result(function.result, INDENT)}")
+    lines.append(f"{INDENT}return {format_result(function.result, INDENT, printer)}")
     return "\n".join(lines)
 
 
@@ -124,7 +126,7 @@ def _layout(model: Model) -> list[tuple[str, str, str, str]]:
             continue
         for dof in joint.dofs:
             unit, how = ("rad", "hinge about") if dof.motion == "hinge" else ("m", "slide along")
-            axis = ", ".join(f"{c:g}" for c in dof.axis)
+            axis = ", ".join(_short(c) for c in dof.axis)
             rows.append((f"q[{dof.q_index}]", dof.name, unit, f"{joint.name}: {how} ({axis})"))
     for joint in model.joints:
         if joint.is_free_3d:
@@ -146,6 +148,12 @@ def _layout(model: Model) -> list[tuple[str, str, str, str]]:
             unit = "rad/s" if dof.motion == "hinge" else "m/s"
             rows.append((f"v[{dof.v_index}]", dof.name, unit, f"rate of {dof.name}"))
     return rows
+
+
+def _short(x: float) -> str:
+    """``repr(float)`` (the shortest text that reads back to ``x``) without a trailing ``.0``."""
+    text = repr(float(x))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def _table(rows: list[tuple[str, str, str, str]]) -> list[str]:

@@ -1,27 +1,51 @@
 """Print sympy expressions as plain-float Python that uses only the ``math`` module.
 
 Numbers print as ``repr(float)`` (the shortest text that reads back to the
-same double), small integer powers as products (``x*x`` is faster than
-``x**2`` in CPython), square roots as ``math.sqrt``.
+same double), small integer powers of a symbol or number as products (``x*x``
+is faster than ``x**2`` in CPython), square roots as ``math.sqrt``. A power of
+anything bigger prints as a power, so that its base is evaluated once; the
+straight-line builder names such bases first (``Block.finish``), so generated
+code unrolls only powers of names. An inverse square root stays ``x**(-0.5)``,
+one call of ``pow``: ``1/math.sqrt(x)`` rounds twice and gives another double
+for about a quarter of all x (docs/compiler.md).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
 
-from sympy import Expr, Float, Integer, Pow, Rational
+from sympy import Expr, Float, Integer, Pow, Rational, Symbol
 from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.pycode import PythonCodePrinter
 
-# Powers up to this exponent are printed as repeated multiplication.
-MAX_UNROLLED_POWER = 4
+from legdsl.lower.straightline import is_unrolled_power
 
 
 class LegPrinter(PythonCodePrinter):
-    """The printer for generated legdsl modules."""
+    """The printer for generated legdsl modules.
 
-    def __init__(self, settings: dict[str, Any] | None = None):
-        super().__init__({"fully_qualified_modules": True, **(settings or {})})
+    ``names`` gives the printed name of a symbol whose own name only orders terms
+    (see ``legdsl.lower.straightline.Program``); ``bases`` names the bases of
+    powers that are printed as products.
+    """
+
+    def __init__(
+        self,
+        names: Mapping[Symbol, str] | None = None,
+        bases: Mapping[Expr, Symbol] | None = None,
+    ):
+        super().__init__({"fully_qualified_modules": True})
+        self._names = names or {}
+        self._bases = bases or {}
+
+    def print(self, expr: Expr) -> str:
+        """One expression as Python source (fractions as floats: they run as floats anyway)."""
+        fractions = {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
+        return str(self.doprint(expr.xreplace(fractions) if fractions else expr))
+
+    def _print_Symbol(self, expr: Symbol) -> str:
+        name = self._names.get(expr)
+        return name if name is not None else str(super()._print_Symbol(expr))
 
     def _print_Float(self, expr: Float) -> str:
         return repr(float(expr))
@@ -34,23 +58,33 @@ class LegPrinter(PythonCodePrinter):
 
     def _print_Pow(self, expr: Pow, rational: bool = False) -> str:
         base, exp = expr.as_base_exp()
-        if exp.is_Integer and 1 < abs(int(exp)) <= MAX_UNROLLED_POWER:
-            factor = self.parenthesize(base, PRECEDENCE["Mul"], strict=True)
-            product = "*".join([factor] * abs(int(exp)))
-            return product if exp > 0 else f"1/({product})"
+        if is_unrolled_power(expr):
+            named = self._bases.get(expr.base)
+            if named is not None:
+                factor = self._print(named)
+            elif expr.base.is_Atom:
+                factor = self.parenthesize(expr.base, PRECEDENCE["Mul"], strict=True)
+            else:  # a bare power still evaluates its base once
+                factor = ""
+            if factor:
+                product = "*".join([factor] * abs(int(expr.exp)))
+                return product if expr.exp > 0 else f"1/({product})"
         if exp == -1:
             return f"1/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
-        if exp == Rational(1, 2):
+        if _is_half(exp):
             return f"math.sqrt({self._print(base)})"
-        if exp == Rational(-1, 2):
-            return f"1/math.sqrt({self._print(base)})"
-        return f"{self.parenthesize(base, PRECEDENCE['Pow'], strict=True)}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
+        base_text = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
+        return f"{base_text}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
+
+
+def _is_half(exp: Expr) -> bool:
+    """1/2 as sympy writes a square root, or 0.5 once fractions have become floats."""
+    return bool(exp == Rational(1, 2) or (exp.is_Float and float(exp) == 0.5))
 
 
 _PRINTER = LegPrinter()
 
 
 def print_expr(expr: Expr) -> str:
-    """One expression as Python source (fractions as floats: they run as floats anyway)."""
-    fractions = {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
-    return str(_PRINTER.doprint(expr.xreplace(fractions) if fractions else expr))
+    """One expression as Python source, its symbols under their own names."""
+    return _PRINTER.print(expr)
