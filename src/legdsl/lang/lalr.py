@@ -25,20 +25,22 @@ def grammar_dir() -> Path:
     raise FileNotFoundError("legdsl.lark not found in the package or the source tree")
 
 
-def lark_parser() -> Lark:
-    """The LALR(1) parser of grammar/legdsl.lark (built once; it takes a fraction of a second)."""
-    return _parser("start")
-
-
-def value_parser() -> Lark:
-    """The same grammar started at one ``value`` (``legdsl run --path "circle(...)"``)."""
-    return _parser("value")
-
-
 @functools.cache
-def _parser(start: str) -> Lark:
+def lark_parser() -> Lark:
+    """The LALR(1) parser of grammar/legdsl.lark (built once; it takes a fraction of a second).
+
+    One parser for both start symbols, a whole file (``start``, the default) and one
+    ``value`` (``legdsl run --path "circle(...)"``): they share one table of parser states,
+    so the friendly syntax errors, matched by state, mean the same in both.
+    """
     text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", start=start, propagate_positions=True, maybe_placeholders=True)
+    return Lark(
+        text,
+        parser="lalr",
+        start=["start", "value"],
+        propagate_positions=True,
+        maybe_placeholders=True,
+    )
 
 
 @functools.cache

@@ -17,7 +17,7 @@ from lark.exceptions import UnexpectedInput
 
 from legdsl.lang import ast
 from legdsl.lang.errors import LegError, Span
-from legdsl.lang.lalr import grammar_dir, lark_parser, value_parser
+from legdsl.lang.lalr import grammar_dir, lark_parser
 from legdsl.lang.syntax_errors import syntax_error
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
 
@@ -272,7 +272,7 @@ class _ToAst(Transformer):
 def parse(text: str, file: str = "<string>") -> ast.SourceFile:
     """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
     try:
-        tree = lark_parser().parse(text)
+        tree = lark_parser().parse(text, start="start")
     except UnexpectedInput as err:
         raise syntax_error(file, text, err) from None
     return _build(tree, file, text)
@@ -281,7 +281,7 @@ def parse(text: str, file: str = "<string>") -> ast.SourceFile:
 def parse_value(text: str, file: str = "<string>") -> ast.Value:
     """One creature-style value, such as a path's shape written on the command line."""
     try:
-        tree = value_parser().parse(text)
+        tree = lark_parser().parse(text, start="value")
     except UnexpectedInput as err:
         raise syntax_error(file, text, err) from None
     result = _ToAst(file).transform(tree)

@@ -141,7 +141,7 @@ def _friendly_table() -> _FriendlyTable:
         tokens = frozenset(_token_type_at(t, 0) for t in entry.get("tokens", ()))
         for example in entry["examples"]:
             try:
-                lark_parser().parse(example)
+                lark_parser().parse(example, start="start")
             except UnexpectedInput as e:
                 context = _error_context(e, example)
                 if context is not None:
