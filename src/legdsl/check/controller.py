@@ -20,6 +20,7 @@ from legdsl.check.control_names import (
     describe_type,
 )
 from legdsl.check.control_roles import check_aliases, reachable_bindings
+from legdsl.check.control_shared import expand_includes, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
 from legdsl.check.values import did_you_mean
@@ -46,9 +47,11 @@ class ControllerChecker:
         decl: ast.ControllerDecl,
         model: Model,
         library: dict[str, ast.ActionDef],
+        parts: dict[str, ast.SharedDecl],
         diag: Diagnostics,
     ):
         self.decl = decl
+        self.items = expand_includes(decl, parts, diag)
         self.model = model
         self.diag = diag
         self.actions = dict(library)
@@ -105,7 +108,7 @@ class ControllerChecker:
         starts: list[ast.StartDecl] = []
         paths: list[PathSpec] = []
         shadowed: list[ast.ActionDef] = []  # defined twice: both bodies are checked
-        for item in d.items:
+        for item in self.items:
             if isinstance(item, ast.InputDecl | ast.ParamDecl):
                 constant = self.constant(item.name, item.value)
                 kind = "input" if isinstance(item, ast.InputDecl) else "param"
@@ -155,7 +158,7 @@ class ControllerChecker:
 
         declared = {
             item.name.name: _DECLARED_KIND[type(item)]
-            for item in d.items
+            for item in self.items
             if isinstance(item, ast.InputDecl | ast.ParamDecl | ast.SignalDecl)
         }
         # Only the records of what the table can reach are the controller's: a library
@@ -296,7 +299,10 @@ class ControllerChecker:
     def check_unreached(
         self, scope: Scope, reachable: set[str], shadowed: list[ast.ActionDef]
     ) -> None:
-        """Actions of this file that the table never calls: their names are still checked."""
+        """Actions written in this controller that its table never calls: their names are
+        still checked. A file-level action, or one of a shared part, is checked only in the
+        controllers that call it, which are the ones whose names it may use."""
+        own = {id(item) for item in self.decl.items if isinstance(item, ast.ActionDef)}
         every = collect_records([], [*shadowed, *self.actions.values()])
         names = {**{n: ir.Named("record", n, None) for n in every}, **scope.names}
         loose = Scope(
@@ -304,7 +310,7 @@ class ControllerChecker:
         )
         for action in [*shadowed, *self.actions.values()]:
             called = action.name.name in reachable and action is self.actions[action.name.name]
-            if called or action.span.file != self.decl.span.file:
+            if called or id(action) not in own:
                 continue
             el = Elaborator(loose, self.diag)
             params: dict[str, Value] = {}
@@ -392,10 +398,15 @@ def _source_text(sources: dict[str, str], span: Span) -> str:
 
 
 def check_controllers(
-    tree: ast.SourceFile, models: list[Model], library: list[ast.ActionDef], diag: Diagnostics
+    tree: ast.SourceFile,
+    models: list[Model],
+    library: list[ast.ActionDef],
+    shared: list[ast.SharedDecl],
+    diag: Diagnostics,
 ) -> list[Model]:
     """Attach each controller of the file to its creature."""
     by_name = {m.name: m for m in models}
+    parts = shared_parts(shared, diag)
     lib: dict[str, ast.ActionDef] = {}
     for a in library:
         prior = lib.get(a.name.name)
@@ -437,7 +448,7 @@ def check_controllers(
             )
             continue
         seen[key] = decl.name.span
-        checked = ControllerChecker(decl, model, lib, diag).check()
+        checked = ControllerChecker(decl, model, lib, parts, diag).check()
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]

@@ -25,7 +25,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     caller that keeps the syntax tree (the compile driver) parses the file only once."""
     sources = {str(path): text}
     diag = Diagnostics(sources)
-    library = load_uses(tree, diag, sources)
+    library, shared = load_uses(tree, diag, sources)
     models = []
     for decl in tree.creatures:
         model = CreatureChecker(decl, diag, str(path)).check()
@@ -33,15 +33,16 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
             models.append(model)
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
-    models = check_controllers(tree, models, library, diag)
+    models = check_controllers(tree, models, library, shared, diag)
     diag.raise_if_any()
     return models
 
 
 def load_uses(
     tree: ast.SourceFile, diag: Diagnostics, sources: dict[str, str]
-) -> list[ast.ActionDef]:
-    """Named actions from the file itself and the files it ``use``s, and the files those use.
+) -> tuple[list[ast.ActionDef], list[ast.SharedDecl]]:
+    """Named actions and shared controller parts from the file itself and the files it
+    ``use``s, and the files those use.
 
     ``use raibert`` names a file of the standard library, ``use "lib/gaits.leg"`` a file
     relative to the one that says it. Each file is read once however often it is used; a
@@ -49,6 +50,7 @@ def load_uses(
     nearer file wins: a file's own actions override those of the files it uses.
     """
     found: list[ast.ActionDef] = []
+    parts: list[ast.SharedDecl] = []
     root = Path(tree.path).resolve()
     loaded = {root}
 
@@ -95,9 +97,10 @@ def load_uses(
             sources[lib.path] = text
             visit(lib, (*chain, path.resolve()), at)
             found.extend(lib.actions)
+            parts.extend(lib.shared)
 
     visit(tree, (root,), None)
-    return [*found, *tree.actions]
+    return [*found, *tree.actions], [*parts, *tree.shared]
 
 
 def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:

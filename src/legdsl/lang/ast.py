@@ -361,8 +361,36 @@ class TableDecl:
     span: Span
 
 
+@dataclass(frozen=True)
+class IncludeDecl:
+    """``include gains, posture``: shared parts whose declarations the controller takes."""
+
+    names: tuple[Ident, ...]
+    span: Span
+
+
+SharedItem = InputDecl | ParamDecl | SignalDecl | ActionDef
+
+
+@dataclass(frozen=True)
+class SharedDecl:
+    """``shared NAME { ... }``: inputs, parameters, signals and actions for several controllers."""
+
+    name: Ident
+    items: tuple[SharedItem, ...]
+    span: Span
+
+
 ControllerItem = (
-    InputDecl | ParamDecl | SignalDecl | RolesDecl | StartDecl | ActionDef | TableDecl | PathDecl
+    InputDecl
+    | ParamDecl
+    | SignalDecl
+    | RolesDecl
+    | StartDecl
+    | ActionDef
+    | TableDecl
+    | PathDecl
+    | IncludeDecl
 )
 
 
@@ -388,3 +416,4 @@ class SourceFile:
     actions: tuple[ActionDef, ...]
     uses: tuple[UseDecl, ...]
     span: Span
+    shared: tuple[SharedDecl, ...] = ()

@@ -264,6 +264,12 @@ class _ToAst(Transformer):
         creature = self._id(c[1]) if c[1] is not None else None
         return ast.ControllerDecl(self._id(c[0]), creature, tuple(c[2:]), self._s(meta))
 
+    def shared(self, meta: Any, c: list[Any]) -> ast.SharedDecl:
+        return ast.SharedDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
+    def include(self, meta: Any, c: list[Any]) -> ast.IncludeDecl:
+        return ast.IncludeDecl(tuple(self._id(n) for n in c), self._s(meta))
+
     def use(self, meta: Any, c: list[Any]) -> ast.UseDecl:
         text = str(c[0])
         return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
@@ -300,6 +306,7 @@ def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
         actions=tuple(i for i in items if isinstance(i, ast.ActionDef)),
         uses=tuple(i for i in items if isinstance(i, ast.UseDecl)),
         span=span,
+        shared=tuple(i for i in items if isinstance(i, ast.SharedDecl)),
     )
 
 
