@@ -1,3 +1,25 @@
-"""legdsl: a compiler and runner for .leg files describing legged creatures and their control."""
+"""legdsl: a compiler and runner for .leg files describing legged creatures and their control.
+
+    import legdsl
+    creature = legdsl.load("creatures/kangaroo.leg")
+    run = creature.run(controller="hop", set={"speed": "3 m/s"}, time=5)
+
+``load`` and ``open_run`` are the public API (``legdsl.api``, docs/api.md); they are imported
+when first used, so that the stages below, which read ``__version__`` from here, never
+import the API.
+"""
+
+from __future__ import annotations
+
+from typing import Any
 
 __version__ = "0.1.0"
+__all__ = ["__version__", "load", "open_run"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in ("load", "open_run", "Creature", "Run"):
+        from legdsl import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'legdsl' has no attribute {name!r}")

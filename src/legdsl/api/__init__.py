@@ -1,0 +1,294 @@
+"""The public Python API: a creature loaded from its ``.leg`` file, run, measured and drawn.
+
+    >>> import legdsl
+    >>> roo = legdsl.load("creatures/kangaroo.leg")
+    >>> run = roo.run(controller="hop", set={"speed": "3 m/s"}, time=2)
+    >>> run["com.x"][-1] > 1.0                     # samples as named numpy arrays
+    True
+    >>> run.metrics(start=1).running_speed.mean    # doctest: +SKIP
+    >>> run.save("runs/roo")                       # trajectory.npz, .csv, run.json
+
+``legdsl.open_run(directory)`` reads a saved run back. A run shows its player inline in
+Jupyter. docs/api.md has the whole tour; the command line is a thin layer over the same
+run session (``legdsl.pipeline.session``).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.export.motion import motion_from, read_run
+from legdsl.ir.model import Model
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import Dim
+from legdsl.pipeline.generated import load_dynamics
+from legdsl.pipeline.session import RunSession
+from legdsl.pipeline.settings import si_unit
+from legdsl.sim.simulate import RunOptions
+from legdsl.sim.trajectory import Trajectory
+
+__all__ = ["Creature", "Quantity", "Run", "load", "open_run"]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A value in SI units with its dimension; prints with its unit (``0.03 s``)."""
+
+    value: float
+    dim: Dim
+
+    @property
+    def unit(self) -> str:
+        return si_unit(self.dim)
+
+    def __str__(self) -> str:
+        return f"{self.value:g} {self.unit}".rstrip()
+
+    def __float__(self) -> float:
+        return self.value
+
+
+@dataclass(frozen=True)
+class ControllerInfo:
+    """A controller's name, states, and its inputs and parameters with their defaults."""
+
+    name: str
+    states: tuple[str, ...]
+    inputs: Mapping[str, Quantity]
+    params: Mapping[str, Quantity]
+
+
+class Creature:
+    """A checked creature with its generated dynamics (compiled when missing or stale)."""
+
+    def __init__(self, session: RunSession):
+        self.session = session
+
+    @property
+    def name(self) -> str:
+        return self.session.model.name
+
+    @property
+    def model(self) -> Model:
+        return self.session.model
+
+    @property
+    def controllers(self) -> dict[str, ControllerInfo]:
+        out = {}
+        for c in self.model.controllers:
+            inputs = {k.name: Quantity(k.value, k.dim) for k in c.inputs}
+            params = {k.name: Quantity(k.value, k.dim) for k in c.params}
+            out[c.name] = ControllerInfo(c.name, c.state_names, inputs, params)
+        return out
+
+    def run(
+        self,
+        controller: str | None = None,
+        set: Mapping[str, str | float] | None = None,  # noqa: A002  (the CLI's --set)
+        time: float = 5.0,
+        path: str | None = None,
+        **options: Any,
+    ) -> Run:
+        """Simulate for ``time`` seconds. ``set`` maps inputs, parameters and actuator settings
+        to values with units (``{"speed": "5 m/s", "speed@4s": "2 m/s"}``; a plain number for
+        a dimensionless one), checked as ``legdsl run --set`` checks them. ``options`` are
+        those of ``legdsl run`` (``dt``, ``integrator``, ``control_dt``, ``record_rate``,
+        ``fall_height``, ``fall_tilt`` in radians, ``drop``)."""
+        settings = [_setting(name, value) for name, value in (set or {}).items()]
+        try:
+            run_options = RunOptions(duration=float(time), **options)
+        except TypeError as e:
+            raise UsageError(f"run(): {e}") from None
+        paths = [path] if path is not None else []
+        done = self.session.run(controller, settings, paths, run_options)
+        return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
+
+    def __repr__(self) -> str:
+        return f"<legdsl creature '{self.name}': {self.model.nv} DOF, controllers {list(self.controllers)}>"
+
+
+def _setting(name: str, value: str | float) -> str:
+    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
+    key, at, when = name.partition("@")
+    text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
+    return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
+
+
+class Run:
+    """A run: its samples as named arrays, its run.json, and what can be made of it."""
+
+    def __init__(
+        self,
+        model: Model,
+        trajectory: Trajectory,
+        info: dict[str, Any],
+        dynamics: Any,
+        session_run: Any = None,
+        directory: Path | None = None,
+    ):
+        self.model = model
+        self.trajectory = trajectory
+        self.info = info
+        self._dynamics = dynamics
+        self._session_run = session_run
+        self.directory = directory
+
+    @property
+    def status(self) -> str:
+        """ok, fell or diverged (run.json's word)."""
+        return str(self.info.get("status", "ok"))
+
+    @property
+    def samples(self) -> dict[str, np.ndarray]:
+        """Every recorded series by name: ``t``, ``q.NAME``, ``v.NAME``, ``com.x``...,
+        ``com_vel.x``..., ``root.x``..., ``root.roll``..., ``contact.NAME`` (1 touching),
+        ``force.NAME.x``..., ``leg_length.LEG``, ``state`` (an index into ``state_names``),
+        ``speed_command``, ``energy.kinetic``... (SI units)."""
+        tr = self.trajectory
+        out: dict[str, np.ndarray] = {"t": tr.t}
+        out |= {f"q.{n}": tr.q[:, i] for i, n in enumerate(tr.q_names)}
+        out |= {f"v.{n}": tr.v[:, i] for i, n in enumerate(tr.v_names)}
+        for k, axis in enumerate("xyz"):
+            out[f"com.{axis}"] = tr.com[:, k]
+            out[f"com_vel.{axis}"] = tr.com_vel[:, k]
+            out[f"root.{axis}"] = tr.root_pos[:, k]
+        for k, angle in enumerate(("roll", "pitch", "yaw")):
+            out[f"root.{angle}"] = tr.root_rpy[:, k]
+        for i, n in enumerate(tr.contact_names):
+            out[f"contact.{n}"] = tr.contact[:, i]
+            for k, axis in enumerate("xyz"):
+                out[f"force.{n}.{axis}"] = tr.force[:, i, k]
+        out |= {f"leg_length.{n}": tr.leg_length[:, i] for i, n in enumerate(tr.leg_names)}
+        out |= {"state": tr.state, "speed_command": tr.speed_command}
+        for name in ("kinetic", "potential", "elastic"):
+            out[f"energy.{name}"] = getattr(tr, name)
+        return out
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return tuple(self.trajectory.state_names)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        samples = self.samples
+        if name not in samples:
+            from legdsl.check.values import did_you_mean
+
+            raise KeyError(f"no series '{name}'{did_you_mean(name, samples)}")
+        return samples[name]
+
+    def __len__(self) -> int:
+        return len(self.trajectory)
+
+    def to_pandas(self) -> Any:
+        """The samples as a pandas DataFrame indexed by time (pandas must be installed)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise UsageError("to_pandas() needs pandas: pip install pandas") from None
+        samples = self.samples
+        t = samples.pop("t")
+        return pd.DataFrame(samples, index=pd.Index(t, name="t"))
+
+    def metrics(
+        self,
+        start: float = 0.0,
+        end: float | None = None,
+        leg: str | None = None,
+        groups: tuple[str, ...] = (),
+    ) -> GaitMetrics:
+        """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``)."""
+        try:
+            return compute_metrics(
+                self.trajectory, t_from=start, t_to=end, leg=leg, groups=parse_groups(groups)
+            )
+        except MetricsError as e:
+            raise UsageError(str(e)) from None
+
+    def save(self, directory: str | Path) -> Path:
+        """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
+        out = Path(directory)
+        if self._session_run is not None:
+            self._session_run.write(out)
+        else:
+            import json
+
+            out.mkdir(parents=True, exist_ok=True)
+            self.trajectory.save(out)
+            (out / "run.json").write_text(json.dumps(self.info, indent=2) + "\n")
+        self.directory = out
+        return out
+
+    def plot(self, path: str | Path | None = None, start: float = 0.0) -> Path:
+        """Figure 6 of the paper for this run, as a PNG (in the run's directory by default)."""
+        from legdsl.analysis.plot import first_leg_angles, plot_run
+
+        directory = self._directory()
+        out = Path(path) if path is not None else directory / "figure6.png"
+        return plot_run(directory, out, first_leg_angles(directory), start, None)
+
+    def animate(self, path: str | Path | None = None) -> Path:
+        """The self-contained HTML player of this run (in the run's directory by default)."""
+        from legdsl.export.player import write_player
+
+        out = Path(path) if path is not None else self._directory() / "animation.html"
+        write_player(self._motion(), out)
+        return out
+
+    def _repr_html_(self) -> str:
+        """Jupyter shows the player inline (in an iframe, so its script runs on its own)."""
+        from legdsl.export.player import player_html
+
+        if not len(self):
+            return f"<p>legdsl run of {html.escape(self.model.name)}: no samples</p>"
+        page = player_html(self._motion())
+        return (
+            f'<iframe srcdoc="{html.escape(page, quote=True)}" width="100%" height="480" '
+            'style="border:0"></iframe>'
+        )
+
+    def __repr__(self) -> str:
+        t = self.trajectory.t
+        end = float(t[-1]) if len(t) else math.nan
+        return f"<legdsl run of '{self.model.name}': {self.status}, {len(self)} samples to {end:.3f} s>"
+
+    def _motion(self) -> Any:
+        return motion_from(
+            self.model,
+            self.trajectory,
+            self._dynamics,
+            events=self.info.get("events"),
+            status=self.status,
+            message=str(self.info.get("message") or ""),
+        )
+
+    def _directory(self) -> Path:
+        """Where the run is saved; a fresh run is saved to a temporary directory first."""
+        if self.directory is None:
+            self.save(Path(tempfile.mkdtemp(prefix=f"legdsl-{self.model.name}-")))
+        assert self.directory is not None
+        return self.directory
+
+
+def load(
+    path: str | Path, creature: str | None = None, generated: str | Path = "generated"
+) -> Creature:
+    """Check a ``.leg`` file and load its creature (the one named, if it has several),
+    compiling its generated code into ``generated/`` when missing or stale."""
+    return Creature(RunSession.from_file(path, creature, generated))
+
+
+def open_run(directory: str | Path, source: str | Path | None = None) -> Run:
+    """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``)."""
+    found = read_run(Path(directory), Path(source) if source is not None else None)
+    dynamics = load_dynamics(found.model, found.source, Path("generated"))
+    return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

@@ -1,0 +1,56 @@
+"""The public Python API: docs/api.md's examples run as doctests, and the API matches the CLI."""
+
+from __future__ import annotations
+
+import doctest
+import filecmp
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import legdsl
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_api_document_runs(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    failures, tried = doctest.testfile(
+        str(ROOT / "docs" / "api.md"),
+        module_relative=False,
+        optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
+    )
+    assert tried >= 20 and failures == 0
+
+
+def test_an_api_run_is_the_cli_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same settings through legdsl.load(...).run(...) and `legdsl run` write the same files."""
+    monkeypatch.chdir(ROOT)
+    run = legdsl.load("creatures/hopper.leg").run(
+        controller="hop", set={"speed": "1.2 m/s", "speed@0.5s": "0.8 m/s"}, time=1
+    )
+    api = run.save(tmp_path / "api")
+    cli = tmp_path / "cli"
+    subprocess.run(
+        [sys.executable, "-m", "legdsl", "run", "creatures/hopper.leg", "--controller", "hop",
+         "--set", "speed=1.2m/s", "--set", "speed=0.8m/s@0.5s", "--time", "1", "--out", str(cli)],
+        check=True, capture_output=True, env={**os.environ, "PYTHONHASHSEED": "0"},
+    )  # fmt: skip
+    for name in ("trajectory.npz", "trajectory.csv", "run.json"):
+        assert filecmp.cmp(api / name, cli / name, shallow=False), name
+
+
+def test_samples_and_pandas(monkeypatch: pytest.MonkeyPatch) -> None:
+    pd = pytest.importorskip("pandas")
+    monkeypatch.chdir(ROOT)
+    run = legdsl.load("creatures/hopper.leg").run(time=0.2, drop=0.1)  # a passive drop
+    frame = run.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and len(frame) == len(run)
+    assert frame.index.name == "t" and "com.z" in frame.columns and "t" not in frame.columns
+    assert frame["com.z"].iloc[-1] < frame["com.z"].iloc[0]  # it falls
+    with pytest.raises(KeyError, match="did you mean 'com.z'"):
+        run["com.zz"]
+    assert "<iframe" in run._repr_html_()
