@@ -392,6 +392,9 @@ def _parser() -> argparse.ArgumentParser:
 
     _COMMANDS["animate"] = add_animate_parser(sub)
     _COMMANDS["export-motion"] = add_export_motion_parser(sub)
+    from legdsl.api.sweep_cli import add_sweep_parser
+
+    _COMMANDS["sweep"] = add_sweep_parser(sub)
 
     e = sub.add_parser(
         "export",

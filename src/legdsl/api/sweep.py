@@ -1,0 +1,271 @@
+"""``legdsl sweep``: one creature run over a set of parameter values, one table row per run.
+
+    legdsl sweep creatures/kangaroo.leg --controller hop --grid speed=2:6:5 \\
+        --grid k_speed=0.05:0.2:4 --time 10 --out sweeps/k
+
+Values: ``--grid NAME=LO:HI:N`` (N values from LO to HI), ``--grid NAME=A,B,C`` (a list),
+``--random NAME=LO:HI`` or ``--lhs NAME=LO:HI`` (``--samples`` uniform or Latin-hypercube
+draws, with ``--seed``). Numbers take a unit right after them (``2m/s:6m/s:5``); a bare
+number is in the SI unit of what it sets (m/s for a speed, s for ``k_speed``). Grids combine
+with each other; random and Latin-hypercube draws combine with the grid.
+
+Each run is a process of its own (all cores unless ``--jobs``); each finished run's row is
+appended to ``OUT/sweep.csv`` at once (and the whole table to ``OUT/sweep.parquet`` when
+pyarrow is installed), so an interrupted sweep resumes where it stopped: rows already in the
+table are not run again. ``--keep-runs`` keeps each run's directory under ``OUT/runs/``.
+The table is drawn into ``OUT/sweep.png``: a heat map over two swept names, lines over one.
+"""
+
+from __future__ import annotations
+
+import csv
+import itertools
+import math
+import os
+import re
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import Dim, UnitError, describe, parse_unit
+from legdsl.pipeline.settings import si_unit
+
+# The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
+METRICS = (
+    "running_speed", "speed_error", "stride_duration", "stride_length", "flight_duration",
+    "stance_duration", "pitch_magnitude", "peak_vertical_acceleration",
+)  # fmt: skip
+METRIC_UNITS = {
+    "running_speed": "m/s", "speed_error": "m/s", "stride_duration": "s", "stride_length": "m",
+    "flight_duration": "s", "stance_duration": "s", "pitch_magnitude": "deg",
+    "peak_vertical_acceleration": "g",
+}  # fmt: skip
+_NUMBER = re.compile(
+    r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z][A-Za-z0-9*/^]*)?\s*"
+)
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept name and how its values are chosen."""
+
+    name: str
+    kind: str  # grid, random, lhs
+    values: tuple[float, ...] = ()  # grid: the values; random and lhs: (low, high)
+
+
+def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
+    """``NAME=LO:HI:N``, ``NAME=A,B,C`` (grid) or ``NAME=LO:HI`` (random, lhs), in SI units."""
+    name, eq, spec = text.partition("=")
+    name = name.strip()
+    if not eq or not name:
+        raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI{':N' if kind == 'grid' else ''}")
+    if name not in dims:
+        known = ", ".join(dims) or "none"
+        raise UsageError(f"--{kind} {name}: not an input or parameter of the controller ({known})")
+    want = dims[name]
+    if kind == "grid" and "," in spec:
+        return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
+    parts = spec.split(":")
+    if kind == "grid":
+        if len(parts) != 3 or not parts[2].strip().isdigit() or int(parts[2]) < 1:
+            raise UsageError(f"--grid {text!r}: write NAME=LO:HI:N (N values) or NAME=A,B,C")
+        lo, hi = (_number(v, want, kind, name) for v in parts[:2])
+        return Axis(name, kind, tuple(float(v) for v in np.linspace(lo, hi, int(parts[2]))))
+    if len(parts) != 2:
+        raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI")
+    lo, hi = (_number(v, want, kind, name) for v in parts)
+    if not lo < hi:
+        raise UsageError(f"--{kind} {text!r}: the range needs LO < HI")
+    return Axis(name, kind, (lo, hi))
+
+
+def _number(text: str, want: Dim, kind: str, name: str) -> float:
+    match = _NUMBER.fullmatch(text)
+    if match is None:
+        raise UsageError(f"--{kind} {name}: {text!r} is not a number with an optional unit")
+    value = float(match.group(1))
+    if match.group(2) is None:
+        return value  # in the SI unit of the quantity
+    try:
+        factor, dim = parse_unit(match.group(2))
+    except UnitError as e:
+        raise UsageError(f"--{kind} {name}: {e}") from None
+    if dim != want:
+        raise UsageError(
+            f"--{kind} {name}: {name} is {describe(want)}, but {text.strip()!r} is {describe(dim)}"
+        )
+    if not math.isfinite(value * factor):
+        raise UsageError(f"--{kind} {name}: {text!r} is not a finite number")
+    return value * factor
+
+
+def points(axes: Sequence[Axis], samples: int, seed: int) -> list[dict[str, float]]:
+    """Every combination of the grids, times the random and Latin-hypercube draws."""
+    grids = [a for a in axes if a.kind == "grid"]
+    drawn = [a for a in axes if a.kind != "grid"]
+    combos = [dict(zip([a.name for a in grids], c, strict=True)) for c in
+              itertools.product(*[a.values for a in grids])]  # fmt: skip
+    if not drawn:
+        return combos
+    rng = np.random.default_rng(seed)
+    draws: list[dict[str, float]] = [{} for _ in range(samples)]
+    for a in drawn:
+        lo, hi = a.values
+        if a.kind == "lhs":  # one draw in each of `samples` equal strata, strata shuffled
+            u = (rng.permutation(samples) + rng.random(samples)) / samples
+        else:
+            u = rng.random(samples)
+        for d, x in zip(draws, lo + u * (hi - lo), strict=True):
+            d[a.name] = float(x)
+    return [{**c, **d} for c in combos for d in draws]
+
+
+# ---------------------------------------------------------------- running
+
+
+@dataclass(frozen=True)
+class Job:
+    index: int
+    source: str
+    creature: str | None
+    controller: str
+    values: dict[str, float]  # SI
+    units: dict[str, str]  # SI unit of each swept name
+    fixed: tuple[str, ...]  # --set texts for every run
+    duration: float
+    start: float
+    generated: str
+    keep: str | None  # the run's directory, if kept
+
+
+_CREATURES: dict[tuple[str, str | None, str], Any] = {}  # per worker process
+
+
+def run_job(job: Job) -> dict[str, Any]:
+    """One run in a worker process: its row of the table."""
+    from legdsl.api import load
+
+    key = (job.source, job.creature, job.generated)
+    if key not in _CREATURES:
+        _CREATURES[key] = load(job.source, job.creature, job.generated)
+    settings = {f"{n}": f"{v!r}{job.units[n]}" for n, v in job.values.items()}
+    for text in job.fixed:
+        name, _, value = text.partition("=")
+        settings[name] = value
+    row: dict[str, Any] = {"run": job.index, **job.values}
+    run = _CREATURES[key].run(controller=job.controller, set=settings, time=job.duration)
+    end = float(run.trajectory.t[-1]) if len(run) else 0.0
+    row["outcome"] = "ok" if run.status == "ok" else f"{run.status} at {end:.3f} s"
+    row["simulated"] = end
+    values: dict[str, float] = {}
+    try:
+        metrics = run.metrics(start=min(job.start, end))
+        values = {s.key: s.value for s in metrics.summaries}
+        row["strides"] = metrics.n_strides
+    except UsageError:
+        row["strides"] = 0
+    for name in METRICS:
+        row[name] = values.get(name, math.nan)
+    if job.keep is not None:
+        run.save(job.keep)
+    return row
+
+
+def run_sweep(
+    jobs: Sequence[Job],
+    table: Path,
+    workers: int,
+    progress: Callable[[int, int, float], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Run the jobs not yet in ``table`` (CSV), appending each row as it finishes."""
+    done = read_table(table)
+    finished = {int(r["run"]) for r in done}
+    todo = [j for j in jobs if j.index not in finished]
+    if not todo:
+        return done
+    columns = ["run", *jobs[0].values, "outcome", "simulated", "strides", *METRICS]
+    if table.exists():  # drop a line a kill left half-written before appending to it
+        fresh = table.with_name(f".{table.name}.{os.getpid()}")
+        fresh.unlink(missing_ok=True)
+        for row in done:
+            _append(fresh, columns, row)
+        if not done:
+            fresh.touch()
+        fresh.replace(table)
+    started = time.monotonic()
+    count, total_done = 0, len(done)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        pending: set[Future[dict[str, Any]]] = {pool.submit(run_job, j) for j in todo}
+        while pending:
+            ready, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in ready:
+                _append(table, columns, future.result())
+                count += 1
+                if progress is not None:
+                    elapsed = time.monotonic() - started
+                    progress(total_done + count, len(jobs), elapsed / count * (len(todo) - count))
+    return read_table(table)
+
+
+def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:
+    new = not table.exists() or table.stat().st_size == 0
+    with table.open("a", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns)
+        if new:
+            writer.writeheader()
+        writer.writerow({c: row.get(c, "") for c in columns})
+        f.flush()
+        os.fsync(f.fileno())
+
+
+def read_table(table: Path) -> list[dict[str, Any]]:
+    """The rows of a sweep table (a half-written last line, from a kill, is dropped)."""
+    if not table.is_file():
+        return []
+    with table.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    if rows and (None in rows[-1].values() or None in rows[-1]):
+        rows.pop()
+    typed = [{k: _typed(v) for k, v in r.items()} for r in rows]
+    return sorted(typed, key=lambda r: int(r["run"]))
+
+
+def _typed(text: str) -> Any:
+    """A table cell as the number it holds, else as text."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def progress_bar(done: int, total: int, left: float) -> None:
+    width = 30
+    filled = int(width * done / total) if total else width
+    eta = f"{int(left // 60)}m{int(left % 60):02d}s left" if done < total else "done"
+    end = "\n" if done >= total else ""
+    bar = "#" * filled + "." * (width - filled)
+    print(f"\r[{bar}] {done}/{total} runs, {eta}", end=end, file=sys.stderr, flush=True)
+
+
+def iter_jobs(
+    base: dict[str, Any], combos: Sequence[dict[str, float]], runs_dir: Path | None
+) -> Iterator[Job]:
+    for i, values in enumerate(combos):
+        keep = str(runs_dir / f"{i:04d}") if runs_dir is not None else None
+        yield Job(index=i, values=values, keep=keep, **base)
+
+
+def units_of(dims: dict[str, Dim]) -> dict[str, str]:
+    return {n: si_unit(d) for n, d in dims.items()}

@@ -1,0 +1,134 @@
+"""The ``legdsl sweep`` command (the sweep itself is ``legdsl.api.sweep``)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from legdsl.analysis.sweep_plot import plot_sweep
+from legdsl.api.sweep import (
+    METRIC_UNITS,
+    METRICS,
+    iter_jobs,
+    parse_axis,
+    points,
+    progress_bar,
+    run_sweep,
+    units_of,
+)
+from legdsl.check.source import check_model
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import Dim
+
+Command = Callable[[argparse.Namespace], int]
+
+
+def add_sweep_parser(sub: Any) -> Command:
+    p = sub.add_parser(
+        "sweep",
+        help="run a controller over a grid or samples of its parameters; one table row per run",
+        description=(
+            "Run a controller over every combination of --grid values (and --random or --lhs "
+            "draws), recording each run's gait metrics and outcome in OUT/sweep.csv and drawing "
+            "OUT/sweep.png. Rerunning the same command resumes an interrupted sweep."
+        ),
+        epilog="Example: legdsl sweep creatures/kangaroo.leg --controller hop --grid speed=2:6:5 "
+        "--grid k_speed=0.05:0.2:4 --time 10 --out sweeps/k",
+    )
+    p.add_argument("file", metavar="FILE", help="a .leg file")
+    p.add_argument("--creature", help="which creature, if the file has several")
+    p.add_argument("--controller", required=True, metavar="NAME", help="the controller to run")
+    p.add_argument("--grid", action="append", default=[], metavar="NAME=LO:HI:N",
+                   help="N values from LO to HI, or NAME=A,B,C (a unit may follow each number; "
+                   "a bare number is in SI units)")  # fmt: skip
+    p.add_argument("--random", action="append", default=[], metavar="NAME=LO:HI",
+                   help="--samples uniform draws from LO to HI")  # fmt: skip
+    p.add_argument("--lhs", action="append", default=[], metavar="NAME=LO:HI",
+                   help="--samples Latin-hypercube draws from LO to HI")  # fmt: skip
+    p.add_argument("--samples", type=int, default=10, help="draws for --random/--lhs (10)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the draws (0)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="a fixed setting for every run, as legdsl run --set")  # fmt: skip
+    p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
+    p.add_argument("--from", dest="t_from", type=float, default=3.0,
+                   help="measure the metrics from this time (s, default 3)")  # fmt: skip
+    p.add_argument("--out", required=True, metavar="DIR", help="where the table and plot go")
+    p.add_argument("--keep-runs", action="store_true", help="keep each run's directory")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                   help="runs at once, in separate processes (default: all cores)")  # fmt: skip
+    p.add_argument("--plot", default=None, choices=METRICS,
+                   help="the metric to draw (default speed_error)")  # fmt: skip
+    p.add_argument("--generated", default="generated", help="where generated modules live")
+    return cmd_sweep
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    model = check_model(args.file, args.creature)
+    names = [c.name for c in model.controllers]
+    if args.controller not in names:
+        raise UsageError(
+            f"--controller {args.controller}: creature '{model.name}' has no such controller "
+            f"(it has {', '.join(names) or 'none'})"
+        )
+    controller = model.controller(args.controller)
+    dims: dict[str, Dim] = {c.name: c.dim for c in (*controller.inputs, *controller.params)}
+    axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")
+            for text in getattr(args, kind)]  # fmt: skip
+    if not axes:
+        raise UsageError("sweep: give at least one --grid, --random or --lhs")
+    if len({a.name for a in axes}) != len(axes):
+        raise UsageError("sweep: each name is swept once")
+    if args.samples < 1 or args.jobs < 1 or args.time <= 0:
+        raise UsageError("sweep: --samples, --jobs and --time must be positive")
+    combos = points(axes, args.samples, args.seed)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
+            "from": args.t_from, "set": args.set, "runs": combos}  # fmt: skip
+    plan_file = out / "sweep.json"
+    if plan_file.is_file() and json.loads(plan_file.read_text()) != plan:
+        raise UsageError(
+            f"{out} holds another sweep (its sweep.json differs); choose another --out or remove it"
+        )
+    plan_file.write_text(json.dumps(plan, indent=2) + "\n")
+    base = {
+        "source": str(args.file),
+        "creature": args.creature,
+        "controller": args.controller,
+        "units": units_of({a.name: dims[a.name] for a in axes}),
+        "fixed": tuple(args.set),
+        "duration": args.time,
+        "start": args.t_from,
+        "generated": args.generated,
+    }
+    jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
+    # compile once here, so that the workers never race to write generated/NAME/
+    from legdsl.api import load
+
+    load(args.file, args.creature, args.generated).session.control(args.controller)
+    rows = run_sweep(
+        jobs, out / "sweep.csv", args.jobs, progress_bar if sys.stderr.isatty() else None
+    )
+    _parquet(rows, out / "sweep.parquet")
+    metric = args.plot or "speed_error"
+    units = {**base["units"], **METRIC_UNITS}
+    picture = plot_sweep(rows, [a.name for a in axes][:2], metric, out / "sweep.png", units)
+    fell = sum(1 for r in rows if r["outcome"] != "ok")
+    print(f"{len(rows)} runs ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")
+    return 0
+
+
+def _parquet(rows: list[dict[str, Any]], path: Path) -> None:
+    """The table as Parquet too, when pyarrow is installed."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        return
+    columns = {k: [r.get(k) for r in rows] for k in rows[0]} if rows else {}
+    pq.write_table(pa.table(columns), path)

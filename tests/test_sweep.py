@@ -1,0 +1,85 @@
+"""legdsl sweep: every combination run once, in parallel processes, one row each; resumable."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from legdsl.api.sweep import Axis, parse_axis, points
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+
+ROOT = Path(__file__).resolve().parents[1]
+HOPPER = ROOT / "creatures" / "hopper.leg"
+DIMS = {"speed": (0, 1, -1, 0), "k_speed": (0, 0, 1, 0), "k_trim": (0, 0, 0, 0)}
+
+
+def sweep(out: Path, generated: Path, *extra: str) -> int:
+    return main([
+        "sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=0.5m/s:1.5m/s:2",
+        "--grid", "k_speed=0.04,0.08", "--time", "3", "--from", "0.5", "--jobs", "2",
+        "--out", str(out), "--generated", str(generated), *extra,
+    ])  # fmt: skip
+
+
+def rows(out: Path) -> list[dict[str, str]]:
+    with (out / "sweep.csv").open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_a_grid_sweep_and_its_resume(tmp_path: Path) -> None:
+    out, generated = tmp_path / "sweep", tmp_path / "generated"
+    assert sweep(out, generated, "--keep-runs") == 0
+    table = rows(out)
+    assert sorted((float(r["speed"]), float(r["k_speed"])) for r in table) == [
+        (0.5, 0.04), (0.5, 0.08), (1.5, 0.04), (1.5, 0.08),
+    ]  # fmt: skip
+    assert all(r["outcome"] == "ok" and float(r["simulated"]) == 3.0 for r in table)
+    fast = [float(r["running_speed"]) for r in table if float(r["speed"]) == 1.5]
+    slow = [float(r["running_speed"]) for r in table if float(r["speed"]) == 0.5]
+    assert min(fast) > max(slow)  # the command took effect
+    assert (out / "sweep.png").stat().st_size > 10_000
+    assert len(list((out / "runs").iterdir())) == 4
+    # An interrupted sweep: the table lost its last two rows (and half of a third).
+    lines = (out / "sweep.csv").read_text().splitlines(keepends=True)
+    (out / "sweep.csv").write_text("".join(lines[:3]) + lines[3][:10])
+    kept = rows(out)[:2]
+    assert sweep(out, generated) == 0
+    again = rows(out)
+    assert len(again) == 4 and again[:2] == kept  # the finished runs were not run again
+    assert sorted(r["run"] for r in again) == ["0", "1", "2", "3"]
+
+
+def test_another_sweep_in_the_same_directory_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out, generated = tmp_path / "sweep", tmp_path / "generated"
+    out.mkdir()
+    (out / "sweep.json").write_text("{}\n")
+    assert sweep(out, generated) == 2
+    assert "holds another sweep" in capsys.readouterr().err
+
+
+def test_axes_take_units_and_check_them() -> None:
+    assert parse_axis("grid", "speed=2:6:3", DIMS).values == (2.0, 4.0, 6.0)
+    assert parse_axis("grid", "speed=3.6km/s:7.2km/s:2", DIMS).values == pytest.approx(
+        (3600.0, 7200.0)
+    )
+    assert parse_axis("grid", "k_speed=50ms,0.1", DIMS).values == pytest.approx((0.05, 0.1))
+    with pytest.raises(UsageError, match="speed is velocity .*, but '2kg' is mass"):
+        parse_axis("grid", "speed=2kg:6kg:3", DIMS)
+    with pytest.raises(UsageError, match="not an input or parameter"):
+        parse_axis("random", "sped=1:2", DIMS)
+    with pytest.raises(UsageError, match="LO < HI"):
+        parse_axis("lhs", "k_trim=0.5:0.1", DIMS)
+
+
+def test_latin_hypercube_draws_fill_every_stratum_once() -> None:
+    axes = [Axis("speed", "grid", (1.0, 2.0)), Axis("k_trim", "lhs", (0.0, 1.0))]
+    drawn = points(axes, 10, seed=3)
+    assert len(drawn) == 20  # each grid value with the same 10 draws
+    strata = sorted(int(p["k_trim"] * 10) for p in drawn if p["speed"] == 1.0)
+    assert strata == list(range(10))
+    assert points(axes, 10, seed=3) == drawn  # the seed makes it reproducible
