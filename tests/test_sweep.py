@@ -29,7 +29,7 @@ def rows(out: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(f))
 
 
-def test_a_grid_sweep_and_its_resume(tmp_path: Path) -> None:
+def test_a_grid_sweep_and_its_resume(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out, generated = tmp_path / "sweep", tmp_path / "generated"
     assert sweep(out, generated, "--keep-runs") == 0
     table = rows(out)
@@ -45,11 +45,13 @@ def test_a_grid_sweep_and_its_resume(tmp_path: Path) -> None:
     # An interrupted sweep: the table lost its last two rows (and half of a third).
     lines = (out / "sweep.csv").read_text().splitlines(keepends=True)
     (out / "sweep.csv").write_text("".join(lines[:3]) + lines[3][:10])
-    kept = rows(out)[:2]
+    kept = {r["run"]: r for r in rows(out)[:2]}
+    capsys.readouterr()
     assert sweep(out, generated) == 0
-    again = rows(out)
-    assert len(again) == 4 and again[:2] == kept  # the finished runs were not run again
-    assert sorted(r["run"] for r in again) == ["0", "1", "2", "3"]
+    assert "4 runs, 2 of them from before" in capsys.readouterr().out  # only two were run
+    again = {r["run"]: r for r in rows(out)}
+    assert sorted(again) == ["0", "1", "2", "3"]
+    assert all(again[k] == row for k, row in kept.items())  # the finished runs were kept
 
 
 def test_another_sweep_in_the_same_directory_is_refused(

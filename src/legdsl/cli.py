@@ -395,6 +395,9 @@ def _parser() -> argparse.ArgumentParser:
     from legdsl.api.sweep_cli import add_sweep_parser
 
     _COMMANDS["sweep"] = add_sweep_parser(sub)
+    from legdsl.api.tune_cli import add_tune_parser
+
+    _COMMANDS["tune"] = add_tune_parser(sub)
 
     e = sub.add_parser(
         "export",

@@ -71,7 +71,7 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
         known = ", ".join(dims) or "none"
         raise UsageError(f"--{kind} {name}: not an input or parameter of the controller ({known})")
     want = dims[name]
-    if kind == "grid" and "," in spec:
+    if kind == "grid" and ("," in spec or ":" not in spec):
         return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
     parts = spec.split(":")
     if kind == "grid":
@@ -166,9 +166,11 @@ def run_job(job: Job) -> dict[str, Any]:
     row["outcome"] = "ok" if run.status == "ok" else f"{run.status} at {end:.3f} s"
     row["simulated"] = end
     values: dict[str, float] = {}
+    row["by_label"] = {}  # every metric by its Table 2 label, for tuning (not in the table)
     try:
         metrics = run.metrics(start=min(job.start, end))
         values = {s.key: s.value for s in metrics.summaries}
+        row["by_label"] = {s.label: s.value for s in metrics.summaries}
         row["strides"] = metrics.n_strides
     except UsageError:
         row["strides"] = 0

@@ -18,6 +18,7 @@ from legdsl.api.sweep import (
     parse_axis,
     points,
     progress_bar,
+    read_table,
     run_sweep,
     units_of,
 )
@@ -111,15 +112,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from legdsl.api import load
 
     load(args.file, args.creature, args.generated).session.control(args.controller)
-    rows = run_sweep(
-        jobs, out / "sweep.csv", args.jobs, progress_bar if sys.stderr.isatty() else None
-    )
+    before = len(read_table(out / "sweep.csv"))
+    bar = progress_bar if sys.stderr.isatty() else None
+    rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar)
     _parquet(rows, out / "sweep.parquet")
     metric = args.plot or "speed_error"
     units = {**base["units"], **METRIC_UNITS}
     picture = plot_sweep(rows, [a.name for a in axes][:2], metric, out / "sweep.png", units)
     fell = sum(1 for r in rows if r["outcome"] != "ok")
-    print(f"{len(rows)} runs ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")
+    resumed = f", {before} of them from before" if before else ""
+    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")
     return 0
 
 

@@ -1,0 +1,219 @@
+"""``legdsl tune``: CMA-ES over chosen controller parameters, minimising an objective of metrics.
+
+    legdsl tune creatures/kangaroo.leg --controller hop --param k_speed=0.01:0.1 \\
+        --param kp=50:300 --speeds 3m/s,4m/s,5m/s --time 20 --out tuned/k
+
+The objective of a candidate is the mean, over the commanded ``--speeds``, of
+
+* the relative speed error ``|running speed - command| / command`` (from ``--from`` on),
+* plus ``--table2-weight`` times the mean relative distance of the run's metrics to the
+  rows of ``--table2 ROW`` (the paper's animation column, where the run measured them),
+
+and a run that falls or diverges at ``t`` of ``T`` scores ``2 + (T - t) / T`` instead: more
+the earlier it ends, always worse than any run that lasts. CMA-ES (the ``cma`` package)
+searches the parameters scaled to [0, 1] within their bounds, from the file's values, with
+``--seed``; each generation's runs go to parallel processes. It writes ``OUT/NAME.leg``,
+the input with only the tuned values changed, ``OUT/tune.json`` (the best values, the
+objective of every generation, the start's and the tuned runs' metrics at each speed) and
+``OUT/tune.png`` (the objective per generation).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from legdsl.analysis.table2 import TABLE2
+from legdsl.api.sweep import Job, run_job
+from legdsl.ir.controller import Controller
+from legdsl.lang import ast
+from legdsl.lang.errors import UsageError
+from legdsl.lang.parser import parse_file
+from legdsl.lang.units import parse_unit
+
+
+@dataclass(frozen=True)
+class Bound:
+    name: str
+    low: float  # SI
+    high: float
+    start: float  # the file's value
+
+
+@dataclass(frozen=True)
+class Objective:
+    speeds: tuple[float, ...]  # m/s
+    duration: float
+    start: float  # measure from
+    table2: str | None = None
+    table2_weight: float = 1.0
+
+
+def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
+    """The objective of one candidate from its runs (one per commanded speed)."""
+    total = 0.0
+    for row, speed in zip(rows, objective.speeds, strict=True):
+        if row["outcome"] != "ok":
+            total += 2.0 + (objective.duration - float(row["simulated"])) / objective.duration
+            continue
+        measured = float(row["running_speed"])
+        term = abs(measured - speed) / speed if math.isfinite(measured) else 2.0
+        if objective.table2 is not None:
+            term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
+        total += term
+    return total / len(objective.speeds)
+
+
+def table2_distance(by_label: dict[str, float], row: str) -> float:
+    """Mean relative distance to the paper's animation column over the rows measured."""
+    parts = []
+    for label, (_, paper) in TABLE2[row].items():
+        value = by_label.get(label)
+        if value is not None and math.isfinite(value) and paper:
+            parts.append(abs(value - paper) / abs(paper))
+    return sum(parts) / len(parts) if parts else 0.0
+
+
+def tune(
+    base: Job,
+    bounds: Sequence[Bound],
+    objective: Objective,
+    generations: int,
+    popsize: int | None,
+    seed: int,
+    workers: int,
+    say: Callable[[str], None] = print,
+) -> dict[str, Any]:
+    """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows."""
+    import cma
+
+    def values_of(x: Sequence[float]) -> dict[str, float]:
+        return {
+            b.name: b.low + min(1.0, max(0.0, float(u))) * (b.high - b.low)
+            for b, u in zip(bounds, x, strict=True)
+        }
+
+    def evaluate(pool: ProcessPoolExecutor, candidates: list[dict[str, float]]) -> list[Any]:
+        jobs = [
+            replace(base, index=i, values={**c, "speed": s}, units={**base.units, "speed": "m/s"})
+            for i, (c, s) in enumerate((c, s) for c in candidates for s in objective.speeds)
+        ]
+        rows = list(pool.map(run_job, jobs))
+        n = len(objective.speeds)
+        return [rows[k * n : (k + 1) * n] for k in range(len(candidates))]
+
+    start = {b.name: b.start for b in bounds}
+    x0 = [(b.start - b.low) / (b.high - b.low) for b in bounds]
+    options: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": seed, "maxiter": generations,
+                               "verbose": -9}  # fmt: skip
+    if popsize is not None:
+        options["popsize"] = popsize
+    es = cma.CMAEvolutionStrategy(x0, 0.3, options)
+    history: list[dict[str, Any]] = []
+    best: tuple[float, dict[str, float], list[Any]] | None = None
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        (start_rows,) = evaluate(pool, [start])
+        start_score = score(start_rows, objective)
+        say(f"start: objective {start_score:.4g}")
+        while not es.stop():
+            xs = es.ask()
+            candidates = [values_of(x) for x in xs]
+            results = evaluate(pool, candidates)
+            scores = [score(r, objective) for r in results]
+            es.tell(xs, scores)
+            k = min(range(len(scores)), key=scores.__getitem__)
+            if best is None or scores[k] < best[0]:
+                best = (scores[k], candidates[k], results[k])
+            history.append({"generation": len(history) + 1, "best": scores[k],
+                            "mean": sum(scores) / len(scores), "runs": len(xs) * len(results[0])})  # fmt: skip
+            say(f"generation {len(history)}: best {scores[k]:.4g}, so far {best[0]:.4g}")
+    assert best is not None
+    if start_score <= best[0]:  # nothing found beats the file's own values: keep them
+        best = (start_score, start, start_rows)
+    return {
+        "start": {"values": start, "objective": start_score, "runs": start_rows},
+        "best": {"values": best[1], "objective": best[0], "runs": best[2]},
+        "history": history,
+    }
+
+
+def write_tuned(source: Path, controller: Controller, values: dict[str, float], out: Path) -> Path:
+    """The ``.leg`` file with only the tuned parameters' values changed (in their own units)."""
+    tree, text = parse_file(source)
+    spans = {}
+    for c in controller.params:
+        if c.name in values:
+            if c.span.file != str(source):
+                raise UsageError(
+                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
+                    "parameter of the file itself"
+                )
+            spans[c.name] = c.span
+    edits = []
+    for decl in tree.controllers:
+        for item in decl.items:
+            if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
+                edits.append(_value_edit(text, item, values[item.name.name]))
+    lines = text.split("\n")
+    for line, col, end, new in sorted(edits, reverse=True):
+        row = lines[line - 1]
+        rest = row[end - 1 :]
+        if rest.lstrip().startswith("#"):  # keep a comment's column where there is room
+            gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
+            rest = " " * max(1, gap) + rest.lstrip()
+        lines[line - 1] = row[: col - 1] + new + rest
+    out.write_text("\n".join(lines))
+    return out
+
+
+def _value_edit(text: str, item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
+    """(line, column, end column, new text) of a parameter's value, kept in its unit."""
+    node = item.value
+    while isinstance(node, ast.EUnary) and node.op == "-":
+        node = node.operand
+    assert isinstance(node, ast.EQuantity)
+    _, _, unit = node.text.partition(" ")
+    factor = parse_unit(unit.replace(" ", ""))[0] if unit else 1.0  # SI per written unit
+    new = f"{si / factor:.6g}" + (f" {unit}" if unit else "")
+    span = item.value.span  # the whole value, a leading '-' too
+    return span.line, span.col, span.end_col, new
+
+
+def plot_history(history: Sequence[dict[str, Any]], out: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
+    gens = [h["generation"] for h in history]
+    ax.plot(gens, [h["best"] for h in history], "o-", label="best of the generation")
+    ax.plot(gens, [h["mean"] for h in history], ".--", label="mean of the generation")
+    ax.set_xlabel("generation")
+    ax.set_ylabel("objective")
+    ax.set_yscale("log")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+def report(result: dict[str, Any], units: dict[str, str]) -> str:
+    lines = ["parameter        start         tuned"]
+    for name, value in result["best"]["values"].items():
+        start = result["start"]["values"][name]
+        lines.append(f"{name:<12} {start:>10.4g}    {value:>10.4g} {units.get(name, '')}")
+    lines.append(
+        f"objective    {result['start']['objective']:>10.4g}    {result['best']['objective']:>10.4g}"
+    )
+    return "\n".join(lines)
+
+
+def dump(result: dict[str, Any], path: Path) -> None:
+    path.write_text(json.dumps(result, indent=2, default=float) + "\n")

@@ -1,0 +1,101 @@
+"""The ``legdsl tune`` command (the search itself is ``legdsl.api.tune``)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from legdsl.api.sweep import Job, parse_axis, units_of
+from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
+from legdsl.check.source import check_model
+from legdsl.lang.errors import UsageError
+
+Command = Callable[[argparse.Namespace], int]
+
+
+def add_tune_parser(sub: Any) -> Command:
+    p = sub.add_parser(
+        "tune",
+        help="tune controller parameters by CMA-ES against speed error (and Table 2)",
+        description=(
+            "Search the named parameters within their bounds by CMA-ES so that the controller "
+            "holds each of --speeds (and, with --table2, comes close to the paper's rows); "
+            "falls are penalised by how early they happen. Writes OUT/NAME.leg with the "
+            "tuned values, OUT/tune.json and OUT/tune.png."
+        ),
+        epilog="Example: legdsl tune creatures/hopper.leg --controller hop --param "
+        "k_speed=0.02:0.2 --param kp=50:300 --speeds 0.5,1,1.5 --time 10 --out tuned/hopper",
+    )
+    p.add_argument("file", metavar="FILE", help="a .leg file")
+    p.add_argument("--creature", help="which creature, if the file has several")
+    p.add_argument("--controller", required=True, metavar="NAME", help="the controller to tune")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=LO:HI",
+                   help="a parameter and its bounds (units as in legdsl sweep; bare = SI)")  # fmt: skip
+    p.add_argument("--speeds", required=True, metavar="V,V,...",
+                   help="the commanded speeds every candidate runs at (m/s, or with a unit)")  # fmt: skip
+    p.add_argument(
+        "--table2", metavar="ROW", help="also approach this Table 2 row's animation column"
+    )
+    p.add_argument("--table2-weight", type=float, default=1.0, help="its weight (1)")
+    p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
+    p.add_argument("--from", dest="t_from", type=float, default=3.0, help="measure from (s, 3)")
+    p.add_argument("--generations", type=int, default=10, help="CMA-ES generations (10)")
+    p.add_argument("--popsize", type=int, default=None, help="candidates per generation")
+    p.add_argument("--seed", type=int, default=1, help="CMA-ES seed (1)")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="runs at once")
+    p.add_argument("--out", required=True, metavar="DIR", help="where the results go")
+    p.add_argument("--generated", default="generated", help="where generated modules live")
+    return cmd_tune
+
+
+def cmd_tune(args: argparse.Namespace) -> int:
+    from legdsl.analysis.table2 import TABLE2
+
+    source = Path(args.file)
+    model = check_model(source, args.creature)
+    names = [c.name for c in model.controllers]
+    if args.controller not in names:
+        raise UsageError(f"--controller {args.controller}: '{model.name}' has {', '.join(names)}")
+    controller = model.controller(args.controller)
+    params = {c.name: c for c in controller.params}
+    if not args.param:
+        raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
+    bounds = []
+    for text in args.param:
+        axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
+        low, high = axis.values
+        start = params[axis.name].value
+        if not low <= start <= high:
+            raise UsageError(
+                f"--param {text}: the file's value {start:g} is outside the bounds; widen them"
+            )
+        bounds.append(Bound(axis.name, low, high, start))
+    inputs = {c.name: c for c in controller.inputs}
+    if "speed" not in inputs:
+        raise UsageError(f"tune: controller '{args.controller}' has no input 'speed' to command")
+    speeds = parse_axis("grid", f"speed={args.speeds}", {"speed": inputs["speed"].dim}).values
+    if args.table2 is not None and args.table2 not in TABLE2:
+        raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
+    if args.generations < 1 or args.jobs < 1 or args.time <= 0:
+        raise UsageError("tune: --generations, --jobs and --time must be positive")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    units = units_of({b.name: params[b.name].dim for b in bounds})
+    base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
+               values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
+               generated=args.generated, keep=None)  # fmt: skip
+    from legdsl.api import load
+
+    load(source, args.creature, args.generated).session.control(args.controller)  # compile once
+    objective = Objective(speeds, args.time, args.t_from, args.table2, args.table2_weight)
+    result = tune(base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs)
+    tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+    dump(result, out / "tune.json")
+    plot_history(result["history"], out / "tune.png")
+    print(report(result, units))
+    runs = len(speeds) + sum(h["runs"] for h in result["history"])
+    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}")
+    return 0

@@ -1,0 +1,60 @@
+"""legdsl tune: CMA-ES over controller parameters, reproducible with a seed."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from legdsl.api.tune import Objective, score, write_tuned
+from legdsl.check.source import check_model
+from legdsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+HOPPER = ROOT / "creatures" / "hopper.leg"
+
+
+def tune(out: Path, generated: Path) -> int:
+    return main([
+        "tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
+        "--speeds", "1m/s", "--time", "2.5", "--from", "0.8", "--generations", "2",
+        "--popsize", "3", "--seed", "7", "--jobs", "2", "--out", str(out),
+        "--generated", str(generated),
+    ])  # fmt: skip
+
+
+def test_a_two_generation_tune_is_reproducible(tmp_path: Path) -> None:
+    generated = tmp_path / "generated"
+    assert tune(tmp_path / "a", generated) == 0
+    assert tune(tmp_path / "b", generated) == 0
+    a = json.loads((tmp_path / "a" / "tune.json").read_text())
+    b = json.loads((tmp_path / "b" / "tune.json").read_text())
+    assert a == b
+    assert len(a["history"]) == 2 and a["best"]["objective"] <= a["start"]["objective"]
+    tuned = check_model(tmp_path / "a" / "hopper.leg").controller("hop")
+    k = {c.name: c.value for c in tuned.params}["k_speed"]
+    assert k == pytest.approx(a["best"]["values"]["k_speed"], rel=1e-5)
+    # only that value changed in the file
+    old = HOPPER.read_text().splitlines()
+    new = (tmp_path / "a" / "hopper.leg").read_text().splitlines()
+    changed = [i for i, (x, y) in enumerate(zip(old, new, strict=True)) if x != y]
+    assert len(changed) <= 1 and all("k_speed" in new[i] for i in changed)
+    assert (tmp_path / "a" / "tune.png").stat().st_size > 5_000
+
+
+def test_falls_score_by_how_early_they_happen() -> None:
+    objective = Objective(speeds=(2.0,), duration=10.0, start=3.0)
+    ok = {"outcome": "ok", "running_speed": 1.9, "simulated": 10.0, "by_label": {}}
+    late = {"outcome": "fell at 9.000 s", "simulated": 9.0, "running_speed": float("nan")}
+    early = {**late, "outcome": "fell at 1.000 s", "simulated": 1.0}
+    assert score([ok], objective) == pytest.approx(0.05)
+    assert score([ok], objective) < score([late], objective) < score([early], objective)
+
+
+def test_the_tuned_file_keeps_units_and_comments(tmp_path: Path) -> None:
+    hop = check_model(HOPPER).controller("hop")
+    out = write_tuned(HOPPER, hop, {"kp": 212.5, "k_speed": 0.075}, tmp_path / "h.leg")
+    text = out.read_text()
+    assert "  param kp = 212.5 N*m/rad     # eq. (4)" in text  # the comment's column kept
+    assert "  param k_speed = 0.075 s      # eq. (3) gain" in text
