@@ -85,3 +85,12 @@ def test_latin_hypercube_draws_fill_every_stratum_once() -> None:
     strata = sorted(int(p["k_trim"] * 10) for p in drawn if p["speed"] == 1.0)
     assert strata == list(range(10))
     assert points(axes, 10, seed=3) == drawn  # the seed makes it reproducible
+
+
+def test_a_sweep_on_a_dask_local_cluster_gives_the_same_table(tmp_path: Path) -> None:
+    pytest.importorskip("distributed")
+    generated = tmp_path / "generated"
+    assert sweep(tmp_path / "local", generated) == 0
+    assert sweep(tmp_path / "dask", generated, "--dask", "local") == 0
+    by_run = [{r["run"]: r for r in rows(tmp_path / d)} for d in ("local", "dask")]
+    assert by_run[0] == by_run[1]

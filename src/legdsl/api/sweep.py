@@ -26,13 +26,13 @@ import re
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from legdsl.api.workers import Workers
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, UnitError, describe, parse_unit
 from legdsl.pipeline.settings import si_unit
@@ -186,8 +186,10 @@ def run_sweep(
     table: Path,
     workers: int,
     progress: Callable[[int, int, float], None] | None = None,
+    dask: str | None = None,
 ) -> list[dict[str, Any]]:
-    """Run the jobs not yet in ``table`` (CSV), appending each row as it finishes."""
+    """Run the jobs not yet in ``table`` (CSV), appending each row as it finishes, on
+    ``workers`` local processes or a Dask cluster (``legdsl.api.workers``)."""
     done = read_table(table)
     finished = {int(r["run"]) for r in done}
     todo = [j for j in jobs if j.index not in finished]
@@ -203,17 +205,12 @@ def run_sweep(
             fresh.touch()
         fresh.replace(table)
     started = time.monotonic()
-    count, total_done = 0, len(done)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        pending: set[Future[dict[str, Any]]] = {pool.submit(run_job, j) for j in todo}
-        while pending:
-            ready, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in ready:
-                _append(table, columns, future.result())
-                count += 1
-                if progress is not None:
-                    elapsed = time.monotonic() - started
-                    progress(total_done + count, len(jobs), elapsed / count * (len(todo) - count))
+    with Workers(workers, dask) as pool:
+        for count, row in enumerate(pool.as_completed(run_job, todo), 1):
+            _append(table, columns, row)
+            if progress is not None:
+                elapsed = time.monotonic() - started
+                progress(len(done) + count, len(jobs), elapsed / count * (len(todo) - count))
     return read_table(table)
 
 

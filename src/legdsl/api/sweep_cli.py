@@ -65,6 +65,9 @@ def add_sweep_parser(sub: Any) -> Command:
     p.add_argument("--plot", default=None, choices=METRICS,
                    help="the metric to draw (default speed_error)")  # fmt: skip
     p.add_argument("--generated", default="generated", help="where generated modules live")
+    p.add_argument("--dask", metavar="ADDRESS", default=None,
+                   help="run on the Dask cluster at tcp://HOST:PORT, or 'local' for a LocalCluster "
+                   "of --jobs workers (default: local processes)")  # fmt: skip
     return cmd_sweep
 
 
@@ -114,7 +117,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     load(args.file, args.creature, args.generated).session.control(args.controller)
     before = len(read_table(out / "sweep.csv"))
     bar = progress_bar if sys.stderr.isatty() else None
-    rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar)
+    rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
     _parquet(rows, out / "sweep.parquet")
     metric = args.plot or "speed_error"
     units = {**base["units"], **METRIC_UNITS}

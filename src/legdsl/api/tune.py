@@ -23,13 +23,13 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.table2 import TABLE2
 from legdsl.api.sweep import Job, run_job
+from legdsl.api.workers import Workers
 from legdsl.ir.controller import Controller
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -88,6 +88,7 @@ def tune(
     seed: int,
     workers: int,
     say: Callable[[str], None] = print,
+    dask: str | None = None,
 ) -> dict[str, Any]:
     """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows."""
     import cma
@@ -98,12 +99,12 @@ def tune(
             for b, u in zip(bounds, x, strict=True)
         }
 
-    def evaluate(pool: ProcessPoolExecutor, candidates: list[dict[str, float]]) -> list[Any]:
+    def evaluate(pool: Workers, candidates: list[dict[str, float]]) -> list[Any]:
         jobs = [
             replace(base, index=i, values={**c, "speed": s}, units={**base.units, "speed": "m/s"})
             for i, (c, s) in enumerate((c, s) for c in candidates for s in objective.speeds)
         ]
-        rows = list(pool.map(run_job, jobs))
+        rows = pool.map(run_job, jobs)
         n = len(objective.speeds)
         return [rows[k * n : (k + 1) * n] for k in range(len(candidates))]
 
@@ -116,7 +117,7 @@ def tune(
     es = cma.CMAEvolutionStrategy(x0, 0.3, options)
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, float], list[Any]] | None = None
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    with Workers(workers, dask) as pool:
         (start_rows,) = evaluate(pool, [start])
         start_score = score(start_rows, objective)
         say(f"start: objective {start_score:.4g}")

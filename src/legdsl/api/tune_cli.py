@@ -48,6 +48,9 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="runs at once")
     p.add_argument("--out", required=True, metavar="DIR", help="where the results go")
     p.add_argument("--generated", default="generated", help="where generated modules live")
+    p.add_argument("--dask", metavar="ADDRESS", default=None,
+                   help="run on the Dask cluster at tcp://HOST:PORT, or 'local' for a LocalCluster "
+                   "of --jobs workers (default: local processes)")  # fmt: skip
     return cmd_tune
 
 
@@ -91,7 +94,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
 
     load(source, args.creature, args.generated).session.control(args.controller)  # compile once
     objective = Objective(speeds, args.time, args.t_from, args.table2, args.table2_weight)
-    result = tune(base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs)
+    result = tune(
+        base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+        dask=args.dask,
+    )  # fmt: skip
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png")
