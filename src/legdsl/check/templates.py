@@ -91,12 +91,13 @@ class _Expander:
                 run = []
                 out.append(item)
                 continue
-            copy = self.instance(item)
-            if copy is None:
+            made = self.instance(item)
+            if made is None:
                 continue
+            copy, mirrored = made
             out += [i for i in copy if not isinstance(i, ast.ActuatorDecl)]
             run += [i for i in copy if isinstance(i, ast.ActuatorDecl)]
-            if item.mirror is not None and item.mirror.name in PLANES:
+            if mirrored:
                 mirrors.append(self.mirror_part(item, copy))
         out += _by_kind(run)
         return Expansion(tuple(out), tuple(mirrors))
@@ -116,8 +117,9 @@ class _Expander:
             seen.add(p.name)
         self.templates[t.name.name] = t
 
-    def instance(self, inst: ast.InstanceDecl) -> list[ast.TemplateItem] | None:
-        """The template's items for this instance, or None (and errors) if it cannot be made."""
+    def instance(self, inst: ast.InstanceDecl) -> tuple[list[ast.TemplateItem], bool] | None:
+        """The template's items for this instance and whether to mirror them, or None (and
+        errors) if it cannot be made. A mirror that cannot be made leaves the copy as is."""
         name, tname = inst.name.name, inst.template.name
         template = self.templates.get(tname)
         if template is None:
@@ -136,6 +138,10 @@ class _Expander:
             return None
         self.instances[name] = inst
         within = f" (in instance '{name}' of template '{tname}')"
+
+        def here(span: Span) -> Span:
+            return replace(span, within=within)
+
         params = [p.name for p in template.params]
         args: dict[str, ast.Value] = {}
         ok = True
@@ -143,13 +149,13 @@ class _Expander:
             if a.target.name not in params:
                 listed = ", ".join(params) or "none"
                 self.diag.error(
-                    a.target.span,
+                    here(a.target.span),
                     f"template '{tname}' has no parameter '{a.target.name}'; its parameters "
                     f"are {listed}{did_you_mean(a.target.name, params)}",
                 )
                 ok = False
             elif a.target.name in args:
-                self.diag.error(a.target.span, f"parameter '{a.target.name}' is given twice")
+                self.diag.error(here(a.target.span), f"parameter '{a.target.name}' is given twice")
                 ok = False
             else:
                 args[a.target.name] = _respan(a.value, within)
@@ -162,8 +168,9 @@ class _Expander:
                 + f"; write {tname}({', '.join(p + ' = ...' for p in params)})",
             )
             ok = False
-        if inst.mirror is not None and not self.mirror_ok(inst.mirror, template):
-            ok = False
+        mirrored = inst.mirror is not None and self.mirror_ok(
+            here(inst.mirror.span), inst, template
+        )
         if not ok:
             return None
         sub = _Substitution(args, within, self.diag)
@@ -179,19 +186,21 @@ class _Expander:
                     )
                     ok = False
                 self.owner.setdefault(ident.name, name)
-        return copy if ok else None
+        return (copy, mirrored) if ok else None
 
-    def mirror_ok(self, plane: ast.Ident, template: ast.TemplateDecl) -> bool:
+    def mirror_ok(self, span: Span, inst: ast.InstanceDecl, template: ast.TemplateDecl) -> bool:
+        assert inst.mirror is not None
+        plane = inst.mirror
         if plane.name not in PLANES:
             self.diag.error(
-                plane.span,
+                span,
                 f"unknown mirror '{plane.name}'; use 'mirror sagittal' (y to -y, left to "
                 f"right) or 'mirror frontal' (x to -x, front to back){did_you_mean(plane.name, PLANES)}",
             )
             return False
         if self.planar and plane.name == "sagittal":
             self.diag.error(
-                plane.span,
+                span,
                 "a planar creature lies in the sagittal (x-z) plane, so it cannot be mirrored "
                 "about it; use 'mirror frontal' (x to -x) or no mirror",
             )
@@ -199,7 +208,7 @@ class _Expander:
         for b in template.items:
             if isinstance(b, ast.BodyDecl) and not isinstance(b.attach, ast.AttachJoint):
                 self.diag.error(
-                    plane.span,
+                    span,
                     f"template '{template.name.name}' holds the root body '{b.name.name}', "
                     "which a mirror cannot move; mirror only parts that hang from another body",
                 )
