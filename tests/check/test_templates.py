@@ -152,3 +152,20 @@ def test_show_prints_the_expanded_tree(capsys: pytest.CaptureFixture[str]) -> No
     for leg in ("fl", "fr", "rl", "rr"):
         assert f"thigh_{leg}  via gimbal hip_{leg}" in out
         assert f"shank_{leg}  via prismatic leg_{leg}" in out
+
+
+def test_a_part_outside_the_instance_at_the_tip_of_a_mirrored_body(tmp_path: Path) -> None:
+    """A contact or body hung 'at tip' of a mirrored body is at the mirrored tip."""
+    text = (GOOD / "mirror_template.leg").read_text(encoding="utf-8")
+    extra = (
+        "  contact knuckle on lower_r at tip\n"
+        "  body finger on upper_r via revolute knuckle_joint at tip {"
+        " mass 0.1 kg  inertia (0.001, 0.001, 0.001) kg*m^2 }\n}\n"
+    )
+    path = tmp_path / "outside.leg"
+    path.write_text(text.removesuffix("}\n") + extra, encoding="utf-8")
+    model = check_model(path)
+    assert model.joint("knuckle_joint").origin == model.body("upper_r").tip
+    knuckle = next(c for c in model.contacts if c.name == "knuckle")
+    assert knuckle.point == model.body("lower_r").tip
+    assert model.body("upper_r").tip[1] < 0  # the left arm's leans to +y

@@ -9,7 +9,9 @@ opposite of the original, the axis is kept and the coordinate negated instead (i
 initial value and rate, its limits ``[lo, hi] -> [-hi, -lo]``, and the rest or setpoint
 of the instance's springs and servos on it), which is how a mirror is written by hand:
 the right hip's roll is about +x like the left's, with its angle's sign flipped.
-Reflections keep lengths and angles, so a valid part stays valid.
+Reflections keep lengths and angles, so a valid part stays valid. A body or contact
+outside the instance that is placed ``at tip`` of one of its bodies is at the mirrored
+tip; one placed at a point is where it is written, in the mirrored body's frame.
 """
 
 from __future__ import annotations
@@ -64,6 +66,8 @@ class Mirror:
         )
 
     def joint(self, j: Joint) -> Joint:
+        if j.name in self.part.at_tips:
+            return replace(j, origin=self.point(j.origin))
         if j.child not in self.part.bodies:
             return j
         return replace(j, origin=self.point(j.origin), dofs=tuple(self.dof(d) for d in j.dofs))
@@ -82,7 +86,7 @@ class Mirror:
         return replace(d, initial=_neg(d.initial), initial_rate=_neg(d.initial_rate), limits=limits)
 
     def contact(self, c: Contact) -> Contact:
-        if c.name not in self.part.contacts:
+        if c.name not in self.part.contacts and c.name not in self.part.at_tips:
             return c
         return replace(c, point=self.point(c.point))
 

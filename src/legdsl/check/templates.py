@@ -40,6 +40,9 @@ class MirrorPart:
     bodies: frozenset[str]
     contacts: frozenset[str]
     actuators: frozenset[str]
+    # joints and contacts outside the instance placed 'at tip' of one of its bodies:
+    # at the mirrored tip
+    at_tips: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -56,6 +59,28 @@ def expand(decl: ast.CreatureDecl, diag: Diagnostics, planar: bool) -> Expansion
 def _by_kind(actuators: list[ast.ActuatorDecl]) -> list[ast.ActuatorDecl]:
     """Springs, then servos, then force sources; each kind in the order given."""
     return sorted(actuators, key=lambda a: _KIND_ORDER.get(a.kind.name, 3))
+
+
+def _at_tips(part: MirrorPart, items: list[ast.CreatureItem]) -> MirrorPart:
+    """``part`` with the joints and contacts outside it that are 'at tip' of its bodies."""
+    found: set[str] = set()
+    for i in items:
+        if isinstance(i, ast.BodyDecl) and i.name.name not in part.bodies:
+            a = i.attach
+            if isinstance(a, ast.AttachJoint) and a.parent.name in part.bodies and _tip(a.at):
+                found.add(a.joint.name)
+        elif (
+            isinstance(i, ast.ContactDecl)
+            and i.name.name not in part.contacts
+            and i.body.name in part.bodies
+            and _tip(i.at)
+        ):
+            found.add(i.name.name)
+    return replace(part, at_tips=frozenset(found))
+
+
+def _tip(value: ast.Value | None) -> bool:
+    return isinstance(value, ast.NameValue) and value.ident.name == "tip"
 
 
 def _declared(item: ast.TemplateItem) -> list[tuple[str, ast.Ident]]:
@@ -100,7 +125,7 @@ class _Expander:
             if mirrored:
                 mirrors.append(self.mirror_part(item, copy))
         out += _by_kind(run)
-        return Expansion(tuple(out), tuple(mirrors))
+        return Expansion(tuple(out), tuple(_at_tips(m, out) for m in mirrors))
 
     def template(self, t: ast.TemplateDecl) -> None:
         first = self.templates.get(t.name.name)
