@@ -48,7 +48,21 @@ def controller(table: str, before: str = "") -> str:
 
 # A fragment of each entry's message -> a realistic file with that slip, and
 # the line:col where it must be reported.
+TEMPLATE = """\
+  template foot(S) {
+    contact toe_S on shank at tip  # one foot
+  }
+"""
+
 REALISTIC: dict[str, tuple[str, str]] = {
+    "write an instance as": (
+        HOPPER.replace("  leg main", TEMPLATE + "  instance front foot(S = f)\n  leg main"),
+        "16:18",
+    ),
+    "say which mirror": (
+        HOPPER.removesuffix("}\n") + TEMPLATE + "  instance front = foot(S = f) mirror\n}\n",
+        "19:1",
+    ),
     "properties take no '='": (
         HOPPER.replace("length 0.5 m", "length = 0.5 m"),
         "10:44",

@@ -2,7 +2,8 @@
 
 Every mistake found is collected (not just the first) and raised together as
 one ``LegError``, sorted by position. ``CreatureChecker`` reads the creature's
-own lines (planar or spatial, gravity) and hands each kind of declaration to
+own lines (planar or spatial, gravity), expands its templates' instances
+(``templates``; mirrored ones are reflected at the end, ``mirror``) and hands each kind of declaration to
 its part, in this order, all on one ``Scope`` (``legdsl.check.scope``):
 
 - ``tree``: the bodies in tree order, each with the joint above it
@@ -19,7 +20,9 @@ from __future__ import annotations
 from legdsl.check.actuators import ActuatorChecker
 from legdsl.check.ground import GroundChecker
 from legdsl.check.legs import LegChecker
+from legdsl.check.mirror import mirror_parts
 from legdsl.check.scope import Scope
+from legdsl.check.templates import expand
 from legdsl.check.tree import TreeChecker
 from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.model import Model
@@ -68,9 +71,11 @@ class CreatureChecker(ValueChecker):
                     ),
                 )
 
+        expansion = expand(d, self.diag, self.planar)
+        items = expansion.items
         scope = Scope(self.diag, self.planar, self.names)
         tree, attached = TreeChecker(scope), ActuatorChecker(scope)
-        bodies_decl = [i for i in d.items if isinstance(i, ast.BodyDecl)]
+        bodies_decl = [i for i in items if isinstance(i, ast.BodyDecl)]
         order = tree.tree_order(d.name, bodies_decl)
         bodies, joints, q0, v0 = tree.build_tree(order)
         by_body = {b.name: b for b in bodies}
@@ -82,20 +87,20 @@ class CreatureChecker(ValueChecker):
 
         actuators = [
             a
-            for i in d.items
+            for i in items
             if isinstance(i, ast.ActuatorDecl)
             for a in [attached.actuator(i, dofs)]
             if a is not None
         ]
         contacts = [
             c
-            for i in d.items
+            for i in items
             if isinstance(i, ast.ContactDecl)
             for c in [attached.contact(i, by_body)]
             if c is not None
         ]
         ground = None
-        for block in (i for i in d.items if isinstance(i, ast.BlockDecl)):
+        for block in (i for i in items if isinstance(i, ast.BlockDecl)):
             if block.name.name != "ground":
                 self.err(
                     block.name.span,
@@ -109,9 +114,10 @@ class CreatureChecker(ValueChecker):
         leg_checker = LegChecker(scope)
         legs = [
             leg_checker.leg(i, joints, contacts, actuators, bodies)
-            for i in d.items
+            for i in items
             if isinstance(i, ast.LegDecl)
         ]
+        mirror_parts(expansion.mirrors, bodies, joints, contacts, actuators, q0, v0)
 
         if not bodies:
             return None

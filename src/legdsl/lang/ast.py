@@ -183,7 +183,34 @@ class Flag:
     span: Span
 
 
-CreatureItem = Flag | BodyDecl | ActuatorDecl | ContactDecl | LegDecl | BlockDecl | Prop
+TemplateItem = BodyDecl | ActuatorDecl | ContactDecl | LegDecl
+
+
+@dataclass(frozen=True)
+class TemplateDecl:
+    """``template NAME(P, ...) { ... }``: a part of the tree written once (``check.templates``)."""
+
+    name: Ident
+    params: tuple[Ident, ...]
+    items: tuple[TemplateItem, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
+class InstanceDecl:
+    """``instance NAME = TEMPLATE(P = value, ...) [mirror PLANE]``."""
+
+    name: Ident
+    template: Ident
+    args: tuple[Assign, ...]
+    mirror: Ident | None
+    span: Span
+
+
+CreatureItem = (
+    Flag | BodyDecl | ActuatorDecl | ContactDecl | LegDecl | BlockDecl | Prop | TemplateDecl
+    | InstanceDecl
+)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,9 @@ class Span:
     col: int
     end_line: int
     end_col: int
+    # Set on the lines of a template as one instance expands them: an error there names
+    # the instance, "(in instance 'fr' of template 'leg')". Not part of the position.
+    within: str = field(default="", compare=False)
 
     def __str__(self) -> str:
         if self.line <= 0:  # the whole file (one that cannot be read, say)
@@ -92,7 +95,7 @@ class Diagnostics:
         self.items: list[Diagnostic] = []
 
     def error(self, span: Span, message: str) -> None:
-        self.items.append(Diagnostic(span, message))
+        self.items.append(Diagnostic(span, message + span.within))
 
     def raise_if_any(self) -> None:
         if self.items:

@@ -161,6 +161,18 @@ class _ToAst(Transformer):
     def block(self, meta: Any, c: list[Any]) -> ast.BlockDecl:
         return ast.BlockDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
 
+    def template(self, meta: Any, c: list[Any]) -> ast.TemplateDecl:
+        params = tuple(self._id(t) for t in c[1:] if isinstance(t, Token))
+        items = tuple(i for i in c[1:] if i is not None and not isinstance(i, Token))
+        return ast.TemplateDecl(self._id(c[0]), params, items, self._s(meta))
+
+    def instance(self, meta: Any, c: list[Any]) -> ast.InstanceDecl:
+        args = tuple(a for a in c[2:-1] if a is not None)
+        return ast.InstanceDecl(self._id(c[0]), self._id(c[1]), args, c[-1], self._s(meta))
+
+    def mirror(self, meta: Any, c: list[Any]) -> ast.Ident:
+        return self._id(c[0])
+
     def creature(self, meta: Any, c: list[Any]) -> ast.CreatureDecl:
         return ast.CreatureDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))
 

@@ -1,0 +1,171 @@
+"""Templates and their mirrors (docs/language.md, "Templates"): an instance checks to the
+model its template written out by hand gives, and a mirror is the reflection of the part."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from legdsl.check.source import check_model
+from legdsl.cli import main
+from legdsl.codegen.python.dynamics import _clean
+from legdsl.ir.model import Model
+from legdsl.pipeline.compile import compile_model
+from tests.conftest import load_module
+
+ROOT = Path(__file__).resolve().parents[2]
+GOOD = ROOT / "tests" / "good"
+
+
+def plain(model: Model) -> dict[str, Any]:
+    """The model without spans, its file's name and its controllers."""
+    out = _clean(model)
+    del out["source"], out["controllers"]
+    return out
+
+
+@pytest.mark.parametrize("name", ["quadruped", "biped"])
+def test_shipped_templates_give_the_hand_written_models(name: str) -> None:
+    shipped = check_model(ROOT / "creatures" / f"{name}.leg")
+    assert plain(shipped) == plain(check_model(GOOD / f"{name}_by_hand.leg"))
+
+
+def creature_lines(path: Path) -> int:
+    lines = path.read_text(encoding="utf-8").split("\n")
+    start = next(i for i, line in enumerate(lines) if line.startswith("creature "))
+    end = next(i for i, line in enumerate(lines) if i > start and line == "}")
+    return end - start + 1
+
+
+def test_the_shipped_creatures_are_shorter() -> None:
+    quadruped = (ROOT / "creatures" / "quadruped.leg").read_text(encoding="utf-8")
+    by_hand = (GOOD / "quadruped_by_hand.leg").read_text(encoding="utf-8")
+    header = 4  # the by-hand copy's lines saying what it is
+    assert quadruped.count("\n") <= 2 / 3 * (by_hand.count("\n") - header)
+    biped = creature_lines(ROOT / "creatures" / "biped.leg")
+    assert biped < creature_lines(GOOD / "biped_by_hand.leg")
+
+
+def test_a_mirrored_template_is_the_hand_written_mirror() -> None:
+    template = check_model(GOOD / "mirror_template.leg")
+    assert plain(template) == plain(check_model(GOOD / "mirror_by_hand.leg"))
+    right = template.joint("shoulder_r").dofs[0]
+    assert right.axis[0] < 0 and right.axis[1] > 0  # -M a for the hinge about (1, 2, 0.5)
+    assert template.joint("elbow_r").dofs[0].limits == pytest.approx(
+        (-np.radians(40), np.radians(10))
+    )
+
+
+def test_a_mirror_reflects_the_dynamics(tmp_path: Path) -> None:
+    """Same mass matrix as the hand-written mirror at random states; and the mirrored arm
+    at the reflected state has the mass matrix and bias forces of the arm not mirrored:
+    M'(D q) = D M(q) D and h'(D q, D v) = D h(q, v), D flipping the coordinates whose sign
+    the mirror negates (the gimbal's hinges about x and z)."""
+    text = (GOOD / "mirror_template.leg").read_text(encoding="utf-8")
+    assert " mirror sagittal" in text
+    unmirrored = tmp_path / "unmirrored.leg"
+    unmirrored.write_text(text.replace(" mirror sagittal", ""), encoding="utf-8")
+    mods = []
+    for path in (GOOD / "mirror_template.leg", GOOD / "mirror_by_hand.leg", unmirrored):
+        compiled = compile_model(path)
+        mods.append((compiled.model, load_module(compiled.text("dynamics.py"), compiled.name)))
+    (model, mirrored), (_, by_hand), (_, plain_dyn) = mods
+    flip = np.array([-1.0 if n in ("elbow_r_x", "elbow_r_z") else 1.0 for n in model.q_names])
+    assert model.nq == model.nv == len(flip) == 8
+    rng = np.random.default_rng(19)
+    for _ in range(5):
+        q, v = rng.uniform(-1, 1, model.nq), rng.uniform(-2, 2, model.nv)
+        m = np.array(mirrored.mass_matrix(list(q)))
+        np.testing.assert_allclose(m, np.array(by_hand.mass_matrix(list(q))), rtol=1e-12)
+        reflected = np.array(mirrored.mass_matrix(list(flip * q)))
+        expected = np.diag(flip) @ np.array(plain_dyn.mass_matrix(list(q))) @ np.diag(flip)
+        np.testing.assert_allclose(reflected, expected, rtol=1e-10, atol=1e-12)
+        h = np.array(mirrored.bias_forces(list(flip * q), list(flip * v)))
+        h0 = np.array(plain_dyn.bias_forces(list(q), list(v)))
+        np.testing.assert_allclose(h, flip * h0, rtol=1e-10, atol=1e-12)
+
+
+PLANAR = """
+creature hop {
+  planar
+  body trunk free { mass 5 kg  inertia 0.2 kg*m^2 }
+  %s
+}
+"""
+LEG = (
+    "body thigh_%s on trunk via revolute hip_%s at %s {"
+    " length 0.3 m  com (%s m, -0.1 m)  mass 1 kg  inertia 0.01 kg*m^2"
+    " limits %s deg to %s deg  initial %s deg }\n"
+    "actuator hip_%s_servo on hip_%s servo(kp = 10 N*m/rad, kv = 1 N*m*s/rad, setpoint = %s deg)"
+)
+
+
+def test_a_frontal_mirror_in_a_planar_creature(tmp_path: Path) -> None:
+    """x -> -x: a hinge about y keeps its axis and its angle changes sign."""
+    template = tmp_path / "template.leg"
+    template.write_text(
+        PLANAR
+        % (
+            "template leg(S, X) {\n"
+            + LEG % ("S", "S", "X", "0.02", "-10", "40", "5", "S", "S", "7")
+            + "\n}\ninstance front = leg(S = f, X = (0.2 m, 0 m))\n"
+            "instance back = leg(S = b, X = (0.2 m, 0 m)) mirror frontal"
+        ),
+        encoding="utf-8",
+    )
+    by_hand = tmp_path / "by_hand.leg"
+    by_hand.write_text(
+        PLANAR
+        % (
+            LEG % ("f", "f", "(0.2 m, 0 m)", "0.02", "-10", "40", "5", "f", "f", "7")
+            + "\n"
+            + LEG % ("b", "b", "(-0.2 m, 0 m)", "-0.02", "-40", "10", "-5", "b", "b", "-7")
+        ),
+        encoding="utf-8",
+    )
+    assert plain(check_model(template)) == plain(check_model(by_hand))
+
+
+def test_parameters_replace_whole_parts_of_names_only(tmp_path: Path) -> None:
+    path = tmp_path / "names.leg"
+    path.write_text(
+        PLANAR
+        % (
+            "template leg(S) {\n"
+            "  body thigh_S on trunk via revolute S_hip_SS at (0 m, 0 m) {"
+            " mass 1 kg  inertia 0.01 kg*m^2 }\n"
+            "}\ninstance a = leg(S = front)"
+        ),
+        encoding="utf-8",
+    )
+    model = check_model(path)
+    assert [b.name for b in model.bodies] == ["trunk", "thigh_front"]
+    assert model.joints[1].name == "front_hip_SS"
+
+
+def test_show_prints_the_expanded_tree(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["show", str(ROOT / "creatures" / "quadruped.leg")]) == 0
+    out = capsys.readouterr().out
+    for leg in ("fl", "fr", "rl", "rr"):
+        assert f"thigh_{leg}  via gimbal hip_{leg}" in out
+        assert f"shank_{leg}  via prismatic leg_{leg}" in out
+
+
+def test_a_part_outside_the_instance_at_the_tip_of_a_mirrored_body(tmp_path: Path) -> None:
+    """A contact or body hung 'at tip' of a mirrored body is at the mirrored tip."""
+    text = (GOOD / "mirror_template.leg").read_text(encoding="utf-8")
+    extra = (
+        "  contact knuckle on lower_r at tip\n"
+        "  body finger on upper_r via revolute knuckle_joint at tip {"
+        " mass 0.1 kg  inertia (0.001, 0.001, 0.001) kg*m^2 }\n}\n"
+    )
+    path = tmp_path / "outside.leg"
+    path.write_text(text.removesuffix("}\n") + extra, encoding="utf-8")
+    model = check_model(path)
+    assert model.joint("knuckle_joint").origin == model.body("upper_r").tip
+    knuckle = next(c for c in model.contacts if c.name == "knuckle")
+    assert knuckle.point == model.body("lower_r").tip
+    assert model.body("upper_r").tip[1] < 0  # the left arm's leans to +y
