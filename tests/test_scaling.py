@@ -176,3 +176,46 @@ def test_the_scaled_file_and_the_scaled_run_agree_sample_by_sample(
     assert _agree(a, b) < 1e-9
     assert 0.29 < a.t[-1] <= 0.3
     assert a.total_mass == pytest.approx(b.total_mass, rel=1e-13)
+
+
+def test_the_apex_metrics_of_a_hop_and_of_its_run_scaled_by_4(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Apex height of the centre of mass (from the trajectory) and the clearance of the lowest
+    contact there (from the generated kinematics); the run scaled by 4 has both 4 times."""
+    from legdsl.pipeline.measure import measure_run
+
+    hopper = CREATURES / "hopper.leg"
+    common = ["--controller", "hop", "--generated", str(generated)]
+    assert main(["run", str(hopper), *common, "--time", "1.5", "--out", str(tmp_path / "a")]) == 0
+    assert (
+        main(
+            [
+                "run",
+                str(hopper),
+                *common,
+                "--time",
+                "3",
+                "--scale",
+                "4",
+                "--out",
+                str(tmp_path / "b"),
+            ]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    small, _ = measure_run(tmp_path / "a", generated=generated)
+    big, _ = measure_run(tmp_path / "b", generated=generated)
+    apex, clearance = small.summary("apex_height"), small.summary("apex_foot_clearance")
+    assert apex.n == clearance.n >= 1
+    tr = Trajectory.load(tmp_path / "a")
+    highest = [
+        float(tr.com[(tr.t >= f.t_start) & (tr.t <= f.t_end), 2].max()) for f in small.flights
+    ]
+    assert apex.value == pytest.approx(float(np.mean(highest)))
+    assert 0 < clearance.value < apex.value
+    assert big.value("apex_height") == pytest.approx(4 * apex.value, rel=1e-9)
+    assert big.value("apex_foot_clearance") == pytest.approx(4 * clearance.value, rel=1e-9)
+    assert main(["metrics", str(tmp_path / "a"), "--generated", str(generated)]) == 0
+    assert "clearance of the lowest contact at the apex (m)" in capsys.readouterr().out

@@ -109,8 +109,9 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
-            args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against
-        )
+            args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
+            args.generated,
+        )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
@@ -362,6 +363,9 @@ def _parser() -> argparse.ArgumentParser:
         help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    m.add_argument("--generated", default="generated", metavar="DIR",
+                   help="where the run's generated modules live, for the foot clearance at the apex "
+                   "(default generated/; never compiled here)")  # fmt: skip
     _COMMANDS["metrics"] = _cmd_metrics
 
     k = sub.add_parser(

@@ -120,13 +120,18 @@ def _q_dims(model: Model, rate: bool) -> list[Dim | None]:
     return dims
 
 
+def q_factors(model: Model, scale: float) -> np.ndarray:
+    """The Table 1 factor of each entry of q."""
+    return np.array([factor(d, scale) for d in _q_dims(model, False)])
+
+
 def scale_trajectory(traj: Trajectory, model: Model, scale: float) -> Trajectory:
     """The outputs of the unscaled model as the scaled creature's (each by its Table 1 factor)."""
 
     def by(dim: Dim | None) -> float:
         return factor(dim, scale)
 
-    q_f = np.array([by(d) for d in _q_dims(model, False)])
+    q_f = q_factors(model, scale)
     v_f = np.array([by(d) for d in _q_dims(model, True)])
     energy = by(_ENERGY)
     return dataclasses.replace(
