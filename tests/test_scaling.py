@@ -38,6 +38,8 @@ TABLE_1 = {
     "rad/s": -0.5,
     "deg": 0,
     "deg/m": -1,
+    "rad/s^2": -1,
+    "deg/s": -0.5,
 }
 
 
@@ -219,3 +221,33 @@ def test_the_apex_metrics_of_a_hop_and_of_its_run_scaled_by_4(
     assert big.value("apex_foot_clearance") == pytest.approx(4 * clearance.value, rel=1e-9)
     assert main(["metrics", str(tmp_path / "a"), "--generated", str(generated)]) == 0
     assert "clearance of the lowest contact at the apex (m)" in capsys.readouterr().out
+
+
+def test_a_path_is_scaled_with_its_default_lookahead_written(tmp_path: Path) -> None:
+    from legdsl.ir.paths import DEFAULT_LOOKAHEAD
+    from legdsl.lang import scaling
+    from legdsl.sim.simulate import RunOptions
+
+    assert scaling.DEFAULT_LOOKAHEAD == DEFAULT_LOOKAHEAD
+    defaults = RunOptions()
+    assert (
+        defaults.dt,
+        defaults.control_dt,
+        defaults.record_rate,
+    ) == (scaling.DEFAULT_DT, scaling.DEFAULT_CONTROL_DT, scaling.DEFAULT_RECORD_RATE)
+    text = (
+        (CREATURES / "biped.leg")
+        .read_text(encoding="utf-8")
+        .replace(
+            "  path route\n",
+            "  path route = circle(center = (0, 5) m, radius = 5 m, turn = left)\n",
+        )
+    )
+    out = tmp_path / "biped_x2.leg"
+    out.write_text(scale_source(text, 2.0), encoding="utf-8")
+    assert (
+        "circle(center = (0, 10) m, radius = 10 m, turn = left, lookahead = 2 m)" in out.read_text()
+    )
+    (big,) = check_file(out)
+    (path,) = big.controller("run").paths
+    assert (path.center, path.radius, path.lookahead) == ((0.0, 10.0), 10.0, 2.0)

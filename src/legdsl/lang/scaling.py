@@ -30,6 +30,7 @@ _NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 DEFAULT_DT = 0.0004
 DEFAULT_CONTROL_DT = 0.002
 DEFAULT_RECORD_RATE = 200.0
+DEFAULT_LOOKAHEAD = 1.0  # m: a path's, legdsl.ir.paths.DEFAULT_LOOKAHEAD (a test keeps them equal)
 
 
 def exponent(dim: Dim) -> float:
@@ -139,6 +140,15 @@ def scale_source(text: str, scale: float, file: str = "<string>") -> str:
             assert text[end] == "}"
             edits.append((end, end, block))
     for controller in tree.controllers:
+        for path in (i for i in controller.items if isinstance(i, ast.PathDecl)):
+            call = path.value
+            if isinstance(call, ast.Call) and all(
+                a.keyword is None or a.keyword.name != "lookahead" for a in call.args
+            ):  # the default lookahead is a length too: write it, scaled
+                end = _offset(starts, call.span.end_line, call.span.end_col) - 1
+                assert text[end] == ")"
+                look = format_number(DEFAULT_LOOKAHEAD * scale)
+                edits.append((end, end, f", lookahead = {look} m"))
         if controller.creature is not None and controller.creature.name in names:
             ident = controller.creature
             start = _offset(starts, ident.span.line, ident.span.col)
