@@ -251,3 +251,19 @@ def test_a_path_is_scaled_with_its_default_lookahead_written(tmp_path: Path) -> 
     (big,) = check_file(out)
     (path,) = big.controller("run").paths
     assert (path.center, path.radius, path.lookahead) == ((0.0, 10.0), 10.0, 2.0)
+
+
+def test_bad_scale_factors_are_user_errors(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    hopper = str(CREATURES / "hopper.leg")
+    out = str(tmp_path / "x.leg")
+    gen = ["--generated", str(generated)]
+    assert main(["scale", hopper, "--by", "0", "-o", out]) == 2
+    assert main(["scale", hopper, "--by", "-2", "-o", out]) == 2
+    assert main(["run", hopper, *gen, "--scale", "-1", "--time", "0.01", "--out", out]) == 2
+    assert main(["run", hopper, *gen, "--scale", "2", "--animate", "--out", out]) == 2
+    err = capsys.readouterr().err
+    assert "the scale factor is a positive number" in err
+    assert "--animate draws the file's creature" in err
+    assert not Path(out).exists()

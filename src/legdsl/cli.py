@@ -63,8 +63,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.session import RunSession
 
     session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
-    if args.scale is not None and not (0 < args.scale < math.inf):
-        raise UsageError(f"--scale {args.scale}: the scale factor is a positive number")
+    if args.scale is not None and args.animate:  # its run.json names the unscaled creature
+        raise UsageError(
+            "--animate draws the file's creature: animate the run of 'legdsl scale's file"
+        )
     options = run_options(
         session.model,
         args.scale,

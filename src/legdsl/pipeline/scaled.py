@@ -20,6 +20,7 @@ import numpy as np
 
 from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
+from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.settings import Settings
@@ -39,6 +40,7 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
     """RunOptions with the creature's ``simulation`` defaults (else the runner's) where ``given``
     has None. With ``scale``, given options are for the creature scaled by it, and the defaults
     are scaled to it (times by L^(1/2)) as ``legdsl scale`` writes them."""
+    check_scale(scale)
     sim, runner = model.simulation, RunOptions()
     tick = math.sqrt(scale) if scale is not None else 1.0
     for key, per in (("dt", tick), ("control_dt", tick), ("record_rate", 1 / tick)):
@@ -48,8 +50,14 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
     return RunOptions(**given)
 
 
+def check_scale(scale: float | None) -> None:
+    if scale is not None and not 0 < scale < math.inf:
+        raise UsageError(f"--scale {scale:g}: the scale factor is a positive number")
+
+
 def scale_options(options: RunOptions, scale: float) -> RunOptions:
     """Options given for the creature scaled by ``scale``, for the unscaled model (times / sqrt L)."""
+    check_scale(scale)
     tick = math.sqrt(scale)
     return dataclasses.replace(
         options,
