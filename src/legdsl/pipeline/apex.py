@@ -5,8 +5,9 @@ The apex height of the centre of mass comes from the trajectory alone
 points' positions, which the trajectory does not keep. They are recomputed here with the
 creature's generated dynamics module (``contact_positions``), found from ``run.json``'s source
 and ``generated/NAME/dynamics.py`` when that module is there and fresh (it is never compiled
-for this). The clearance of a flight is that of its lowest contact point above the ground
-under it at the sample where the centre of mass is highest. A run made with ``--scale L`` is
+for this). The clearance of a flight is the height of its lowest foot (the legs' foot
+contacts; every contact of a creature without legs) above the ground under it, at the sample
+where the centre of mass is highest. A run made with ``--scale L`` is
 measured as the scaled creature: its coordinates are scaled back, and the heights by L.
 """
 
@@ -29,7 +30,7 @@ from legdsl.sim.contact import GroundContact
 from legdsl.sim.trajectory import Trajectory
 
 KEY = "apex_foot_clearance"
-LABEL = "clearance of the lowest contact at the apex (m)"
+LABEL = "foot clearance at the apex (m)"
 
 
 def clearance_row(
@@ -58,13 +59,15 @@ def clearance_row(
     q_f = q_factors(model, scale)
     names = tuple(c.name for c in model.contacts)
     ground = GroundContact(model.ground, names, model.planar) if model.ground else None
+    feet_of = list(tr.leg_feet) or list(range(len(names)))
     values = []
     for f in flights:
         inside = np.flatnonzero((tr.t >= f.t_start) & (tr.t <= f.t_end))
         if not inside.size:
             continue
         k = int(inside[np.argmax(tr.com[inside, 2])])
-        feet = dyn.contact_positions([float(x) for x in tr.q[k] / q_f])
+        points = dyn.contact_positions([float(x) for x in tr.q[k] / q_f])
+        feet = [points[i] for i in feet_of]
         under = [ground.height(p[0], p[1]) if ground else 0.0 for p in feet]
         values.append(scale * min(p[2] - h for p, h in zip(feet, under, strict=True)))
     return stat(KEY, LABEL, values)
