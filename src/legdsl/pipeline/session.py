@@ -125,14 +125,17 @@ class RunSession:
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
         result = sim.run(progress)
+        if scale is not None:
+            result = scaled.scale_result(result, self.model, scale)
         reports = []
         if machine is not None:
             from legdsl.analysis.path_report import path_report
 
             given = [p for p in machine.paths if p.shape != "none"]
+            if scale is not None:  # measured as the scaled creature's
+                given = [scaled.scale_path(p, 1 / scale) for p in given]
             reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
         if scale is not None:
-            result = scaled.scale_result(result, self.model, scale)
             return Run(
                 self.model, controller, asked, sorted_settings, machine, result, reports, scale
             )
