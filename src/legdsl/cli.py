@@ -59,11 +59,17 @@ def _cmd_run(args: argparse.Namespace) -> int:
     import math
 
     from legdsl.pipeline.report import progress_bar
+    from legdsl.pipeline.scaled import run_options
     from legdsl.pipeline.session import RunSession
-    from legdsl.sim.simulate import RunOptions
 
     session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
-    options = RunOptions(
+    if args.scale is not None and args.animate:  # its run.json names the unscaled creature
+        raise UsageError(
+            "--animate draws the file's creature: animate the run of 'legdsl scale's file"
+        )
+    options = run_options(
+        session.model,
+        args.scale,
         duration=args.time,
         dt=args.dt,
         integrator=args.integrator,
@@ -74,7 +80,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         drop=args.drop,
     )
     progress = progress_bar if sys.stderr.isatty() else None
-    run = session.run(args.controller, args.set, args.path, options, progress)
+    run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
     out = run.write(Path(args.out) if args.out else Path("runs") / session.model.name)
     print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
@@ -105,8 +111,9 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
-            args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against
-        )
+            args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
+            args.generated,
+        )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
@@ -290,6 +297,16 @@ def _parser() -> argparse.ArgumentParser:
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
         r.add_argument(flag, type=float, default=default, metavar=metavar, help=text)
+    # unless given, the creature's simulation block (if any) gives these (legdsl.pipeline.scaled)
+    r.set_defaults(dt=None, control_dt=None, record_rate=None)
+    r.add_argument(
+        "--scale",
+        type=float,
+        metavar="L",
+        help="run as the creature scaled by L (Table 1 of Raibert & Hodgins 1991): the unscaled "
+        "model with every input (--time, --dt, --control-dt, --record-rate, --set, --path, --drop) "
+        "scaled by 1/L and its recorded outputs by L; the same as running the file 'legdsl scale' writes",
+    )
     r.add_argument(
         "--generated",
         default="generated",
@@ -348,6 +365,9 @@ def _parser() -> argparse.ArgumentParser:
         help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
+    m.add_argument("--generated", default="generated", metavar="DIR",
+                   help="where the run's generated modules live, for the foot clearance at the apex "
+                   "(default generated/; never compiled here)")  # fmt: skip
     _COMMANDS["metrics"] = _cmd_metrics
 
     k = sub.add_parser(
@@ -421,7 +441,35 @@ def _parser() -> argparse.ArgumentParser:
     e.add_argument("--creature", help="which creature, if the file has several")
     _COMMANDS["export"] = _cmd_export
 
+    sc = sub.add_parser(
+        "scale",
+        help="write a creature and its controllers dynamically scaled (Table 1)",
+        description="Write FILE with every quantity of dimension kg^a m^b s^c rad^d multiplied by "
+        "L^(3a + b + c/2) (lengths L, masses L^3, times L^(1/2), ...; bare numbers and angles as "
+        "they were), comments and layout kept, each creature renamed NAME_xL, and a simulation "
+        "block with the scaled integration step, control interval and record rate. See docs/scaling.md.",
+        epilog="Example: legdsl scale creatures/kangaroo.leg --by 2 -o kangaroo_x2.leg",
+    )
+    sc.add_argument("file", metavar="FILE", help="a .leg file")
+    sc.add_argument("--by", type=float, required=True, metavar="L", help="the length factor L")
+    sc.add_argument("-o", "--output", required=True, metavar="OUT", help="the .leg file to write")
+    _COMMANDS["scale"] = _cmd_scale
+
     return p
+
+
+def _cmd_scale(args: argparse.Namespace) -> int:
+    from legdsl.check.source import check_file
+    from legdsl.lang.scaling import scale_source
+
+    if not 0 < args.by < float("inf"):
+        raise UsageError(f"--by {args.by}: the scale factor is a positive number")
+    check_file(args.file)
+    out = Path(args.output)
+    out.write_text(scale_source(Path(args.file).read_text(), args.by, args.file))
+    names = ", ".join(m.name for m in check_file(out))
+    print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -50,6 +50,9 @@ def summary_rows(
             )
         )
     rows.append(stat("flight_time", "flight time per stride (s)", ps["flight_time"]))
+    rows.append(
+        stat("apex_height", "apex height of the centre of mass (m)", apex_heights(tr, flights))
+    )
     leg_stances = [s for s in stances if s.kind != "group"]
     rows.append(stat("stance_duration", "stance duration (s)", [s.duration for s in leg_stances]))
     for u in (legs if len(legs) > 1 else []) + groups:
@@ -113,3 +116,13 @@ def summary_rows(
     for f in friction:
         rows += friction_rows(f)
     return rows
+
+
+def apex_heights(tr: Trajectory, flights: Sequence[Flight]) -> list[float]:
+    """The highest the centre of mass rises in each flight (its z, in the world frame)."""
+    out = []
+    for f in flights:
+        inside = (tr.t >= f.t_start) & (tr.t <= f.t_end)
+        if inside.any():
+            out.append(float(tr.com[inside, 2].max()))
+    return out

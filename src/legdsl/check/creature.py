@@ -22,10 +22,11 @@ from legdsl.check.ground import GroundChecker
 from legdsl.check.legs import LegChecker
 from legdsl.check.mirror import mirror_parts
 from legdsl.check.scope import Scope
+from legdsl.check.simulation import SimulationChecker
 from legdsl.check.templates import expand
 from legdsl.check.tree import TreeChecker
 from legdsl.check.values import ValueChecker, did_you_mean
-from legdsl.ir.model import Model
+from legdsl.ir.model import Model, SimulationDefaults
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 
@@ -100,12 +101,18 @@ class CreatureChecker(ValueChecker):
             if c is not None
         ]
         ground = None
+        simulation: SimulationDefaults | None = None
         for block in (i for i in items if isinstance(i, ast.BlockDecl)):
-            if block.name.name != "ground":
+            if block.name.name == "simulation":
+                if simulation is not None:
+                    self.err(block.name.span, "a creature has one simulation block")
+                simulation = SimulationChecker(self.diag).simulation(block)
+            elif block.name.name != "ground":
+                known = ["ground", "simulation"]
                 self.err(
                     block.name.span,
-                    f"unknown block '{block.name.name}'{did_you_mean(block.name.name, ['ground'])}"
-                    " (the only block in a creature is 'ground { ... }')",
+                    f"unknown block '{block.name.name}'{did_you_mean(block.name.name, known)}"
+                    " (the blocks of a creature are 'ground { ... }' and 'simulation { ... }')",
                 )
             elif ground is not None:
                 self.err(block.name.span, "a creature has one ground block")
@@ -136,4 +143,5 @@ class CreatureChecker(ValueChecker):
             q0=tuple(q0),
             v0=tuple(v0),
             span=d.span,
+            simulation=simulation or SimulationDefaults(),
         )

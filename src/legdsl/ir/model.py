@@ -202,6 +202,17 @@ class Ground:
 
 
 @dataclass(frozen=True)
+class SimulationDefaults:
+    """``simulation { dt 0.4 ms  control_dt 2 ms  record_rate 200 Hz }``: the creature's own
+    defaults for ``legdsl run`` (its --dt, --control-dt, --record-rate override them); a
+    dynamically scaled file carries its scaled ones. In SI units; None: the runner's default."""
+
+    dt: float | None = None
+    control_dt: float | None = None
+    record_rate: float | None = None
+
+
+@dataclass(frozen=True)
 class Leg:
     name: str
     joints: tuple[str, ...]  # from the hip outwards; the first joint's origin is the hip point
@@ -226,6 +237,7 @@ class Model:
     q0: tuple[float, ...]
     v0: tuple[float, ...]
     span: Span
+    simulation: SimulationDefaults = SimulationDefaults()
 
     @property
     def dofs(self) -> tuple[Dof, ...]:

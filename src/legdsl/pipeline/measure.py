@@ -11,6 +11,7 @@ from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.apex import clearance_row, with_clearance
 from legdsl.sim.trajectory import Trajectory
 
 
@@ -22,9 +23,12 @@ def measure_run(
     groups: Sequence[str] = (),
     joint: str | None = None,
     against: str | None = None,
+    generated: str | Path = "generated",
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
-    lateral deviation from each path the run followed (from ``t_from``, else from 3 s).
+    lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
+    foot clearance at the apex is measured with ``generated/NAME/dynamics.py`` when it is there
+    and fresh (``legdsl.pipeline.apex``).
 
     ``groups`` are virtual legs, ``NAME=LEG,LEG``. A request the run cannot answer (no or a
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``.
@@ -48,6 +52,8 @@ def measure_run(
         )
     except MetricsError as e:
         raise UsageError(str(e)) from None
+    row = clearance_row(run, trajectory, metrics.flights, Path(generated))
+    metrics.summaries = with_clearance(metrics.summaries, row)
     write_json(metrics, run / "metrics.json")
     start = t_from if t_from > 0 else PATH_FROM
     reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]

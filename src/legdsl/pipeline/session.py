@@ -29,6 +29,7 @@ from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
+from legdsl.pipeline import scaled
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
@@ -92,17 +93,25 @@ class RunSession:
         paths: Sequence[str | PathSpec] = (),
         options: RunOptions | None = None,
         progress: Progress | None = None,
+        scale: float | None = None,
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
         ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
-        ``UsageError`` before anything is simulated."""
-        options = options if options is not None else RunOptions()
+        ``UsageError`` before anything is simulated. With ``scale`` (L), every input is for the
+        creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
+        and its outputs by L (``legdsl.pipeline.scaled``)."""
+        asked = options if options is not None else scaled.run_options(self.model, scale)
+        options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
         sorted_settings = sort_settings(settings, self.model, controller)
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
+        if scale is not None:
+            options = scaled.scale_options(asked, scale)
+            sorted_settings = scaled.scale_settings(sorted_settings, self.model, controller, scale)
+            specs = [scaled.scale_path(p, scale) for p in specs]
         if specs and control is None:
             raise UsageError(
                 "--path: a path is followed by a controller; choose one with --controller"
@@ -116,12 +125,20 @@ class RunSession:
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
         result = sim.run(progress)
+        if scale is not None:
+            result = scaled.scale_result(result, self.model, scale)
         reports = []
         if machine is not None:
             from legdsl.analysis.path_report import path_report
 
             given = [p for p in machine.paths if p.shape != "none"]
+            if scale is not None:  # measured as the scaled creature's
+                given = [scaled.scale_path(p, 1 / scale) for p in given]
             reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+        if scale is not None:
+            return Run(
+                self.model, controller, asked, sorted_settings, machine, result, reports, scale
+            )
         return Run(self.model, controller, options, sorted_settings, machine, result, reports)
 
 
@@ -136,6 +153,7 @@ class Run:
     machine: StateMachine | None
     result: RunResult
     path_reports: list[dict[str, Any]] = field(default_factory=list)
+    scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
 
     @property
     def status(self) -> str:  # ok | diverged | fell
@@ -159,6 +177,7 @@ class Run:
             "source": self.model.source,
             "creature": self.model.name,
             "options": asdict(self.options),
+            **({"scale": self.scale} if self.scale is not None else {}),
             **extra,
             "status": result.status,
             "message": result.message,

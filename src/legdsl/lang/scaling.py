@@ -1,0 +1,165 @@
+"""Dynamic (Froude) scaling of Raibert & Hodgins (1991), Table 1, applied to ``.leg`` text.
+
+With lengths scaled by L and gravity kept, times scale by L^(1/2) and masses by L^3 (constant
+density), so a quantity of dimension kg^a m^b s^c rad^d scales by L^(3a + b + c/2): angles and
+bare numbers by 1, speeds by L^(1/2), stiffness (kg s^-2) by L^2, damping (kg s^-1) by L^(5/2),
+torsional stiffness (kg m^2 s^-2 rad^-1) by L^4, torsional damping by L^(9/2), inertia by L^5,
+forces by L^3, torques and energies by L^4, frequencies by L^(-1/2), accelerations by 1 -- the
+entries of Table 1, and every other unit by the same rule.
+
+``scale_source`` rewrites only the number tokens of a file (found by their spans), so its
+comments and layout stay as written; each new number is printed in the shortest form that
+holds the scaled value to 1e-14, in the unit it was written in.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import fields, is_dataclass
+from decimal import Decimal
+from typing import Any
+
+from legdsl.lang import ast
+from legdsl.lang.parser import parse
+from legdsl.lang.units import DIMENSIONLESS, Dim, parse_unit
+
+_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+# what the scaled file says about running it, when the creature has no simulation block
+DEFAULT_DT = 0.0004
+DEFAULT_CONTROL_DT = 0.002
+DEFAULT_RECORD_RATE = 200.0
+DEFAULT_LOOKAHEAD = 1.0  # m: a path's, legdsl.ir.paths.DEFAULT_LOOKAHEAD (a test keeps them equal)
+
+
+def exponent(dim: Dim) -> float:
+    """The power of L that a quantity of dimension ``dim`` scales by (Table 1)."""
+    mass, length, time, _angle = dim
+    return 3 * mass + length + time / 2
+
+
+def factor(dim: Dim | None, scale: float) -> float:
+    """L^(3a + b + c/2) for dimension kg^a m^b s^c rad^d; 1 for a bare number."""
+    if dim is None or dim == DIMENSIONLESS:
+        return 1.0
+    e = exponent(dim)
+    if e == 0:
+        return 1.0
+    return scale**e
+
+
+def format_number(value: float) -> str:
+    """The shortest text that gives ``value`` back to 1e-14 (``0.68``, ``2400``, ``1e-05``)."""
+    if value == 0:
+        return "0"
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= 1e-14 * abs(value):
+            if "e" in text and 1e-4 <= abs(value) < 1e15:
+                return format(Decimal(text), "f")  # 2.4e+03 -> 2400
+            return text.replace("e+", "e")
+    return repr(value)
+
+
+def scale_name(name: str, scale: float) -> str:
+    """``kangaroo`` scaled by 2 -> ``kangaroo_x2``; by 0.5 -> ``kangaroo_x0_5``."""
+    return f"{name}_x{format_number(scale).replace('.', '_').replace('-', 'm')}"
+
+
+def _offset(lines: list[int], line: int, col: int) -> int:
+    return lines[line - 1] + col - 1
+
+
+def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> None:
+    """Collect (span, dimension) of every number with a unit under ``node``."""
+    if isinstance(node, ast.Number | ast.EQuantity):
+        q = node.quantity
+        if not q.unitless:
+            out.append((node.span, q.dim))
+        elif unit_dim is not None:  # a bare number inside '( ... ) UNIT'
+            out.append((node.span, unit_dim))
+        return
+    if isinstance(node, ast.Vector):
+        dim = parse_unit(node.unit)[1] if node.unit is not None else unit_dim
+        for item in node.items:
+            _walk(item, dim, out)
+        return
+    if isinstance(node, tuple | list):
+        for item in node:
+            _walk(item, unit_dim, out)
+        return
+    if is_dataclass(node) and not isinstance(node, ast.Span):
+        for f in fields(node):
+            if f.name != "span":
+                _walk(getattr(node, f.name), unit_dim, out)
+
+
+def _has_block(creature: ast.CreatureDecl, name: str) -> bool:
+    return any(isinstance(i, ast.BlockDecl) and i.name.name == name for i in creature.items)
+
+
+def scale_source(text: str, scale: float, file: str = "<string>") -> str:
+    """The text of a ``.leg`` file with every quantity scaled by Table 1 for length factor ``scale``,
+    its creatures renamed NAME_xL (with the controllers that name them), and a ``simulation``
+    block giving the scaled integration step, control interval and record rate to a creature
+    that has none. Raises ``LegError`` for a file that does not parse."""
+    if not (scale > 0 and math.isfinite(scale)):
+        raise ValueError(f"the scale factor must be a positive number, not {scale}")
+    tree = parse(text, file)
+    starts = [0]
+    for line in text.splitlines(keepends=True):
+        starts.append(starts[-1] + len(line))
+    edits: list[tuple[int, int, str]] = []  # (start, end, replacement)
+
+    found: list[tuple[ast.Span, Dim]] = []
+    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared), None, found)
+    for span, dim in found:
+        start = _offset(starts, span.line, span.col)
+        match = _NUMBER.match(text, start)
+        assert match is not None, f"no number at {span}"
+        f = factor(dim, scale)
+        if f != 1.0:
+            value = float(match.group(0)) * f
+            edits.append((start, match.end(), format_number(value)))
+
+    names = {c.name.name for c in tree.creatures}
+    for creature in tree.creatures:
+        ident = creature.name
+        start = _offset(starts, ident.span.line, ident.span.col)
+        edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
+        if not _has_block(creature, "simulation"):
+            tick = math.sqrt(scale)
+            block = (
+                "\n  # the integration step, control interval and record rate scaled with it\n"
+                f"  simulation {{\n    dt {format_number(DEFAULT_DT * 1e3 * tick)} ms\n"
+                f"    control_dt {format_number(DEFAULT_CONTROL_DT * 1e3 * tick)} ms\n"
+                f"    record_rate {format_number(DEFAULT_RECORD_RATE / tick)} Hz\n  }}\n"
+            )
+            end = _offset(starts, creature.span.end_line, creature.span.end_col) - 1
+            assert text[end] == "}"
+            edits.append((end, end, block))
+    for controller in tree.controllers:
+        for path in (i for i in controller.items if isinstance(i, ast.PathDecl)):
+            call = path.value
+            if isinstance(call, ast.Call) and all(
+                a.keyword is None or a.keyword.name != "lookahead" for a in call.args
+            ):  # the default lookahead is a length too: write it, scaled
+                end = _offset(starts, call.span.end_line, call.span.end_col) - 1
+                assert text[end] == ")"
+                look = format_number(DEFAULT_LOOKAHEAD * scale)
+                edits.append((end, end, f", lookahead = {look} m"))
+        if controller.creature is not None and controller.creature.name in names:
+            ident = controller.creature
+            start = _offset(starts, ident.span.line, ident.span.col)
+            edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
+
+    out = text
+    for start, end, new in sorted(edits, key=lambda e: e[0], reverse=True):
+        out = out[:start] + new + out[end:]
+    header = (
+        f"# {file} scaled by L = {format_number(scale)} (legdsl scale; Raibert & Hodgins 1991, "
+        "Table 1):\n# every quantity of dimension kg^a m^b s^c rad^d multiplied by "
+        "L^(3a + b + c/2); bare numbers as they were.\n"
+    )
+    return header + out

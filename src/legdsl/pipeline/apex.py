@@ -1,0 +1,82 @@
+"""The foot clearance at each hop's apex: a metric that needs the creature's kinematics.
+
+The apex height of the centre of mass comes from the trajectory alone
+(``legdsl.analysis.rows.apex_heights``); how high the feet are at that moment needs the contact
+points' positions, which the trajectory does not keep. They are recomputed here with the
+creature's generated dynamics module (``contact_positions``), found from ``run.json``'s source
+and ``generated/NAME/dynamics.py`` when that module is there and fresh (it is never compiled
+for this). The clearance of a flight is the height of its lowest foot (the legs' foot
+contacts; every contact of a creature without legs) above the ground under it, at the sample
+where the centre of mass is highest. A run made with ``--scale L`` is
+measured as the scaled creature: its coordinates are scaled back, and the heights by L.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from legdsl.analysis.results import Flight, Summary
+from legdsl.analysis.rows import stat
+from legdsl.check.source import check_model
+from legdsl.codegen.python.dynamics import model_fingerprint
+from legdsl.lang.errors import LegError
+from legdsl.pipeline.generated import import_module_file
+from legdsl.pipeline.scaled import q_factors
+from legdsl.sim.contact import GroundContact
+from legdsl.sim.trajectory import Trajectory
+
+KEY = "apex_foot_clearance"
+LABEL = "foot clearance at the apex (m)"
+
+
+def clearance_row(
+    run: Path, tr: Trajectory, flights: Sequence[Flight], generated: Path
+) -> Summary | None:
+    """The mean clearance over the flights, or None when the kinematics are not at hand."""
+    try:
+        info = json.loads((run / "run.json").read_text())
+    except (OSError, ValueError):
+        return None
+    named = Path(str(info.get("source", "")))
+    source = next((c for c in (named, run / named, run / named.name) if c.is_file()), None)
+    if source is None:
+        return None
+    try:
+        model = check_model(source, info.get("creature"))
+    except LegError:
+        return None
+    path = generated / model.name / "dynamics.py"
+    if model.nq != tr.q.shape[1] or not path.is_file():
+        return None
+    dyn = import_module_file(path, f"legdsl_apex_{model.name}")
+    if getattr(dyn, "MODEL_FINGERPRINT", None) != model_fingerprint(model):
+        return None
+    scale = float(info.get("scale") or 1.0)
+    q_f = q_factors(model, scale)
+    names = tuple(c.name for c in model.contacts)
+    ground = GroundContact(model.ground, names, model.planar) if model.ground else None
+    feet_of = list(tr.leg_feet) or list(range(len(names)))
+    values = []
+    for f in flights:
+        inside = np.flatnonzero((tr.t >= f.t_start) & (tr.t <= f.t_end))
+        if not inside.size:
+            continue
+        k = int(inside[np.argmax(tr.com[inside, 2])])
+        points = dyn.contact_positions([float(x) for x in tr.q[k] / q_f])
+        feet = [points[i] for i in feet_of]
+        under = [ground.height(p[0], p[1]) if ground else 0.0 for p in feet]
+        values.append(scale * min(p[2] - h for p, h in zip(feet, under, strict=True)))
+    return stat(KEY, LABEL, values)
+
+
+def with_clearance(summaries: list[Summary], row: Summary | None) -> list[Summary]:
+    """The rows with the clearance after the apex height (unchanged without one)."""
+    if row is None:
+        return summaries
+    keys = [s.key for s in summaries]
+    at = keys.index("apex_height") + 1 if "apex_height" in keys else len(summaries)
+    return [*summaries[:at], row, *summaries[at:]]

@@ -1,0 +1,176 @@
+"""Run options from a creature's ``simulation`` block, and the second method of dynamic scaling.
+
+Raibert & Hodgins (1991), "Dynamic scaling": a creature L times as large can be simulated by
+scaling its parameters (``legdsl scale``, ``legdsl.lang.scaling``) or by running the unscaled
+model with its inputs scaled by 1/L and scaling the outputs by L -- "both give identical
+results". ``legdsl run FILE --scale L`` is the second: every input given for the large
+creature (the duration, integration step, control interval and record rate, ``--set``
+values and their times, ``--path`` shapes, ``--drop`` and ``--fall-height``) is divided by its
+Table 1 factor, the unscaled model runs, and every recorded output (times, coordinates,
+velocities, forces, energies, events) is multiplied by its factor before it is written.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+
+from legdsl.ir.model import Model, setting_kind
+from legdsl.ir.paths import PathSpec
+from legdsl.lang.errors import UsageError
+from legdsl.lang.scaling import factor
+from legdsl.lang.units import KINDS, Dim
+from legdsl.pipeline.settings import Settings
+from legdsl.sim.machine import InputChange
+from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.trajectory import Trajectory
+
+_LENGTH: Dim = KINDS["length"][0]
+_TIME: Dim = KINDS["time"][0]
+_SPEED: Dim = KINDS["velocity"][0]
+_ANGULAR_SPEED: Dim = KINDS["angular velocity"][0]
+_FORCE: Dim = KINDS["force"][0]
+_ENERGY: Dim = (1, 2, -2, 0)
+
+
+def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOptions:
+    """RunOptions with the creature's ``simulation`` defaults (else the runner's) where ``given``
+    has None. With ``scale``, given options are for the creature scaled by it, and the defaults
+    are scaled to it (times by L^(1/2)) as ``legdsl scale`` writes them."""
+    check_scale(scale)
+    sim, runner = model.simulation, RunOptions()
+    tick = math.sqrt(scale) if scale is not None else 1.0
+    for key, per in (("dt", tick), ("control_dt", tick), ("record_rate", 1 / tick)):
+        if given.get(key) is None:
+            own = getattr(sim, key)
+            given[key] = (own if own is not None else getattr(runner, key)) * per
+    return RunOptions(**given)
+
+
+def check_scale(scale: float | None) -> None:
+    if scale is not None and not 0 < scale < math.inf:
+        raise UsageError(f"--scale {scale:g}: the scale factor is a positive number")
+
+
+def scale_options(options: RunOptions, scale: float) -> RunOptions:
+    """Options given for the creature scaled by ``scale``, for the unscaled model (times / sqrt L)."""
+    check_scale(scale)
+    tick = math.sqrt(scale)
+    return dataclasses.replace(
+        options,
+        duration=options.duration / tick,
+        dt=options.dt / tick,
+        control_dt=options.control_dt / tick,
+        record_rate=options.record_rate * tick,
+        fall_height=None if options.fall_height is None else options.fall_height / scale,
+        drop=None if options.drop is None else options.drop / scale,
+    )
+
+
+def scale_settings(
+    settings: Settings, model: Model, controller: str | None, scale: float
+) -> Settings:
+    """``--set`` values (in SI) given for the scaled creature, for the unscaled model."""
+    ir = model.controller(controller) if controller is not None else None
+    dims = {c.name: c.dim for c in (*ir.inputs, *ir.params)} if ir is not None else {}
+    rotary = {a.name: a.rotary for a in model.actuators}
+
+    def down(name: str, value: float) -> float:
+        if "." in name:
+            actuator, _, key = name.partition(".")
+            dim = KINDS[setting_kind(key, rotary[actuator])][0]
+        else:
+            dim = dims[name]
+        return value / factor(dim, scale)
+
+    tick = math.sqrt(scale)
+    return Settings(
+        actuators={k: down(k, v) for k, v in settings.actuators.items()},
+        inputs={k: down(k, v) for k, v in settings.inputs.items()},
+        params={k: down(k, v) for k, v in settings.params.items()},
+        schedule=[
+            InputChange(c.t / tick, c.name, down(c.name, c.value)) for c in settings.schedule
+        ],
+    )
+
+
+def scale_path(spec: PathSpec, scale: float) -> PathSpec:
+    """A path given for the scaled creature, for the unscaled model (lengths / L)."""
+
+    def point(p: tuple[float, float]) -> tuple[float, float]:
+        return (p[0] / scale, p[1] / scale)
+
+    return dataclasses.replace(
+        spec,
+        points=tuple(point(p) for p in spec.points),
+        center=point(spec.center),
+        radius=spec.radius / scale,
+        lookahead=spec.lookahead / scale,
+    )
+
+
+def _q_dims(model: Model, rate: bool) -> list[Dim | None]:
+    """The dimension of each entry of q (or of v): lengths, angles (1), quaternion parts (1)."""
+    dims: list[Dim | None] = []
+    for joint in model.joints:
+        if joint.is_free_3d:
+            dims += [_SPEED if rate else _LENGTH] * 3
+            dims += [_ANGULAR_SPEED] * 3 if rate else [None] * 4
+            continue
+        for dof in joint.dofs:
+            if dof.motion == "hinge":
+                dims.append(_ANGULAR_SPEED if rate else None)
+            else:
+                dims.append(_SPEED if rate else _LENGTH)
+    return dims
+
+
+def q_factors(model: Model, scale: float) -> np.ndarray:
+    """The Table 1 factor of each entry of q."""
+    return np.array([factor(d, scale) for d in _q_dims(model, False)])
+
+
+def scale_trajectory(traj: Trajectory, model: Model, scale: float) -> Trajectory:
+    """The outputs of the unscaled model as the scaled creature's (each by its Table 1 factor)."""
+
+    def by(dim: Dim | None) -> float:
+        return factor(dim, scale)
+
+    q_f = q_factors(model, scale)
+    v_f = np.array([by(d) for d in _q_dims(model, True)])
+    energy = by(_ENERGY)
+    return dataclasses.replace(
+        traj,
+        t=traj.t * by(_TIME),
+        q=traj.q * q_f,
+        v=traj.v * v_f,
+        force=traj.force * by(_FORCE),
+        com=traj.com * scale,
+        com_vel=traj.com_vel * by(_SPEED),
+        root_pos=traj.root_pos * scale,
+        leg_length=traj.leg_length * scale,
+        leg_spring_energy=traj.leg_spring_energy * energy,
+        kinetic=traj.kinetic * energy,
+        potential=traj.potential * energy,
+        elastic=traj.elastic * energy,
+        speed_command=traj.speed_command * by(_SPEED),
+        total_mass=traj.total_mass * scale**3,
+    )
+
+
+def scale_events(events: list[dict[str, Any]], scale: float) -> list[dict[str, Any]]:
+    tick = math.sqrt(scale)
+    return [{**e, "t": round(e["t"] * tick, 9)} for e in events]
+
+
+def scale_result(result: RunResult, model: Model, scale: float) -> RunResult:
+    """A run of the unscaled model, its outputs scaled as the creature scaled by ``scale``."""
+    return dataclasses.replace(
+        result,
+        trajectory=scale_trajectory(result.trajectory, model, scale),
+        events=scale_events(result.events, scale),
+        sim_time=result.sim_time * math.sqrt(scale),
+    )
