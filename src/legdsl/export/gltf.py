@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.motion import Motion
-from legdsl.export.shapes import body_mesh, hex_rgb, srgb_to_linear
+from legdsl.export.motion import Motion, frame_rate, ground_area
+from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("glb", "gltf")
@@ -140,8 +140,10 @@ def build_gltf(motion: Motion) -> Any:
     gltf.nodes.append(lib.Node(name=motion.creature, rotation=Z_UP_TO_Y_UP, children=[]))
 
     materials: dict[str, int] = {}
-    for body in motion.bodies:
-        color = (body.color or "#9a9a9a").lower()
+    lo, hi = ground_area(motion)
+    ground = ground_meshes(motion.terrain, lo, hi)
+    colors = [(b.color or "#9a9a9a").lower() for b in motion.bodies] + [c for _, _, c in ground]
+    for color in colors:
         if color not in materials:
             linear = [srgb_to_linear(c) for c in hex_rgb(color)]
             gltf.materials.append(
@@ -154,9 +156,7 @@ def build_gltf(motion: Motion) -> Any:
             )
             materials[color] = len(gltf.materials) - 1
 
-    translations, rotations = local_poses(motion)
-    for b, body in enumerate(motion.bodies):
-        mesh = body_mesh(body)
+    def add_mesh(name: str, mesh: Mesh, color: str) -> int:
         indices = mesh.indices.reshape(-1)
         indices = indices.astype(np.uint16 if len(mesh.positions) < 65536 else np.uint32)
         primitive = lib.Primitive(
@@ -165,12 +165,16 @@ def build_gltf(motion: Motion) -> Any:
                 NORMAL=blob.accessor(mesh.normals, "VEC3", ARRAY_BUFFER),
             ),
             indices=blob.accessor(indices, "SCALAR", ELEMENT_ARRAY_BUFFER),
-            material=materials[(body.color or "#9a9a9a").lower()],
+            material=materials[color],
         )
-        gltf.meshes.append(lib.Mesh(name=body.name, primitives=[primitive]))
+        gltf.meshes.append(lib.Mesh(name=name, primitives=[primitive]))
+        return len(gltf.meshes) - 1
+
+    translations, rotations = local_poses(motion)
+    for b, body in enumerate(motion.bodies):
         node = lib.Node(
             name=body.name,
-            mesh=len(gltf.meshes) - 1,
+            mesh=add_mesh(body.name, body_mesh(body), colors[b]),
             translation=[float(x) for x in translations[0, b]],
             rotation=[float(x) for x in rotations[0, b]],
             children=[],
@@ -178,6 +182,27 @@ def build_gltf(motion: Motion) -> Any:
         gltf.nodes.append(node)
         parent = motion.parents[b]
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
+
+    # The ground and terrain: fixed meshes in world coordinates, beside the creature's root.
+    ground_node = lib.Node(name="ground", children=[])
+    gltf.nodes.append(ground_node)
+    gltf.nodes[0].children.append(len(gltf.nodes) - 1)
+    for name, mesh, color in ground:
+        gltf.nodes.append(lib.Node(name=name, mesh=add_mesh(name, mesh, color)))
+        ground_node.children.append(len(gltf.nodes) - 1)
+
+    fps = frame_rate(motion)
+    gltf.scenes[0].extras = {
+        # Blender's glTF importer keeps these as the scene's custom properties; a DCC script
+        # (or the user) sets the timeline from them: frames 1..frames at fps.
+        "fps": fps,
+        "frame_start": 1,
+        "frame_end": motion.frames,
+        "time_start": 0.0,
+        "time_end": motion.duration,
+        "up_axis": "y (legdsl z)",
+        "units": "metres",
+    }
 
     times = blob.accessor(motion.times.astype(np.float32), "SCALAR", bounds=True)
     animation = lib.Animation(name="run", samplers=[], channels=[])

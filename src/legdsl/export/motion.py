@@ -361,3 +361,16 @@ def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> fl
         if t.kind == "box" and t.get("x0") <= x <= t.get("x1") and t.get("y0") <= y <= t.get("y1"):
             h = max(h, t.get("height"))
     return h
+
+
+def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``."""
+    points = np.concatenate(
+        [motion.positions.reshape(-1, 3), motion.contact_positions.reshape(-1, 3)]
+    )
+    return points[:, :2].min(axis=0) - margin, points[:, :2].max(axis=0) + margin
+
+
+def frame_rate(motion: Motion) -> float:
+    """Frames per second of ``motion`` (its frames are evenly spaced)."""
+    return (motion.frames - 1) / motion.duration if motion.frames > 1 and motion.duration else 1.0
