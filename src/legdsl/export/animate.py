@@ -2,7 +2,7 @@
 
 * ``legdsl animate DIR [-o FILE.html]`` writes the HTML player (``legdsl.export.formats.formats.player``);
 * ``legdsl animate DIR --video FILE.mp4|FILE.gif`` renders a video (``legdsl.export.formats.formats.video``);
-* ``legdsl export-motion DIR --format glb|gltf [-o FILE]`` writes glTF 2.0 (``legdsl.export.formats.formats.gltf``);
+* ``legdsl export-motion DIR --format glb|gltf|usd|usda|bvh [-o FILE]`` writes glTF 2.0, USD or BVH (``legdsl.export.gltf``, ``usd``, ``bvh``);
 * ``legdsl run ... --animate`` calls ``animate_result`` after writing the run.
 
 This module only parses arguments and reports; importing it is cheap, so the
@@ -164,13 +164,27 @@ def add_animate_parser(sub: Any) -> Command:
 # ---------------------------------------------------------------- legdsl export-motion
 
 
-def _cmd_export_motion(args: argparse.Namespace) -> int:
-    from legdsl.export.gltf import write_gltf
+MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "bvh")
 
+
+def _cmd_export_motion(args: argparse.Namespace) -> int:
     _positive(args.fps, "--fps")
-    motion = _load(args, args.fps)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
-    size = write_gltf(motion, out, args.format)
+    if args.format == "usd" and out.suffix == ".usda":
+        raise UsageError(f"-o {out}: a .usda file is text; use --format usda, or name it .usd")
+    motion = _load(args, args.fps)
+    if args.format in ("usd", "usda"):
+        from legdsl.export.usd import write_usd
+
+        size = write_usd(motion, out, args.format)
+    elif args.format == "bvh":
+        from legdsl.export.bvh import write_bvh
+
+        size = write_bvh(motion, out)
+    else:
+        from legdsl.export.gltf import write_gltf
+
+        size = write_gltf(motion, out, args.format)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} links, "
         f"{motion.frames} keyframes over {motion.duration:.2f} s)"
@@ -181,17 +195,25 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
 def add_export_motion_parser(sub: Any) -> Command:
     e = sub.add_parser(
         "export-motion",
-        help="export a recorded run as a glTF 2.0 animation",
-        description="Export a run directory as glTF 2.0: one node per link (nested as the link "
-        "tree) with a triangle mesh of its shape and a material of its colour, and the run as "
-        "one animation with LINEAR translation and rotation keys, in seconds. The scene is y-up "
-        "as glTF requires (legdsl's x forward stays x). .glb is one binary file; .gltf is JSON "
-        "with the buffer embedded.",
+        help="export a recorded run as an animation (glTF, USD or BVH)",
+        description="Export a run directory as an animation for other programs. glTF 2.0: one "
+        "node per link (nested as the link tree) with a triangle mesh of its shape and a "
+        "material of its colour, the ground as meshes, and the run as one animation with LINEAR "
+        "translation and rotation keys, in seconds; y-up as glTF requires (legdsl's x forward "
+        "stays x); .glb is one binary file, .gltf is JSON with the buffer embedded. USD (.usd "
+        "binary, .usda text): the same tree as Xform prims with time-sampled transforms, z-up. "
+        "BVH: the link tree as a skeleton with offsets and per-frame channels, for "
+        "motion-capture tools.",
         epilog="Example: legdsl export-motion runs/k --format glb -o kangaroo.glb",
     )
     e.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
-    e.add_argument("--format", choices=("glb", "gltf"), default="glb", help="glb (default) or gltf")
-    e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.glb (or .gltf)")
+    e.add_argument(
+        "--format",
+        choices=MOTION_FORMATS,
+        default="glb",
+        help="glb (default), gltf, usd, usda or bvh",
+    )
+    e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.FORMAT")
     e.add_argument(
         "--fps", type=float, default=60.0, metavar="N", help="keyframes per second (default 60)"
     )

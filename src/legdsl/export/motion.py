@@ -70,6 +70,9 @@ class Motion:
     weight: float  # N: total mass times gravity, to scale force arrows
     status: str = "ok"
     message: str = ""
+    # each body's joint: its origin in the parent frame, and whether it has a slide
+    joint_origins: np.ndarray | None = None  # (B, 3)
+    joint_slides: tuple[bool, ...] = ()
 
     @property
     def duration(self) -> float:
@@ -299,6 +302,7 @@ def motion_from(
     speed = com_vel[:, 0] * np.cos(yaw) + com_vel[:, 1] * np.sin(yaw)
     index = np.clip(np.searchsorted(tr.t, at + 1e-12, side="right") - 1, 0, len(tr) - 1)
     names = [b.name for b in model.bodies]
+    joints = {j.child: j for j in model.joints}
     return Motion(
         creature=model.name,
         planar=model.planar,
@@ -320,6 +324,10 @@ def motion_from(
         weight=model.total_mass * math.sqrt(sum(g * g for g in model.gravity)),
         status=status,
         message=message,
+        joint_origins=np.array([joints[b.name].origin for b in model.bodies], dtype=float),
+        joint_slides=tuple(
+            any(d.motion == "slide" for d in joints[b.name].dofs) for b in model.bodies
+        ),
     )
 
 
