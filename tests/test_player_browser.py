@@ -111,3 +111,37 @@ def test_the_player_draws_and_plays_the_run(browser: Chromium, name: str, tmp_pa
     browser.evaluate("legdsl.pause()")
     assert 0.1 * elapsed < advanced < 0.4 * elapsed  # a quarter of real time, give or take a frame
     assert browser.errors() == []
+
+
+# How many one-shot screenshots per mode; 10 in a row were taken by hand (docs/animation.md).
+TRIES = int(os.environ.get("LEGDSL_SCREENSHOT_TRIES", "3"))
+
+
+@pytest.mark.parametrize("gpu_flag", [("--disable-gpu",), ()], ids=["disable-gpu", "default"])
+def test_a_one_shot_screenshot_always_shows_the_creature(
+    gpu_flag: tuple[str, ...], tmp_path: Path
+) -> None:
+    """``chromium --headless --screenshot PAGE`` draws the creature every time.
+
+    It shoots right after the page's load event. The player used to import three.js
+    with a dynamic import() (the page finished loading before anything was drawn) and
+    redrew only at the next animation frame after sizing its canvas (which clears it):
+    1 drawing in 10 tries with --disable-gpu, none in 10 without.
+    """
+    import subprocess
+
+    motion = creature_motion("kangaroo", tmp_path / "run")
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    exe = chromium()
+    for k in range(TRIES):
+        shot = tmp_path / f"shot{k}.png"
+        subprocess.run(
+            [exe, "--headless", "--no-sandbox", "--hide-scrollbars", *gpu_flag,
+             f"--user-data-dir={tmp_path / 'profile'}", "--window-size=800,500",
+             f"--screenshot={shot}", page.as_uri()],
+            capture_output=True, timeout=90, check=False,
+        )  # fmt: skip
+        image = pixels(shot.read_bytes())
+        trunk = hue_mask(image, motion.bodies[0].color or "").sum()
+        assert trunk > 300, f"try {k + 1}: the creature is not drawn ({trunk} trunk pixels)"

@@ -3,11 +3,9 @@
 // and body as (px, py, pz, qx, qy, qz, qw); the player interpolates between
 // frames (lerp / slerp), so slow motion stays smooth.
 
+import * as THREE from "three"; // the vendored three.js, mapped to a blob URL by the page
+
 const data = JSON.parse(document.getElementById("legdsl-data").textContent);
-const threeSource = document.getElementById("three-module").textContent;
-const THREE = await import(
-  URL.createObjectURL(new Blob([threeSource], { type: "text/javascript" }))
-);
 
 // ------------------------------------------------------------------ data
 function bytes(b64) {
@@ -367,14 +365,20 @@ function tick(now) {
   if (playing) requestRender();
 }
 
+// Setting a canvas's size clears it, even to the size it has: resize only on a real change,
+// and draw again at once (not at the next animation frame), so that no picture (a headless
+// screenshot among them) is ever taken of a cleared canvas.
+let drawnSize = "";
 function resize() {
   const w = view.clientWidth, h = view.clientHeight;
+  if (`${w}x${h}` === drawnSize) return;
+  drawnSize = `${w}x${h}`;
   renderer.setSize(w, h, false);
   camera.aspect = w / Math.max(1, h);
   camera.updateProjectionMatrix();
-  requestRender();
+  draw();
 }
-new ResizeObserver(resize).observe(view); // the window, or the control bar wrapping
+new ResizeObserver(() => resize()).observe(view); // the window, or the control bar wrapping
 
 // ------------------------------------------------------------------ scripting interface (tests, consoles)
 const api = {
