@@ -145,3 +145,32 @@ def test_a_one_shot_screenshot_always_shows_the_creature(
         image = pixels(shot.read_bytes())
         trunk = hue_mask(image, motion.bodies[0].color or "").sum()
         assert trunk > 300, f"try {k + 1}: the creature is not drawn ({trunk} trunk pixels)"
+
+
+def test_the_followed_path_is_drawn(browser: Chromium, tmp_path: Path) -> None:
+    import json
+
+    from anim_runs import creature_run, generated_dir
+
+    from legdsl.export.motion import load_motion
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    info = json.loads((run / "run.json").read_text())
+    info["paths"] = [
+        {"name": "route", "shape": "circle", "center": [0.0, 1.0], "radius": 1.0, "turn": 1}
+    ]
+    (run / "run.json").write_text(json.dumps(info))
+    motion = load_motion(run, generated=generated_dir())
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.events.clear()
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    assert browser.errors() == []
+    png = browser.screenshot()
+    keep(png, "player-path.png", tmp_path)
+    path = hue_mask(pixels(png), "#1f6fd0", tolerance=0.03)
+    assert path.sum() > 300
+    # and where the path's far point (0, 2) is drawn, the ribbon is
+    far = browser.evaluate("legdsl.project(0, 2, 0)")
+    assert around(path, far, 6).any()

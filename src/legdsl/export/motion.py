@@ -73,6 +73,9 @@ class Motion:
     # each body's joint: its origin in the parent frame, and whether it has a slide
     joint_origins: np.ndarray | None = None  # (B, 3)
     joint_slides: tuple[bool, ...] = ()
+    # the paths the run followed, each as points (N, 3) on the ground (closed ones end at the start)
+    paths: tuple[np.ndarray, ...] = ()
+    path_names: tuple[str, ...] = ()
 
     @property
     def duration(self) -> float:
@@ -184,7 +187,7 @@ def load_motion(
         from legdsl.pipeline.generated import load_dynamics
 
         kinematics = load_dynamics(run.model, run.source, generated)
-    return motion_from(
+    motion = motion_from(
         run.model,
         run.trajectory,
         kinematics,
@@ -193,6 +196,31 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
+    specs = run.info.get("paths") or []
+    if specs:
+        from legdsl.ir.paths import PathSpec
+
+        followed = [PathSpec.from_json(p) for p in specs]
+        motion.paths = tuple(path_points(p, motion.terrain) for p in followed)
+        motion.path_names = tuple(p.name for p in followed)
+    return motion
+
+
+def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> np.ndarray:
+    """A path (a ``PathSpec``) as points on the ground every ``step`` metres or so, (N, 3)."""
+    from legdsl.sim.path_tracking import PathGeometry
+
+    geometry = PathGeometry(spec)
+    if spec.shape == "circle":
+        n = max(16, min(5000, int(math.ceil(geometry.length / step)) + 1))
+        s = np.linspace(0.0, geometry.length, n)
+        xy = np.array([geometry.at(float(v))[:2] for v in s])
+    else:  # the vertices themselves: corners stay sharp
+        xy = np.array(spec.points, dtype=float)
+    if geometry.closed and np.hypot(*(xy[-1] - xy[0])) > 1e-9:
+        xy = np.vstack([xy, xy[:1]])
+    z = np.array([terrain_height(terrain, float(x), float(y)) for x, y in xy])
+    return np.column_stack([xy, z])
 
 
 # ---------------------------------------------------------------- resampling

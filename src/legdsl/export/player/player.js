@@ -112,6 +112,38 @@ for (const t of data.ground.terrain) {
   scene.add(mesh);
 }
 
+// The paths the run followed: ribbons lying on the ground (pulled towards the camera in depth, so
+// the ground never hides them; the creature does when it is in front).
+const pathMaterial = new THREE.MeshBasicMaterial({ color: 0x1f6fd0, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2 });
+const pathWidth = 0.04 * data.size;
+for (const p of data.paths || []) {
+  const pts = f32(p.points);
+  const n = pts.length / 3;
+  if (n < 2) continue;
+  const vertices = new Float32Array(6 * n);
+  for (let i = 0; i < n; i++) {
+    const a = Math.max(0, i - 1), b = Math.min(n - 1, i + 1);
+    let tx = pts[3 * b] - pts[3 * a], ty = pts[3 * b + 1] - pts[3 * a + 1];
+    const len = Math.hypot(tx, ty) || 1;
+    tx /= len; ty /= len;
+    for (const [k, side] of [[0, 1], [1, -1]]) {
+      vertices[6 * i + 3 * k] = pts[3 * i] - side * ty * pathWidth / 2;
+      vertices[6 * i + 3 * k + 1] = pts[3 * i + 1] + side * tx * pathWidth / 2;
+      vertices[6 * i + 3 * k + 2] = pts[3 * i + 2] + 0.003; // just above the ground
+    }
+  }
+  const indices = [];
+  for (let i = 0; i + 1 < n; i++) indices.push(2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 1, 2 * i + 3, 2 * i + 2);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(vertices, 3));
+  geometry.setIndex(indices);
+  const ribbon = new THREE.Mesh(geometry, pathMaterial);
+  ribbon.name = `path ${p.name}`;
+  ribbon.renderOrder = 5;
+  ribbon.frustumCulled = false;
+  scene.add(ribbon);
+}
+
 // The creature.
 const links = data.bodies.map((b) => {
   const geometry = new THREE.BufferGeometry();
