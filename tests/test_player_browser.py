@@ -174,3 +174,28 @@ def test_the_followed_path_is_drawn(browser: Chromium, tmp_path: Path) -> None:
     # and where the path's far point (0, 2) is drawn, the ribbon is
     far = browser.evaluate("legdsl.project(0, 2, 0)")
     assert around(path, far, 6).any()
+
+
+def test_a_lost_webgl_context_falls_back_to_a_flat_drawing(
+    browser: Chromium, tmp_path: Path
+) -> None:
+    motion = creature_motion("kangaroo", tmp_path / "run")
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.events.clear()
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.evaluate("legdsl.loseContext()")
+    browser.wait_for("legdsl.isFlat()", timeout=10)
+    browser.evaluate("legdsl.setTime(0.3)")
+    note = browser.evaluate("document.getElementById('message').textContent")
+    assert "drawn flat" in note
+    png = browser.screenshot()
+    keep(png, "player-flat.png", tmp_path)
+    trunk = hue_mask(pixels(png), motion.bodies[0].color or "").sum()
+    assert trunk > 300, f"{trunk} trunk pixels in the flat drawing"
+    browser.evaluate("legdsl.restoreContext()")
+    browser.wait_for("!legdsl.isFlat()", timeout=10)
+    assert browser.evaluate("document.getElementById('message').textContent") == ""
+    # WebGL's own message about the lost context is a warning, not a page error
+    assert [e for e in browser.errors() if "CONTEXT_LOST" not in e] == []

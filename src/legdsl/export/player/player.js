@@ -30,17 +30,98 @@ const duration = nFrames > 1 ? times[nFrames - 1] : 0;
 
 // ------------------------------------------------------------------ scene
 const view = document.getElementById("view");
+const message = document.getElementById("message");
+
+// Without WebGL (none offered, or its context lost) the same run is drawn on a 2D canvas, seen
+// from the side (x to the right, z up), with a note saying so: never a blank page.
+const flat = { canvas: null, on: false };
+const bodyMeshes2d = data.bodies.map((b) => ({
+  positions: f32(b.mesh.positions),
+  indices: new Uint32Array(bytes(b.mesh.indices)),
+  color: b.color,
+}));
+function draw2d(t, note) {
+  if (!flat.canvas) {
+    flat.canvas = document.createElement("canvas");
+    flat.canvas.id = "flat-view";
+    Object.assign(flat.canvas.style, { position: "absolute", inset: "0", width: "100%", height: "100%" });
+    view.appendChild(flat.canvas);
+  }
+  flat.on = true;
+  flat.canvas.style.display = "block";
+  message.textContent = note;
+  const w = view.clientWidth || 800, h = view.clientHeight || 500;
+  flat.canvas.width = w; flat.canvas.height = h;
+  const g = flat.canvas.getContext("2d");
+  let f = 0;
+  while (f + 1 < nFrames && times[f + 1] <= t) f++;
+  const scale = h / (2.4 * data.size);
+  const cx = com[3 * f], cz = data.lookHeight;
+  const X = (x) => w / 2 + (x - cx) * scale, Z = (z) => h / 2 - (z - cz) * scale;
+  g.fillStyle = "#eef0f3"; g.fillRect(0, 0, w, h);
+  const slope2d = data.ground.terrain.find((k) => k.kind === "slope");
+  const groundZ = (x) => {
+    if (slope2d) return x * Math.tan(slope2d.angle);
+    let z = 0;
+    for (const k of data.ground.terrain) {
+      if (k.kind === "step" && x >= k.x) z = Math.max(z, k.height);
+      if (k.kind === "box" && x >= k.x0 && x <= k.x1) z = Math.max(z, k.height);
+    }
+    return z;
+  };
+  g.fillStyle = "#d9d9d6"; g.strokeStyle = "#98988f";
+  g.beginPath(); g.moveTo(0, h);
+  for (let px = 0; px <= w; px += 2) g.lineTo(px, Z(groundZ(cx + (px - w / 2) / scale)));
+  g.lineTo(w, h); g.closePath(); g.fill(); g.stroke();
+  // Triangles of every link in world coordinates, far side (+y) first.
+  const tris = [];
+  const q = new THREE.Quaternion(), v = new THREE.Vector3();
+  for (let b = 0; b < nBodies; b++) {
+    const i = (f * nBodies + b) * 7, m = bodyMeshes2d[b];
+    q.set(poses[i + 3], poses[i + 4], poses[i + 5], poses[i + 6]);
+    const world = [];
+    for (let k = 0; k < m.positions.length; k += 3) {
+      v.set(m.positions[k], m.positions[k + 1], m.positions[k + 2]).applyQuaternion(q);
+      world.push([v.x + poses[i], v.y + poses[i + 1], v.z + poses[i + 2]]);
+    }
+    for (let k = 0; k < m.indices.length; k += 3) {
+      const [a, bb, c] = [world[m.indices[k]], world[m.indices[k + 1]], world[m.indices[k + 2]]];
+      tris.push({ depth: a[1] + bb[1] + c[1], pts: [a, bb, c], color: m.color });
+    }
+  }
+  tris.sort((p, r) => r.depth - p.depth);
+  for (const tri of tris) {
+    g.fillStyle = g.strokeStyle = tri.color;
+    g.beginPath();
+    tri.pts.forEach(([x, , z], k) => (k ? g.lineTo(X(x), Z(z)) : g.moveTo(X(x), Z(z))));
+    g.closePath(); g.fill(); g.stroke();
+  }
+}
+
 let renderer;
 try {
   renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 } catch (err) {
-  document.getElementById("message").textContent = "This player needs WebGL, which this browser does not offer.";
+  draw2d(0, "This browser offers no WebGL: the run's first frame is drawn flat, from the side.");
   throw err;
 }
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 renderer.shadowMap.enabled = true;
 renderer.shadowMap.type = THREE.PCFSoftShadowMap;
 view.appendChild(renderer.domElement);
+let contextLost = false;
+renderer.domElement.addEventListener("webglcontextlost", (e) => {
+  e.preventDefault(); // allow it to be restored
+  contextLost = true;
+  draw2d(time, "WebGL stopped working (its context was lost): drawn flat, from the side, until it is back.");
+});
+renderer.domElement.addEventListener("webglcontextrestored", () => {
+  contextLost = false;
+  flat.on = false;
+  if (flat.canvas) flat.canvas.style.display = "none";
+  message.textContent = "";
+  requestRender();
+});
 
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef0f3);
@@ -310,7 +391,8 @@ function draw() {
   trailGeometry.setDrawRange(0, f + 1);
   comMarker.position.set(cx, cy, cz);
 
-  renderer.render(scene, camera);
+  if (contextLost) draw2d(time, message.textContent);
+  else renderer.render(scene, camera);
   api.renders += 1;
   updateHud(f);
 }
@@ -446,6 +528,10 @@ const api = {
   scene, // for poking at from a browser console
   redraw: () => draw(),
   getView: () => ({ ...orbit }),
+  isFlat: () => flat.on,
+  // For tests: lose the WebGL context (and get it back) as a failing GPU would.
+  loseContext() { api.lost = renderer.getContext().getExtension("WEBGL_lose_context"); api.lost.loseContext(); },
+  restoreContext() { api.lost.restoreContext(); },
 };
 window.legdsl = api;
 resize();
