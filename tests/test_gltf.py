@@ -13,11 +13,11 @@ from external_tools import validate_gltf
 
 from legdsl.export.gltf import write_gltf
 from legdsl.export.motion import Motion, ground_area, quaternion_to_matrix
-from legdsl.export.shapes import ground_meshes
+from legdsl.export.shapes import body_mesh, ground_meshes
 
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 NUMPY_TYPES = {5126: np.float32, 5123: np.uint16, 5125: np.uint32}
-WIDTH = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}
+WIDTH = {"SCALAR": 1, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 
 
 def _ground(motion: Motion) -> list:
@@ -153,3 +153,62 @@ def test_gltf_json_with_embedded_buffer(exported, tmp_path: Path) -> None:
         _ground(motion)
     )
     assert validate_gltf(path)["issues"]["numErrors"] == 0
+
+
+@pytest.fixture(scope="module")
+def skinned(exported, tmp_path_factory) -> tuple[Motion, Path]:
+    motion, _ = exported
+    path = tmp_path_factory.mktemp("skin") / f"{motion.creature}-skin.glb"
+    write_gltf(motion, path, skin=True)
+    return motion, path
+
+
+def test_the_skinned_rig_validates(skinned) -> None:
+    motion, path = skinned
+    report = validate_gltf(path)
+    issues = report["issues"]
+    assert issues["numErrors"] == 0 and issues["numWarnings"] == 0, issues["messages"]
+    doc, _ = read_glb(path)
+    (skin,) = doc["skins"]
+    names = [doc["nodes"][j]["name"] for j in skin["joints"]]
+    assert names == [b.name for b in motion.bodies]
+    assert all("mesh" not in doc["nodes"][j] for j in skin["joints"])
+    (skin_node,) = [i for i, n in enumerate(doc["nodes"]) if "skin" in n]
+    assert skin_node in doc["scenes"][0]["nodes"]  # a root node, as glTF wants
+
+
+def test_the_skin_deforms_into_the_runs_poses(skinned) -> None:
+    """Linear blend skinning (weights 1) at a keyframe puts each link's mesh at its world pose."""
+    motion, path = skinned
+    doc, blob = read_glb(path)
+    (animation,) = doc["animations"]
+    nodes = doc["nodes"]
+    k = motion.frames // 2
+    local = {i: np.eye(4) for i in range(len(nodes))}
+    for i, n in enumerate(nodes):
+        if "rotation" in n:
+            local[i][:3, :3] = quaternion_to_matrix(np.array(n["rotation"]))
+    for channel in animation["channels"]:
+        values = accessor(doc, blob, animation["samplers"][channel["sampler"]]["output"])[k]
+        node = channel["target"]["node"]
+        if channel["target"]["path"] == "translation":
+            local[node][:3, 3] = values
+        else:
+            local[node][:3, :3] = quaternion_to_matrix(values.astype(float))
+    world = {i: local[i] for i in doc["scenes"][0]["nodes"]}
+    for i, node in enumerate(nodes):
+        for child in node.get("children", []):
+            world[child] = world[i] @ local[child]
+    (skin,) = doc["skins"]
+    ibm = accessor(doc, blob, skin["inverseBindMatrices"]).reshape(-1, 4, 4).transpose(0, 2, 1)
+    (mesh,) = [m for m in doc["meshes"] if m["name"].endswith("_skin")]
+    for b, primitive in enumerate(mesh["primitives"]):
+        attrs = primitive["attributes"]
+        assert set(accessor(doc, blob, attrs["JOINTS_0"])[:, 0]) == {b}
+        v = accessor(doc, blob, attrs["POSITION"]).astype(float)
+        joint = world[skin["joints"][b]] @ ibm[b]
+        skinned_v = v @ joint[:3, :3].T + joint[:3, 3]
+        local_v = body_mesh(motion.bodies[b]).positions.astype(float)
+        rot = Z_UP_TO_Y_UP @ quaternion_to_matrix(motion.quaternions[k, b])
+        expected = local_v @ rot.T + Z_UP_TO_Y_UP @ motion.positions[k, b]
+        assert np.allclose(skinned_v, expected, atol=2e-5)

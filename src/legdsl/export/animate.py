@@ -170,6 +170,8 @@ MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "bvh")
 def _cmd_export_motion(args: argparse.Namespace) -> int:
     _positive(args.fps, "--fps")
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
+    if args.skin and args.format not in ("glb", "gltf"):
+        raise UsageError(f"--skin is for glTF (--format glb or gltf), not {args.format}")
     if args.format == "usd" and out.suffix == ".usda":
         raise UsageError(f"-o {out}: a .usda file is text; use --format usda, or name it .usd")
     motion = _load(args, args.fps)
@@ -184,7 +186,7 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     else:
         from legdsl.export.gltf import write_gltf
 
-        size = write_gltf(motion, out, args.format)
+        size = write_gltf(motion, out, args.format, skin=args.skin)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} links, "
         f"{motion.frames} keyframes over {motion.duration:.2f} s)"
@@ -214,6 +216,12 @@ def add_export_motion_parser(sub: Any) -> Command:
         help="glb (default), gltf, usd, usda or bvh",
     )
     e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.FORMAT")
+    e.add_argument(
+        "--skin",
+        action="store_true",
+        help="glTF: one skinned mesh over the link nodes as joints (an armature in Blender) "
+        "instead of a mesh on each link node",
+    )
     e.add_argument(
         "--fps", type=float, default=60.0, metavar="N", help="keyframes per second (default 60)"
     )

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.motion import Motion, frame_rate, ground_area
+from legdsl.export.motion import Motion, frame_rate, ground_area, quaternion_to_matrix
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.lang.errors import UsageError
 
@@ -128,8 +128,14 @@ class _Blob:
         return len(self.gltf.accessors) - 1
 
 
-def build_gltf(motion: Motion) -> Any:
-    """The scene and animation as a ``pygltflib.GLTF2`` with its binary blob set."""
+def build_gltf(motion: Motion, skin: bool = False) -> Any:
+    """The scene and animation as a ``pygltflib.GLTF2`` with its binary blob set.
+
+    With ``skin`` the link nodes are the joints of a skin and carry no meshes:
+    one mesh ``CREATURE_skin`` (a primitive per link, each vertex bound with
+    weight 1 to its link's joint, in the first frame's pose) is deformed by them,
+    which DCC tools import as an armature with one bone per link.
+    """
     lib = _pygltflib()
     gltf = lib.GLTF2(
         asset=lib.Asset(version="2.0", generator=f"legdsl {__version__}"),
@@ -174,7 +180,7 @@ def build_gltf(motion: Motion) -> Any:
     for b, body in enumerate(motion.bodies):
         node = lib.Node(
             name=body.name,
-            mesh=add_mesh(body.name, body_mesh(body), colors[b]),
+            mesh=None if skin else add_mesh(body.name, body_mesh(body), colors[b]),
             translation=[float(x) for x in translations[0, b]],
             rotation=[float(x) for x in rotations[0, b]],
             children=[],
@@ -182,6 +188,9 @@ def build_gltf(motion: Motion) -> Any:
         gltf.nodes.append(node)
         parent = motion.parents[b]
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
+
+    if skin:
+        _skin(gltf, lib, blob, motion, colors, materials)
 
     # The ground and terrain: fixed meshes in world coordinates, beside the creature's root.
     ground_node = lib.Node(name="ground", children=[])
@@ -230,11 +239,64 @@ def build_gltf(motion: Motion) -> Any:
     return gltf
 
 
-def write_gltf(motion: Motion, path: Path, fmt: str = "glb") -> int:
+def _skin(
+    gltf: Any, lib: Any, blob: _Blob, motion: Motion, colors: list[str], materials: dict[str, int]
+) -> None:
+    """A skinned mesh over the link nodes as joints, bound at the first frame (see build_gltf)."""
+    top = np.eye(4)
+    top[:3, :3] = quaternion_to_matrix(np.array(Z_UP_TO_Y_UP))
+    primitives = []
+    inverse_bind = []
+    for b, body in enumerate(motion.bodies):
+        bind = np.eye(4)
+        bind[:3, :3] = quaternion_to_matrix(motion.quaternions[0, b])
+        bind[:3, 3] = motion.positions[0, b]
+        bind = top @ bind  # the joint node's global transform at the first frame
+        inverse_bind.append(np.linalg.inv(bind).T.reshape(16))  # column-major
+        mesh = body_mesh(body)
+        positions = (mesh.positions @ bind[:3, :3].T + bind[:3, 3]).astype(np.float32)
+        normals = (mesh.normals @ bind[:3, :3].T).astype(np.float32)
+        n = len(positions)
+        joints = np.zeros((n, 4), dtype=np.uint16)
+        joints[:, 0] = b
+        weights = np.zeros((n, 4), dtype=np.float32)
+        weights[:, 0] = 1.0
+        indices = mesh.indices.reshape(-1).astype(np.uint16 if n < 65536 else np.uint32)
+        primitives.append(
+            lib.Primitive(
+                attributes=lib.Attributes(
+                    POSITION=blob.accessor(positions, "VEC3", ARRAY_BUFFER, bounds=True),
+                    NORMAL=blob.accessor(normals, "VEC3", ARRAY_BUFFER),
+                    JOINTS_0=blob.accessor(joints, "VEC4", ARRAY_BUFFER),
+                    WEIGHTS_0=blob.accessor(weights, "VEC4", ARRAY_BUFFER),
+                ),
+                indices=blob.accessor(indices, "SCALAR", ELEMENT_ARRAY_BUFFER),
+                material=materials[colors[b]],
+            )
+        )
+    gltf.meshes.append(lib.Mesh(name=f"{motion.creature}_skin", primitives=primitives))
+    matrices = blob.accessor(np.array(inverse_bind, dtype=np.float32), "MAT4")
+    joints_list = list(range(1, len(motion.bodies) + 1))
+    root = next(b for b, parent in enumerate(motion.parents) if parent < 0)
+    gltf.skins.append(
+        lib.Skin(
+            name=f"{motion.creature}_rig",
+            joints=joints_list,
+            inverseBindMatrices=matrices,
+            skeleton=root + 1,
+        )
+    )
+    # A skinned mesh's node is a root of the scene, with no transform of its own (glTF 2.0,
+    # 5.29: the joints' transforms place it).
+    gltf.nodes.append(lib.Node(name=f"{motion.creature}_skin", mesh=len(gltf.meshes) - 1, skin=0))
+    gltf.scenes[0].nodes.append(len(gltf.nodes) - 1)
+
+
+def write_gltf(motion: Motion, path: Path, fmt: str = "glb", skin: bool = False) -> int:
     """Write ``path`` as .glb (binary) or .gltf (JSON, buffer as a data URI); returns its size."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
-    gltf = build_gltf(motion)
+    gltf = build_gltf(motion, skin)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     if fmt == "glb":
