@@ -237,6 +237,55 @@ def add_export_motion_parser(sub: Any) -> Command:
     return _cmd_export_motion
 
 
+# ---------------------------------------------------------------- legdsl replay --mujoco
+
+
+def _cmd_replay(args: argparse.Namespace) -> int:
+    from legdsl.export import mjreplay
+
+    if not args.mujoco:
+        raise UsageError("replay: say where: --mujoco (the only player for now)")
+    _positive(args.fps, "--fps")
+    source = Path(args.source) if args.source else None
+    run = Path(args.run)
+    if args.output is None and mjreplay.has_display():
+        mjreplay.view(run, args.fps or 60.0, source)
+        return 0
+    out = Path(args.output) if args.output else run / "mujoco.mp4"
+    if out.suffix.lower() != ".mp4":
+        raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4")
+    if args.output is None:
+        print(
+            "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
+        )
+    frames = mjreplay.render_mp4(
+        run, out, args.fps or 30.0, parse_size(args.size or "960x540"), source
+    )
+    print(f"legdsl: wrote {out} ({frames} frames, MuJoCo's renderer)")
+    return 0
+
+
+def add_replay_parser(sub: Any) -> Command:
+    r = sub.add_parser(
+        "replay",
+        help="play a recorded run in MuJoCo's viewer (or render it with MuJoCo to an mp4)",
+        description="Play a run directory on the creature's MJCF export in MuJoCo: each frame "
+        "sets MuJoCo's joint positions from the run (MuJoCo simulates nothing). With a display "
+        "and no -o, MuJoCo's interactive viewer plays it in real time, looping; otherwise "
+        "MuJoCo's offscreen renderer (MUJOCO_GL=egl by default) draws it into an mp4 (ffmpeg).",
+        epilog="Example: legdsl replay runs/biped --mujoco -o biped-mujoco.mp4",
+    )
+    r.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
+    r.add_argument("--mujoco", action="store_true", help="play it in MuJoCo")
+    r.add_argument("-o", "--output", metavar="FILE.mp4", help="render to this mp4 instead")
+    r.add_argument("--fps", type=float, default=None, metavar="N", help="frames per second")
+    r.add_argument("--size", metavar="WxH", help="mp4 size in pixels (default 960x540)")
+    r.add_argument(
+        "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
+    )
+    return _cmd_replay
+
+
 # ---------------------------------------------------------------- legdsl run --animate
 
 
