@@ -186,7 +186,11 @@ def _cmd_export(args: argparse.Namespace) -> int:
     from legdsl.export.formats import default_path, export_text, write_atomic
 
     model = check_model(args.file, args.creature)
-    text = export_text(model, args.format)
+    if args.format != "urdf" and (args.base != "world" or args.link_mass):
+        raise UsageError("--base and --link-mass are URDF options (--format urdf)")
+    if not args.link_mass >= 0:
+        raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
+    text = export_text(model, args.format, args.base, args.link_mass)
     if args.output == "-":
         sys.stdout.write(text)
         return 0
@@ -418,6 +422,21 @@ def _parser() -> argparse.ArgumentParser:
         help="output file (default: NAME.xml or NAME.urdf here; '-' for standard output)",
     )
     e.add_argument("--creature", help="which creature, if the file has several")
+    e.add_argument(
+        "--base",
+        choices=("world", "free"),
+        default="world",
+        help="URDF: 'free' makes a 3D free root the root link (a floating base as ROS tools and "
+        "Pinocchio expect) instead of a 'floating' joint from a 'world' link (the default)",
+    )
+    e.add_argument(
+        "--link-mass",
+        type=float,
+        default=0.0,
+        metavar="KG",
+        help="URDF: give the intermediate links of composite joints this mass (e.g. 1e-6), for "
+        "loaders that refuse moving massless links (MuJoCo's); default 0",
+    )
     _COMMANDS["export"] = _cmd_export
 
     return p
