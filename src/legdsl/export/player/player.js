@@ -179,10 +179,14 @@ const slope = data.ground.terrain.find((t) => t.kind === "slope");
   if (slope) ground.rotation.y = -slope.angle;
 }
 scene.add(ground);
+// A planar creature's terrain runs across the whole ground in y; drawn so, it would pass
+// behind the side view's camera and fill the picture. Its blocks are a band around y = 0.
+const band = data.planar ? 0.6 * data.size + 0.2 : Infinity;
+const [ty0, ty1] = [Math.max(gy0, -band), Math.min(gy1, band)];
 for (const t of data.ground.terrain) {
   let box = null;
-  if (t.kind === "step") box = [t.x, gx1, gy0, gy1, t.height];
-  if (t.kind === "box") box = [t.x0, t.x1, Math.max(t.y0, gy0), Math.min(t.y1, gy1), t.height];
+  if (t.kind === "step") box = [t.x, gx1, ty0, ty1, t.height];
+  if (t.kind === "box") box = [t.x0, t.x1, Math.max(t.y0, ty0), Math.min(t.y1, ty1), t.height];
   if (!box) continue;
   const [x0, x1, y0, y1, h] = box;
   const mesh = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, h), terrainMaterial);
