@@ -132,7 +132,7 @@ def test_the_scene_carries_its_frame_range_and_the_ground(exported) -> None:
     motion, path = exported
     doc, _ = read_glb(path)
     extras = doc["scenes"][0]["extras"]
-    assert extras["frame_start"] == 1 and extras["frame_end"] == motion.frames
+    assert extras["frame_start"] == 0 and extras["frame_end"] == motion.frames - 1
     assert extras["fps"] == pytest.approx((motion.frames - 1) / motion.duration)
     assert extras["time_end"] == pytest.approx(motion.duration)
     nodes = doc["nodes"]

@@ -202,11 +202,12 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
 
     fps = frame_rate(motion)
     gltf.scenes[0].extras = {
-        # Blender's glTF importer keeps these as the scene's custom properties; a DCC script
-        # (or the user) sets the timeline from them: frames 1..frames at fps.
+        # Blender's glTF importer keeps these as the scene's custom properties. It turns key
+        # times into frames at the scene's frame rate (time 0 at frame 0), so set the scene to
+        # `fps` before importing; the keys are then frames frame_start..frame_end.
         "fps": fps,
-        "frame_start": 1,
-        "frame_end": motion.frames,
+        "frame_start": 0,
+        "frame_end": motion.frames - 1,
         "time_start": 0.0,
         "time_end": motion.duration,
         "up_axis": "y (legdsl z)",
