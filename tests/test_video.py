@@ -76,6 +76,7 @@ def test_mp4_without_ffmpeg_says_how_to_install_it(
     quadruped: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: None)
+    monkeypatch.setitem(__import__("sys").modules, "imageio_ffmpeg", None)  # no wheel either
     with pytest.raises(UsageError, match="apt-get install -y ffmpeg"):
         render_video(quadruped, tmp_path / "q.mp4")
     assert not list(tmp_path.iterdir())
@@ -120,3 +121,16 @@ def test_a_force_arrow_longer_than_the_frame_is_clipped_not_dropped(kangaroo: Mo
         assert hue_mask(image, "#d2401e").sum() > 20  # the arrow's colour is on the picture
     finally:
         plt.close(fig)
+
+
+def test_mp4_with_only_the_imageio_ffmpeg_wheel(
+    kangaroo: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No system ffmpeg: the binary in the imageio-ffmpeg wheel encodes the mp4."""
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
+    monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: None)
+    path = tmp_path / "k.mp4"
+    result = render_video(kangaroo, path, fps=5, size=(160, 90))
+    assert result.frames > 2 and path.stat().st_size > 1000
+    assert path.read_bytes()[4:8] == b"ftyp"
+    assert "imageio_ffmpeg" in imageio_ffmpeg.get_ffmpeg_exe()

@@ -15,7 +15,6 @@ no OpenGL context can be had the command says so and why.
 from __future__ import annotations
 
 import os
-import shutil
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -24,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.export.motion import frame_times, interpolate_q, read_run
-from legdsl.export.video import FFMPEG_HINT, _write_mp4
+from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 
@@ -79,7 +78,7 @@ def render_mp4(
     progress: Callable[[int, int], None] | None = None,
 ) -> int:
     """Render the run with MuJoCo's offscreen renderer to ``out`` (mp4); returns the frame count."""
-    if shutil.which("ffmpeg") is None:
+    if ffmpeg_exe() is None:
         raise UsageError(FFMPEG_HINT)
     mujoco = _mujoco()
     mj, data, model, times, qpos = replay_frames(directory, fps, source)
