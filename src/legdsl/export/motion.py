@@ -342,7 +342,7 @@ def motion_from(
         quaternions=continuous(quats),
         contact_names=tuple(c.name for c in model.contacts),
         contact_positions=contacts,
-        forces=interpolate(tr.t, tr.force, at),
+        forces=interpolate(tr.t, recorded_forces(tr), at),
         com=interpolate(tr.t, tr.com, at),
         speed=speed,
         speed_command=tr.speed_command[index].astype(float),
@@ -357,6 +357,18 @@ def motion_from(
             any(d.motion == "slide" for d in joints[b.name].dofs) for b in model.bodies
         ),
     )
+
+
+def recorded_forces(tr: Trajectory) -> np.ndarray:
+    """The ground forces, zero on every contact not touching the ground.
+
+    The runtime records a contact's force only while it touches, and while another contact
+    still touches it leaves a lifted one's last force in place (a stale force on a foot in
+    the air); the contact flags say which samples hold a real force.
+    """
+    if tr.contact.shape != tr.force.shape[:2]:
+        return tr.force
+    return np.asarray(tr.force * (tr.contact[..., None] > 0))
 
 
 def footprints(
