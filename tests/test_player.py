@@ -129,3 +129,10 @@ def test_the_followed_path_is_in_the_data(tmp_path: Path) -> None:
     points = np.frombuffer(base64.b64decode(data["paths"][0]["points"]), "<f4").reshape(-1, 3)
     assert data["paths"][0]["name"] == "route" and np.allclose(points, ring, atol=1e-6)
     assert math.isclose(float(points[:, 0].max()), 3.0, rel_tol=1e-3)
+    # the lateral error of the mass centre from the circle, and the nearest point on it
+    distance = np.hypot(motion.com[:, 0], motion.com[:, 1] - 3.0)
+    assert np.allclose(np.abs(motion.path_lateral[0]), np.abs(distance - 3.0), atol=1e-9)
+    nearest = motion.path_nearest[0]
+    assert np.allclose(np.hypot(nearest[:, 0], nearest[:, 1] - 3.0), 3.0)
+    lateral = np.frombuffer(base64.b64decode(data["paths"][0]["lateral"]), "<f4")
+    assert np.allclose(lateral, motion.path_lateral[0], atol=1e-6)

@@ -174,6 +174,8 @@ def test_the_followed_path_is_drawn(browser: Chromium, tmp_path: Path) -> None:
     # and where the path's far point (0, 2) is drawn, the ribbon is
     far = browser.evaluate("legdsl.project(0, 2, 0)")
     assert around(path, far, 6).any()
+    hud = browser.evaluate("document.getElementById('hud').textContent")
+    assert "path route: lateral error" in hud
 
 
 def test_a_lost_webgl_context_falls_back_to_a_flat_drawing(

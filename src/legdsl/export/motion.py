@@ -76,6 +76,10 @@ class Motion:
     # the paths the run followed, each as points (N, 3) on the ground (closed ones end at the start)
     paths: tuple[np.ndarray, ...] = ()
     path_names: tuple[str, ...] = ()
+    # for each path, per frame: the nearest path point to the mass centre (F, 3) and the
+    # signed lateral error (F,), positive when the mass centre is left of the path
+    path_nearest: tuple[np.ndarray, ...] = ()
+    path_lateral: tuple[np.ndarray, ...] = ()
 
     @property
     def duration(self) -> float:
@@ -199,10 +203,20 @@ def load_motion(
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec
+        from legdsl.sim.path_tracking import PathGeometry
 
         followed = [PathSpec.from_json(p) for p in specs]
         motion.paths = tuple(path_points(p, motion.terrain) for p in followed)
         motion.path_names = tuple(p.name for p in followed)
+        nearest, lateral = [], []
+        for spec in followed:
+            geometry = PathGeometry(spec)
+            hits = [geometry.project(float(x), float(y)) for x, y in motion.com[:, :2]]
+            nearest.append(
+                np.array([(h.x, h.y, terrain_height(motion.terrain, h.x, h.y)) for h in hits])
+            )
+            lateral.append(np.array([h.lateral for h in hits]))
+        motion.path_nearest, motion.path_lateral = tuple(nearest), tuple(lateral)
     return motion
 
 

@@ -228,6 +228,17 @@ for (const p of data.paths || []) {
   ribbon.frustumCulled = false;
   scene.add(ribbon);
 }
+// The lateral error: a segment on the ground from under the mass centre to the nearest path
+// point, and its value in the panel.
+const lateralTraces = (data.paths || []).filter((p) => p.nearest).map((p) => {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(6), 3));
+  const line = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: 0x1f6fd0, depthTest: false }));
+  line.renderOrder = 6;
+  line.frustumCulled = false;
+  scene.add(line);
+  return { name: p.name, nearest: f32(p.nearest), lateral: f32(p.lateral), line };
+});
 
 // The creature.
 const links = data.bodies.map((b) => {
@@ -391,6 +402,12 @@ function draw() {
     }
   }
   for (const mesh of footprints) mesh.visible = overlays.footprints.on && mesh.userData.t <= time + 1e-9;
+  for (const trace of lateralTraces) {
+    const n = trace.nearest, at = trace.line.geometry.attributes.position;
+    at.setXYZ(0, cx, cy, n[3 * f + 2] + 0.004);
+    at.setXYZ(1, n[3 * f], n[3 * f + 1], n[3 * f + 2] + 0.004);
+    at.needsUpdate = true;
+  }
   trail.visible = comMarker.visible = overlays.com.on;
   trailGeometry.setDrawRange(0, f + 1);
   comMarker.position.set(cx, cy, cz);
@@ -426,6 +443,9 @@ function updateHud(f) {
   if (overlays.speed.on) {
     const command = Number.isFinite(speedCommand[f]) ? `${fmt(speedCommand[f])} m/s` : '<span class="dim">none</span>';
     lines.push(`<div>speed: ${fmt(speed[f])} m/s &middot; command: ${command}</div>`);
+  }
+  for (const trace of lateralTraces) {
+    lines.push(`<div>path ${escapeHtml(trace.name)}: lateral error <span class="lateral">${fmt(trace.lateral[f])}</span> m</div>`);
   }
   hud.innerHTML = lines.join("");
   clock.textContent = `${time.toFixed(2)} / ${duration.toFixed(2)} s`;
