@@ -94,7 +94,7 @@ def recorded(model, times: np.ndarray):
     tr.state[:] = np.where(times >= 0.09, 1, 0)
     tr.contact[:, 0] = times >= 0.09
     tr.speed_command[:] = np.where(times >= 0.12, 1.5, np.nan)
-    tr.force[:, 0, 2] = 10 * times
+    tr.force[:, 0, 2] = np.where(times >= 0.09, 10 * times, 0.0)  # while it touches
     return tr
 
 
@@ -142,7 +142,8 @@ def test_motion_resamples_poses_on_the_chain(two_link) -> None:
     assert list(motion.state) == [0, 0, 0, 1, 1, 1, 1, 1]  # frames at 0, 0.04, 0.08, 0.12, ...
     assert np.isnan(motion.speed_command[:3]).all() and (motion.speed_command[3:] == 1.5).all()
     assert np.allclose(motion.speed, 0.8)
-    assert np.allclose(motion.forces[:, 0, 2], 10 * motion.times)
+    assert np.allclose(motion.forces[3:, 0, 2], 10 * motion.times[3:])  # in stance
+    assert np.allclose(motion.forces[:2, 0, 2], 0.0)  # before the touchdown at 0.09 s
     assert motion.weight == pytest.approx(2.5 * 9.81)
     assert motion.parents == (-1, 0)
     assert [t.kind for t in motion.terrain] == ["step"]
@@ -219,3 +220,25 @@ def test_load_motion_reads_a_run_directory(two_link, tmp_path: Path) -> None:
     assert load_motion(run, source=source, kinematics=HandKinematics()).frames > 1
     with pytest.raises(UsageError, match="not a run directory"):
         load_motion(tmp_path / "nothing", kinematics=HandKinematics())
+
+
+def test_a_lifted_contacts_stale_force_is_not_drawn(tmp_path) -> None:
+    """The kangaroo lands on toe and tail; after the tail lifts, its force is zero in the motion."""
+    from anim_runs import creature_run, generated_dir
+
+    from legdsl.export.motion import load_motion, read_run
+
+    run_dir = creature_run("kangaroo", tmp_path / "run")
+    tr = read_run(run_dir).trajectory
+    lifted = tr.contact == 0
+    motion = load_motion(run_dir, fps=200, generated=generated_dir())
+    # at the recorded samples (200 per second, the default) the motion has the flags' forces
+    at = np.searchsorted(tr.t - tr.t[0], motion.times - 1e-9)
+    for f, k in enumerate(at[: len(motion.times)]):
+        for c in range(tr.contact.shape[1]):
+            if (
+                lifted[k, c]
+                and (k == 0 or lifted[k - 1, c])
+                and (k + 1 >= len(tr.t) or lifted[k + 1, c])
+            ):
+                assert np.all(motion.forces[f, c] == 0.0)

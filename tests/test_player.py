@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from anim_runs import creature_motion
+from anim_runs import creature_motion, creature_run, generated_dir
 from standin import ModelKinematics, synthetic_run
 
 from legdsl.check.source import check_model
@@ -18,6 +18,7 @@ from legdsl.export.motion import Motion, load_motion
 from legdsl.export.player import (
     THREE_VERSION,
     _inline_safe,
+    player_data,
     player_html,
     three_module,
     write_player,
@@ -52,7 +53,7 @@ def quadruped_events() -> list[dict]:
 def test_the_page_loads_nothing_from_outside(quadruped: Motion) -> None:
     html = player_html(quadruped)
     tags = re.findall(r"<(script|link|img|iframe)\b[^>]*>", html, re.I)
-    assert tags == ["script", "script", "script"]
+    assert tags == ["script"] * 4  # data, three.js, the import map writer, the player
     assert not re.search(r"<script[^>]*\bsrc=", html, re.I)
     assert "<link" not in html and "@import" not in html
     # Exactly one copy of the vendored three.js, verbatim.
@@ -105,3 +106,33 @@ def test_a_ten_second_run_stays_small(tmp_path: Path) -> None:
     assert size == (tmp_path / "player.html").stat().st_size
     assert motion.frames == 601  # 60 fps
     assert size < 2_000_000, f"{size} bytes"
+
+
+def test_the_followed_path_is_in_the_data(tmp_path: Path) -> None:
+    """A run that followed a path: the motion and the player carry it as points on the ground."""
+    import math
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    info = json.loads((run / "run.json").read_text())
+    circle = {"name": "route", "shape": "circle", "center": [0.0, 3.0], "radius": 3.0, "turn": 1}
+    square = {"name": "box", "shape": "polyline", "closed": True,
+              "points": [[0, 0], [2, 0], [2, 2], [0, 2]]}  # fmt: skip
+    info["paths"] = [circle, square]
+    (run / "run.json").write_text(json.dumps(info))
+    motion = load_motion(run, generated=generated_dir())
+    assert motion.path_names == ("route", "box")
+    ring, corners = motion.paths
+    assert np.allclose(np.hypot(ring[:, 0], ring[:, 1] - 3.0), 3.0)
+    assert np.allclose(ring[0], ring[-1]) and len(ring) > 100
+    assert np.allclose(corners, [[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [0, 0, 0]])
+    data = player_data(motion)
+    points = np.frombuffer(base64.b64decode(data["paths"][0]["points"]), "<f4").reshape(-1, 3)
+    assert data["paths"][0]["name"] == "route" and np.allclose(points, ring, atol=1e-6)
+    assert math.isclose(float(points[:, 0].max()), 3.0, rel_tol=1e-3)
+    # the lateral error of the mass centre from the circle, and the nearest point on it
+    distance = np.hypot(motion.com[:, 0], motion.com[:, 1] - 3.0)
+    assert np.allclose(np.abs(motion.path_lateral[0]), np.abs(distance - 3.0), atol=1e-9)
+    nearest = motion.path_nearest[0]
+    assert np.allclose(np.hypot(nearest[:, 0], nearest[:, 1] - 3.0), 3.0)
+    lateral = np.frombuffer(base64.b64decode(data["paths"][0]["lateral"]), "<f4")
+    assert np.allclose(lateral, motion.path_lateral[0], atol=1e-6)

@@ -111,3 +111,93 @@ def test_the_player_draws_and_plays_the_run(browser: Chromium, name: str, tmp_pa
     browser.evaluate("legdsl.pause()")
     assert 0.1 * elapsed < advanced < 0.4 * elapsed  # a quarter of real time, give or take a frame
     assert browser.errors() == []
+
+
+# How many one-shot screenshots per mode; 10 in a row were taken by hand (docs/animation.md).
+TRIES = int(os.environ.get("LEGDSL_SCREENSHOT_TRIES", "3"))
+
+
+@pytest.mark.parametrize("gpu_flag", [("--disable-gpu",), ()], ids=["disable-gpu", "default"])
+def test_a_one_shot_screenshot_always_shows_the_creature(
+    gpu_flag: tuple[str, ...], tmp_path: Path
+) -> None:
+    """``chromium --headless --screenshot PAGE`` draws the creature every time.
+
+    It shoots right after the page's load event. The player used to import three.js
+    with a dynamic import() (the page finished loading before anything was drawn) and
+    redrew only at the next animation frame after sizing its canvas (which clears it):
+    1 drawing in 10 tries with --disable-gpu, none in 10 without.
+    """
+    import subprocess
+
+    motion = creature_motion("kangaroo", tmp_path / "run")
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    exe = chromium()
+    for k in range(TRIES):
+        shot = tmp_path / f"shot{k}.png"
+        subprocess.run(
+            [exe, "--headless", "--no-sandbox", "--hide-scrollbars", *gpu_flag,
+             f"--user-data-dir={tmp_path / 'profile'}", "--window-size=800,500",
+             f"--screenshot={shot}", page.as_uri()],
+            capture_output=True, timeout=90, check=False,
+        )  # fmt: skip
+        image = pixels(shot.read_bytes())
+        trunk = hue_mask(image, motion.bodies[0].color or "").sum()
+        assert trunk > 300, f"try {k + 1}: the creature is not drawn ({trunk} trunk pixels)"
+
+
+def test_the_followed_path_is_drawn(browser: Chromium, tmp_path: Path) -> None:
+    import json
+
+    from anim_runs import creature_run, generated_dir
+
+    from legdsl.export.motion import load_motion
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    info = json.loads((run / "run.json").read_text())
+    info["paths"] = [
+        {"name": "route", "shape": "circle", "center": [0.0, 1.0], "radius": 1.0, "turn": 1}
+    ]
+    (run / "run.json").write_text(json.dumps(info))
+    motion = load_motion(run, generated=generated_dir())
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.events.clear()
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    assert browser.errors() == []
+    png = browser.screenshot()
+    keep(png, "player-path.png", tmp_path)
+    path = hue_mask(pixels(png), "#1f6fd0", tolerance=0.03)
+    assert path.sum() > 300
+    # and where the path's far point (0, 2) is drawn, the ribbon is
+    far = browser.evaluate("legdsl.project(0, 2, 0)")
+    assert around(path, far, 6).any()
+    hud = browser.evaluate("document.getElementById('hud').textContent")
+    assert "path route: lateral error" in hud
+
+
+def test_a_lost_webgl_context_falls_back_to_a_flat_drawing(
+    browser: Chromium, tmp_path: Path
+) -> None:
+    motion = creature_motion("kangaroo", tmp_path / "run")
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.events.clear()
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.evaluate("legdsl.loseContext()")
+    browser.wait_for("legdsl.isFlat()", timeout=10)
+    browser.evaluate("legdsl.setTime(0.3)")
+    note = browser.evaluate("document.getElementById('message').textContent")
+    assert "drawn flat" in note
+    png = browser.screenshot()
+    keep(png, "player-flat.png", tmp_path)
+    trunk = hue_mask(pixels(png), motion.bodies[0].color or "").sum()
+    assert trunk > 300, f"{trunk} trunk pixels in the flat drawing"
+    browser.evaluate("legdsl.restoreContext()")
+    browser.wait_for("!legdsl.isFlat()", timeout=10)
+    assert browser.evaluate("document.getElementById('message').textContent") == ""
+    # WebGL's own message about the lost context is a warning, not a page error
+    assert [e for e in browser.errors() if "CONTEXT_LOST" not in e] == []

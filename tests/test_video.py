@@ -76,8 +76,61 @@ def test_mp4_without_ffmpeg_says_how_to_install_it(
     quadruped: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: None)
+    monkeypatch.setitem(__import__("sys").modules, "imageio_ffmpeg", None)  # no wheel either
     with pytest.raises(UsageError, match="apt-get install -y ffmpeg"):
         render_video(quadruped, tmp_path / "q.mp4")
     assert not list(tmp_path.iterdir())
     with pytest.raises(UsageError, match=r"\.mp4 or \.gif"):
         render_video(quadruped, tmp_path / "q.avi")
+
+
+def test_a_force_arrow_longer_than_the_frame_is_clipped_not_dropped(kangaroo: Motion) -> None:
+    """The side view's ground-force arrow stays drawn, its head at the frame's edge."""
+    import dataclasses
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from legdsl.export.player import OVERLAYS
+    from legdsl.export.video_views import SideView, clip_segment
+
+    assert clip_segment((0.0, 0.0), (0.5, 3.0), (-1.0, -1.0, 1.0, 1.0)) == pytest.approx(
+        (1 / 6, 1.0)
+    )
+    assert clip_segment((0.0, 0.0), (0.2, 0.3), (-1.0, -1.0, 1.0, 1.0)) == (0.2, 0.3)
+    assert clip_segment((2.0, 0.0), (2.0, 0.3), (-1.0, -1.0, 1.0, 1.0)) is None
+
+    stance = np.flatnonzero(kangaroo.forces[:, 0, 2] > 0)
+    assert len(stance)
+    strong = dataclasses.replace(kangaroo, forces=kangaroo.forces * 50.0)  # far past the frame
+    fig = plt.figure(figsize=(3.2, 1.8), dpi=100)
+    try:
+        ax = fig.add_axes((0, 0, 1, 1))
+        view = SideView(strong, ax, OVERLAYS, 320 / 180)
+        view.update(strong.at(float(strong.times[stance[len(stance) // 2]])))
+        arrow = view.arrows[0]
+        assert arrow.get_visible()
+        (x0, x1), (z0, z1) = ax.get_xlim(), ax.get_ylim()
+        x, z = arrow.xy
+        assert x0 <= x <= x1 and z0 <= z <= z1
+        assert z == pytest.approx(z1 - 0.02 * (z1 - z0), rel=1e-6)  # at the top edge's margin
+        fig.canvas.draw()
+        image = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(float) / 255
+        assert hue_mask(image, "#d2401e").sum() > 20  # the arrow's colour is on the picture
+    finally:
+        plt.close(fig)
+
+
+def test_mp4_with_only_the_imageio_ffmpeg_wheel(
+    kangaroo: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No system ffmpeg: the binary in the imageio-ffmpeg wheel encodes the mp4."""
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
+    monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: None)
+    path = tmp_path / "k.mp4"
+    result = render_video(kangaroo, path, fps=5, size=(160, 90))
+    assert result.frames > 2 and path.stat().st_size > 1000
+    assert path.read_bytes()[4:8] == b"ftyp"
+    assert "imageio_ffmpeg" in imageio_ffmpeg.get_ffmpeg_exe()

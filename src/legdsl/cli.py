@@ -193,7 +193,11 @@ def _cmd_export(args: argparse.Namespace) -> int:
     from legdsl.export.formats import default_path, export_text, write_atomic
 
     model = check_model(args.file, args.creature)
-    text = export_text(model, args.format)
+    if args.format != "urdf" and (args.base != "world" or args.link_mass):
+        raise UsageError("--base and --link-mass are URDF options (--format urdf)")
+    if not args.link_mass >= 0:
+        raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
+    text = export_text(model, args.format, args.base, args.link_mass)
     if args.output == "-":
         sys.stdout.write(text)
         return 0
@@ -408,10 +412,15 @@ def _parser() -> argparse.ArgumentParser:
     )
     _COMMANDS["plot"] = _cmd_plot
 
-    from legdsl.export.animate import add_animate_parser, add_export_motion_parser
+    from legdsl.export.animate import (
+        add_animate_parser,
+        add_export_motion_parser,
+        add_replay_parser,
+    )
 
     _COMMANDS["animate"] = add_animate_parser(sub)
     _COMMANDS["export-motion"] = add_export_motion_parser(sub)
+    _COMMANDS["replay"] = add_replay_parser(sub)
     from legdsl.api.sweep_cli import add_sweep_parser
 
     _COMMANDS["sweep"] = add_sweep_parser(sub)
@@ -439,37 +448,28 @@ def _parser() -> argparse.ArgumentParser:
         help="output file (default: NAME.xml or NAME.urdf here; '-' for standard output)",
     )
     e.add_argument("--creature", help="which creature, if the file has several")
+    e.add_argument(
+        "--base",
+        choices=("world", "free"),
+        default="world",
+        help="URDF: 'free' makes a 3D free root the root link (a floating base as ROS tools and "
+        "Pinocchio expect) instead of a 'floating' joint from a 'world' link (the default)",
+    )
+    e.add_argument(
+        "--link-mass",
+        type=float,
+        default=0.0,
+        metavar="KG",
+        help="URDF: give the intermediate links of composite joints this mass (e.g. 1e-6), for "
+        "loaders that refuse moving massless links (MuJoCo's); default 0",
+    )
     _COMMANDS["export"] = _cmd_export
 
-    sc = sub.add_parser(
-        "scale",
-        help="write a creature and its controllers dynamically scaled (Table 1)",
-        description="Write FILE with every quantity of dimension kg^a m^b s^c rad^d multiplied by "
-        "L^(3a + b + c/2) (lengths L, masses L^3, times L^(1/2), ...; bare numbers and angles as "
-        "they were), comments and layout kept, each creature renamed NAME_xL, and a simulation "
-        "block with the scaled integration step, control interval and record rate. See docs/scaling.md.",
-        epilog="Example: legdsl scale creatures/kangaroo.leg --by 2 -o kangaroo_x2.leg",
-    )
-    sc.add_argument("file", metavar="FILE", help="a .leg file")
-    sc.add_argument("--by", type=float, required=True, metavar="L", help="the length factor L")
-    sc.add_argument("-o", "--output", required=True, metavar="OUT", help="the .leg file to write")
-    _COMMANDS["scale"] = _cmd_scale
+    from legdsl.pipeline.scale_cli import add_scale_parser
+
+    _COMMANDS["scale"] = add_scale_parser(sub)
 
     return p
-
-
-def _cmd_scale(args: argparse.Namespace) -> int:
-    from legdsl.check.source import check_file
-    from legdsl.lang.scaling import scale_source
-
-    if not 0 < args.by < float("inf"):
-        raise UsageError(f"--by {args.by}: the scale factor is a positive number")
-    check_file(args.file)
-    out = Path(args.output)
-    out.write_text(scale_source(Path(args.file).read_text(), args.by, args.file))
-    names = ", ".join(m.name for m in check_file(out))
-    print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
-    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:

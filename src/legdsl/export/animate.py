@@ -2,7 +2,7 @@
 
 * ``legdsl animate DIR [-o FILE.html]`` writes the HTML player (``legdsl.export.formats.formats.player``);
 * ``legdsl animate DIR --video FILE.mp4|FILE.gif`` renders a video (``legdsl.export.formats.formats.video``);
-* ``legdsl export-motion DIR --format glb|gltf [-o FILE]`` writes glTF 2.0 (``legdsl.export.formats.formats.gltf``);
+* ``legdsl export-motion DIR --format glb|gltf|usd|usda|bvh [-o FILE]`` writes glTF 2.0, USD or BVH (``legdsl.export.gltf``, ``usd``, ``bvh``);
 * ``legdsl run ... --animate`` calls ``animate_result`` after writing the run.
 
 This module only parses arguments and reports; importing it is cheap, so the
@@ -164,13 +164,29 @@ def add_animate_parser(sub: Any) -> Command:
 # ---------------------------------------------------------------- legdsl export-motion
 
 
-def _cmd_export_motion(args: argparse.Namespace) -> int:
-    from legdsl.export.gltf import write_gltf
+MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "bvh")
 
+
+def _cmd_export_motion(args: argparse.Namespace) -> int:
     _positive(args.fps, "--fps")
-    motion = _load(args, args.fps)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
-    size = write_gltf(motion, out, args.format)
+    if args.skin and args.format not in ("glb", "gltf"):
+        raise UsageError(f"--skin is for glTF (--format glb or gltf), not {args.format}")
+    if args.format == "usd" and out.suffix == ".usda":
+        raise UsageError(f"-o {out}: a .usda file is text; use --format usda, or name it .usd")
+    motion = _load(args, args.fps)
+    if args.format in ("usd", "usda"):
+        from legdsl.export.usd import write_usd
+
+        size = write_usd(motion, out, args.format)
+    elif args.format == "bvh":
+        from legdsl.export.bvh import write_bvh
+
+        size = write_bvh(motion, out)
+    else:
+        from legdsl.export.gltf import write_gltf
+
+        size = write_gltf(motion, out, args.format, skin=args.skin)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} links, "
         f"{motion.frames} keyframes over {motion.duration:.2f} s)"
@@ -181,17 +197,31 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
 def add_export_motion_parser(sub: Any) -> Command:
     e = sub.add_parser(
         "export-motion",
-        help="export a recorded run as a glTF 2.0 animation",
-        description="Export a run directory as glTF 2.0: one node per link (nested as the link "
-        "tree) with a triangle mesh of its shape and a material of its colour, and the run as "
-        "one animation with LINEAR translation and rotation keys, in seconds. The scene is y-up "
-        "as glTF requires (legdsl's x forward stays x). .glb is one binary file; .gltf is JSON "
-        "with the buffer embedded.",
+        help="export a recorded run as an animation (glTF, USD or BVH)",
+        description="Export a run directory as an animation for other programs. glTF 2.0: one "
+        "node per link (nested as the link tree) with a triangle mesh of its shape and a "
+        "material of its colour, the ground as meshes, and the run as one animation with LINEAR "
+        "translation and rotation keys, in seconds; y-up as glTF requires (legdsl's x forward "
+        "stays x); .glb is one binary file, .gltf is JSON with the buffer embedded. USD (.usd "
+        "binary, .usda text): the same tree as Xform prims with time-sampled transforms, z-up. "
+        "BVH: the link tree as a skeleton with offsets and per-frame channels, for "
+        "motion-capture tools.",
         epilog="Example: legdsl export-motion runs/k --format glb -o kangaroo.glb",
     )
     e.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
-    e.add_argument("--format", choices=("glb", "gltf"), default="glb", help="glb (default) or gltf")
-    e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.glb (or .gltf)")
+    e.add_argument(
+        "--format",
+        choices=MOTION_FORMATS,
+        default="glb",
+        help="glb (default), gltf, usd, usda or bvh",
+    )
+    e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.FORMAT")
+    e.add_argument(
+        "--skin",
+        action="store_true",
+        help="glTF: one skinned mesh over the link nodes as joints (an armature in Blender) "
+        "instead of a mesh on each link node",
+    )
     e.add_argument(
         "--fps", type=float, default=60.0, metavar="N", help="keyframes per second (default 60)"
     )
@@ -205,6 +235,55 @@ def add_export_motion_parser(sub: Any) -> Command:
         help="where generated modules live (default generated/)",
     )
     return _cmd_export_motion
+
+
+# ---------------------------------------------------------------- legdsl replay --mujoco
+
+
+def _cmd_replay(args: argparse.Namespace) -> int:
+    from legdsl.export import mjreplay
+
+    if not args.mujoco:
+        raise UsageError("replay: say where: --mujoco (the only player for now)")
+    _positive(args.fps, "--fps")
+    source = Path(args.source) if args.source else None
+    run = Path(args.run)
+    if args.output is None and mjreplay.has_display():
+        mjreplay.view(run, args.fps or 60.0, source)
+        return 0
+    out = Path(args.output) if args.output else run / "mujoco.mp4"
+    if out.suffix.lower() != ".mp4":
+        raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4")
+    if args.output is None:
+        print(
+            "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
+        )
+    frames = mjreplay.render_mp4(
+        run, out, args.fps or 30.0, parse_size(args.size or "960x540"), source
+    )
+    print(f"legdsl: wrote {out} ({frames} frames, MuJoCo's renderer)")
+    return 0
+
+
+def add_replay_parser(sub: Any) -> Command:
+    r = sub.add_parser(
+        "replay",
+        help="play a recorded run in MuJoCo's viewer (or render it with MuJoCo to an mp4)",
+        description="Play a run directory on the creature's MJCF export in MuJoCo: each frame "
+        "sets MuJoCo's joint positions from the run (MuJoCo simulates nothing). With a display "
+        "and no -o, MuJoCo's interactive viewer plays it in real time, looping; otherwise "
+        "MuJoCo's offscreen renderer (MUJOCO_GL=egl by default) draws it into an mp4 (ffmpeg).",
+        epilog="Example: legdsl replay runs/biped --mujoco -o biped-mujoco.mp4",
+    )
+    r.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
+    r.add_argument("--mujoco", action="store_true", help="play it in MuJoCo")
+    r.add_argument("-o", "--output", metavar="FILE.mp4", help="render to this mp4 instead")
+    r.add_argument("--fps", type=float, default=None, metavar="N", help="frames per second")
+    r.add_argument("--size", metavar="WxH", help="mp4 size in pixels (default 960x540)")
+    r.add_argument(
+        "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
+    )
+    return _cmd_replay
 
 
 # ---------------------------------------------------------------- legdsl run --animate

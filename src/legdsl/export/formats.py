@@ -23,10 +23,13 @@ FORMATS: dict[str, tuple[Callable[[Model], str], str]] = {
 }
 
 
-def export_text(model: Model, fmt: str) -> str:
-    """The text of ``model`` in format ``fmt`` ("mjcf" or "urdf")."""
+def export_text(model: Model, fmt: str, base: str = "world", link_mass: float = 0.0) -> str:
+    """The text of ``model`` in format ``fmt`` ("mjcf" or "urdf"); URDF takes ``base`` and
+    ``link_mass`` (``legdsl.export.urdf``)."""
     if fmt not in FORMATS:
         raise ValueError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
+    if fmt == "urdf":
+        return model_to_urdf(model, base, link_mass)
     return FORMATS[fmt][0](model)
 
 

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.motion import Motion
-from legdsl.export.shapes import body_mesh, hex_rgb, srgb_to_linear
+from legdsl.export.motion import Motion, frame_rate, ground_area, quaternion_to_matrix
+from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("glb", "gltf")
@@ -128,8 +128,14 @@ class _Blob:
         return len(self.gltf.accessors) - 1
 
 
-def build_gltf(motion: Motion) -> Any:
-    """The scene and animation as a ``pygltflib.GLTF2`` with its binary blob set."""
+def build_gltf(motion: Motion, skin: bool = False) -> Any:
+    """The scene and animation as a ``pygltflib.GLTF2`` with its binary blob set.
+
+    With ``skin`` the link nodes are the joints of a skin and carry no meshes:
+    one mesh ``CREATURE_skin`` (a primitive per link, each vertex bound with
+    weight 1 to its link's joint, in the first frame's pose) is deformed by them,
+    which DCC tools import as an armature with one bone per link.
+    """
     lib = _pygltflib()
     gltf = lib.GLTF2(
         asset=lib.Asset(version="2.0", generator=f"legdsl {__version__}"),
@@ -140,8 +146,10 @@ def build_gltf(motion: Motion) -> Any:
     gltf.nodes.append(lib.Node(name=motion.creature, rotation=Z_UP_TO_Y_UP, children=[]))
 
     materials: dict[str, int] = {}
-    for body in motion.bodies:
-        color = (body.color or "#9a9a9a").lower()
+    lo, hi = ground_area(motion)
+    ground = ground_meshes(motion.terrain, lo, hi)
+    colors = [(b.color or "#9a9a9a").lower() for b in motion.bodies] + [c for _, _, c in ground]
+    for color in colors:
         if color not in materials:
             linear = [srgb_to_linear(c) for c in hex_rgb(color)]
             gltf.materials.append(
@@ -154,9 +162,7 @@ def build_gltf(motion: Motion) -> Any:
             )
             materials[color] = len(gltf.materials) - 1
 
-    translations, rotations = local_poses(motion)
-    for b, body in enumerate(motion.bodies):
-        mesh = body_mesh(body)
+    def add_mesh(name: str, mesh: Mesh, color: str) -> int:
         indices = mesh.indices.reshape(-1)
         indices = indices.astype(np.uint16 if len(mesh.positions) < 65536 else np.uint32)
         primitive = lib.Primitive(
@@ -165,12 +171,16 @@ def build_gltf(motion: Motion) -> Any:
                 NORMAL=blob.accessor(mesh.normals, "VEC3", ARRAY_BUFFER),
             ),
             indices=blob.accessor(indices, "SCALAR", ELEMENT_ARRAY_BUFFER),
-            material=materials[(body.color or "#9a9a9a").lower()],
+            material=materials[color],
         )
-        gltf.meshes.append(lib.Mesh(name=body.name, primitives=[primitive]))
+        gltf.meshes.append(lib.Mesh(name=name, primitives=[primitive]))
+        return len(gltf.meshes) - 1
+
+    translations, rotations = local_poses(motion)
+    for b, body in enumerate(motion.bodies):
         node = lib.Node(
             name=body.name,
-            mesh=len(gltf.meshes) - 1,
+            mesh=None if skin else add_mesh(body.name, body_mesh(body), colors[b]),
             translation=[float(x) for x in translations[0, b]],
             rotation=[float(x) for x in rotations[0, b]],
             children=[],
@@ -178,6 +188,31 @@ def build_gltf(motion: Motion) -> Any:
         gltf.nodes.append(node)
         parent = motion.parents[b]
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
+
+    if skin:
+        _skin(gltf, lib, blob, motion, colors, materials)
+
+    # The ground and terrain: fixed meshes in world coordinates, beside the creature's root.
+    ground_node = lib.Node(name="ground", children=[])
+    gltf.nodes.append(ground_node)
+    gltf.nodes[0].children.append(len(gltf.nodes) - 1)
+    for name, mesh, color in ground:
+        gltf.nodes.append(lib.Node(name=name, mesh=add_mesh(name, mesh, color)))
+        ground_node.children.append(len(gltf.nodes) - 1)
+
+    fps = frame_rate(motion)
+    gltf.scenes[0].extras = {
+        # Blender's glTF importer keeps these as the scene's custom properties. It turns key
+        # times into frames at the scene's frame rate (time 0 at frame 0), so set the scene to
+        # `fps` before importing; the keys are then frames frame_start..frame_end.
+        "fps": fps,
+        "frame_start": 0,
+        "frame_end": motion.frames - 1,
+        "time_start": 0.0,
+        "time_end": motion.duration,
+        "up_axis": "y (legdsl z)",
+        "units": "metres",
+    }
 
     times = blob.accessor(motion.times.astype(np.float32), "SCALAR", bounds=True)
     animation = lib.Animation(name="run", samplers=[], channels=[])
@@ -205,11 +240,64 @@ def build_gltf(motion: Motion) -> Any:
     return gltf
 
 
-def write_gltf(motion: Motion, path: Path, fmt: str = "glb") -> int:
+def _skin(
+    gltf: Any, lib: Any, blob: _Blob, motion: Motion, colors: list[str], materials: dict[str, int]
+) -> None:
+    """A skinned mesh over the link nodes as joints, bound at the first frame (see build_gltf)."""
+    top = np.eye(4)
+    top[:3, :3] = quaternion_to_matrix(np.array(Z_UP_TO_Y_UP))
+    primitives = []
+    inverse_bind = []
+    for b, body in enumerate(motion.bodies):
+        bind = np.eye(4)
+        bind[:3, :3] = quaternion_to_matrix(motion.quaternions[0, b])
+        bind[:3, 3] = motion.positions[0, b]
+        bind = top @ bind  # the joint node's global transform at the first frame
+        inverse_bind.append(np.linalg.inv(bind).T.reshape(16))  # column-major
+        mesh = body_mesh(body)
+        positions = (mesh.positions @ bind[:3, :3].T + bind[:3, 3]).astype(np.float32)
+        normals = (mesh.normals @ bind[:3, :3].T).astype(np.float32)
+        n = len(positions)
+        joints = np.zeros((n, 4), dtype=np.uint16)
+        joints[:, 0] = b
+        weights = np.zeros((n, 4), dtype=np.float32)
+        weights[:, 0] = 1.0
+        indices = mesh.indices.reshape(-1).astype(np.uint16 if n < 65536 else np.uint32)
+        primitives.append(
+            lib.Primitive(
+                attributes=lib.Attributes(
+                    POSITION=blob.accessor(positions, "VEC3", ARRAY_BUFFER, bounds=True),
+                    NORMAL=blob.accessor(normals, "VEC3", ARRAY_BUFFER),
+                    JOINTS_0=blob.accessor(joints, "VEC4", ARRAY_BUFFER),
+                    WEIGHTS_0=blob.accessor(weights, "VEC4", ARRAY_BUFFER),
+                ),
+                indices=blob.accessor(indices, "SCALAR", ELEMENT_ARRAY_BUFFER),
+                material=materials[colors[b]],
+            )
+        )
+    gltf.meshes.append(lib.Mesh(name=f"{motion.creature}_skin", primitives=primitives))
+    matrices = blob.accessor(np.array(inverse_bind, dtype=np.float32), "MAT4")
+    joints_list = list(range(1, len(motion.bodies) + 1))
+    root = next(b for b, parent in enumerate(motion.parents) if parent < 0)
+    gltf.skins.append(
+        lib.Skin(
+            name=f"{motion.creature}_rig",
+            joints=joints_list,
+            inverseBindMatrices=matrices,
+            skeleton=root + 1,
+        )
+    )
+    # A skinned mesh's node is a root of the scene, with no transform of its own (glTF 2.0,
+    # 5.29: the joints' transforms place it).
+    gltf.nodes.append(lib.Node(name=f"{motion.creature}_skin", mesh=len(gltf.meshes) - 1, skin=0))
+    gltf.scenes[0].nodes.append(len(gltf.nodes) - 1)
+
+
+def write_gltf(motion: Motion, path: Path, fmt: str = "glb", skin: bool = False) -> int:
     """Write ``path`` as .glb (binary) or .gltf (JSON, buffer as a data URI); returns its size."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
-    gltf = build_gltf(motion)
+    gltf = build_gltf(motion, skin)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     if fmt == "glb":

@@ -21,9 +21,15 @@ The mapping (every choice here is tested against MuJoCo itself in
   ``fullinertia`` about it in body axes. Drawing geoms come from
   ``Body.shape`` (a frustum is drawn as a capsule of its mean radius) and
   neither collide nor weigh anything. Each contact point gets a small sphere
-  geom and a site, both named after the contact, so that MuJoCo runs with
-  contact are possible against the floor plane (MuJoCo's own soft contact,
-  not legdsl's ground springs).
+  geom and a site, both named after the contact.
+* The ground: the floor plane, each terrain feature (a step or box as a box
+  geom, a slope as a tilted plane that replaces the floor), every surface
+  ``CONTACT_RADIUS`` below legdsl's so that a contact sphere touches it
+  exactly when the contact point reaches legdsl's surface. Each contact
+  sphere meets each surface through an explicit ``<pair>`` whose
+  ``solref``/``solimp``/``solreffriction`` carry the ``.leg`` ground's normal
+  spring-damper (or paw pad) and tangent damper (``mjcontact.py``); the spheres
+  collide with nothing else.
 * Actuators: springs (eq. 1) and servos (eq. 5) are MuJoCo ``position``
   actuators with ``kp = k``, ``kv = b`` and ``forcerange = +-max``: their force
   ``kp (ctrl - q) - kv qd`` clipped to the range is legdsl's law exactly when
@@ -37,10 +43,12 @@ The mapping (every choice here is tested against MuJoCo itself in
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from legdsl import __version__
+from legdsl.export.mjcontact import contact_parameters
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model
 from legdsl.lang.errors import LegError
@@ -49,6 +57,7 @@ TIMESTEP = 0.0004  # s, the paper's integration step
 CONTACT_RADIUS = 0.005  # m: the sphere touches the floor when the contact point is this high
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
 NO_SLIP_FRICTION = 10.0
+FLOOR_RGBA = "0.85 0.85 0.8 1"
 TERRAIN_EXTENT = 50.0  # m, half length of the box that draws a 'step' (it extends to +x)
 
 
@@ -79,16 +88,7 @@ def model_to_mjcf(model: Model) -> str:
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", name="sun", pos="0 0 4", dir="0 0 -1", directional="true")
     taken = {c.name for c in model.contacts}
-    ET.SubElement(
-        world,
-        "geom",
-        name=fresh("floor", taken),
-        type="plane",
-        size="0 0 0.05",
-        rgba="0.85 0.85 0.8 1",
-        friction=_friction(model),
-    )
-    _terrain(world, model, taken)
+    surfaces = _ground(world, model, taken)
 
     children: dict[str | None, list[Body]] = {}
     for b in model.bodies:
@@ -112,7 +112,13 @@ def model_to_mjcf(model: Model) -> str:
         _shape(el, body)
         for c in model.contacts:
             if c.body == body.name:
-                ET.SubElement(el, "geom", {"class": "contact"}, name=c.name, pos=nums(c.point))
+                ET.SubElement(
+                    el,
+                    "geom",
+                    {"class": "contact"},
+                    name=c.name,
+                    pos=nums(c.point),
+                )
                 ET.SubElement(el, "site", {"class": "contact"}, name=c.name, pos=nums(c.point))
         for child in children.get(body.name, []):
             emit(el, child)
@@ -120,6 +126,7 @@ def model_to_mjcf(model: Model) -> str:
     for b in children.get(None, []):
         emit(world, b)
 
+    _contact_pairs(root, model, surfaces)
     _actuators(root, model)
     qpos = [model.q0[j.q_start + k] for j in order for k in range(j.nq)]
     qvel = [model.v0[j.v_start + k] for j in order for k in range(j.nv)]
@@ -158,6 +165,9 @@ def _defaults(root: ET.Element, model: Model) -> None:
         type="sphere",
         size=num(CONTACT_RADIUS),
         mass="0",
+        # they touch the ground through the explicit pairs in <contact> only
+        contype="0",
+        conaffinity="0",
         condim="3",
         friction=_friction(model),
         rgba="0.9 0.2 0.2 1",
@@ -171,13 +181,64 @@ def _friction(model: Model) -> str:
     return nums((NO_SLIP_FRICTION if mu is None else mu, 0.005, 0.0001))
 
 
-def _terrain(world: ET.Element, model: Model, taken: set[str]) -> None:
-    if model.ground is None:
+def _contact_pairs(root: ET.Element, model: Model, surfaces: list[str]) -> None:
+    """Each contact sphere against each ground surface, with the ground's law (mjcontact.py)."""
+    solver = contact_parameters(model)
+    if not solver or not surfaces:
         return
-    for i, t in enumerate(model.ground.terrain):
-        p = dict(t.params)
-        h = p["height"]
-        if h <= 0:
+    pairs = ET.SubElement(root, "contact")
+    mu = _friction(model).split()
+    for c in model.contacts:
+        for surface in surfaces:
+            attrs = {
+                "geom1": c.name,
+                "geom2": surface,
+                "condim": "3",
+                "friction": " ".join((mu[0], mu[0], mu[1], mu[2], mu[2])),
+                **solver[c.name],
+            }
+            ET.SubElement(pairs, "pair", attrs)
+
+
+def _ground(world: ET.Element, model: Model, taken: set[str]) -> list[str]:
+    """The floor and the terrain, every surface CONTACT_RADIUS below legdsl's.
+
+    A contact sphere then touches a surface exactly when its centre, the
+    legdsl contact point, reaches legdsl's surface, in any orientation.
+    """
+    r = CONTACT_RADIUS
+    terrain = model.ground.terrain if model.ground is not None else ()
+    slope = next((t for t in terrain if t.kind == "slope"), None)
+    if slope is not None:  # the whole ground, tilted about y and rising towards +x
+        a = slope.get("angle")
+        normal = (-math.sin(a), 0.0, math.cos(a))
+        ET.SubElement(
+            world,
+            "geom",
+            name=(name := fresh("slope", taken)),
+            type="plane",
+            size="0 0 0.05",
+            pos=nums(-r * n for n in normal),
+            # a turn of -angle about y takes +z onto the slope's normal
+            quat=nums((math.cos(-a / 2), 0.0, math.sin(-a / 2), 0.0)),
+            rgba=FLOOR_RGBA,
+            friction=_friction(model),
+        )
+        return [name]
+    ET.SubElement(
+        world,
+        "geom",
+        name=(floor_name := fresh("floor", taken)),
+        type="plane",
+        size="0 0 0.05",
+        pos=nums((0.0, 0.0, -r)),
+        rgba=FLOOR_RGBA,
+        friction=_friction(model),
+    )
+    names = [floor_name]
+    for i, t in enumerate(terrain):
+        h = t.get("height")
+        if h <= 0:  # legdsl's ground is the highest feature or the floor
             world.append(
                 ET.Comment(
                     f" terrain {i} ({t.kind}, height {num(h)} m) is below the floor: omitted "
@@ -185,19 +246,24 @@ def _terrain(world: ET.Element, model: Model, taken: set[str]) -> None:
             )
             continue
         if t.kind == "step":
-            lo, hi = (p["x"], p["x"] + 2 * TERRAIN_EXTENT), (-TERRAIN_EXTENT, TERRAIN_EXTENT)
+            lo, hi = (
+                (t.get("x"), t.get("x") + 2 * TERRAIN_EXTENT),
+                (-TERRAIN_EXTENT, TERRAIN_EXTENT),
+            )
         else:
-            lo, hi = (p["x0"], p["x1"]), (p["y0"], p["y1"])
+            lo, hi = (t.get("x0"), t.get("x1")), (t.get("y0"), t.get("y1"))
         ET.SubElement(
             world,
             "geom",
-            name=fresh(f"terrain{i}", taken),
+            name=(box := fresh(f"terrain{i}", taken)),
             type="box",
-            pos=nums(((lo[0] + lo[1]) / 2, (hi[0] + hi[1]) / 2, h / 2)),
+            pos=nums(((lo[0] + lo[1]) / 2, (hi[0] + hi[1]) / 2, h / 2 - r)),
             size=nums(((lo[1] - lo[0]) / 2, (hi[1] - hi[0]) / 2, h / 2)),
             rgba="0.7 0.7 0.65 1",
             friction=_friction(model),
         )
+        names.append(box)
+    return names
 
 
 def _joint(body: ET.Element, joint: Joint) -> None:

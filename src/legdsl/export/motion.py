@@ -70,6 +70,16 @@ class Motion:
     weight: float  # N: total mass times gravity, to scale force arrows
     status: str = "ok"
     message: str = ""
+    # each body's joint: its origin in the parent frame, and whether it has a slide
+    joint_origins: np.ndarray | None = None  # (B, 3)
+    joint_slides: tuple[bool, ...] = ()
+    # the paths the run followed, each as points (N, 3) on the ground (closed ones end at the start)
+    paths: tuple[np.ndarray, ...] = ()
+    path_names: tuple[str, ...] = ()
+    # for each path, per frame: the nearest path point to the mass centre (F, 3) and the
+    # signed lateral error (F,), positive when the mass centre is left of the path
+    path_nearest: tuple[np.ndarray, ...] = ()
+    path_lateral: tuple[np.ndarray, ...] = ()
 
     @property
     def duration(self) -> float:
@@ -181,7 +191,7 @@ def load_motion(
         from legdsl.pipeline.generated import load_dynamics
 
         kinematics = load_dynamics(run.model, run.source, generated)
-    return motion_from(
+    motion = motion_from(
         run.model,
         run.trajectory,
         kinematics,
@@ -190,6 +200,41 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
+    specs = run.info.get("paths") or []
+    if specs:
+        from legdsl.ir.paths import PathSpec
+        from legdsl.sim.path_tracking import PathGeometry
+
+        followed = [PathSpec.from_json(p) for p in specs]
+        motion.paths = tuple(path_points(p, motion.terrain) for p in followed)
+        motion.path_names = tuple(p.name for p in followed)
+        nearest, lateral = [], []
+        for spec in followed:
+            geometry = PathGeometry(spec)
+            hits = [geometry.project(float(x), float(y)) for x, y in motion.com[:, :2]]
+            nearest.append(
+                np.array([(h.x, h.y, terrain_height(motion.terrain, h.x, h.y)) for h in hits])
+            )
+            lateral.append(np.array([h.lateral for h in hits]))
+        motion.path_nearest, motion.path_lateral = tuple(nearest), tuple(lateral)
+    return motion
+
+
+def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> np.ndarray:
+    """A path (a ``PathSpec``) as points on the ground every ``step`` metres or so, (N, 3)."""
+    from legdsl.sim.path_tracking import PathGeometry
+
+    geometry = PathGeometry(spec)
+    if spec.shape == "circle":
+        n = max(16, min(5000, int(math.ceil(geometry.length / step)) + 1))
+        s = np.linspace(0.0, geometry.length, n)
+        xy = np.array([geometry.at(float(v))[:2] for v in s])
+    else:  # the vertices themselves: corners stay sharp
+        xy = np.array(spec.points, dtype=float)
+    if geometry.closed and np.hypot(*(xy[-1] - xy[0])) > 1e-9:
+        xy = np.vstack([xy, xy[:1]])
+    z = np.array([terrain_height(terrain, float(x), float(y)) for x, y in xy])
+    return np.column_stack([xy, z])
 
 
 # ---------------------------------------------------------------- resampling
@@ -299,6 +344,7 @@ def motion_from(
     speed = com_vel[:, 0] * np.cos(yaw) + com_vel[:, 1] * np.sin(yaw)
     index = np.clip(np.searchsorted(tr.t, at + 1e-12, side="right") - 1, 0, len(tr) - 1)
     names = [b.name for b in model.bodies]
+    joints = {j.child: j for j in model.joints}
     return Motion(
         creature=model.name,
         planar=model.planar,
@@ -310,7 +356,7 @@ def motion_from(
         quaternions=continuous(quats),
         contact_names=tuple(c.name for c in model.contacts),
         contact_positions=contacts,
-        forces=interpolate(tr.t, tr.force, at),
+        forces=interpolate(tr.t, recorded_forces(tr), at),
         com=interpolate(tr.t, tr.com, at),
         speed=speed,
         speed_command=tr.speed_command[index].astype(float),
@@ -320,7 +366,23 @@ def motion_from(
         weight=model.total_mass * math.sqrt(sum(g * g for g in model.gravity)),
         status=status,
         message=message,
+        joint_origins=np.array([joints[b.name].origin for b in model.bodies], dtype=float),
+        joint_slides=tuple(
+            any(d.motion == "slide" for d in joints[b.name].dofs) for b in model.bodies
+        ),
     )
+
+
+def recorded_forces(tr: Trajectory) -> np.ndarray:
+    """The ground forces, zero on every contact not touching the ground.
+
+    The runtime records a contact's force only while it touches, and while another contact
+    still touches it leaves a lifted one's last force in place (a stale force on a foot in
+    the air); the contact flags say which samples hold a real force.
+    """
+    if tr.contact.shape != tr.force.shape[:2]:
+        return tr.force
+    return np.asarray(tr.force * (tr.contact[..., None] > 0))
 
 
 def footprints(
@@ -361,3 +423,16 @@ def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> fl
         if t.kind == "box" and t.get("x0") <= x <= t.get("x1") and t.get("y0") <= y <= t.get("y1"):
             h = max(h, t.get("height"))
     return h
+
+
+def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``."""
+    points = np.concatenate(
+        [motion.positions.reshape(-1, 3), motion.contact_positions.reshape(-1, 3)]
+    )
+    return points[:, :2].min(axis=0) - margin, points[:, :2].max(axis=0) + margin
+
+
+def frame_rate(motion: Motion) -> float:
+    """Frames per second of ``motion`` (its frames are evenly spaced)."""
+    return (motion.frames - 1) / motion.duration if motion.frames > 1 and motion.duration else 1.0

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from legdsl.ir.model import Body
+from legdsl.ir.model import Body, Terrain
 
 SEGMENTS = 24  # around a solid of revolution
 RINGS = 6  # per hemisphere of a sphere or capsule end
@@ -211,3 +211,44 @@ def hex_rgb(color: str | None) -> tuple[float, float, float]:
 
 def srgb_to_linear(c: float) -> float:
     return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+GROUND_COLOR = "#d9d9cc"
+TERRAIN_COLOR = "#b3b3a6"
+
+
+def ground_meshes(
+    terrain: tuple[Terrain, ...], lo: np.ndarray, hi: np.ndarray
+) -> list[tuple[str, Mesh, str]]:
+    """The ground under the area ``lo``..``hi`` (x, y) in world coordinates (z up), as meshes.
+
+    (name, mesh, colour) for the ``floor`` (a flat quad, or the slope's tilted quad,
+    as ``legdsl.sim.contact`` has them) and each raised step or box (a box from
+    the floor to its height; a step runs to the area's +x end). Features at or
+    below the floor change nothing in the simulation and are left out.
+    """
+    out = []
+    slope = next((t for t in terrain if t.kind == "slope"), None)
+    (x0, y0), (x1, y1) = lo, hi
+    corners = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0], [x0, y1, 0.0]])
+    normal = np.array([0.0, 0.0, 1.0])
+    if slope is not None:  # tilted about y, rising towards +x, through the origin
+        a = slope.get("angle")
+        corners[:, 2] = corners[:, 0] * math.tan(a)
+        normal = np.array([-math.sin(a), 0.0, math.cos(a)])
+    b = _Builder()
+    b.add(corners, np.tile(normal, (4, 1)), np.array([[0, 1, 2], [0, 2, 3]]))
+    out.append(("floor", b.mesh(), GROUND_COLOR))
+    for i, t in enumerate(terrain):
+        if t.kind == "slope" or t.get("height") <= 0:
+            continue
+        h = t.get("height")
+        if t.kind == "step":
+            xa, xb, ya, yb = t.get("x"), max(x1, t.get("x") + 1.0), y0, y1
+        else:
+            xa, xb = t.get("x0"), t.get("x1")
+            ya, yb = max(t.get("y0"), y0), min(t.get("y1"), y1)
+        b = _Builder()
+        _box(b, np.array([(xa + xb) / 2, (ya + yb) / 2, h / 2]), np.array([xb - xa, yb - ya, h]), 1)
+        out.append((f"terrain{i}_{t.kind}", b.mesh(), TERRAIN_COLOR))
+    return out

@@ -21,6 +21,18 @@
   speed limit). 1e6 stands for "unbounded" in SI units.
 * Each contact point is a massless link named after the contact, on a fixed
   joint ``CONTACT_frame``, so that tools can find the feet.
+
+Options (``legdsl export --format urdf ...``):
+
+* ``base="free"`` (``--base free``): a 3D free root becomes the URDF's root
+  link itself, with no ``world`` link and no ``floating`` joint, which is what
+  ROS tools (robot_state_publisher) and Pinocchio (``buildModel(urdf,
+  JointModelFreeFlyer())``) expect of a floating-base robot. Creatures with
+  another root keep the ``world`` link (their root joint needs a parent).
+* ``link_mass=M`` (``--link-mass M``): the intermediate ``BODY__COORD`` links
+  get a mass of M kg and an inertia of M x (1 cm)^2 about each axis, at their
+  origin, so that loaders that refuse moving massless bodies (MuJoCo's) load
+  the file as it is; it adds M kg per intermediate link to the total.
 """
 
 from __future__ import annotations
@@ -35,8 +47,15 @@ from legdsl.ir.model import Body, Dof, Joint, Model
 UNBOUNDED = 1e6
 
 
-def model_to_urdf(model: Model) -> str:
-    """The URDF text of ``model``; the same model gives the same bytes."""
+BASES = ("world", "free")
+
+
+def model_to_urdf(model: Model, base: str = "world", link_mass: float = 0.0) -> str:
+    """The URDF text of ``model``; the same model and options give the same bytes."""
+    if base not in BASES:
+        raise ValueError(f"unknown URDF base {base!r}; use one of {', '.join(BASES)}")
+    if not link_mass >= 0.0:
+        raise ValueError(f"link_mass must be a mass in kg, not {link_mass!r}")
     robot = ET.Element("robot", name=model.name)
     robot.append(
         ET.Comment(
@@ -47,21 +66,25 @@ def model_to_urdf(model: Model) -> str:
     )
     links = {b.name for b in model.bodies} | {c.name for c in model.contacts}
     joint_names = {d.name for d in model.dofs} | {j.name for j in model.joints if j.kind == "weld"}
+    floating = base == "free" and model.joints[0].is_free_3d
     world = fresh("world", links)
-    ET.SubElement(robot, "link", name=world)
+    if not floating:
+        ET.SubElement(robot, "link", name=world)
     effort = _efforts(model)
     joints = {j.child: j for j in model.joints}
     for body in model.bodies:
         joint = joints[body.name]
         _link(robot, body)
         parent = world if joint.parent is None else joint.parent
-        if joint.is_free_3d:
+        if joint.is_free_3d and floating:
+            pass  # the root link is the floating base itself
+        elif joint.is_free_3d:
             _urdf_joint(robot, fresh("root", joint_names), "floating", parent, body.name)
         elif not joint.dofs:
             name = joint.name if joint.kind == "weld" else fresh("root", joint_names)
             _urdf_joint(robot, name, "fixed", parent, body.name, joint.origin)
         else:
-            _chain(robot, joint, body, parent, links, effort)
+            _chain(robot, joint, body, parent, links, effort, link_mass)
         for c in model.contacts:
             if c.body == body.name:
                 ET.SubElement(robot, "link", name=c.name)
@@ -84,12 +107,21 @@ def _chain(
     parent: str,
     links: set[str],
     effort: dict[str, float],
+    link_mass: float = 0.0,
 ) -> None:
-    """One URDF joint per coordinate, through massless links between them."""
+    """One URDF joint per coordinate, through massless links (or of ``link_mass``) between them."""
     frames = [parent]
     for d in joint.dofs[:-1]:
         frames.append(fresh(f"{body.name}__{d.name}", links))
-        ET.SubElement(robot, "link", name=frames[-1])
+        link = ET.SubElement(robot, "link", name=frames[-1])
+        if link_mass > 0:
+            inertial = ET.SubElement(link, "inertial")
+            ET.SubElement(inertial, "origin", xyz="0 0 0", rpy="0 0 0")
+            ET.SubElement(inertial, "mass", value=num(link_mass))
+            small = num(link_mass * 1e-4)
+            ET.SubElement(
+                inertial, "inertia", ixx=small, ixy="0", ixz="0", iyy=small, iyz="0", izz=small
+            )
     frames.append(body.name)
     for i, d in enumerate(joint.dofs):
         kind = _kind(d)

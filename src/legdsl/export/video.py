@@ -25,7 +25,8 @@ from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.lang.errors import UsageError
 
 FFMPEG_HINT = (
-    "writing .mp4 needs ffmpeg, which is not installed: install it with "
+    "writing .mp4 needs ffmpeg, which is not installed: pip install 'legdsl[export]' "
+    "(its imageio-ffmpeg wheel carries one), or install it with "
     "'apt-get install -y ffmpeg' (Debian/Ubuntu) or 'brew install ffmpeg' (macOS), "
     "or write a .gif instead, which needs no ffmpeg"
 )
@@ -63,7 +64,7 @@ def render_video(
     suffix = path.suffix.lower()
     if suffix not in (".mp4", ".gif"):
         raise UsageError(f"{path}: a video is written as .mp4 or .gif")
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+    if suffix == ".mp4" and ffmpeg_exe() is None:
         raise UsageError(FFMPEG_HINT)
     if suffix == ".gif" and importlib.util.find_spec("PIL") is None:
         raise UsageError("writing a .gif needs Pillow: pip install 'legdsl[export]'")
@@ -108,11 +109,29 @@ def _frame(fig: Any, view: View, snap: Snapshot) -> np.ndarray:
     return np.asarray(fig.canvas.buffer_rgba())[..., :3]
 
 
+def ffmpeg_exe() -> str | None:
+    """The system's ffmpeg, or else the one the imageio-ffmpeg wheel carries; None without both."""
+    found = shutil.which("ffmpeg")
+    if found:
+        return found
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return None
+    try:
+        return str(imageio_ffmpeg.get_ffmpeg_exe())
+    except RuntimeError:  # the wheel for another platform, without a binary
+        return None
+
+
 def _write_mp4(
     frames: Any, path: Path, fps: float, width: int, height: int, report: Callable[[int], None]
 ) -> None:
+    exe = ffmpeg_exe()
+    if exe is None:
+        raise UsageError(FFMPEG_HINT)
     command = [
-        "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+        exe, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
         "-s", f"{width}x{height}", "-r", f"{fps:g}", "-i", "-", "-an", "-c:v", "libx264",
         "-pix_fmt", "yuv420p", "-crf", "20", "-threads", "1", "-movflags", "+faststart",
         "-f", "mp4", str(path),

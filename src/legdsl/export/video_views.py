@@ -110,6 +110,8 @@ class SideView(View):
                 xy=(0, 0),
                 xytext=(0, 0),
                 zorder=40,
+                # drawn even when an end is outside the axes (update clips it to the frame)
+                annotation_clip=False,
                 arrowprops={"arrowstyle": "-|>", "color": FORCE, "lw": 2, "mutation_scale": 14},
             )  # fmt: skip
             for _ in motion.contact_names
@@ -171,13 +173,37 @@ class SideView(View):
             [FOOTPRINT_COLORS[fp.contact % len(FOOTPRINT_COLORS)] for fp in prints]
         )
         per_newton = 0.6 * self.size / self.weight
+        margin = 0.02 * self.height
+        box = (x0 + margin, z0 + margin, x1 - margin, z0 + self.height - margin)
         for arrow, p, f in zip(self.arrows, snap.contact_positions, snap.forces, strict=True):
             length = math.hypot(f[0], f[2]) * per_newton
-            visible = "forces" in self.overlays and length > 1e-3 * self.size
+            start = (float(p[0]), float(p[2]))
+            end = clip_segment(start, (p[0] + f[0] * per_newton, p[2] + f[2] * per_newton), box)
+            visible = "forces" in self.overlays and length > 1e-3 * self.size and end is not None
             arrow.set_visible(visible)
-            if visible:
-                arrow.xy = (p[0] + f[0] * per_newton, p[2] + f[2] * per_newton)
-                arrow.set_position((p[0], p[2]))
+            if visible and end is not None:
+                arrow.xy = end  # the head, at the frame's edge when the arrow is longer
+                arrow.set_position(start)
+
+
+def clip_segment(
+    start: tuple[float, float], end: tuple[float, float], box: tuple[float, float, float, float]
+) -> tuple[float, float] | None:
+    """The end of the part of start->end inside ``box`` (x0, y0, x1, y1) that begins at start.
+
+    None when ``start`` itself is outside the box (the arrow's foot is out of view).
+    """
+    x0, y0, x1, y1 = box
+    if not (x0 <= start[0] <= x1 and y0 <= start[1] <= y1):
+        return None
+    t = 1.0
+    for k, (lo, hi) in enumerate(((x0, x1), (y0, y1))):
+        d = end[k] - start[k]
+        if d > 0 and start[k] + d > hi:
+            t = min(t, (hi - start[k]) / d)
+        elif d < 0 and start[k] + d < lo:
+            t = min(t, (lo - start[k]) / d)
+    return (start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1]))
 
 
 class _Camera:

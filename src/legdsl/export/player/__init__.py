@@ -118,6 +118,15 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
             "extent": ground_extent(motion, hints["size"]),
             "grid": 0.25 if hints["size"] < 1.5 else 1.0,
         },
+        "paths": [
+            {
+                "name": name,
+                "points": _b64(points),
+                "nearest": _b64(motion.path_nearest[k]) if motion.path_nearest else None,
+                "lateral": _b64(motion.path_lateral[k]) if motion.path_lateral else None,
+            }
+            for k, (name, points) in enumerate(zip(motion.path_names, motion.paths, strict=True))
+        ],
         "weight": motion.weight,
         "overlays": [o for o in overlays if o in OVERLAYS],
         **hints,

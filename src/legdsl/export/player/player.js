@@ -3,11 +3,9 @@
 // and body as (px, py, pz, qx, qy, qz, qw); the player interpolates between
 // frames (lerp / slerp), so slow motion stays smooth.
 
+import * as THREE from "three"; // the vendored three.js, mapped to a blob URL by the page
+
 const data = JSON.parse(document.getElementById("legdsl-data").textContent);
-const threeSource = document.getElementById("three-module").textContent;
-const THREE = await import(
-  URL.createObjectURL(new Blob([threeSource], { type: "text/javascript" }))
-);
 
 // ------------------------------------------------------------------ data
 function bytes(b64) {
@@ -32,17 +30,98 @@ const duration = nFrames > 1 ? times[nFrames - 1] : 0;
 
 // ------------------------------------------------------------------ scene
 const view = document.getElementById("view");
+const message = document.getElementById("message");
+
+// Without WebGL (none offered, or its context lost) the same run is drawn on a 2D canvas, seen
+// from the side (x to the right, z up), with a note saying so: never a blank page.
+const flat = { canvas: null, on: false };
+const bodyMeshes2d = data.bodies.map((b) => ({
+  positions: f32(b.mesh.positions),
+  indices: new Uint32Array(bytes(b.mesh.indices)),
+  color: b.color,
+}));
+function draw2d(t, note) {
+  if (!flat.canvas) {
+    flat.canvas = document.createElement("canvas");
+    flat.canvas.id = "flat-view";
+    Object.assign(flat.canvas.style, { position: "absolute", inset: "0", width: "100%", height: "100%" });
+    view.appendChild(flat.canvas);
+  }
+  flat.on = true;
+  flat.canvas.style.display = "block";
+  message.textContent = note;
+  const w = view.clientWidth || 800, h = view.clientHeight || 500;
+  flat.canvas.width = w; flat.canvas.height = h;
+  const g = flat.canvas.getContext("2d");
+  let f = 0;
+  while (f + 1 < nFrames && times[f + 1] <= t) f++;
+  const scale = h / (2.4 * data.size);
+  const cx = com[3 * f], cz = data.lookHeight;
+  const X = (x) => w / 2 + (x - cx) * scale, Z = (z) => h / 2 - (z - cz) * scale;
+  g.fillStyle = "#eef0f3"; g.fillRect(0, 0, w, h);
+  const slope2d = data.ground.terrain.find((k) => k.kind === "slope");
+  const groundZ = (x) => {
+    if (slope2d) return x * Math.tan(slope2d.angle);
+    let z = 0;
+    for (const k of data.ground.terrain) {
+      if (k.kind === "step" && x >= k.x) z = Math.max(z, k.height);
+      if (k.kind === "box" && x >= k.x0 && x <= k.x1) z = Math.max(z, k.height);
+    }
+    return z;
+  };
+  g.fillStyle = "#d9d9d6"; g.strokeStyle = "#98988f";
+  g.beginPath(); g.moveTo(0, h);
+  for (let px = 0; px <= w; px += 2) g.lineTo(px, Z(groundZ(cx + (px - w / 2) / scale)));
+  g.lineTo(w, h); g.closePath(); g.fill(); g.stroke();
+  // Triangles of every link in world coordinates, far side (+y) first.
+  const tris = [];
+  const q = new THREE.Quaternion(), v = new THREE.Vector3();
+  for (let b = 0; b < nBodies; b++) {
+    const i = (f * nBodies + b) * 7, m = bodyMeshes2d[b];
+    q.set(poses[i + 3], poses[i + 4], poses[i + 5], poses[i + 6]);
+    const world = [];
+    for (let k = 0; k < m.positions.length; k += 3) {
+      v.set(m.positions[k], m.positions[k + 1], m.positions[k + 2]).applyQuaternion(q);
+      world.push([v.x + poses[i], v.y + poses[i + 1], v.z + poses[i + 2]]);
+    }
+    for (let k = 0; k < m.indices.length; k += 3) {
+      const [a, bb, c] = [world[m.indices[k]], world[m.indices[k + 1]], world[m.indices[k + 2]]];
+      tris.push({ depth: a[1] + bb[1] + c[1], pts: [a, bb, c], color: m.color });
+    }
+  }
+  tris.sort((p, r) => r.depth - p.depth);
+  for (const tri of tris) {
+    g.fillStyle = g.strokeStyle = tri.color;
+    g.beginPath();
+    tri.pts.forEach(([x, , z], k) => (k ? g.lineTo(X(x), Z(z)) : g.moveTo(X(x), Z(z))));
+    g.closePath(); g.fill(); g.stroke();
+  }
+}
+
 let renderer;
 try {
   renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 } catch (err) {
-  document.getElementById("message").textContent = "This player needs WebGL, which this browser does not offer.";
+  draw2d(0, "This browser offers no WebGL: the run's first frame is drawn flat, from the side.");
   throw err;
 }
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 renderer.shadowMap.enabled = true;
 renderer.shadowMap.type = THREE.PCFSoftShadowMap;
 view.appendChild(renderer.domElement);
+let contextLost = false;
+renderer.domElement.addEventListener("webglcontextlost", (e) => {
+  e.preventDefault(); // allow it to be restored
+  contextLost = true;
+  draw2d(time, "WebGL stopped working (its context was lost): drawn flat, from the side, until it is back.");
+});
+renderer.domElement.addEventListener("webglcontextrestored", () => {
+  contextLost = false;
+  flat.on = false;
+  if (flat.canvas) flat.canvas.style.display = "none";
+  message.textContent = "";
+  requestRender();
+});
 
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef0f3);
@@ -100,10 +179,14 @@ const slope = data.ground.terrain.find((t) => t.kind === "slope");
   if (slope) ground.rotation.y = -slope.angle;
 }
 scene.add(ground);
+// A planar creature's terrain runs across the whole ground in y; drawn so, it would pass
+// behind the side view's camera and fill the picture. Its blocks are a band around y = 0.
+const band = data.planar ? 0.6 * data.size + 0.2 : Infinity;
+const [ty0, ty1] = [Math.max(gy0, -band), Math.min(gy1, band)];
 for (const t of data.ground.terrain) {
   let box = null;
-  if (t.kind === "step") box = [t.x, gx1, gy0, gy1, t.height];
-  if (t.kind === "box") box = [t.x0, t.x1, Math.max(t.y0, gy0), Math.min(t.y1, gy1), t.height];
+  if (t.kind === "step") box = [t.x, gx1, ty0, ty1, t.height];
+  if (t.kind === "box") box = [t.x0, t.x1, Math.max(t.y0, ty0), Math.min(t.y1, ty1), t.height];
   if (!box) continue;
   const [x0, x1, y0, y1, h] = box;
   const mesh = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, h), terrainMaterial);
@@ -113,6 +196,49 @@ for (const t of data.ground.terrain) {
   mesh.add(edges);
   scene.add(mesh);
 }
+
+// The paths the run followed: ribbons lying on the ground (pulled towards the camera in depth, so
+// the ground never hides them; the creature does when it is in front).
+const pathMaterial = new THREE.MeshBasicMaterial({ color: 0x1f6fd0, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2 });
+const pathWidth = 0.04 * data.size;
+for (const p of data.paths || []) {
+  const pts = f32(p.points);
+  const n = pts.length / 3;
+  if (n < 2) continue;
+  const vertices = new Float32Array(6 * n);
+  for (let i = 0; i < n; i++) {
+    const a = Math.max(0, i - 1), b = Math.min(n - 1, i + 1);
+    let tx = pts[3 * b] - pts[3 * a], ty = pts[3 * b + 1] - pts[3 * a + 1];
+    const len = Math.hypot(tx, ty) || 1;
+    tx /= len; ty /= len;
+    for (const [k, side] of [[0, 1], [1, -1]]) {
+      vertices[6 * i + 3 * k] = pts[3 * i] - side * ty * pathWidth / 2;
+      vertices[6 * i + 3 * k + 1] = pts[3 * i + 1] + side * tx * pathWidth / 2;
+      vertices[6 * i + 3 * k + 2] = pts[3 * i + 2] + 0.003; // just above the ground
+    }
+  }
+  const indices = [];
+  for (let i = 0; i + 1 < n; i++) indices.push(2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 1, 2 * i + 3, 2 * i + 2);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(vertices, 3));
+  geometry.setIndex(indices);
+  const ribbon = new THREE.Mesh(geometry, pathMaterial);
+  ribbon.name = `path ${p.name}`;
+  ribbon.renderOrder = 5;
+  ribbon.frustumCulled = false;
+  scene.add(ribbon);
+}
+// The lateral error: a segment on the ground from under the mass centre to the nearest path
+// point, and its value in the panel.
+const lateralTraces = (data.paths || []).filter((p) => p.nearest).map((p) => {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(6), 3));
+  const line = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: 0x1f6fd0, depthTest: false }));
+  line.renderOrder = 6;
+  line.frustumCulled = false;
+  scene.add(line);
+  return { name: p.name, nearest: f32(p.nearest), lateral: f32(p.lateral), line };
+});
 
 // The creature.
 const links = data.bodies.map((b) => {
@@ -276,11 +402,18 @@ function draw() {
     }
   }
   for (const mesh of footprints) mesh.visible = overlays.footprints.on && mesh.userData.t <= time + 1e-9;
+  for (const trace of lateralTraces) {
+    const n = trace.nearest, at = trace.line.geometry.attributes.position;
+    at.setXYZ(0, cx, cy, n[3 * f + 2] + 0.004);
+    at.setXYZ(1, n[3 * f], n[3 * f + 1], n[3 * f + 2] + 0.004);
+    at.needsUpdate = true;
+  }
   trail.visible = comMarker.visible = overlays.com.on;
   trailGeometry.setDrawRange(0, f + 1);
   comMarker.position.set(cx, cy, cz);
 
-  renderer.render(scene, camera);
+  if (contextLost) draw2d(time, message.textContent);
+  else renderer.render(scene, camera);
   api.renders += 1;
   updateHud(f);
 }
@@ -310,6 +443,9 @@ function updateHud(f) {
   if (overlays.speed.on) {
     const command = Number.isFinite(speedCommand[f]) ? `${fmt(speedCommand[f])} m/s` : '<span class="dim">none</span>';
     lines.push(`<div>speed: ${fmt(speed[f])} m/s &middot; command: ${command}</div>`);
+  }
+  for (const trace of lateralTraces) {
+    lines.push(`<div>path ${escapeHtml(trace.name)}: lateral error <span class="lateral">${fmt(trace.lateral[f])}</span> m</div>`);
   }
   hud.innerHTML = lines.join("");
   clock.textContent = `${time.toFixed(2)} / ${duration.toFixed(2)} s`;
@@ -367,14 +503,20 @@ function tick(now) {
   if (playing) requestRender();
 }
 
+// Setting a canvas's size clears it, even to the size it has: resize only on a real change,
+// and draw again at once (not at the next animation frame), so that no picture (a headless
+// screenshot among them) is ever taken of a cleared canvas.
+let drawnSize = "";
 function resize() {
   const w = view.clientWidth, h = view.clientHeight;
+  if (`${w}x${h}` === drawnSize) return;
+  drawnSize = `${w}x${h}`;
   renderer.setSize(w, h, false);
   camera.aspect = w / Math.max(1, h);
   camera.updateProjectionMatrix();
-  requestRender();
+  draw();
 }
-new ResizeObserver(resize).observe(view); // the window, or the control bar wrapping
+new ResizeObserver(() => resize()).observe(view); // the window, or the control bar wrapping
 
 // ------------------------------------------------------------------ scripting interface (tests, consoles)
 const api = {
@@ -410,6 +552,10 @@ const api = {
   scene, // for poking at from a browser console
   redraw: () => draw(),
   getView: () => ({ ...orbit }),
+  isFlat: () => flat.on,
+  // For tests: lose the WebGL context (and get it back) as a failing GPU would.
+  loseContext() { api.lost = renderer.getContext().getExtension("WEBGL_lose_context"); api.lost.loseContext(); },
+  restoreContext() { api.lost.restoreContext(); },
 };
 window.legdsl = api;
 resize();

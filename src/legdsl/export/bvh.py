@@ -1,0 +1,116 @@
+"""Export a run as BVH (Biovision hierarchy), the motion-capture tools' skeleton-and-channels format.
+
+* The skeleton is the link tree: ``ROOT`` is the root body, each other body a
+  ``JOINT`` inside its parent's block, with ``OFFSET`` its joint origin in the
+  parent frame (legdsl writes bodies at zero joint coordinates with their
+  parents' axes, which is BVH's rest pose: every joint frame parallel to the
+  world's). A body with no children ends in an ``End Site`` at its link's tip.
+* Axes: y-up as BVH tools expect: x stays x (forward), legdsl's z (up) is y
+  and legdsl's y (left) is -z, the same turn as the glTF export. Lengths are in
+  metres (Blender: import at scale 1).
+* Channels: the root has ``Xposition Yposition Zposition Zrotation Xrotation
+  Yrotation`` (its world position and orientation); a joint with only hinges
+  has ``Zrotation Xrotation Yrotation``; a joint with a slide also has the
+  three position channels, which hold the slide's displacement added to the
+  offset. Rotations are in degrees, applied in the listed order (the
+  joint's local rotation is Rz Rx Ry), relative to the parent joint.
+* ``Frame Time`` is one over the frame rate (``--fps``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from legdsl.export.gltf import local_poses
+from legdsl.export.motion import Motion, frame_rate, quaternion_to_matrix
+
+# legdsl z-up to BVH y-up: (x, y, z) -> (x, z, -y)
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+ROTATION_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
+POSITION_CHANNELS = ("Xposition", "Yposition", "Zposition")
+
+
+def euler_zxy(m: np.ndarray) -> tuple[float, float, float]:
+    """Angles (z, x, y) in degrees with ``m = Rz(z) Rx(x) Ry(y)``."""
+    x = math.asin(max(-1.0, min(1.0, m[2, 1])))
+    if abs(m[2, 1]) < 1.0 - 1e-12:
+        z = math.atan2(-m[0, 1], m[1, 1])
+        y = math.atan2(-m[2, 0], m[2, 2])
+    else:  # gimbal lock: put the whole turn about the vertical into z
+        z = math.atan2(m[1, 0], m[0, 0])
+        y = 0.0
+    return math.degrees(z), math.degrees(x), math.degrees(y)
+
+
+def bvh_text(motion: Motion) -> str:
+    """The BVH file of ``motion`` (see the module docstring)."""
+    translations, rotations = local_poses(motion)
+    nb = len(motion.bodies)
+    if motion.joint_origins is not None:
+        offsets = motion.joint_origins
+        slides = list(motion.joint_slides)
+    else:  # a motion made without its model: every joint that moves from where it starts slides
+        offsets = translations[0]
+        moved = np.abs(translations - offsets[None]).max(axis=0).max(axis=1)
+        slides = [bool(m > 1e-9) for m in moved]
+    children: dict[int, list[int]] = {b: [] for b in range(-1, nb)}
+    for b, parent in enumerate(motion.parents):
+        children[parent].append(b)
+
+    lines = ["HIERARCHY"]
+    order: list[int] = []
+
+    def fmt(v: np.ndarray) -> str:
+        return " ".join(f"{float(x):.6f}" for x in v)
+
+    def joint(b: int, depth: int) -> None:
+        pad = "  " * depth
+        root = motion.parents[b] < 0
+        order.append(b)
+        lines.append(f"{pad}{'ROOT' if root else 'JOINT'} {motion.bodies[b].name}")
+        lines.append(f"{pad}{{")
+        offset = np.zeros(3) if root else Z_UP_TO_Y_UP @ offsets[b]
+        lines.append(f"{pad}  OFFSET {fmt(offset)}")
+        channels = (
+            (*POSITION_CHANNELS, *ROTATION_CHANNELS) if root or slides[b] else ROTATION_CHANNELS
+        )
+        lines.append(f"{pad}  CHANNELS {len(channels)} {' '.join(channels)}")
+        for child in children[b]:
+            joint(child, depth + 1)
+        if not children[b]:
+            tip = np.asarray(motion.bodies[b].tip, dtype=float)
+            end = Z_UP_TO_Y_UP @ (tip if np.any(tip) else np.array([0.0, 0.0, 0.01]))
+            lines.append(f"{pad}  End Site")
+            lines.append(f"{pad}  {{")
+            lines.append(f"{pad}    OFFSET {fmt(end)}")
+            lines.append(f"{pad}  }}")
+        lines.append(f"{pad}}}")
+
+    for root in children[-1]:
+        joint(root, 0)
+    lines.append("MOTION")
+    lines.append(f"Frames: {motion.frames}")
+    lines.append(f"Frame Time: {1.0 / frame_rate(motion):.9f}")
+    for f in range(motion.frames):
+        row: list[float] = []
+        for b in order:
+            r = Z_UP_TO_Y_UP @ quaternion_to_matrix(rotations[f, b]) @ Z_UP_TO_Y_UP.T
+            if motion.parents[b] < 0:
+                row.extend(Z_UP_TO_Y_UP @ translations[f, b])
+            elif slides[b]:
+                row.extend(Z_UP_TO_Y_UP @ (translations[f, b] - offsets[b]))
+            row.extend(euler_zxy(r))
+        lines.append(" ".join(f"{x:.6f}" for x in row))
+    return "\n".join(lines) + "\n"
+
+
+def write_bvh(motion: Motion, path: Path) -> int:
+    """Write ``path``; returns its size."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(bvh_text(motion))
+    tmp.replace(path)
+    return path.stat().st_size

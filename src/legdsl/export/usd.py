@@ -1,0 +1,123 @@
+"""Export a run as USD (``.usda`` text or ``.usd`` binary crate) through Pixar's ``usd-core``.
+
+The stage is z-up in metres, as legdsl is, so no axis turn is needed. Its
+default prim ``/CREATURE`` is an ``Xform`` holding the link tree as nested
+``Xform`` prims (each link a child of its parent link), each with
+time-sampled ``xformOp:translate`` and ``xformOp:orient`` ops: the link's pose
+relative to its parent, one sample per frame, so that the prims move the way
+the joints do. Each link prim has a ``Mesh`` child ``shape`` (its drawing
+shape, with normals, ``displayColor`` and an extent). The ground and terrain
+are meshes under ``/CREATURE/ground``. Time codes are frame numbers from 0:
+``timeCodesPerSecond`` and ``framesPerSecond`` are the frame rate, and
+``startTimeCode``/``endTimeCode`` the run's first and last frames.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl import __version__
+from legdsl.export.gltf import local_poses
+from legdsl.export.motion import Motion, frame_rate, ground_area
+from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
+from legdsl.lang.errors import UsageError
+
+FORMATS = ("usd", "usda")
+
+
+def _pxr() -> Any:
+    try:
+        from pxr import Gf, Sdf, Usd, UsdGeom, Vt
+    except ImportError:
+        raise UsageError("exporting USD needs usd-core: pip install 'legdsl[export]'") from None
+    return Gf, Sdf, Usd, UsdGeom, Vt
+
+
+def prim_name(name: str) -> str:
+    """A valid USD prim name for a legdsl name (they are identifiers already, but be safe)."""
+    text = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return text if text and not text[0].isdigit() else f"_{text}"
+
+
+def _mesh(stage: Any, path: str, mesh: Mesh, color: str) -> None:
+    Gf, _, _, UsdGeom, Vt = _pxr()
+    prim = UsdGeom.Mesh.Define(stage, path)
+    points = Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.positions, dtype=np.float32))
+    prim.CreatePointsAttr(points)
+    prim.CreateFaceVertexCountsAttr(Vt.IntArray([3] * len(mesh.indices)))
+    prim.CreateFaceVertexIndicesAttr(Vt.IntArray([int(i) for i in mesh.indices.reshape(-1)]))
+    normals = Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.normals, dtype=np.float32))
+    prim.CreateNormalsAttr(normals)
+    prim.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    prim.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    prim.CreateDisplayColorAttr(Vt.Vec3fArray([Gf.Vec3f(*hex_rgb(color))]))
+    lo, hi = mesh.bounds
+    prim.CreateExtentAttr(Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))]))
+
+
+def build_stage(motion: Motion, path: Path) -> Any:
+    """A new ``Usd.Stage`` at ``path`` holding the scene and its animation (not yet saved)."""
+    Gf, Sdf, Usd, UsdGeom, _ = _pxr()
+    layer = Sdf.Layer.CreateNew(
+        str(path), args={"format": "usda"} if path.suffix == ".usda" else {}
+    )
+    stage = Usd.Stage.Open(layer)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    fps = frame_rate(motion)
+    stage.SetTimeCodesPerSecond(fps)
+    stage.SetFramesPerSecond(fps)
+    stage.SetStartTimeCode(0)
+    stage.SetEndTimeCode(motion.frames - 1)
+    layer.documentation = f"legdsl {__version__}: run of creature '{motion.creature}'"
+
+    top = f"/{prim_name(motion.creature)}"
+    root = UsdGeom.Xform.Define(stage, top)
+    Usd.ModelAPI(root.GetPrim()).SetKind("component")
+    stage.SetDefaultPrim(root.GetPrim())
+
+    translations, rotations = local_poses(motion)
+    for b, (body, path_b) in enumerate(zip(motion.bodies, link_paths(motion), strict=True)):
+        xform = UsdGeom.Xform.Define(stage, path_b)
+        translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
+        orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble)
+        for f in range(motion.frames):
+            x, y, z, w = (float(v) for v in rotations[f, b])
+            translate.Set(Gf.Vec3d(*(float(v) for v in translations[f, b])), Usd.TimeCode(f))
+            orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(f))
+        _mesh(stage, f"{path_b}/shape", body_mesh(body), (body.color or "#9a9a9a").lower())
+
+    UsdGeom.Xform.Define(stage, f"{top}/ground")
+    for name, mesh, color in ground_meshes(motion.terrain, *ground_area(motion)):
+        _mesh(stage, f"{top}/ground/{prim_name(name)}", mesh, color)
+    return stage
+
+
+def link_paths(motion: Motion) -> list[str]:
+    """The prim path of each link, in ``motion.bodies`` order."""
+    top = f"/{prim_name(motion.creature)}"
+    paths: list[str] = []
+    for b, body in enumerate(motion.bodies):
+        parent = motion.parents[b]
+        paths.append(f"{top if parent < 0 else paths[parent]}/{prim_name(body.name)}")
+    return paths
+
+
+def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
+    """Write ``path`` as .usd (binary crate) or .usda (text); returns its size."""
+    if fmt not in FORMATS:
+        raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # The layer's format follows its extension: write under the right one, then rename.
+    tmp = path.with_name(f".{path.stem}.tmp.{fmt}")
+    if tmp.exists():
+        tmp.unlink()
+    stage = build_stage(motion, tmp)
+    stage.GetRootLayer().Save()
+    del stage
+    tmp.replace(path)
+    return path.stat().st_size

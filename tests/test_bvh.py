@@ -1,0 +1,133 @@
+"""BVH export, read back with an independent parser (the ``bvh`` package on PyPI).
+
+The skeleton must be the link tree with the joint origins as offsets; composing
+the channels down the tree must give the run's world poses; and each hinge's
+angle, read from the channels, must be the run's joint coordinate.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from anim_runs import creature_run, generated_dir
+
+from legdsl.cli import main
+from legdsl.export.bvh import Z_UP_TO_Y_UP, bvh_text
+from legdsl.export.motion import Motion, interpolate_q, load_motion, quaternion_to_matrix, read_run
+
+bvh = pytest.importorskip(
+    "bvh", reason="the bvh parser is in the test extra: pip install '.[test]'"
+)
+
+
+def rot(axis: str, degrees: float) -> np.ndarray:
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return {
+        "X": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
+        "Y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
+        "Z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+    }[axis]
+
+
+@pytest.fixture(scope="module", params=["kangaroo", "quadruped", "hopper"])
+def exported(request, tmp_path_factory) -> tuple[Motion, object, np.ndarray, object]:
+    run_dir = creature_run(request.param, tmp_path_factory.mktemp(request.param) / "run")
+    motion = load_motion(run_dir, fps=30, generated=generated_dir())
+    run = read_run(run_dir)
+    q = interpolate_q(
+        run.model, run.trajectory.t, run.trajectory.q, run.trajectory.t[0] + motion.times
+    )
+    return motion, bvh.Bvh(bvh_text(motion)), q, run.model
+
+
+def axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def world_poses(mocap, frame: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each joint's (position, rotation) in the file's frame: T(offset + position) R, composed."""
+    out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for name in mocap.get_joints_names():  # parents are listed before their children
+        channels = mocap.joint_channels(name)
+        values = dict(zip(channels, mocap.frame_joint_channels(frame, name, channels), strict=True))
+        t = np.array(mocap.joint_offset(name), dtype=float)
+        t += [values.get(f"{a}position", 0.0) for a in "XYZ"]
+        r = np.eye(3)
+        for c in channels:
+            if c.endswith("rotation"):
+                r = r @ rot(c[0], values[c])
+        parent = mocap.joint_parent(name)
+        if parent is None:
+            out[name] = (t, r)
+        else:
+            pt, pr = out[parent.name]
+            out[name] = (pt + pr @ t, pr @ r)
+    return out
+
+
+def test_skeleton_is_the_link_tree(exported) -> None:
+    motion, mocap, _, model = exported
+    names = [b.name for b in motion.bodies]
+    assert sorted(mocap.get_joints_names()) == sorted(names)
+    joints = {j.child: j for j in model.joints}
+    for b in motion.bodies:
+        parent = mocap.joint_parent(b.name)
+        assert (parent.name if parent is not None else None) == b.parent
+        if b.parent is not None:
+            offset = Z_UP_TO_Y_UP @ np.array(joints[b.name].origin)
+            assert np.allclose(mocap.joint_offset(b.name), offset, atol=1e-6)
+    assert mocap.nframes == motion.frames
+    assert mocap.frame_time == pytest.approx(motion.duration / (motion.frames - 1), rel=1e-6)
+
+
+def test_channels_replay_the_world_poses(exported) -> None:
+    motion, mocap, _, _ = exported
+    for f in range(0, motion.frames, 3):
+        poses = world_poses(mocap, f)
+        for b, body in enumerate(motion.bodies):
+            p, r = poses[body.name]
+            assert np.allclose(p, Z_UP_TO_Y_UP @ motion.positions[f, b], atol=2e-5), body.name
+            expected = (
+                Z_UP_TO_Y_UP @ quaternion_to_matrix(motion.quaternions[f, b]) @ Z_UP_TO_Y_UP.T
+            )
+            assert np.allclose(r, expected, atol=1e-5), body.name
+
+
+def test_hinge_angles_are_the_runs_joint_coordinates(exported) -> None:
+    motion, mocap, q, model = exported
+    checked = 0
+    for joint in model.joints:
+        if joint.parent is None or any(d.motion != "hinge" for d in joint.dofs):
+            continue
+        for f in range(motion.frames):
+            channels = mocap.joint_channels(joint.child)
+            values = mocap.frame_joint_channels(f, joint.child, channels)
+            r = np.eye(3)
+            for c, v in zip(channels, values, strict=True):
+                if c.endswith("rotation"):
+                    r = r @ rot(c[0], v)
+            # the joint's chain of hinges at the run's coordinates, in the file's axes
+            expected = np.eye(3)
+            for d in joint.dofs:
+                expected = expected @ axis_angle(Z_UP_TO_Y_UP @ np.array(d.axis), q[f, d.q_index])
+            assert np.allclose(r, expected, atol=1e-5), joint.name
+            if len(joint.dofs) == 1:  # and the angle itself, about the hinge's axis
+                axis = Z_UP_TO_Y_UP @ np.array(joint.dofs[0].axis)
+                s = 0.5 * np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) @ axis
+                angle = math.atan2(s, (np.trace(r) - 1) / 2)
+                error = math.remainder(angle - q[f, joint.dofs[0].q_index], math.tau)
+                assert error == pytest.approx(0, abs=1e-4)
+            checked += 1
+    assert checked >= motion.frames
+
+
+def test_cli_writes_bvh(tmp_path: Path) -> None:
+    run = creature_run("kangaroo", tmp_path / "run")
+    out = tmp_path / "k.bvh"
+    args = ["export-motion", str(run), "--format", "bvh", "-o", str(out)]
+    assert main([*args, "--generated", str(generated_dir())]) == 0
+    assert out.read_text().startswith("HIERARCHY\nROOT trunk")

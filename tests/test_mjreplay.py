@@ -1,0 +1,70 @@
+"""``legdsl replay DIR --mujoco``: the run on MuJoCo's model, drawn by MuJoCo's renderer."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from anim_runs import creature_motion, creature_run
+from external_tools import ffmpeg, loud_skip
+from pixels import hue_mask
+
+from legdsl.export.mjreplay import replay_frames
+from legdsl.export.motion import quaternion_to_matrix
+
+mujoco = pytest.importorskip("mujoco")
+
+
+def test_mujoco_poses_are_the_runs(tmp_path: Path) -> None:
+    """Setting MuJoCo's qpos from the run puts every body where legdsl's kinematics has it."""
+    motion = creature_motion("quadruped", tmp_path / "run")
+    mj, data, model, times, qpos = replay_frames(tmp_path / "run", fps=60)
+    assert len(times) == motion.frames
+    for f in range(0, motion.frames, 7):
+        data.qpos[:] = qpos[f]
+        mujoco.mj_kinematics(mj, data)
+        for b, body in enumerate(model.bodies):
+            assert np.allclose(data.body(body.name).xpos, motion.positions[f, b], atol=1e-6)
+            rot = quaternion_to_matrix(motion.quaternions[f, b])
+            assert np.allclose(data.body(body.name).xmat.reshape(3, 3), rot, atol=1e-6)
+
+
+def test_replay_renders_an_mp4(tmp_path: Path) -> None:
+    ffmpeg()
+    run = creature_run("biped", tmp_path / "run")
+    out = tmp_path / "biped-mujoco.mp4"
+    args = ["replay", str(run), "--mujoco", "-o", str(out), "--fps", "10", "--size", "160x96"]
+    # A process of its own, as from the shell: MuJoCo picks its OpenGL backend when it is first
+    # imported, and this test session imported it already (with no MUJOCO_GL, that is GLFW).
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY")}
+    env["PYTHONPATH"] = os.pathsep.join(sys.path)
+    done = subprocess.run(
+        [sys.executable, "-m", "legdsl", *args], capture_output=True, text=True, env=env
+    )
+    if done.returncode == 2 and "offscreen renderer could not start" in done.stderr:
+        loud_skip(done.stderr.strip())  # only where no OpenGL context can be had
+    assert done.returncode == 0, done.stderr
+    assert "wrote" in done.stdout
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+         "stream=width,height,nb_read_frames", "-of", "csv=p=0", str(out)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    width, height, frames = (int(x) for x in probe.stdout.strip().split(","))
+    assert (width, height) == (160, 96) and frames == 11  # 1 s at 10 per second, both ends
+    raw = subprocess.run(
+        ["ffmpeg", "-v", "error", "-i", str(out), "-frames:v", "1", "-f", "rawvideo",
+         "-pix_fmt", "rgb24", "-"],
+        capture_output=True, check=True,
+    ).stdout  # fmt: skip
+    image = np.frombuffer(raw, np.uint8).reshape(96, 160, 3).astype(float) / 255
+    from conftest import CREATURES
+
+    from legdsl.check.source import check_model
+
+    trunk = check_model(CREATURES / "biped.leg").bodies[0].color or ""
+    assert hue_mask(image, trunk).sum() > 20  # the trunk is in the picture
