@@ -14,8 +14,8 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[2] / "src" / "legdsl"
 
-# The stages, in pipeline order. The package root (``legdsl/__init__.py``: the version) sits
-# below them all; ``cli`` and ``__main__`` on top.
+# The stages, in pipeline order. The package root (``legdsl/__init__.py``: the version, and
+# ``legdsl/files.py``: writing files whole) sits below them all; ``cli`` and ``__main__`` on top.
 STAGES = (
     "lang",  # text -> syntax tree; units; the error types
     "ir",  # the checked model and controller IR
@@ -28,7 +28,7 @@ STAGES = (
     "export",  # files for other programs and people: MJCF, glTF, player, video
     "cli",
 )
-TOP = {"__init__": -1, "cli": STAGES.index("cli"), "__main__": STAGES.index("cli")}
+TOP = {"__init__": -1, "files": -1, "cli": STAGES.index("cli"), "__main__": STAGES.index("cli")}
 
 
 def module_name(path: Path, package: Path = PACKAGE) -> str:

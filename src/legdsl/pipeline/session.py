@@ -24,6 +24,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
+from legdsl.files import write_atomic
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -169,14 +170,21 @@ class Run:
         }
 
     def write(self, out: str | Path) -> Path:
-        """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing)."""
+        """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing).
+
+        run.json is made (in memory) before anything is written, then written first with the
+        status ``incomplete``, then the trajectory, then run.json as it is: a run killed while
+        writing leaves a directory whose run.json says so, never a new trajectory beside the
+        run.json of an older run. Each file is replaced whole (``legdsl.files``).
+        """
         out = Path(out)
+        info = self.info()
+        text = json.dumps(info, indent=2, allow_nan=False) + "\n"
+        pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
+        write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
         self.result.trajectory.save(out)
-        text = json.dumps(self.info(), indent=2, allow_nan=False) + "\n"
-        tmp = out / "run.json.tmp"
-        tmp.write_text(text)
-        tmp.replace(out / "run.json")
+        write_atomic(out / "run.json", text)
         return out
 
     def summary(self) -> str:

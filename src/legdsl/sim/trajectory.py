@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.files import write_atomic
+
 ARRAYS = (
     "t", "q", "v", "contact", "force", "com", "com_vel", "root_pos", "root_rpy",
     "leg_length", "leg_spring_energy", "kinetic", "potential", "elastic", "state", "speed_command",
@@ -80,8 +82,8 @@ class Trajectory:
             "planar": self.planar,
         }
         arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
-        _atomic_write(directory / "trajectory.npz", _npz_bytes(arrays))
-        _atomic_write(directory / "trajectory.csv", self.csv_text().encode())
+        write_atomic(directory / "trajectory.npz", _npz_bytes(arrays))
+        write_atomic(directory / "trajectory.csv", self.csv_text().encode())
 
     @classmethod
     def load(cls, directory: Path) -> Trajectory:
@@ -137,12 +139,6 @@ def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
     buf = io.BytesIO()
     np.savez(buf, **arrays)  # type: ignore[arg-type]  # zip entries carry a fixed 1980 date: equal data, equal bytes
     return buf.getvalue()
-
-
-def _atomic_write(path: Path, data: bytes) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(data)
-    tmp.replace(path)
 
 
 def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory:
