@@ -13,6 +13,7 @@ import sys
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from legdsl import __version__
 from legdsl.lang.errors import LegError, UsageError
@@ -55,27 +56,56 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _numeric(args: argparse.Namespace, dest: str, flag: str, spec: Any) -> Any:
+    """The option's value in SI: parsed (with its unit) when given as text, else the default."""
+    from legdsl.pipeline.options import read_numeric
+
+    value = getattr(args, dest)
+    return read_numeric(flag, value, spec) if isinstance(value, str) else value
+
+
+def _read_window(args: argparse.Namespace) -> None:
+    """--from and --to as seconds (a unit is welcome: 3s, 500ms); the end after the start."""
+    from legdsl.pipeline.options import WINDOW
+
+    args.t_from = _numeric(args, "t_from", "--from", WINDOW)
+    args.t_to = _numeric(args, "t_to", "--to", WINDOW)
+    if args.t_to is not None and args.t_to <= args.t_from:
+        raise UsageError(f"--to {args.t_to:g}s must come after --from {args.t_from:g}s")
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     import math
 
+    from legdsl.pipeline.options import (
+        RUN_NUMERIC,
+        check_output_dir,
+        check_run_options,
+        os_error,
+    )
     from legdsl.pipeline.report import progress_bar
     from legdsl.pipeline.session import RunSession
     from legdsl.sim.simulate import RunOptions
 
+    values = {
+        field: _numeric(args, flag[2:].replace("-", "_"), flag, spec)
+        for field, (flag, spec) in RUN_NUMERIC.items()
+    }
+    tilt = values.pop("fall_tilt")
+    if not isinstance(args.fall_tilt, str):
+        tilt = math.radians(tilt)  # the default, in degrees
+    options = RunOptions(integrator=args.integrator, fall_tilt=tilt, **values)
+    check_run_options(options)
+    if args.out:  # checked before anything is compiled or simulated
+        check_output_dir(args.out, "--out")
     session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
-    options = RunOptions(
-        duration=args.time,
-        dt=args.dt,
-        integrator=args.integrator,
-        control_dt=args.control_dt,
-        record_rate=args.record_rate,
-        fall_height=args.fall_height,
-        fall_tilt=math.radians(args.fall_tilt),
-        drop=args.drop,
-    )
+    out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
     run = session.run(args.controller, args.set, args.path, options, progress)
-    out = run.write(Path(args.out) if args.out else Path("runs") / session.model.name)
+    try:
+        out = run.write(out)
+    except OSError as e:
+        raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
@@ -101,6 +131,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import path_summary
 
     try:
+        _read_window(args)
         if args.table2 is not None and args.table2 not in TABLE2:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
@@ -145,6 +176,10 @@ def _cmd_compile(args: argparse.Namespace) -> int:
         )
         return EXIT_USER_ERROR
 
+    from legdsl.pipeline.options import check_output_dir, os_error
+
+    check_output_dir(args.out, "--out")
+
     def progress(message: str) -> None:
         print(f"legdsl: {message}", file=sys.stderr, flush=True)
 
@@ -158,20 +193,23 @@ def _cmd_compile(args: argparse.Namespace) -> int:
             failed = True
             continue
         for c in compiled:
-            where = write_generated(c, args.out)
+            try:
+                where = write_generated(c, args.out)
+            except OSError as e:
+                raise os_error("the generated modules of", Path(args.out) / c.name, e) from None
             progress(f"{c.name}: wrote {where}/ ({time.perf_counter() - start:.2f} s in all)")
     return EXIT_USER_ERROR if failed else 0
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from legdsl.analysis.plot import first_leg_angles, plot_run, plot_top, run_paths
+    from legdsl.pipeline.options import check_output_file
+    from legdsl.sim.trajectory import Trajectory
 
+    _read_window(args)
     run = Path(args.dir)
-    if not (run / "trajectory.npz").is_file():
-        raise UsageError(
-            f"no trajectory.npz in {run}: give the directory a run wrote (legdsl run --out DIR)"
-        )
-    out = Path(args.output) if args.output else run / "figure6.png"
+    Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
+    out = check_output_file(args.output or run / "figure6.png", "--output")
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
     if args.top or run_paths(run):
@@ -184,34 +222,40 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.export.formats import default_path, export_text, write_atomic
+    from legdsl.pipeline.options import check_output_file, os_error
 
+    if args.output not in (None, "-"):
+        check_output_file(args.output, "-o")
     model = check_model(args.file, args.creature)
     text = export_text(model, args.format)
     if args.output == "-":
         sys.stdout.write(text)
         return 0
-    out = args.output or default_path(model, args.format)
-    write_atomic(out, text)
+    out = check_output_file(args.output or default_path(model, args.format), "-o")
+    try:
+        write_atomic(out, text)
+    except OSError as e:
+        raise os_error("the export", out, e) from None
     print(f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)")
     return 0
 
 
 # legdsl run's numeric simulation options (RunOptions): flag, default, metavar, help
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
-    ("--dt", 0.0004, None, "integration step in s (default 0.0004, the paper's)"),
-    ("--control-dt", 0.002, None, "control interval in s (default 0.002)"),
-    ("--record-rate", 200.0, None, "samples per second to record (default 200; 0 records every step)"),
-    ("--drop", None, "H", "start with the lowest foot H metres above the ground"),
+    ("--dt", 0.0004, None, "integration step in s, or with its unit: 0.4ms (default 0.0004, the paper's)"),
+    ("--control-dt", 0.002, None, "control interval in s, or with its unit: 2ms (default 0.002)"),
+    ("--record-rate", 200.0, None, "samples per second to record, or 100Hz (default 200; 0 records every step)"),
+    ("--drop", None, "H", "start with the lowest foot H metres above the ground (or 30cm)"),
     ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start)"),
-    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees is a fall (default 60)"),
+    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees (or 1rad) is a fall (default 60)"),
 )  # fmt: skip
 
 
 def _add_window(p: argparse.ArgumentParser) -> None:
     """--from and --to: the part of a run to measure or draw."""
-    p.add_argument("--from", dest="t_from", type=float, default=0.0, metavar="T",
+    p.add_argument("--from", dest="t_from", default=0.0, metavar="T",
                    help="start of the window in s (default 0)")  # fmt: skip
-    p.add_argument("--to", dest="t_to", type=float, default=None, metavar="T",
+    p.add_argument("--to", dest="t_to", default=None, metavar="T",
                    help="end of the window in s (default: the end of the run)")  # fmt: skip
 
 
@@ -279,7 +323,10 @@ def _parser() -> argparse.ArgumentParser:
         "(waypoints.csv); NAME= picks one of several paths; repeatable",
     )
     r.add_argument(
-        "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
+        "--time",
+        default=5.0,
+        metavar="T",
+        help="simulated time, a number of seconds or with its unit: 2s, 1min (default 5)",
     )
     r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
     r.add_argument(
@@ -289,7 +336,7 @@ def _parser() -> argparse.ArgumentParser:
         help="semi-implicit Euler (default) or RK4",
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
-        r.add_argument(flag, type=float, default=default, metavar=metavar, help=text)
+        r.add_argument(flag, default=default, metavar=metavar, help=text)
     r.add_argument(
         "--generated",
         default="generated",

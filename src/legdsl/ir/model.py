@@ -140,6 +140,9 @@ SETTABLE = {
     "force": ("force",),
 }
 
+# Actuator arguments that must not be negative, in the .leg file and through --set alike.
+NON_NEGATIVE = ("k", "b", "kp", "kv", "max")
+
 
 def setting_kind(key: str, rotary: bool) -> str:
     """The physical kind (a key of ``units.KINDS``) of an actuator setting on a rotary or sliding joint."""

@@ -31,6 +31,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline.generated import load_controller, load_dynamics
+from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
@@ -99,6 +100,7 @@ class RunSession:
         ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
         ``UsageError`` before anything is simulated."""
         options = options if options is not None else RunOptions()
+        check_run_options(options)
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.files import write_atomic
+from legdsl.lang.errors import UsageError
 
 ARRAYS = (
     "t", "q", "v", "contact", "force", "com", "com_vel", "root_pos", "root_rpy",
@@ -87,12 +88,59 @@ class Trajectory:
 
     @classmethod
     def load(cls, directory: Path) -> Trajectory:
-        with np.load(directory / "trajectory.npz") as data:
-            arrays = {name: data[name] for name in ARRAYS}
-            meta = json.loads(bytes(data["meta"]).decode())
-        for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet", "state_names"):
-            meta[key] = tuple(meta[key])
-        return cls(**arrays, **meta)
+        """Read ``directory/trajectory.npz``; a missing, truncated or foreign file (not one
+        ``save`` wrote) raises ``UsageError`` saying which, and what to do."""
+        path = Path(directory) / "trajectory.npz"
+        if not path.is_file():
+            raise UsageError(
+                f"no trajectory.npz in {directory}: give the directory a run wrote "
+                "(legdsl run FILE.leg --out DIR)"
+            )
+        again = "; run the creature again (legdsl run FILE.leg --out DIR)"
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                missing = [k for k in (*ARRAYS, "meta") if k not in data.files]
+                if missing:
+                    raise UsageError(
+                        f"{path} is not a legdsl trajectory: it lacks {', '.join(missing)}{again}"
+                    )
+                arrays = {name: data[name] for name in ARRAYS}
+                meta = json.loads(bytes(data["meta"]).decode())
+        except UsageError:
+            raise
+        except Exception as e:  # a truncated zip, a damaged entry, bad JSON in meta, ...
+            raise UsageError(f"cannot read {path} ({type(e).__name__}: {e}){again}") from None
+        try:
+            for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet"):
+                meta[key] = tuple(meta[key])
+            meta["state_names"] = tuple(meta.get("state_names", ()))
+            unknown = set(meta) - {f.name for f in fields(cls)}
+            if unknown:
+                raise KeyError(", ".join(sorted(unknown)))
+            trajectory = cls(**arrays, **meta)
+        except (KeyError, TypeError, ValueError) as e:
+            raise UsageError(f"{path}: its meta data is damaged ({e}){again}") from None
+        trajectory._check_shapes(path, again)
+        return trajectory
+
+    def _check_shapes(self, path: Path, again: str) -> None:
+        n = len(self.t) if self.t.ndim == 1 else -1
+        want = {
+            "q": 2, "v": 2, "contact": 2, "force": 3, "com": 2, "com_vel": 2, "root_pos": 2,
+            "root_rpy": 2, "leg_length": 2, "leg_spring_energy": 2, "kinetic": 1,
+            "potential": 1, "elastic": 1, "state": 1, "speed_command": 1,
+        }  # fmt: skip
+        for name, ndim in want.items():
+            a = getattr(self, name)
+            if n < 0 or a.ndim != ndim or a.shape[0] != n:
+                raise UsageError(f"{path}: the array {name} has the wrong shape {a.shape}{again}")
+        if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
+            raise UsageError(f"{path}: q or v does not match its coordinate names{again}")
+        if self.contact.shape[1] != len(self.contact_names) or self.force.shape[1:] != (
+            len(self.contact_names),
+            3,
+        ):
+            raise UsageError(f"{path}: contact or force does not match its contact names{again}")
 
     def csv_text(self) -> str:
         """One row per sample; column names carry their units."""
@@ -126,6 +174,30 @@ class Trajectory:
         for row in range(len(self)):
             writer.writerow([_fmt(c[1][row]) for c in cols])
         return buf.getvalue()
+
+
+def load_run_info(directory: Path) -> dict[str, Any]:
+    """``directory/run.json`` as a dict; missing, not JSON or not an object raises ``UsageError``."""
+    path = Path(directory) / "run.json"
+    if not path.is_file():
+        raise UsageError(
+            f"no run.json in {directory}: give the directory a run wrote "
+            "(legdsl run FILE.leg --out DIR)"
+        )
+    try:
+        info = json.loads(path.read_bytes().decode("utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise UsageError(
+            f"cannot read {path}: it is not JSON ({e}); run the creature again"
+        ) from None
+    if not isinstance(info, dict):
+        raise UsageError(f"{path} is not a run's record (a JSON object); run the creature again")
+    for key, kind in (("source", str), ("creature", str)):
+        if key in info and not isinstance(info[key], kind):
+            raise UsageError(f"{path}: '{key}' is not a {kind.__name__}; run the creature again")
+    if "paths" in info and not isinstance(info["paths"], list | type(None)):
+        raise UsageError(f"{path}: 'paths' is not a list; run the creature again")
+    return info
 
 
 def _fmt(value: Any) -> str:
