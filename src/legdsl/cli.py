@@ -8,10 +8,12 @@ reported as such (with the traceback under ``--debug``) and exits with 70.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import signal
 import sys
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +23,8 @@ from legdsl.lang.errors import LegError, UsageError
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
 EXIT_FELL = 4
+EXIT_INTERRUPTED = 130  # Ctrl-C (SIGINT), as shells report it; the run directory is written
+EXIT_TERMINATED = 143  # SIGTERM; likewise
 EXIT_INTERNAL = 70
 
 Command = Callable[[argparse.Namespace], int]
@@ -54,6 +58,40 @@ def _cmd_show(args: argparse.Namespace) -> int:
 
     print(describe_model(check_model(args.file, args.creature)), end="")
     return 0
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """While simulating, SIGTERM raises ``Interrupted``, which the run loop turns into the
+    status ``interrupted`` as it does Ctrl-C's ``KeyboardInterrupt``."""
+    from legdsl.sim.simulate import Interrupted
+
+    def stop(signum: int, frame: Any) -> None:
+        raise Interrupted("SIGTERM")
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def _deferred_interrupts(out: Path) -> Iterator[list[str]]:
+    """While the run directory is written, SIGINT and SIGTERM are noted, not obeyed: the
+    directory is finished first (it takes a moment), then legdsl exits as interrupted."""
+    late: list[str] = []
+
+    def note(signum: int, frame: Any) -> None:
+        late.append(signal.Signals(signum).name)
+        print(f"legdsl: finishing {out}/ first; it takes a moment", file=sys.stderr, flush=True)
+
+    previous = {sig: signal.signal(sig, note) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield late
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _numeric(args: argparse.Namespace, dest: str, flag: str, spec: Any) -> Any:
@@ -101,11 +139,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
-    run = session.run(args.controller, args.set, args.path, options, progress)
-    try:
-        out = run.write(out)
-    except OSError as e:
-        raise os_error("the run directory", out, e) from None
+    with (
+        _terminate_as_interrupt()
+    ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
+        run = session.run(args.controller, args.set, args.path, options, progress)
+    with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
+        try:
+            out = run.write(out)
+        except OSError as e:
+            raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
@@ -113,6 +155,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         animate_result(out, session.model, run.result, session.dynamics)
     result = run.result
+    if result.status == "interrupted" or late:
+        print(f"legdsl: {result.message or 'interrupted'}; {out}/ is complete", file=sys.stderr)
+        return EXIT_TERMINATED if "SIGTERM" in result.cause else EXIT_INTERRUPTED
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -298,7 +343,9 @@ def _parser() -> argparse.ArgumentParser:
         description="Compile the creature if its generated module is missing or stale, simulate it "
         "with its actuators and ground contact, and write trajectory.npz, trajectory.csv and run.json "
         "into the output directory. Exit status: 0 ok, 2 a mistake in the input, "
-        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell.",
+        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell, "
+        f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM); the run "
+        "directory is written in every case, with what was recorded.",
         epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
@@ -466,6 +513,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from legdsl.sim.simulate import Interrupted
+
     parser = _parser()
     args = parser.parse_args(argv)
     try:
@@ -478,7 +527,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except Interrupted:
+        print("legdsl: terminated (SIGTERM)", file=sys.stderr)
+        return EXIT_TERMINATED
     except Exception as e:  # a bug in legdsl, not in the user's file
         if args.debug:
             traceback.print_exc()

@@ -24,7 +24,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
-from legdsl.files import write_atomic
+from legdsl.files import leftovers, remove, write_atomic
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -38,6 +38,7 @@ from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
+RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
 
 
 class RunSession:
@@ -141,7 +142,7 @@ class Run:
     path_reports: list[dict[str, Any]] = field(default_factory=list)
 
     @property
-    def status(self) -> str:  # ok | diverged | fell
+    def status(self) -> str:  # ok | diverged | fell | interrupted
         return self.result.status
 
     def info(self) -> dict[str, Any]:
@@ -165,6 +166,11 @@ class Run:
             **extra,
             "status": result.status,
             "message": result.message,
+            **(
+                {"ended_at": round(result.sim_time, 9), "cause": result.cause}
+                if result.cause
+                else {}
+            ),
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),
@@ -184,6 +190,9 @@ class Run:
         text = json.dumps(info, indent=2, allow_nan=False) + "\n"
         pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
+        for name in RUN_FILES:  # temporary files of a run that was killed while writing here
+            for leftover in leftovers(out, name):
+                remove(leftover)
         write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
         self.result.trajectory.save(out)
         write_atomic(out / "run.json", text)

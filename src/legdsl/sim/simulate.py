@@ -54,11 +54,12 @@ class Controller(Protocol):
 class RunResult:
     trajectory: Trajectory
     events: list[dict[str, Any]]
-    status: str  # ok | diverged | fell
+    status: str  # ok | diverged | fell | interrupted
     message: str
     steps: int
     wall_time: float
     sim_time: float
+    cause: str = ""  # why a run ended early: a signal, the fall, the divergence
 
     @property
     def real_time_factor(self) -> float:
@@ -67,6 +68,18 @@ class RunResult:
 
 class Divergence(Exception):
     pass
+
+
+class Interrupted(BaseException):
+    """A signal that ends a run early, as Ctrl-C does (the CLI raises it on SIGTERM): the run
+    stops, keeps what it recorded and reports ``interrupted``."""
+
+    def __init__(self, signal: str):
+        super().__init__(signal)
+        self.signal = signal
+
+
+INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
 
 
 class Simulation:
@@ -353,12 +366,15 @@ class Simulation:
         n_steps = int(round(opts.duration / opts.dt))
         every_step = opts.record_rate <= 0
         record_dt = opts.dt if every_step else 1.0 / opts.record_rate
+        # At most this many samples; the arrays start small and double when full, so that a
+        # long run (--time 1e9) starts at once and memory follows what was recorded.
         capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
-        traj = self._empty(capacity)
+        traj = self._empty(min(capacity, INITIAL_ROWS))
         control_every = max(1, int(round(opts.control_dt / opts.dt)))
         start_height = self._standing_height()
         self.message = ""
         status = "ok"
+        cause = ""
         recorded = 0
         next_record = 0.0
         wall0 = time.perf_counter()
@@ -371,6 +387,8 @@ class Simulation:
                 if steps % control_every == 0 and self.controller is not None:
                     self.controller(self)
                 if self.t >= next_record - 1e-12 and recorded < capacity:
+                    if recorded == len(traj):
+                        traj = traj.grown(min(capacity, 2 * len(traj)))
                     self.generalized_forces(self.q, self.v, record=True)
                     self._record(traj, recorded)
                     recorded += 1
@@ -393,7 +411,17 @@ class Simulation:
             state = ", ".join(
                 f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True)
             )
-            self.message = f"the simulation diverged at t = {self.t:.4f} s: {err}. Likely cause: {self.likely_cause()}. State: {state}"
+            cause = f"{err}. Likely cause: {self.likely_cause()}"
+            self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
+        except (KeyboardInterrupt, Interrupted) as sig:
+            status = "interrupted"
+            cause = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+            self.message = (
+                f"interrupted by {cause} at t = {self.t:.4f} s of {opts.duration:g} s; "
+                "what was recorded up to then is kept"
+            )
+        if status == "fell":
+            cause = self.message
         wall = time.perf_counter() - wall0
         if progress is not None:
             progress(self.t, opts.duration)
@@ -405,6 +433,7 @@ class Simulation:
             steps=steps,
             wall_time=wall,
             sim_time=self.t,
+            cause=cause,
         )
 
     def _all_events(self) -> list[dict[str, Any]]:

@@ -66,6 +66,18 @@ class Trajectory:
         meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
         return Trajectory(**cut, **meta)
 
+    def grown(self, capacity: int) -> Trajectory:
+        """The same samples in arrays of ``capacity`` rows (the recorder grows as it goes,
+        never sized by the duration asked for); new rows hold ``empty``'s fill values."""
+        n = len(self)
+        more = empty(capacity - n, self.q.shape[1], self.v.shape[1], self.contact.shape[1],
+                     self.leg_length.shape[1])  # fmt: skip
+        cut: dict[str, Any] = {
+            name: np.concatenate([getattr(self, name), getattr(more, name)]) for name in ARRAYS
+        }
+        meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
+        return Trajectory(**cut, **meta)
+
     # ------------------------------------------------------------ files
     def save(self, directory: Path) -> None:
         """Write trajectory.npz and trajectory.csv into ``directory`` (byte-identical for equal data)."""
@@ -214,7 +226,7 @@ def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
 
 
 def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory:
-    """Preallocated arrays for ``n`` samples (the recorder fills them and cuts with ``head``)."""
+    """Arrays for ``n`` samples (the recorder fills them, ``grown`` when full, cut with ``head``)."""
     return Trajectory(
         t=np.zeros(n),
         q=np.zeros((n, nq)),
