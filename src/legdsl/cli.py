@@ -531,6 +531,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Interrupted:
         print("legdsl: terminated (SIGTERM)", file=sys.stderr)
         return EXIT_TERMINATED
+    except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
+        if args.debug:
+            traceback.print_exc()
+        print(
+            "legdsl: an expression in the input is nested too deeply to be handled; "
+            "split it into steps with 'let' or a signal",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     except Exception as e:  # a bug in legdsl, not in the user's file
         if args.debug:
             traceback.print_exc()

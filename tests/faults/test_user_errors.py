@@ -195,3 +195,38 @@ def test_a_bad_window_is_a_user_error(
 ) -> None:
     code, err = _run(capsys, [command, str(a_run), *extra])
     assert code == 2 and message in err, err
+
+
+# ------------------------------------------------------------------ .leg mistakes found late
+def test_a_foot_under_the_ground_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """The ground spring would launch the body 2.5 m into the air: refused, with what to do
+    (the depth is known only from the kinematics, so after loading, before simulating)."""
+    leg = tmp_path / "hopper.leg"
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    leg.write_text(text.replace("z = 0.95 m", "z = 0.5 m"))
+    out = tmp_path / "run"
+    argv = ["run", str(leg), "--generated", str(generated), "--out", str(out)]
+    code, err = _run(capsys, argv)
+    assert code == 2
+    assert "contact 'toe' of creature 'hopper' starts 0.3 m under the ground" in err
+    assert "--drop" in err and not out.exists()
+    code, _ = _run(capsys, [*argv, "--drop", "0.1", "--time", "0.05"])  # lifted: fine
+    assert code == 0
+
+
+def test_deep_nesting_that_is_accepted_compiles_and_runs(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """Just under the parser's nesting limit, every later stage copes (no recursion limit)."""
+    from legdsl.lang.parser import MAX_NESTING
+
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    deep = " + ".join(["0 m"] * (MAX_NESTING - 12))
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(text.replace("relax(active, 0 m);", f"relax(active, {deep});", 1))
+    argv = ["run", str(leg), "--controller", "hop", "--generated", str(generated),
+            "--time", "0.05", "--out", str(tmp_path / "run")]  # fmt: skip
+    code, err = _run(capsys, argv)
+    assert code == 0, err

@@ -21,7 +21,7 @@ from legdsl.check.ground import GroundChecker
 from legdsl.check.legs import LegChecker
 from legdsl.check.scope import Scope
 from legdsl.check.tree import TreeChecker
-from legdsl.check.values import ValueChecker, did_you_mean
+from legdsl.check.values import MAX_NAME, ValueChecker, did_you_mean, too_long
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
@@ -39,6 +39,8 @@ class CreatureChecker(ValueChecker):
 
     def check(self) -> Model | None:
         d = self.decl
+        if len(d.name.name) > MAX_NAME:
+            self.err(d.name.span, too_long("creature", d.name.name))
         flags = [i for i in d.items if isinstance(i, ast.Flag)]
         if not flags:
             self.err(

@@ -116,6 +116,7 @@ class RunSession:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
         sim = Simulation(self.model, self.dynamics, options, machine)
+        self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
@@ -127,6 +128,26 @@ class RunSession:
             given = [p for p in machine.paths if p.shape != "none"]
             reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
         return Run(self.model, controller, options, sorted_settings, machine, result, reports)
+
+    def _check_start(self, sim: Simulation) -> None:
+        """A contact that starts under the ground is a mistake in the initial pose: the ground
+        spring would launch the body. Deeper than ``START_DEPTH`` is refused (exit 2)."""
+        if self.model.ground is None:
+            return
+        under = [(name, -h) for name, h in sim.contact_heights() if h < -START_DEPTH]
+        if not under:
+            return
+        name, depth = max(under, key=lambda c: c[1])
+        raise UsageError(
+            f"{self.source}: contact '{name}' of creature '{self.model.name}' starts "
+            f"{depth:.3g} m under the ground (the ground would throw the body up); raise the "
+            f"root's initial z by at least {depth:.3g} m in the .leg file, or start with "
+            "--drop H (the lowest foot H metres above the ground)"
+        )
+
+
+# How deep a contact may start under the ground (a resting foot sinks in a little).
+START_DEPTH = 0.01  # m
 
 
 @dataclass

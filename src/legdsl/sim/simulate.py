@@ -124,6 +124,14 @@ class Simulation:
         dofs = {d.name for d in self.model.dofs if d.joint in joints}
         return tuple(a.name for a in self.model.actuators if a.kind == "spring" and a.dof in dofs)
 
+    def contact_heights(self) -> list[tuple[str, float]]:
+        """Each contact's height above the ground under it now (negative: under the ground)."""
+        positions = self.dyn.contact_positions(self.q) if self.contact_names else []
+        return [
+            (name, p[2] - (self.ground.height(p[0], p[1]) if self.ground else 0.0))
+            for name, p in zip(self.contact_names, positions, strict=True)
+        ]
+
     def _lift_to(self, height: float) -> None:
         """Move the root vertically so the lowest contact is ``height`` above the ground."""
         if not self.contact_names:
