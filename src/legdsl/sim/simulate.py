@@ -20,6 +20,7 @@ from typing import Any, Protocol
 from legdsl.ir.model import Model, Pad
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
+from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.trajectory import Trajectory, empty
 
 Vec = tuple[float, float, float]
@@ -414,6 +415,10 @@ class Simulation:
                     if now - last_report > 0.2:
                         progress(self.t, opts.duration)
                         last_report = now
+        except ControlFault as fault:
+            status = "diverged"
+            cause = str(fault)
+            self.message = cause  # it names the time
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
             status = "diverged"
             state = ", ".join(
