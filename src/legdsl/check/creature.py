@@ -132,4 +132,5 @@ class CreatureChecker(ValueChecker):
             q0=tuple(q0),
             v0=tuple(v0),
             span=d.span,
+            stops=tuple(tree.joints.stops),
         )

@@ -214,6 +214,23 @@ class Leg:
 
 
 @dataclass(frozen=True)
+class Stop:
+    """A joint limit as a mechanical stop: past ``low`` or ``high`` the coordinate meets a
+    one-sided spring-damper (``k`` N/m or N*m/rad, ``b`` N*s/m or N*m*s/rad) pushing it back.
+    Kept beside the joints, not in them: stops are runtime forces, not part of the dynamics
+    (the generated modules and their fingerprints do not depend on them)."""
+
+    dof: str
+    q_index: int
+    v_index: int
+    low: float
+    high: float
+    k: float
+    b: float
+    span: Span
+
+
+@dataclass(frozen=True)
 class Model:
     name: str
     source: str
@@ -229,6 +246,7 @@ class Model:
     q0: tuple[float, ...]
     v0: tuple[float, ...]
     span: Span
+    stops: tuple[Stop, ...] = ()  # joint limits written with 'stop k = ..., b = ...'
 
     @property
     def dofs(self) -> tuple[Dof, ...]:

@@ -192,6 +192,7 @@ class Run:
                 if result.cause
                 else {}
             ),
+            **({"time_on_stops": result.stop_time} if result.stop_time else {}),
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),

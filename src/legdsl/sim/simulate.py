@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Protocol
 
@@ -61,6 +61,7 @@ class RunResult:
     wall_time: float
     sim_time: float
     cause: str = ""  # why a run ended early: a signal, the fall, the divergence
+    stop_time: dict[str, float] = field(default_factory=dict)  # s on each joint stop
 
     @property
     def real_time_factor(self) -> float:
@@ -117,6 +118,8 @@ class Simulation:
         self._hip_body = [model.hip_body_index(leg) for leg in model.legs]
         self._foot = [self.contact_names.index(leg.foot) for leg in model.legs]
         self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
+        self._stops = model.stops
+        self.stop_time = {st.dof: 0.0 for st in self._stops}  # s spent past each stop
         if options.drop is not None:
             self._lift_to(options.drop)
 
@@ -150,6 +153,16 @@ class Simulation:
     ) -> list[float]:
         tau = [0.0] * self.dyn.NV
         self.actuators.apply(q, v, tau)
+        for st in self._stops:  # one-sided spring-dampers at the joint limits
+            x = q[st.q_index]
+            if x < st.low:
+                push = st.k * (st.low - x) - st.b * v[st.v_index]
+                if push > 0:  # a stop pushes, never pulls
+                    tau[st.v_index] += push
+            elif x > st.high:
+                push = st.k * (st.high - x) - st.b * v[st.v_index]
+                if push < 0:
+                    tau[st.v_index] += push
         ground = self.ground
         if ground is not None and any(ground.touching):
             pos, vel, yaws = self._contact_kinematics(q, v)
@@ -280,6 +293,9 @@ class Simulation:
             self._normalise(q)
         self.q, self.v = q, v
         self.steps_taken += 1
+        for st in self._stops:
+            if not st.low <= q[st.q_index] <= st.high:
+                self.stop_time[st.dof] += dt
         self.t = self.steps_taken * dt
         if self.ground is not None:
             self.events += self.ground.update(self.t, *self._contact_kinematics(q, v))
@@ -288,6 +304,10 @@ class Simulation:
     def energy(self) -> tuple[float, float, float]:
         """Kinetic, gravitational and elastic (actuator and ground springs) energy now."""
         elastic = self.actuators.elastic_energy(self.q)
+        for st in self._stops:
+            x = self.q[st.q_index]
+            past = st.low - x if x < st.low else x - st.high if x > st.high else 0.0
+            elastic += 0.5 * st.k * past * past
         if self.ground is not None:
             elastic += self.ground.elastic_energy(self.dyn.contact_positions(self.q))
         return (
@@ -447,6 +467,7 @@ class Simulation:
             wall_time=wall,
             sim_time=self.t,
             cause=cause,
+            stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
         )
 
     def _all_events(self) -> list[dict[str, Any]]:
