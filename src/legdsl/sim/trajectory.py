@@ -204,11 +204,27 @@ def load_run_info(directory: Path) -> dict[str, Any]:
         ) from None
     if not isinstance(info, dict):
         raise UsageError(f"{path} is not a run's record (a JSON object); run the creature again")
-    for key, kind in (("source", str), ("creature", str)):
-        if key in info and not isinstance(info[key], kind):
-            raise UsageError(f"{path}: '{key}' is not a {kind.__name__}; run the creature again")
-    if "paths" in info and not isinstance(info["paths"], list | type(None)):
-        raise UsageError(f"{path}: 'paths' is not a list; run the creature again")
+    again = "; run the creature again (legdsl run FILE.leg --out DIR)"
+    kinds: dict[str, Any] = {
+        "source": str, "creature": str, "status": str, "message": str, "controller": (str, type(None)),
+        "options": dict, "settings": dict, "inputs": dict, "params": dict, "paths": (list, type(None)),
+        "path_reports": list, "events": list, "samples": int, "steps": int,
+        "sim_time": (int, float),
+    }  # fmt: skip
+    for key, kind in kinds.items():
+        if key in info and (not isinstance(info[key], kind) or isinstance(info[key], bool)):
+            raise UsageError(f"{path}: '{key}' has the wrong type{again}")
+    for event in info.get("events", []):
+        if not (
+            isinstance(event, dict)
+            and isinstance(event.get("t"), int | float)
+            and math.isfinite(event["t"])
+            and isinstance(event.get("kind"), str)
+        ):
+            raise UsageError(f"{path}: an event is damaged ({str(event)[:60]}){again}")
+    for spec in info.get("paths") or []:
+        if not isinstance(spec, dict):
+            raise UsageError(f"{path}: a path is damaged ({str(spec)[:60]}){again}")
     return info
 
 
