@@ -518,6 +518,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     try:
+        if args.command in ("animate", "export-motion"):  # their outputs, checked first
+            from legdsl.pipeline.options import check_output_file
+
+            for flag, value in (("-o", args.output), ("--video", getattr(args, "video", None))):
+                if value:
+                    check_output_file(value, flag)
         return _COMMANDS[args.command](args)
     except LegError as e:
         print(e.render(), file=sys.stderr)
@@ -531,6 +537,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Interrupted:
         print("legdsl: terminated (SIGTERM)", file=sys.stderr)
         return EXIT_TERMINATED
+    except OSError as e:  # the file system refused: a path or permission of the user's
+        if args.debug:
+            traceback.print_exc()
+        where = f" ({e.filename})" if e.filename else ""
+        print(
+            f"legdsl: {e.strerror or e}{where}; check the path and its permissions",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
         if args.debug:
             traceback.print_exc()

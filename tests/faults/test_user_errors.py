@@ -230,3 +230,24 @@ def test_deep_nesting_that_is_accepted_compiles_and_runs(
             "--time", "0.05", "--out", str(tmp_path / "run")]  # fmt: skip
     code, err = _run(capsys, argv)
     assert code == 0, err
+
+
+@pytest.mark.parametrize("where", ["a directory", "under a file", "unwritable"])
+@pytest.mark.parametrize("command", ["animate", "animate --video", "export-motion", "plot"])
+def test_a_reader_output_that_cannot_be_written_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], a_run: Path, tmp_path: Path, where: str, command: str
+) -> None:
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    suffix = {"animate": ".html", "animate --video": ".gif", "export-motion": ".glb"}
+    name = "out" + suffix.get(command, ".png")
+    target = {"a directory": tmp_path, "under a file": a_file / name,
+              "unwritable": Path("/proc") / name}[where]  # fmt: skip
+    words = command.split()
+    flag = "--video" if "--video" in words else "-o"
+    argv = [words[0], str(a_run), flag, str(target)]
+    if words[0] != "plot":
+        argv += ["--source", HOPPER]
+    code, err = _run(capsys, argv)
+    assert code == 2, err
+    assert str(target) in err

@@ -94,12 +94,13 @@ def _why(e: OSError) -> str:
     return e.strerror or str(e)
 
 
-def check_output_dir(path: str | Path, flag: str) -> Path:
+def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = None) -> Path:
     """A directory we may write (made later if missing): not a file, not under a file, and
     writable where it would be made. Raise ``UsageError`` otherwise."""
     path = Path(path)
+    given = f"{flag} {shown if shown is not None else path}"
     if path.exists() and not path.is_dir():
-        raise UsageError(f"{flag} {path}: this is a file, not a directory; give a directory")
+        raise UsageError(f"{given}: this is a file, not a directory; give a directory")
     probe = path
     while not probe.exists():
         if probe.parent == probe:
@@ -107,14 +108,14 @@ def check_output_dir(path: str | Path, flag: str) -> Path:
         probe = probe.parent
     if probe.exists() and not probe.is_dir():
         raise UsageError(
-            f"{flag} {path}: {probe} is a file, so nothing can be made under it; give a directory"
+            f"{given}: {probe} is a file, so nothing can be made under it; give a directory"
         )
     try:  # a real probe: os.access says yes to root, also on a read-only or special file system
         with tempfile.TemporaryFile(dir=probe, prefix=".legdsl-probe-"):
             pass
     except OSError as e:
         raise UsageError(
-            f"{flag} {path}: cannot write in {probe} ({_why(e)}); give a directory you can write"
+            f"{given}: cannot write in {probe} ({_why(e)}); give a directory you can write"
         ) from None
     return path
 
@@ -130,7 +131,7 @@ def check_output_file(path: str | Path, flag: str) -> Path:
             f"{flag} {path}: {parent} is a file, so nothing can be made under it; "
             "give a file in a directory"
         )
-    check_output_dir(parent, flag)
+    check_output_dir(parent, flag, path)
     return path
 
 
