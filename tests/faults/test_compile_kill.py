@@ -130,3 +130,34 @@ def test_write_atomic_refuses_other_types_and_keeps_the_old_file(tmp_path: Path)
         write_atomic(target, 42)  # type: ignore[arg-type]
     assert target.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["a.json"]
+
+
+RACER = """
+import sys
+from pathlib import Path
+from legdsl.pipeline.generated import write_module_dir
+tag = sys.argv[2]
+for _ in range(10):
+    write_module_dir(Path(sys.argv[1]), "creature", [(n, tag + " " + n) for n in sys.argv[3:]])
+"""
+
+
+def test_parallel_writers_of_one_module_never_collide(tmp_path: Path) -> None:
+    """Two compiles of one creature at the same moment: both succeed, the result is one
+    writer's complete set, and nothing is left behind."""
+    root = tmp_path / "generated"
+    procs = [
+        subprocess.Popen(
+            [sys.executable, "-c", RACER, str(root), f"W{k}", *FILES],
+            env=_env(None),
+            stderr=subprocess.PIPE,
+        )
+        for k in range(3)
+    ]
+    for proc in procs:
+        _, err = proc.communicate(timeout=120)
+        assert proc.returncode == 0, err.decode()
+    contents = _contents(root / "creature")
+    tags = {text.split()[0] for text in contents.values()}
+    assert len(tags) == 1 and sorted(contents) == sorted(FILES)
+    assert sorted(p.name for p in root.iterdir()) == ["creature"]
