@@ -106,6 +106,7 @@ class StateMachine:
         self.entered_at = 0.0
         self.started = False
         self.events: list[dict[str, Any]] = []
+        self._sane = True  # the simulation's state is finite (set at each call)
         self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
 
     @property
@@ -136,13 +137,19 @@ class StateMachine:
               t: float, state: int) -> Any:  # fmt: skip
         """A generated function of the control module; a failure, or an output that is not
         finite, becomes a ``ControlFault`` naming the .leg statement."""
+        # A state that is no longer finite is the simulation's divergence, not the control
+        # law's fault: let it through to the divergence check. (Sensors may be NaN on
+        # purpose: a stance time before the first stance.)
+        sane = self._sane
         try:
             out = table[key](*args)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
             # (a TypeError: a comparison with the complex number a fractional power of a
             # negative number gives in Python)
+            if not sane:  # the simulation's divergence: the run loop reports it as such
+                raise ValueError(f"{type(err).__name__}: {err}") from None
             raise self._fault(kind, key, args, t, state, f"{type(err).__name__}: {err}") from None
-        if kind != "event":
+        if kind != "event" and sane:
             for i, x in enumerate(out):
                 if isinstance(x, complex) or not math.isfinite(x):
                     raise self._fault(kind, key, args, t, state, f"an output is {x}", i)
@@ -163,6 +170,7 @@ class StateMachine:
 
     def __call__(self, sim: Any) -> None:
         t = sim.t
+        self._sane = all(math.isfinite(x) for x in sim.q) and all(math.isfinite(x) for x in sim.v)
         self._apply_schedule(t)
         touching = (
             sim.ground.touching if sim.ground is not None else [False] * len(self.sensors.clocks)

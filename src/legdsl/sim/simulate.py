@@ -497,6 +497,8 @@ class Simulation:
 
     def _record(self, traj: Trajectory, row: int) -> None:
         dyn, q, v = self.dyn, self.q, self.v
+        if not all(math.isfinite(x) for x in q) or not all(math.isfinite(x) for x in v):
+            raise Divergence("the state is no longer finite (NaN or infinity)")  # not recorded
         traj.t[row] = self.t
         traj.q[row] = q
         traj.v[row] = v

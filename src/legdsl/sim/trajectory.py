@@ -123,6 +123,24 @@ class Trajectory:
         except Exception as e:  # a truncated zip, a damaged entry, bad JSON in meta, ...
             raise UsageError(f"cannot read {path} ({type(e).__name__}: {e}){again}") from None
         try:
+            if not isinstance(meta, dict):
+                raise TypeError("it is not an object")
+            for key in ("q_names", "v_names", "contact_names", "leg_names", "state_names"):
+                if not all(isinstance(n, str) for n in meta.get(key, [])):
+                    raise TypeError(f"{key} is not a list of names")
+            feet = meta["leg_feet"]
+            if not isinstance(feet, list) or not all(
+                isinstance(i, int) and 0 <= i < len(meta["contact_names"]) for i in feet
+            ):
+                raise TypeError("leg_feet is not a list of contact indices")
+            for key in ("total_mass", "gravity"):
+                value = meta.get(key, 0.0)
+                if isinstance(value, bool) or not isinstance(value, int | float):
+                    raise TypeError(f"{key} is not a number")
+                if not math.isfinite(value) or value < 0:
+                    raise ValueError(f"{key} is {value}")
+            if not isinstance(meta.get("planar", True), bool):
+                raise TypeError("planar is not true or false")
             for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet"):
                 meta[key] = tuple(meta[key])
             meta["state_names"] = tuple(meta.get("state_names", ()))
@@ -146,6 +164,15 @@ class Trajectory:
             a = getattr(self, name)
             if n < 0 or a.ndim != ndim or a.shape[0] != n:
                 raise UsageError(f"{path}: the array {name} has the wrong shape {a.shape}{again}")
+        t = self.t
+        if not np.issubdtype(t.dtype, np.number) or not (
+            np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)
+        ):
+            raise UsageError(f"{path}: its times are not finite and increasing{again}")
+        for name in ("q", "v", "com", "root_pos", "root_rpy"):  # a run records finite states only
+            a = getattr(self, name)
+            if not np.issubdtype(a.dtype, np.number) or not np.all(np.isfinite(a)):
+                raise UsageError(f"{path}: the array {name} is not all finite numbers{again}")
         if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
             raise UsageError(f"{path}: q or v does not match its coordinate names{again}")
         if self.contact.shape[1] != len(self.contact_names) or self.force.shape[1:] != (
@@ -153,6 +180,13 @@ class Trajectory:
             3,
         ):
             raise UsageError(f"{path}: contact or force does not match its contact names{again}")
+        legs = len(self.leg_names)
+        if not (self.leg_length.shape[1] == self.leg_spring_energy.shape[1] == legs
+                == len(self.leg_feet)):  # fmt: skip
+            raise UsageError(f"{path}: the leg arrays do not match its leg names{again}")
+        if self.state.size and (self.state.max() >= max(len(self.state_names), 1)
+                                or self.state.min() < -1):  # fmt: skip
+            raise UsageError(f"{path}: a controller state index is out of range{again}")
 
     def csv_text(self) -> str:
         """One row per sample; column names carry their units."""
