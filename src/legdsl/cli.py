@@ -8,11 +8,14 @@ reported as such (with the traceback under ``--debug``) and exits with 70.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import signal
 import sys
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import Any
 
 from legdsl import __version__
 from legdsl.lang.errors import LegError, UsageError
@@ -20,6 +23,8 @@ from legdsl.lang.errors import LegError, UsageError
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
 EXIT_FELL = 4
+EXIT_INTERRUPTED = 130  # Ctrl-C (SIGINT), as shells report it; the run directory is written
+EXIT_TERMINATED = 143  # SIGTERM; likewise
 EXIT_INTERNAL = 70
 
 Command = Callable[[argparse.Namespace], int]
@@ -55,33 +60,101 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
+@contextlib.contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """While simulating, SIGTERM raises ``Interrupted``, which the run loop turns into the
+    status ``interrupted`` as it does Ctrl-C's ``KeyboardInterrupt``."""
+    from legdsl.sim.simulate import Interrupted
+
+    def stop(signum: int, frame: Any) -> None:
+        raise Interrupted("SIGTERM")
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def _deferred_interrupts(out: Path) -> Iterator[list[str]]:
+    """While the run directory is written, SIGINT and SIGTERM are noted, not obeyed: the
+    directory is finished first (it takes a moment), then legdsl exits as interrupted."""
+    late: list[str] = []
+
+    def note(signum: int, frame: Any) -> None:
+        late.append(signal.Signals(signum).name)
+        print(f"legdsl: finishing {out}/ first; it takes a moment", file=sys.stderr, flush=True)
+
+    previous = {sig: signal.signal(sig, note) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield late
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _numeric(args: argparse.Namespace, dest: str, flag: str, spec: Any) -> Any:
+    """The option's value in SI: parsed (with its unit) when given as text, else the default."""
+    from legdsl.pipeline.options import read_numeric
+
+    value = getattr(args, dest)
+    return read_numeric(flag, value, spec) if isinstance(value, str) else value
+
+
+def _read_window(args: argparse.Namespace) -> None:
+    """--from and --to as seconds (a unit is welcome: 3s, 500ms); the end after the start."""
+    from legdsl.pipeline.options import WINDOW
+
+    args.t_from = _numeric(args, "t_from", "--from", WINDOW)
+    args.t_to = _numeric(args, "t_to", "--to", WINDOW)
+    if args.t_to is not None and args.t_to <= args.t_from:
+        raise UsageError(f"--to {args.t_to:g}s must come after --from {args.t_from:g}s")
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     import math
 
+    from legdsl.pipeline.options import (
+        RUN_NUMERIC,
+        check_output_dir,
+        check_run_options,
+        os_error,
+    )
     from legdsl.pipeline.report import progress_bar
     from legdsl.pipeline.scaled import run_options
     from legdsl.pipeline.session import RunSession
 
+    values = {
+        field: _numeric(args, flag[2:].replace("-", "_"), flag, spec)
+        for field, (flag, spec) in RUN_NUMERIC.items()
+    }
+    tilt = values.pop("fall_tilt")
+    if not isinstance(args.fall_tilt, str):
+        tilt = math.radians(tilt)  # the default, in degrees
+    if args.out:  # checked before anything is compiled or simulated
+        check_output_dir(args.out, "--out")
     session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
     if args.scale is not None and args.animate:  # its run.json names the unscaled creature
         raise UsageError(
             "--animate draws the file's creature: animate the run of 'legdsl scale's file"
         )
+    # dt, control_dt and record_rate not given come from the creature's simulation block
     options = run_options(
-        session.model,
-        args.scale,
-        duration=args.time,
-        dt=args.dt,
-        integrator=args.integrator,
-        control_dt=args.control_dt,
-        record_rate=args.record_rate,
-        fall_height=args.fall_height,
-        fall_tilt=math.radians(args.fall_tilt),
-        drop=args.drop,
+        session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
     )
+    check_run_options(options)
+    out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
-    run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
-    out = run.write(Path(args.out) if args.out else Path("runs") / session.model.name)
+    with (
+        _terminate_as_interrupt()
+    ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
+        run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
+    with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
+        try:
+            out = run.write(out)
+        except OSError as e:
+            raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
@@ -89,6 +162,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         animate_result(out, session.model, run.result, session.dynamics)
     result = run.result
+    if result.status == "interrupted" or late:
+        print(f"legdsl: {result.message or 'interrupted'}; {out}/ is complete", file=sys.stderr)
+        return EXIT_TERMINATED if "SIGTERM" in result.cause else EXIT_INTERRUPTED
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -107,6 +183,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import path_summary
 
     try:
+        _read_window(args)
         if args.table2 is not None and args.table2 not in TABLE2:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
@@ -152,6 +229,10 @@ def _cmd_compile(args: argparse.Namespace) -> int:
         )
         return EXIT_USER_ERROR
 
+    from legdsl.pipeline.options import check_output_dir, os_error
+
+    check_output_dir(args.out, "--out")
+
     def progress(message: str) -> None:
         print(f"legdsl: {message}", file=sys.stderr, flush=True)
 
@@ -165,20 +246,23 @@ def _cmd_compile(args: argparse.Namespace) -> int:
             failed = True
             continue
         for c in compiled:
-            where = write_generated(c, args.out)
+            try:
+                where = write_generated(c, args.out)
+            except OSError as e:
+                raise os_error("the generated modules of", Path(args.out) / c.name, e) from None
             progress(f"{c.name}: wrote {where}/ ({time.perf_counter() - start:.2f} s in all)")
     return EXIT_USER_ERROR if failed else 0
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from legdsl.analysis.plot import first_leg_angles, plot_run, plot_top, run_paths
+    from legdsl.pipeline.options import check_output_file
+    from legdsl.sim.trajectory import Trajectory
 
+    _read_window(args)
     run = Path(args.dir)
-    if not (run / "trajectory.npz").is_file():
-        raise UsageError(
-            f"no trajectory.npz in {run}: give the directory a run wrote (legdsl run --out DIR)"
-        )
-    out = Path(args.output) if args.output else run / "figure6.png"
+    Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
+    out = check_output_file(args.output or run / "figure6.png", "--output")
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
     if args.top or run_paths(run):
@@ -191,7 +275,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.export.formats import default_path, export_text, write_atomic
+    from legdsl.pipeline.options import check_output_file, os_error
 
+    if args.output not in (None, "-"):
+        check_output_file(args.output, "-o")
     model = check_model(args.file, args.creature)
     if args.format != "urdf" and (args.base != "world" or args.link_mass):
         raise UsageError("--base and --link-mass are URDF options (--format urdf)")
@@ -201,28 +288,31 @@ def _cmd_export(args: argparse.Namespace) -> int:
     if args.output == "-":
         sys.stdout.write(text)
         return 0
-    out = args.output or default_path(model, args.format)
-    write_atomic(out, text)
+    out = check_output_file(args.output or default_path(model, args.format), "-o")
+    try:
+        write_atomic(out, text)
+    except OSError as e:
+        raise os_error("the export", out, e) from None
     print(f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)")
     return 0
 
 
 # legdsl run's numeric simulation options (RunOptions): flag, default, metavar, help
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
-    ("--dt", 0.0004, None, "integration step in s (default 0.0004, the paper's)"),
-    ("--control-dt", 0.002, None, "control interval in s (default 0.002)"),
-    ("--record-rate", 200.0, None, "samples per second to record (default 200; 0 records every step)"),
-    ("--drop", None, "H", "start with the lowest foot H metres above the ground"),
+    ("--dt", 0.0004, None, "integration step in s, or with its unit: 0.4ms (default 0.0004, the paper's)"),
+    ("--control-dt", 0.002, None, "control interval in s, or with its unit: 2ms (default 0.002)"),
+    ("--record-rate", 200.0, None, "samples per second to record, or 100Hz (default 200; 0 records every step)"),
+    ("--drop", None, "H", "start with the lowest foot H metres above the ground (or 30cm)"),
     ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start)"),
-    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees is a fall (default 60)"),
+    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees (or 1rad) is a fall (default 60)"),
 )  # fmt: skip
 
 
 def _add_window(p: argparse.ArgumentParser) -> None:
     """--from and --to: the part of a run to measure or draw."""
-    p.add_argument("--from", dest="t_from", type=float, default=0.0, metavar="T",
+    p.add_argument("--from", dest="t_from", default=0.0, metavar="T",
                    help="start of the window in s (default 0)")  # fmt: skip
-    p.add_argument("--to", dest="t_to", type=float, default=None, metavar="T",
+    p.add_argument("--to", dest="t_to", default=None, metavar="T",
                    help="end of the window in s (default: the end of the run)")  # fmt: skip
 
 
@@ -265,7 +355,9 @@ def _parser() -> argparse.ArgumentParser:
         description="Compile the creature if its generated module is missing or stale, simulate it "
         "with its actuators and ground contact, and write trajectory.npz, trajectory.csv and run.json "
         "into the output directory. Exit status: 0 ok, 2 a mistake in the input, "
-        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell.",
+        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell, "
+        f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM); the run "
+        "directory is written in every case, with what was recorded.",
         epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
@@ -290,7 +382,10 @@ def _parser() -> argparse.ArgumentParser:
         "(waypoints.csv); NAME= picks one of several paths; repeatable",
     )
     r.add_argument(
-        "--time", type=float, default=5.0, metavar="T", help="simulated seconds (default 5)"
+        "--time",
+        default=5.0,
+        metavar="T",
+        help="simulated time, a number of seconds or with its unit: 2s, 1min (default 5)",
     )
     r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
     r.add_argument(
@@ -300,7 +395,7 @@ def _parser() -> argparse.ArgumentParser:
         help="semi-implicit Euler (default) or RK4",
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
-        r.add_argument(flag, type=float, default=default, metavar=metavar, help=text)
+        r.add_argument(flag, default=default, metavar=metavar, help=text)
     # unless given, the creature's simulation block (if any) gives these (legdsl.pipeline.scaled)
     r.set_defaults(dt=None, control_dt=None, record_rate=None)
     r.add_argument(
@@ -473,9 +568,17 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from legdsl.sim.simulate import Interrupted
+
     parser = _parser()
     args = parser.parse_args(argv)
     try:
+        if args.command in ("animate", "export-motion"):  # their outputs, checked first
+            from legdsl.pipeline.options import check_output_file
+
+            for flag, value in (("-o", args.output), ("--video", getattr(args, "video", None))):
+                if value:
+                    check_output_file(value, flag)
         return _COMMANDS[args.command](args)
     except LegError as e:
         print(e.render(), file=sys.stderr)
@@ -485,7 +588,28 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except Interrupted:
+        print("legdsl: terminated (SIGTERM)", file=sys.stderr)
+        return EXIT_TERMINATED
+    except OSError as e:  # the file system refused: a path or permission of the user's
+        if args.debug:
+            traceback.print_exc()
+        where = f" ({e.filename})" if e.filename else ""
+        print(
+            f"legdsl: {e.strerror or e}{where}; check the path and its permissions",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
+        if args.debug:
+            traceback.print_exc()
+        print(
+            "legdsl: an expression in the input is nested too deeply to be handled; "
+            "split it into steps with 'let' or a signal",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     except Exception as e:  # a bug in legdsl, not in the user's file
         if args.debug:
             traceback.print_exc()

@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from legdsl.sim.trajectory import Trajectory
+from legdsl.lang.errors import UsageError
+from legdsl.sim.trajectory import Trajectory, load_run_info
 
 if TYPE_CHECKING:
     from legdsl.ir.paths import PathSpec
@@ -101,12 +102,10 @@ def plot_run(
 
 def first_leg_angles(run: Path) -> tuple[str, ...]:
     """The hinge coordinates of the run's first leg, read back from its creature's .leg file."""
-    import json
-
     from legdsl.check.source import check_model
 
-    info = json.loads((run / "run.json").read_text())
-    source = Path(info["source"])
+    info = load_run_info(run)
+    source = Path(info.get("source", ""))
     if not source.is_file():
         return ()
     model = check_model(source, info.get("creature"))
@@ -118,15 +117,15 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
 
 def run_paths(run: Path) -> list[PathSpec]:
     """The paths a run followed (``PathSpec``s from its run.json; none for older runs)."""
-    import json
-
     from legdsl.ir.paths import PathSpec
 
-    info_file = run / "run.json"
-    if not info_file.is_file():
+    if not (run / "run.json").is_file():
         return []
-    info = json.loads(info_file.read_text())
-    return [PathSpec.from_json(p) for p in info.get("paths") or []]
+    info = load_run_info(run)
+    try:
+        return [PathSpec.from_json(p) for p in info.get("paths") or []]
+    except (KeyError, TypeError, ValueError, AttributeError) as e:
+        raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
 
 
 def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:

@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.files import write_atomic
+
 FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a stance
 
 
@@ -141,9 +143,7 @@ class GaitMetrics:
 
 def write_json(metrics: GaitMetrics, path: Path) -> None:
     """Write ``metrics.to_dict()`` to ``path`` whole or not at all."""
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(metrics.to_dict(), indent=2, allow_nan=False) + "\n")
-    tmp.replace(path)
+    write_atomic(path, json.dumps(metrics.to_dict(), indent=2, allow_nan=False) + "\n")
 
 
 def num_text(x: float) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from legdsl.check.scope import CreaturePart
 from legdsl.check.values import article, did_you_mean, unit_hint
-from legdsl.ir.model import Actuator, Body, Contact, Dof, setting_kind
+from legdsl.ir.model import NON_NEGATIVE, Actuator, Body, Contact, Dof, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
@@ -79,7 +79,7 @@ class ActuatorChecker(CreaturePart):
             v = self.scalar(arg.value, want, f"'{key}'")
             if v is None:
                 continue
-            if key in ("k", "b", "kp", "kv", "max") and v < 0:
+            if key in NON_NEGATIVE and v < 0:
                 self.err(arg.value.span, f"'{key}' must not be negative")
                 continue
             if key == "max":

@@ -14,7 +14,7 @@ from legdsl.lang import ast
 
 BODY_PROPS = (
     "mass", "inertia", "com", "length", "direction", "shape", "color",
-    "axis", "axes", "initial", "velocity", "limits",
+    "axis", "axes", "initial", "velocity", "limits", "stop",
 )  # fmt: skip
 SHAPES = {
     "box": ("x", "y", "z"),

@@ -23,7 +23,7 @@ from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_shared import expand_includes, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import MAX_NAME, did_you_mean, too_long
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import Constant, Type
 from legdsl.ir.model import Model
@@ -180,6 +180,8 @@ class ControllerChecker:
             else:
                 names[name] = ir.Named("record", name, None)
 
+        if len(d.name.name) > MAX_NAME:
+            self.err(d.name.span, too_long("controller", d.name.name))
         if not tables:
             self.err(
                 d.name.span,

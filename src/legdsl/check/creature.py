@@ -25,7 +25,7 @@ from legdsl.check.scope import Scope
 from legdsl.check.simulation import SimulationChecker
 from legdsl.check.templates import expand
 from legdsl.check.tree import TreeChecker
-from legdsl.check.values import ValueChecker, did_you_mean
+from legdsl.check.values import MAX_NAME, ValueChecker, did_you_mean, too_long
 from legdsl.ir.model import Model, SimulationDefaults
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
@@ -43,6 +43,8 @@ class CreatureChecker(ValueChecker):
 
     def check(self) -> Model | None:
         d = self.decl
+        if len(d.name.name) > MAX_NAME:
+            self.err(d.name.span, too_long("creature", d.name.name))
         flags = [i for i in d.items if isinstance(i, ast.Flag)]
         if not flags:
             self.err(
@@ -144,4 +146,5 @@ class CreatureChecker(ValueChecker):
             v0=tuple(v0),
             span=d.span,
             simulation=simulation or SimulationDefaults(),
+            stops=tuple(tree.joints.stops),
         )

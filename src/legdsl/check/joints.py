@@ -6,17 +6,27 @@ from __future__ import annotations
 
 import math
 
-from legdsl.check.scope import CreaturePart
+from legdsl.check.scope import CreaturePart, Scope
 from legdsl.check.values import did_you_mean
-from legdsl.ir.model import Body, Dof, Joint, Vec3
+from legdsl.ir.model import Body, Dof, Joint, Stop, Vec3
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
 JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
 
 
+STOP_EXAMPLE = {
+    "hinge": "'stop k = 2000 N*m/rad, b = 20 N*m*s/rad'",
+    "slide": "'stop k = 1e5 N/m, b = 500 N*s/m'",
+}
+
+
 class JointChecker(CreaturePart):
     """Checks the attachment of a body and the joint properties given in its block."""
+
+    def __init__(self, scope: Scope):
+        super().__init__(scope)
+        self.stops: list[Stop] = []  # of every joint checked, in tree order
 
     def joint(
         self,
@@ -84,6 +94,7 @@ class JointChecker(CreaturePart):
         free3d = kind == "free" and not self.planar
         initial, rates = self.initial_values(decl, props, coord_names, motions, free3d)
         limits = self.limits(props.get("limits"), coord_names, motions)
+        stop = self.stop(props.get("stop"), props.get("limits"), limits, motions)
         dofs = tuple(
             Dof(
                 name=c,
@@ -98,6 +109,13 @@ class JointChecker(CreaturePart):
             )
             for i, c in enumerate(coord_names)
         )
+        if stop is not None:
+            k, b, span = stop
+            self.stops += [
+                Stop(d.name, d.q_index, d.v_index, *d.limits, k, b, span)
+                for d in dofs
+                if d.limits is not None
+            ]
         nq, nv = (7, 6) if free3d else (len(dofs), len(dofs))
         joint = Joint(name, kind, parent, body.name, origin, dofs, q_start, nq, v_start, nv, span)
         return joint, list(initial), list(rates)
@@ -243,6 +261,54 @@ class JointChecker(CreaturePart):
                 ang.update({k: table[k] for k in ang})
         qw, qx, qy, qz = _quat_from_rpy(ang["roll"], ang["pitch"], ang["yaw"])
         return [pos["x"], pos["y"], pos["z"], qw, qx, qy, qz], list(vel.values())
+
+    def stop(
+        self,
+        prop: ast.Prop | None,
+        limits_prop: ast.Prop | None,
+        limits: list[tuple[float, float] | None],
+        motions: list[str],
+    ) -> tuple[float, float, Span] | None:
+        """``stop k = STIFFNESS, b = DAMPING``: the joint's limits are mechanical stops."""
+        if prop is None:
+            return None
+        if limits_prop is None:
+            self.err(prop.key.span, "a stop needs the joint's limits: add 'limits LOW to HIGH'")
+            return None
+        if not isinstance(prop.value, ast.Assigns):
+            self.err(prop.value.span, f"write the stop as {STOP_EXAMPLE[motions[0]]}")
+            return None
+        found: dict[str, float] = {}
+        hinge = motions[0] == "hinge"
+        for item in prop.value.items:
+            key = item.target.name
+            if key not in ("k", "b"):
+                self.err(
+                    item.target.span,
+                    f"a stop takes k (stiffness) and b (damping), not '{key}'"
+                    + did_you_mean(key, ["k", "b"]),
+                )
+                continue
+            if key in found:
+                self.err(item.target.span, f"'{key}' is given twice")
+                continue
+            kind = {"k": "stiffness", "b": "damping"}[key]
+            kind = f"{'angular' if hinge else 'linear'} {kind}"
+            v = self.scalar(item.value, kind, f"the stop's '{key}'")
+            if v is None:
+                continue
+            if v < 0 or (key == "k" and v == 0):
+                self.err(item.value.span, f"the stop's '{key}' must be positive")
+                continue
+            found[key] = v
+        if "k" not in found:
+            if not any(item.target.name == "k" for item in prop.value.items):
+                example = STOP_EXAMPLE[motions[0]]
+                self.err(prop.value.span, f"a stop needs its stiffness k: {example}")
+            return None
+        if any(m != motions[0] for m in motions) or not any(lim is not None for lim in limits):
+            return None
+        return found["k"], found.get("b", 0.0), prop.span
 
     def limits(
         self, prop: ast.Prop | None, coords: list[str], motions: list[str]

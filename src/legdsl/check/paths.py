@@ -53,6 +53,13 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
             p = values.vector(arg.value, "length", 2, "a point of the path")
             if p is None:
                 ok = False
+            elif points and (p[0], p[1]) == points[-1]:
+                diag.error(
+                    arg.span,
+                    f"point {len(points) + 1} of the {shape} is the point before it again; "
+                    "each point must differ from the one before (remove the repeat)",
+                )
+                ok = False
             else:
                 points.append((p[0], p[1]))
             continue
@@ -91,6 +98,12 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
             diag.error(
                 value.span,
                 f"a {shape} needs at least {least} points, got {len(points)}: write {shape}((0, 0) m, (10, 0) m{', (10, 10) m' if least == 3 else ''})",
+            )
+            return None
+        if shape == "polygon" and points[0] == points[-1]:
+            diag.error(
+                value.span,
+                "a polygon closes itself: its last point repeats the first; remove the last",
             )
             return None
         return PathSpec(name, shape, tuple(points), closed=shape == "polygon", lookahead=lookahead)

@@ -17,6 +17,18 @@ from legdsl.lang.units import KINDS, Dim, describe, parse_unit
 STDLIB = Path(__file__).parents[1] / "stdlib"
 
 
+# A creature's name names files and directories (generated/NAME/, runs/NAME/, NAME.xml), and a
+# controller's too (generated/NAME/control_CONTROLLER.py): they must fit a file name.
+MAX_NAME = 64
+
+
+def too_long(what: str, name: str) -> str:
+    return (
+        f"this {what} name is {len(name)} characters long; at most {MAX_NAME} "
+        f"(it names files, such as generated/NAME/), so shorten it"
+    )
+
+
 def place_of(span: Span) -> str:
     """``file:line:col`` for a note: the standard library by its own name, another file
     relative to the working directory where it can be (never a machine's absolute path)."""

@@ -8,14 +8,15 @@ renamed over it.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
 from legdsl.export.mjcf import model_to_mjcf
 from legdsl.export.urdf import model_to_urdf
+from legdsl.files import write_atomic
 from legdsl.ir.model import Model
+
+__all__ = ["FORMATS", "default_path", "export_text", "write_atomic"]
 
 FORMATS: dict[str, tuple[Callable[[Model], str], str]] = {
     "mjcf": (model_to_mjcf, ".xml"),
@@ -36,20 +37,3 @@ def export_text(model: Model, fmt: str, base: str = "world", link_mass: float = 
 def default_path(model: Model, fmt: str) -> Path:
     """``NAME.xml`` for MJCF, ``NAME.urdf`` for URDF, in the current directory."""
     return Path(model.name + FORMATS[fmt][1])
-
-
-def write_atomic(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename (parents are created)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; give it a normal file's mode
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

@@ -21,6 +21,7 @@ import numpy as np
 from legdsl import __version__
 from legdsl.export.motion import Motion, frame_rate, ground_area, quaternion_to_matrix
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
+from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("glb", "gltf")
@@ -298,12 +299,9 @@ def write_gltf(motion: Motion, path: Path, fmt: str = "glb", skin: bool = False)
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
     gltf = build_gltf(motion, skin)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
     if fmt == "glb":
-        tmp.write_bytes(b"".join(gltf.save_to_bytes()))
+        write_atomic(path, b"".join(gltf.save_to_bytes()))
     else:
         gltf.convert_buffers(_pygltflib().BufferFormat.DATAURI)
-        tmp.write_text(gltf.gltf_to_json())
-    tmp.replace(path)
+        write_atomic(path, gltf.gltf_to_json())
     return path.stat().st_size

@@ -50,7 +50,7 @@ from pathlib import Path
 from legdsl import __version__
 from legdsl.export.mjcontact import contact_parameters
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
-from legdsl.ir.model import Body, Joint, Model
+from legdsl.ir.model import Body, Joint, Model, Stop
 from legdsl.lang.errors import LegError
 
 TIMESTEP = 0.0004  # s, the paper's integration step
@@ -100,7 +100,7 @@ def model_to_mjcf(model: Model) -> str:
         joint = joints[body.name]
         order.append(joint)
         el = ET.SubElement(parent, "body", name=body.name, pos=nums(joint.origin))
-        _joint(el, joint)
+        _joint(el, joint, {st.dof: st for st in model.stops})
         i = body.inertia
         ET.SubElement(
             el,
@@ -266,7 +266,7 @@ def _ground(world: ET.Element, model: Model, taken: set[str]) -> list[str]:
     return names
 
 
-def _joint(body: ET.Element, joint: Joint) -> None:
+def _joint(body: ET.Element, joint: Joint, stops: dict[str, Stop] | None = None) -> None:
     if joint.is_free_3d:
         ET.SubElement(body, "freejoint", name="root")
         return
@@ -274,6 +274,9 @@ def _joint(body: ET.Element, joint: Joint) -> None:
         el = ET.SubElement(body, "joint", name=d.name, type=d.motion, axis=nums(d.axis))
         if d.limits is not None:
             el.set("range", nums(d.limits))
+        stop = (stops or {}).get(d.name)
+        if stop is not None:  # the stop's spring-damper: MuJoCo's direct (negative) solref
+            el.set("solreflimit", nums((-stop.k, -stop.b)))
 
 
 def _shape(body: ET.Element, b: Body) -> None:

@@ -18,7 +18,6 @@ sign chosen so that consecutive frames of a body are in the same hemisphere.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +27,7 @@ import numpy as np
 
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
-from legdsl.sim.trajectory import Trajectory
+from legdsl.sim.trajectory import Trajectory, load_run_info
 
 DEFAULT_FPS = 60.0
 
@@ -156,7 +155,7 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
             f"{directory} is not a run directory (it needs trajectory.npz and run.json); "
             "make one with: legdsl run FILE.leg --out DIR"
         )
-    info = json.loads((directory / "run.json").read_text())
+    info = load_run_info(directory)  # not JSON, not an object...: a UsageError
     if source is None:
         named = Path(info.get("source", ""))
         candidates = [named, directory / named, directory / named.name]

@@ -22,6 +22,7 @@ import numpy as np
 from legdsl.export.motion import Motion, Snapshot
 from legdsl.export.player import OVERLAYS
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
+from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 
 FFMPEG_HINT = (
@@ -83,8 +84,6 @@ def render_video(
     if motion.planar:
         ax.set_aspect("auto")
     times = np.arange(0.0, motion.duration + 1e-9, 1.0 / fps)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".part")
     frames = (_frame(fig, view, motion.at(float(t))) for t in times)
 
     def report(i: int) -> None:
@@ -92,14 +91,13 @@ def render_video(
             progress(times[i], times[-1])
 
     try:
-        if suffix == ".mp4":
-            _write_mp4(frames, tmp, fps, width, height, report)
-        else:
-            _write_gif(frames, tmp, fps, report)
-        tmp.replace(path)
+        with atomic_path(path) as tmp:
+            if suffix == ".mp4":
+                _write_mp4(frames, tmp, fps, width, height, report)
+            else:
+                _write_gif(frames, tmp, fps, report)
     finally:
         plt.close(fig)
-        tmp.unlink(missing_ok=True)
     return VideoResult(path, len(times), time.perf_counter() - start, path.stat().st_size)
 
 

@@ -140,6 +140,9 @@ SETTABLE = {
     "force": ("force",),
 }
 
+# Actuator arguments that must not be negative, in the .leg file and through --set alike.
+NON_NEGATIVE = ("k", "b", "kp", "kv", "max")
+
 
 def setting_kind(key: str, rotary: bool) -> str:
     """The physical kind (a key of ``units.KINDS``) of an actuator setting on a rotary or sliding joint."""
@@ -222,6 +225,23 @@ class Leg:
 
 
 @dataclass(frozen=True)
+class Stop:
+    """A joint limit as a mechanical stop: past ``low`` or ``high`` the coordinate meets a
+    one-sided spring-damper (``k`` N/m or N*m/rad, ``b`` N*s/m or N*m*s/rad) pushing it back.
+    Kept beside the joints, not in them: stops are runtime forces, not part of the dynamics
+    (the generated modules and their fingerprints do not depend on them)."""
+
+    dof: str
+    q_index: int
+    v_index: int
+    low: float
+    high: float
+    k: float
+    b: float
+    span: Span
+
+
+@dataclass(frozen=True)
 class Model:
     name: str
     source: str
@@ -238,6 +258,7 @@ class Model:
     v0: tuple[float, ...]
     span: Span
     simulation: SimulationDefaults = SimulationDefaults()
+    stops: tuple[Stop, ...] = ()  # joint limits written with 'stop k = ..., b = ...'
 
     @property
     def dofs(self) -> tuple[Dof, ...]:

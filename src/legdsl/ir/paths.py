@@ -16,6 +16,7 @@ counted without wrapping (a closed path's second lap goes on from its length).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -112,7 +113,14 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
         try:
             if len(parts) != 2:
                 raise ValueError
-            points.append((float(parts[0]), float(parts[1])))
+            point = (float(parts[0]), float(parts[1]))
+            if not all(math.isfinite(c) for c in point):
+                raise UsageError(f"--path {path}: line {n} is not finite: {line!r}")
+            if points and point == points[-1]:
+                raise UsageError(
+                    f"--path {path}: line {n} repeats the point before it; remove the repeat"
+                )
+            points.append(point)
         except ValueError:
             if not points and n == 1:
                 continue  # a header

@@ -287,13 +287,45 @@ class _ToAst(Transformer):
         return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
 
 
+# How deeply the syntax tree may nest (an expression of this many nested operators, say).
+# Every later stage walks expressions recursively; past this a 600-term sum or 600 nested
+# minus signs would meet Python's recursion limit, so it is refused here, with its position.
+MAX_NESTING = 120
+
+
 def parse(text: str, file: str = "<string>") -> ast.SourceFile:
     """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
     try:
         tree = lark_parser().parse(text, start="start")
     except UnexpectedInput as err:
         raise syntax_error(file, text, err) from None
+    _check_nesting(tree, file, text)
     return _build(tree, file, text)
+
+
+def _check_nesting(tree: Tree, file: str, text: str) -> None:
+    """Raise a ``LegError`` at the first place the tree nests deeper than ``MAX_NESTING``
+    (walked without recursion, so that any depth is measured safely)."""
+    stack: list[tuple[Tree, int, Tree | None]] = [(tree, 1, None)]
+    while stack:
+        node, depth, outer = stack.pop()
+        if depth > MAX_NESTING:
+            where = outer if outer is not None else node
+            meta = where.meta
+            line = getattr(meta, "line", 0)
+            span = Span(file, line, getattr(meta, "column", 0),
+                        getattr(meta, "end_line", line), getattr(meta, "end_column", 0))  # fmt: skip
+            raise LegError.at(
+                span,
+                f"this is nested too deeply (more than {MAX_NESTING} levels of operators or "
+                "calls); split it into steps with 'let' or a signal",
+                {file: text},
+            )
+        # the outermost node that is deeper than a statement marks where the trouble starts
+        mark = outer if outer is not None or depth < 8 else node
+        for child in node.children:
+            if isinstance(child, Tree):
+                stack.append((child, depth + 1, mark if depth >= 8 else None))
 
 
 def parse_value(text: str, file: str = "<string>") -> ast.Value:

@@ -25,7 +25,7 @@ none does: as events they are tested only while the machine waits for them.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import sympy
@@ -35,7 +35,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import Binding, Controller
 from legdsl.ir.model import Model
-from legdsl.lang.errors import InternalError
+from legdsl.lang.errors import InternalError, Span
 
 Roles = dict[str, tuple[str, ...]]  # role -> legs, under one binding
 
@@ -45,11 +45,17 @@ def sensor_symbol(key: str) -> Symbol:
     return Symbol(key.replace(".", "_"))
 
 
+# Where a statement came from: its span, then the spans of the action calls it was inlined
+# through, innermost first (for run-time faults; generated code does not depend on it).
+Where = tuple[Span, ...]
+
+
 @dataclass(frozen=True)
 class Setting:
     actuator: str
     key: str
     value: Expr
+    where: Where = ()
 
 
 @dataclass(frozen=True)
@@ -60,6 +66,7 @@ class Place:
     axes: tuple[str, ...]
     goals: tuple[Expr, ...]
     servos: tuple[str, ...]
+    where: Where = ()
 
 
 @dataclass(frozen=True)
@@ -69,6 +76,7 @@ class StateBody:
     records: tuple[tuple[str, Expr], ...]
     settings: tuple[Setting, ...]
     places: tuple[Place, ...] = ()
+    record_where: tuple[Where, ...] = ()  # one per entry of ``records``
 
 
 @dataclass
@@ -88,6 +96,8 @@ class LoweredController:
     params: tuple[tuple[str, float], ...]
     records: tuple[str, ...]
     sensors: tuple[str, ...] = ()
+    # (binding while waiting, state) -> where the state's row is (its event)
+    event_where: dict[tuple[int, int], Where] = field(default_factory=dict)
 
 
 class Lowerer:
@@ -112,15 +122,20 @@ class Lowerer:
     def lower(self) -> LoweredController:
         events: dict[tuple[int, int], sympy.Basic] = {}
         bodies: dict[tuple[int, int], StateBody] = {}
+        event_where: dict[tuple[int, int], Where] = {}
         for b, binding in enumerate(self.ctl.bindings):
             roles = dict(binding)
             for s, state in enumerate(self.ctl.states):
                 events[(b, s)] = self.expr(state.event, roles)
+                event_where[(b, s)] = (state.span,)
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
                 places: list[Place] = []
-                self.statements(state.body, roles, records, settings, places)
-                bodies[(b, s)] = StateBody(tuple(records), tuple(settings), tuple(places))
+                record_where: list[Where] = []
+                self.statements(state.body, roles, records, settings, places, (), record_where)
+                bodies[(b, s)] = StateBody(
+                    tuple(records), tuple(settings), tuple(places), tuple(record_where)
+                )
         return LoweredController(
             name=self.ctl.name,
             creature=self.model.name,
@@ -134,6 +149,7 @@ class Lowerer:
             params=tuple((c.name, c.value) for c in self.ctl.params),
             records=self.ctl.record_names,
             sensors=tuple(sorted(self.sensors)),
+            event_where=event_where,
         )
 
     def statements(
@@ -143,28 +159,37 @@ class Lowerer:
         records: list[tuple[str, Expr]],
         settings: list[Setting],
         places: list[Place],
+        calls: Where = (),
+        record_where: list[Where] | None = None,
     ) -> None:
         for s in stmts:
             if isinstance(s, ir.Record):
                 records.append((s.name, self.expr(s.value, roles)))
+                if record_where is not None:
+                    record_where.append((s.span, *calls))
             elif isinstance(s, ir.Assign):
                 value = self.expr(s.value, roles)
                 for part in self.parts(s.actuator, roles):
-                    settings.append(Setting(part.name, s.key, value))
+                    settings.append(Setting(part.name, s.key, value, (s.span, *calls)))
             elif isinstance(s, ir.Do):
-                self.statements(s.body, roles, records, settings, places)
+                inner = (s.span, *calls)
+                self.statements(s.body, roles, records, settings, places, inner, record_where)
             elif isinstance(s, ir.Place):
-                places.extend(self.place(s, roles))
+                places.extend(self.place(s, roles, (s.span, *calls)))
             # swaps are done on entry, before anything else (the IR's bindings)
 
-    def place(self, s: ir.Place, roles: Roles) -> list[Place]:
+    def place(self, s: ir.Place, roles: Roles, where: Where = ()) -> list[Place]:
         """One solve per leg of the role (each foot placed from its own hip)."""
         legs = self.legs(s.legs, roles)
         goals = tuple(self.expr(goal, roles) for goal in s.goals)
         per_servo = [self.parts(servo, roles) for servo in s.servos]
         return [
             Place(
-                leg, s.axes, goals, tuple(parts[min(k, len(parts) - 1)].name for parts in per_servo)
+                leg,
+                s.axes,
+                goals,
+                tuple(parts[min(k, len(parts) - 1)].name for parts in per_servo),
+                where,
             )
             for k, leg in enumerate(legs)
         ]

@@ -10,13 +10,13 @@ so a failure leaves the previous directory untouched and never half-written.
 from __future__ import annotations
 
 import importlib.util
-import os
-import shutil
+from collections.abc import Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from legdsl.codegen.python.dynamics import controller_fingerprint, model_fingerprint
+from legdsl.files import instant, recover_dir, remove, replace_dir, temp_sibling, write_atomic
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -77,13 +77,18 @@ def _load(
     """Import ``generated/NAME/file`` if its fingerprint constant matches, else compile first."""
     path = generated / model.name / file
     label = f"legdsl_generated_{model.name}_{path.stem}"
+    if generated.is_dir():
+        recover_dir(generated / model.name)  # after a compile that was killed
+    reason = "missing"
     if path.is_file():
-        module = import_module_file(path, label)
-        if getattr(module, stamp[0], None) == stamp[1]:
-            return module
-        reason = "stale"
-    else:
-        reason = "missing"
+        try:
+            module = import_module_file(path, label)
+        except Exception as e:  # half-written, hand-edited, a merge-conflict marker...
+            reason = f"unreadable ({type(e).__name__}: {e})"
+        else:
+            if getattr(module, stamp[0], None) == stamp[1]:
+                return module
+            reason = "stale"
     if log is not None:
         print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
     compiled = (
@@ -95,28 +100,35 @@ def _load(
 
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
     """Write ``out_root/NAME/`` as a whole: the old directory is replaced only once the new one is complete."""
-    root = Path(out_root)
-    root.mkdir(parents=True, exist_ok=True)
-    final = root / compiled.name
-    fresh = root / f".{compiled.name}.new-{os.getpid()}"
-    retired = root / f".{compiled.name}.old-{os.getpid()}"
-    for leftover in (fresh, retired):
-        if leftover.exists():
-            shutil.rmtree(leftover)
-    fresh.mkdir()
+    return write_module_dir(Path(out_root), compiled.name, compiled.files)
+
+
+def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) -> Path:
+    """Write the files into a fresh hidden sibling ``.NAME.new-PID-RANDOM``, then swap it in.
+
+    A writer killed at any instant leaves ``root/NAME`` old or new and whole, or (killed
+    between the two renames of the swap) missing with its old copy beside it, which
+    ``recover_dir`` puts back: it runs here first and before every load.
+    """
     try:
-        for name, text in compiled.files:
-            (fresh / name).write_text(text, encoding="utf-8", newline="\n")
-        if final.exists():
-            final.rename(retired)
-        try:
-            fresh.rename(final)
-        except BaseException:
-            if retired.exists() and not final.exists():
-                retired.rename(final)  # put the old directory back
-            raise
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"cannot write generated modules into {root}: {_why(e)}") from e
+    final = root / name
+    recover_dir(final)
+    fresh = temp_sibling(final, "new")
+    try:
+        fresh.mkdir()
+        instant("made the new directory")
+        for file, text in files:
+            write_atomic(fresh / file, text)
+            instant(f"wrote {file}")
+        replace_dir(fresh, final)
     except BaseException:
-        shutil.rmtree(fresh, ignore_errors=True)
+        remove(fresh)
         raise
-    shutil.rmtree(retired, ignore_errors=True)
     return final
+
+
+def _why(e: OSError) -> str:
+    return e.strerror or str(e)

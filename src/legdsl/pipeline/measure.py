@@ -34,12 +34,7 @@ def measure_run(
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``.
     """
     run = Path(run)
-    if not (run / "trajectory.npz").is_file():
-        raise UsageError(f"no trajectory.npz in {run}")
-    try:
-        trajectory = Trajectory.load(run)
-    except (OSError, KeyError, ValueError) as e:  # a damaged or foreign file, not our bug
-        raise UsageError(f"cannot read {run / 'trajectory.npz'}: {e}") from None
+    trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
     try:
         metrics = compute_metrics(
             trajectory,
@@ -54,7 +49,10 @@ def measure_run(
         raise UsageError(str(e)) from None
     row = clearance_row(run, trajectory, metrics.flights, Path(generated))
     metrics.summaries = with_clearance(metrics.summaries, row)
-    write_json(metrics, run / "metrics.json")
+    try:
+        write_json(metrics, run / "metrics.json")
+    except OSError as e:
+        raise UsageError(f"cannot write {run / 'metrics.json'}: {e.strerror or e}") from None
     start = t_from if t_from > 0 else PATH_FROM
     reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
     return metrics, reports

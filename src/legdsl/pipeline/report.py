@@ -30,6 +30,9 @@ def summary(model: Model, result: RunResult) -> str:
         ("samples", str(len(tr))),
         ("touchdowns / liftoffs", f"{touchdowns} / {liftoffs}"),
     ]
+    if result.stop_time:
+        on = ", ".join(f"{dof} {t:.3f} s" for dof, t in result.stop_time.items())
+        rows.append(("time on joint stops", on))
     if len(tr):
         energy0 = tr.kinetic[0] + tr.potential[0] + tr.elastic[0]
         energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]

@@ -24,6 +24,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
+from legdsl.files import leftovers, remove, write_atomic
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -31,12 +32,14 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline import scaled
 from legdsl.pipeline.generated import load_controller, load_dynamics
+from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
+RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
 
 
 class RunSession:
@@ -102,6 +105,7 @@ class RunSession:
         creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
         and its outputs by L (``legdsl.pipeline.scaled``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
+        check_run_options(asked)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
@@ -121,6 +125,7 @@ class RunSession:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
         sim = Simulation(self.model, self.dynamics, options, machine)
+        self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
@@ -141,6 +146,26 @@ class RunSession:
             )
         return Run(self.model, controller, options, sorted_settings, machine, result, reports)
 
+    def _check_start(self, sim: Simulation) -> None:
+        """A contact that starts under the ground is a mistake in the initial pose: the ground
+        spring would launch the body. Deeper than ``START_DEPTH`` is refused (exit 2)."""
+        if self.model.ground is None:
+            return
+        under = [(name, -h) for name, h in sim.contact_heights() if h < -START_DEPTH]
+        if not under:
+            return
+        name, depth = max(under, key=lambda c: c[1])
+        raise UsageError(
+            f"{self.source}: contact '{name}' of creature '{self.model.name}' starts "
+            f"{depth:.3g} m under the ground (the ground would throw the body up); raise the "
+            f"root's initial z by at least {depth:.3g} m in the .leg file, or start with "
+            "--drop H (the lowest foot H metres above the ground)"
+        )
+
+
+# How deep a contact may start under the ground (a resting foot sinks in a little).
+START_DEPTH = 0.01  # m
+
 
 @dataclass
 class Run:
@@ -156,7 +181,7 @@ class Run:
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
 
     @property
-    def status(self) -> str:  # ok | diverged | fell
+    def status(self) -> str:  # ok | diverged | fell | interrupted
         return self.result.status
 
     def info(self) -> dict[str, Any]:
@@ -181,6 +206,12 @@ class Run:
             **extra,
             "status": result.status,
             "message": result.message,
+            **(
+                {"ended_at": round(result.sim_time, 9), "cause": result.cause}
+                if result.cause
+                else {}
+            ),
+            **({"time_on_stops": result.stop_time} if result.stop_time else {}),
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),
@@ -188,14 +219,24 @@ class Run:
         }
 
     def write(self, out: str | Path) -> Path:
-        """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing)."""
+        """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing).
+
+        run.json is made (in memory) before anything is written, then written first with the
+        status ``incomplete``, then the trajectory, then run.json as it is: a run killed while
+        writing leaves a directory whose run.json says so, never a new trajectory beside the
+        run.json of an older run. Each file is replaced whole (``legdsl.files``).
+        """
         out = Path(out)
+        info = self.info()
+        text = json.dumps(info, indent=2, allow_nan=False) + "\n"
+        pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
+        for name in RUN_FILES:  # temporary files of a run that was killed while writing here
+            for leftover in leftovers(out, name):
+                remove(leftover)
+        write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
         self.result.trajectory.save(out)
-        text = json.dumps(self.info(), indent=2, allow_nan=False) + "\n"
-        tmp = out / "run.json.tmp"
-        tmp.write_text(text)
-        tmp.replace(out / "run.json")
+        write_atomic(out / "run.json", text)
         return out
 
     def summary(self) -> str:

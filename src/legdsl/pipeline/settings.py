@@ -10,12 +10,13 @@ always was for actuator settings. Values are stored in SI units.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from legdsl.ir.model import SETTABLE, Model, setting_kind
+from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
@@ -45,13 +46,18 @@ def parse_given(value: str, where: str) -> Given:
     if match is None:
         raise UsageError(f"{where}: {value!r} is not a number with an optional unit")
     number, unit = match.group(1), match.group(2)
+    if not math.isfinite(float(number)):
+        raise UsageError(f"{where}: {number} is too large to be a number (it overflows)")
     if not unit:
         return Given(number, "", float(number), None)
     try:
         factor, dim = parse_unit(unit)
     except UnitError as e:
         raise UsageError(f"{where}: {e}") from None
-    return Given(number, unit, float(number) * factor, dim)
+    si = float(number) * factor
+    if not math.isfinite(si):
+        raise UsageError(f"{where}: {number}{unit} is too large to be a number (it overflows)")
+    return Given(number, unit, si, dim)
 
 
 def parse_setting(text: str) -> tuple[str, float, Dim | None]:
@@ -201,6 +207,8 @@ def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -
     if key not in SETTABLE[a.kind]:
         raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
     _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
+    if key in NON_NEGATIVE and given.value < 0:  # the rule the .leg checker applies
+        raise UsageError(f"{where}: '{key}' must not be negative (as in the .leg file)")
 
 
 def parse_path_option(text: str) -> PathSpec:

@@ -28,6 +28,7 @@ from typing import Any
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.sim.control_faults import ControlFault, explain
 from legdsl.sim.kinematics import FootPlacer
 from legdsl.sim.sensors import Sensors
 
@@ -80,6 +81,7 @@ class StateMachine:
         paths: list[PathSpec] | None = None,
     ):
         self.module = module
+        self.model = model
         self.sensors = Sensors(model)
         self.paths = resolve_paths(model, module.CONTROLLER, paths or [])
         self.sensors.follow(self.paths)
@@ -104,6 +106,7 @@ class StateMachine:
         self.entered_at = 0.0
         self.started = False
         self.events: list[dict[str, Any]] = []
+        self._sane = True  # the simulation's state is finite (set at each call)
         self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
 
     @property
@@ -130,18 +133,44 @@ class StateMachine:
         if changed:
             self._history.append((t, list(self.inputs)))
 
+    def _call(self, kind: str, table: dict[Any, Any], key: tuple[int, int], args: tuple[Any, ...],
+              t: float, state: int) -> Any:  # fmt: skip
+        """A generated function of the control module; a failure, or an output that is not
+        finite, becomes a ``ControlFault`` naming the .leg statement."""
+        # A state that is no longer finite is the simulation's divergence, not the control
+        # law's fault: let it through to the divergence check. (Sensors may be NaN on
+        # purpose: a stance time before the first stance.)
+        sane = self._sane
+        try:
+            out = table[key](*args)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
+            # (a TypeError: a comparison with the complex number a fractional power of a
+            # negative number gives in Python)
+            if not sane:  # the simulation's divergence: the run loop reports it as such
+                raise ValueError(f"{type(err).__name__}: {err}") from None
+            raise self._fault(kind, key, args, t, state, f"{type(err).__name__}: {err}") from None
+        if kind != "event" and sane:
+            for i, x in enumerate(out):
+                if isinstance(x, complex) or not math.isfinite(x):
+                    raise self._fault(kind, key, args, t, state, f"an output is {x}", i)
+        return out
+
+    def _fault(self, kind: str, key: tuple[int, int], args: tuple[Any, ...], t: float,
+               state: int, error: str, index: int | None = None) -> ControlFault:  # fmt: skip
+        return explain(self.model, self.module, kind, key, args, t, self.state_names[state],
+                       error, index)  # fmt: skip
+
     def _enter(self, state: int, t: float, s: tuple[float, ...]) -> None:
         self.state_index = state
         self.entered_at = t
-        self.records = list(
-            self.module.ENTRIES[(self.binding, state)](
-                s, self.inputs, self.params, self.records, 0.0
-            )
-        )
+        key = (self.binding, state)
+        args = (s, self.inputs, self.params, self.records, 0.0)
+        self.records = list(self._call("entry", self.module.ENTRIES, key, args, t, state))
         self.events.append({"t": round(t, 9), "kind": "state", "state": self.state_names[state]})
 
     def __call__(self, sim: Any) -> None:
         t = sim.t
+        self._sane = all(math.isfinite(x) for x in sim.q) and all(math.isfinite(x) for x in sim.v)
         self._apply_schedule(t)
         touching = (
             sim.ground.touching if sim.ground is not None else [False] * len(self.sensors.clocks)
@@ -155,20 +184,23 @@ class StateMachine:
             self._enter(self.state_index, t, s)
         else:
             nxt = (self.state_index + 1) % len(self.state_names)
-            if m.EVENTS[(self.binding, nxt)](
-                s, self.inputs, self.params, self.records, t - self.entered_at
-            ):
+            args = (s, self.inputs, self.params, self.records, t - self.entered_at)
+            if self._call("event", m.EVENTS, (self.binding, nxt), args, t, self.state_index):
                 self.binding = m.AFTER_ENTRY[(self.binding, nxt)]
                 self._enter(nxt, t, s)
         key = (self.binding, self.state_index)
-        outputs = m.ACTIONS[key](s, self.inputs, self.params, self.records, t - self.entered_at)
+        args = (s, self.inputs, self.params, self.records, t - self.entered_at)
+        outputs = self._call("action", m.ACTIONS, key, args, t, self.state_index)
         targets = m.SETTINGS[key]
         for (actuator, setting), value in zip(targets, outputs, strict=False):
             sim.actuators.by_name[actuator].set(setting, value)
         goals = iter(outputs[len(targets) :])
-        for leg, axes, servos in m.PLACES.get(key, ()):
+        for i, (leg, axes, servos) in enumerate(m.PLACES.get(key, ())):
             wanted = [next(goals) for _ in axes]
-            for servo, value in zip(
-                servos, self.placer.solve(sim, leg, axes, wanted, servos), strict=True
-            ):
+            try:
+                solved = self.placer.solve(sim, leg, axes, wanted, servos)
+            except (ValueError, ZeroDivisionError, OverflowError) as err:
+                error = f"{type(err).__name__}: {err}"
+                raise self._fault("place", key, args, t, self.state_index, error, i) from None
+            for servo, value in zip(servos, solved, strict=True):
                 sim.actuators.by_name[servo].set("setpoint", value)

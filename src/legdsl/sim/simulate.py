@@ -13,13 +13,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Protocol
 
 from legdsl.ir.model import Model, Pad
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
+from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.trajectory import Trajectory, empty
 
 Vec = tuple[float, float, float]
@@ -54,11 +55,13 @@ class Controller(Protocol):
 class RunResult:
     trajectory: Trajectory
     events: list[dict[str, Any]]
-    status: str  # ok | diverged | fell
+    status: str  # ok | diverged | fell | interrupted
     message: str
     steps: int
     wall_time: float
     sim_time: float
+    cause: str = ""  # why a run ended early: a signal, the fall, the divergence
+    stop_time: dict[str, float] = field(default_factory=dict)  # s on each joint stop
 
     @property
     def real_time_factor(self) -> float:
@@ -67,6 +70,18 @@ class RunResult:
 
 class Divergence(Exception):
     pass
+
+
+class Interrupted(BaseException):
+    """A signal that ends a run early, as Ctrl-C does (the CLI raises it on SIGTERM): the run
+    stops, keeps what it recorded and reports ``interrupted``."""
+
+    def __init__(self, signal: str):
+        super().__init__(signal)
+        self.signal = signal
+
+
+INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
 
 
 class Simulation:
@@ -103,6 +118,8 @@ class Simulation:
         self._hip_body = [model.hip_body_index(leg) for leg in model.legs]
         self._foot = [self.contact_names.index(leg.foot) for leg in model.legs]
         self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
+        self._stops = model.stops
+        self.stop_time = {st.dof: 0.0 for st in self._stops}  # s spent past each stop
         if options.drop is not None:
             self._lift_to(options.drop)
 
@@ -110,6 +127,14 @@ class Simulation:
     def _springs_of(self, joints: tuple[str, ...]) -> tuple[str, ...]:
         dofs = {d.name for d in self.model.dofs if d.joint in joints}
         return tuple(a.name for a in self.model.actuators if a.kind == "spring" and a.dof in dofs)
+
+    def contact_heights(self) -> list[tuple[str, float]]:
+        """Each contact's height above the ground under it now (negative: under the ground)."""
+        positions = self.dyn.contact_positions(self.q) if self.contact_names else []
+        return [
+            (name, p[2] - (self.ground.height(p[0], p[1]) if self.ground else 0.0))
+            for name, p in zip(self.contact_names, positions, strict=True)
+        ]
 
     def _lift_to(self, height: float) -> None:
         """Move the root vertically so the lowest contact is ``height`` above the ground."""
@@ -128,6 +153,16 @@ class Simulation:
     ) -> list[float]:
         tau = [0.0] * self.dyn.NV
         self.actuators.apply(q, v, tau)
+        for st in self._stops:  # one-sided spring-dampers at the joint limits
+            x = q[st.q_index]
+            if x < st.low:
+                push = st.k * (st.low - x) - st.b * v[st.v_index]
+                if push > 0:  # a stop pushes, never pulls
+                    tau[st.v_index] += push
+            elif x > st.high:
+                push = st.k * (st.high - x) - st.b * v[st.v_index]
+                if push < 0:
+                    tau[st.v_index] += push
         ground = self.ground
         if ground is not None and any(ground.touching):
             pos, vel, yaws = self._contact_kinematics(q, v)
@@ -258,6 +293,9 @@ class Simulation:
             self._normalise(q)
         self.q, self.v = q, v
         self.steps_taken += 1
+        for st in self._stops:
+            if not st.low <= q[st.q_index] <= st.high:
+                self.stop_time[st.dof] += dt
         self.t = self.steps_taken * dt
         if self.ground is not None:
             self.events += self.ground.update(self.t, *self._contact_kinematics(q, v))
@@ -266,6 +304,10 @@ class Simulation:
     def energy(self) -> tuple[float, float, float]:
         """Kinetic, gravitational and elastic (actuator and ground springs) energy now."""
         elastic = self.actuators.elastic_energy(self.q)
+        for st in self._stops:
+            x = self.q[st.q_index]
+            past = st.low - x if x < st.low else x - st.high if x > st.high else 0.0
+            elastic += 0.5 * st.k * past * past
         if self.ground is not None:
             elastic += self.ground.elastic_energy(self.dyn.contact_positions(self.q))
         return (
@@ -353,12 +395,15 @@ class Simulation:
         n_steps = int(round(opts.duration / opts.dt))
         every_step = opts.record_rate <= 0
         record_dt = opts.dt if every_step else 1.0 / opts.record_rate
+        # At most this many samples; the arrays start small and double when full, so that a
+        # long run (--time 1e9) starts at once and memory follows what was recorded.
         capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
-        traj = self._empty(capacity)
+        traj = self._empty(min(capacity, INITIAL_ROWS))
         control_every = max(1, int(round(opts.control_dt / opts.dt)))
         start_height = self._standing_height()
         self.message = ""
         status = "ok"
+        cause = ""
         recorded = 0
         next_record = 0.0
         wall0 = time.perf_counter()
@@ -371,6 +416,8 @@ class Simulation:
                 if steps % control_every == 0 and self.controller is not None:
                     self.controller(self)
                 if self.t >= next_record - 1e-12 and recorded < capacity:
+                    if recorded == len(traj):
+                        traj = traj.grown(min(capacity, 2 * len(traj)))
                     self.generalized_forces(self.q, self.v, record=True)
                     self._record(traj, recorded)
                     recorded += 1
@@ -388,12 +435,26 @@ class Simulation:
                     if now - last_report > 0.2:
                         progress(self.t, opts.duration)
                         last_report = now
+        except ControlFault as fault:
+            status = "diverged"
+            cause = str(fault)
+            self.message = cause  # it names the time
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
             status = "diverged"
             state = ", ".join(
                 f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True)
             )
-            self.message = f"the simulation diverged at t = {self.t:.4f} s: {err}. Likely cause: {self.likely_cause()}. State: {state}"
+            cause = f"{err}. Likely cause: {self.likely_cause()}"
+            self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
+        except (KeyboardInterrupt, Interrupted) as sig:
+            status = "interrupted"
+            cause = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+            self.message = (
+                f"interrupted by {cause} at t = {self.t:.4f} s of {opts.duration:g} s; "
+                "what was recorded up to then is kept"
+            )
+        if status == "fell":
+            cause = self.message
         wall = time.perf_counter() - wall0
         if progress is not None:
             progress(self.t, opts.duration)
@@ -405,6 +466,8 @@ class Simulation:
             steps=steps,
             wall_time=wall,
             sim_time=self.t,
+            cause=cause,
+            stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
         )
 
     def _all_events(self) -> list[dict[str, Any]]:
@@ -434,6 +497,8 @@ class Simulation:
 
     def _record(self, traj: Trajectory, row: int) -> None:
         dyn, q, v = self.dyn, self.q, self.v
+        if not all(math.isfinite(x) for x in q) or not all(math.isfinite(x) for x in v):
+            raise Divergence("the state is no longer finite (NaN or infinity)")  # not recorded
         traj.t[row] = self.t
         traj.q[row] = q
         traj.v[row] = v

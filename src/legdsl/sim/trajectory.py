@@ -19,6 +19,9 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.files import write_atomic
+from legdsl.lang.errors import UsageError
+
 ARRAYS = (
     "t", "q", "v", "contact", "force", "com", "com_vel", "root_pos", "root_rpy",
     "leg_length", "leg_spring_energy", "kinetic", "potential", "elastic", "state", "speed_command",
@@ -63,6 +66,18 @@ class Trajectory:
         meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
         return Trajectory(**cut, **meta)
 
+    def grown(self, capacity: int) -> Trajectory:
+        """The same samples in arrays of ``capacity`` rows (the recorder grows as it goes,
+        never sized by the duration asked for); new rows hold ``empty``'s fill values."""
+        n = len(self)
+        more = empty(capacity - n, self.q.shape[1], self.v.shape[1], self.contact.shape[1],
+                     self.leg_length.shape[1])  # fmt: skip
+        cut: dict[str, Any] = {
+            name: np.concatenate([getattr(self, name), getattr(more, name)]) for name in ARRAYS
+        }
+        meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
+        return Trajectory(**cut, **meta)
+
     # ------------------------------------------------------------ files
     def save(self, directory: Path) -> None:
         """Write trajectory.npz and trajectory.csv into ``directory`` (byte-identical for equal data)."""
@@ -80,17 +95,98 @@ class Trajectory:
             "planar": self.planar,
         }
         arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
-        _atomic_write(directory / "trajectory.npz", _npz_bytes(arrays))
-        _atomic_write(directory / "trajectory.csv", self.csv_text().encode())
+        write_atomic(directory / "trajectory.npz", _npz_bytes(arrays))
+        write_atomic(directory / "trajectory.csv", self.csv_text().encode())
 
     @classmethod
     def load(cls, directory: Path) -> Trajectory:
-        with np.load(directory / "trajectory.npz") as data:
-            arrays = {name: data[name] for name in ARRAYS}
-            meta = json.loads(bytes(data["meta"]).decode())
-        for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet", "state_names"):
-            meta[key] = tuple(meta[key])
-        return cls(**arrays, **meta)
+        """Read ``directory/trajectory.npz``; a missing, truncated or foreign file (not one
+        ``save`` wrote) raises ``UsageError`` saying which, and what to do."""
+        path = Path(directory) / "trajectory.npz"
+        if not path.is_file():
+            raise UsageError(
+                f"no trajectory.npz in {directory}: give the directory a run wrote "
+                "(legdsl run FILE.leg --out DIR)"
+            )
+        again = "; run the creature again (legdsl run FILE.leg --out DIR)"
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                missing = [k for k in (*ARRAYS, "meta") if k not in data.files]
+                if missing:
+                    raise UsageError(
+                        f"{path} is not a legdsl trajectory: it lacks {', '.join(missing)}{again}"
+                    )
+                arrays = {name: data[name] for name in ARRAYS}
+                meta = json.loads(bytes(data["meta"]).decode())
+        except UsageError:
+            raise
+        except Exception as e:  # a truncated zip, a damaged entry, bad JSON in meta, ...
+            raise UsageError(f"cannot read {path} ({type(e).__name__}: {e}){again}") from None
+        try:
+            if not isinstance(meta, dict):
+                raise TypeError("it is not an object")
+            for key in ("q_names", "v_names", "contact_names", "leg_names", "state_names"):
+                if not all(isinstance(n, str) for n in meta.get(key, [])):
+                    raise TypeError(f"{key} is not a list of names")
+            feet = meta["leg_feet"]
+            if not isinstance(feet, list) or not all(
+                isinstance(i, int) and 0 <= i < len(meta["contact_names"]) for i in feet
+            ):
+                raise TypeError("leg_feet is not a list of contact indices")
+            for key in ("total_mass", "gravity"):
+                value = meta.get(key, 0.0)
+                if isinstance(value, bool) or not isinstance(value, int | float):
+                    raise TypeError(f"{key} is not a number")
+                if not math.isfinite(value) or value < 0:
+                    raise ValueError(f"{key} is {value}")
+            if not isinstance(meta.get("planar", True), bool):
+                raise TypeError("planar is not true or false")
+            for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet"):
+                meta[key] = tuple(meta[key])
+            meta["state_names"] = tuple(meta.get("state_names", ()))
+            unknown = set(meta) - {f.name for f in fields(cls)}
+            if unknown:
+                raise KeyError(", ".join(sorted(unknown)))
+            trajectory = cls(**arrays, **meta)
+        except (KeyError, TypeError, ValueError) as e:
+            raise UsageError(f"{path}: its meta data is damaged ({e}){again}") from None
+        trajectory._check_shapes(path, again)
+        return trajectory
+
+    def _check_shapes(self, path: Path, again: str) -> None:
+        n = len(self.t) if self.t.ndim == 1 else -1
+        want = {
+            "q": 2, "v": 2, "contact": 2, "force": 3, "com": 2, "com_vel": 2, "root_pos": 2,
+            "root_rpy": 2, "leg_length": 2, "leg_spring_energy": 2, "kinetic": 1,
+            "potential": 1, "elastic": 1, "state": 1, "speed_command": 1,
+        }  # fmt: skip
+        for name, ndim in want.items():
+            a = getattr(self, name)
+            if n < 0 or a.ndim != ndim or a.shape[0] != n:
+                raise UsageError(f"{path}: the array {name} has the wrong shape {a.shape}{again}")
+        t = self.t
+        if not np.issubdtype(t.dtype, np.number) or not (
+            np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)
+        ):
+            raise UsageError(f"{path}: its times are not finite and increasing{again}")
+        for name in ("q", "v", "com", "root_pos", "root_rpy"):  # a run records finite states only
+            a = getattr(self, name)
+            if not np.issubdtype(a.dtype, np.number) or not np.all(np.isfinite(a)):
+                raise UsageError(f"{path}: the array {name} is not all finite numbers{again}")
+        if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
+            raise UsageError(f"{path}: q or v does not match its coordinate names{again}")
+        if self.contact.shape[1] != len(self.contact_names) or self.force.shape[1:] != (
+            len(self.contact_names),
+            3,
+        ):
+            raise UsageError(f"{path}: contact or force does not match its contact names{again}")
+        legs = len(self.leg_names)
+        if not (self.leg_length.shape[1] == self.leg_spring_energy.shape[1] == legs
+                == len(self.leg_feet)):  # fmt: skip
+            raise UsageError(f"{path}: the leg arrays do not match its leg names{again}")
+        if self.state.size and (self.state.max() >= max(len(self.state_names), 1)
+                                or self.state.min() < -1):  # fmt: skip
+            raise UsageError(f"{path}: a controller state index is out of range{again}")
 
     def csv_text(self) -> str:
         """One row per sample; column names carry their units."""
@@ -126,6 +222,46 @@ class Trajectory:
         return buf.getvalue()
 
 
+def load_run_info(directory: Path) -> dict[str, Any]:
+    """``directory/run.json`` as a dict; missing, not JSON or not an object raises ``UsageError``."""
+    path = Path(directory) / "run.json"
+    if not path.is_file():
+        raise UsageError(
+            f"no run.json in {directory}: give the directory a run wrote "
+            "(legdsl run FILE.leg --out DIR)"
+        )
+    try:
+        info = json.loads(path.read_bytes().decode("utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise UsageError(
+            f"cannot read {path}: it is not JSON ({e}); run the creature again"
+        ) from None
+    if not isinstance(info, dict):
+        raise UsageError(f"{path} is not a run's record (a JSON object); run the creature again")
+    again = "; run the creature again (legdsl run FILE.leg --out DIR)"
+    kinds: dict[str, Any] = {
+        "source": str, "creature": str, "status": str, "message": str, "controller": (str, type(None)),
+        "options": dict, "settings": dict, "inputs": dict, "params": dict, "paths": (list, type(None)),
+        "path_reports": list, "events": list, "samples": int, "steps": int,
+        "sim_time": (int, float),
+    }  # fmt: skip
+    for key, kind in kinds.items():
+        if key in info and (not isinstance(info[key], kind) or isinstance(info[key], bool)):
+            raise UsageError(f"{path}: '{key}' has the wrong type{again}")
+    for event in info.get("events", []):
+        if not (
+            isinstance(event, dict)
+            and isinstance(event.get("t"), int | float)
+            and math.isfinite(event["t"])
+            and isinstance(event.get("kind"), str)
+        ):
+            raise UsageError(f"{path}: an event is damaged ({str(event)[:60]}){again}")
+    for spec in info.get("paths") or []:
+        if not isinstance(spec, dict):
+            raise UsageError(f"{path}: a path is damaged ({str(spec)[:60]}){again}")
+    return info
+
+
 def _fmt(value: Any) -> str:
     x = float(value)
     if math.isnan(x):
@@ -139,14 +275,8 @@ def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
     return buf.getvalue()
 
 
-def _atomic_write(path: Path, data: bytes) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(data)
-    tmp.replace(path)
-
-
 def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory:
-    """Preallocated arrays for ``n`` samples (the recorder fills them and cuts with ``head``)."""
+    """Arrays for ``n`` samples (the recorder fills them, ``grown`` when full, cut with ``head``)."""
     return Trajectory(
         t=np.zeros(n),
         q=np.zeros((n, nq)),

@@ -28,6 +28,7 @@ import numpy as np
 from legdsl import __version__
 from legdsl.export.motion import Motion
 from legdsl.export.shapes import body_mesh, hex_rgb
+from legdsl.files import write_atomic
 
 THREE_VERSION = "0.170.0"
 OVERLAYS = ("state", "speed", "forces", "footprints", "com")
@@ -157,8 +158,5 @@ def player_html(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> str:
 def write_player(motion: Motion, path: Path, overlays: tuple[str, ...] = OVERLAYS) -> int:
     """Write the player to ``path`` (atomically); returns its size in bytes."""
     text = player_html(motion, overlays).encode("utf-8")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(text)
-    tmp.replace(path)
+    write_atomic(path, text)
     return len(text)

@@ -1,0 +1,170 @@
+"""Writing files and directories whole or not at all: the one write-then-rename helper.
+
+Every writer in legdsl (run directories, metrics.json, exports, the player, videos, the
+generated modules) goes through this module, so that a crash, a Ctrl-C or a SIGKILL at any
+instant leaves either the old file or the new one, never a mix or a half-written file.
+
+Temporary names are hidden siblings of the target, ``.NAME.TAG-PID-RANDOM`` (keeping the
+target's suffix, which tools such as ffmpeg read), so two processes writing the same target at
+the same moment never share one; leftovers of a killed writer are recognised by
+``is_leftover`` and removed by ``clean_leftovers``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import re
+import secrets
+import shutil
+import signal
+from collections.abc import Iterator
+from pathlib import Path
+
+# .NAME.TAG-PID-HEX[.suffix]: what temp_sibling makes
+_LEFTOVER = re.compile(r"^\.(?P<name>.+)\.(?P<tag>tmp|new|old)-(?P<pid>\d+)-[0-9a-f]{8}(\.[^.]*)?$")
+
+
+def temp_sibling(path: str | Path, tag: str = "tmp") -> Path:
+    """A fresh hidden name beside ``path``: ``.NAME.TAG-PID-RANDOM`` plus its suffix."""
+    path = Path(path)
+    unique = f"{os.getpid()}-{secrets.token_hex(4)}"
+    return path.with_name(f".{path.name}.{tag}-{unique}{path.suffix}")
+
+
+def is_leftover(path: Path, name: str | None = None) -> bool:
+    """Whether ``path`` is a temporary sibling (of the target ``name``, if given)."""
+    m = _LEFTOVER.match(path.name)
+    return m is not None and (name is None or m.group("name") == name)
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True  # it exists, owned by someone else
+    return True
+
+
+def leftovers(directory: Path, name: str) -> list[Path]:
+    """Temporary siblings of ``directory/name`` whose writer is no longer running."""
+    if not directory.is_dir():
+        return []
+    found = []
+    for p in directory.iterdir():
+        m = _LEFTOVER.match(p.name)
+        if m and m.group("name") == name and not _pid_alive(int(m.group("pid"))):
+            found.append(p)
+    return sorted(found)
+
+
+def remove(path: Path) -> None:
+    """Remove a file or a directory tree, whichever ``path`` is; missing is fine."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
+
+
+def _normal_mode(path: Path) -> None:
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(path, 0o666 & ~umask)  # mkstemp makes it private; give it a normal file's mode
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary path to write; renamed over ``path`` when the block ends without error,
+    removed if it raises. Parents are created."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = temp_sibling(path)
+    try:
+        yield tmp
+        instant(f"wrote {tmp.name}")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def write_atomic(path: str | Path, data: str | bytes) -> None:
+    """Write ``data`` (text as UTF-8 with ``\\n`` line ends, or bytes) to ``path`` whole."""
+    if not isinstance(data, str | bytes):
+        raise TypeError(f"write_atomic writes str or bytes, not {type(data).__name__}")
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    with atomic_path(path) as tmp:
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+            f.flush()
+            os.fsync(f.fileno())
+        _normal_mode(tmp)
+
+
+def instant(label: str) -> None:
+    """A named instant inside a writer, for the kill tests: with ``LEGDSL_KILL_AT=N`` in the
+    environment the process kills itself (SIGKILL) at its N-th instant, counting from 1."""
+    global _instants
+    at = os.environ.get("LEGDSL_KILL_AT")
+    if not at:
+        return
+    _instants += 1
+    if _instants == int(at):
+        os.kill(os.getpid(), signal.SIGKILL)
+
+
+_instants = 0
+
+
+def replace_dir(fresh: Path, final: Path) -> None:
+    """Put the complete directory ``fresh`` at ``final``, retiring the old one.
+
+    At every instant ``final`` is the old directory or the new one, except between the two
+    renames of the swap, when the old one is at ``.NAME.old-PID-RANDOM``; ``recover_dir`` (run
+    before any reader or writer of ``final``) puts that back if the writer was killed there.
+    """
+    for attempt in range(8):
+        retired = temp_sibling(final, "old")
+        try:
+            os.rename(final, retired)
+            had_old = True
+            instant("retired the old directory")
+        except FileNotFoundError:
+            had_old = False
+        try:
+            os.rename(fresh, final)
+        except OSError as e:
+            if had_old and not final.exists():
+                os.rename(retired, final)  # put the old directory back
+            elif had_old:
+                remove(retired)
+            # another writer put its own new directory there in between: retire that one too
+            if e.errno in (errno.ENOTEMPTY, errno.EEXIST) and attempt < 7:
+                continue
+            raise
+        break
+    instant("swapped the new directory in")
+    if had_old:
+        remove(retired)
+    instant("removed the old directory")
+
+
+def recover_dir(final: Path) -> None:
+    """Repair ``final`` after a writer that was killed: if it is missing, the newest retired
+    (``old``) copy is put back; every leftover of a dead writer is then removed."""
+    found = leftovers(final.parent, final.name)
+    if not final.exists():
+        old = [p for p in found if _LEFTOVER.match(p.name).group("tag") == "old"]  # type: ignore[union-attr]
+        if old:
+            newest = max(old, key=lambda p: p.stat().st_mtime)
+            with contextlib.suppress(OSError):
+                os.rename(newest, final)
+    for p in found:
+        if p.exists():
+            remove(p)

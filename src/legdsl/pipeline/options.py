@@ -1,0 +1,140 @@
+"""The numeric options of the command line and of ``RunOptions``, and output paths, checked
+before any work starts.
+
+Every numeric option takes a number with an optional unit, as ``--set`` does: ``--time 2s``,
+``--dt 0.4ms``, ``--record-rate 100Hz``, ``--drop 5cm``, ``--fall-tilt 30deg``; a bare number
+is in the option's own unit (s, Hz, m, deg). Values that make no sense (not finite, zero or
+negative where a duration or a step is meant) are a ``UsageError``: exit status 2.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS, UNITS
+from legdsl.pipeline.settings import a_kind, parse_given
+from legdsl.sim.simulate import RunOptions
+
+
+@dataclass(frozen=True)
+class Numeric:
+    """How one option reads: its kind (a key of ``units.KINDS``), the unit of a bare number,
+    and the smallest value it takes (``positive``: above zero; ``nonnegative``: zero or more)."""
+
+    kind: str
+    bare: str
+    least: str = "positive"  # or "nonnegative", or "any"
+
+
+# legdsl run's numeric options: RunOptions field -> (flag, how it reads)
+RUN_NUMERIC: dict[str, tuple[str, Numeric]] = {
+    "duration": ("--time", Numeric("time", "s")),
+    "dt": ("--dt", Numeric("time", "s")),
+    "control_dt": ("--control-dt", Numeric("time", "s")),
+    "record_rate": ("--record-rate", Numeric("frequency", "Hz", "nonnegative")),
+    "drop": ("--drop", Numeric("length", "m", "nonnegative")),
+    "fall_height": ("--fall-height", Numeric("length", "m", "nonnegative")),
+    "fall_tilt": ("--fall-tilt", Numeric("angle", "deg")),
+}
+WINDOW = Numeric("time", "s", "nonnegative")  # --from and --to
+
+
+def read_numeric(flag: str, text: str, spec: Numeric) -> float:
+    """``--dt 0.4ms`` -> 0.0004 (SI); a mistake raises ``UsageError`` naming the flag."""
+    where = f"{flag} {text}"
+    given = parse_given(text, where)
+    want = KINDS[spec.kind][0]
+    if given.dim is None:
+        value = given.value * UNITS[spec.bare][0]
+    elif given.dim == want:
+        value = given.value
+    else:
+        raise UsageError(
+            f"{where}: {flag} is {a_kind(want)}, but {given.text} is {a_kind(given.dim)}; "
+            f"write e.g. {flag} {given.number}{spec.bare}"
+        )
+    if spec.least == "positive" and not value > 0:
+        raise UsageError(f"{where}: {flag} must be more than zero")
+    if spec.least == "nonnegative" and value < 0:
+        raise UsageError(f"{where}: {flag} must not be negative")
+    return value
+
+
+def check_run_options(options: RunOptions) -> None:
+    """Raise ``UsageError`` for options no run can use (the API's path to the same rules)."""
+    positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}
+    for field, flag in positive.items():
+        value = getattr(options, field)
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise UsageError(f"{flag} {value!r}: must be a finite number more than zero")
+    checks = {
+        "record_rate": ("--record-rate", options.record_rate),
+        "drop": ("--drop", options.drop),
+        "fall_height": ("--fall-height", options.fall_height),
+    }
+    for flag, value in checks.values():
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise UsageError(f"{flag} {value!r}: must be a finite number, zero or more")
+    tilt = options.fall_tilt
+    if not (math.isfinite(tilt) and tilt > 0):
+        raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
+    if options.integrator not in ("euler", "rk4"):
+        raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
+    if options.dt > options.duration:
+        raise UsageError(
+            f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s)"
+        )
+
+
+def _why(e: OSError) -> str:
+    return e.strerror or str(e)
+
+
+def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = None) -> Path:
+    """A directory we may write (made later if missing): not a file, not under a file, and
+    writable where it would be made. Raise ``UsageError`` otherwise."""
+    path = Path(path)
+    given = f"{flag} {shown if shown is not None else path}"
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"{given}: this is a file, not a directory; give a directory")
+    probe = path
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        raise UsageError(
+            f"{given}: {probe} is a file, so nothing can be made under it; give a directory"
+        )
+    try:  # a real probe: os.access says yes to root, also on a read-only or special file system
+        with tempfile.TemporaryFile(dir=probe, prefix=".legdsl-probe-"):
+            pass
+    except OSError as e:
+        raise UsageError(
+            f"{given}: cannot write in {probe} ({_why(e)}); give a directory you can write"
+        ) from None
+    return path
+
+
+def check_output_file(path: str | Path, flag: str) -> Path:
+    """A file we may write: not a directory, its folder a writable directory (or makeable)."""
+    path = Path(path)
+    if path.is_dir():
+        raise UsageError(f"{flag} {path}: this is a directory; give a file name")
+    parent = path.parent
+    if parent.exists() and not parent.is_dir():
+        raise UsageError(
+            f"{flag} {path}: {parent} is a file, so nothing can be made under it; "
+            "give a file in a directory"
+        )
+    check_output_dir(parent, flag, path)
+    return path
+
+
+def os_error(what: str, path: Path, e: OSError) -> UsageError:
+    """A ``UsageError`` for an ``OSError`` met while writing the user's output."""
+    return UsageError(f"cannot write {what} {path}: {_why(e)}; give another place to write")

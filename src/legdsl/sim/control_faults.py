@@ -1,0 +1,198 @@
+"""Point a failing control law home: the ``.leg`` statement, the state, the time and the values.
+
+The generated control module computes a state's outputs in one function; when it raises
+(``math.sqrt`` of a negative number, ``asin`` out of its domain, a division by zero) or
+returns a value that is not finite, ``explain`` lowers the controller again (only then: it
+takes a moment) and evaluates each of the state's statements, in order, with the values of
+that tick, as the generated code does (only the chosen branch of a ``select``). The first
+that fails names the statement (``file:line:col``, and the action calls it was inlined
+through), the operation and its operands, and the values it read.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from types import ModuleType
+from typing import Any
+
+import sympy
+
+from legdsl.ir.model import Model
+from legdsl.lang.errors import Span
+
+
+class ControlFault(Exception):
+    """A control law that failed at run time; the message says where and why."""
+
+
+class _Bad(Exception):
+    def __init__(self, what: str, operands: Sequence[float]):
+        super().__init__(what)
+        self.what = what
+        self.operands = tuple(operands)
+
+
+_MATH: dict[Any, Callable[..., Any]] = {
+    sympy.sin: math.sin, sympy.cos: math.cos, sympy.tan: math.tan, sympy.asin: math.asin,
+    sympy.acos: math.acos, sympy.atan: math.atan, sympy.atan2: math.atan2, sympy.exp: math.exp,
+    sympy.log: math.log, sympy.Abs: abs, sympy.Min: min, sympy.Max: max,
+    sympy.sign: lambda x: math.copysign(1.0, x) if x else 0.0,
+}  # fmt: skip
+
+
+def _name(e: Any) -> str:
+    func = e.func
+    if func is sympy.Pow:
+        exp = e.args[1]
+        return "sqrt" if exp == sympy.Rational(1, 2) else "x^y" if exp != -1 else "1/x (division)"
+    return getattr(func, "__name__", str(func)).lower()
+
+
+def _ev(e: Any, values: dict[Any, float]) -> Any:
+    """``e`` evaluated as the generated code would, raising ``_Bad`` at the failing operation."""
+    if e.is_Symbol:
+        return values[e]
+    if e is sympy.true or e is sympy.false:
+        return bool(e)
+    if e.is_Number or isinstance(e, sympy.NumberSymbol):
+        return float(e)
+    if isinstance(e, sympy.Piecewise):
+        for value, condition in e.args:
+            if condition is sympy.true or _ev(condition, values):
+                return _ev(value, values)
+        return math.nan
+    if isinstance(e, sympy.And):
+        return all(_ev(a, values) for a in e.args)
+    if isinstance(e, sympy.Or):
+        return any(_ev(a, values) for a in e.args)
+    if isinstance(e, sympy.Not):
+        return not _ev(e.args[0], values)
+    args = [_ev(a, values) for a in e.args]
+    out: Any
+    try:
+        if isinstance(e, sympy.core.relational.Relational):
+            a, b = args
+            return {"<": a < b, ">": a > b, "<=": a <= b, ">=": a >= b, "==": a == b,
+                    "!=": a != b}[e.rel_op]  # fmt: skip
+        if e.func is sympy.Add:
+            out = math.fsum(args)
+        elif e.func is sympy.Mul:
+            out = math.prod(args)
+        elif e.func is sympy.Pow:
+            out = args[0] ** args[1]
+        elif e.func in _MATH:
+            out = _MATH[e.func](*args)
+        else:
+            out = complex(e.func(*args).evalf())
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
+        raise _Bad(f"{_call_text(e, args)} is undefined ({err})", args) from None
+    if isinstance(out, complex):
+        if out.imag != 0:
+            raise _Bad(f"{_call_text(e, args)} has no real value", args)
+        out = out.real
+    if not math.isfinite(out) and all(math.isfinite(a) for a in args):
+        raise _Bad(f"{_call_text(e, args)} is {out}", args)
+    return out
+
+
+def _call_text(e: Any, args: Sequence[float]) -> str:
+    name = _name(e)
+    if name == "sqrt":
+        return f"sqrt({args[0]:.4g})"
+    if name.startswith("1/x"):
+        return f"1/{args[0]:.4g} (a division)"
+    return f"{name}({', '.join(f'{a:.4g}' for a in args)})"
+
+
+def _where(where: tuple[Span, ...]) -> str:
+    if not where:
+        return "the controller"
+    text = str(where[0])
+    if len(where) > 1:
+        text += " (inlined from the action called at " + ", called at ".join(map(str, where[1:]))
+        text += ")"
+    return text
+
+
+def explain(
+    model: Model,
+    module: ModuleType,
+    kind: str,  # "event", "entry", "action" or "place"
+    key: tuple[int, int],
+    args: tuple[Any, ...],  # (s, u, p, r, tis) as passed to the generated function
+    t: float,
+    state: str,
+    error: str,
+    index: int | None = None,  # which output was not finite, or which place failed
+) -> ControlFault:
+    """A ``ControlFault`` naming the statement that failed, with the values it read."""
+    from legdsl.lower.control import lower_controller, sensor_symbol
+
+    s, u, p, r, tis = args
+    head = f"the control law failed in state {state} at t = {t:.4f} s"
+    try:
+        lc = lower_controller(model, model.controller(module.CONTROLLER))
+    except Exception:  # pragma: no cover - explaining must never hide the fault itself
+        return ControlFault(f"{head}: {error}")
+    names: dict[Any, str] = {sensor_symbol(k): k for k in module.SENSORS}
+    names |= {sympy.Symbol(f"input_{n}"): f"input {n}" for n in module.INPUTS}
+    names |= {sympy.Symbol(f"param_{n}"): f"param {n}" for n in module.PARAMS}
+    names |= {sympy.Symbol(f"record_{n}"): f"record {n}" for n in module.RECORDS}
+    names[sympy.Symbol("time_in_state")] = "time_in_state"
+    values: dict[Any, float] = {sensor_symbol(k): v for k, v in zip(module.SENSORS, s, strict=True)}
+    values |= {sympy.Symbol(f"input_{n}"): v for n, v in zip(module.INPUTS, u, strict=True)}
+    values |= {sympy.Symbol(f"param_{n}"): v for n, v in zip(module.PARAMS, p, strict=True)}
+    values |= {sympy.Symbol(f"record_{n}"): v for n, v in zip(module.RECORDS, r, strict=True)}
+    values[sympy.Symbol("time_in_state")] = tis
+    body = lc.bodies.get(key)
+    candidates: list[tuple[str, Any, tuple[Span, ...]]] = []
+    if kind == "event":
+        candidates = [("its event", lc.events[key], lc.event_where.get(key, ()))]
+    elif kind == "entry" and body is not None:
+        candidates = [
+            (f"record {name}", e, w)
+            for (name, e), w in zip(body.records, body.record_where, strict=False)
+        ]
+    elif body is not None:
+        candidates = [(f"{st.actuator}.{st.key} = ...", st.value, st.where) for st in body.settings]
+        candidates += [
+            (f"place {pl.leg} ({axis})", goal, pl.where)
+            for pl in body.places
+            for axis, goal in zip(pl.axes, pl.goals, strict=True)
+        ]
+        if kind == "place" and index is not None and index < len(body.places):
+            pl = body.places[index]
+            return ControlFault(
+                f"{_where(pl.where)}: {head}: place {pl.leg}: {error}; "
+                f"goals {', '.join(f'{a} = {_ev(g, values):.4g}' for a, g in zip(pl.axes, pl.goals, strict=True))}"
+            )
+    if index is not None and kind != "place" and index < len(candidates):
+        candidates = [candidates[index], *candidates]
+    for label, expr, where in candidates:
+        try:
+            out = _ev(expr, values)
+        except _Bad as bad:
+            return ControlFault(_message(where, head, label, bad.what, expr, names, values))
+        except (KeyError, TypeError):
+            continue
+        if isinstance(out, float) and not math.isfinite(out):
+            return ControlFault(
+                _message(where, head, label, f"the value is {out}", expr, names, values)
+            )
+    first = candidates[0][2] if candidates else ()
+    return ControlFault(f"{_where(first)}: {head}: {error}")
+
+
+def _message(
+    where: tuple[Span, ...],
+    head: str,
+    label: str,
+    what: str,
+    expr: Any,
+    names: dict[Any, str],
+    values: dict[Any, float],
+) -> str:
+    used = sorted(expr.free_symbols, key=lambda x: names.get(x, str(x)))
+    read = ", ".join(f"{names.get(x, str(x))} = {values[x]:.4g}" for x in used[:10] if x in values)
+    return f"{_where(where)}: {head}: in {label}, {what}; it read {read or 'no values'}"

@@ -1,0 +1,51 @@
+"""A control law that fails at run time points home (issue 18, item 4): the run stops with the
+.leg file:line:col of the statement, the controller state, the time and the values it read,
+and what was recorded up to then is written."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from legdsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+ROW = "state COMPRESSION on active.rate < 0:       servo_pitch(active, body, 0 deg, kp, kv)"
+
+CASES = {
+    # an apex speed sqrt(2 g (height - com.z)), here made negative mid-run
+    "sqrt": ("hip_motor.force = 0.001 N*m*s/m * sqrt(2 * g * (height - com.z) - 20 m^2/s^2)",
+             "sqrt(-15.39) has no real value", "com.z = 0.7651, input height = 1"),
+    "asin": ("hip_servo.setpoint = asin(com.z / 0.5 m)",
+             "asin(1.53) is undefined", "com.z = 0.7651"),
+    "division": ("hip_motor.force = 1 N*m*s / time_in_state",
+                 "1/0 (a division) is undefined", "time_in_state = 0"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_a_failing_control_law_names_its_statement(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path, case: str
+) -> None:
+    statement, what, read = CASES[case]
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    assert ROW in text
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(text.replace(ROW, f"{ROW}; {statement}"))
+    column = text.split("\n")[text[: text.index(ROW)].count("\n")].index(ROW) + len(ROW) + 3
+    out = tmp_path / "run"
+    argv = ["run", str(leg), "--controller", "hop", "--time", "2", "--generated", str(generated),
+            "--out", str(out)]  # fmt: skip
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert "internal error" not in err
+    line = text[: text.index(ROW)].count("\n") + 1
+    assert (
+        f"{leg}:{line}:{column}: the control law failed in state COMPRESSION at t = 0.1800 s" in err
+    )
+    assert what in err and read in err
+    info = json.loads((out / "run.json").read_text())
+    assert info["status"] == "diverged" and info["ended_at"] == pytest.approx(0.18)
+    assert info["samples"] == 36 and what in info["cause"]

@@ -1,0 +1,126 @@
+"""Nothing recorded is lost (issue 18, item 2): a run stopped by Ctrl-C (SIGINT), SIGTERM, a
+fall or a divergence still writes its run directory, and run.json says how it ended."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from legdsl.cli import main
+from legdsl.sim.trajectory import Trajectory
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = "creatures/hopper.leg"
+
+
+def _start(generated: Path, out: Path) -> subprocess.Popen[str]:
+    """A run of a billion simulated seconds: it must start at once and record as it goes."""
+    cmd = [sys.executable, "-m", "legdsl", "run", HOPPER, "--controller", "hop",
+           "--set", "speed=1m/s", "--time", "1e9", "--generated", str(generated),
+           "--out", str(out)]  # fmt: skip
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    return subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)  # fmt: skip
+
+
+def _wait_and_send(proc: subprocess.Popen[str], signals: list[int], after: float) -> str:
+    time.sleep(after)  # some simulated seconds (the hopper runs faster than real time)
+    assert proc.poll() is None, proc.communicate()
+    for sig in signals:
+        proc.send_signal(sig)
+        time.sleep(0.05)
+    _, err = proc.communicate(timeout=60)
+    return err
+
+
+def _readable(out: Path) -> dict:
+    info = json.loads((out / "run.json").read_text())
+    trajectory = Trajectory.load(out)
+    assert info["samples"] == len(trajectory) > 0
+    assert np.all(np.diff(trajectory.t) > 0)
+    return info
+
+
+@pytest.mark.parametrize(
+    ("signals", "code", "cause"),
+    [
+        ([signal.SIGINT], 130, "SIGINT"),
+        ([signal.SIGTERM], 143, "SIGTERM"),
+        ([signal.SIGINT, signal.SIGINT], 130, "SIGINT"),  # the second one while writing
+    ],
+    ids=["ctrl-c", "sigterm", "ctrl-c-twice"],
+)
+def test_an_interrupted_long_run_keeps_what_it_recorded(
+    generated: Path, tmp_path: Path, signals: list[int], code: int, cause: str
+) -> None:
+    out = tmp_path / "run"
+    proc = _start(generated, out)
+    err = _wait_and_send(proc, signals, after=4.0)
+    assert proc.returncode == code, err
+    assert "Traceback" not in err and "internal error" not in err, err
+    info = _readable(out)
+    assert info["status"] == "interrupted"
+    assert cause in info["cause"] and cause in info["message"]
+    assert info["ended_at"] == info["sim_time"] > 0.5
+    assert (out / "trajectory.csv").read_text().count("\n") == info["samples"] + 1
+    if signals == [signal.SIGINT]:  # the other tools read it
+        assert main(["metrics", str(out)]) == 0
+        assert main(["animate", str(out), "--generated", str(generated),
+                     "-o", str(tmp_path / "a.html")]) == 0  # fmt: skip
+        assert (tmp_path / "a.html").stat().st_size > 0
+
+
+def test_a_fall_and_a_divergence_are_written_with_their_cause(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    fell = tmp_path / "fell"
+    argv = ["run", str(ROOT / HOPPER), "--generated", str(generated), "--time", "1",
+            "--fall-height", "5m", "--out", str(fell)]  # fmt: skip
+    assert main(argv) == 4  # the root starts below the fall height
+    info = _readable(fell)
+    assert info["status"] == "fell" and "fell to" in info["cause"]
+    diverged = tmp_path / "diverged"
+    argv = ["run", str(ROOT / HOPPER), "--generated", str(generated), "--time", "1",
+            "--dt", "20ms", "--out", str(diverged)]  # fmt: skip
+    assert main(argv) == 3
+    info = _readable(diverged)
+    assert info["status"] == "diverged" and "Likely cause" in info["cause"]
+    assert "internal error" not in capsys.readouterr().err
+
+
+def test_the_recorder_grows_as_it_goes() -> None:
+    """No allocation sized by the duration: the arrays start small and double."""
+    from legdsl.sim.simulate import INITIAL_ROWS
+    from legdsl.sim.trajectory import empty
+
+    t = empty(INITIAL_ROWS, 3, 3, 1, 1)
+    t.q[:] = 1.0
+    bigger = t.grown(2 * INITIAL_ROWS)
+    assert len(bigger) == 2 * INITIAL_ROWS
+    assert np.all(bigger.q[:INITIAL_ROWS] == 1.0) and np.all(bigger.q[INITIAL_ROWS:] == 0.0)
+    assert np.all(bigger.state[INITIAL_ROWS:] == -1)
+    assert np.all(np.isnan(bigger.speed_command[INITIAL_ROWS:]))
+
+
+def test_a_killed_write_leaves_run_json_saying_incomplete(generated: Path, tmp_path: Path) -> None:
+    """SIGKILL between run.json (incomplete) and the trajectory: the old run's run.json never
+    stands beside a new trajectory."""
+    out = tmp_path / "run"
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), LEGDSL_KILL_AT="2")
+    cmd = [sys.executable, "-m", "legdsl", "run", HOPPER, "--time", "0.1",
+           "--generated", str(generated), "--out", str(out)]  # fmt: skip
+    older = ["run", str(ROOT / HOPPER), *cmd[5:]]
+    assert main(older) == 0  # an older, complete run there first
+    done = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    assert done.returncode == -signal.SIGKILL, done.stderr
+    assert json.loads((out / "run.json").read_text())["status"] == "incomplete"
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
+        "run.json", "trajectory.csv", "trajectory.npz"]  # fmt: skip

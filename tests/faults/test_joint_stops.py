@@ -1,0 +1,100 @@
+"""Joint limits as mechanical stops (issue 18, item 5): 'stop k = ..., b = ...' beside a
+joint's limits makes them a one-sided spring-damper in the runtime and in the MJCF export;
+a run reports the time spent on each stop. Without 'stop' nothing changes."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from legdsl.check.source import check_file
+from legdsl.cli import main
+from legdsl.export.mjcf import model_to_mjcf
+from legdsl.lang.errors import LegError
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = (ROOT / "creatures" / "hopper.leg").read_text()
+LEG_LIMITS = "    limits -0.25 m to 0.1 m\n"
+HIP_LIMITS = "    limits -60 deg to 60 deg\n"
+
+
+def _hopper(tmp_path: Path, text: str, name: str = "hopper.leg") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("stop", "message"),
+    [
+        ("stop k = 2e4 N/m, b = 100 N*s/m", None),
+        ("stop k = 2e4 N/m", None),
+        ("stop k = 2e4 N*m/rad", "linear stiffness"),
+        ("stop k = -5 N/m", "must be positive"),
+        ("stop b = 5 N*s/m", "needs its stiffness k"),
+        ("stop k = 1 N/m, c = 2", "not 'c'"),
+        ("stop 5 N/m", "write the stop as"),
+    ],
+)
+def test_the_stop_is_checked(tmp_path: Path, stop: str, message: str | None) -> None:
+    path = _hopper(tmp_path, HOPPER.replace(LEG_LIMITS, LEG_LIMITS + f"    {stop}\n"))
+    if message is None:
+        (model,) = check_file(path)
+        assert [(s.dof, s.low, s.high) for s in model.stops] == [("leg", -0.25, 0.1)]
+        return
+    with pytest.raises(LegError) as err:
+        check_file(path)
+    assert message in err.value.render()
+
+
+def test_a_stop_needs_limits(tmp_path: Path) -> None:
+    text = HOPPER.replace(LEG_LIMITS, "    stop k = 2e4 N/m\n")
+    with pytest.raises(LegError, match="a stop needs the joint's limits"):
+        check_file(_hopper(tmp_path, text))
+
+
+def _run(path: Path, generated: Path, out: Path) -> dict:
+    argv = ["run", str(path), "--controller", "hop", "--time", "1.5", "--generated",
+            str(generated), "--out", str(out)]  # fmt: skip
+    assert main(argv) in (0, 4)
+    return json.loads((out / "run.json").read_text())
+
+
+def test_a_stop_holds_the_joint_and_its_time_is_reported(generated: Path, tmp_path: Path) -> None:
+    tight = HOPPER.replace(HIP_LIMITS, "    limits -5 deg to 5 deg\n")
+    free = _run(_hopper(tmp_path, tight, "free.leg"), generated, tmp_path / "free")
+    stopped = tight.replace(
+        "    limits -5 deg to 5 deg\n",
+        "    limits -5 deg to 5 deg\n    stop k = 500 N*m/rad, b = 5 N*m*s/rad\n",
+    )
+    held = _run(_hopper(tmp_path, stopped, "held.leg"), generated, tmp_path / "held")
+    assert "time_on_stops" not in free  # a limit alone is not a stop
+    assert held["time_on_stops"]["hip"] > 0.1
+    q_free = np.load(tmp_path / "free" / "trajectory.npz")["q"][:, 3]
+    q_held = np.load(tmp_path / "held" / "trajectory.npz")["q"][:, 3]
+    n = min(len(q_free), len(q_held))
+    assert np.abs(q_held[:n]).max() < np.abs(q_free[:n]).max()
+
+
+def test_a_stop_that_is_never_reached_changes_nothing(generated: Path, tmp_path: Path) -> None:
+    plain = _run(_hopper(tmp_path, HOPPER, "plain.leg"), generated, tmp_path / "plain")
+    text = HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 2e4 N/m, b = 100 N*s/m\n")
+    with_stop = _run(_hopper(tmp_path, text, "stop.leg"), generated, tmp_path / "stop")
+    assert with_stop["time_on_stops"] == {"leg": 0.0}
+    for name in ("trajectory.npz", "trajectory.csv"):
+        assert (tmp_path / "plain" / name).read_bytes() == (tmp_path / "stop" / name).read_bytes()
+    assert plain["status"] == with_stop["status"]
+
+
+def test_the_mjcf_export_carries_the_stop(tmp_path: Path) -> None:
+    text = HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 2e4 N/m, b = 100 N*s/m\n")
+    (model,) = check_file(_hopper(tmp_path, text))
+    xml = model_to_mjcf(model)
+    assert (
+        'name="leg" type="slide" axis="0 0 -1" range="-0.25 0.1" solreflimit="-20000 -100"' in xml
+    )
+    (plain,) = check_file(ROOT / "creatures" / "hopper.leg")
+    assert "solreflimit" not in model_to_mjcf(plain)

@@ -1,0 +1,253 @@
+"""Mistakes on the command line and in run directories are user errors (issue 18, item 1):
+exit status 2, one line saying what was wrong and what to do, never "internal error" (70),
+and checked before any work starts where that can be."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from legdsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = str(ROOT / "creatures" / "hopper.leg")
+
+
+def _run(capsys: pytest.CaptureFixture[str], argv: list[str]) -> tuple[int, str]:
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert "internal error" not in err and "Traceback" not in err, err
+    return code, err
+
+
+RUN_MISTAKES = [
+    (["--time", "-1"], "--time -1: --time must be more than zero"),
+    (["--time", "nan"], "'nan' is not a number"),
+    (["--time", "inf"], "'inf' is not a number"),
+    (["--time", "0"], "must be more than zero"),
+    (["--time", "1e400"], "too large"),
+    (["--time", "2kg"], "--time is a time (s), but 2kg is a mass (kg); write e.g. --time 2s"),
+    (["--dt", "0"], "--dt must be more than zero"),
+    (["--dt", "-1"], "--dt must be more than zero"),
+    (["--dt", "2s", "--time", "1s"], "longer than the run"),
+    (["--control-dt", "0"], "--control-dt must be more than zero"),
+    (["--record-rate", "nan"], "not a number"),
+    (["--record-rate", "-5"], "--record-rate must not be negative"),
+    (["--fall-tilt", "nan"], "not a number"),
+    (["--fall-tilt", "0deg"], "more than zero"),
+    (["--fall-height=-1m"], "must not be negative"),
+    (["--drop", "-1"], "--drop must not be negative"),
+    (["--drop", "3s"], "--drop is a length (m)"),
+    (["--set", "leg_spring.k=-3000N/m"], "'k' must not be negative (as in the .leg file)"),
+    (["--controller", "hop", "--set", "speed=1e400m/s"], "too large"),
+    (["--controller", "hop", "--set", "speed=1m/s@1e400s"], "too large"),
+]
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"), RUN_MISTAKES, ids=[" ".join(e) for e, _ in RUN_MISTAKES]
+)
+def test_a_bad_run_option_is_a_user_error(
+    capsys: pytest.CaptureFixture[str],
+    generated: Path,
+    tmp_path: Path,
+    extra: list[str],
+    message: str,
+) -> None:
+    out = tmp_path / "run"
+    argv = ["run", HOPPER, "--generated", str(generated), "--out", str(out), *extra]
+    code, err = _run(capsys, argv)
+    assert code == 2, err
+    assert message in err
+    assert not out.exists()  # refused before anything was simulated or written
+
+
+def test_numeric_options_take_units(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    argv = ["run", HOPPER, "--generated", str(generated), "--out", str(out), "--time", "50ms",
+            "--dt", "0.4ms", "--control-dt", "2ms", "--record-rate", "1000Hz",
+            "--fall-tilt", "30deg", "--drop", "2cm"]  # fmt: skip
+    code, _ = _run(capsys, argv)
+    assert code == 0
+    options = json.loads((out / "run.json").read_text())["options"]
+    assert options["duration"] == pytest.approx(0.05)
+    assert options["dt"] == pytest.approx(0.0004)
+    assert options["record_rate"] == pytest.approx(1000)
+    assert options["fall_tilt"] == pytest.approx(np.radians(30))
+    assert options["drop"] == pytest.approx(0.02)
+
+
+@pytest.mark.parametrize("where", ["file", "under a file", "unwritable"])
+@pytest.mark.parametrize("command", ["run", "compile", "export"])
+def test_an_output_that_cannot_be_written_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, generated: Path, where: str, command: str
+) -> None:
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    # /proc refuses new files even to root, for whom a mode of 0o500 means nothing
+    target = {"file": a_file, "under a file": a_file / "x", "unwritable": Path("/proc/legdsl")}
+    out = str(target[where])
+    argv = {
+        "run": ["run", HOPPER, "--generated", str(generated), "--out", out],
+        "compile": ["compile", HOPPER, "--out", out],
+        "export": ["export", HOPPER, "--format", "mjcf", "-o", out],
+    }[command]
+    if command == "export" and where == "file":
+        argv[-1] = str(tmp_path)  # a directory where a file is meant
+    code, err = _run(capsys, argv)
+    assert code == 2
+    assert any(w in err for w in ("is a file", "is a directory", "cannot write")), err
+    assert a_file.read_text() == "x"
+
+
+# ------------------------------------------------------------------ run files
+@pytest.fixture(scope="module")
+def a_run(tmp_path_factory: pytest.TempPathFactory, generated: Path) -> Path:
+    out = tmp_path_factory.mktemp("run") / "hopper"
+    assert main(["run", HOPPER, "--time", "0.3", "--generated", str(generated),
+                 "--out", str(out)]) == 0  # fmt: skip
+    return out
+
+
+def _damage(run: Path, how: str) -> None:
+    npz, info = run / "trajectory.npz", run / "run.json"
+    if how == "truncated npz":
+        npz.write_bytes(npz.read_bytes()[:2000])
+    elif how == "empty npz":
+        npz.write_bytes(b"")
+    elif how == "npz without q":
+        with np.load(npz) as data:
+            arrays = {k: data[k] for k in data.files if k != "q"}
+        np.savez(npz, **arrays)  # type: ignore[arg-type]
+    elif how == "npz with bad meta":
+        with np.load(npz) as data:
+            arrays = {k: data[k] for k in data.files}
+        arrays["meta"] = np.frombuffer(b"{not json", dtype=np.uint8)
+        np.savez(npz, **arrays)  # type: ignore[arg-type]
+    elif how == "npz with a short q":
+        with np.load(npz) as data:
+            arrays = {k: data[k] for k in data.files}
+        arrays["q"] = arrays["q"][:3]
+        np.savez(npz, **arrays)  # type: ignore[arg-type]
+    elif how == "run.json not JSON":
+        info.write_text("{ this is not json")
+    elif how == "run.json a list":
+        info.write_text("[1, 2, 3]")
+    elif how == "run.json not UTF-8":
+        info.write_bytes(b"\xff\xfe\x00garbage")
+    elif how == "run.json with a bad source":
+        info.write_text(json.dumps({"source": 3, "creature": "hopper"}))
+    elif how == "no run.json":
+        info.unlink()
+    elif how == "no trajectory":
+        npz.unlink()
+    elif how == "empty directory":
+        npz.unlink()
+        info.unlink()
+
+
+DAMAGES = [
+    "truncated npz", "empty npz", "npz without q", "npz with bad meta", "npz with a short q",
+    "run.json not JSON", "run.json a list", "run.json not UTF-8", "run.json with a bad source",
+    "no run.json", "no trajectory", "empty directory",
+]  # fmt: skip
+READERS = ["metrics", "plot", "animate", "export-motion"]
+
+
+@pytest.mark.parametrize("command", READERS)
+@pytest.mark.parametrize("how", DAMAGES)
+def test_a_damaged_run_directory_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], a_run: Path, tmp_path: Path, how: str, command: str
+) -> None:
+    run = tmp_path / "run"
+    shutil.copytree(a_run, run)
+    _damage(run, how)
+    argv = [command, str(run)]
+    if command in ("animate", "export-motion"):
+        argv += ["--source", HOPPER]
+    if command == "export-motion":
+        argv += ["-o", str(tmp_path / "m.glb")]
+    code, err = _run(capsys, argv)
+    if command == "metrics" and how.startswith("run.json") or how == "no run.json":
+        # metrics and plot need only the trajectory; what they do read must still be sound
+        assert code in (0, 2), err
+    else:
+        assert code == 2, err
+    if code == 2:
+        assert "run" in err  # says what to do: run the creature again, or give a run directory
+
+
+@pytest.mark.parametrize(("extra", "message"), [
+    (["--from", "nan"], "not a number"),
+    (["--from", "-1"], "must not be negative"),
+    (["--from", "2", "--to", "1"], "must come after"),
+    (["--to", "1kg"], "is a time"),
+])  # fmt: skip
+@pytest.mark.parametrize("command", ["metrics", "plot"])
+def test_a_bad_window_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], a_run: Path, command: str, extra: list[str], message: str
+) -> None:
+    code, err = _run(capsys, [command, str(a_run), *extra])
+    assert code == 2 and message in err, err
+
+
+# ------------------------------------------------------------------ .leg mistakes found late
+def test_a_foot_under_the_ground_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """The ground spring would launch the body 2.5 m into the air: refused, with what to do
+    (the depth is known only from the kinematics, so after loading, before simulating)."""
+    leg = tmp_path / "hopper.leg"
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    leg.write_text(text.replace("z = 0.95 m", "z = 0.5 m"))
+    out = tmp_path / "run"
+    argv = ["run", str(leg), "--generated", str(generated), "--out", str(out)]
+    code, err = _run(capsys, argv)
+    assert code == 2
+    assert "contact 'toe' of creature 'hopper' starts 0.3 m under the ground" in err
+    assert "--drop" in err and not out.exists()
+    code, _ = _run(capsys, [*argv, "--drop", "0.1", "--time", "0.05"])  # lifted: fine
+    assert code == 0
+
+
+def test_deep_nesting_that_is_accepted_compiles_and_runs(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """Just under the parser's nesting limit, every later stage copes (no recursion limit)."""
+    from legdsl.lang.parser import MAX_NESTING
+
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    deep = " + ".join(["0 m"] * (MAX_NESTING - 12))
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(text.replace("relax(active, 0 m);", f"relax(active, {deep});", 1))
+    argv = ["run", str(leg), "--controller", "hop", "--generated", str(generated),
+            "--time", "0.05", "--out", str(tmp_path / "run")]  # fmt: skip
+    code, err = _run(capsys, argv)
+    assert code == 0, err
+
+
+@pytest.mark.parametrize("where", ["a directory", "under a file", "unwritable"])
+@pytest.mark.parametrize("command", ["animate", "animate --video", "export-motion", "plot"])
+def test_a_reader_output_that_cannot_be_written_is_a_user_error(
+    capsys: pytest.CaptureFixture[str], a_run: Path, tmp_path: Path, where: str, command: str
+) -> None:
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    suffix = {"animate": ".html", "animate --video": ".gif", "export-motion": ".glb"}
+    name = "out" + suffix.get(command, ".png")
+    target = {"a directory": tmp_path, "under a file": a_file / name,
+              "unwritable": Path("/proc") / name}[where]  # fmt: skip
+    words = command.split()
+    flag = "--video" if "--video" in words else "-o"
+    argv = [words[0], str(a_run), flag, str(target)]
+    if words[0] != "plot":
+        argv += ["--source", HOPPER]
+    code, err = _run(capsys, argv)
+    assert code == 2, err
+    assert str(target) in err
