@@ -101,6 +101,7 @@ def synthetic_run(
         q_names=model.q_names, v_names=model.v_names,
         contact_names=tuple(c.name for c in model.contacts),
         leg_names=tuple(leg.name for leg in model.legs),
+        leg_feet=tuple([c.name for c in model.contacts].index(leg.foot) for leg in model.legs),
         state_names=("FLIGHT", "STANCE"), total_mass=model.total_mass, planar=model.planar,
     )  # fmt: skip
     tr.t[:] = np.arange(n) / rate

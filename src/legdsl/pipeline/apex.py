@@ -13,7 +13,6 @@ measured as the scaled creature: its coordinates are scaled back, and the height
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -23,11 +22,11 @@ from legdsl.analysis.results import Flight, Summary
 from legdsl.analysis.rows import stat
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import model_fingerprint
-from legdsl.lang.errors import LegError
+from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.generated import import_module_file
 from legdsl.pipeline.scaled import q_factors
 from legdsl.sim.contact import GroundContact
-from legdsl.sim.trajectory import Trajectory
+from legdsl.sim.trajectory import Trajectory, load_run_info
 
 KEY = "apex_foot_clearance"
 LABEL = "foot clearance at the apex (m)"
@@ -38,8 +37,8 @@ def clearance_row(
 ) -> Summary | None:
     """The mean clearance over the flights, or None when the kinematics are not at hand."""
     try:
-        info = json.loads((run / "run.json").read_text())
-    except (OSError, ValueError):
+        info = load_run_info(run)
+    except UsageError:
         return None
     named = Path(str(info.get("source", "")))
     source = next((c for c in (named, run / named, run / named.name) if c.is_file()), None)

@@ -21,7 +21,8 @@ from legdsl.ir.model import Model, Pad
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
-from legdsl.sim.trajectory import Trajectory, empty
+from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
 
@@ -66,10 +67,6 @@ class RunResult:
     @property
     def real_time_factor(self) -> float:
         return self.sim_time / self.wall_time if self.wall_time > 0 else math.inf
-
-
-class Divergence(Exception):
-    pass
 
 
 class Interrupted(BaseException):
@@ -398,7 +395,7 @@ class Simulation:
         # At most this many samples; the arrays start small and double when full, so that a
         # long run (--time 1e9) starts at once and memory follows what was recorded.
         capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
-        traj = self._empty(min(capacity, INITIAL_ROWS))
+        traj = empty_trajectory(self, min(capacity, INITIAL_ROWS))
         control_every = max(1, int(round(opts.control_dt / opts.dt)))
         start_height = self._standing_height()
         self.message = ""
@@ -419,7 +416,7 @@ class Simulation:
                     if recorded == len(traj):
                         traj = traj.grown(min(capacity, 2 * len(traj)))
                     self.generalized_forces(self.q, self.v, record=True)
-                    self._record(traj, recorded)
+                    record_row(self, traj, recorded)
                     recorded += 1
                     next_record += record_dt
                 if steps % control_every == 0:
@@ -475,62 +472,3 @@ class Simulation:
         events = [{"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events]
         events += list(getattr(self.controller, "events", []))
         return sorted(events, key=lambda e: e["t"])
-
-    def _empty(self, capacity: int) -> Trajectory:
-        m = self.model
-        return empty(
-            capacity,
-            self.dyn.NQ,
-            self.dyn.NV,
-            len(self.contact_names),
-            len(m.legs),
-            q_names=m.q_names,
-            v_names=m.v_names,
-            contact_names=self.contact_names,
-            leg_names=tuple(leg.name for leg in m.legs),
-            leg_feet=tuple(self._foot),
-            state_names=self.controller.state_names if self.controller else (),
-            total_mass=m.total_mass,
-            gravity=-m.gravity[2],
-            planar=m.planar,
-        )
-
-    def _record(self, traj: Trajectory, row: int) -> None:
-        dyn, q, v = self.dyn, self.q, self.v
-        if not all(math.isfinite(x) for x in q) or not all(math.isfinite(x) for x in v):
-            raise Divergence("the state is no longer finite (NaN or infinity)")  # not recorded
-        traj.t[row] = self.t
-        traj.q[row] = q
-        traj.v[row] = v
-        if self.ground is not None:
-            traj.contact[row] = self.ground.touching
-            traj.force[row] = self.contact_force
-        traj.com[row] = dyn.center_of_mass(q)
-        traj.com_vel[row] = dyn.center_of_mass_velocity(q, v)
-        poses = dyn.body_poses(q)
-        pos, rot = poses[0]
-        traj.root_pos[row] = pos
-        traj.root_rpy[row] = _rpy(rot)
-        if self._hip_body:
-            feet = dyn.contact_positions(q)
-            for i, (hip, foot) in enumerate(zip(self._hip_body, self._foot, strict=True)):
-                traj.leg_length[row, i] = math.dist(poses[hip][0], feet[foot])
-                traj.leg_spring_energy[row, i] = self.actuators.elastic_energy(
-                    q, self._leg_springs[i]
-                )
-        kinetic, potential, elastic = self.energy()
-        traj.kinetic[row] = kinetic
-        traj.potential[row] = potential
-        traj.elastic[row] = elastic
-        if self.controller is not None:
-            traj.state[row] = self.controller.state_index
-            traj.speed_command[row] = self.controller.speed_command(self.t)
-
-
-def _rpy(r: tuple[float, ...]) -> tuple[float, float, float]:
-    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    return (
-        math.atan2(r[7], r[8]),
-        math.asin(max(-1.0, min(1.0, -r[6]))),
-        math.atan2(r[3], r[0]),
-    )

@@ -1,0 +1,205 @@
+"""``legdsl run``: its options (numbers with units), and a run that ends well whatever happens.
+
+SIGTERM ends a run as Ctrl-C does, and a second Ctrl-C waits until the run directory is
+whole: what was recorded is always written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import signal
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from legdsl.cli.common import (
+    EXIT_DIVERGED,
+    EXIT_FELL,
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    Command,
+    numeric,
+)
+from legdsl.lang.errors import UsageError
+
+_SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
+    ("--dt", 0.0004, None, "integration step in s, or with its unit: 0.4ms (default: the creature's simulation block, else 0.0004, the paper's)"),
+    ("--control-dt", 0.002, None, "control interval in s, or with its unit: 2ms (default: the simulation block, else 0.002)"),
+    ("--record-rate", 200.0, None, "samples per second to record, or 100Hz (default: the simulation block, else 200; 0 records every step)"),
+    ("--drop", None, "H", "start with the lowest foot H metres above the ground (or 30cm)"),
+    ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start)"),
+    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees (or 1rad) is a fall (default 60)"),
+)  # fmt: skip
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """While simulating, SIGTERM raises ``Interrupted``, which the run loop turns into the
+    status ``interrupted`` as it does Ctrl-C's ``KeyboardInterrupt``."""
+    from legdsl.sim.simulate import Interrupted
+
+    def stop(signum: int, frame: Any) -> None:
+        raise Interrupted("SIGTERM")
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def _deferred_interrupts(out: Path) -> Iterator[list[str]]:
+    """While the run directory is written, SIGINT and SIGTERM are noted, not obeyed: the
+    directory is finished first (it takes a moment), then legdsl exits as interrupted."""
+    late: list[str] = []
+
+    def note(signum: int, frame: Any) -> None:
+        late.append(signal.Signals(signum).name)
+        print(f"legdsl: finishing {out}/ first; it takes a moment", file=sys.stderr, flush=True)
+
+    previous = {sig: signal.signal(sig, note) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield late
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    import math
+
+    from legdsl.pipeline.options import (
+        RUN_NUMERIC,
+        check_output_dir,
+        check_run_options,
+        os_error,
+    )
+    from legdsl.pipeline.report import progress_bar
+    from legdsl.pipeline.scaled import run_options
+    from legdsl.pipeline.session import RunSession
+
+    values = {
+        field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
+        for field, (flag, spec) in RUN_NUMERIC.items()
+    }
+    tilt = values.pop("fall_tilt")
+    if not isinstance(args.fall_tilt, str):
+        tilt = math.radians(tilt)  # the default, in degrees
+    if args.out:  # checked before anything is compiled or simulated
+        check_output_dir(args.out, "--out")
+    session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
+    if args.scale is not None and args.animate:  # its run.json names the unscaled creature
+        raise UsageError(
+            "--animate draws the file's creature: animate the run of 'legdsl scale's file"
+        )
+    # dt, control_dt and record_rate not given come from the creature's simulation block
+    options = run_options(
+        session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
+    )
+    check_run_options(options)
+    out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
+    progress = progress_bar if sys.stderr.isatty() else None
+    with (
+        _terminate_as_interrupt()
+    ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
+        run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
+    with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
+        try:
+            out = run.write(out)
+        except OSError as e:
+            raise os_error("the run directory", out, e) from None
+    print(run.summary())
+    print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
+    if args.animate:
+        from legdsl.export.animate import animate_result
+
+        animate_result(out, session.model, run.result, session.dynamics)
+    result = run.result
+    if result.status == "interrupted" or late:
+        print(f"legdsl: {result.message or 'interrupted'}; {out}/ is complete", file=sys.stderr)
+        return EXIT_TERMINATED if "SIGTERM" in result.cause else EXIT_INTERRUPTED
+    if result.status == "diverged":
+        print(f"legdsl: {result.message}", file=sys.stderr)
+        return EXIT_DIVERGED
+    if result.status == "fell":
+        print(
+            f"legdsl: the creature fell at t = {result.sim_time:.3f} s: {result.message}",
+            file=sys.stderr,
+        )
+        return EXIT_FELL
+    return 0
+
+
+def add_run_parser(sub: Any) -> Command:
+    r = sub.add_parser(
+        "run",
+        help="simulate a creature and record its motion",
+        description="Compile the creature if its generated module is missing or stale, simulate it "
+        "with its actuators and ground contact, and write trajectory.npz, trajectory.csv and run.json "
+        "into the output directory. Exit status: 0 ok, 2 a mistake in the input, "
+        f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell, "
+        f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM); the run "
+        "directory is written in every case, with what was recorded.",
+        epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
+    )
+    r.add_argument("file", metavar="FILE", help="a .leg file")
+    r.add_argument("--creature", help="which creature, if the file has several")
+    r.add_argument("--controller", metavar="NAME", help="run this controller of the creature")
+    r.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
+        "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+    )
+    r.add_argument(
+        "--path",
+        action="append",
+        default=[],
+        metavar="[NAME=]SHAPE",
+        help="the path for the controller to follow, in place of the one its .leg file gives: "
+        "a shape as written there ('circle(center = (0, 5) m, radius = 5 m, turn = left)', "
+        "polyline(...), polygon(...), square(...)) or a file of waypoints, x,y in metres per line "
+        "(waypoints.csv); NAME= picks one of several paths; repeatable",
+    )
+    r.add_argument(
+        "--time",
+        default=5.0,
+        metavar="T",
+        help="simulated time, a number of seconds or with its unit: 2s, 1min (default 5)",
+    )
+    r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
+    r.add_argument(
+        "--integrator",
+        choices=("euler", "rk4"),
+        default="euler",
+        help="semi-implicit Euler (default) or RK4",
+    )
+    for flag, default, metavar, text in _SIMULATION_OPTIONS:
+        r.add_argument(flag, default=default, metavar=metavar, help=text)
+    # unless given, the creature's simulation block (if any) gives these (legdsl.pipeline.scaled)
+    r.set_defaults(dt=None, control_dt=None, record_rate=None)
+    r.add_argument(
+        "--scale",
+        type=float,
+        metavar="L",
+        help="run as the creature scaled by L (Table 1 of Raibert & Hodgins 1991): the unscaled "
+        "model with every input (--time, --dt, --control-dt, --record-rate, --set, --path, --drop) "
+        "scaled by 1/L and its recorded outputs by L; the same as running the file 'legdsl scale' writes",
+    )
+    r.add_argument(
+        "--generated",
+        default="generated",
+        metavar="DIR",
+        help="where generated modules live (default generated/)",
+    )
+    r.add_argument(
+        "--animate",
+        action="store_true",
+        help="also write the HTML player, DIR/animation.html (see legdsl animate)",
+    )
+    return cmd_run

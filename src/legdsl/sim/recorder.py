@@ -1,0 +1,74 @@
+"""Recording a simulation: the trajectory's rows, one per recorded instant (``legdsl.sim.trajectory``
+holds them; ``legdsl.sim.simulate`` decides when)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from legdsl.sim.trajectory import Trajectory, empty
+
+
+class Divergence(Exception):
+    """The simulation diverged: its state stopped being finite, or a step blew up."""
+
+
+def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
+    """An empty recording of ``capacity`` rows for a ``legdsl.sim.simulate.Simulation``."""
+    m = sim.model
+    return empty(
+        capacity,
+        sim.dyn.NQ,
+        sim.dyn.NV,
+        len(sim.contact_names),
+        len(m.legs),
+        q_names=m.q_names,
+        v_names=m.v_names,
+        contact_names=sim.contact_names,
+        leg_names=tuple(leg.name for leg in m.legs),
+        leg_feet=tuple(sim._foot),
+        state_names=sim.controller.state_names if sim.controller else (),
+        total_mass=m.total_mass,
+        gravity=-m.gravity[2],
+        planar=m.planar,
+    )
+
+
+def record_row(sim: Any, traj: Trajectory, row: int) -> None:
+    """Row ``row`` of ``traj``: the simulation's state now, and what follows from it."""
+    dyn, q, v = sim.dyn, sim.q, sim.v
+    if not all(math.isfinite(x) for x in q) or not all(math.isfinite(x) for x in v):
+        raise Divergence("the state is no longer finite (NaN or infinity)")  # not recorded
+    traj.t[row] = sim.t
+    traj.q[row] = q
+    traj.v[row] = v
+    if sim.ground is not None:
+        traj.contact[row] = sim.ground.touching
+        traj.force[row] = sim.contact_force
+    traj.com[row] = dyn.center_of_mass(q)
+    traj.com_vel[row] = dyn.center_of_mass_velocity(q, v)
+    poses = dyn.body_poses(q)
+    pos, rot = poses[0]
+    traj.root_pos[row] = pos
+    traj.root_rpy[row] = rpy(rot)
+    if sim._hip_body:
+        feet = dyn.contact_positions(q)
+        for i, (hip, foot) in enumerate(zip(sim._hip_body, sim._foot, strict=True)):
+            traj.leg_length[row, i] = math.dist(poses[hip][0], feet[foot])
+            traj.leg_spring_energy[row, i] = sim.actuators.elastic_energy(q, sim._leg_springs[i])
+    kinetic, potential, elastic = sim.energy()
+    traj.kinetic[row] = kinetic
+    traj.potential[row] = potential
+    traj.elastic[row] = elastic
+    if sim.controller is not None:
+        traj.state[row] = sim.controller.state_index
+        traj.speed_command[row] = sim.controller.speed_command(sim.t)
+
+
+def rpy(r: tuple[float, ...]) -> tuple[float, float, float]:
+    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    return (
+        math.atan2(r[7], r[8]),
+        math.asin(max(-1.0, min(1.0, -r[6]))),
+        math.atan2(r[3], r[0]),
+    )
