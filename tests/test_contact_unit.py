@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -95,3 +96,18 @@ def test_terrain_heights() -> None:
     depth, normal = slope.depth((1.0, 0.0, 0.0))
     assert depth == pytest.approx(math.sin(math.radians(10)))
     assert normal == pytest.approx((-math.sin(math.radians(10)), 0.0, math.cos(math.radians(10))))
+
+
+def test_a_lifted_contact_records_no_force_while_another_touches() -> None:
+    """The kangaroo lands on toe and tail and lifts them at different times: a contact that
+    does not touch records zero force, even while the other one does."""
+    from legdsl.pipeline.session import RunSession
+    from legdsl.sim.simulate import RunOptions
+
+    session = RunSession.from_file(
+        Path(__file__).resolve().parents[1] / "creatures" / "kangaroo.leg"
+    )
+    tr = session.run(options=RunOptions(duration=1.0, drop=0.1)).result.trajectory
+    lifted = tr.contact == 0
+    assert lifted.any() and (tr.contact == 1).any(axis=0).all()  # each contact both ways
+    assert not tr.force[lifted].any()

@@ -166,6 +166,8 @@ class Simulation:
             jac = self.dyn.contact_jacobians(q)
             for i, touching in enumerate(ground.touching):
                 if not touching:
+                    if record:  # a lifted foot pushes no more, while another still touches
+                        self.contact_force[i] = (0.0, 0.0, 0.0)
                     continue
                 f = ground.force(i, pos[i], vel[i])
                 if record:
