@@ -250,7 +250,7 @@ class MuJoCoModel:
         self.data = mujoco.MjData(self.mj)
         self.qmap = np.zeros(model.nq, dtype=int)
         self.vmap = np.zeros(model.nv, dtype=int)
-        for j in model.joints:  # by name, as in tests/test_mujoco_oracle.py
+        for j in model.joints:  # by name, as in tests/lower/test_mujoco_oracle.py
             if j.is_free_3d:
                 jj = self.mj.joint("root")
                 self.qmap[j.q_start : j.q_start + 7] = jj.qposadr[0] + np.arange(7)

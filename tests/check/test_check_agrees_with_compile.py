@@ -17,7 +17,7 @@ from legdsl.check.source import check_file
 from legdsl.codegen.python.control import render_control
 from legdsl.lang.errors import LegError
 from legdsl.lower.control import lower_controller
-from tests.test_mutants import mutants
+from tests.lang.test_mutants import mutants
 
 ROOT = Path(__file__).resolve().parents[2]
 FILES = [

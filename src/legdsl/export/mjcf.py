@@ -1,7 +1,7 @@
 """Write a checked ``Model`` as MJCF, MuJoCo's XML model format.
 
 The mapping (every choice here is tested against MuJoCo itself in
-``tests/test_export.py`` and ``tests/test_mujoco_oracle.py``):
+``tests/export/test_export.py`` and ``tests/lower/test_mujoco_oracle.py``):
 
 * One MuJoCo body per legdsl body, nested as the link tree, written at the
   zero configuration: ``pos`` is the joint origin in the parent frame and the

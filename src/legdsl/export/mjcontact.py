@@ -27,7 +27,7 @@ What MuJoCo cannot carry over: the tangential spring's anchor (friction rows
 have no position error), so the tangent law becomes its damper alone
 (``solreffriction``); the torsion spring (no torsional friction row is
 written); and no slip is a friction coefficient of ``NO_SLIP_FRICTION``.
-``tests/test_mjcf_ground.py`` drops each shipped creature in both simulators.
+``tests/export/test_mjcf_ground.py`` drops each shipped creature in both simulators.
 
 ``body_invweight0`` is computed here as MuJoCo does (trace of ``J M^-1 J^T`` / 3
 at each body's mass centre, at the zero configuration, where every body frame

@@ -9,7 +9,7 @@ from legdsl.check.source import check_file
 from legdsl.lang.syntax_errors import friendly_errors
 from legdsl.lang.units import UNITS
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOC = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
 
 

@@ -11,7 +11,7 @@ from legdsl.api.sweep import Axis, parse_axis, points
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
 DIMS = {"speed": (0, 1, -1, 0), "k_speed": (0, 0, 1, 0), "k_trim": (0, 0, 0, 0)}
 

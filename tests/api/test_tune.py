@@ -11,7 +11,7 @@ from legdsl.api.tune import Objective, score, write_tuned
 from legdsl.check.source import check_model
 from legdsl.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
 
 

@@ -105,7 +105,7 @@ def test_a_lifted_contact_records_no_force_while_another_touches() -> None:
     from legdsl.sim.simulate import RunOptions
 
     session = RunSession.from_file(
-        Path(__file__).resolve().parents[1] / "creatures" / "kangaroo.leg"
+        Path(__file__).resolve().parents[2] / "creatures" / "kangaroo.leg"
     )
     tr = session.run(options=RunOptions(duration=1.0, drop=0.1)).result.trajectory
     lifted = tr.contact == 0

@@ -24,7 +24,7 @@ import pytest
 import legdsl
 from legdsl.cli import main
 
-BAD = Path(__file__).parent / "bad"
+BAD = Path(__file__).parents[1] / "bad"
 CASES = sorted(p.stem for p in BAD.glob("*.leg"))
 
 # Run through a real `python -m legdsl` too: syntax, units, tree, body, controller,

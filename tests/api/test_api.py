@@ -13,7 +13,7 @@ import pytest
 
 import legdsl
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_api_document_runs(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -84,7 +84,7 @@ def test_three_js_is_the_pinned_release() -> None:
     text = three_module()
     assert f'const t="{THREE_VERSION.split(".")[1]}"' in text[:400]  # REVISION, e.g. "170"
     readme = (
-        Path(__file__).resolve().parents[1] / "src/legdsl/export/player/vendor/three/README.md"
+        Path(__file__).resolve().parents[2] / "src/legdsl/export/player/vendor/three/README.md"
     ).read_text()
     assert THREE_VERSION in readme
     assert hashlib.sha256(text.encode()).hexdigest() in readme
@@ -98,7 +98,7 @@ def test_text_that_would_close_a_script_is_refused() -> None:
 
 def test_a_ten_second_run_stays_small(tmp_path: Path) -> None:
     # The size depends on the frames, links and contacts only: a made-up run will do.
-    source = Path(__file__).resolve().parents[1] / "creatures" / "quadruped.leg"
+    source = Path(__file__).resolve().parents[2] / "creatures" / "quadruped.leg"
     model = check_model(source)
     synthetic_run(model, source, tmp_path / "run", duration=10.0)
     motion = load_motion(tmp_path / "run", kinematics=ModelKinematics(model))

@@ -12,7 +12,7 @@ from legdsl.cli import main
 from legdsl.ir.controller import Do
 from legdsl.lang.errors import LegError
 
-GOOD = Path(__file__).parent / "good"
+GOOD = Path(__file__).parents[1] / "good"
 
 
 def test_hopper_with_every_construct_checks() -> None:

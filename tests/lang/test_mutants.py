@@ -26,7 +26,7 @@ from legdsl.check.source import check_file
 from legdsl.cli import main
 from legdsl.lang.errors import LegError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SEEDS = [*sorted((ROOT / "creatures").glob("*.leg")), ROOT / "tests" / "good" / "hopper.leg"]
 TEXTS = [p.read_text(encoding="utf-8") for p in SEEDS]
 

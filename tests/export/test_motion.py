@@ -181,7 +181,7 @@ def test_quaternion_conversions_round_trip() -> None:
 
 
 def test_a_3d_root_quaternion_is_interpolated_as_a_rotation() -> None:
-    model = check_model(Path(__file__).resolve().parents[1] / "creatures" / "biped.leg")
+    model = check_model(Path(__file__).resolve().parents[2] / "creatures" / "biped.leg")
     t = np.array([0.0, 1.0])
     q = np.tile(np.array(model.q0, dtype=float), (2, 1))
     half = math.radians(40) / 2
