@@ -28,6 +28,7 @@ import numpy as np
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.export.motion import motion_from, read_run
+from legdsl.files import write_atomic
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
@@ -224,7 +225,7 @@ class Run:
 
             out.mkdir(parents=True, exist_ok=True)
             self.trajectory.save(out)
-            (out / "run.json").write_text(json.dumps(self.info, indent=2) + "\n")
+            write_atomic(out / "run.json", json.dumps(self.info, indent=2) + "\n")
         self.directory = out
         return out
 

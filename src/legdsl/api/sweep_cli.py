@@ -23,6 +23,7 @@ from legdsl.api.sweep import (
     units_of,
 )
 from legdsl.check.source import check_model
+from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 
@@ -99,7 +100,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError(
             f"{out} holds another sweep (its sweep.json differs); choose another --out or remove it"
         )
-    plan_file.write_text(json.dumps(plan, indent=2) + "\n")
+    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     base = {
         "source": str(args.file),
         "creature": args.creature,

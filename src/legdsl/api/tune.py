@@ -30,6 +30,7 @@ from typing import Any
 from legdsl.analysis.table2 import TABLE2
 from legdsl.api.sweep import Job, run_job
 from legdsl.api.workers import Workers
+from legdsl.files import write_atomic
 from legdsl.ir.controller import Controller
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -159,7 +160,7 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     for decl in tree.controllers:
         for item in decl.items:
             if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
-                edits.append(_value_edit(text, item, values[item.name.name]))
+                edits.append(_value_edit(item, values[item.name.name]))
     lines = text.split("\n")
     for line, col, end, new in sorted(edits, reverse=True):
         row = lines[line - 1]
@@ -168,11 +169,11 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
             gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
             rest = " " * max(1, gap) + rest.lstrip()
         lines[line - 1] = row[: col - 1] + new + rest
-    out.write_text("\n".join(lines))
+    write_atomic(out, "\n".join(lines))
     return out
 
 
-def _value_edit(text: str, item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
+def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     """(line, column, end column, new text) of a parameter's value, kept in its unit."""
     node = item.value
     while isinstance(node, ast.EUnary) and node.op == "-":
@@ -217,4 +218,4 @@ def report(result: dict[str, Any], units: dict[str, str]) -> str:
 
 
 def dump(result: dict[str, Any], path: Path) -> None:
-    path.write_text(json.dumps(result, indent=2, default=float) + "\n")
+    write_atomic(path, json.dumps(result, indent=2, default=float) + "\n")

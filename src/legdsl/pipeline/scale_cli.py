@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.check.source import check_file
+from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import scale_source
 
@@ -33,7 +34,7 @@ def cmd_scale(args: argparse.Namespace) -> int:
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
     check_file(args.file)
     out = Path(args.output)
-    out.write_text(scale_source(Path(args.file).read_text(), args.by, args.file))
+    write_atomic(out, scale_source(Path(args.file).read_text(), args.by, args.file))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
     return 0
