@@ -89,7 +89,7 @@ def test_a_fall_and_a_divergence_are_written_with_their_cause(
     assert info["status"] == "fell" and "fell to" in info["cause"]
     diverged = tmp_path / "diverged"
     argv = ["run", str(ROOT / HOPPER), "--generated", str(generated), "--time", "1",
-            "--dt", "20ms", "--out", str(diverged)]  # fmt: skip
+            "--dt", "10ms", "--out", str(diverged)]  # fmt: skip
     assert main(argv) == 3
     info = _readable(diverged)
     assert info["status"] == "diverged" and "Likely cause" in info["cause"]

@@ -30,9 +30,9 @@ def parses(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
     """How often each file is parsed, wherever the parser is called from."""
     counts: Counter[str] = Counter()
 
-    def counting(path: str | Path) -> Any:
+    def counting(path: str | Path, recover: bool = False) -> Any:
         counts[str(Path(path).resolve())] += 1
-        return parse_file(path)
+        return parse_file(path, recover)
 
     for module in (legdsl.check.source, legdsl.pipeline.compile, legdsl.pipeline.session):
         monkeypatch.setattr(module, "parse_file", counting)

@@ -10,13 +10,13 @@ from legdsl.check.creature import CreatureChecker
 from legdsl.check.values import STDLIB
 from legdsl.ir.model import Model
 from legdsl.lang import ast
-from legdsl.lang.errors import Diagnostics, LegError, Span
+from legdsl.lang.errors import Diagnostic, Diagnostics, LegError, Span
 from legdsl.lang.parser import parse_file
 
 
 def check_file(path: str | Path) -> list[Model]:
     """Parse and check a .leg file; every creature in it becomes a model with its controllers."""
-    tree, text = parse_file(path)
+    tree, text = parse_file(path, recover=True)
     return check_tree(tree, text, path)
 
 
@@ -25,6 +25,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     caller that keeps the syntax tree (the compile driver) parses the file only once."""
     sources = {str(path): text}
     diag = Diagnostics(sources)
+    diag.items.extend(tree.pending)
     library, shared = load_uses(tree, diag, sources)
     models = []
     for decl in tree.creatures:
@@ -34,8 +35,26 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
     models = check_controllers(tree, models, library, shared, diag)
+    diag.items = _without_echoes(diag.items, tree.pending)
     diag.raise_if_any()
     return models
+
+
+def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:
+    """The checker's findings without those on a misspelt unit the parser already reported
+    (the unit read in its place may not be what was meant)."""
+
+    def overlaps(a: Span, b: Span) -> bool:
+        return (
+            a.file == b.file
+            and a.line <= b.end_line
+            and b.line <= a.end_line
+            and (a.line != b.line or (a.col < b.end_col and b.col < a.end_col))
+        )
+
+    return [
+        d for d in found if d in repaired or not any(overlaps(d.span, r.span) for r in repaired)
+    ]
 
 
 def load_uses(
@@ -88,13 +107,14 @@ def load_uses(
                 )
                 continue
             try:
-                lib, text = parse_file(path)
+                lib, text = parse_file(path, recover=True)
             except LegError as e:
                 diag.items.extend(e.diagnostics)
                 sources.update(e.sources)
                 continue
             loaded.add(path.resolve())
             sources[lib.path] = text
+            diag.items.extend(lib.pending)
             visit(lib, (*chain, path.resolve()), at)
             found.extend(lib.actions)
             parts.extend(lib.shared)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from legdsl.lang.errors import Span
+from legdsl.lang.errors import Diagnostic, Span
 from legdsl.lang.units import Quantity
 
 
@@ -444,3 +444,5 @@ class SourceFile:
     uses: tuple[UseDecl, ...]
     span: Span
     shared: tuple[SharedDecl, ...] = ()
+    # Mistakes the parser read past (a misspelt unit), for the checker to report with its own.
+    pending: tuple[Diagnostic, ...] = ()

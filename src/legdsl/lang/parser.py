@@ -8,7 +8,7 @@ errors become a ``LegError`` with the position and friendly words
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -16,9 +16,9 @@ from lark import Token, Transformer, Tree, v_args
 from lark.exceptions import UnexpectedInput
 
 from legdsl.lang import ast
-from legdsl.lang.errors import LegError, Span
+from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
-from legdsl.lang.syntax_errors import syntax_error
+from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
 
 __all__ = ["grammar_dir", "parse", "parse_file"]
@@ -293,14 +293,35 @@ class _ToAst(Transformer):
 MAX_NESTING = 120
 
 
-def parse(text: str, file: str = "<string>") -> ast.SourceFile:
-    """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it)."""
-    try:
-        tree = lark_parser().parse(text, start="start")
-    except UnexpectedInput as err:
-        raise syntax_error(file, text, err) from None
+# How many misspelt units the parser reads past in one file before it stops.
+MAX_REPAIRS = 50
+
+
+def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.SourceFile:
+    """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it).
+
+    A misspelt unit ('10 kgg') does not stop the parse: it is reported, the unit it most
+    likely meant is read in its place, and the parse goes on to the file's other mistakes.
+    With ``recover`` the tree is returned with those reports in ``pending``, for the checker
+    to report beside its own (``check_tree``); without, they are raised once parsing is done.
+    """
+    read = text  # what the parser reads: the text with misspelt units repaired
+    pending: list[Diagnostic] = []
+    while True:
+        try:
+            tree = lark_parser().parse(read, start="start")
+            break
+        except UnexpectedInput as err:
+            error = syntax_error(file, read, err)
+            repaired = repaired_unit(read, err) if len(pending) < MAX_REPAIRS else None
+            if repaired is None:
+                raise LegError(pending + error.diagnostics, {file: text}) from None
+            pending.extend(error.diagnostics)
+            read = repaired
+    if pending and not recover:
+        raise LegError(pending, {file: text})
     _check_nesting(tree, file, text)
-    return _build(tree, file, text)
+    return replace(_build(tree, file, text), pending=tuple(pending))
 
 
 def _check_nesting(tree: Tree, file: str, text: str) -> None:
@@ -354,8 +375,9 @@ def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
     )
 
 
-def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
-    """Read and parse a file; returns the tree and the text (for error rendering)."""
+def parse_file(path: str | Path, recover: bool = False) -> tuple[ast.SourceFile, str]:
+    """Read and parse a file; returns the tree and the text (for error rendering).
+    ``recover`` as for ``parse``."""
     p = Path(path)
     try:
         data = p.read_bytes()
@@ -371,9 +393,13 @@ def parse_file(path: str | Path) -> tuple[ast.SourceFile, str]:
         line = data.count(b"\n", 0, e.start) + 1
         line_start = data.rfind(b"\n", 0, e.start) + 1
         col = len(data[line_start : e.start].decode("utf-8", errors="replace")) + 1
+        shown = data.decode("utf-8", errors="replace").replace("\r\n", "\n").replace("\r", "\n")
         raise LegError.at(
-            Span(str(path), line, col, line, col + 1), f"the file is not UTF-8 text ({e.reason})"
+            Span(str(path), line, col, line, col + 1),
+            f"the file is not UTF-8 text ({e.reason}, byte 0x{data[e.start]:02x}); save it as "
+            "UTF-8 in your editor, or replace the character under the caret",
+            {str(path): shown},
         ) from None
     # Line ends as Python's text mode reads them: \r\n and a lone \r are \n.
     text = text.replace("\r\n", "\n").replace("\r", "\n")
-    return parse(text, str(path)), text
+    return parse(text, str(path), recover), text

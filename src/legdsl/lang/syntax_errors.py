@@ -253,8 +253,11 @@ def _suggest_unit(word: str) -> str | None:
     out = []
     for part in re.split(r"([*/^])", _plain_unit(word)):
         singular = part.lower().removesuffix("s")
+        undoubled = _undoubled(part)
         if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
             out.append(part)
+        elif undoubled is not None:  # a key pressed twice: 'kgg' is 'kg', not 'kg*g'
+            out.append(undoubled)
         elif singular in _UNIT_NAMES:
             symbol = _UNIT_NAMES[singular]
             if symbol is None:
@@ -277,6 +280,14 @@ def _suggest_unit(word: str) -> str | None:
     return suggestion if suggestion != word else None
 
 
+def _undoubled(part: str) -> str | None:
+    """The unit symbol ``part`` is with one doubled letter written once ('kgg', 'ss'), if any."""
+    for i in range(1, len(part)):
+        if part[i] == part[i - 1] and part[:i] + part[i + 1 :] in UNITS:
+            return part[:i] + part[i + 1 :]
+    return None
+
+
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
     found = None
@@ -294,6 +305,43 @@ def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     except UnitError:
         return (word, start) if _looks_like_unit(word) else None
     return None
+
+
+def _error_pos(err: UnexpectedInput) -> int | None:
+    if isinstance(err, UnexpectedToken):
+        at_end = err.token.type == "$END"
+        return None if at_end or err.token.start_pos is None else err.token.start_pos
+    if isinstance(err, UnexpectedCharacters):
+        return err.pos_in_stream
+    return None
+
+
+def repaired_unit(text: str, err: UnexpectedInput) -> str | None:
+    """``text`` with the misspelt unit that caused ``err`` replaced by the unit it suggests,
+    padded to the same length so that every later position stays where it was; None when
+    the error is not a misspelt unit, or the suggestion is longer than what was written.
+    The parser reads on with it to find the file's other mistakes, the misspelling itself
+    still reported."""
+    pos = _error_pos(err)
+    unit = _bad_unit(text, pos) if pos is not None else None
+    if unit is None:
+        return None
+    word, start = unit
+    suggestion = _suggest_unit(word)
+    if suggestion is None or len(suggestion) > len(word):
+        return None
+    return text[:start] + suggestion.ljust(len(word)) + text[start + len(word) :]
+
+
+_NOT_A_NUMBER = re.compile(r"(?<![\w.])(?:nan|inf|infinity)(?![\w.])", re.IGNORECASE)
+
+
+def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
+    """'nan' or 'inf' written as a value on the line of ``pos`` (or the line before) and
+    before it: the mistake a parse error there comes from. (word, its offset)"""
+    line_start = text.rfind("\n", 0, text.rfind("\n", 0, pos)) + 1
+    found = list(_NOT_A_NUMBER.finditer(_mask(text), line_start, pos + 1))
+    return (found[-1].group(0), found[-1].start()) if found else None
 
 
 def _spaced_unit(text: str, token: Token) -> bool:
@@ -336,17 +384,20 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     else:
         span = Span(file, err.line, err.column, err.line, err.column + 1)
 
-    if isinstance(err, UnexpectedToken) and err.token.start_pos is not None and not at_end:
-        pos = err.token.start_pos
-    elif isinstance(err, UnexpectedCharacters):
-        pos = err.pos_in_stream
-    else:
-        pos = None
+    pos = _error_pos(err)
     unit = _bad_unit(text, pos) if pos is not None else None
     context = _error_context(err, text)
     friendly = _friendly(context, _open_brace(text)) if context is not None else None
 
-    if unit is not None:
+    not_a_number = _not_a_number(text, pos) if pos is not None else None
+    if not_a_number is not None:
+        word, start = not_a_number
+        span = _offset_span(file, text, start, len(word))
+        message = (
+            f"'{word}' is not a number legdsl reads: every quantity is a finite number with "
+            "its unit, as in '10 kg'"
+        )
+    elif unit is not None:
         word, start = unit
         span = _offset_span(file, text, start, len(word))
         symbols = ", ".join(UNITS)

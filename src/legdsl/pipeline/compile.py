@@ -67,7 +67,7 @@ def compile_file(path: str | Path, progress: Progress | None = None) -> list[Com
     """Compile every creature in a ``.leg`` file (parsed once, then checked and lowered)."""
     say = progress or (lambda _: None)
     start = time.perf_counter()
-    syntax, text = parse_file(path)
+    syntax, text = parse_file(path, recover=True)
     parsed = time.perf_counter() - start
     start = time.perf_counter()
     models = check_tree(syntax, text, path)

@@ -37,6 +37,7 @@ from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
@@ -72,7 +73,7 @@ class RunSession:
     ) -> RunSession:
         """Parse and check ``path`` (once), pick the creature, load or compile its dynamics."""
         source = Path(path)
-        syntax, text = parse_file(source)
+        syntax, text = parse_file(source, recover=True)
         model = choose(check_tree(syntax, text, source), creature, source)
         dynamics = load_dynamics(model, source, Path(generated), log, syntax)
         return cls(model, source, dynamics, generated, syntax, log)
@@ -129,6 +130,7 @@ class RunSession:
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
+        self._check_stiffness(sim, control)
         result = sim.run(progress)
         if scale is not None:
             result = scaled.scale_result(result, self.model, scale)
@@ -162,6 +164,27 @@ class RunSession:
             "--drop H (the lowest foot H metres above the ground)"
         )
 
+    def _check_stiffness(self, sim: Simulation, control: ModuleType | None) -> None:
+        """An actuator too stiff or too damped for the step diverges at once: refused (exit 2)
+        with the bound (``legdsl.sim.stability``)."""
+        written = {t for targets in getattr(control, "SETTINGS", {}).values() for t in targets}
+        inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
+        opts = sim.options
+        found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
+        if found:
+            rotary = {a.name: a.rotary for a in self.model.actuators}
+            raise UsageError(
+                "; ".join(
+                    f.message(opts.dt, _SETTING_UNITS[f.setting, rotary[f.actuator]]) for f in found
+                )  # fmt: skip
+            )
+
+
+_SETTING_UNITS = {
+    ("k", False): "N/m", ("k", True): "N*m/rad", ("kp", False): "N/m", ("kp", True): "N*m/rad",
+    ("b", False): "N*s/m", ("b", True): "N*m*s/rad", ("kv", False): "N*s/m",
+    ("kv", True): "N*m*s/rad",
+}  # fmt: skip
 
 # How deep a contact may start under the ground (a resting foot sinks in a little).
 START_DEPTH = 0.01  # m

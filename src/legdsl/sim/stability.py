@@ -1,0 +1,97 @@
+"""Actuators too stiff for the integration step, found before a run starts.
+
+An explicit integrator is stable on a spring only while the step resolves its
+oscillation. For one coordinate of effective mass ``m`` (the inverse of the
+diagonal entry of M(q)^-1 at the start: the coordinate with every other one free,
+its lightest and so fastest case) under a spring ``k`` with damping ``b``, write
+``w^2 = k / m`` and ``c = b / m``. Semi-implicit Euler advances
+
+    v+ = (1 - c h) v - w^2 h x,    x+ = x + h v+
+
+whose matrix has trace ``2 - w^2 h^2 - c h`` and determinant ``1 - c h``; by
+Jury's test it is stable if and only if ``c h < 2`` and ``w^2 h^2 + 2 c h < 4``.
+RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
+``c h < 2.78``. A run past these bounds is certain to diverge, so it is refused
+with the bound and what to change instead of diverging after a few steps.
+
+An actuator with a ``max`` saturates (it cannot grow without bound), and a gain the
+controller sets every tick is not the one in the file: neither is checked.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from legdsl.sim.actuators import ActuatorState
+
+# RK4's stability interval on the imaginary axis (undamped) and on the real axis (damped).
+RK4_OSCILLATION = 2.8284271247461903
+RK4_DAMPING = 2.785293563405282
+
+
+@dataclass(frozen=True)
+class TooStiff:
+    actuator: str
+    setting: str  # k or kp: the stiffness; b or kv: the damping
+    value: float
+    limit: float  # the largest value the step allows
+    dt_limit: float  # the largest step the value allows
+
+    def message(self, dt: float, unit: str) -> str:
+        what = "stiff" if self.setting in ("k", "kp") else "damped"
+        return (
+            f"actuator '{self.actuator}' is too {what} for the integration step: "
+            f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms diverges at "
+            f"once; use {self.setting} below {self.limit:.3g} {unit}, or --dt below "
+            f"{self.dt_limit * 1e3:.3g} ms (or give it a 'max')"
+        )
+
+
+def too_stiff(
+    actuators: Iterable[ActuatorState],
+    inverse_inertia: Sequence[float],
+    dt: float,
+    integrator: str,
+    controlled: set[tuple[str, str]],
+) -> list[TooStiff]:
+    """The actuators whose stiffness or damping makes the run diverge with step ``dt``.
+    ``inverse_inertia[i]`` is the diagonal of M(q)^-1 for velocity coordinate ``i``;
+    ``controlled`` the (actuator, setting) pairs the controller writes."""
+    found = []
+    for a in actuators:
+        if a.kind == "force" or a.limit is not None:
+            continue
+        inv = inverse_inertia[a.v_index]
+        if not inv > 0:
+            continue
+        w2, c = a.gain * inv, a.damping * inv
+        stiff, damp = ("k", "b") if a.kind == "spring" else ("kp", "kv")
+        if integrator == "rk4":
+            damping_ok, damping_bound = c * dt < RK4_DAMPING, RK4_DAMPING
+            stiff_ok = math.sqrt(max(w2, 0.0)) * dt < RK4_OSCILLATION
+            gain_limit = (RK4_OSCILLATION / dt) ** 2 / inv
+            dt_for_gain = RK4_OSCILLATION / math.sqrt(w2) if w2 > 0 else math.inf
+        else:
+            damping_ok, damping_bound = c * dt < 2.0, 2.0
+            stiff_ok = w2 * dt * dt + 2.0 * c * dt < 4.0
+            gain_limit = max(4.0 - 2.0 * c * dt, 0.0) / (dt * dt) / inv
+            # the largest h with w^2 h^2 + 2 c h < 4
+            dt_for_gain = (-c + math.sqrt(c * c + 4.0 * w2)) / w2 if w2 > 0 else math.inf
+        if not damping_ok and (a.name, damp) not in controlled:
+            found.append(TooStiff(a.name, damp, a.damping, damping_bound / dt / inv,
+                                  damping_bound / c))  # fmt: skip
+        elif not stiff_ok and (a.name, stiff) not in controlled:
+            found.append(TooStiff(a.name, stiff, a.gain, gain_limit, dt_for_gain))
+    return found
+
+
+def inverse_inertia_diagonal(mass_matrix: Sequence[Sequence[float]]) -> list[float]:
+    """The diagonal of M^-1 (0 for every coordinate if M is singular)."""
+    try:
+        return [float(x) for x in np.diag(np.linalg.inv(np.asarray(mass_matrix, dtype=float)))]
+    except np.linalg.LinAlgError:
+        return [0.0] * len(mass_matrix)

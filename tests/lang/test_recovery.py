@@ -1,0 +1,68 @@
+"""The parser reads past a misspelt unit so that the file's other mistakes are found too,
+and reports what cannot be read (not a number, not UTF-8) with its line and a caret."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from legdsl.check.source import check_file
+from legdsl.lang.errors import LegError
+from legdsl.lang.parser import parse, parse_file
+
+TWO_TYPOS = """\
+creature a {
+  planar
+  body trunk free { mass 5 kgg  inertia 0.03 kg*m^2 }
+  body arm on trunk via revolute shoulder at (0 m, 0 m) {
+    length 0.3 m  mass 1 kg  inertia 0.01 kg*m^^2
+  }
+  body leg on trunk via prismatic slide at (0 m, 0 m) { length 0.5 m  mass 2 kgs  inertia 0.01 kg*m^2 }
+}
+"""
+
+
+def test_without_recovery_every_misspelt_unit_is_raised_at_once() -> None:
+    with pytest.raises(LegError) as caught:
+        parse(TWO_TYPOS.replace("kg*m^^2", "kg*m^2"), "a.leg")
+    spans = [(d.span.line, d.span.col) for d in caught.value.diagnostics]
+    assert spans == [(3, 28), (7, 78)]
+    assert "did you mean 'kg'?" in caught.value.diagnostics[0].message
+
+
+def test_a_mistake_that_cannot_be_read_past_ends_the_parse_after_the_units() -> None:
+    with pytest.raises(LegError) as caught:
+        parse(TWO_TYPOS, "a.leg")
+    found = [(d.span.line, d.span.col, d.message[:16]) for d in caught.value.diagnostics]
+    assert found == [(3, 28, "'kgg' is not a u"), (5, 47, "unexpected '^'; ")]
+
+
+def test_with_recovery_the_tree_carries_them_and_reads_the_suggested_unit() -> None:
+    tree = parse(TWO_TYPOS.replace("kg*m^^2", "kg*m^2"), "a.leg", recover=True)
+    assert [(d.span.line, d.span.col) for d in tree.pending] == [(3, 28), (7, 78)]
+    assert tree.creatures[0].name.name == "a"
+
+
+def test_the_checker_reports_a_misspelt_unit_beside_its_own_findings(tmp_path: Path) -> None:
+    leg = tmp_path / "a.leg"
+    leg.write_text(TWO_TYPOS.replace("kg*m^^2", "kg*m^2").replace("mass 1 kg", "mass -1 kg"))
+    with pytest.raises(LegError) as caught:
+        check_file(leg)
+    messages = [(d.span.line, d.message.split(":")[0]) for d in caught.value.diagnostics]
+    assert messages == [
+        (3, "'kgg' is not a unit legdsl knows"),
+        (5, "the mass of body 'arm' must be positive"),
+        (7, "'kgs' is not a unit legdsl knows"),
+    ]
+
+
+def test_a_file_that_is_not_utf8_shows_the_line_and_a_caret(tmp_path: Path) -> None:
+    leg = tmp_path / "a.leg"
+    leg.write_bytes(b"creature a {\r\n  planar \xc3\xa9 \xff\r\n}\n")
+    with pytest.raises(LegError) as caught:
+        parse_file(leg)
+    shown = caught.value.render().splitlines()
+    assert shown[0].startswith(f"{leg}:2:12: error: the file is not UTF-8 text")
+    assert "byte 0xff" in shown[0]
+    assert shown[1:] == ["      planar é \ufffd", "               ^"]

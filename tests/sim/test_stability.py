@@ -1,0 +1,99 @@
+"""Actuators too stiff for the step: the bounds of ``legdsl.sim.stability`` against the
+integrators themselves, and the run refused before it starts."""
+
+from __future__ import annotations
+
+import math
+import random
+from pathlib import Path
+
+import pytest
+
+from legdsl.cli import main
+from legdsl.sim.actuators import ActuatorState
+from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
+
+
+def _spring(k: float, b: float, limit: float | None = None) -> ActuatorState:
+    return ActuatorState("s", "spring", 0, 0, k, b, 0.0, 0.0, limit)
+
+
+def _grows(k: float, b: float, m: float, h: float, integrator: str) -> bool:
+    """Whether x'' = -(k x + b x') / m, stepped as the runtime steps it, blows up."""
+    x, v = 1.0, 0.0
+
+    def acc(x: float, v: float) -> float:
+        return -(k * x + b * v) / m
+
+    for _ in range(4000):
+        if integrator == "euler":  # semi-implicit: the velocity first, the position with it
+            v += h * acc(x, v)
+            x += h * v
+        else:
+            k1x, k1v = v, acc(x, v)
+            k2x, k2v = v + h / 2 * k1v, acc(x + h / 2 * k1x, v + h / 2 * k1v)
+            k3x, k3v = v + h / 2 * k2v, acc(x + h / 2 * k2x, v + h / 2 * k2v)
+            k4x, k4v = v + h * k3v, acc(x + h * k3x, v + h * k3v)
+            x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x)
+            v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        if abs(x) > 1e6 or abs(v) > 1e9:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("integrator", ["euler", "rk4"])
+def test_the_bound_is_where_the_integrator_turns_unstable(integrator: str) -> None:
+    """On either side of each bound (5% off it), the prediction is what stepping does."""
+    rng = random.Random(4)
+    h, m = 4e-4, 0.3
+    for _ in range(40):
+        k = 10 ** rng.uniform(5, 7.5)
+        b = 10 ** rng.uniform(0, 3.5)
+        for factor in (0.95, 1.05):
+            # scale the step to 5% inside or outside the bound found for this k and b
+            found = too_stiff([_spring(k, b)], [1 / m], h, integrator, set())
+            edge = found[0].dt_limit if found else _largest_step(k, b, m, integrator)
+            step = factor * edge
+            flagged = bool(too_stiff([_spring(k, b)], [1 / m], step, integrator, set()))
+            if integrator == "rk4" and b / m * step > 0.3 and k / m * step**2 > 0.3:
+                continue  # RK4's region is not a box: only its two axes are claimed
+            assert flagged == _grows(k, b, m, step, integrator), (k, b, step, flagged)
+
+
+def _largest_step(k: float, b: float, m: float, integrator: str) -> float:
+    """The step where the bound of ``too_stiff`` lies, by bisection on its own verdict."""
+    lo, hi = 1e-9, 1.0
+    for _ in range(200):
+        mid = math.sqrt(lo * hi)
+        if too_stiff([_spring(k, b)], [1 / m], mid, integrator, set()):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def test_saturating_and_controlled_actuators_are_not_checked() -> None:
+    assert too_stiff([_spring(1e12, 0.0)], [1.0], 4e-4, "euler", set())
+    assert not too_stiff([_spring(1e12, 0.0, limit=100.0)], [1.0], 4e-4, "euler", set())
+    assert not too_stiff([_spring(1e12, 0.0)], [1.0], 4e-4, "euler", {("s", "k")})
+    # too damped, its stiffness fine: the damping is named
+    (found,) = too_stiff([_spring(10.0, 1e5)], [1.0], 4e-4, "euler", set())
+    assert (found.setting, found.limit) == ("b", pytest.approx(2 / 4e-4))
+
+
+def test_inverse_inertia_is_the_diagonal_of_the_inverse() -> None:
+    assert inverse_inertia_diagonal([[2.0, 1.0], [1.0, 2.0]]) == pytest.approx([2 / 3, 2 / 3])
+    assert inverse_inertia_diagonal([[1.0, 1.0], [1.0, 1.0]]) == [0.0, 0.0]
+
+
+def test_a_run_too_stiff_for_its_step_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], generated: Path, creatures_dir: Path
+) -> None:
+    out = tmp_path / "run"
+    argv = ["run", str(creatures_dir / "hopper.leg"), "--controller", "hop", "--time", "1s",
+            "--set", "leg_spring.k=1e9N/m", "--out", str(out), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "actuator 'leg_spring' is too stiff for the integration step" in err
+    assert "use k below 7.27e+06 N/m, or --dt below 0.0342 ms" in err
+    assert not out.exists()
