@@ -103,7 +103,17 @@ def test_the_cli_run_is_the_session_run(generated: Path, tmp_path: Path) -> None
         assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "api" / name).read_bytes()
     info = json.loads((tmp_path / "api" / "run.json").read_text())
     assert info == run.info()
-    assert list(info)[:6] == ["legdsl", "source", "creature", "options", "controller", "settings"]
+    assert list(info)[:9] == [
+        "legdsl",
+        "source",
+        "creature",
+        "source_sha256",
+        "creature_fingerprint",
+        "controller_fingerprint",
+        "options",
+        "controller",
+        "settings",
+    ]
     assert "hopper (" in run.summary()
 
 

@@ -102,13 +102,12 @@ def plot_run(
 
 def first_leg_angles(run: Path) -> tuple[str, ...]:
     """The hinge coordinates of the run's first leg, read back from its creature's .leg file."""
-    from legdsl.check.source import check_model
+    from legdsl.analysis.recorded import recorded_model, run_source
 
     info = load_run_info(run)
-    source = Path(info.get("source", ""))
-    if not source.is_file():
+    if run_source(run, info) is None:
         return ()
-    model = check_model(source, info.get("creature"))
+    _, model = recorded_model(run, info)
     if not model.legs:
         return ()
     joints = model.legs[0].joints

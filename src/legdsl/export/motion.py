@@ -148,7 +148,7 @@ class Run:
 
 def read_run(directory: Path, source: Path | None = None) -> Run:
     """The trajectory, run.json and checked model of a run directory."""
-    from legdsl.check.source import check_model
+    from legdsl.analysis.recorded import recorded_model
 
     if not (directory / "trajectory.npz").is_file() or not (directory / "run.json").is_file():
         raise UsageError(
@@ -156,16 +156,7 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
             "make one with: legdsl run FILE.leg --out DIR"
         )
     info = load_run_info(directory)  # not JSON, not an object...: a UsageError
-    if source is None:
-        named = Path(info.get("source", ""))
-        candidates = [named, directory / named, directory / named.name]
-        source = next((c for c in candidates if c.is_file()), None)
-        if source is None:
-            raise UsageError(
-                f"{directory}/run.json names the source {str(named)!r}, which is not found "
-                "from here; pass the .leg file with --source FILE"
-            )
-    model = check_model(source, info.get("creature"))
+    source, model = recorded_model(directory, info, source)
     trajectory = Trajectory.load(directory)
     if len(trajectory) == 0:
         raise UsageError(f"{directory}: the run recorded no samples")

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
+from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import Flight, Summary
 from legdsl.analysis.rows import stat
-from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import model_fingerprint
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.generated import import_module_file
@@ -40,12 +40,10 @@ def clearance_row(
         info = load_run_info(run)
     except UsageError:
         return None
-    named = Path(str(info.get("source", "")))
-    source = next((c for c in (named, run / named, run / named.name) if c.is_file()), None)
-    if source is None:
+    if run_source(run, info) is None:
         return None
     try:
-        model = check_model(source, info.get("creature"))
+        _, model = recorded_model(run, info)  # a creature changed since the run: a UsageError
     except LegError:
         return None
     path = generated / model.name / "dynamics.py"

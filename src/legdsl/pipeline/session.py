@@ -15,6 +15,7 @@ path reports of a run that followed paths.
 
 from __future__ import annotations
 
+import hashlib
 import json
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -24,6 +25,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
+from legdsl.codegen.python.dynamics import creature_fingerprint
 from legdsl.files import leftovers, remove, write_atomic
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
@@ -41,6 +43,10 @@ from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
+# What the commands that read a run write into its directory by default (plot, animate,
+# metrics, replay): a new run into the directory removes them with the old run.
+DERIVED_FILES = ("figure6.png", "top.png", "footfalls.png", "animation.html", "metrics.json",
+                 "mujoco.mp4")  # fmt: skip
 
 
 class RunSession:
@@ -186,6 +192,14 @@ _SETTING_UNITS = {
     ("kv", True): "N*m*s/rad",
 }  # fmt: skip
 
+
+def _file_sha256(path: Path) -> str | None:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
 # How deep a contact may start under the ground (a resting foot sinks in a little).
 START_DEPTH = 0.01  # m
 
@@ -224,6 +238,14 @@ class Run:
             "legdsl": __version__,
             "source": self.model.source,
             "creature": self.model.name,
+            # what the run was made from: the commands that read it refuse another creature
+            "source_sha256": _file_sha256(Path(self.model.source)),
+            "creature_fingerprint": creature_fingerprint(self.model),
+            **(
+                {"controller_fingerprint": self.machine.module.FINGERPRINT}
+                if self.machine is not None
+                else {}
+            ),  # fmt: skip
             "options": asdict(self.options),
             **({"scale": self.scale} if self.scale is not None else {}),
             **extra,
@@ -257,6 +279,9 @@ class Run:
         for name in RUN_FILES:  # temporary files of a run that was killed while writing here
             for leftover in leftovers(out, name):
                 remove(leftover)
+        for name in DERIVED_FILES:  # drawn from an earlier run here: stale beside this one
+            if (out / name).is_file():
+                remove(out / name)
         write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
         self.result.trajectory.save(out)
         write_atomic(out / "run.json", text)

@@ -100,6 +100,22 @@ def model_fingerprint(model: Model) -> str:
     )
 
 
+def creature_fingerprint(model: Model) -> str:
+    """A hash of the creature a recorded run shows (the tree, its legs, actuators, ground and
+    initial state; not the controllers, spans or comments): a run whose creature hashes
+    differently now was made with another creature, and is not drawn on this one."""
+    return _digest(
+        {
+            "model": model_fingerprint(model),
+            "legs": _clean(model.legs),
+            "actuators": _clean(model.actuators),
+            "ground": _clean(model.ground) if model.ground is not None else None,
+            "stops": _clean(model.stops),
+            "start": [model.q0, model.v0],
+        }
+    )
+
+
 def controller_fingerprint(model: Model, controller: Controller) -> str:
     """A hash of what a control module depends on: the controller, the legs and actuators it drives."""
     return _digest(

@@ -1,0 +1,52 @@
+"""The creature a recorded run was made with, read back from its ``.leg`` file.
+
+``run.json`` names the source file and records the creature's fingerprint
+(``creature_fingerprint``: the tree, legs, actuators, ground and initial state). The
+commands that read a run with its creature (``plot``, ``metrics``, ``animate``,
+``export-motion``, ``replay``) take the creature from here, and refuse a run whose
+creature has changed since: drawn on the new one it would be wrong (a foot under the
+floor), with nothing to say so.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from legdsl.check.source import check_model
+from legdsl.codegen.python.dynamics import creature_fingerprint
+from legdsl.ir.model import Model
+from legdsl.lang.errors import UsageError
+
+
+def run_source(directory: Path, info: dict[str, Any]) -> Path | None:
+    """The run's ``.leg`` file as run.json names it: from here, or beside the run."""
+    named = Path(str(info.get("source", "")))
+    return next((c for c in (named, directory / named, directory / named.name) if c.is_file()),
+                None)  # fmt: skip
+
+
+def recorded_model(
+    directory: Path, info: dict[str, Any], source: Path | None = None
+) -> tuple[Path, Model]:
+    """The ``.leg`` file and checked creature of the run in ``directory`` (``info`` its
+    run.json): ``source``, or the file run.json names; ``UsageError`` if it is not found or
+    its creature has changed since the run."""
+    source = source if source is not None else run_source(directory, info)
+    if source is None:
+        raise UsageError(
+            f"{directory}/run.json names the source {str(info.get('source', ''))!r}, which is "
+            "not found from here; pass the .leg file with --source FILE"
+        )
+    model = check_model(source, info.get("creature"))
+    recorded = info.get("creature_fingerprint")
+    if recorded is not None and recorded != creature_fingerprint(model):
+        again = f"legdsl run {source}" + (
+            f" --controller {info['controller']}" if info.get("controller") else ""
+        )
+        raise UsageError(
+            f"{source} has changed since the run in {directory} was recorded: its creature "
+            f"'{model.name}' is not the one the run used; run it again ({again} --out "
+            f"{directory})"
+        )
+    return source, model

@@ -1,0 +1,80 @@
+"""Run files others can read: a compressed npz, a CSV with the state by name, a run.json
+that says what the run was made from; the commands that read a run refuse it once its
+creature has changed, and a new run into a directory removes what was drawn from the old."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from legdsl.cli import main
+from legdsl.pipeline.session import DERIVED_FILES, RUN_FILES
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def hopper(tmp_path: Path, generated: Path) -> tuple[Path, Path]:
+    """A copy of the hopper's .leg file (with the standard library it uses) and a 1 s run."""
+    leg = tmp_path / "hopper.leg"
+    shutil.copy(ROOT / "creatures" / "hopper.leg", leg)
+    run = tmp_path / "run"
+    argv = ["run", str(leg), "--controller", "hop", "--time", "1s", "--out", str(run),
+            "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    return leg, run
+
+
+def test_the_run_files(hopper: tuple[Path, Path]) -> None:
+    leg, run = hopper
+    with zipfile.ZipFile(run / "trajectory.npz") as z:
+        assert {i.compress_type for i in z.infolist()} == {zipfile.ZIP_DEFLATED}
+    rows = list(csv.DictReader((run / "trajectory.csv").open()))
+    assert rows[0]["state_name"] == "FLIGHT"
+    assert {r["state_name"] for r in rows} >= {"FLIGHT", "LOADING", "COMPRESSION", "THRUST"}
+    info = json.loads((run / "run.json").read_text())
+    assert len(info["source_sha256"]) == 64 and len(info["creature_fingerprint"]) == 16
+    control = (ROOT / "generated" / "hopper" / "control_hop.py").read_text()
+    assert f'FINGERPRINT = "{info["controller_fingerprint"]}"' in control
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["plot"], ["metrics"], ["animate"], ["export-motion", "--format", "bvh", "-o", "OUT.bvh"]],
+)
+def test_a_run_of_a_changed_creature_is_refused(
+    hopper: tuple[Path, Path], command: list[str], capsys: pytest.CaptureFixture[str],
+    generated: Path,
+) -> None:  # fmt: skip
+    leg, run = hopper
+    text = leg.read_text()
+    leg.write_text(text.replace("# A planar", "# Only a comment changed: a planar", 1))
+    argv = [command[0], str(run), *[str(run.parent / a) if a == "OUT.bvh" else a
+                                    for a in command[1:]]]  # fmt: skip
+    if command[0] == "metrics":
+        argv += ["--generated", str(generated)]
+    assert main(argv) == 0, "a comment is not a change of the creature"
+    leg.write_text(text.replace("mass 10 kg", "mass 12 kg", 1))
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"{leg} has changed since the run in {run} was recorded" in err
+    assert f"legdsl run {leg} --controller hop --out {run}" in err
+
+
+def test_a_new_run_removes_what_was_drawn_from_the_old(
+    hopper: tuple[Path, Path], generated: Path
+) -> None:
+    leg, run = hopper
+    assert main(["plot", str(run)]) == 0
+    assert main(["animate", str(run)]) == 0
+    assert main(["metrics", str(run), "--generated", str(generated)]) == 0
+    drawn = {p.name for p in run.iterdir()} - set(RUN_FILES)
+    assert drawn and drawn <= set(DERIVED_FILES), drawn
+    argv = ["run", str(leg), "--time", "0.5s", "--out", str(run), "--generated", str(generated)]
+    assert main(argv) == 0
+    assert {p.name for p in run.iterdir()} == set(RUN_FILES)
