@@ -66,31 +66,59 @@ AFTER_ENTRY = {
 
 
 def event_FLIGHT_0(s, u, p, r, tis):
-    """Enter FLIGHT (waiting under binding 0) when: liftoff(second)"""
+    """Enter FLIGHT (waiting under binding 0) when: liftoff(second)
+
+    From the .leg file:
+        event  creatures/biped.leg:293:5
+    """
     leg_right_touching = s[37]
     return (leg_right_touching < 0.5)
 
 
 def event_SINGLE_1_0(s, u, p, r, tis):
-    """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)"""
+    """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)
+
+    From the .leg file:
+        event  creatures/biped.leg:306:5
+    """
     leg_left_touching = s[28]
     return (leg_left_touching > 0.5)
 
 
 def event_DOUBLE_0(s, u, p, r, tis):
-    """Enter DOUBLE (waiting under binding 0) when: touchdown(second)"""
+    """Enter DOUBLE (waiting under binding 0) when: touchdown(second)
+
+    From the .leg file:
+        event  creatures/biped.leg:313:5
+    """
     leg_right_touching = s[37]
     return (leg_right_touching > 0.5)
 
 
 def event_SINGLE_2_0(s, u, p, r, tis):
-    """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)"""
+    """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)
+
+    From the .leg file:
+        event  creatures/biped.leg:318:5
+    """
     leg_left_touching = s[28]
     return (leg_left_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at, held_pitch, held_roll)."""
+    """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at, held_pitch, held_roll).
+
+    From the .leg file:
+        record stance_2    creatures/biped.leg:294:7
+        record step_speed  creatures/biped.leg:295:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:295:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:295:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:295:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:295:7 > stdlib/raibert.leg:76:3
+        record extend_at   creatures/biped.leg:296:7
+        record held_pitch  creatures/biped.leg:297:7
+        record held_roll   creatures/biped.leg:298:7
+    """
     body_trunk_yaw = s[8]
     com_vz = s[12]
     com_x = s[13]
@@ -140,7 +168,31 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y)."""
+    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y).
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:299:7 > creatures/biped.leg:123:5
+        hip_l_pitch.kp          creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.kp            creatures/biped.leg:300:7 > creatures/biped.leg:128:5
+        hip_l_yaw.setpoint      creatures/biped.leg:300:7 > creatures/biped.leg:129:5
+        leg_r_spring.rest       creatures/biped.leg:302:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.kp            creatures/biped.leg:303:7 > creatures/biped.leg:128:5
+        hip_r_yaw.setpoint      creatures/biped.leg:303:7 > creatures/biped.leg:129:5
+        hip_r_pitch.setpoint    creatures/biped.leg:304:7
+        hip_r_roll.setpoint     creatures/biped.leg:305:7
+        place left (x, y)       creatures/biped.leg:301:7 > stdlib/raibert.leg:57:3
+    """
     body_trunk_yaw = s[8]
     com_vx = s[10]
     com_vy = s[11]
@@ -196,7 +248,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_SINGLE_1_0(s, u, p, r, tis):
-    """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke)."""
+    """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke).
+
+    From the .leg file:
+        record landed_1        creatures/biped.leg:307:7
+        record predicted_apex  creatures/biped.leg:308:7 > stdlib/raibert.leg:215:3
+        record thrust_stroke   creatures/biped.leg:308:7 > stdlib/raibert.leg:216:3
+    """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
     com_vz = s[12]
@@ -242,7 +300,29 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
 
 
 def action_SINGLE_1_0(s, u, p, r, tis):
-    """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y)."""
+    """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y).
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:308:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:309:7 > creatures/biped.leg:109:5
+        hip_l_yaw.setpoint      creatures/biped.leg:309:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:310:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.kp            creatures/biped.leg:311:7 > creatures/biped.leg:128:5
+        hip_r_yaw.setpoint      creatures/biped.leg:311:7 > creatures/biped.leg:129:5
+        place right (x, y)      creatures/biped.leg:312:7 > stdlib/raibert.leg:57:3
+    """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[4]
     body_trunk_pitch_rate = s[5]
@@ -321,7 +401,11 @@ def action_SINGLE_1_0(s, u, p, r, tis):
 
 
 def entry_DOUBLE_0(s, u, p, r, tis):
-    """The records on entering DOUBLE under binding 0 (changed: landed_2)."""
+    """The records on entering DOUBLE under binding 0 (changed: landed_2).
+
+    From the .leg file:
+        record landed_2  creatures/biped.leg:314:7
+    """
     time = s[38]
     stance_2 = r[0]
     extend_at = r[1]
@@ -359,7 +443,28 @@ def entry_DOUBLE_0(s, u, p, r, tis):
 
 
 def action_DOUBLE_0(s, u, p, r, tis):
-    """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint.
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:315:7 > stdlib/raibert.leg:223:3
+        leg_r_spring.rest       creatures/biped.leg:316:7 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
+        hip_r_pitch.kp          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:317:7 > creatures/biped.leg:115:5
+        hip_r_yaw.kp            creatures/biped.leg:317:7 > creatures/biped.leg:116:5
+        hip_l_yaw.setpoint      creatures/biped.leg:317:7 > creatures/biped.leg:117:5 > stdlib/raibert.leg:125:3
+        hip_r_yaw.setpoint      creatures/biped.leg:317:7 > creatures/biped.leg:118:5 > stdlib/raibert.leg:125:3
+    """
     act_leg_l_spring_force = s[0]
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]
@@ -437,7 +542,13 @@ def action_DOUBLE_0(s, u, p, r, tis):
 
 
 def entry_SINGLE_2_0(s, u, p, r, tis):
-    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift)."""
+    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift).
+
+    From the .leg file:
+        record stance_1          creatures/biped.leg:319:7
+        record lifted_1          creatures/biped.leg:320:7
+        record leg_rest_at_lift  creatures/biped.leg:321:7
+    """
     act_leg_l_spring_rest = s[2]
     time = s[38]
     stance_guess = p[3]
@@ -476,7 +587,30 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
 
 
 def action_SINGLE_2_0(s, u, p, r, tis):
-    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint."""
+    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint.
+
+    From the .leg file:
+        leg_r_spring.rest       creatures/biped.leg:322:7 > stdlib/raibert.leg:223:3
+        hip_r_pitch.kp          creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:323:7 > creatures/biped.leg:109:5
+        hip_r_yaw.setpoint      creatures/biped.leg:323:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:324:7 > creatures/biped.leg:286:5
+        hip_l_pitch.kp          creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.kp            creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:128:5
+        hip_l_yaw.setpoint      creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:129:5
+        hip_l_pitch.setpoint    creatures/biped.leg:324:7 > creatures/biped.leg:288:5
+        hip_l_roll.setpoint     creatures/biped.leg:324:7 > creatures/biped.leg:289:5
+    """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]
     body_trunk_pitch_rate = s[5]

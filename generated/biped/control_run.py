@@ -72,31 +72,51 @@ AFTER_ENTRY = {
 
 
 def event_FLIGHT_0(s, u, p, r, tis):
-    """Enter FLIGHT (waiting under binding 0) when: liftoff(active)"""
+    """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
+
+    From the .leg file:
+        event  creatures/biped.leg:175:5
+    """
     leg_left_touching = s[31]
     return (leg_left_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
-    """Enter LOADING (waiting under binding 0) when: touchdown(active)"""
+    """Enter LOADING (waiting under binding 0) when: touchdown(active)
+
+    From the .leg file:
+        event  creatures/biped.leg:185:5
+    """
     leg_left_touching = s[31]
     return (leg_left_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
-    """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0"""
+    """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
+
+    From the .leg file:
+        event  creatures/biped.leg:186:5
+    """
     leg_left_rate = s[30]
     return (leg_left_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
-    """Enter THRUST (waiting under binding 0) when: active.rate > 0"""
+    """Enter THRUST (waiting under binding 0) when: active.rate > 0
+
+    From the .leg file:
+        event  creatures/biped.leg:187:5
+    """
     leg_left_rate = s[30]
     return (leg_left_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest"""
+    """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest
+
+    From the .leg file:
+        event  creatures/biped.leg:188:5
+    """
     act_leg_l_spring_rest = s[2]
     leg_left_length = s[29]
     full = p[18]
@@ -104,31 +124,51 @@ def event_UNLOADING_0(s, u, p, r, tis):
 
 
 def event_FLIGHT_1(s, u, p, r, tis):
-    """Enter FLIGHT (waiting under binding 1) when: liftoff(active)"""
+    """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
+
+    From the .leg file:
+        event  creatures/biped.leg:175:5
+    """
     leg_right_touching = s[40]
     return (leg_right_touching < 0.5)
 
 
 def event_LOADING_1(s, u, p, r, tis):
-    """Enter LOADING (waiting under binding 1) when: touchdown(active)"""
+    """Enter LOADING (waiting under binding 1) when: touchdown(active)
+
+    From the .leg file:
+        event  creatures/biped.leg:185:5
+    """
     leg_right_touching = s[40]
     return (leg_right_touching > 0.5)
 
 
 def event_COMPRESSION_1(s, u, p, r, tis):
-    """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0"""
+    """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
+
+    From the .leg file:
+        event  creatures/biped.leg:186:5
+    """
     leg_right_rate = s[39]
     return (leg_right_rate < 0.0)
 
 
 def event_THRUST_1(s, u, p, r, tis):
-    """Enter THRUST (waiting under binding 1) when: active.rate > 0"""
+    """Enter THRUST (waiting under binding 1) when: active.rate > 0
+
+    From the .leg file:
+        event  creatures/biped.leg:187:5
+    """
     leg_right_rate = s[39]
     return (leg_right_rate > 0.0)
 
 
 def event_UNLOADING_1(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest"""
+    """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest
+
+    From the .leg file:
+        event  creatures/biped.leg:188:5
+    """
     act_leg_r_spring_rest = s[5]
     leg_right_length = s[38]
     full = p[18]
@@ -136,7 +176,16 @@ def event_UNLOADING_1(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    """The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+
+    From the .leg file:
+        record step_speed  creatures/biped.leg:181:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:181:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:181:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:181:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:181:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:182:7
+    """
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
@@ -159,7 +208,30 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y)."""
+    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y).
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:178:7 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:178:7 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:178:7 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:179:7
+        hip_l_yaw.kp            creatures/biped.leg:180:7
+        leg_r_spring.rest       creatures/biped.leg:184:7 > creatures/biped.leg:160:5
+        hip_r_pitch.kp          creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:184:7 > creatures/biped.leg:162:5
+        hip_r_roll.setpoint     creatures/biped.leg:184:7 > creatures/biped.leg:163:5
+        hip_r_yaw.setpoint      creatures/biped.leg:184:7 > creatures/biped.leg:164:5
+        place left (x, y)       creatures/biped.leg:183:7 > stdlib/raibert.leg:57:3
+    """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
     body_trunk_roll = s[8]
@@ -219,7 +291,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed)."""
+    """The records on entering LOADING under binding 0 (changed: landed).
+
+    From the .leg file:
+        record landed  creatures/biped.leg:185:48
+    """
     time = s[44]
     stance = r[0]
     step_speed = r[2]
@@ -232,7 +308,26 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
+
+    From the .leg file:
+        hip_l_pitch.kp          creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:185:70 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:185:70 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:185:70 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:185:91 > creatures/biped.leg:160:5
+        hip_r_pitch.kp          creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:185:91 > creatures/biped.leg:162:5
+        hip_r_roll.setpoint     creatures/biped.leg:185:91 > creatures/biped.leg:163:5
+        hip_r_yaw.setpoint      creatures/biped.leg:185:91 > creatures/biped.leg:164:5
+    """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     swing_kp = p[10]
@@ -274,7 +369,28 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
+
+    From the .leg file:
+        hip_l_pitch.kp          creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:186:48 > creatures/biped.leg:170:5
+        hip_l_yaw.setpoint      creatures/biped.leg:186:48 > creatures/biped.leg:171:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:186:65 > creatures/biped.leg:160:5
+        hip_r_pitch.kp          creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:186:65 > creatures/biped.leg:162:5
+        hip_r_roll.setpoint     creatures/biped.leg:186:65 > creatures/biped.leg:163:5
+        hip_r_yaw.setpoint      creatures/biped.leg:186:65 > creatures/biped.leg:164:5
+    """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -340,7 +456,11 @@ def action_COMPRESSION_0(s, u, p, r, tis):
 
 
 def entry_THRUST_0(s, u, p, r, tis):
-    """The records on entering THRUST under binding 0 (changed: predicted_apex)."""
+    """The records on entering THRUST under binding 0 (changed: predicted_apex).
+
+    From the .leg file:
+        record predicted_apex  creatures/biped.leg:187:48 > stdlib/raibert.leg:191:3
+    """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
     com_z = s[16]
@@ -356,7 +476,29 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:187:48 > stdlib/raibert.leg:192:3
+        hip_l_pitch.kp          creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:187:119 > creatures/biped.leg:170:5
+        hip_l_yaw.setpoint      creatures/biped.leg:187:119 > creatures/biped.leg:171:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:187:136 > creatures/biped.leg:160:5
+        hip_r_pitch.kp          creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:187:136 > creatures/biped.leg:162:5
+        hip_r_roll.setpoint     creatures/biped.leg:187:136 > creatures/biped.leg:163:5
+        hip_r_yaw.setpoint      creatures/biped.leg:187:136 > creatures/biped.leg:164:5
+    """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -441,7 +583,27 @@ def entry_UNLOADING_0(s, u, p, r, tis):
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint."""
+    """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
+
+    From the .leg file:
+        leg_l_spring.rest       creatures/biped.leg:189:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:189:27 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:189:27 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:189:27 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:189:48 > creatures/biped.leg:160:5
+        hip_r_pitch.kp          creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:189:48 > creatures/biped.leg:162:5
+        hip_r_roll.setpoint     creatures/biped.leg:189:48 > creatures/biped.leg:163:5
+        hip_r_yaw.setpoint      creatures/biped.leg:189:48 > creatures/biped.leg:164:5
+    """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     swing_kp = p[10]
@@ -471,7 +633,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    """The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+
+    From the .leg file:
+        record step_speed  creatures/biped.leg:181:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:181:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:181:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:181:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:181:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:182:7
+    """
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
@@ -494,7 +665,30 @@ def entry_FLIGHT_1(s, u, p, r, tis):
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y)."""
+    """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y).
+
+    From the .leg file:
+        leg_r_spring.rest       creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:178:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:178:7 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:178:7 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:178:7 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:179:7
+        hip_r_yaw.kp            creatures/biped.leg:180:7
+        leg_l_spring.rest       creatures/biped.leg:184:7 > creatures/biped.leg:160:5
+        hip_l_pitch.kp          creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:184:7 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:184:7 > creatures/biped.leg:162:5
+        hip_l_roll.setpoint     creatures/biped.leg:184:7 > creatures/biped.leg:163:5
+        hip_l_yaw.setpoint      creatures/biped.leg:184:7 > creatures/biped.leg:164:5
+        place right (x, y)      creatures/biped.leg:183:7 > stdlib/raibert.leg:57:3
+    """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
     body_trunk_roll = s[8]
@@ -554,7 +748,11 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed)."""
+    """The records on entering LOADING under binding 1 (changed: landed).
+
+    From the .leg file:
+        record landed  creatures/biped.leg:185:48
+    """
     time = s[44]
     stance = r[0]
     step_speed = r[2]
@@ -567,7 +765,26 @@ def entry_LOADING_1(s, u, p, r, tis):
 
 
 def action_LOADING_1(s, u, p, r, tis):
-    """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
+
+    From the .leg file:
+        hip_r_pitch.kp          creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:185:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:185:70 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:185:70 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:185:70 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:185:91 > creatures/biped.leg:160:5
+        hip_l_pitch.kp          creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:185:91 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:185:91 > creatures/biped.leg:162:5
+        hip_l_roll.setpoint     creatures/biped.leg:185:91 > creatures/biped.leg:163:5
+        hip_l_yaw.setpoint      creatures/biped.leg:185:91 > creatures/biped.leg:164:5
+    """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     swing_kp = p[10]
@@ -609,7 +826,28 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
+
+    From the .leg file:
+        hip_r_pitch.kp          creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:186:48 > creatures/biped.leg:169:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:186:48 > creatures/biped.leg:170:5
+        hip_r_yaw.setpoint      creatures/biped.leg:186:48 > creatures/biped.leg:171:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:186:65 > creatures/biped.leg:160:5
+        hip_l_pitch.kp          creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:186:65 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:186:65 > creatures/biped.leg:162:5
+        hip_l_roll.setpoint     creatures/biped.leg:186:65 > creatures/biped.leg:163:5
+        hip_l_yaw.setpoint      creatures/biped.leg:186:65 > creatures/biped.leg:164:5
+    """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -675,7 +913,11 @@ def action_COMPRESSION_1(s, u, p, r, tis):
 
 
 def entry_THRUST_1(s, u, p, r, tis):
-    """The records on entering THRUST under binding 1 (changed: predicted_apex)."""
+    """The records on entering THRUST under binding 1 (changed: predicted_apex).
+
+    From the .leg file:
+        record predicted_apex  creatures/biped.leg:187:48 > stdlib/raibert.leg:191:3
+    """
     act_leg_r_spring_force = s[3]
     act_leg_r_spring_k = s[4]
     com_z = s[16]
@@ -691,7 +933,29 @@ def entry_THRUST_1(s, u, p, r, tis):
 
 
 def action_THRUST_1(s, u, p, r, tis):
-    """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
+
+    From the .leg file:
+        leg_r_spring.rest       creatures/biped.leg:187:48 > stdlib/raibert.leg:192:3
+        hip_r_pitch.kp          creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:187:119 > creatures/biped.leg:169:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:187:119 > creatures/biped.leg:170:5
+        hip_r_yaw.setpoint      creatures/biped.leg:187:119 > creatures/biped.leg:171:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:187:136 > creatures/biped.leg:160:5
+        hip_l_pitch.kp          creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:187:136 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:187:136 > creatures/biped.leg:162:5
+        hip_l_roll.setpoint     creatures/biped.leg:187:136 > creatures/biped.leg:163:5
+        hip_l_yaw.setpoint      creatures/biped.leg:187:136 > creatures/biped.leg:164:5
+    """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -776,7 +1040,27 @@ def entry_UNLOADING_1(s, u, p, r, tis):
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint."""
+    """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
+
+    From the .leg file:
+        leg_r_spring.rest       creatures/biped.leg:189:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:189:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:189:27 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:189:27 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:189:27 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:189:48 > creatures/biped.leg:160:5
+        hip_l_pitch.kp          creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:189:48 > creatures/biped.leg:161:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:189:48 > creatures/biped.leg:162:5
+        hip_l_roll.setpoint     creatures/biped.leg:189:48 > creatures/biped.leg:163:5
+        hip_l_yaw.setpoint      creatures/biped.leg:189:48 > creatures/biped.leg:164:5
+    """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     swing_kp = p[10]

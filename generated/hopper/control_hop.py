@@ -52,38 +52,62 @@ AFTER_ENTRY = {
 
 
 def event_FLIGHT_0(s, u, p, r, tis):
-    """Enter FLIGHT (waiting under binding 0) when: liftoff(active)"""
+    """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
+
+    From the .leg file:
+        event  creatures/hopper.leg:67:5
+    """
     leg_main_touching = s[10]
     return (leg_main_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
-    """Enter LOADING (waiting under binding 0) when: touchdown(active)"""
+    """Enter LOADING (waiting under binding 0) when: touchdown(active)
+
+    From the .leg file:
+        event  creatures/hopper.leg:68:5
+    """
     leg_main_touching = s[10]
     return (leg_main_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
-    """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0"""
+    """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
+
+    From the .leg file:
+        event  creatures/hopper.leg:69:5
+    """
     leg_main_rate = s[8]
     return (leg_main_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
-    """Enter THRUST (waiting under binding 0) when: active.rate > 0"""
+    """Enter THRUST (waiting under binding 0) when: active.rate > 0
+
+    From the .leg file:
+        event  creatures/hopper.leg:70:5
+    """
     leg_main_rate = s[8]
     return (leg_main_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 0) when: active.length > full"""
+    """Enter UNLOADING (waiting under binding 0) when: active.length > full
+
+    From the .leg file:
+        event  creatures/hopper.leg:71:5
+    """
     leg_main_length = s[7]
     full = p[9]
     return (leg_main_length > full)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: speed_trim)."""
+    """The records on entering FLIGHT under binding 0 (changed: speed_trim).
+
+    From the .leg file:
+        record speed_trim  creatures/hopper.leg:67:104 > stdlib/raibert.leg:44:3
+    """
     com_vx = s[4]
     speed = u[0]
     k_trim = p[8]
@@ -94,7 +118,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x)."""
+    """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x).
+
+    From the .leg file:
+        leg_spring.rest  creatures/hopper.leg:67:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:67:69 > stdlib/raibert.leg:144:3
+        hip_servo.kv     creatures/hopper.leg:67:69 > stdlib/raibert.leg:145:3
+        hip_motor.force  creatures/hopper.leg:67:69 > stdlib/raibert.leg:146:3
+        place main (x)   creatures/hopper.leg:67:131 > stdlib/raibert.leg:20:3
+    """
     com_vx = s[4]
     leg_main_hip_x = s[6]
     leg_main_stance_time = s[9]
@@ -116,7 +148,13 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force."""
+    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
+
+    From the .leg file:
+        hip_servo.kp     creatures/hopper.leg:68:49 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:68:49 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:68:49 > stdlib/raibert.leg:162:3
+    """
     return [0.0, 0.0, 0.0]
 
 
@@ -128,7 +166,13 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force."""
+    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
+
+    From the .leg file:
+        hip_servo.kp     creatures/hopper.leg:69:49 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:69:49 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:69:49 > stdlib/raibert.leg:86:3
+    """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
     kp = p[2]
@@ -138,7 +182,11 @@ def action_COMPRESSION_0(s, u, p, r, tis):
 
 
 def entry_THRUST_0(s, u, p, r, tis):
-    """The records on entering THRUST under binding 0 (changed: predicted_apex)."""
+    """The records on entering THRUST under binding 0 (changed: predicted_apex).
+
+    From the .leg file:
+        record predicted_apex  creatures/hopper.leg:70:49 > stdlib/raibert.leg:185:3 > stdlib/raibert.leg:191:3
+    """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
     com_z = s[5]
@@ -148,7 +196,14 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force."""
+    """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
+
+    From the .leg file:
+        leg_spring.rest  creatures/hopper.leg:70:49 > stdlib/raibert.leg:185:3 > stdlib/raibert.leg:192:3
+        hip_servo.kp     creatures/hopper.leg:70:100 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:70:100 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:70:100 > stdlib/raibert.leg:86:3
+    """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
     height = u[1]
@@ -170,7 +225,14 @@ def entry_UNLOADING_0(s, u, p, r, tis):
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force."""
+    """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
+
+    From the .leg file:
+        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:71:69 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:71:69 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:71:69 > stdlib/raibert.leg:162:3
+    """
     return [0.0, 0.0, 0.0, 0.0]
 
 

@@ -76,31 +76,51 @@ AFTER_ENTRY = {
 
 
 def event_FLIGHT_0(s, u, p, r, tis):
-    """Enter FLIGHT (waiting under binding 0) when: liftoff(main)"""
+    """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
+
+    From the .leg file:
+        event  creatures/kangaroo.leg:252:5
+    """
     leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
-    """Enter LOADING (waiting under binding 0) when: touchdown(main)"""
+    """Enter LOADING (waiting under binding 0) when: touchdown(main)
+
+    From the .leg file:
+        event  creatures/kangaroo.leg:253:5
+    """
     leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
-    """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0"""
+    """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
+
+    From the .leg file:
+        event  creatures/kangaroo.leg:254:5
+    """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
-    """Enter THRUST (waiting under binding 0) when: ankle.rate > 0"""
+    """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
+
+    From the .leg file:
+        event  creatures/kangaroo.leg:255:5
+    """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
-    """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
+    """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)
+
+    From the .leg file:
+        event  creatures/kangaroo.leg:256:5
+    """
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
     ankle_rest = p[14]
@@ -109,7 +129,12 @@ def event_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim)."""
+    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim).
+
+    From the .leg file:
+        record desired_now  creatures/kangaroo.leg:252:65 > creatures/kangaroo.leg:222:5
+        record speed_trim   creatures/kangaroo.leg:252:92 > creatures/kangaroo.leg:227:5
+    """
     com_vx = s[4]
     leg_main_flight_time = s[10]
     leg_main_stance_time = s[15]
@@ -127,7 +152,24 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
+    """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
+
+    From the .leg file:
+        ankle_spring.rest    creatures/kangaroo.leg:252:42 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:233:5
+        hip_servo.kv         creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:234:5
+        knee_servo.kp        creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:235:5
+        knee_servo.kv        creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:236:5
+        knee_motor.force     creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:237:5
+        hip_servo.setpoint   creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:240:5 > creatures/kangaroo.leg:248:5 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:240:5 > creatures/kangaroo.leg:248:5 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:191:5
+        tail_spring.b        creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:192:5
+        tail_spring.rest     creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:193:5
+        tail_motor.force     creatures/kangaroo.leg:252:208 > creatures/kangaroo.leg:177:5
+        neck_servo.setpoint  creatures/kangaroo.leg:252:224 > creatures/kangaroo.leg:184:5
+        ankle_spring.k       creatures/kangaroo.leg:252:238 > creatures/kangaroo.leg:188:5
+    """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
@@ -201,7 +243,22 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
+    """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
+
+    From the .leg file:
+        hip_servo.kp         creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:202:5
+        hip_servo.kv         creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:203:5
+        hip_servo.setpoint   creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:204:5
+        knee_servo.kp        creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:205:5
+        knee_servo.kv        creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:206:5
+        knee_motor.force     creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:207:5
+        tail_spring.k        creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:191:5
+        tail_spring.b        creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:192:5
+        tail_spring.rest     creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:193:5
+        tail_motor.force     creatures/kangaroo.leg:253:94 > creatures/kangaroo.leg:181:5
+        neck_servo.setpoint  creatures/kangaroo.leg:253:106 > creatures/kangaroo.leg:184:5
+        ankle_spring.k       creatures/kangaroo.leg:253:120 > creatures/kangaroo.leg:188:5
+    """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     leg_main_foot_x = s[11]
@@ -244,7 +301,22 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
+    """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
+
+    From the .leg file:
+        hip_servo.kp         creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:202:5
+        hip_servo.kv         creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:203:5
+        hip_servo.setpoint   creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:204:5
+        knee_servo.kp        creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:205:5
+        knee_servo.kv        creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:206:5
+        knee_motor.force     creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:207:5
+        tail_spring.k        creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:191:5
+        tail_spring.b        creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:192:5
+        tail_spring.rest     creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:193:5
+        tail_motor.force     creatures/kangaroo.leg:254:95 > creatures/kangaroo.leg:181:5
+        neck_servo.setpoint  creatures/kangaroo.leg:254:107 > creatures/kangaroo.leg:184:5
+        ankle_spring.k       creatures/kangaroo.leg:254:121 > creatures/kangaroo.leg:188:5
+    """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     leg_main_foot_x = s[11]
@@ -279,7 +351,11 @@ def action_COMPRESSION_0(s, u, p, r, tis):
 
 
 def entry_THRUST_0(s, u, p, r, tis):
-    """The records on entering THRUST under binding 0 (changed: predicted_apex)."""
+    """The records on entering THRUST under binding 0 (changed: predicted_apex).
+
+    From the .leg file:
+        record predicted_apex  creatures/kangaroo.leg:255:44 > creatures/kangaroo.leg:215:5
+    """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
@@ -290,7 +366,23 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k."""
+    """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
+
+    From the .leg file:
+        ankle_spring.rest    creatures/kangaroo.leg:255:44 > creatures/kangaroo.leg:216:5
+        hip_servo.kp         creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:202:5
+        hip_servo.kv         creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:203:5
+        hip_servo.setpoint   creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:204:5
+        knee_servo.kp        creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:205:5
+        knee_servo.kv        creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:206:5
+        knee_motor.force     creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:207:5
+        tail_spring.k        creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:191:5
+        tail_spring.b        creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:192:5
+        tail_spring.rest     creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:193:5
+        tail_motor.force     creatures/kangaroo.leg:255:151 > creatures/kangaroo.leg:181:5
+        neck_servo.setpoint  creatures/kangaroo.leg:255:163 > creatures/kangaroo.leg:184:5
+        ankle_spring.k       creatures/kangaroo.leg:255:177 > creatures/kangaroo.leg:188:5
+    """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     leg_main_foot_x = s[11]
@@ -345,7 +437,22 @@ def entry_UNLOADING_0(s, u, p, r, tis):
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k."""
+    """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k.
+
+    From the .leg file:
+        ankle_spring.rest    creatures/kangaroo.leg:256:78 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:202:5
+        hip_servo.kv         creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:203:5
+        hip_servo.setpoint   creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:204:5
+        knee_servo.kp        creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:205:5
+        knee_servo.kv        creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:206:5
+        knee_motor.force     creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:207:5
+        tail_spring.k        creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:191:5
+        tail_spring.b        creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:192:5
+        tail_spring.rest     creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:193:5
+        neck_servo.setpoint  creatures/kangaroo.leg:256:150 > creatures/kangaroo.leg:184:5
+        ankle_spring.k       creatures/kangaroo.leg:256:164 > creatures/kangaroo.leg:188:5
+    """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     leg_main_foot_x = s[11]

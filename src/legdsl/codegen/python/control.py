@@ -8,12 +8,15 @@ subexpressions, numbered temporaries) and printer as the dynamics.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import sympy
 from sympy import Expr, Symbol
 
 from legdsl import __version__
+from legdsl.check.values import STDLIB
 from legdsl.codegen.python.dynamics import _environment, _names, function_body
-from legdsl.lower.control import LoweredController, sensor_symbol
+from legdsl.lower.control import LoweredController, Where, sensor_symbol
 from legdsl.lower.straightline import Block
 from legdsl.lower.symbolic import Function
 
@@ -55,6 +58,37 @@ def _program(
     return Function(name, PARAMS, program.statements, result, program.names, program.bases)
 
 
+def shown_file(file: str, source: str) -> str:
+    """A span's file as the generated code names it, the same on every machine: the standard
+    library's as ``stdlib/NAME``, a used file's from the compiled file's folder."""
+    path = Path(file)
+    if not path.is_absolute():
+        return file
+    if path.parent == STDLIB.resolve():
+        return f"stdlib/{path.name}"
+    home = Path(source).resolve().parent
+    if path.is_relative_to(home):
+        return str(Path(source).parent / path.relative_to(home))
+    return path.name
+
+
+def origin(where: Where, source: str) -> str:
+    """Where a statement came from, the state's row first, then each action it was inlined
+    through: ``creatures/hopper.leg:67:49 > stdlib/raibert.leg:196:3``."""
+    return " > ".join(
+        f"{shown_file(span.file, source)}:{span.line}:{span.col}" for span in reversed(where)
+    )
+
+
+def _doc(first: str, lines: list[tuple[str, Where]], source: str) -> str:
+    """A function's docstring: what it does, then the ``.leg`` line of each value it returns."""
+    if not lines:
+        return first
+    width = max(len(target) for target, _ in lines)
+    rows = [f"        {target.ljust(width)}  {origin(where, source)}" for target, where in lines]
+    return "\n".join([first, "", "    From the .leg file:", *rows, "    "])
+
+
 def render_control(
     lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
 ) -> str:
@@ -72,9 +106,9 @@ def render_control(
     for (b, s), event in sorted(lc.events.items()):
         state = lc.states[s]
         fn = _program(f"event_{state}_{b}", [event], lc, let=False)
-        functions.append(
-            (fn, f"Enter {state} (waiting under binding {b}) when: {event_text[state]}")
-        )
+        first = f"Enter {state} (waiting under binding {b}) when: {event_text[state]}"
+        where = lc.event_where.get((b, s), ())
+        functions.append((fn, _doc(first, [("event", where)] if where else [], source)))
         tables["events"].append(((b, s), fn.name))
     for (b, s), body in sorted(lc.bodies.items()):
         state = lc.states[s]
@@ -84,9 +118,10 @@ def render_control(
             f"entry_{state}_{b}", values, lc, names=[f"new_{name}" for name in lc.records]
         )
         done = ", ".join(new) or "none"
-        functions.append(
-            (fn, f"The records on entering {state} under binding {b} (changed: {done}).")
-        )
+        first = f"The records on entering {state} under binding {b} (changed: {done})."
+        recorded = [(f"record {name}", w)
+                    for (name, _), w in zip(body.records, body.record_where, strict=True)]  # fmt: skip
+        functions.append((fn, _doc(first, recorded, source)))
         tables["entries"].append(((b, s), fn.name))
         targets = [f"{st.actuator}.{st.key}" for st in body.settings]
         targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
@@ -95,9 +130,9 @@ def render_control(
         names += [f"{p.leg}_{axis}_goal" for p in body.places for axis in p.axes]
         values = [st.value for st in body.settings] + goals
         fn = _program(f"action_{state}_{b}", values, lc, names=names)
-        functions.append(
-            (fn, f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}.")
-        )
+        first = f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}."
+        wheres = [st.where for st in body.settings] + [p.where for p in body.places]
+        functions.append((fn, _doc(first, list(zip(targets, wheres, strict=True)), source)))
         tables["actions"].append(((b, s), fn.name))
         settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
         if body.places:
