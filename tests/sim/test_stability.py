@@ -97,3 +97,19 @@ def test_a_run_too_stiff_for_its_step_is_refused(
     assert "actuator 'leg_spring' is too stiff for the integration step" in err
     assert "use k below 7.27e+06 N/m, or --dt below 0.0342 ms" in err
     assert not out.exists()
+
+
+def test_a_saturating_actuator_past_the_bound_is_a_warning(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], generated: Path, creatures_dir: Path
+) -> None:
+    out = tmp_path / "run"
+    argv = ["run", str(creatures_dir / "hopper.leg"), "--time", "0.1s", "--set",
+            "hip_servo.kp=1e9N*m/rad", "--out", str(out), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "warning: actuator 'hip_servo' is too stiff for the integration step" in err
+    assert "only its 'max' holds it: it will chatter between -max and max every step" in err
+    argv = ["run", str(creatures_dir / "hopper.leg"), "--time", "0.1s", "--out", str(out),
+            "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    assert "warning" not in capsys.readouterr().err

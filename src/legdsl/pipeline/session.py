@@ -39,7 +39,7 @@ from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
-from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
+from legdsl.sim.stability import TooStiff, inverse_inertia_diagonal, too_stiff
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
@@ -172,18 +172,23 @@ class RunSession:
 
     def _check_stiffness(self, sim: Simulation, control: ModuleType | None) -> None:
         """An actuator too stiff or too damped for the step diverges at once: refused (exit 2)
-        with the bound (``legdsl.sim.stability``)."""
+        with the bound (``legdsl.sim.stability``); one held by its ``max`` chatters: a warning."""
         written = {t for targets in getattr(control, "SETTINGS", {}).values() for t in targets}
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
         opts = sim.options
+        rotary = {a.name: a.rotary for a in self.model.actuators}
+
+        def unit(f: TooStiff) -> str:
+            return _SETTING_UNITS[f.setting, rotary[f.actuator]]
+
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
         if found:
-            rotary = {a.name: a.rotary for a in self.model.actuators}
-            raise UsageError(
-                "; ".join(
-                    f.message(opts.dt, _SETTING_UNITS[f.setting, rotary[f.actuator]]) for f in found
-                )  # fmt: skip
-            )
+            raise UsageError("; ".join(f.message(opts.dt, unit(f)) for f in found))
+        if self.log is None:
+            return
+        held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
+        for f in held:  # saturating actuators past the bound: they chatter, a warning
+            print(f"legdsl: warning: {f.message(opts.dt, unit(f), True)}", file=self.log)
 
 
 _SETTING_UNITS = {

@@ -14,8 +14,9 @@ RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
 ``c h < 2.78``. A run past these bounds is certain to diverge, so it is refused
 with the bound and what to change instead of diverging after a few steps.
 
-An actuator with a ``max`` saturates (it cannot grow without bound), and a gain the
-controller sets every tick is not the one in the file: neither is checked.
+An actuator with a ``max`` saturates (it cannot grow without bound): past the bound it
+chatters between its limits, which is worth a warning, not a refusal. A gain the controller
+sets every tick is not the one in the file, and is not checked.
 """
 
 from __future__ import annotations
@@ -41,13 +42,16 @@ class TooStiff:
     limit: float  # the largest value the step allows
     dt_limit: float  # the largest step the value allows
 
-    def message(self, dt: float, unit: str) -> str:
+    def message(self, dt: float, unit: str, saturating: bool = False) -> str:
         what = "stiff" if self.setting in ("k", "kp") else "damped"
+        outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
+                   if saturating else "diverges at once")  # fmt: skip
+        fix = "" if saturating else " (or give it a 'max')"
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step: "
-            f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms diverges at "
-            f"once; use {self.setting} below {self.limit:.3g} {unit}, or --dt below "
-            f"{self.dt_limit * 1e3:.3g} ms (or give it a 'max')"
+            f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms {outcome}; "
+            f"use {self.setting} below {self.limit:.3g} {unit}, or --dt below "
+            f"{self.dt_limit * 1e3:.3g} ms{fix}"
         )
 
 
@@ -57,13 +61,16 @@ def too_stiff(
     dt: float,
     integrator: str,
     controlled: set[tuple[str, str]],
+    saturating: bool = False,
 ) -> list[TooStiff]:
     """The actuators whose stiffness or damping makes the run diverge with step ``dt``.
     ``inverse_inertia[i]`` is the diagonal of M(q)^-1 for velocity coordinate ``i``;
-    ``controlled`` the (actuator, setting) pairs the controller writes."""
+    ``controlled`` the (actuator, setting) pairs the controller writes. With ``saturating``,
+    the actuators with a ``max`` instead: past the bound they do not diverge, but chatter
+    between -max and max from step to step."""
     found = []
     for a in actuators:
-        if a.kind == "force" or a.limit is not None:
+        if a.kind == "force" or (a.limit is not None) != saturating:
             continue
         inv = inverse_inertia[a.v_index]
         if not inv > 0:
