@@ -55,7 +55,8 @@ def test_replay_renders_an_mp4(tmp_path: Path) -> None:
         capture_output=True, text=True, check=True,
     )  # fmt: skip
     width, height, frames = (int(x) for x in probe.stdout.strip().split(","))
-    assert (width, height) == (160, 96) and frames == 11  # 1 s at 10 per second, both ends
+    # 1 s recorded every 5.2 ms: samples to 0.9984 s, so frames at 0, 0.1, ..., 0.9 s
+    assert (width, height) == (160, 96) and frames == 10
     raw = subprocess.run(
         ["ffmpeg", "-v", "error", "-i", str(out), "-frames:v", "1", "-f", "rawvideo",
          "-pix_fmt", "rgb24", "-"],

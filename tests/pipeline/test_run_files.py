@@ -35,8 +35,9 @@ def test_the_run_files(hopper: tuple[Path, Path]) -> None:
     with zipfile.ZipFile(run / "trajectory.npz") as z:
         assert {i.compress_type for i in z.infolist()} == {zipfile.ZIP_DEFLATED}
     rows = list(csv.DictReader((run / "trajectory.csv").open()))
-    assert rows[0]["state_name"] == "FLIGHT"
-    assert {r["state_name"] for r in rows} >= {"FLIGHT", "LOADING", "COMPRESSION", "THRUST"}
+    names = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")
+    assert all(r["state_name"] == names[int(r["state"])] for r in rows)
+    assert {r["state_name"] for r in rows} >= {"FLIGHT", "COMPRESSION", "THRUST"}
     info = json.loads((run / "run.json").read_text())
     assert len(info["source_sha256"]) == 64 and len(info["creature_fingerprint"]) == 16
     control = (ROOT / "generated" / "hopper" / "control_hop.py").read_text()

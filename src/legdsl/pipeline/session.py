@@ -38,7 +38,7 @@ from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+from legdsl.sim.simulate import RunOptions, RunResult, Simulation, steps_per_sample
 from legdsl.sim.stability import TooStiff, inverse_inertia_diagonal, too_stiff
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
@@ -265,6 +265,8 @@ class Run:
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),
+            # one fixed interval, a whole number of steps (legdsl.sim.simulate.steps_per_sample)
+            "record_interval": round(steps_per_sample(self.options) * self.options.dt, 12),
             "events": result.events,
         }
 

@@ -41,6 +41,17 @@ class RunOptions:
     drop: float | None = None  # start with the lowest contact this high above the ground
 
 
+def steps_per_sample(options: RunOptions) -> int:
+    """Samples are taken every this many steps: one fixed interval, the record rate's
+    rounded up to a whole number of steps (at 200 Hz and 0.4 ms, 12.5 steps: every 13, 5.2 ms),
+    so never more often than asked. An interval within 0.1% of a step of a whole number is
+    that number (a rate and step printed to six digits, as a scaled file does, agree with
+    the exact ones). A record rate of 0 records every step."""
+    if options.record_rate <= 0:
+        return 1
+    return max(1, math.ceil(1.0 / (options.record_rate * options.dt) - 1e-3))
+
+
 class Controller(Protocol):
     """What the simulation needs from a controller (the state machine of a later stage)."""
 
@@ -392,11 +403,10 @@ class Simulation:
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
         opts = self.options
         n_steps = int(round(opts.duration / opts.dt))
-        every_step = opts.record_rate <= 0
-        record_dt = opts.dt if every_step else 1.0 / opts.record_rate
+        record_every = steps_per_sample(opts)
         # At most this many samples; the arrays start small and double when full, so that a
         # long run (--time 1e9) starts at once and memory follows what was recorded.
-        capacity = (n_steps + 1) if every_step else int(math.floor(opts.duration / record_dt)) + 2
+        capacity = n_steps // record_every + 1
         traj = empty_trajectory(self, min(capacity, INITIAL_ROWS))
         control_every = max(1, int(round(opts.control_dt / opts.dt)))
         start_height = self._standing_height()
@@ -404,7 +414,6 @@ class Simulation:
         status = "ok"
         cause = ""
         recorded = 0
-        next_record = 0.0
         wall0 = time.perf_counter()
         last_report = wall0
         if self.ground is not None:
@@ -414,13 +423,12 @@ class Simulation:
             for steps in range(n_steps + 1):
                 if steps % control_every == 0 and self.controller is not None:
                     self.controller(self)
-                if self.t >= next_record - 1e-12 and recorded < capacity:
+                if steps % record_every == 0:
                     if recorded == len(traj):
                         traj = traj.grown(min(capacity, 2 * len(traj)))
                     self.generalized_forces(self.q, self.v, record=True)
                     record_row(self, traj, recorded)
                     recorded += 1
-                    next_record += record_dt
                 if steps % control_every == 0:
                     fell = self._check(start_height)
                     if fell:
