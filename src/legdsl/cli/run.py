@@ -105,7 +105,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     with (
         _terminate_as_interrupt()
     ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
-        run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
+        run = session.run(
+            args.controller, args.set, args.path, options, progress, args.scale, args.switch
+        )
     with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
         try:
             out = run.write(out)
@@ -155,6 +157,15 @@ def add_run_parser(sub: Any) -> Command:
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
         "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+    )
+    r.add_argument(
+        "--switch",
+        action="append",
+        default=[],
+        metavar="T=CONTROLLER",
+        help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
+        "starts in the state that matches the feet down, keeps the records and inputs whose "
+        "names match, and --set NAME=V@T still applies; repeatable",
     )
     r.add_argument(
         "--path",

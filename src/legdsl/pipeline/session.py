@@ -34,9 +34,10 @@ from legdsl.pipeline import scaled
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
@@ -97,20 +98,34 @@ class RunSession:
         options: RunOptions | None = None,
         progress: Progress | None = None,
         scale: float | None = None,
+        switches: Sequence[str | Switch] = (),
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
         ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
         ``UsageError`` before anything is simulated. With ``scale`` (L), every input is for the
         creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
-        and its outputs by L (``legdsl.pipeline.scaled``)."""
+        and its outputs by L (``legdsl.pipeline.scaled``). ``switches`` (``--switch`` texts,
+        ``6s=gallop``, or ``Switch``es) change the controller during the run
+        (``legdsl.sim.switching``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
-        sorted_settings = sort_settings(settings, self.model, controller)
+        switches = [switches] if isinstance(switches, str | Switch) else list(switches)
+        changes = [
+            w if isinstance(w, Switch) else parse_switch(w, self.controllers) for w in switches
+        ]
+        if changes and controller is None:
+            raise UsageError("--switch: say which controller starts the run with --controller")
+        if changes and scale is not None:
+            raise UsageError(
+                "--switch with --scale: not supported; run the file 'legdsl scale' writes instead"
+            )
+        later = [w.controller for w in changes]
+        sorted_settings = sort_settings(settings, self.model, controller, later)
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if scale is not None:
             options = scaled.scale_options(asked, scale)
@@ -120,8 +135,15 @@ class RunSession:
             raise UsageError(
                 "--path: a path is followed by a controller; choose one with --controller"
             )
-        machine = None
-        if control is not None:
+        machine: StateMachine | SwitchingMachine | None = None
+        if control is not None and controller is not None and changes:
+            s = sorted_settings
+            check_switch_paths(self.model, [controller, *later], specs)
+            modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
+            machine = SwitchingMachine(
+                self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs
+            )
+        elif control is not None:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
         sim = Simulation(self.model, self.dynamics, options, machine)
@@ -175,7 +197,7 @@ class Run:
     controller: str | None
     options: RunOptions
     settings: Settings
-    machine: StateMachine | None
+    machine: StateMachine | SwitchingMachine | None
     result: RunResult
     path_reports: list[dict[str, Any]] = field(default_factory=list)
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
@@ -192,10 +214,16 @@ class Run:
         }
         if self.machine is not None:
             m = self.machine
-            extra["inputs"] = m.initial_inputs
-            extra["params"] = dict(zip(m.param_names, m.params, strict=True))
+            first = m.finished[0][1] if isinstance(m, SwitchingMachine) and m.finished else m
+            if isinstance(first, SwitchingMachine):
+                first = first.current
+            extra["inputs"] = first.initial_inputs
+            extra["params"] = dict(zip(first.param_names, first.params, strict=True))
             extra["paths"] = [p.as_json() for p in m.paths if p.shape != "none"]
             extra["path_reports"] = self.path_reports
+            if isinstance(m, SwitchingMachine):
+                extra["switches"] = [{"t": w.t, "controller": w.controller} for w in m.switches]
+                extra["segments"] = m.segment_info(self.result.sim_time)
         result = self.result
         return {
             "legdsl": __version__,

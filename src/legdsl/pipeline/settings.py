@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -21,6 +22,7 @@ from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.sim.machine import InputChange
+from legdsl.sim.switching import Switch
 
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 _TIME: Dim = KINDS["time"][0]
@@ -147,13 +149,21 @@ class Settings:
         }
 
 
-def sort_settings(texts: list[str], model: Model, controller: str | None) -> Settings:
+def sort_settings(
+    texts: list[str], model: Model, controller: str | None, later: Sequence[str] = ()
+) -> Settings:
     """Read ``--set`` options: ``ACTUATOR.SETTING=V``, ``INPUT=V``, ``PARAM=V`` or ``INPUT=V@T``,
-    each checked against the dimension the file declares for it."""
+    each checked against the dimension the file declares for it. ``later`` are the controllers
+    a run switches to (``--switch``): a name may be an input or parameter of any of them."""
     out = Settings({}, {}, {}, [])
     ir = model.controller(controller) if controller is not None else None
-    inputs = {c.name: c for c in ir.inputs} if ir is not None else {}
-    params = {c.name: c for c in ir.params} if ir is not None else {}
+    inputs: dict[str, Any] = {}
+    params: dict[str, Any] = {}
+    for name in dict.fromkeys([controller, *later] if ir is not None else []):
+        assert name is not None
+        ctl = model.controller(name)
+        inputs |= {c.name: c for c in ctl.inputs if c.name not in inputs}
+        params |= {c.name: c for c in ctl.params if c.name not in params}
     for original in texts:
         where = f"--set {original}"
         text, at = original, None
@@ -189,8 +199,11 @@ def sort_settings(texts: list[str], model: Model, controller: str | None) -> Set
             out.params[name] = given.value
         else:
             known = ", ".join([*inputs, *params]) or "none"
+            which = f"controller {controller}" if not later else "no controller of the run"
             raise UsageError(
-                f"--set {name}: controller {controller} has no input or parameter {name!r} (it has {known})"
+                f"--set {name}: {which} has no input or parameter {name!r} (it has {known})"
+                if not later
+                else f"--set {name}: {which} has an input or parameter {name!r} (they have {known})"
             )
     return out
 
@@ -237,3 +250,24 @@ def parse_path_option(text: str) -> PathSpec:
     diag.raise_if_any()
     assert spec is not None
     return spec
+
+
+def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
+    """``--switch 6s=gallop``: from 6 s on the run is driven by controller ``gallop``."""
+    when, sep, name = text.partition("=")
+    name = name.strip()
+    if not sep or not when.strip() or not name:
+        raise UsageError(f"--switch {text!r}: write TIME=CONTROLLER, e.g. --switch 6s=gallop")
+    given = parse_given(when, f"--switch {text}")
+    check_dimension(f"--switch {text}", "the time before '=' is in seconds", given, _TIME,
+                    "--switch {}=" + name)  # fmt: skip
+    if not given.value > 0:
+        raise UsageError(
+            f"--switch {text}: a switch comes after the start (the first controller is --controller)"
+        )
+    if name not in controllers:
+        raise UsageError(
+            f"--switch {text}: the creature has no controller {name!r} "
+            f"(controllers: {', '.join(controllers) or 'none'})"
+        )
+    return Switch(given.value, name)
