@@ -69,7 +69,7 @@ def _read_window(args: argparse.Namespace) -> None:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
-    from legdsl.analysis.table2 import TABLE2, compare_table
+    from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
     from legdsl.pipeline.measure import measure_run
     from legdsl.pipeline.report import path_summary
 
@@ -80,7 +80,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
             args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
-            args.generated,
+            args.generated, args.table2,
         )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
@@ -94,7 +94,8 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     print(metrics.table(), end="")
     if args.table2 is not None:
         print(f"\nbeside Table 2 of the paper, {args.table2}:")
-        print(compare_table(metrics, TABLE2[args.table2]), end="")
+        table = compare_table(metrics, TABLE2[args.table2], measured_as=MEASURE[args.table2])
+        print(table, end="")
     if reports:
         print("path following:")
         for report in reports:
