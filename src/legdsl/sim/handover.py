@@ -9,9 +9,9 @@ its *contact facts*, most recent first, each over concrete feet (a role is resol
 binding that waited for the event). When a controller takes over at time t:
 
 1. every pair of the cycle is scored against the feet down now: fewer facts contradicted
-   first, then the most recent fact explained latest (the foot whose contact last changed the
-   way the fact says), so that of two mirror-image flights the one whose leg just lifted off
-   wins;
+   first, then the most recent of its facts that holds made true latest (by the foot whose
+   contact last changed the way the fact says), so that of two mirror-image flights the one
+   whose leg just lifted off wins, and of two stances the one whose leg landed last;
 2. the best pairs form stretches of consecutive states (e.g. LOADING, COMPRESSION, THRUST,
    UNLOADING with the same foot down); of the chosen stretch the machine starts in the last
    state whose own event holds now (its time in state 0), else the stretch's first: mid-thrust
@@ -96,6 +96,8 @@ def cycle(model: Model, ctl: ir.Controller) -> list[Pair]:
         j = (i + 1) % n
         waited, b, i = b, after.get((b, j), b), j
     loop = order[seen[(b, i)] :]  # the pairs that repeat (a start outside the loop is left)
+    # each waits under the binding of the one before it in the loop (the start, too)
+    loop = [(b, i, loop[k - 1][0]) for k, (b, i, _) in enumerate(loop)]
     facts: dict[tuple[int, int], tuple[Fact, ...]] = {}
     known: tuple[Fact, ...] = ()
     for _lap in range(2):
@@ -119,18 +121,16 @@ class Clock:
 
 
 def _score(facts: Sequence[Fact], feet: Mapping[str, Clock]) -> tuple[int, float]:
-    """(facts contradicted, when the most recent fact was last made true: later is better)."""
-    wrong = 0
-    for f in facts:
-        down = any(feet[c].down for c in f.feet if c in feet)
-        wrong += down != f.down
+    """(facts contradicted, when the most recent fact that holds was last made true: later
+    is better)."""
+    held = [f for f in facts if any(feet[c].down for c in f.feet if c in feet) == f.down]
     recent = -math.inf
-    if facts and wrong == 0:
-        f = facts[0]
+    if held:
+        f = held[0]
         times = [feet[c].touchdown if f.down else feet[c].liftoff for c in f.feet if c in feet]
         times = [x for x in times if math.isfinite(x)]
         recent = max(times) if times else -math.inf
-    return wrong, recent
+    return len(facts) - len(held), recent
 
 
 def take_over(

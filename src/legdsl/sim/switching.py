@@ -112,14 +112,15 @@ class SwitchingMachine:
     def _switch(self, to: str, t: float) -> None:
         old = self.current
         new = self._machine(to, t)
-        carried = dict(zip(old.input_names, old.inputs, strict=True))
-        carried |= {k: v for k, v in self.commanded.items()}
+        kept = dict(zip(old.input_names, old.inputs, strict=True))
+        kept |= {k: v for k, v in self.commanded.items()}
         new.inputs = [
-            float(carried.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)
+            float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)
         ]
         new._history = [(t, list(new.inputs))]
         records = dict(zip(old.module.RECORDS, old.records, strict=True))
         new.records = [float(records.get(n, 0.0)) for n in new.module.RECORDS]
+        carried = {n: records[n] for n in new.module.RECORDS if n in records}
         new.sensors.clocks = old.sensors.clocks
         for path, tracker in old.sensors.paths.items():
             mine = next((p for p in new.paths if p.name == path), None)
@@ -129,7 +130,7 @@ class SwitchingMachine:
         self.finished.append((self.name, old))
         self.segments[-1]["to"] = round(t, 9)
         self.current, self.name = new, to
-        self.segments.append(self._segment(t))
+        self.segments.append(self._segment(t) | {"records_carried": carried})
 
     def __call__(self, sim: Any) -> None:
         t = sim.t
