@@ -147,7 +147,13 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from legdsl.analysis.plot import first_leg_angles, plot_run, plot_top, run_paths
+    from legdsl.analysis.plot import (
+        first_leg_angles,
+        plot_footfall,
+        plot_run,
+        plot_top,
+        run_paths,
+    )
     from legdsl.pipeline.options import check_output_file
     from legdsl.sim.trajectory import Trajectory
 
@@ -157,6 +163,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = check_output_file(args.output or run / "figure6.png", "--output")
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
+    footfall = out.with_name("footfall.png") if args.output else run / "footfall.png"
+    plot_footfall(run, footfall, args.t_from, args.t_to)
+    print(f"wrote {footfall} (footfall diagram)")
     if args.top or run_paths(run):
         top = out.with_name("top.png") if args.output else run / "top.png"
         plot_top(run, top, args.t_from, args.t_to)
