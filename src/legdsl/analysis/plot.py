@@ -170,7 +170,8 @@ def _runs_of(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:
     d = np.diff(np.concatenate(([0], on.astype(np.int8), [0])))
     starts, stops = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
     last = len(t) - 1
-    return [(float(t[a]), float(t[min(b, last)])) for a, b in zip(starts, stops, strict=True)]
+    pairs = zip(starts.tolist(), stops.tolist(), strict=True)
+    return [(float(t[a]), float(t[min(int(b), last)])) for a, b in pairs]
 
 
 def first_leg_angles(run: Path) -> tuple[str, ...]:

@@ -430,6 +430,56 @@ class ControllerDecl:
 
 
 @dataclass(frozen=True)
+class SceneSet:
+    """``set NAME = VALUE`` in a scene (an input, a parameter or ACTUATOR.KEY), or
+    ``at T set NAME = VALUE`` (an input changed at time T)."""
+
+    target: tuple[Ident, ...]
+    value: Value
+    at: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneSwitch:
+    """``at T switch CONTROLLER`` in a scene."""
+
+    controller: Ident
+    at: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneController:
+    """``controller NAME`` in a scene: the controller the run starts with."""
+
+    name: Ident
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneTime:
+    """``time T`` in a scene: how long the run lasts."""
+
+    value: Value
+    span: Span
+
+
+SceneItem = SceneSet | SceneSwitch | SceneController | SceneTime
+
+
+@dataclass(frozen=True)
+class SceneDecl:
+    """``scene NAME [for CREATURE] { ... }``: a whole run written in the file (``legdsl run
+    FILE --scene NAME``)."""
+
+    name: Ident
+    creature: Ident | None
+    items: tuple[SceneItem, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
 class UseDecl:
     target: str
     span: Span
@@ -444,3 +494,4 @@ class SourceFile:
     uses: tuple[UseDecl, ...]
     span: Span
     shared: tuple[SharedDecl, ...] = ()
+    scenes: tuple[SceneDecl, ...] = ()

@@ -19,6 +19,7 @@ from typing import Any
 
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
+from legdsl.ir.scene import Scene
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.sim.machine import InputChange
@@ -271,3 +272,25 @@ def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
             f"(controllers: {', '.join(controllers) or 'none'})"
         )
     return Switch(given.value, name)
+
+
+def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
+    """A scene's ``set`` and ``at T switch`` lines as the ``--set`` and ``--switch`` texts
+    they stand for (SI values with their SI units, exact: ``repr`` of each float)."""
+    sets = [
+        f"{v.name}={v.value!r}{si_unit(v.dim)}" + (f"@{v.at!r}s" if v.at is not None else "")
+        for v in scene.values
+    ]
+    switches = [f"{w.t!r}s={w.controller}" for w in scene.switches]
+    return sets, switches
+
+
+def find_scene(model: Model, name: str) -> Scene:
+    """``--scene NAME``: the creature's scene of that name, or a ``UsageError`` naming them."""
+    names = [s.name for s in model.scenes]
+    if name not in names:
+        raise UsageError(
+            f"--scene {name}: creature '{model.name}' has no scene {name!r} "
+            f"(scenes: {', '.join(names) or 'none; write one: scene NAME { controller ...; }'})"
+        )
+    return model.scene(name)
