@@ -69,8 +69,9 @@ def _read_window(args: argparse.Namespace) -> None:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
+    from legdsl.analysis.segments import segment_table
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
-    from legdsl.pipeline.measure import measure_run
+    from legdsl.pipeline.measure import measure_run, run_segments
     from legdsl.pipeline.report import path_summary
 
     try:
@@ -85,13 +86,18 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
+    segments = run_segments(args.dir)
     if args.json:
         data = metrics.to_dict()
         if reports:
             data["path_reports"] = reports
+        if segments:
+            data["segments"] = segments
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
     print(metrics.table(), end="")
+    if segments:
+        print(segment_table(segments), end="")
     if args.table2 is not None:
         print(f"\nbeside Table 2 of the paper, {args.table2}:")
         table = compare_table(metrics, TABLE2[args.table2], measured_as=MEASURE[args.table2])

@@ -10,6 +10,7 @@ from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
+from legdsl.analysis.segments import segment_report
 from legdsl.analysis.table2 import MEASURE, virtual_legs
 from legdsl.check.source import check_model
 from legdsl.ir.model import Model
@@ -67,6 +68,18 @@ def measure_run(
     start = t_from if t_from > 0 else PATH_FROM
     reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
     return metrics, reports
+
+
+def run_segments(run: str | Path) -> list[dict[str, Any]]:
+    """The controller segments of a run that switched controllers (none for other runs),
+    each measured (``legdsl.analysis.segments``)."""
+    run = Path(run)
+    if not (run / "run.json").is_file():
+        return []
+    segments = load_run_info(run).get("segments")
+    if not isinstance(segments, list) or not all(isinstance(s, dict) for s in segments):
+        return []
+    return segment_report(Trajectory.load(run), segments)
 
 
 def run_model(run: Path, why: str) -> Model:
