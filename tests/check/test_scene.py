@@ -10,7 +10,7 @@ import pytest
 from legdsl.check.source import check_model
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.settings import find_scene, scene_texts
+from legdsl.pipeline.settings import find_scene, scene_plan, scene_texts
 
 ROOT = Path(__file__).resolve().parents[2]
 BIPED = ROOT / "creatures" / "biped.leg"
@@ -41,7 +41,7 @@ def test_a_scene_may_use_semicolons_units_of_any_size_and_actuators(tmp_path: Pa
     assert values[("leg_l_spring.k", None)] == pytest.approx(12000.0)
     assert values[("turn_rate", 0.5)] == pytest.approx(0.17453292519943295)
     assert scene.switches[0].t == 0.5 and scene.duration == 60.0
-    with pytest.raises(UsageError, match="scenes: run_gallop_run, quick"):
+    with pytest.raises(UsageError, match="scenes: run_gallop_run, by_speed, quick"):
         find_scene(check_model(path), "quik")
 
 
@@ -67,3 +67,40 @@ def test_legdsl_run_scene_runs_it_and_the_command_line_adds_to_it(
     assert "leave out --controller" in capsys.readouterr().err
     assert main(["run", str(path), "--scene", "slow", "--time", "1"]) == 2
     assert "no scene 'slow'" in capsys.readouterr().err
+
+
+def test_gait_bands_choose_the_controller_with_hysteresis() -> None:
+    from legdsl.ir.scene import choose_gaits
+
+    scene = check_model(BIPED).scene("by_speed")
+    assert [(b.controller, b.low, b.high) for b in scene.bands] == [
+        ("gallop", None, 1.6), ("run", 1.4, None),
+    ]  # fmt: skip
+    assert scene.controller == "gallop" and scene.band_input == "speed"
+    changes = [(6.0, 2.0), (12.0, 1.5), (18.0, 1.2)]
+    first, switches, lost = choose_gaits(scene.bands, None, 1.5, changes)
+    # 1.5 m/s: gallop's band is first; 2 m/s: run; 1.5 again: run kept; 1.2: gallop
+    assert (first, switches, lost) == ("gallop", [(6.0, "run"), (18.0, "gallop")], [])
+    assert choose_gaits(scene.bands, None, 1.5, [(3.0, 1.5)])[1] == []
+    assert choose_gaits(scene.bands, "run", 1.5, [(3.0, 1.0)])[1] == [(3.0, "gallop")]
+    # the command line's speeds choose too
+    controller, _, planned = scene_plan(scene, check_model(BIPED), ["speed=1.45m/s@2s"], [])
+    assert controller == "gallop"
+    assert planned == ["6.0s=run", "18.0s=gallop"]
+    controller, _, planned = scene_plan(scene, check_model(BIPED), ["speed=2m/s"], [])
+    assert (controller, planned) == ("run", ["18.0s=gallop"])
+
+
+def test_a_speed_no_band_holds_is_an_error(tmp_path: Path) -> None:
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene gap {\n  gait by speed { gallop to 1.6 m/s; run from 2 m/s }\n"
+        "  set speed = 1.2 m/s\n  at 4 s set speed = 1.8 m/s\n}\n"
+    )
+    with pytest.raises(LegError) as err:
+        check_model(path)
+    text = err.value.render()
+    assert "no band of 'gait by speed' holds speed = 1.8 m/s" in text
+    assert "at 4 s set speed = 1.8 m/s\n" in text and "^" in text

@@ -19,7 +19,7 @@ import re
 
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
-from legdsl.ir.scene import Scene, SceneSwitch, SceneValue
+from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe
@@ -99,10 +99,12 @@ class _SceneChecker:
     def check(self) -> Scene | None:
         decl, diag = self.decl, self.diag
         first = [i for i in decl.items if isinstance(i, ast.SceneController)]
-        if not first:
+        tables = [i for i in decl.items if isinstance(i, ast.SceneGaits)]
+        if not first and not tables:
             diag.error(
                 decl.name.span,
-                f"scene '{decl.name.name}' needs 'controller NAME': the controller it starts with",
+                f"scene '{decl.name.name}' needs 'controller NAME' (the controller it starts "
+                "with) or 'gait by speed { ... }'",
             )
             return None
         for extra in first[1:]:
@@ -110,45 +112,130 @@ class _SceneChecker:
                 extra.span,
                 f"a scene starts with one controller (the first is at line {first[0].span.line}); change controllers with 'at T switch NAME'",
             )
-        ok = self._controller(first[0].name)
-        switches: list[SceneSwitch] = []
-        seen: dict[float, Span] = {}
-        for item in decl.items:
-            if isinstance(item, ast.SceneSwitch):
-                assert item.at is not None
-                t = _number(item.at, _TIME, "the time after 'at'", diag)
-                good = self._controller(item.controller)
-                if t is not None and t <= 0:
-                    diag.error(
-                        item.at.span,
-                        "a switch comes after the start (the scene's 'controller' starts it)",
-                    )
-                elif t is not None and t in seen:
-                    diag.error(
-                        item.span, f"two switches at {t:g} s (the other at line {seen[t].line})"
-                    )
-                elif t is not None and good:
-                    seen[t] = item.span
-                    switches.append(SceneSwitch(t, item.controller.name, item.span))
-        names = [first[0].name.name, *(s.controller for s in switches)]
+        for again in tables[1:]:
+            diag.error(
+                again.span,
+                f"a scene has one gait table (the first is at line {tables[0].span.line})",
+            )
+        ok = not first or self._controller(first[0].name)
+        switches = self._switches(bool(tables))
+        bands = self._bands(tables[0]) if tables else ()
+        names = [*(f.name.name for f in first[:1]), *(s.controller for s in switches),
+                 *(b.controller for b in bands or ())]  # fmt: skip
         used = [self.controllers[n] for n in dict.fromkeys(names) if n in self.controllers]
         values = [v for item in decl.items if isinstance(item, ast.SceneSet)
                   for v in [self._value(item, used)] if v is not None]  # fmt: skip
-        times = [i for i in decl.items if isinstance(i, ast.SceneTime)]
+        duration = self._duration()
+        if not ok or bands is None:
+            return None
+        start = first[0].name.name if first else None
+        by = tables[0].input.name if tables else ""
+        if bands:
+            start = self._gaits(tables[0], bands, start, used, values)
+            if start is None:
+                return None
+        assert start is not None
+        switches.sort(key=lambda s: s.t)
+        return Scene(decl.name.name, start, tuple(values), tuple(switches), duration, decl.span,
+                     bands, by, not first)  # fmt: skip
+
+    def _switches(self, by_table: bool) -> list[SceneSwitch]:
+        diag = self.diag
+        switches: list[SceneSwitch] = []
+        seen: dict[float, Span] = {}
+        for item in self.decl.items:
+            if not isinstance(item, ast.SceneSwitch):
+                continue
+            if by_table:
+                diag.error(
+                    item.span,
+                    "this scene chooses its controllers with 'gait by'; leave out 'at T switch' (or the gait table)",
+                )
+                continue
+            assert item.at is not None
+            t = _number(item.at, _TIME, "the time after 'at'", diag)
+            good = self._controller(item.controller)
+            if t is not None and t <= 0:
+                diag.error(
+                    item.at.span,
+                    "a switch comes after the start (the scene's 'controller' starts it)",
+                )
+            elif t is not None and t in seen:
+                diag.error(item.span, f"two switches at {t:g} s (the other at line {seen[t].line})")
+            elif t is not None and good:
+                seen[t] = item.span
+                switches.append(SceneSwitch(t, item.controller.name, item.span))
+        return switches
+
+    def _duration(self) -> float | None:
+        diag = self.diag
+        times = [i for i in self.decl.items if isinstance(i, ast.SceneTime)]
         for later in times[1:]:
             diag.error(
                 later.span, f"the scene's time is given twice (first at line {times[0].span.line})"
             )
-        duration = None
-        if times:
-            duration = _number(times[0].value, _TIME, "the scene's time", diag)
-            if duration is not None and duration <= 0:
-                diag.error(times[0].value.span, "the scene's time must be more than zero")
-        if not ok:
+        if not times:
             return None
-        switches.sort(key=lambda s: s.t)
-        return Scene(decl.name.name, first[0].name.name, tuple(values), tuple(switches),
-                     duration, decl.span)  # fmt: skip
+        duration = _number(times[0].value, _TIME, "the scene's time", diag)
+        if duration is not None and duration <= 0:
+            diag.error(times[0].value.span, "the scene's time must be more than zero")
+        return duration
+
+    def _band_input(self, table: ast.SceneGaits, names: list[str]) -> Dim | None:
+        want = table.input.name
+        for name in names:
+            found = next((c for c in self.controllers[name].inputs if c.name == want), None)
+            if found is not None:
+                return found.dim
+        self.diag.error(
+            table.input.span, f"'gait by {want}': no controller of the table has an input '{want}'"
+        )
+        return None
+
+    def _bands(self, table: ast.SceneGaits) -> tuple[GaitBand, ...] | None:
+        diag = self.diag
+        if not table.bands:
+            diag.error(table.span, "a gait table needs a band: CONTROLLER from LOW to HIGH")
+            return None
+        good = [b for b in table.bands if self._controller(b.controller)]
+        if len(good) < len(table.bands):
+            return None
+        dim = self._band_input(table, [b.controller.name for b in good])
+        if dim is None:
+            return None
+        out, fine = [], True
+        for b in good:
+            what = f"a band of {table.input.name}"
+            low = _number(b.low, dim, what, diag) if b.low is not None else None
+            high = _number(b.high, dim, what, diag) if b.high is not None else None
+            if (b.low is not None and low is None) or (b.high is not None and high is None):
+                fine = False
+            elif low is not None and high is not None and not low < high:
+                diag.error(b.span, f"a band runs from a lower {table.input.name} to a higher one")
+                fine = False
+            else:
+                out.append(GaitBand(b.controller.name, low, high, b.span))
+        return tuple(out) if fine else None
+
+    def _gaits(self, table: ast.SceneGaits, bands: tuple[GaitBand, ...], start: str | None,
+               used: list, values: list[SceneValue]) -> str | None:  # fmt: skip
+        """The controller the scene starts with; a command no band holds is an error at it."""
+        name = table.input.name
+        given = [v for v in values if v.name == name and v.at is None]
+        default = next((c.value for ctl in used for c in ctl.inputs if c.name == name), 0.0)
+        initial = given[-1].value if given else default
+        changes = [(v.at, v.value) for v in values if v.name == name and v.at is not None]
+        first, _, lost = choose_gaits(bands, start, initial, changes)
+        unit = _example(next(c.dim for ctl in used for c in ctl.inputs if c.name == name))
+        bands_text = "; ".join(b.text(unit) for b in bands)
+        for t, v in lost:
+            at = next((x for x in values if x.name == name and x.at == t and x.value == v), None)
+            span = at.span if at is not None else (given[-1].span if given else table.span)
+            self.diag.error(
+                span,
+                f"no band of 'gait by {name}' holds {name} = {v:g} {unit} (bands: {bands_text})",
+            )
+        return first if not lost else None
 
     def _value(self, item: ast.SceneSet, used: list) -> SceneValue | None:
         diag = self.diag

@@ -101,17 +101,15 @@ def cmd_run(args: argparse.Namespace) -> int:
     )
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
-        from legdsl.pipeline.settings import find_scene, scene_texts
+        from legdsl.pipeline.settings import find_scene, scene_plan
 
         scene = find_scene(session.model, args.scene)
-        if controller is not None and controller != scene.controller:
+        if controller is not None and (controller != scene.controller or scene.starts_by_band):
             raise UsageError(
                 f"--scene {scene.name} starts with controller {scene.controller}; "
                 "leave out --controller (or change the scene)"
             )
-        controller = scene.controller
-        sets, changes = scene_texts(scene)
-        settings, switches = sets + settings, changes + switches
+        controller, settings, switches = scene_plan(scene, session.model, settings, switches)
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
     check_run_options(options)

@@ -465,7 +465,26 @@ class SceneTime:
     span: Span
 
 
-SceneItem = SceneSet | SceneSwitch | SceneController | SceneTime
+@dataclass(frozen=True)
+class GaitBand:
+    """``CONTROLLER [from V] [to V]`` in a scene's ``gait by speed { ... }``."""
+
+    controller: Ident
+    low: Value | None
+    high: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneGaits:
+    """``gait by INPUT { ... }``: the controller chosen by an input's command."""
+
+    input: Ident
+    bands: tuple[GaitBand, ...]
+    span: Span
+
+
+SceneItem = SceneSet | SceneSwitch | SceneController | SceneTime | SceneGaits
 
 
 @dataclass(frozen=True)

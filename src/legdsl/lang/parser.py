@@ -303,6 +303,19 @@ class _ToAst(Transformer):
     def scene_time(self, meta: Any, c: list[Any]) -> ast.SceneTime:
         return ast.SceneTime(c[0], self._s(meta))
 
+    def gait_from(self, meta: Any, c: list[Any]) -> tuple[str, Any]:
+        return ("from", c[0])
+
+    def gait_to(self, meta: Any, c: list[Any]) -> tuple[str, Any]:
+        return ("to", c[0])
+
+    def gait_band(self, meta: Any, c: list[Any]) -> ast.GaitBand:
+        ends = dict(x for x in c[1:] if x is not None)
+        return ast.GaitBand(self._id(c[0]), ends.get("from"), ends.get("to"), self._s(meta))
+
+    def scene_gaits(self, meta: Any, c: list[Any]) -> ast.SceneGaits:
+        return ast.SceneGaits(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
     def use(self, meta: Any, c: list[Any]) -> ast.UseDecl:
         text = str(c[0])
         return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))

@@ -19,7 +19,7 @@ from typing import Any
 
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
-from legdsl.ir.scene import Scene
+from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.sim.machine import InputChange
@@ -294,3 +294,36 @@ def find_scene(model: Model, name: str) -> Scene:
             f"(scenes: {', '.join(names) or 'none; write one: scene NAME { controller ...; }'})"
         )
     return model.scene(name)
+
+
+def scene_plan(
+    scene: Scene, model: Model, settings: Sequence[str], switches: Sequence[str]
+) -> tuple[str, list[str], list[str]]:
+    """The controller, ``--set`` and ``--switch`` texts of a run of ``scene`` with the command
+    line's own ``settings`` and ``switches`` added after the scene's lines. A scene with a
+    gait table (``gait by speed { ... }``) gets its switches from the final speed commands
+    (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``."""
+    sets, changes = scene_texts(scene)
+    texts = sets + list(settings)
+    if not scene.bands:
+        return scene.controller, texts, changes + list(switches)
+    if switches:
+        raise UsageError(f"--switch: scene {scene.name} chooses its controllers by its gait table")
+    names = list(dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)]))
+    given = sort_settings(texts, model, names[0], names[1:])
+    by = scene.band_input
+    default = next(
+        (c.value for n in names for c in model.controller(n).inputs if c.name == by), 0.0
+    )
+    initial = given.inputs.get(by, default)
+    commands = [(c.t, c.value) for c in given.schedule if c.name == by]
+    start = None if scene.starts_by_band else scene.controller
+    first, planned, lost = choose_gaits(scene.bands, start, initial, commands)
+    if lost:
+        bands = "; ".join(b.text() for b in scene.bands)
+        t, v = lost[0]
+        raise UsageError(
+            f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
+            f"(bands, SI: {bands})"
+        )
+    return first, texts, [f"{t!r}s={name}" for t, name in planned]
