@@ -150,3 +150,51 @@ def test_switch_mistakes_are_user_errors(session, capsys) -> None:
     code = main(["run", str(BIPED), "--controller", "run", "--switch", "1s=trot", "--time", "1"])
     assert code == 2
     assert "no controller 'trot'" in capsys.readouterr().err
+
+
+TROT = """
+controller trot {
+  roles active = (fl, rr), idle = (fr, rl)
+  table {
+    state FLIGHT on liftoff(active): swap active idle; active.spring.rest = 0 m
+    state STANCE on touchdown(active): active.spring.rest = 1 cm
+  }
+}
+controller bound {
+  roles front = (fl, fr), rear = (rl, rr)
+  table {
+    state GATHERED on liftoff(front): rear.spring.rest = 0 m
+    state REAR on touchdown(rear): rear.spring.rest = 1 cm
+    state EXTENDED on liftoff(rear): front.spring.rest = 0 m
+    state FRONT on touchdown(front): front.spring.rest = 1 cm
+  }
+}
+"""
+
+
+def test_a_role_bound_to_a_group_is_down_when_any_member_is(tmp_path: Path) -> None:
+    path = tmp_path / "quadruped.leg"
+    path.write_text((CREATURES / "quadruped.leg").read_text() + TROT)
+    model = check_model(path)
+    trot = model.controller("trot")
+    pairs = cycle(model, trot)
+    diagonal = frozenset({"toe_fl", "toe_rr"})
+    stance = next(p for p in pairs if trot.state_names[p.state] == "STANCE" and p.binding == 0)
+    assert stance.facts[0] == Fact(diagonal, True)  # touchdown(active): any of fl, rr down
+    up = math.nan
+    feet = {  # only rr of the fl+rr pair is down (it landed first), the other pair is up
+        "toe_fl": Clock(False, 1.0, 1.2), "toe_rr": Clock(True, 1.5, 1.2),
+        "toe_fr": Clock(False, 1.3, 1.45), "toe_rl": Clock(False, 1.3, 1.45),
+    }  # fmt: skip
+    chosen = take_over(pairs, feet, lambda p: False)
+    assert trot.state_names[chosen.state] == "STANCE"
+    assert dict(trot.bindings[chosen.binding])["active"] == ("fl", "rr")
+    # the bound: the rear pair down alone is its rear stance, whichever member
+    bound = model.controller("bound")
+    rear_down = dict(feet, toe_rr=Clock(False, 1.0, 1.2), toe_rl=Clock(True, 1.5, up))
+    chosen = take_over(cycle(model, bound), rear_down, lambda p: False)
+    assert bound.state_names[chosen.state] == "REAR"
+    all_up = {k: Clock(False, 1.0, t) for k, t in
+              (("toe_fl", 1.2), ("toe_fr", 1.2), ("toe_rl", 1.6), ("toe_rr", 1.6))}  # fmt: skip
+    chosen = take_over(cycle(model, bound), all_up, lambda p: False)
+    assert bound.state_names[chosen.state] == "EXTENDED"  # the rear pair lifted off last

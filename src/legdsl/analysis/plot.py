@@ -145,6 +145,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
     ax.set_xlabel("time (s)")
     ax.set_title(f"{run.name}: footfalls (each foot's stance as a bar)", fontsize=10)
+    ax.set_axisbelow(True)  # the grid behind the bars
     ax.grid(True, axis="x", color="0.9")
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
