@@ -214,9 +214,7 @@ class Run:
         }
         if self.machine is not None:
             m = self.machine
-            first = m.finished[0][1] if isinstance(m, SwitchingMachine) and m.finished else m
-            if isinstance(first, SwitchingMachine):
-                first = first.current
+            first = m.first if isinstance(m, SwitchingMachine) else m  # the run's start
             extra["inputs"] = first.initial_inputs
             extra["params"] = dict(zip(first.param_names, first.params, strict=True))
             extra["paths"] = [p.as_json() for p in m.paths if p.shape != "none"]

@@ -156,6 +156,11 @@ class SwitchingMachine:
             out.append(entry)
         return out
 
+    @property
+    def first(self) -> StateMachine:
+        """The machine of the controller the run started with."""
+        return self.finished[0][1] if self.finished else self.current
+
     # ------------------------------------------------------------ what the simulation reads
     @property
     def state_index(self) -> int:
