@@ -119,6 +119,11 @@ class StateMachine:
         """The inputs at t = 0 (before any scheduled change)."""
         return dict(zip(self.input_names, self._history[0][1], strict=True))
 
+    def start_inputs(self, values: list[float], t: float) -> None:
+        """The inputs this machine starts with at time ``t`` (a controller taking over)."""
+        self.inputs = list(values)
+        self._history = [(t, list(values))]
+
     def speed_command(self, t: float) -> float:
         if "speed" not in self.input_names:
             return math.nan

@@ -86,7 +86,7 @@ class SwitchingMachine:
         self._waiting = list(self.switches)
         self.finished: list[tuple[str, StateMachine]] = []
         self.name = first
-        self.current = self._machine(first, 0.0)  # (a switch at 0 s takes over at once)
+        self.current = self._machine(first, 0.0)
         self.segments: list[dict[str, Any]] = [self._segment(0.0)]
 
     # ------------------------------------------------------------ machines
@@ -114,10 +114,8 @@ class SwitchingMachine:
         new = self._machine(to, t)
         kept = dict(zip(old.input_names, old.inputs, strict=True))
         kept |= {k: v for k, v in self.commanded.items()}
-        new.inputs = [
-            float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)
-        ]
-        new._history = [(t, list(new.inputs))]
+        values = [float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)]
+        new.start_inputs(values, t)
         records = dict(zip(old.module.RECORDS, old.records, strict=True))
         new.records = [float(records.get(n, 0.0)) for n in new.module.RECORDS]
         carried = {n: records[n] for n in new.module.RECORDS if n in records}
