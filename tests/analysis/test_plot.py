@@ -50,3 +50,38 @@ def test_plot_writes_a_png(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert png.stat().st_size > 10_000
     assert main(["plot", str(tmp_path / "nothing")]) == 2
+
+
+def test_footfall_bars_and_switch_times(tmp_path: Path) -> None:
+    from legdsl.analysis.plot import footfall_bars, switch_times
+    from legdsl.sim.trajectory import Trajectory
+
+    run = _run(tmp_path)
+    bars = footfall_bars(Trajectory.load(run))
+    assert [name for name, _ in bars] == ["main"]
+    stances = bars[0][1]
+    assert len(stances) == 5 and stances[-1] == (1.0, 1.0)
+    for k, (start, stop) in enumerate(stances[:-1]):
+        assert start == pytest.approx(0.25 * k, abs=1e-3)
+        assert stop - start == pytest.approx(0.1, abs=2e-3)
+    assert switch_times(run) == []
+    info = json.loads((run / "run.json").read_text())
+    info["segments"] = [
+        {"controller": "hop", "from": 0.0, "to": 0.5},
+        {"controller": "bound", "from": 0.5, "to": 1.0},
+    ]
+    (run / "run.json").write_text(json.dumps(info))
+    assert switch_times(run) == [(0.5, "bound")]
+
+
+def test_plot_writes_the_footfall_diagram_beside_figure_6(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    run = _run(tmp_path)
+    assert main(["plot", str(run), "--from", "0.2"]) == 0
+    png = run / "footfall.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "footfall diagram" in capsys.readouterr().out
+    other = tmp_path / "elsewhere" / "fig.png"
+    assert main(["plot", str(run), "--output", str(other)]) == 0
+    assert (other.parent / "footfall.png").is_file()

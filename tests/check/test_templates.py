@@ -21,9 +21,9 @@ GOOD = ROOT / "tests" / "good"
 
 
 def plain(model: Model) -> dict[str, Any]:
-    """The model without spans, its file's name and its controllers."""
+    """The model without spans, its file's name, its controllers and its scenes (runs)."""
     out = _clean(model)
-    del out["source"], out["controllers"]
+    del out["source"], out["controllers"], out["scenes"]
     return out
 
 

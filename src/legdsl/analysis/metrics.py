@@ -35,6 +35,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 from legdsl.analysis.friction import MIN_NORMAL_FRACTION, contact_friction
+from legdsl.analysis.pairs import pair_rows
 from legdsl.analysis.results import (
     FRICTION_EDGE,
     GaitMetrics,
@@ -132,7 +133,8 @@ def compute_metrics(
             tr,
             t_from,
             t_to,
-        ),
+        )
+        + pair_rows(tr, units, t_from, t_to),
         note=note,
         options=options,
     )

@@ -87,6 +87,12 @@ def plot_run(
             for ax in axes:
                 ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
                 ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
+    for t_switch, controller in switch_times(run):  # controller changes (legdsl run --switch)
+        if t_from <= t_switch <= end:
+            for ax in axes:
+                ax.axvline(t_switch, color="tab:red", linewidth=1.2)
+            height.text(t_switch, 1.0, f" {controller}", color="tab:red", fontsize=8,
+                        va="bottom", transform=height.get_xaxis_transform())  # fmt: skip
     creature = run.name
     fig.suptitle(
         f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
@@ -98,6 +104,75 @@ def plot_run(
     fig.savefig(out, dpi=100)
     plt.close(fig)
     return out
+
+
+def switch_times(run: Path) -> list[tuple[float, str]]:
+    """(time, controller) of each controller change of a run (``legdsl run --switch``)."""
+    if not (run / "run.json").is_file():
+        return []
+    segments = load_run_info(run).get("segments") or []
+    out = []
+    for seg in segments[1:]:
+        if isinstance(seg, dict) and isinstance(seg.get("from"), int | float):
+            out.append((float(seg["from"]), str(seg.get("controller", ""))))
+    return out
+
+
+def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
+    """The footfall diagram of a run (PNG): each foot's stance as a bar over time, one row
+    per leg (per contact for a creature without legs), the first leg at the top; each
+    controller change is a vertical line labelled with the controller it starts."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tr = Trajectory.load(run)
+    end = float(tr.t[-1]) if t_to is None else t_to
+    rows = footfall_bars(tr)
+    fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
+    for k, (_name, stances) in enumerate(rows):
+        y = len(rows) - 1 - k
+        bars = [(max(a, t_from), min(b, end) - max(a, t_from)) for a, b in stances
+                if b >= t_from and a <= end]  # fmt: skip
+        ax.broken_barh(bars, (y - 0.35, 0.7), facecolors="k")
+    ax.set_yticks(range(len(rows)), [name for name, _ in reversed(rows)])
+    for t, controller in switch_times(run):
+        if t_from <= t <= end:
+            ax.axvline(t, color="tab:red", linewidth=1.2)
+            ax.text(t, len(rows) - 0.45, f" {controller}", color="tab:red", fontsize=8, va="bottom")
+    ax.set_xlim(t_from, end)
+    ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
+    ax.set_xlabel("time (s)")
+    ax.set_title(f"{run.name}: footfalls (each foot's stance as a bar)", fontsize=10)
+    ax.set_axisbelow(True)  # the grid behind the bars
+    ax.grid(True, axis="x", color="0.9")
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
+def footfall_bars(tr: Trajectory) -> list[tuple[str, list[tuple[float, float]]]]:
+    """Each leg's (each contact's, for a creature without legs) stances as (start, end) times."""
+    if tr.leg_names:
+        rows = [(name, tr.leg_feet[i]) for i, name in enumerate(tr.leg_names)]
+    else:
+        rows = list(zip(tr.contact_names, range(len(tr.contact_names)), strict=True))
+    return [
+        (name, _runs_of(tr.t, tr.contact[:, c] != 0) if 0 <= c < tr.contact.shape[1] else [])
+        for name, c in rows
+    ]
+
+
+def _runs_of(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:
+    """(start, end) times of each run of ``on``; a run still on at the end ends there."""
+    d = np.diff(np.concatenate(([0], on.astype(np.int8), [0])))
+    starts, stops = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    last = len(t) - 1
+    pairs = zip(starts.tolist(), stops.tolist(), strict=True)
+    return [(float(t[a]), float(t[min(int(b), last)])) for a, b in pairs]
 
 
 def first_leg_angles(run: Path) -> tuple[str, ...]:

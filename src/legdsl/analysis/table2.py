@@ -12,37 +12,59 @@ import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from legdsl.analysis.pairs import hip_positions, pair_groups
 from legdsl.analysis.results import GaitMetrics, num_text
+from legdsl.ir.model import Model
 
 
-def _load(path: Path) -> dict[str, dict[str, tuple[float, float]]]:
+def _load(
+    path: Path,
+) -> tuple[dict[str, dict[str, tuple[float, float]]], dict[str, dict[str, str]]]:
     with path.open("rb") as f:
         data = tomllib.load(f)
-    return {
-        gait: {label: (refs[0], refs[1]) for label, refs in rows.items()}
-        for gait, rows in data.items()
+    rows = {
+        gait: {label: (refs[0], refs[1]) for label, refs in table.items() if isinstance(refs, list)}
+        for gait, table in data.items()
     }
+    measure = {gait: dict(table.get("measure", {})) for gait, table in data.items()}
+    return rows, measure
 
 
-TABLE2: dict[str, dict[str, tuple[float, float]]] = _load(Path(__file__).with_name("table2.toml"))
+TABLE2, MEASURE = _load(Path(__file__).with_name("table2.toml"))
+# MEASURE[gait]: "pairs" (its virtual legs, legdsl.analysis.pairs), "reference" (the stride's
+# virtual leg, or "first"), and paper labels measured as legdsl rows (label -> row key)
+
+
+def virtual_legs(gait: str, model: Model) -> tuple[dict[str, list[str]], str | None]:
+    """The virtual legs ``gait``'s rows are measured with (none for most gaits), found from
+    ``model``'s hips, and the one whose touchdowns start a stride."""
+    how = MEASURE.get(gait, {})
+    if "pairs" not in how:
+        return {}, None
+    groups = pair_groups(hip_positions(model), how["pairs"])
+    reference = how.get("reference", "first")
+    return groups, next(iter(groups)) if reference == "first" else reference
 
 
 def compare_table(
     metrics: GaitMetrics,
     reference_rows: Mapping[str, Sequence[float | None]],
     headers: Sequence[str] = ("robot/animal", "paper animation"),
+    measured_as: Mapping[str, str] | None = None,
 ) -> str:
     """The run's values beside reference columns (e.g. ``TABLE2["kangaroo hop"]``), as text.
 
     Rows are matched by label (``"stride duration (s)"``) or key
-    (``"stride_duration"``); a row the run did not measure shows ``n/a``.
+    (``"stride_duration"``), or through ``measured_as`` (label -> key, ``MEASURE[gait]``); a
+    row the run did not measure shows ``n/a``.
     """
+    alias = dict(measured_as or {})
     by_name = {s.label: s for s in metrics.summaries} | {s.key: s for s in metrics.summaries}
     width = max([len(name) for name in reference_rows] + [8])
     cols = [f"{h:>15}" for h in headers]
     lines = [f"{'quantity':<{width}}  {'this run':>17}  " + "  ".join(cols)]
     for name, refs in reference_rows.items():
-        s = by_name.get(name)
+        s = by_name.get(name, by_name.get(alias.get(name, "")))
         run = "n/a" if s is None else num_text(s.value)
         if s is not None and math.isfinite(s.std):
             run += f" +/- {num_text(s.std)}"

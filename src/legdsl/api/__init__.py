@@ -96,22 +96,37 @@ class Creature:
         self,
         controller: str | None = None,
         set: Mapping[str, str | float] | None = None,  # noqa: A002  (the CLI's --set)
-        time: float = 5.0,
+        time: float | None = None,
         path: str | None = None,
+        switch: Mapping[str, str] | None = None,
+        scene: str | None = None,
         **options: Any,
     ) -> Run:
-        """Simulate for ``time`` seconds. ``set`` maps inputs, parameters and actuator settings
-        to values with units (``{"speed": "5 m/s", "speed@4s": "2 m/s"}``; a plain number for
-        a dimensionless one), checked as ``legdsl run --set`` checks them. ``options`` are
-        those of ``legdsl run`` (``dt``, ``integrator``, ``control_dt``, ``record_rate``,
-        ``fall_height``, ``fall_tilt`` in radians, ``drop``)."""
+        """Simulate for ``time`` seconds (default 5, or the scene's). ``set`` maps inputs,
+        parameters and actuator settings to values with units (``{"speed": "5 m/s",
+        "speed@4s": "2 m/s"}``; a plain number for a dimensionless one), checked as ``legdsl
+        run --set`` checks them. ``switch`` maps times to controllers (``{"6 s": "gallop"}``, as
+        ``--switch 6s=gallop``); ``scene`` runs the file's scene of that name (``--scene``), with
+        ``set`` and ``switch`` added to it. ``options`` are those of ``legdsl run`` (``dt``,
+        ``integrator``, ``control_dt``, ``record_rate``, ``fall_height``, ``fall_tilt`` in
+        radians, ``drop``)."""
         settings = [_setting(name, value) for name, value in (set or {}).items()]
+        switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
+        if scene is not None:
+            from legdsl.pipeline.settings import find_scene, scene_plan
+
+            plan = find_scene(self.model, scene)
+            if controller is not None and (controller != plan.controller or plan.starts_by_band):
+                raise UsageError(f"run(): scene {scene} starts with {plan.controller}")
+            controller, settings, switches = scene_plan(plan, self.model, settings, switches)
+            if time is None and plan.duration is not None:
+                time = plan.duration
         try:
-            run_options = RunOptions(duration=float(time), **options)
+            run_options = RunOptions(duration=float(5.0 if time is None else time), **options)
         except TypeError as e:
             raise UsageError(f"run(): {e}") from None
         paths = [path] if path is not None else []
-        done = self.session.run(controller, settings, paths, run_options)
+        done = self.session.run(controller, settings, paths, run_options, switches=switches)
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
 
     def __repr__(self) -> str:

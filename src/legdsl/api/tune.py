@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from legdsl.analysis.table2 import TABLE2
+from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_job
 from legdsl.api.workers import Workers
 from legdsl.files import write_atomic
@@ -73,8 +73,9 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
 def table2_distance(by_label: dict[str, float], row: str) -> float:
     """Mean relative distance to the paper's animation column over the rows measured."""
     parts = []
+    alias = MEASURE.get(row, {})
     for label, (_, paper) in TABLE2[row].items():
-        value = by_label.get(label)
+        value = by_label.get(label, by_label.get(str(alias.get(label, ""))))
         if value is not None and math.isfinite(value) and paper:
             parts.append(abs(value - paper) / abs(paper))
     return sum(parts) / len(parts) if parts else 0.0

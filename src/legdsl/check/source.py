@@ -7,6 +7,7 @@ from typing import Protocol, TypeVar
 
 from legdsl.check.controller import check_controllers
 from legdsl.check.creature import CreatureChecker
+from legdsl.check.scene import check_scenes
 from legdsl.check.values import STDLIB
 from legdsl.ir.model import Model
 from legdsl.lang import ast
@@ -35,6 +36,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
     models = check_controllers(tree, models, library, shared, diag)
+    models = check_scenes(tree, models, diag)
     diag.items = _without_echoes(diag.items, tree.pending)
     diag.raise_if_any()
     return models

@@ -69,8 +69,9 @@ def _read_window(args: argparse.Namespace) -> None:
 
 
 def _cmd_metrics(args: argparse.Namespace) -> int:
-    from legdsl.analysis.table2 import TABLE2, compare_table
-    from legdsl.pipeline.measure import measure_run
+    from legdsl.analysis.segments import segment_table
+    from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
+    from legdsl.pipeline.measure import measure_run, run_segments
     from legdsl.pipeline.report import path_summary
 
     try:
@@ -80,21 +81,27 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
             args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
-            args.generated,
+            args.generated, args.table2,
         )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
+    segments = run_segments(args.dir)
     if args.json:
         data = metrics.to_dict()
         if reports:
             data["path_reports"] = reports
+        if segments:
+            data["segments"] = segments
         print(json.dumps(data, indent=2, allow_nan=False))
         return 0
     print(metrics.table(), end="")
+    if segments:
+        print(segment_table(segments), end="")
     if args.table2 is not None:
         print(f"\nbeside Table 2 of the paper, {args.table2}:")
-        print(compare_table(metrics, TABLE2[args.table2]), end="")
+        table = compare_table(metrics, TABLE2[args.table2], measured_as=MEASURE[args.table2])
+        print(table, end="")
     if reports:
         print("path following:")
         for report in reports:
@@ -146,7 +153,13 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from legdsl.analysis.plot import first_leg_angles, plot_run, plot_top, run_paths
+    from legdsl.analysis.plot import (
+        first_leg_angles,
+        plot_footfall,
+        plot_run,
+        plot_top,
+        run_paths,
+    )
     from legdsl.pipeline.options import check_output_file
     from legdsl.sim.trajectory import Trajectory
 
@@ -156,6 +169,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = check_output_file(args.output or run / "figure6.png", "--output")
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
+    footfall = out.with_name("footfall.png") if args.output else run / "footfall.png"
+    plot_footfall(run, footfall, args.t_from, args.t_to)
+    print(f"wrote {footfall} (footfall diagram)")
     if args.top or run_paths(run):
         top = out.with_name("top.png") if args.output else run / "top.png"
         plot_top(run, top, args.t_from, args.t_to)

@@ -99,13 +99,26 @@ def cmd_run(args: argparse.Namespace) -> int:
     options = run_options(
         session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
     )
+    controller, settings, switches = args.controller, list(args.set), list(args.switch)
+    if args.scene is not None:  # the scene's lines first: the command line's options add to them
+        from legdsl.pipeline.settings import find_scene, scene_plan
+
+        scene = find_scene(session.model, args.scene)
+        if controller is not None and (controller != scene.controller or scene.starts_by_band):
+            raise UsageError(
+                f"--scene {scene.name} starts with controller {scene.controller}; "
+                "leave out --controller (or change the scene)"
+            )
+        controller, settings, switches = scene_plan(scene, session.model, settings, switches)
+        if scene.duration is not None and not isinstance(args.time, str):
+            options.duration = scene.duration
     check_run_options(options)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
     with (
         _terminate_as_interrupt()
     ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
-        run = session.run(args.controller, args.set, args.path, options, progress, args.scale)
+        run = session.run(controller, settings, args.path, options, progress, args.scale, switches)
     with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
         try:
             out = run.write(out)
@@ -155,6 +168,21 @@ def add_run_parser(sub: Any) -> Command:
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
         "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+    )
+    r.add_argument(
+        "--scene",
+        metavar="NAME",
+        help="run the file's scene NAME (scene NAME { controller ...; set ...; at T switch ...; "
+        "time T }); --set, --switch and --time given as well add to it or override it",
+    )
+    r.add_argument(
+        "--switch",
+        action="append",
+        default=[],
+        metavar="T=CONTROLLER",
+        help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
+        "starts in the state that matches the feet down, keeps the records and inputs whose "
+        "names match, and --set NAME=V@T still applies; repeatable",
     )
     r.add_argument(
         "--path",

@@ -101,4 +101,10 @@ def describe_model(model: Model) -> str:
             lines.append(
                 f"  {ctl.name}: states {' -> '.join(ctl.state_names)} (starts in {ctl.start})"
             )
+    if model.scenes:
+        lines += ["", "scenes (legdsl run FILE --scene NAME):"]
+        for scene in model.scenes:
+            changes = "".join(f", {w.controller} at {w.t:g} s" for w in scene.switches)
+            time = f" for {scene.duration:g} s" if scene.duration is not None else ""
+            lines.append(f"  {scene.name}: {scene.controller}{changes}{time}")
     return "\n".join(lines) + "\n"

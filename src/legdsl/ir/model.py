@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from legdsl.ir.controller import Controller
+from legdsl.ir.scene import Scene
 from legdsl.lang.errors import Span
 
 Vec3 = tuple[float, float, float]
@@ -259,6 +260,7 @@ class Model:
     span: Span
     simulation: SimulationDefaults = SimulationDefaults()
     stops: tuple[Stop, ...] = ()  # joint limits written with 'stop k = ..., b = ...'
+    scenes: tuple[Scene, ...] = ()  # runs written in the file (scene NAME { ... })
 
     @property
     def dofs(self) -> tuple[Dof, ...]:
@@ -305,6 +307,9 @@ class Model:
     def hip_body_index(self, leg: Leg) -> int:
         """The body whose frame origin is the leg's hip point (the child of its first joint)."""
         return next(i for i, b in enumerate(self.bodies) if b.joint == leg.joints[0])
+
+    def scene(self, name: str) -> Scene:
+        return next(s for s in self.scenes if s.name == name)
 
     def controller(self, name: str) -> Controller:
         return next(c for c in self.controllers if c.name == name)

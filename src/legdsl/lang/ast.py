@@ -430,6 +430,75 @@ class ControllerDecl:
 
 
 @dataclass(frozen=True)
+class SceneSet:
+    """``set NAME = VALUE`` in a scene (an input, a parameter or ACTUATOR.KEY), or
+    ``at T set NAME = VALUE`` (an input changed at time T)."""
+
+    target: tuple[Ident, ...]
+    value: Value
+    at: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneSwitch:
+    """``at T switch CONTROLLER`` in a scene."""
+
+    controller: Ident
+    at: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneController:
+    """``controller NAME`` in a scene: the controller the run starts with."""
+
+    name: Ident
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneTime:
+    """``time T`` in a scene: how long the run lasts."""
+
+    value: Value
+    span: Span
+
+
+@dataclass(frozen=True)
+class GaitBand:
+    """``CONTROLLER [from V] [to V]`` in a scene's ``gait by speed { ... }``."""
+
+    controller: Ident
+    low: Value | None
+    high: Value | None
+    span: Span
+
+
+@dataclass(frozen=True)
+class SceneGaits:
+    """``gait by INPUT { ... }``: the controller chosen by an input's command."""
+
+    input: Ident
+    bands: tuple[GaitBand, ...]
+    span: Span
+
+
+SceneItem = SceneSet | SceneSwitch | SceneController | SceneTime | SceneGaits
+
+
+@dataclass(frozen=True)
+class SceneDecl:
+    """``scene NAME [for CREATURE] { ... }``: a whole run written in the file (``legdsl run
+    FILE --scene NAME``)."""
+
+    name: Ident
+    creature: Ident | None
+    items: tuple[SceneItem, ...]
+    span: Span
+
+
+@dataclass(frozen=True)
 class UseDecl:
     target: str
     span: Span
@@ -444,5 +513,6 @@ class SourceFile:
     uses: tuple[UseDecl, ...]
     span: Span
     shared: tuple[SharedDecl, ...] = ()
+    scenes: tuple[SceneDecl, ...] = ()
     # Mistakes the parser read past (a misspelt unit), for the checker to report with its own.
     pending: tuple[Diagnostic, ...] = ()

@@ -282,6 +282,40 @@ class _ToAst(Transformer):
     def include(self, meta: Any, c: list[Any]) -> ast.IncludeDecl:
         return ast.IncludeDecl(tuple(self._id(n) for n in c), self._s(meta))
 
+    def scene(self, meta: Any, c: list[Any]) -> ast.SceneDecl:
+        creature = self._id(c[1]) if c[1] is not None else None
+        return ast.SceneDecl(self._id(c[0]), creature, tuple(c[2:]), self._s(meta))
+
+    def scene_controller(self, meta: Any, c: list[Any]) -> ast.SceneController:
+        return ast.SceneController(self._id(c[0]), self._s(meta))
+
+    def scene_set(self, meta: Any, c: list[Any]) -> ast.SceneSet:
+        return ast.SceneSet(c[0], c[1], None, self._s(meta))
+
+    def scene_switch(self, meta: Any, c: list[Any]) -> ast.SceneSwitch:
+        return ast.SceneSwitch(self._id(c[0]), None, self._s(meta))
+
+    def scene_at(self, meta: Any, c: list[Any]) -> ast.SceneSet | ast.SceneSwitch:
+        from dataclasses import replace
+
+        return replace(c[1], at=c[0], span=self._s(meta))
+
+    def scene_time(self, meta: Any, c: list[Any]) -> ast.SceneTime:
+        return ast.SceneTime(c[0], self._s(meta))
+
+    def gait_from(self, meta: Any, c: list[Any]) -> tuple[str, Any]:
+        return ("from", c[0])
+
+    def gait_to(self, meta: Any, c: list[Any]) -> tuple[str, Any]:
+        return ("to", c[0])
+
+    def gait_band(self, meta: Any, c: list[Any]) -> ast.GaitBand:
+        ends = dict(x for x in c[1:] if x is not None)
+        return ast.GaitBand(self._id(c[0]), ends.get("from"), ends.get("to"), self._s(meta))
+
+    def scene_gaits(self, meta: Any, c: list[Any]) -> ast.SceneGaits:
+        return ast.SceneGaits(self._id(c[0]), tuple(c[1:]), self._s(meta))
+
     def use(self, meta: Any, c: list[Any]) -> ast.UseDecl:
         text = str(c[0])
         return ast.UseDecl(text[1:-1] if text.startswith('"') else text, self._s(meta))
@@ -372,6 +406,7 @@ def _build(tree: Tree, file: str, text: str) -> ast.SourceFile:
         uses=tuple(i for i in items if isinstance(i, ast.UseDecl)),
         span=span,
         shared=tuple(i for i in items if isinstance(i, ast.SharedDecl)),
+        scenes=tuple(i for i in items if isinstance(i, ast.SceneDecl)),
     )
 
 

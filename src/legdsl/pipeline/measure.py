@@ -10,9 +10,13 @@ from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
+from legdsl.analysis.segments import segment_report
+from legdsl.analysis.table2 import MEASURE, virtual_legs
+from legdsl.check.source import check_model
+from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import clearance_row, with_clearance
-from legdsl.sim.trajectory import Trajectory
+from legdsl.sim.trajectory import Trajectory, load_run_info
 
 
 def measure_run(
@@ -24,24 +28,32 @@ def measure_run(
     joint: str | None = None,
     against: str | None = None,
     generated: str | Path = "generated",
+    table2: str | None = None,
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
     lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
     foot clearance at the apex is measured with ``generated/NAME/dynamics.py`` when it is there
     and fresh (``legdsl.pipeline.apex``).
 
-    ``groups`` are virtual legs, ``NAME=LEG,LEG``. A request the run cannot answer (no or a
+    ``groups`` are virtual legs, ``NAME=LEG,LEG``. With ``table2`` (a gait of Table 2 measured
+    on virtual legs, such as "quadruped bound") and no ``groups``, the gait's pairs are found
+    from the creature's hips (``legdsl.analysis.table2.virtual_legs``) and, without ``leg``,
+    strides start at its reference pair's touchdowns. A request the run cannot answer (no or a
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``.
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
     try:
+        given = parse_groups(groups)
+        if table2 is not None and not given and MEASURE.get(table2, {}).get("pairs"):
+            given, first = virtual_legs(table2, run_model(run, table2))
+            leg = leg if leg is not None else first
         metrics = compute_metrics(
             trajectory,
             t_from=t_from,
             t_to=t_to,
             leg=leg,
-            groups=parse_groups(groups),
+            groups=given,
             joint=joint,
             against=against,
         )
@@ -56,3 +68,28 @@ def measure_run(
     start = t_from if t_from > 0 else PATH_FROM
     reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
     return metrics, reports
+
+
+def run_segments(run: str | Path) -> list[dict[str, Any]]:
+    """The controller segments of a run that switched controllers (none for other runs),
+    each measured (``legdsl.analysis.segments``)."""
+    run = Path(run)
+    if not (run / "run.json").is_file():
+        return []
+    segments = load_run_info(run).get("segments")
+    if not isinstance(segments, list) or not all(isinstance(s, dict) for s in segments):
+        return []
+    return segment_report(Trajectory.load(run), segments)
+
+
+def run_model(run: Path, why: str) -> Model:
+    """The creature a run directory's run.json names, checked from its .leg file."""
+    info = load_run_info(run)
+    named = Path(str(info.get("source", "")))
+    source = next((c for c in (named, run / named, run / named.name) if c.is_file()), None)
+    if source is None:
+        raise UsageError(
+            f"{why}: its pairs of legs are found from the creature, but {run}/run.json names "
+            f"the file {str(named)!r}, which is not there; give the pairs with --group NAME=LEG,LEG"
+        )
+    return check_model(source, info.get("creature"))

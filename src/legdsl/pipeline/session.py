@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from types import ModuleType
@@ -36,16 +36,17 @@ from legdsl.pipeline import scaled
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.simulate import RunOptions, RunResult, Simulation, steps_per_sample
 from legdsl.sim.stability import TooStiff, inverse_inertia_diagonal, too_stiff
+from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
 # What the commands that read a run write into its directory by default (plot, animate,
 # metrics, replay): a new run into the directory removes them with the old run.
-DERIVED_FILES = ("figure6.png", "top.png", "footfalls.png", "animation.html", "metrics.json",
+DERIVED_FILES = ("figure6.png", "top.png", "footfall.png", "animation.html", "metrics.json",
                  "mujoco.mp4")  # fmt: skip
 
 
@@ -104,20 +105,34 @@ class RunSession:
         options: RunOptions | None = None,
         progress: Progress | None = None,
         scale: float | None = None,
+        switches: Sequence[str | Switch] = (),
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
         ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
         ``UsageError`` before anything is simulated. With ``scale`` (L), every input is for the
         creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
-        and its outputs by L (``legdsl.pipeline.scaled``)."""
+        and its outputs by L (``legdsl.pipeline.scaled``). ``switches`` (``--switch`` texts,
+        ``6s=gallop``, or ``Switch``es) change the controller during the run
+        (``legdsl.sim.switching``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
-        sorted_settings = sort_settings(settings, self.model, controller)
+        switches = [switches] if isinstance(switches, str | Switch) else list(switches)
+        changes = [
+            w if isinstance(w, Switch) else parse_switch(w, self.controllers) for w in switches
+        ]
+        if changes and controller is None:
+            raise UsageError("--switch: say which controller starts the run with --controller")
+        if changes and scale is not None:
+            raise UsageError(
+                "--switch with --scale: not supported; run the file 'legdsl scale' writes instead"
+            )
+        later = [w.controller for w in changes]
+        sorted_settings = sort_settings(settings, self.model, controller, later)
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if scale is not None:
             options = scaled.scale_options(asked, scale)
@@ -127,8 +142,15 @@ class RunSession:
             raise UsageError(
                 "--path: a path is followed by a controller; choose one with --controller"
             )
-        machine = None
-        if control is not None:
+        machine: StateMachine | SwitchingMachine | None = None
+        if control is not None and controller is not None and changes:
+            s = sorted_settings
+            check_switch_paths(self.model, [controller, *later], specs)
+            modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
+            machine = SwitchingMachine(
+                self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs
+            )
+        elif control is not None:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
         sim = Simulation(self.model, self.dynamics, options, machine)
@@ -136,7 +158,7 @@ class RunSession:
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
-        self._check_stiffness(sim, control)
+        self._check_stiffness(sim, getattr(machine, "modules", {"": control}).values())
         result = sim.run(progress)
         if scale is not None:
             result = scaled.scale_result(result, self.model, scale)
@@ -170,10 +192,11 @@ class RunSession:
             "--drop H (the lowest foot H metres above the ground)"
         )
 
-    def _check_stiffness(self, sim: Simulation, control: ModuleType | None) -> None:
+    def _check_stiffness(self, sim: Simulation, controls: Iterable[ModuleType | None]) -> None:
         """An actuator too stiff or too damped for the step diverges at once: refused (exit 2)
         with the bound (``legdsl.sim.stability``); one held by its ``max`` chatters: a warning."""
-        written = {t for targets in getattr(control, "SETTINGS", {}).values() for t in targets}
+        written = {t for control in controls
+                   for targets in getattr(control, "SETTINGS", {}).values() for t in targets}  # fmt: skip
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
         opts = sim.options
         rotary = {a.name: a.rotary for a in self.model.actuators}
@@ -198,6 +221,16 @@ _SETTING_UNITS = {
 }  # fmt: skip
 
 
+def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) -> dict[str, Any]:
+    """run.json's ``controller_fingerprint``: the generated module's ``FINGERPRINT``, or for a
+    run that changes controllers each one's by name."""
+    if isinstance(machine, SwitchingMachine):
+        return {"controller_fingerprint": {n: m.FINGERPRINT for n, m in machine.modules.items()}}
+    if machine is not None:
+        return {"controller_fingerprint": machine.module.FINGERPRINT}
+    return {}
+
+
 def _file_sha256(path: Path) -> str | None:
     try:
         return hashlib.sha256(path.read_bytes()).hexdigest()
@@ -217,7 +250,7 @@ class Run:
     controller: str | None
     options: RunOptions
     settings: Settings
-    machine: StateMachine | None
+    machine: StateMachine | SwitchingMachine | None
     result: RunResult
     path_reports: list[dict[str, Any]] = field(default_factory=list)
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
@@ -234,10 +267,14 @@ class Run:
         }
         if self.machine is not None:
             m = self.machine
-            extra["inputs"] = m.initial_inputs
-            extra["params"] = dict(zip(m.param_names, m.params, strict=True))
+            first = m.first if isinstance(m, SwitchingMachine) else m  # the run's start
+            extra["inputs"] = first.initial_inputs
+            extra["params"] = dict(zip(first.param_names, first.params, strict=True))
             extra["paths"] = [p.as_json() for p in m.paths if p.shape != "none"]
             extra["path_reports"] = self.path_reports
+            if isinstance(m, SwitchingMachine):
+                extra["switches"] = [{"t": w.t, "controller": w.controller} for w in m.switches]
+                extra["segments"] = m.segment_info(self.result.sim_time)
         result = self.result
         return {
             "legdsl": __version__,
@@ -246,11 +283,7 @@ class Run:
             # what the run was made from: the commands that read it refuse another creature
             "source_sha256": _file_sha256(Path(self.model.source)),
             "creature_fingerprint": creature_fingerprint(self.model),
-            **(
-                {"controller_fingerprint": self.machine.module.FINGERPRINT}
-                if self.machine is not None
-                else {}
-            ),  # fmt: skip
+            **_controller_fingerprints(self.machine),
             "options": asdict(self.options),
             **({"scale": self.scale} if self.scale is not None else {}),
             **extra,

@@ -12,15 +12,18 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
+from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.sim.machine import InputChange
+from legdsl.sim.switching import Switch
 
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 _TIME: Dim = KINDS["time"][0]
@@ -147,13 +150,21 @@ class Settings:
         }
 
 
-def sort_settings(texts: list[str], model: Model, controller: str | None) -> Settings:
+def sort_settings(
+    texts: list[str], model: Model, controller: str | None, later: Sequence[str] = ()
+) -> Settings:
     """Read ``--set`` options: ``ACTUATOR.SETTING=V``, ``INPUT=V``, ``PARAM=V`` or ``INPUT=V@T``,
-    each checked against the dimension the file declares for it."""
+    each checked against the dimension the file declares for it. ``later`` are the controllers
+    a run switches to (``--switch``): a name may be an input or parameter of any of them."""
     out = Settings({}, {}, {}, [])
     ir = model.controller(controller) if controller is not None else None
-    inputs = {c.name: c for c in ir.inputs} if ir is not None else {}
-    params = {c.name: c for c in ir.params} if ir is not None else {}
+    inputs: dict[str, Any] = {}
+    params: dict[str, Any] = {}
+    for name in dict.fromkeys([controller, *later] if ir is not None else []):
+        assert name is not None
+        ctl = model.controller(name)
+        inputs |= {c.name: c for c in ctl.inputs if c.name not in inputs}
+        params |= {c.name: c for c in ctl.params if c.name not in params}
     for original in texts:
         where = f"--set {original}"
         text, at = original, None
@@ -189,8 +200,11 @@ def sort_settings(texts: list[str], model: Model, controller: str | None) -> Set
             out.params[name] = given.value
         else:
             known = ", ".join([*inputs, *params]) or "none"
+            which = f"controller {controller}" if not later else "no controller of the run"
             raise UsageError(
-                f"--set {name}: controller {controller} has no input or parameter {name!r} (it has {known})"
+                f"--set {name}: {which} has no input or parameter {name!r} (it has {known})"
+                if not later
+                else f"--set {name}: {which} has an input or parameter {name!r} (they have {known})"
             )
     return out
 
@@ -237,3 +251,79 @@ def parse_path_option(text: str) -> PathSpec:
     diag.raise_if_any()
     assert spec is not None
     return spec
+
+
+def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
+    """``--switch 6s=gallop``: from 6 s on the run is driven by controller ``gallop``."""
+    when, sep, name = text.partition("=")
+    name = name.strip()
+    if not sep or not when.strip() or not name:
+        raise UsageError(f"--switch {text!r}: write TIME=CONTROLLER, e.g. --switch 6s=gallop")
+    given = parse_given(when, f"--switch {text}")
+    check_dimension(f"--switch {text}", "the time before '=' is in seconds", given, _TIME,
+                    "--switch {}=" + name)  # fmt: skip
+    if not given.value > 0:
+        raise UsageError(
+            f"--switch {text}: a switch comes after the start (the first controller is --controller)"
+        )
+    if name not in controllers:
+        raise UsageError(
+            f"--switch {text}: the creature has no controller {name!r} "
+            f"(controllers: {', '.join(controllers) or 'none'})"
+        )
+    return Switch(given.value, name)
+
+
+def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
+    """A scene's ``set`` and ``at T switch`` lines as the ``--set`` and ``--switch`` texts
+    they stand for (SI values with their SI units, exact: ``repr`` of each float)."""
+    sets = [
+        f"{v.name}={v.value!r}{si_unit(v.dim)}" + (f"@{v.at!r}s" if v.at is not None else "")
+        for v in scene.values
+    ]
+    switches = [f"{w.t!r}s={w.controller}" for w in scene.switches]
+    return sets, switches
+
+
+def find_scene(model: Model, name: str) -> Scene:
+    """``--scene NAME``: the creature's scene of that name, or a ``UsageError`` naming them."""
+    names = [s.name for s in model.scenes]
+    if name not in names:
+        raise UsageError(
+            f"--scene {name}: creature '{model.name}' has no scene {name!r} "
+            f"(scenes: {', '.join(names) or 'none; write one: scene NAME { controller ...; }'})"
+        )
+    return model.scene(name)
+
+
+def scene_plan(
+    scene: Scene, model: Model, settings: Sequence[str], switches: Sequence[str]
+) -> tuple[str, list[str], list[str]]:
+    """The controller, ``--set`` and ``--switch`` texts of a run of ``scene`` with the command
+    line's own ``settings`` and ``switches`` added after the scene's lines. A scene with a
+    gait table (``gait by speed { ... }``) gets its switches from the final speed commands
+    (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``."""
+    sets, changes = scene_texts(scene)
+    texts = sets + list(settings)
+    if not scene.bands:
+        return scene.controller, texts, changes + list(switches)
+    if switches:
+        raise UsageError(f"--switch: scene {scene.name} chooses its controllers by its gait table")
+    names = list(dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)]))
+    given = sort_settings(texts, model, names[0], names[1:])
+    by = scene.band_input
+    default = next(
+        (c.value for n in names for c in model.controller(n).inputs if c.name == by), 0.0
+    )
+    initial = given.inputs.get(by, default)
+    commands = [(c.t, c.value) for c in given.schedule if c.name == by]
+    start = None if scene.starts_by_band else scene.controller
+    first, planned, lost = choose_gaits(scene.bands, start, initial, commands)
+    if lost:
+        bands = "; ".join(b.text() for b in scene.bands)
+        t, v = lost[0]
+        raise UsageError(
+            f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
+            f"(bands, SI: {bands})"
+        )
+    return first, texts, [f"{t!r}s={name}" for t, name in planned]

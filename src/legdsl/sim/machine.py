@@ -29,6 +29,7 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
 from legdsl.sim.control_faults import ControlFault, explain
+from legdsl.sim.handover import Clock, Pair, cycle, take_over
 from legdsl.sim.kinematics import FootPlacer
 from legdsl.sim.sensors import Sensors
 
@@ -105,6 +106,10 @@ class StateMachine:
         self.binding = 0
         self.entered_at = 0.0
         self.started = False
+        # a controller that takes over mid-run (``legdsl.sim.switching``) starts in the state
+        # that matches the contacts, not in START (``legdsl.sim.handover``)
+        self.taking_over = False
+        self.binding_at_start = 0
         self.events: list[dict[str, Any]] = []
         self._sane = True  # the simulation's state is finite (set at each call)
         self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
@@ -113,6 +118,11 @@ class StateMachine:
     def initial_inputs(self) -> dict[str, float]:
         """The inputs at t = 0 (before any scheduled change)."""
         return dict(zip(self.input_names, self._history[0][1], strict=True))
+
+    def start_inputs(self, values: list[float], t: float) -> None:
+        """The inputs this machine starts with at time ``t`` (a controller taking over)."""
+        self.inputs = list(values)
+        self._history = [(t, list(values))]
 
     def speed_command(self, t: float) -> float:
         if "speed" not in self.input_names:
@@ -168,6 +178,23 @@ class StateMachine:
         self.records = list(self._call("entry", self.module.ENTRIES, key, args, t, state))
         self.events.append({"t": round(t, 9), "kind": "state", "state": self.state_names[state]})
 
+    def _take_over(self, t: float, s: tuple[float, ...]) -> None:
+        """Enter the (binding, state) that matches which feet are down now."""
+        pairs = cycle(self.model, self.model.controller(self.module.CONTROLLER))
+        feet = {
+            name: Clock(c.touching, c.touchdown, c.liftoff)
+            for name, c in self.sensors.clocks.items()
+        }
+
+        def holds(pair: Pair) -> bool:
+            key = (pair.waited, pair.state)
+            args = (s, self.inputs, self.params, self.records, 0.0)
+            return bool(self._call("event", self.module.EVENTS, key, args, t, pair.state))
+
+        chosen = take_over(pairs, feet, holds)
+        self.binding = self.binding_at_start = chosen.binding
+        self._enter(chosen.state, t, s)
+
     def __call__(self, sim: Any) -> None:
         t = sim.t
         self._sane = all(math.isfinite(x) for x in sim.q) and all(math.isfinite(x) for x in sim.v)
@@ -181,7 +208,10 @@ class StateMachine:
         m = self.module
         if not self.started:
             self.started = True
-            self._enter(self.state_index, t, s)
+            if self.taking_over:
+                self._take_over(t, s)
+            else:
+                self._enter(self.state_index, t, s)
         else:
             nxt = (self.state_index + 1) % len(self.state_names)
             args = (s, self.inputs, self.params, self.records, t - self.entered_at)

@@ -56,7 +56,9 @@ class Controller(Protocol):
     """What the simulation needs from a controller (the state machine of a later stage)."""
 
     state_names: tuple[str, ...]
-    state_index: int
+
+    @property
+    def state_index(self) -> int: ...
 
     def __call__(self, sim: Simulation) -> None: ...
 

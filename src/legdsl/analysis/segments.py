@@ -1,0 +1,64 @@
+"""The controller segments of a run that changed controllers (``legdsl run --switch``).
+
+For each segment (from its switch to the next, as run.json's ``segments`` give them) the
+report measures the forward speed (along the heading, the centre of mass's) averaged over
+the samples from ``SETTLE`` after the switch to the segment's end, beside the commanded speed
+averaged over the same samples, and their relative difference. ``legdsl metrics`` prints it
+for a switched run; ``--from``/``--to`` measure any one part of it in full.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from legdsl.analysis.strides import EPS_T
+from legdsl.sim.trajectory import Trajectory
+
+SETTLE = 3.0  # s after a switch (or the start) before its speed is measured
+
+
+def segment_report(tr: Trajectory, segments: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One entry per segment: controller, from, to, the window measured, the mean forward
+    speed and command in it (m/s, None where there is nothing to measure) and the error (%)."""
+    yaw = tr.root_rpy[:, 2]
+    forward = tr.com_vel[:, 0] * np.cos(yaw) + tr.com_vel[:, 1] * np.sin(yaw)
+    end = float(tr.t[-1]) if len(tr) else 0.0
+    out = []
+    for seg in segments:
+        t0 = float(seg.get("from", 0.0))
+        t1 = min(float(seg.get("to", end)), end)
+        window = (tr.t >= t0 + SETTLE - EPS_T) & (tr.t < t1 - EPS_T)
+        speed = float(np.mean(forward[window])) if window.any() else math.nan
+        cmd = tr.speed_command[window]
+        command = float(np.mean(cmd[np.isfinite(cmd)])) if np.isfinite(cmd).any() else math.nan
+        error = 100 * (speed / command - 1) if command and math.isfinite(speed) else math.nan
+        out.append(
+            {
+                "controller": seg.get("controller"),
+                "from": t0,
+                "to": t1,
+                "measured_from": t0 + SETTLE,
+                "speed": speed if math.isfinite(speed) else None,
+                "command": command if math.isfinite(command) else None,
+                "error_percent": error if math.isfinite(error) else None,
+            }
+        )
+    return out
+
+
+def segment_table(report: Sequence[dict[str, Any]]) -> str:
+    """The report as text, one line per segment."""
+    lines = [f"controller segments (speed from {SETTLE:g} s after each switch):"]
+    for r in report:
+        where = f"  {r['controller']:<14} {r['from']:>7.2f} to {r['to']:>7.2f} s"
+        if r["speed"] is None:
+            lines.append(f"{where}  too short to measure")
+            continue
+        cmd = "" if r["command"] is None else f", command {r['command']:.3f} m/s"
+        err = "" if r["error_percent"] is None else f" ({r['error_percent']:+.1f}%)"
+        lines.append(f"{where}  speed {r['speed']:.3f} m/s{cmd}{err}")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,339 @@
+"""Check ``scene NAME { ... }`` blocks: a run written in the file (``legdsl.ir.scene``).
+
+A scene names its creature's controllers, inputs, parameters and actuator settings; each
+is resolved here against the checked creature (its controllers already attached), and each
+value's dimension against the one declared for it, every mistake at its place with a caret:
+
+    controller NAME            exactly one: the controller the run starts with
+    set NAME = VALUE           an input or parameter of a controller of the scene, or
+                               ACTUATOR.KEY (an actuator setting before the run starts)
+    at T set NAME = VALUE      an input changed at time T (only inputs change during a run)
+    at T switch CONTROLLER     from time T on, CONTROLLER drives the run
+    time T                     how long the run lasts
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+from legdsl.check.values import did_you_mean
+from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
+from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe
+
+_TIME: Dim = KINDS["time"][0]
+
+
+def _kind(dim: Dim) -> str:
+    if dim == DIMENSIONLESS:
+        return "dimensionless"
+    name = describe(dim)
+    return ("an " if name[0] in "aeiou" else "a ") + name
+
+
+def _example(dim: Dim) -> str:
+    for kind_dim, unit in KINDS.values():
+        if kind_dim == dim:
+            return unit
+    return ""
+
+
+def _digits(text: str) -> str:
+    match = re.match(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", text)
+    return match.group(0) if match else text
+
+
+def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float | None:
+    """The SI value of a number written for ``what`` (of dimension ``want``), or None after
+    reporting why not."""
+    sign = 1.0
+    while isinstance(value, ast.Neg):
+        sign, value = -sign, value.value
+    if not isinstance(value, ast.Number):
+        diag.error(value.span, f"{what} is a number with its unit here")
+        return None
+    q = value.quantity
+    number = sign * q.value
+    if want == DIMENSIONLESS:
+        if not q.unitless and q.dim != DIMENSIONLESS:
+            diag.error(value.span, f"{what} is dimensionless, but {value.text} is {_kind(q.dim)}")
+            return None
+        return number
+    if q.unitless:
+        if number != 0:
+            diag.error(
+                value.span,
+                f"{what} is {_kind(want)}: give its unit, e.g. {value.text} {_example(want)}",
+            )
+            return None
+        return 0.0
+    if q.dim != want:
+        diag.error(
+            value.span,
+            f"{what} is {_kind(want)}, but {value.text} is {_kind(q.dim)}; write e.g. "
+            f"{_digits(value.text)} {_example(want)}".rstrip(),
+        )
+        return None
+    return number
+
+
+class _SceneChecker:
+    def __init__(self, decl: ast.SceneDecl, model: Model, diag: Diagnostics):
+        self.decl, self.model, self.diag = decl, model, diag
+        self.controllers = {c.name: c for c in model.controllers}
+
+    def _controller(self, ident: ast.Ident) -> bool:
+        if ident.name in self.controllers:
+            return True
+        known = ", ".join(self.controllers) or "none"
+        self.diag.error(
+            ident.span,
+            f"creature '{self.model.name}' has no controller '{ident.name}' (controllers: "
+            f"{known}){did_you_mean(ident.name, self.controllers)}",
+        )
+        return False
+
+    def check(self) -> Scene | None:
+        decl, diag = self.decl, self.diag
+        first = [i for i in decl.items if isinstance(i, ast.SceneController)]
+        tables = [i for i in decl.items if isinstance(i, ast.SceneGaits)]
+        if not first and not tables:
+            diag.error(
+                decl.name.span,
+                f"scene '{decl.name.name}' needs 'controller NAME' (the controller it starts "
+                "with) or 'gait by speed { ... }'",
+            )
+            return None
+        for extra in first[1:]:
+            diag.error(
+                extra.span,
+                f"a scene starts with one controller (the first is at line {first[0].span.line}); change controllers with 'at T switch NAME'",
+            )
+        for again in tables[1:]:
+            diag.error(
+                again.span,
+                f"a scene has one gait table (the first is at line {tables[0].span.line})",
+            )
+        ok = not first or self._controller(first[0].name)
+        switches = self._switches(bool(tables))
+        bands = self._bands(tables[0]) if tables else ()
+        names = [*(f.name.name for f in first[:1]), *(s.controller for s in switches),
+                 *(b.controller for b in bands or ())]  # fmt: skip
+        used = [self.controllers[n] for n in dict.fromkeys(names) if n in self.controllers]
+        values = [v for item in decl.items if isinstance(item, ast.SceneSet)
+                  for v in [self._value(item, used)] if v is not None]  # fmt: skip
+        duration = self._duration()
+        if not ok or bands is None:
+            return None
+        start = first[0].name.name if first else None
+        by = tables[0].input.name if tables else ""
+        if bands:
+            start = self._gaits(tables[0], bands, start, used, values)
+            if start is None:
+                return None
+        assert start is not None
+        switches.sort(key=lambda s: s.t)
+        return Scene(decl.name.name, start, tuple(values), tuple(switches), duration, decl.span,
+                     bands, by, not first)  # fmt: skip
+
+    def _switches(self, by_table: bool) -> list[SceneSwitch]:
+        diag = self.diag
+        switches: list[SceneSwitch] = []
+        seen: dict[float, Span] = {}
+        for item in self.decl.items:
+            if not isinstance(item, ast.SceneSwitch):
+                continue
+            if by_table:
+                diag.error(
+                    item.span,
+                    "this scene chooses its controllers with 'gait by'; leave out 'at T switch' (or the gait table)",
+                )
+                continue
+            assert item.at is not None
+            t = _number(item.at, _TIME, "the time after 'at'", diag)
+            good = self._controller(item.controller)
+            if t is not None and t <= 0:
+                diag.error(
+                    item.at.span,
+                    "a switch comes after the start (the scene's 'controller' starts it)",
+                )
+            elif t is not None and t in seen:
+                diag.error(item.span, f"two switches at {t:g} s (the other at line {seen[t].line})")
+            elif t is not None and good:
+                seen[t] = item.span
+                switches.append(SceneSwitch(t, item.controller.name, item.span))
+        return switches
+
+    def _duration(self) -> float | None:
+        diag = self.diag
+        times = [i for i in self.decl.items if isinstance(i, ast.SceneTime)]
+        for later in times[1:]:
+            diag.error(
+                later.span, f"the scene's time is given twice (first at line {times[0].span.line})"
+            )
+        if not times:
+            return None
+        duration = _number(times[0].value, _TIME, "the scene's time", diag)
+        if duration is not None and duration <= 0:
+            diag.error(times[0].value.span, "the scene's time must be more than zero")
+        return duration
+
+    def _band_input(self, table: ast.SceneGaits, names: list[str]) -> Dim | None:
+        want = table.input.name
+        for name in names:
+            found = next((c for c in self.controllers[name].inputs if c.name == want), None)
+            if found is not None:
+                return found.dim
+        self.diag.error(
+            table.input.span, f"'gait by {want}': no controller of the table has an input '{want}'"
+        )
+        return None
+
+    def _bands(self, table: ast.SceneGaits) -> tuple[GaitBand, ...] | None:
+        diag = self.diag
+        if not table.bands:
+            diag.error(table.span, "a gait table needs a band: CONTROLLER from LOW to HIGH")
+            return None
+        good = [b for b in table.bands if self._controller(b.controller)]
+        if len(good) < len(table.bands):
+            return None
+        dim = self._band_input(table, [b.controller.name for b in good])
+        if dim is None:
+            return None
+        out, fine = [], True
+        for b in good:
+            what = f"a band of {table.input.name}"
+            low = _number(b.low, dim, what, diag) if b.low is not None else None
+            high = _number(b.high, dim, what, diag) if b.high is not None else None
+            if (b.low is not None and low is None) or (b.high is not None and high is None):
+                fine = False
+            elif low is not None and high is not None and not low < high:
+                diag.error(b.span, f"a band runs from a lower {table.input.name} to a higher one")
+                fine = False
+            else:
+                out.append(GaitBand(b.controller.name, low, high, b.span))
+        return tuple(out) if fine else None
+
+    def _gaits(self, table: ast.SceneGaits, bands: tuple[GaitBand, ...], start: str | None,
+               used: list, values: list[SceneValue]) -> str | None:  # fmt: skip
+        """The controller the scene starts with; a command no band holds is an error at it."""
+        name = table.input.name
+        given = [v for v in values if v.name == name and v.at is None]
+        default = next((c.value for ctl in used for c in ctl.inputs if c.name == name), 0.0)
+        initial = given[-1].value if given else default
+        changes = [(v.at, v.value) for v in values if v.name == name and v.at is not None]
+        first, _, lost = choose_gaits(bands, start, initial, changes)
+        unit = _example(next(c.dim for ctl in used for c in ctl.inputs if c.name == name))
+        bands_text = "; ".join(b.text(unit) for b in bands)
+        for t, v in lost:
+            at = next((x for x in values if x.name == name and x.at == t and x.value == v), None)
+            span = at.span if at is not None else (given[-1].span if given else table.span)
+            self.diag.error(
+                span,
+                f"no band of 'gait by {name}' holds {name} = {v:g} {unit} (bands: {bands_text})",
+            )
+        return first if not lost else None
+
+    def _value(self, item: ast.SceneSet, used: list) -> SceneValue | None:
+        diag = self.diag
+        at = None
+        if item.at is not None:
+            at = _number(item.at, _TIME, "the time after 'at'", diag)
+            if at is None:
+                return None
+            if at < 0:
+                diag.error(item.at.span, "the time after 'at' must not be negative")
+                return None
+        name = ".".join(i.name for i in item.target)
+        where = item.target[0].span
+        if len(item.target) > 1:
+            return self._actuator(item, name, at)
+        inputs = {c.name: c for ctl in reversed(used) for c in ctl.inputs}
+        params = {c.name: c for ctl in reversed(used) for c in ctl.params}
+        if name in inputs:
+            dim = inputs[name].dim
+        elif name in params:
+            if at is not None:
+                diag.error(
+                    where,
+                    f"{name} is a parameter; only inputs change during a run (inputs: {', '.join(inputs) or 'none'})",
+                )
+                return None
+            dim = params[name].dim
+        else:
+            known = [*inputs, *params]
+            diag.error(where, f"no controller of this scene has an input or parameter '{name}' "
+                              f"(they have {', '.join(known) or 'none'}){did_you_mean(name, known)}")  # fmt: skip
+            return None
+        value = _number(item.value, dim, name, diag)
+        return None if value is None else SceneValue(name, value, dim, at, item.span)
+
+    def _actuator(self, item: ast.SceneSet, name: str, at: float | None) -> SceneValue | None:
+        diag = self.diag
+        by_name = {a.name: a for a in self.model.actuators}
+        actuator, key = item.target[0], item.target[1]
+        if at is not None:
+            diag.error(
+                item.target[0].span,
+                "only controller inputs change during a run; an actuator is set before it starts",
+            )
+            return None
+        if actuator.name not in by_name or len(item.target) != 2:
+            diag.error(
+                actuator.span,
+                f"no actuator '{actuator.name}'{did_you_mean(actuator.name, by_name)}",
+            )
+            return None
+        a = by_name[actuator.name]
+        if key.name not in SETTABLE[a.kind]:
+            diag.error(key.span, f"a {a.kind} has {', '.join(SETTABLE[a.kind])}")
+            return None
+        dim = KINDS[setting_kind(key.name, a.rotary)][0]
+        value = _number(item.value, dim, name, diag)
+        if value is not None and key.name in NON_NEGATIVE and value < 0:
+            diag.error(item.value.span, f"'{key.name}' must not be negative")
+            return None
+        return None if value is None else SceneValue(name, value, dim, None, item.span)
+
+
+def check_scenes(tree: ast.SourceFile, models: list[Model], diag: Diagnostics) -> list[Model]:
+    """Attach each scene of the file to its creature (``Model.scenes``)."""
+    by_name = {m.name: m for m in models}
+    scenes: dict[str, list[Scene]] = {m.name: [] for m in models}
+    seen: dict[tuple[str, str], Span] = {}
+    for decl in tree.scenes:
+        if decl.creature is not None:
+            model = by_name.get(decl.creature.name)
+            if model is None:
+                diag.error(
+                    decl.creature.span,
+                    f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
+                )
+                continue
+        elif len(models) == 1:
+            model = models[0]
+        else:
+            if models:
+                diag.error(
+                    decl.name.span,
+                    "this file has several creatures: say which one, as in 'scene demo for biped { ... }'",
+                )
+            continue
+        key = (model.name, decl.name.name)
+        if key in seen:
+            diag.error(
+                decl.name.span,
+                f"scene '{decl.name.name}' is defined twice (first at line {seen[key].line})",
+            )
+            continue
+        seen[key] = decl.name.span
+        scene = _SceneChecker(decl, model, diag).check()
+        if scene is not None:
+            scenes[model.name].append(scene)
+    return [
+        dataclasses.replace(m, scenes=tuple(scenes[m.name])) if scenes[m.name] else m
+        for m in models
+    ]

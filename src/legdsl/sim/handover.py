@@ -1,0 +1,157 @@
+"""Where a controller takes over a moving creature: the state and role binding that match
+which feet are down (``legdsl run --switch``; docs/runtime.md, "Changing controllers").
+
+A controller's table says, through its contact events, which feet are down in each state:
+``touchdown(X)`` entered a state with one of X's feet down, ``liftoff(X)`` with none of them,
+and a state entered on any other condition keeps what its predecessor knew. Walking the
+table's cycle of (binding, state) pairs twice, as the machine would run it, gives every pair
+its *contact facts*, most recent first, each over concrete feet (a role is resolved under the
+binding that waited for the event). When a controller takes over at time t:
+
+1. every pair of the cycle is scored against the feet down now: fewer facts contradicted
+   first, then the most recent of its facts that holds made true latest (by the foot whose
+   contact last changed the way the fact says), so that of two mirror-image flights the one
+   whose leg just lifted off wins, and of two stances the one whose leg landed last;
+2. the best pairs form stretches of consecutive states (e.g. LOADING, COMPRESSION, THRUST,
+   UNLOADING with the same foot down); of the chosen stretch the machine starts in the last
+   state whose own event holds now (its time in state 0), else the stretch's first: mid-thrust
+   that is THRUST, just after a landing LOADING.
+
+Everything here reads the controller IR (``legdsl.ir.controller``) and the model's legs;
+the events themselves are evaluated with the generated module's ``EVENTS``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+from legdsl.ir import controller as ir
+from legdsl.ir.model import Model
+
+
+@dataclass(frozen=True)
+class Fact:
+    """At least one of ``feet`` touches (``down``), or none of them does."""
+
+    feet: frozenset[str]  # contact names
+    down: bool
+
+
+@dataclass(frozen=True)
+class Pair:
+    """One step of the table's cycle: the binding a state runs under, the binding that waited
+    for its event, and what is known of the feet on entering it (most recent fact first)."""
+
+    binding: int
+    state: int
+    waited: int
+    facts: tuple[Fact, ...]
+
+
+def _contact_events(e: ir.Expr) -> list[ir.Event]:
+    """The contact events a condition requires: the event itself, or those of an ``and``."""
+    if isinstance(e, ir.Event):
+        return [e]
+    if isinstance(e, ir.Binary) and e.op == "and":
+        return _contact_events(e.left) + _contact_events(e.right)
+    return []
+
+
+def _feet(model: Model, thing: ir.Thing, roles: Mapping[str, tuple[str, ...]]) -> frozenset[str]:
+    """The foot contacts an event watches under one binding."""
+    feet = {leg.name: leg.foot for leg in model.legs}
+    if isinstance(thing, ir.Legs):
+        legs = roles[thing.role] if thing.role is not None else (thing.leg or "",)
+        return frozenset(feet[leg] for leg in legs if leg in feet)
+    if isinstance(thing, ir.Part) and thing.kind == "contact":
+        return frozenset([thing.name])
+    if isinstance(thing, ir.Alias) and thing.kind == "contact":
+        legs = roles[thing.legs.role] if thing.legs.role is not None else (thing.legs.leg or "",)
+        aliases = {leg.name: dict(leg.aliases) for leg in model.legs}
+        return frozenset(
+            aliases[leg][thing.alias] for leg in legs if thing.alias in aliases.get(leg, {})
+        )
+    return frozenset()
+
+
+def _learn(facts: tuple[Fact, ...], new: Fact) -> tuple[Fact, ...]:
+    """The facts after an event: the new one first; older ones about any of its feet dropped."""
+    return (new, *(f for f in facts if not f.feet & new.feet))
+
+
+def cycle(model: Model, ctl: ir.Controller) -> list[Pair]:
+    """The (binding, state) pairs the table runs through from its start, in order, each with
+    its contact facts as known after a full lap."""
+    after = dict(ctl.after_entry)
+    n = len(ctl.states)
+    start = ctl.state_names.index(ctl.start)
+    order: list[tuple[int, int, int]] = []  # (binding, state, waited)
+    seen: dict[tuple[int, int], int] = {}
+    b, i, waited = 0, start, 0
+    while (b, i) not in seen:
+        seen[(b, i)] = len(order)
+        order.append((b, i, waited))
+        j = (i + 1) % n
+        waited, b, i = b, after.get((b, j), b), j
+    loop = order[seen[(b, i)] :]  # the pairs that repeat (a start outside the loop is left)
+    # each waits under the binding of the one before it in the loop (the start, too)
+    loop = [(b, i, loop[k - 1][0]) for k, (b, i, _) in enumerate(loop)]
+    facts: dict[tuple[int, int], tuple[Fact, ...]] = {}
+    known: tuple[Fact, ...] = ()
+    for _lap in range(2):
+        for b, i, w in loop:
+            roles = dict(ctl.bindings[w])
+            for event in _contact_events(ctl.states[i].event):
+                feet = _feet(model, event.thing, roles)
+                if feet:
+                    known = _learn(known, Fact(feet, event.kind == "touchdown"))
+            facts[(b, i)] = known
+    return [Pair(b, i, w, facts[(b, i)]) for b, i, w in loop]
+
+
+@dataclass(frozen=True)
+class Clock:
+    """One foot now: down or not, and when it last touched down and lifted off (NaN: never)."""
+
+    down: bool
+    touchdown: float
+    liftoff: float
+
+
+def _score(facts: Sequence[Fact], feet: Mapping[str, Clock]) -> tuple[int, float]:
+    """(facts contradicted, when the most recent fact that holds was last made true: later
+    is better)."""
+    held = [f for f in facts if any(feet[c].down for c in f.feet if c in feet) == f.down]
+    recent = -math.inf
+    if held:
+        f = held[0]
+        times = [feet[c].touchdown if f.down else feet[c].liftoff for c in f.feet if c in feet]
+        times = [x for x in times if math.isfinite(x)]
+        recent = max(times) if times else -math.inf
+    return len(facts) - len(held), recent
+
+
+def take_over(
+    pairs: Sequence[Pair], feet: Mapping[str, Clock], holds: Callable[[Pair], bool]
+) -> Pair:
+    """The pair a controller starts in, given each foot's ``Clock`` now; ``holds(pair)`` says
+    whether the pair's own entry event holds now (evaluated under ``pair.waited``)."""
+    scores = [_score(p.facts, feet) for p in pairs]
+    best = min(scores, key=lambda s: (s[0], -s[1]))
+    good = [s == best for s in scores]
+    n = len(pairs)
+    # stretches of consecutive best pairs, cyclically; the first stretch found by recency wins
+    first = next(
+        (k for k in range(n) if good[k] and not good[(k - 1) % n]), 0 if all(good) else None
+    )
+    assert first is not None
+    stretch = [first]
+    while len(stretch) < n and good[(stretch[-1] + 1) % n]:
+        stretch.append((stretch[-1] + 1) % n)
+    chosen = stretch[0]
+    for k in stretch:
+        if holds(pairs[k]):
+            chosen = k
+    return pairs[chosen]

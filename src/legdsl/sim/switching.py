@@ -1,0 +1,186 @@
+"""A run whose controller changes at given times (``legdsl run --switch 6s=gallop``).
+
+``SwitchingMachine`` holds one ``StateMachine`` at a time. At each switch the next
+controller's machine is made and takes over in the same control tick:
+
+* it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
+  entering it as if its event had just held (its entry records are computed);
+* its records start from the old controller's where the names match (0 otherwise), its
+  inputs from the old controller's values where the names match, then from the latest
+  command given for each (``--set NAME=V`` or ``NAME=V@T``, also one given while a controller
+  without that input ran); parameters given with ``--set`` apply to every controller that has
+  them;
+* the sensors' contact clocks (last stance and flight times) carry on, and so does the
+  tracker of a path that both controllers follow.
+
+The trajectory's states are named ``CONTROLLER.STATE`` over every controller of the run.
+A run without switches uses a bare ``StateMachine``: nothing here touches it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
+
+from legdsl.ir.model import Model
+from legdsl.ir.paths import PathSpec
+from legdsl.sim.machine import InputChange, StateMachine, resolve_paths
+
+
+@dataclass(frozen=True)
+class Switch:
+    """From time ``t`` on, the run is driven by ``controller``."""
+
+    t: float
+    controller: str
+
+
+def paths_for(model: Model, controller: str, given: Sequence[PathSpec]) -> list[PathSpec]:
+    """The ``--path`` specs that concern one controller of a switching run: those naming one
+    of its paths, and a nameless one when it has exactly one path."""
+    return resolve_paths(model, controller, [s for s in given if _fits(model, controller, s)])
+
+
+def check_switch_paths(model: Model, controllers: Sequence[str], given: Sequence[PathSpec]) -> None:
+    """Each ``--path`` must concern some controller of the run (else the first one's error)."""
+    for spec in given:
+        if not any(_fits(model, name, spec) for name in dict.fromkeys(controllers)):
+            resolve_paths(model, controllers[0], [spec])  # raises the UsageError saying why
+
+
+def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
+    declared = [p.name for p in model.controller(controller).paths]
+    return spec.name in declared or (not spec.name and len(declared) == 1)
+
+
+class SwitchingMachine:
+    """The controller of a run with switches: the simulation sees one controller."""
+
+    def __init__(
+        self,
+        model: Model,
+        modules: Mapping[str, ModuleType],
+        first: str,
+        switches: Sequence[Switch],
+        inputs: Mapping[str, float],
+        params: Mapping[str, float],
+        schedule: Sequence[InputChange],
+        paths: Sequence[PathSpec] = (),
+    ):
+        self.model = model
+        self.modules = dict(modules)
+        self.switches = sorted(switches, key=lambda s: s.t)
+        order = list(dict.fromkeys([first, *(s.controller for s in self.switches)]))
+        self._offset: dict[str, int] = {}
+        names: list[str] = []
+        for name in order:
+            self._offset[name] = len(names)
+            names += [f"{name}.{state}" for state in self.modules[name].STATE_NAMES]
+        self.state_names = tuple(names)
+        self.params_given = dict(params)
+        self.commanded = dict(inputs)  # the latest command of every input, by name
+        self._pending = sorted(schedule, key=lambda c: c.t)
+        self._paths = list(paths)  # as given; each controller takes those that concern it
+        self._waiting = list(self.switches)
+        self.finished: list[tuple[str, StateMachine]] = []
+        self.name = first
+        self.current = self._machine(first, 0.0)
+        self.segments: list[dict[str, Any]] = [self._segment(0.0)]
+
+    # ------------------------------------------------------------ machines
+    def _machine(self, name: str, t: float) -> StateMachine:
+        module = self.modules[name]
+        own = module.INPUTS
+        inputs = {k: v for k, v in self.commanded.items() if k in own}
+        params = {k: v for k, v in self.params_given.items() if k in module.PARAMS}
+        # the first machine applies the whole schedule itself; a later one what is still to come
+        later = [c for c in self._pending if c.name in own and (t == 0.0 or c.t > t + 1e-12)]
+        paths = paths_for(self.model, name, self._paths)
+        return StateMachine(self.model, module, inputs, params, later, paths)
+
+    def _segment(self, t: float) -> dict[str, Any]:
+        m = self.current
+        return {
+            "controller": self.name,
+            "from": round(t, 9),
+            "inputs": dict(zip(m.input_names, m.inputs, strict=True)),
+            "params": dict(zip(m.param_names, m.params, strict=True)),
+        }
+
+    def _switch(self, to: str, t: float) -> None:
+        old = self.current
+        new = self._machine(to, t)
+        kept = dict(zip(old.input_names, old.inputs, strict=True))
+        kept |= {k: v for k, v in self.commanded.items()}
+        values = [float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)]
+        new.start_inputs(values, t)
+        records = dict(zip(old.module.RECORDS, old.records, strict=True))
+        new.records = [float(records.get(n, 0.0)) for n in new.module.RECORDS]
+        carried = {n: records[n] for n in new.module.RECORDS if n in records}
+        new.sensors.clocks = old.sensors.clocks
+        for path, tracker in old.sensors.paths.items():
+            mine = next((p for p in new.paths if p.name == path), None)
+            if mine is not None and mine == tracker.spec:
+                new.sensors.paths[path] = tracker
+        new.taking_over = True
+        self.finished.append((self.name, old))
+        self.segments[-1]["to"] = round(t, 9)
+        self.current, self.name = new, to
+        self.segments.append(self._segment(t) | {"records_carried": carried})
+
+    def __call__(self, sim: Any) -> None:
+        t = sim.t
+        while self._pending and self._pending[0].t <= t + 1e-12:
+            change = self._pending.pop(0)
+            self.commanded[change.name] = change.value
+        while self._waiting and self._waiting[0].t <= t + 1e-12:
+            self._switch(self._waiting.pop(0).controller, t)
+        self.current(sim)
+
+    def segment_info(self, end: float) -> list[dict[str, Any]]:
+        """One entry per controller segment for run.json: its controller, its time range, the
+        inputs and parameters it started with, and the state it started in."""
+        machines = [m for _, m in self.finished] + [self.current]
+        out = []
+        for k, (seg, machine) in enumerate(zip(self.segments, machines, strict=True)):
+            first = next((e for e in machine.events if e.get("kind") == "state"), None)
+            entry = dict(seg, to=seg.get("to", round(end, 9)))
+            entry["state"] = first["state"] if first is not None else None
+            if k > 0:
+                roles = self.model.controller(seg["controller"]).bindings[machine.binding_at_start]
+                entry["roles"] = {role: list(legs) for role, legs in roles}
+            out.append(entry)
+        return out
+
+    @property
+    def first(self) -> StateMachine:
+        """The machine of the controller the run started with."""
+        return self.finished[0][1] if self.finished else self.current
+
+    # ------------------------------------------------------------ what the simulation reads
+    @property
+    def state_index(self) -> int:
+        return self._offset[self.name] + self.current.state_index
+
+    def speed_command(self, t: float) -> float:
+        return self.current.speed_command(t)
+
+    @property
+    def events(self) -> list[dict[str, Any]]:
+        out: list[dict[str, Any]] = []
+        for name, machine in [*self.finished, (self.name, self.current)]:
+            out += [dict(e, controller=name) for e in machine.events]
+        for seg in self.segments[1:]:
+            out.append({"t": seg["from"], "kind": "switch", "controller": seg["controller"]})
+        return out
+
+    @property
+    def paths(self) -> list[PathSpec]:
+        """Every path a controller of the run followed (by name, the first of each)."""
+        seen: dict[str, PathSpec] = {}
+        for _name, machine in [*self.finished, (self.name, self.current)]:
+            for p in machine.paths:
+                seen.setdefault(p.name, p)
+        return list(seen.values())

@@ -1,0 +1,106 @@
+"""Scenes: a whole run written in the .leg file, checked to the IR and run as its options."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from legdsl.check.source import check_model
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.settings import find_scene, scene_plan, scene_texts
+
+ROOT = Path(__file__).resolve().parents[2]
+BIPED = ROOT / "creatures" / "biped.leg"
+
+
+def test_the_bipeds_scene_in_si_units() -> None:
+    scene = check_model(BIPED).scene("run_gallop_run")
+    assert scene.controller == "run" and scene.duration == 26.0
+    assert [(w.t, w.controller) for w in scene.switches] == [(8.0, "gallop"), (16.0, "run")]
+    assert [(v.name, v.value, v.at) for v in scene.values] == [
+        ("speed", 2.0, None), ("speed", 1.5, 8.0), ("speed", 2.5, 16.0),
+    ]  # fmt: skip
+    sets, switches = scene_texts(scene)
+    assert sets == ["speed=2.0m/s", "speed=1.5m/s@8.0s", "speed=2.5m/s@16.0s"]
+    assert switches == ["8.0s=gallop", "16.0s=run"]
+
+
+def test_a_scene_may_use_semicolons_units_of_any_size_and_actuators(tmp_path: Path) -> None:
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text()
+        + "scene quick { controller run; set speed = 90 m/min; set leg_l_spring.k = 12 kN/m;"
+        " at 500 ms switch gallop; at 0.5 s set turn_rate = 10 deg/s; time 1 min }\n"
+    )
+    scene = check_model(path).scene("quick")
+    values = {(v.name, v.at): v.value for v in scene.values}
+    assert values[("speed", None)] == pytest.approx(1.5)
+    assert values[("leg_l_spring.k", None)] == pytest.approx(12000.0)
+    assert values[("turn_rate", 0.5)] == pytest.approx(0.17453292519943295)
+    assert scene.switches[0].t == 0.5 and scene.duration == 60.0
+    with pytest.raises(UsageError, match="scenes: run_gallop_run, by_speed, quick"):
+        find_scene(check_model(path), "quik")
+
+
+def test_legdsl_run_scene_runs_it_and_the_command_line_adds_to_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene quick { controller run; set speed = 1.5 m/s;"
+        " at 0.6 s switch gallop; time 30 s }\n"
+    )
+    out = tmp_path / "run"
+    args = ["run", str(path), "--scene", "quick", "--time", "1", "--out", str(out)]
+    assert main([*args, "--set", "speed=1.2m/s@0.8s"]) == 0
+    info = json.loads((out / "run.json").read_text())
+    assert info["sim_time"] == pytest.approx(1.0)  # --time overrides the scene's time
+    assert info["controller"] == "run"
+    assert [s["controller"] for s in info["segments"]] == ["run", "gallop"]
+    assert info["settings"]["inputs"] == {"speed": 1.5}
+    assert info["settings"]["schedule"] == [{"t": 0.8, "input": "speed", "value": 1.2}]
+    capsys.readouterr()
+    assert main([*args, "--controller", "gallop"]) == 2
+    assert "leave out --controller" in capsys.readouterr().err
+    assert main(["run", str(path), "--scene", "slow", "--time", "1"]) == 2
+    assert "no scene 'slow'" in capsys.readouterr().err
+
+
+def test_gait_bands_choose_the_controller_with_hysteresis() -> None:
+    from legdsl.ir.scene import choose_gaits
+
+    scene = check_model(BIPED).scene("by_speed")
+    assert [(b.controller, b.low, b.high) for b in scene.bands] == [
+        ("gallop", None, 1.6), ("run", 1.4, None),
+    ]  # fmt: skip
+    assert scene.controller == "gallop" and scene.band_input == "speed"
+    changes = [(6.0, 2.0), (12.0, 1.5), (18.0, 1.2)]
+    first, switches, lost = choose_gaits(scene.bands, None, 1.5, changes)
+    # 1.5 m/s: gallop's band is first; 2 m/s: run; 1.5 again: run kept; 1.2: gallop
+    assert (first, switches, lost) == ("gallop", [(6.0, "run"), (18.0, "gallop")], [])
+    assert choose_gaits(scene.bands, None, 1.5, [(3.0, 1.5)])[1] == []
+    assert choose_gaits(scene.bands, "run", 1.5, [(3.0, 1.0)])[1] == [(3.0, "gallop")]
+    # the command line's speeds choose too
+    controller, _, planned = scene_plan(scene, check_model(BIPED), ["speed=1.45m/s@2s"], [])
+    assert controller == "gallop"
+    assert planned == ["6.0s=run", "18.0s=gallop"]
+    controller, _, planned = scene_plan(scene, check_model(BIPED), ["speed=2m/s"], [])
+    assert (controller, planned) == ("run", ["18.0s=gallop"])
+
+
+def test_a_speed_no_band_holds_is_an_error(tmp_path: Path) -> None:
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene gap {\n  gait by speed { gallop to 1.6 m/s; run from 2 m/s }\n"
+        "  set speed = 1.2 m/s\n  at 4 s set speed = 1.8 m/s\n}\n"
+    )
+    with pytest.raises(LegError) as err:
+        check_model(path)
+    text = err.value.render()
+    assert "no band of 'gait by speed' holds speed = 1.8 m/s" in text
+    assert "at 4 s set speed = 1.8 m/s\n" in text and "^" in text

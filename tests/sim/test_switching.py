@@ -1,0 +1,200 @@
+"""Changing controllers during a run (``--switch``): where the new controller starts
+(``legdsl.sim.handover``), what it carries over, and a short biped run -> gallop -> run."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CREATURES
+
+from legdsl.check.source import check_model
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.handover import Clock, Fact, cycle, take_over
+from legdsl.sim.simulate import RunOptions
+
+BIPED = CREATURES / "biped.leg"
+NAN = math.nan
+
+
+@pytest.fixture(scope="module")
+def biped():
+    return check_model(BIPED)
+
+
+def _facts(pairs, state: str, binding: int, names) -> tuple[Fact, ...]:
+    return next(p.facts for p in pairs if names[p.state] == state and p.binding == binding)
+
+
+def test_each_state_knows_which_feet_are_down(biped) -> None:
+    run = biped.controller("run")
+    pairs = cycle(biped, run)
+    names = run.state_names
+    assert [(names[p.state], p.binding) for p in pairs][:6] == [
+        ("FLIGHT", 0), ("LOADING", 0), ("COMPRESSION", 0), ("THRUST", 0), ("UNLOADING", 0),
+        ("FLIGHT", 1),
+    ]  # fmt: skip
+    left, right = frozenset({"toe_l"}), frozenset({"toe_r"})
+    # in FLIGHT under binding 0 (active = left) the right leg has just lifted off, the left before
+    assert _facts(pairs, "FLIGHT", 0, names) == (Fact(right, False), Fact(left, False))
+    assert _facts(pairs, "THRUST", 0, names) == (Fact(left, True), Fact(right, False))
+    gallop = biped.controller("gallop")
+    gpairs = cycle(biped, gallop)
+    assert len(gpairs) == 4  # one binding: first = left, second = right
+    assert _facts(gpairs, "DOUBLE", 0, gallop.state_names) == (Fact(right, True), Fact(left, True))
+
+
+def _feet(left: tuple[bool, float, float], right: tuple[bool, float, float]) -> dict[str, Clock]:
+    return {"toe_l": Clock(*left), "toe_r": Clock(*right)}
+
+
+def test_the_state_that_matches_the_feet_down(biped) -> None:
+    run = biped.controller("run")
+    pairs = cycle(biped, run)
+    names = run.state_names
+
+    def start(feet, holding=()):
+        p = take_over(pairs, feet, lambda p: names[p.state] in holding)
+        return names[p.state], p.binding
+
+    # both up, the right lifted last: binding 0, whose active (left) leg lands next
+    assert start(_feet((False, 1.0, 1.2), (False, 1.3, 1.5))) == ("FLIGHT", 0)
+    assert start(_feet((False, 1.3, 1.5), (False, 1.0, 1.2))) == ("FLIGHT", 1)
+    # the right down: its stance, in the last state whose event holds (mid-thrust: THRUST)
+    right_down = _feet((False, 1.0, 1.2), (True, 1.4, 1.2))
+    assert start(right_down, ("LOADING", "COMPRESSION", "THRUST")) == ("THRUST", 1)
+    assert start(right_down) == ("LOADING", 1)  # no event holds: the stretch's first state
+    # both down (run never has both down): the leg that landed last is the active one
+    assert start(_feet((True, 1.0, NAN), (True, 1.1, NAN))) == ("LOADING", 1)
+    gallop = biped.controller("gallop")
+    g = cycle(biped, gallop)
+    only_right = _feet((False, 1.0, 1.2), (True, 1.1, NAN))
+    assert gallop.state_names[take_over(g, only_right, lambda p: False).state] == "SINGLE_2"
+
+
+@pytest.fixture(scope="module")
+def session() -> RunSession:
+    return RunSession.from_file(BIPED)
+
+
+SWITCHED = (["speed=1.5m/s", "speed=1.2m/s@1.5s"], ["1.5s=gallop", "3s=run"])
+
+
+def _switched(session: RunSession, duration: float = 4.0):
+    settings, switches = SWITCHED
+    return session.run("run", settings, options=RunOptions(duration=duration), switches=switches)
+
+
+def test_a_switched_run_changes_controller_in_a_consistent_state(session, tmp_path: Path) -> None:
+    run = _switched(session)
+    assert run.status == "ok"
+    out = run.write(tmp_path)
+    info = json.loads((out / "run.json").read_text())
+    assert info["switches"] == [{"t": 1.5, "controller": "gallop"}, {"t": 3.0, "controller": "run"}]
+    segs = info["segments"]
+    assert [(s["controller"], s["from"], s["to"]) for s in segs] == [
+        ("run", 0.0, 1.5), ("gallop", 1.5, 3.0), ("run", 3.0, 4.0),
+    ]  # fmt: skip
+    assert segs[1]["inputs"]["speed"] == 1.2  # the schedule at the switch applies
+    assert segs[2]["inputs"]["speed"] == 1.2  # and is kept by the next controller
+    tr = run.result.trajectory
+    assert tr.state_names[0] == "run.FLIGHT" and "gallop.DOUBLE" in tr.state_names
+    for seg in segs[1:]:
+        k = int(np.searchsorted(tr.t, seg["from"] - 1e-9))
+        state = tr.state_names[tr.state[k]]
+        assert state.split(".")[0] == seg["controller"]
+        down = {c for c, on in zip(tr.contact_names, tr.contact[k], strict=True) if on}
+        # the state it starts in has the feet down that are down
+        pairs = cycle(session.model, session.model.controller(seg["controller"]))
+        names = session.model.controller(seg["controller"]).state_names
+        entered = [p for p in pairs if names[p.state] == seg["state"] and
+                   dict(session.model.controller(seg["controller"]).bindings[p.binding]) ==
+                   {r: tuple(v) for r, v in seg["roles"].items()}]  # fmt: skip
+        assert entered, seg
+        for fact in entered[0].facts:
+            assert bool(fact.feet & down) == fact.down, (seg, fact, down)
+    # records carried where the names match, with the values the old controller had
+    first = run.machine.finished[0][1]
+    old = dict(zip(first.module.RECORDS, first.records, strict=True))
+    carried = segs[1]["records_carried"]
+    assert set(carried) == {"step_speed", "speed_trim", "lifted", "lifted_x", "lifted_y",
+                            "predicted_apex"}  # fmt: skip
+    assert carried == pytest.approx({k: old[k] for k in carried})
+    assert carried["lifted"] > 0.5  # a time in the run, not a fresh record's 0
+    switches = [e for e in info["events"] if e["kind"] == "switch"]
+    assert [e["controller"] for e in switches] == ["gallop", "run"]
+
+
+def test_a_switched_run_is_deterministic(session) -> None:
+    a = _switched(session, 2.5).result.trajectory
+    b = _switched(session, 2.5).result.trajectory
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.state, b.state)
+
+
+def test_switch_mistakes_are_user_errors(session, capsys) -> None:
+    with pytest.raises(UsageError, match="controllers: run, gallop, gallop_human"):
+        session.run("run", switches=["2s=trot"])
+    with pytest.raises(UsageError, match="give its unit"):
+        session.run("run", switches=["2=gallop"])
+    with pytest.raises(UsageError, match="in seconds"):
+        session.run("run", switches=["2m=gallop"])
+    with pytest.raises(UsageError, match="--controller"):
+        session.run(None, switches=["2s=gallop"])
+    with pytest.raises(UsageError, match="after the start"):
+        session.run("run", switches=["0s=gallop"])
+    code = main(["run", str(BIPED), "--controller", "run", "--switch", "1s=trot", "--time", "1"])
+    assert code == 2
+    assert "no controller 'trot'" in capsys.readouterr().err
+
+
+TROT = """
+controller trot {
+  roles active = (fl, rr), idle = (fr, rl)
+  table {
+    state FLIGHT on liftoff(active): swap active idle; active.spring.rest = 0 m
+    state STANCE on touchdown(active): active.spring.rest = 1 cm
+  }
+}
+controller bound {
+  roles front = (fl, fr), rear = (rl, rr)
+  table {
+    state GATHERED on liftoff(front): rear.spring.rest = 0 m
+    state REAR on touchdown(rear): rear.spring.rest = 1 cm
+    state EXTENDED on liftoff(rear): front.spring.rest = 0 m
+    state FRONT on touchdown(front): front.spring.rest = 1 cm
+  }
+}
+"""
+
+
+def test_a_role_bound_to_a_group_is_down_when_any_member_is(tmp_path: Path) -> None:
+    path = tmp_path / "quadruped.leg"
+    path.write_text((CREATURES / "quadruped.leg").read_text() + TROT)
+    model = check_model(path)
+    trot = model.controller("trot")
+    pairs = cycle(model, trot)
+    diagonal = frozenset({"toe_fl", "toe_rr"})
+    stance = next(p for p in pairs if trot.state_names[p.state] == "STANCE" and p.binding == 0)
+    assert stance.facts[0] == Fact(diagonal, True)  # touchdown(active): any of fl, rr down
+    up = math.nan
+    feet = {  # only rr of the fl+rr pair is down (it landed first), the other pair is up
+        "toe_fl": Clock(False, 1.0, 1.2), "toe_rr": Clock(True, 1.5, 1.2),
+        "toe_fr": Clock(False, 1.3, 1.45), "toe_rl": Clock(False, 1.3, 1.45),
+    }  # fmt: skip
+    chosen = take_over(pairs, feet, lambda p: False)
+    assert trot.state_names[chosen.state] == "STANCE"
+    assert dict(trot.bindings[chosen.binding])["active"] == ("fl", "rr")
+    # the bound: the rear pair down alone is its rear stance, whichever member
+    bound = model.controller("bound")
+    rear_down = dict(feet, toe_rr=Clock(False, 1.0, 1.2), toe_rl=Clock(True, 1.5, up))
+    chosen = take_over(cycle(model, bound), rear_down, lambda p: False)
+    assert bound.state_names[chosen.state] == "REAR"
+    all_up = {k: Clock(False, 1.0, t) for k, t in
+              (("toe_fl", 1.2), ("toe_fr", 1.2), ("toe_rl", 1.6), ("toe_rr", 1.6))}  # fmt: skip
+    chosen = take_over(cycle(model, bound), all_up, lambda p: False)
+    assert bound.state_names[chosen.state] == "EXTENDED"  # the rear pair lifted off last
