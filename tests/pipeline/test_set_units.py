@@ -138,3 +138,18 @@ def test_the_unit_to_write_for_every_dimension_parses_back() -> None:
     assert si_unit((1, 2, -2, -1)) == "kg*m^2/s^2/rad"
     assert si_unit((0, -1, 0, 0)) == "m^-1"
     assert a_kind(KINDS["angular velocity"][0]) == "an angular velocity (rad/s)"
+
+
+def test_the_named_si_unit_reads_back_as_its_dimension() -> None:
+    """``N*m/rad`` rather than ``kg*m^2/s^2/rad`` in reports, the same dimension and factor 1."""
+    import itertools
+
+    from legdsl.lang.units import parse_unit
+    from legdsl.pipeline.settings import named_si_unit
+
+    assert named_si_unit((1, 2, -2, -1)) == "N*m/rad"
+    assert named_si_unit((1, 0, -1, 0)) == "N*s/m"
+    assert named_si_unit((1, 2, 0, 0)) == "kg*m^2"
+    for dim in itertools.product((0, 1), (-2, -1, 0, 1, 2), (-3, -2, -1, 0, 1), (-1, 0, 1)):
+        if any(dim):
+            assert parse_unit(named_si_unit(dim)) == (1.0, dim), dim

@@ -34,7 +34,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
-from legdsl.pipeline.settings import si_unit
+from legdsl.pipeline.settings import named_si_unit
 from legdsl.sim.simulate import RunOptions
 from legdsl.sim.trajectory import Trajectory
 
@@ -50,7 +50,7 @@ class Quantity:
 
     @property
     def unit(self) -> str:
-        return si_unit(self.dim)
+        return named_si_unit(self.dim)
 
     def __str__(self) -> str:
         return f"{self.value:g} {self.unit}".rstrip()

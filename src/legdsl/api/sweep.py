@@ -35,7 +35,7 @@ import numpy as np
 from legdsl.api.workers import Workers
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, UnitError, describe, parse_unit
-from legdsl.pipeline.settings import si_unit
+from legdsl.pipeline.settings import named_si_unit
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
@@ -270,4 +270,4 @@ def iter_jobs(
 
 
 def units_of(dims: dict[str, Dim]) -> dict[str, str]:
-    return {n: si_unit(d) for n, d in dims.items()}
+    return {n: named_si_unit(d) for n, d in dims.items()}

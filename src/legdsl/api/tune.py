@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import math
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -119,6 +120,7 @@ def tune(
     es = cma.CMAEvolutionStrategy(x0, 0.3, options)
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, float], list[Any]] | None = None
+    began = time.perf_counter()
     with Workers(workers, dask) as pool:
         (start_rows,) = evaluate(pool, [start])
         start_score = score(start_rows, objective)
@@ -134,7 +136,10 @@ def tune(
                 best = (scores[k], candidates[k], results[k])
             history.append({"generation": len(history) + 1, "best": scores[k],
                             "mean": sum(scores) / len(scores), "runs": len(xs) * len(results[0])})  # fmt: skip
-            say(f"generation {len(history)}: best {scores[k]:.4g}, so far {best[0]:.4g}")
+            done, spent = len(history), time.perf_counter() - began
+            left = spent / done * (generations - done)
+            say(f"generation {done}/{generations}: best {scores[k]:.4g}, so far {best[0]:.4g} "
+                f"({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
     assert best is not None
     if start_score <= best[0]:  # nothing found beats the file's own values: keep them
         best = (start_score, start, start_rows)
@@ -187,7 +192,7 @@ def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     return span.line, span.col, span.end_col, new
 
 
-def plot_history(history: Sequence[dict[str, Any]], out: Path) -> Path:
+def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | None = None) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -197,6 +202,8 @@ def plot_history(history: Sequence[dict[str, Any]], out: Path) -> Path:
     gens = [h["generation"] for h in history]
     ax.plot(gens, [h["best"] for h in history], "o-", label="best of the generation")
     ax.plot(gens, [h["mean"] for h in history], ".--", label="mean of the generation")
+    if start is not None:
+        ax.axhline(start, color="grey", lw=1, ls=":", label="the file's own values")
     ax.set_xlabel("generation")
     ax.set_ylabel("objective")
     ax.set_yscale("log")
@@ -215,7 +222,17 @@ def report(result: dict[str, Any], units: dict[str, str]) -> str:
     lines.append(
         f"objective    {result['start']['objective']:>10.4g}    {result['best']['objective']:>10.4g}"
     )
+    lines.append("running speed (m/s)   start                tuned")
+    for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
+        lines.append(f"  at {before['speed']:<6.4g}    {_speed(before):<20} {_speed(after)}")
     return "\n".join(lines)
+
+
+def _speed(row: dict[str, Any]) -> str:
+    """A run's measured speed and, if it did not last, how it ended."""
+    speed = float(row.get("running_speed", math.nan))
+    text = f"{speed:.4g}" if math.isfinite(speed) else "n/a"
+    return text if row["outcome"] == "ok" else f"{text} ({row['outcome']})"
 
 
 def dump(result: dict[str, Any], path: Path) -> None:

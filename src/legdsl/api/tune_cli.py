@@ -100,7 +100,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     )  # fmt: skip
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
-    plot_history(result["history"], out / "tune.png")
+    plot_history(result["history"], out / "tune.png", result["start"]["objective"])
     print(report(result, units))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}")

@@ -86,6 +86,19 @@ def si_unit(dim: Dim) -> str:
     return "*".join(up) + "".join(f"/{d}" for d in down)
 
 
+def named_si_unit(dim: Dim) -> str:
+    """The SI unit of a dimension with a newton in it where it has one, as people write it:
+    ``N*m/rad`` for kg*m^2/s^2/rad, ``N*s/m`` for kg/s; ``si_unit`` for the rest (a mass, an
+    inertia: no time in them)."""
+    kg, m, s, rad = dim
+    if kg != 1 or s > -1:
+        return si_unit(dim)
+    rest = tuple(zip(("m", "s", "rad"), (m - 1, s + 2, rad), strict=True))
+    up = "".join(f"*{n}" if e == 1 else f"*{n}^{e}" for n, e in rest if e > 0)
+    down = "".join(f"/{n}" if e == -1 else f"/{n}^{-e}" for n, e in rest if e < 0)
+    return f"N{up}{down}"
+
+
 def unit_for(dim: Dim) -> str:
     """A unit to write for a dimension: the example unit of its kind, else its SI unit."""
     for kind_dim, example in KINDS.values():
