@@ -213,7 +213,7 @@ class NameResolver:
         first = leg_names[0]
         aliases = self.scope.aliases[first]
         if name not in aliases:
-            self.err(attr.span, no_alias_message(first, legs.role, name, aliases))
+            self.err(attr.span, no_alias_message(first, root.role, name, aliases))
             return None
         target = self.scope.names[aliases[name]]
         if root.leg is not None:
