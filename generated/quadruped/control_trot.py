@@ -21,10 +21,10 @@ import math
 
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d42322f8a0bd1749"
+FINGERPRINT = "f3f301bf5cd8fe1d"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_fl_spring.force', 'act.leg_fl_spring.k', 'act.leg_fr_spring.force', 'act.leg_fr_spring.k', 'act.leg_rl_spring.force', 'act.leg_rl_spring.k', 'act.leg_rr_spring.force', 'act.leg_rr_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -42,21 +42,27 @@ PARAMS = {
     "kv_roll": 20.0,
     "k_turn": 1.5,
     "yaw_lead": 0.2,
+    "turn_most": 0.10471975511965978,
+    "kp_yaw": 15.0,
+    "kv_yaw": 10.0,
     "k_path": 1.0,
     "turn_limit": 0.3490658503988659,
     "swing_kp": 200.0,
     "swing_kv": 8.0,
     "stroke": 0.015,
-    "k_height": 0.3,
+    "k_height": 0.15,
+    "k_height_trim": 0.03,
+    "stroke_max": 0.04,
     "stand": -0.04,
-    "short": -0.09,
+    "short": -0.14,
+    "accel": 1.0,
     "slew": 2.0,
     "full": 0.8,
     "settle": 0.02,
     "leg_b": 60.0,
     "leg_k": 6000.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke')
+RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -74,96 +80,97 @@ AFTER_ENTRY = {
 
 def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)"""
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
+    leg_fl_touching = s[21]
+    leg_rr_touching = s[39]
     return (leg_fl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
 def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)"""
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
+    leg_fl_touching = s[21]
+    leg_rr_touching = s[39]
     return (leg_fl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
 def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0"""
-    leg_fl_rate = s[28]
-    leg_rr_rate = s[46]
+    leg_fl_rate = s[20]
+    leg_rr_rate = s[38]
     return (0.5*leg_fl_rate + 0.5*leg_rr_rate < 0.0)
 
 
 def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle"""
-    leg_fl_rate = s[28]
-    leg_rr_rate = s[46]
-    settle = p[20]
+    leg_fl_rate = s[20]
+    leg_rr_rate = s[38]
+    settle = p[26]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_rr_rate > 0.0)
 
 
 def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)"""
-    leg_fl_length = s[27]
-    leg_fl_touching = s[29]
-    leg_rr_length = s[45]
-    leg_rr_touching = s[47]
-    stand = p[16]
-    full = p[19]
-    thrust_stroke = r[9]
+    leg_fl_length = s[19]
+    leg_fl_touching = s[21]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    stand = p[21]
+    full = p[25]
+    thrust_stroke = r[12]
     return (leg_fl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
 def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)"""
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
+    leg_fr_touching = s[27]
+    leg_rl_touching = s[33]
     return (leg_fr_touching < 0.5) and (leg_rl_touching < 0.5)
 
 
 def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)"""
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
+    leg_fr_touching = s[27]
+    leg_rl_touching = s[33]
     return (leg_fr_touching > 0.5) or (leg_rl_touching > 0.5)
 
 
 def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0"""
-    leg_fr_rate = s[34]
-    leg_rl_rate = s[40]
+    leg_fr_rate = s[26]
+    leg_rl_rate = s[32]
     return (0.5*leg_fr_rate + 0.5*leg_rl_rate < 0.0)
 
 
 def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle"""
-    leg_fr_rate = s[34]
-    leg_rl_rate = s[40]
-    settle = p[20]
+    leg_fr_rate = s[26]
+    leg_rl_rate = s[32]
+    settle = p[26]
     return (tis > settle) and (0.5*leg_fr_rate + 0.5*leg_rl_rate > 0.0)
 
 
 def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)"""
-    leg_fr_length = s[33]
-    leg_fr_touching = s[35]
-    leg_rl_length = s[39]
-    leg_rl_touching = s[41]
-    stand = p[16]
-    full = p[19]
-    thrust_stroke = r[9]
+    leg_fr_length = s[25]
+    leg_fr_touching = s[27]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    stand = p[21]
+    full = p[25]
+    thrust_stroke = r[12]
     return (leg_fr_touching < 0.5) and (leg_rl_touching < 0.5) or (0.5*leg_fr_length + 0.5*leg_rl_length > full + stand + thrust_stroke)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: steps, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
-    body_trunk_yaw = s[12]
-    com_x = s[17]
-    com_y = s[18]
-    time = s[51]
+    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    body_trunk_yaw = s[4]
+    com_x = s[9]
+    com_y = s[10]
+    time = s[43]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
+    accel = p[23]
     steps = r[0]
     landed = r[2]
     step_speed = r[3]
@@ -171,12 +178,18 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (ramped_speed))
+    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    t1 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t1, max(speed, ramped_speed - t1))) if (ramped_at > 0.0) else (0.0))
+    new_ramped_at = max(0.001, time)
     return [
         new_steps,
         new_stance,
@@ -186,47 +199,51 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         time,
         com_x,
         com_y,
-        predicted_apex,
+        new_ramped_speed,
+        new_ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.b, leg_rr_spring.b, leg_fr_spring.b, leg_rl_spring.b, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint, place fl (x, y), place rr (x, y)."""
-    body_trunk_yaw = s[12]
-    body_trunk_yaw_rate = s[13]
-    com_vx = s[14]
-    com_vy = s[15]
-    coord_hip_fl_y_value = s[20]
-    coord_hip_rr_y_value = s[23]
-    leg_fl_hip_x = s[24]
-    leg_fl_hip_y = s[25]
-    leg_fl_hip_z = s[26]
-    leg_rr_hip_x = s[42]
-    leg_rr_hip_y = s[43]
-    leg_rr_hip_z = s[44]
-    path_route_ahead_heading = s[48]
-    path_route_given = s[49]
-    path_route_lateral = s[50]
-    time = s[51]
-    speed = u[0]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    com_vx = s[6]
+    com_vy = s[7]
+    coord_hip_fl_y_value = s[12]
+    coord_hip_rr_y_value = s[15]
+    leg_fl_hip_x = s[16]
+    leg_fl_hip_y = s[17]
+    leg_fl_hip_z = s[18]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[8]
     yaw_lead = p[9]
-    k_path = p[10]
-    turn_limit = p[11]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
-    slew = p[18]
-    leg_b = p[21]
-    leg_k = p[22]
+    turn_most = p[10]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
+    slew = p[24]
+    leg_b = p[27]
+    leg_k = p[28]
     steps = r[0]
     stance = r[1]
     speed_trim = r[4]
+    ramped_speed = r[8]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rr_hip_z + t2
@@ -235,11 +252,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4)))
+    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4))))))
     t6 = math.cos(body_trunk_yaw)
     t7 = math.sin(body_trunk_yaw)
     t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-speed - speed_trim + t8) + 0.5*stance*t8
+    t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fl_x_goal = -leg_fl_hip_y*t5 + t9
     t10 = -com_vx*t7 + com_vy*t6
     t11 = k_speed*t10 + 0.5*stance*t10
@@ -295,8 +312,15 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed)."""
-    time = s[51]
+    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke)."""
+    com_vz = s[8]
+    com_z = s[11]
+    time = s[43]
+    height = u[3]
+    stroke = p[17]
+    k_height = p[18]
+    k_height_trim = p[19]
+    stroke_max = p[20]
     steps = r[0]
     stance = r[1]
     step_speed = r[3]
@@ -304,8 +328,14 @@ def entry_LOADING_0(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
+    t1 = -flight_apex + height
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -315,44 +345,70 @@ def entry_LOADING_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
-        thrust_stroke,
+        ramped_speed,
+        ramped_at,
+        new_flight_apex,
+        new_stroke_trim,
+        new_thrust_stroke,
     ]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fl_y_value = s[20]
-    coord_hip_rr_y_value = s[23]
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fl_y_value = s[12]
+    coord_hip_rr_y_value = s[15]
+    leg_fl_hip_x = s[16]
+    leg_fl_hip_y = s[17]
+    leg_fl_length = s[19]
+    leg_fl_touching = s[21]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
-    t4 = leg_fl_touching*t3
-    hip_fl_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t6
-    hip_rr_pitch_kv = swing_kv*t6
-    t7 = leg_rr_touching*t3
-    hip_rr_motor_force = t7*t2
-    hip_rr_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t8 = leg_fl_touching*t7
+    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t10
+    hip_rr_pitch_kv = swing_kv*t10
+    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t12 = leg_rr_touching*t7
+    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
+    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
@@ -412,8 +468,11 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -423,43 +482,69 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fl_y_value = s[20]
-    coord_hip_rr_y_value = s[23]
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fl_y_value = s[12]
+    coord_hip_rr_y_value = s[15]
+    leg_fl_hip_x = s[16]
+    leg_fl_hip_y = s[17]
+    leg_fl_length = s[19]
+    leg_fl_touching = s[21]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    short = p[17]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    short = p[22]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
-    t4 = leg_fl_touching*t3
-    hip_fl_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t6
-    hip_rr_pitch_kv = swing_kv*t6
-    t7 = leg_rr_touching*t3
-    hip_rr_motor_force = t7*t2
-    hip_rr_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t8 = leg_fl_touching*t7
+    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t10
+    hip_rr_pitch_kv = swing_kv*t10
+    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t12 = leg_rr_touching*t7
+    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
+    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     return [
         hip_fl_pitch_kp,
@@ -496,18 +581,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
 
 
 def entry_THRUST_0(s, u, p, r, tis):
-    """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke)."""
-    act_leg_fl_spring_force = s[0]
-    act_leg_fl_spring_k = s[1]
-    act_leg_rr_spring_force = s[6]
-    act_leg_rr_spring_k = s[7]
-    com_vz = s[16]
-    com_z = s[19]
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
-    height = u[3]
-    stroke = p[14]
-    k_height = p[15]
+    """The records on entering THRUST under binding 0 (changed: none)."""
     steps = r[0]
     stance = r[1]
     landed = r[2]
@@ -516,11 +590,11 @@ def entry_THRUST_0(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    t1 = max(0.0, com_vz)
-    t2 = 0.5*act_leg_fl_spring_force + 0.5*act_leg_rr_spring_force
-    new_predicted_apex = com_z + t2*t2*(leg_fl_touching + leg_rr_touching)/(196.20000000000002*act_leg_fl_spring_k + 196.20000000000002*act_leg_rr_spring_k) + 0.0509683995922528*t1*t1
-    new_thrust_stroke = min(0.04, max(-0.02, k_height*(height - predicted_apex) + stroke))
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -530,46 +604,72 @@ def entry_THRUST_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        new_predicted_apex,
-        new_thrust_stroke,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
+        thrust_stroke,
     ]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fl_y_value = s[20]
-    coord_hip_rr_y_value = s[23]
-    leg_fl_touching = s[29]
-    leg_rr_touching = s[47]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fl_y_value = s[12]
+    coord_hip_rr_y_value = s[15]
+    leg_fl_hip_x = s[16]
+    leg_fl_hip_y = s[17]
+    leg_fl_length = s[19]
+    leg_fl_touching = s[21]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
-    thrust_stroke = r[9]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
+    thrust_stroke = r[12]
     leg_fl_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
-    t4 = leg_fl_touching*t3
-    hip_fl_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t6
-    hip_rr_pitch_kv = swing_kv*t6
-    t7 = leg_rr_touching*t3
-    hip_rr_motor_force = t7*t2
-    hip_rr_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t8 = leg_fl_touching*t7
+    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t10
+    hip_rr_pitch_kv = swing_kv*t10
+    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t12 = leg_rr_touching*t7
+    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
+    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     return [
         leg_fl_spring_rest,
@@ -617,8 +717,11 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -628,19 +731,22 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint."""
-    coord_hip_fl_y_value = s[20]
-    coord_hip_rr_y_value = s[23]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
+    coord_hip_fl_y_value = s[12]
+    coord_hip_rr_y_value = s[15]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
@@ -679,15 +785,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: steps, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
-    body_trunk_yaw = s[12]
-    com_x = s[17]
-    com_y = s[18]
-    time = s[51]
+    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    body_trunk_yaw = s[4]
+    com_x = s[9]
+    com_y = s[10]
+    time = s[43]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
+    accel = p[23]
     steps = r[0]
     landed = r[2]
     step_speed = r[3]
@@ -695,12 +802,18 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (ramped_speed))
+    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    t1 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t1, max(speed, ramped_speed - t1))) if (ramped_at > 0.0) else (0.0))
+    new_ramped_at = max(0.001, time)
     return [
         new_steps,
         new_stance,
@@ -710,47 +823,51 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         time,
         com_x,
         com_y,
-        predicted_apex,
+        new_ramped_speed,
+        new_ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.b, leg_rl_spring.b, leg_fl_spring.b, leg_rr_spring.b, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint, place fr (x, y), place rl (x, y)."""
-    body_trunk_yaw = s[12]
-    body_trunk_yaw_rate = s[13]
-    com_vx = s[14]
-    com_vy = s[15]
-    coord_hip_fr_y_value = s[21]
-    coord_hip_rl_y_value = s[22]
-    leg_fr_hip_x = s[30]
-    leg_fr_hip_y = s[31]
-    leg_fr_hip_z = s[32]
-    leg_rl_hip_x = s[36]
-    leg_rl_hip_y = s[37]
-    leg_rl_hip_z = s[38]
-    path_route_ahead_heading = s[48]
-    path_route_given = s[49]
-    path_route_lateral = s[50]
-    time = s[51]
-    speed = u[0]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    com_vx = s[6]
+    com_vy = s[7]
+    coord_hip_fr_y_value = s[13]
+    coord_hip_rl_y_value = s[14]
+    leg_fr_hip_x = s[22]
+    leg_fr_hip_y = s[23]
+    leg_fr_hip_z = s[24]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[8]
     yaw_lead = p[9]
-    k_path = p[10]
-    turn_limit = p[11]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
-    slew = p[18]
-    leg_b = p[21]
-    leg_k = p[22]
+    turn_most = p[10]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
+    slew = p[24]
+    leg_b = p[27]
+    leg_k = p[28]
     steps = r[0]
     stance = r[1]
     speed_trim = r[4]
+    ramped_speed = r[8]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rl_hip_z + t2
@@ -759,11 +876,11 @@ def action_FLIGHT_1(s, u, p, r, tis):
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4)))
+    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4))))))
     t6 = math.cos(body_trunk_yaw)
     t7 = math.sin(body_trunk_yaw)
     t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-speed - speed_trim + t8) + 0.5*stance*t8
+    t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fr_x_goal = -leg_fr_hip_y*t5 + t9
     t10 = -com_vx*t7 + com_vy*t6
     t11 = k_speed*t10 + 0.5*stance*t10
@@ -819,8 +936,15 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed)."""
-    time = s[51]
+    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke)."""
+    com_vz = s[8]
+    com_z = s[11]
+    time = s[43]
+    height = u[3]
+    stroke = p[17]
+    k_height = p[18]
+    k_height_trim = p[19]
+    stroke_max = p[20]
     steps = r[0]
     stance = r[1]
     step_speed = r[3]
@@ -828,8 +952,14 @@ def entry_LOADING_1(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
+    t1 = -flight_apex + height
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -839,44 +969,70 @@ def entry_LOADING_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
-        thrust_stroke,
+        ramped_speed,
+        ramped_at,
+        new_flight_apex,
+        new_stroke_trim,
+        new_thrust_stroke,
     ]
 
 
 def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fr_y_value = s[21]
-    coord_hip_rl_y_value = s[22]
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fr_y_value = s[13]
+    coord_hip_rl_y_value = s[14]
+    leg_fr_hip_x = s[22]
+    leg_fr_hip_y = s[23]
+    leg_fr_length = s[25]
+    leg_fr_touching = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
-    t4 = leg_fr_touching*t3
-    hip_fr_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fr_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t6
-    hip_rl_pitch_kv = swing_kv*t6
-    t7 = leg_rl_touching*t3
-    hip_rl_motor_force = t7*t2
-    hip_rl_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t8 = leg_fr_touching*t7
+    hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fr_roll_motor_force = t8*(-leg_fr_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t10
+    hip_rl_pitch_kv = swing_kv*t10
+    t11 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t12 = leg_rl_touching*t7
+    hip_rl_motor_force = t12*(-leg_rl_hip_y*t11 + t6)
+    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t11 + t9)
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     return [
         stand,
@@ -936,8 +1092,11 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -947,43 +1106,69 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fr_y_value = s[21]
-    coord_hip_rl_y_value = s[22]
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fr_y_value = s[13]
+    coord_hip_rl_y_value = s[14]
+    leg_fr_hip_x = s[22]
+    leg_fr_hip_y = s[23]
+    leg_fr_length = s[25]
+    leg_fr_touching = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    short = p[17]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    short = p[22]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
-    t4 = leg_fr_touching*t3
-    hip_fr_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fr_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t6
-    hip_rl_pitch_kv = swing_kv*t6
-    t7 = leg_rl_touching*t3
-    hip_rl_motor_force = t7*t2
-    hip_rl_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t8 = leg_fr_touching*t7
+    hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fr_roll_motor_force = t8*(-leg_fr_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t10
+    hip_rl_pitch_kv = swing_kv*t10
+    t11 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t12 = leg_rl_touching*t7
+    hip_rl_motor_force = t12*(-leg_rl_hip_y*t11 + t6)
+    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t11 + t9)
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     return [
         hip_fr_pitch_kp,
@@ -1020,18 +1205,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
 
 
 def entry_THRUST_1(s, u, p, r, tis):
-    """The records on entering THRUST under binding 1 (changed: predicted_apex, thrust_stroke)."""
-    act_leg_fr_spring_force = s[2]
-    act_leg_fr_spring_k = s[3]
-    act_leg_rl_spring_force = s[4]
-    act_leg_rl_spring_k = s[5]
-    com_vz = s[16]
-    com_z = s[19]
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
-    height = u[3]
-    stroke = p[14]
-    k_height = p[15]
+    """The records on entering THRUST under binding 1 (changed: none)."""
     steps = r[0]
     stance = r[1]
     landed = r[2]
@@ -1040,11 +1214,11 @@ def entry_THRUST_1(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    t1 = max(0.0, com_vz)
-    t2 = 0.5*act_leg_fr_spring_force + 0.5*act_leg_rl_spring_force
-    new_predicted_apex = com_z + t2*t2*(leg_fr_touching + leg_rl_touching)/(196.20000000000002*act_leg_fr_spring_k + 196.20000000000002*act_leg_rl_spring_k) + 0.0509683995922528*t1*t1
-    new_thrust_stroke = min(0.04, max(-0.02, k_height*(height - predicted_apex) + stroke))
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -1054,46 +1228,72 @@ def entry_THRUST_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        new_predicted_apex,
-        new_thrust_stroke,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
+        thrust_stroke,
     ]
 
 
 def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint."""
-    body_trunk_pitch = s[8]
-    body_trunk_pitch_rate = s[9]
-    body_trunk_roll = s[10]
-    body_trunk_roll_rate = s[11]
-    coord_hip_fr_y_value = s[21]
-    coord_hip_rl_y_value = s[22]
-    leg_fr_touching = s[35]
-    leg_rl_touching = s[41]
+    body_trunk_pitch = s[0]
+    body_trunk_pitch_rate = s[1]
+    body_trunk_roll = s[2]
+    body_trunk_roll_rate = s[3]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    coord_hip_fr_y_value = s[13]
+    coord_hip_rl_y_value = s[14]
+    leg_fr_hip_x = s[22]
+    leg_fr_hip_y = s[23]
+    leg_fr_length = s[25]
+    leg_fr_touching = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    time = s[43]
+    heading = u[1]
+    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
     kv_roll = p[7]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
-    thrust_stroke = r[9]
+    kp_yaw = p[11]
+    kv_yaw = p[12]
+    k_path = p[13]
+    turn_limit = p[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
+    thrust_stroke = r[12]
     leg_fr_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
-    t2 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t3 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
-    t4 = leg_fr_touching*t3
-    hip_fr_motor_force = t2*t4
-    t5 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fr_roll_motor_force = t4*t5
-    t6 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t6
-    hip_rl_pitch_kv = swing_kv*t6
-    t7 = leg_rl_touching*t3
-    hip_rl_motor_force = t7*t2
-    hip_rl_roll_motor_force = t7*t5
+    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
+    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t8 = leg_fr_touching*t7
+    hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
+    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fr_roll_motor_force = t8*(-leg_fr_hip_x*t5 + t9)
+    t10 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t10
+    hip_rl_pitch_kv = swing_kv*t10
+    t11 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t12 = leg_rl_touching*t7
+    hip_rl_motor_force = t12*(-leg_rl_hip_y*t11 + t6)
+    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t11 + t9)
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     return [
         leg_fr_spring_rest,
@@ -1141,8 +1341,11 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     lifted = r[5]
     lifted_x = r[6]
     lifted_y = r[7]
-    predicted_apex = r[8]
-    thrust_stroke = r[9]
+    ramped_speed = r[8]
+    ramped_at = r[9]
+    flight_apex = r[10]
+    stroke_trim = r[11]
+    thrust_stroke = r[12]
     return [
         steps,
         stance,
@@ -1152,19 +1355,22 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        predicted_apex,
+        ramped_speed,
+        ramped_at,
+        flight_apex,
+        stroke_trim,
         thrust_stroke,
     ]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint."""
-    coord_hip_fr_y_value = s[21]
-    coord_hip_rl_y_value = s[22]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    stand = p[16]
-    short = p[17]
+    coord_hip_fr_y_value = s[13]
+    coord_hip_rl_y_value = s[14]
+    swing_kp = p[15]
+    swing_kv = p[16]
+    stand = p[21]
+    short = p[22]
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     return [
         stand,
