@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "f3f301bf5cd8fe1d"
+FINGERPRINT = "7d0993bc77a23b47"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -259,7 +259,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fl_x_goal = -leg_fl_hip_y*t5 + t9
     t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 + 0.5*stance*t10
+    t11 = k_speed*t10 - 0.5*leg_fl_hip_y - 0.5*leg_rr_hip_y + 0.5*stance*t10
     fl_y_goal = leg_fl_hip_x*t5 + t11
     rr_x_goal = -leg_rr_hip_y*t5 + t9
     rr_y_goal = leg_rr_hip_x*t5 + t11
@@ -883,7 +883,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fr_x_goal = -leg_fr_hip_y*t5 + t9
     t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 + 0.5*stance*t10
+    t11 = k_speed*t10 - 0.5*leg_fr_hip_y - 0.5*leg_rl_hip_y + 0.5*stance*t10
     fr_y_goal = leg_fr_hip_x*t5 + t11
     rl_x_goal = -leg_rl_hip_y*t5 + t9
     rl_y_goal = leg_rl_hip_x*t5 + t11
