@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "pace"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "e360e708f1e96636"
+FINGERPRINT = "f5bed9da66cba7b5"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -35,6 +35,8 @@ PARAMS = {
     "k_speed": 0.1,
     "k_trim": 0.3,
     "trim_band": 0.3,
+    "k_side_trim": 0.1,
+    "k_aim_rate": 1.0,
     "stance_guess": 0.15,
     "kp": 300.0,
     "kv": 30.0,
@@ -62,7 +64,7 @@ PARAMS = {
     "leg_b": 60.0,
     "leg_k": 6000.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke')
+RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -103,7 +105,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle"""
     leg_fl_rate = s[20]
     leg_rl_rate = s[32]
-    settle = p[26]
+    settle = p[28]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_rl_rate > 0.0)
 
 
@@ -113,8 +115,8 @@ def event_UNLOADING_0(s, u, p, r, tis):
     leg_fl_touching = s[21]
     leg_rl_length = s[31]
     leg_rl_touching = s[33]
-    stand = p[21]
-    full = p[25]
+    stand = p[23]
+    full = p[27]
     thrust_stroke = r[12]
     return (leg_fl_touching < 0.5) and (leg_rl_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_rl_length > full + stand + thrust_stroke)
 
@@ -144,7 +146,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle"""
     leg_fr_rate = s[26]
     leg_rr_rate = s[38]
-    settle = p[26]
+    settle = p[28]
     return (tis > settle) and (0.5*leg_fr_rate + 0.5*leg_rr_rate > 0.0)
 
 
@@ -154,23 +156,28 @@ def event_UNLOADING_1(s, u, p, r, tis):
     leg_fr_touching = s[27]
     leg_rr_length = s[37]
     leg_rr_touching = s[39]
-    stand = p[21]
-    full = p[25]
+    stand = p[23]
+    full = p[27]
     thrust_stroke = r[12]
     return (leg_fr_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
     time = s[43]
     speed = u[0]
+    turn_rate = u[2]
     k_trim = p[1]
     trim_band = p[2]
-    stance_guess = p[3]
-    accel = p[23]
+    k_side_trim = p[3]
+    k_aim_rate = p[4]
+    stance_guess = p[5]
+    accel = p[25]
     steps = r[0]
     landed = r[2]
     step_speed = r[3]
@@ -183,13 +190,27 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    ahead_then = r[16]
+    ahead_at = r[17]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (ramped_speed))
+    t1 = -lifted + time
+    t2 = com_x - lifted_x
+    t3 = math.cos(body_trunk_yaw)
+    t4 = com_y - lifted_y
+    t5 = math.sin(body_trunk_yaw)
+    t6 = (lifted > 0.0)
+    new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
     new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
-    t1 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t1, max(speed, ramped_speed - t1))) if (ramped_at > 0.0) else (0.0))
+    t7 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
     new_ramped_at = max(0.001, time)
+    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    t8 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -204,6 +225,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        new_step_side,
+        new_side_trim,
+        new_aim_rate,
+        path_route_ahead_heading,
+        time,
     ]
 
 
@@ -228,22 +254,24 @@ def action_FLIGHT_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[8]
-    yaw_lead = p[9]
-    turn_most = p[10]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
-    slew = p[24]
-    leg_b = p[27]
-    leg_k = p[28]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
+    slew = p[26]
+    leg_b = p[29]
+    leg_k = p[30]
     steps = r[0]
     stance = r[1]
     speed_trim = r[4]
     ramped_speed = r[8]
+    side_trim = r[14]
+    aim_rate = r[15]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rl_hip_z + t2
@@ -252,14 +280,14 @@ def action_FLIGHT_0(s, u, p, r, tis):
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rl_y_value
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4))))))
+    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t4), math.cos(t4))))))
     t6 = math.cos(body_trunk_yaw)
     t7 = math.sin(body_trunk_yaw)
     t8 = com_vx*t6 + com_vy*t7
     t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fl_x_goal = -leg_fl_hip_y*t5 + t9
-    t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 - 0.5*leg_fl_hip_y - 0.5*leg_rl_hip_y + 0.5*stance*t10
+    t10 = com_vx*t7 - com_vy*t6
+    t11 = k_speed*(-side_trim - t10) - 0.5*leg_fl_hip_y - 0.5*leg_rl_hip_y - 0.5*stance*t10
     fl_y_goal = leg_fl_hip_x*t5 + t11
     rl_x_goal = -leg_rl_hip_y*t5 + t9
     rl_y_goal = leg_rl_hip_x*t5 + t11
@@ -317,10 +345,10 @@ def entry_LOADING_0(s, u, p, r, tis):
     com_z = s[11]
     time = s[43]
     height = u[3]
-    stroke = p[17]
-    k_height = p[18]
-    k_height_trim = p[19]
-    stroke_max = p[20]
+    stroke = p[19]
+    k_height = p[20]
+    k_height_trim = p[21]
+    stroke_max = p[22]
     steps = r[0]
     stance = r[1]
     step_speed = r[3]
@@ -332,6 +360,11 @@ def entry_LOADING_0(s, u, p, r, tis):
     ramped_at = r[9]
     flight_apex = r[10]
     stroke_trim = r[11]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
@@ -350,6 +383,11 @@ def entry_LOADING_0(s, u, p, r, tis):
         new_flight_apex,
         new_stroke_trim,
         new_thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -377,24 +415,25 @@ def action_LOADING_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
+    aim_rate = r[15]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fl_touching + leg_rl_touching)
@@ -473,6 +512,11 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -487,6 +531,11 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -514,23 +563,24 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    short = p[24]
+    aim_rate = r[15]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fl_touching + leg_rl_touching)
@@ -595,6 +645,11 @@ def entry_THRUST_0(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -609,6 +664,11 @@ def entry_THRUST_0(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -636,26 +696,27 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
     thrust_stroke = r[12]
+    aim_rate = r[15]
     leg_fl_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fl_touching + leg_rl_touching)
@@ -722,6 +783,11 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -736,6 +802,11 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -743,10 +814,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint."""
     coord_hip_fl_y_value = s[12]
     coord_hip_rl_y_value = s[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rl_y_value
     return [
         stand,
@@ -785,16 +856,21 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
+    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance)."""
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
     time = s[43]
     speed = u[0]
+    turn_rate = u[2]
     k_trim = p[1]
     trim_band = p[2]
-    stance_guess = p[3]
-    accel = p[23]
+    k_side_trim = p[3]
+    k_aim_rate = p[4]
+    stance_guess = p[5]
+    accel = p[25]
     steps = r[0]
     landed = r[2]
     step_speed = r[3]
@@ -807,13 +883,27 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    ahead_then = r[16]
+    ahead_at = r[17]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (ramped_speed))
+    t1 = -lifted + time
+    t2 = com_x - lifted_x
+    t3 = math.cos(body_trunk_yaw)
+    t4 = com_y - lifted_y
+    t5 = math.sin(body_trunk_yaw)
+    t6 = (lifted > 0.0)
+    new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
     new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
-    t1 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t1, max(speed, ramped_speed - t1))) if (ramped_at > 0.0) else (0.0))
+    t7 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
     new_ramped_at = max(0.001, time)
+    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    t8 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -828,6 +918,11 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        new_step_side,
+        new_side_trim,
+        new_aim_rate,
+        path_route_ahead_heading,
+        time,
     ]
 
 
@@ -852,22 +947,24 @@ def action_FLIGHT_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[8]
-    yaw_lead = p[9]
-    turn_most = p[10]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
-    slew = p[24]
-    leg_b = p[27]
-    leg_k = p[28]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
+    slew = p[26]
+    leg_b = p[29]
+    leg_k = p[30]
     steps = r[0]
     stance = r[1]
     speed_trim = r[4]
     ramped_speed = r[8]
+    side_trim = r[14]
+    aim_rate = r[15]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rr_hip_z + t2
@@ -876,14 +973,14 @@ def action_FLIGHT_1(s, u, p, r, tis):
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rr_y_value
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(body_trunk_yaw_rate*yaw_lead + math.atan2(math.sin(t4), math.cos(t4))))))
+    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t4), math.cos(t4))))))
     t6 = math.cos(body_trunk_yaw)
     t7 = math.sin(body_trunk_yaw)
     t8 = com_vx*t6 + com_vy*t7
     t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
     fr_x_goal = -leg_fr_hip_y*t5 + t9
-    t10 = -com_vx*t7 + com_vy*t6
-    t11 = k_speed*t10 - 0.5*leg_fr_hip_y - 0.5*leg_rr_hip_y + 0.5*stance*t10
+    t10 = com_vx*t7 - com_vy*t6
+    t11 = k_speed*(-side_trim - t10) - 0.5*leg_fr_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t10
     fr_y_goal = leg_fr_hip_x*t5 + t11
     rr_x_goal = -leg_rr_hip_y*t5 + t9
     rr_y_goal = leg_rr_hip_x*t5 + t11
@@ -941,10 +1038,10 @@ def entry_LOADING_1(s, u, p, r, tis):
     com_z = s[11]
     time = s[43]
     height = u[3]
-    stroke = p[17]
-    k_height = p[18]
-    k_height_trim = p[19]
-    stroke_max = p[20]
+    stroke = p[19]
+    k_height = p[20]
+    k_height_trim = p[21]
+    stroke_max = p[22]
     steps = r[0]
     stance = r[1]
     step_speed = r[3]
@@ -956,6 +1053,11 @@ def entry_LOADING_1(s, u, p, r, tis):
     ramped_at = r[9]
     flight_apex = r[10]
     stroke_trim = r[11]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
@@ -974,6 +1076,11 @@ def entry_LOADING_1(s, u, p, r, tis):
         new_flight_apex,
         new_stroke_trim,
         new_thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -1001,24 +1108,25 @@ def action_LOADING_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
+    aim_rate = r[15]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fr_touching + leg_rr_touching)
@@ -1097,6 +1205,11 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -1111,6 +1224,11 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -1138,23 +1256,24 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    short = p[24]
+    aim_rate = r[15]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fr_touching + leg_rr_touching)
@@ -1219,6 +1338,11 @@ def entry_THRUST_1(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -1233,6 +1357,11 @@ def entry_THRUST_1(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -1260,26 +1389,27 @@ def action_THRUST_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[4]
-    kv = p[5]
-    kp_roll = p[6]
-    kv_roll = p[7]
-    kp_yaw = p[11]
-    kv_yaw = p[12]
-    k_path = p[13]
-    turn_limit = p[14]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    kp = p[6]
+    kv = p[7]
+    kp_roll = p[8]
+    kv_roll = p[9]
+    kp_yaw = p[13]
+    kv_yaw = p[14]
+    k_path = p[15]
+    turn_limit = p[16]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
     thrust_stroke = r[12]
+    aim_rate = r[15]
     leg_fr_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -body_trunk_yaw_rate*kv_yaw - kp_yaw*math.atan2(math.sin(t3), math.cos(t3))
+    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
     t7 = 1/max(1.0, leg_fr_touching + leg_rr_touching)
@@ -1346,6 +1476,11 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     flight_apex = r[10]
     stroke_trim = r[11]
     thrust_stroke = r[12]
+    step_side = r[13]
+    side_trim = r[14]
+    aim_rate = r[15]
+    ahead_then = r[16]
+    ahead_at = r[17]
     return [
         steps,
         stance,
@@ -1360,6 +1495,11 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         flight_apex,
         stroke_trim,
         thrust_stroke,
+        step_side,
+        side_trim,
+        aim_rate,
+        ahead_then,
+        ahead_at,
     ]
 
 
@@ -1367,10 +1507,10 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint."""
     coord_hip_fr_y_value = s[13]
     coord_hip_rr_y_value = s[15]
-    swing_kp = p[15]
-    swing_kv = p[16]
-    stand = p[21]
-    short = p[22]
+    swing_kp = p[17]
+    swing_kv = p[18]
+    stand = p[23]
+    short = p[24]
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
