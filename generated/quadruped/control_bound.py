@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "3df183c9928e61c7"
+FINGERPRINT = "d927c1305605f71b"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -278,19 +278,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2
     leg_rl_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
     hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t4), math.cos(t4))))))
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
-    fl_x_goal = -leg_fl_hip_y*t5 + t9
-    t10 = com_vx*t7 - com_vy*t6
-    t11 = k_speed*(-side_trim - t10) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t10
-    fl_y_goal = leg_fl_hip_x*t5 + t11
-    fr_x_goal = -leg_fr_hip_y*t5 + t9
-    fr_y_goal = leg_fr_hip_x*t5 + t11
+    t3 = math.cos(body_trunk_yaw)
+    t4 = math.sin(body_trunk_yaw)
+    t5 = com_vx*t3 + com_vy*t4
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
+    t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t9 = com_vx*t4 - com_vy*t3
+    t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t9
+    fl_y_goal = leg_fl_hip_x*t8 + t10
+    fr_y_goal = leg_fr_hip_x*t8 + t10
     return [
         leg_fl_spring_rest,
         leg_fr_spring_rest,
@@ -334,7 +332,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
         0.0,
         fl_x_goal,
         fl_y_goal,
-        fr_x_goal,
+        fl_x_goal,
         fr_y_goal,
     ]
 
@@ -971,19 +969,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2
     leg_fl_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t4), math.cos(t4))))))
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    t9 = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
-    rl_x_goal = -leg_rl_hip_y*t5 + t9
-    t10 = com_vx*t7 - com_vy*t6
-    t11 = k_speed*(-side_trim - t10) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t10
-    rl_y_goal = leg_rl_hip_x*t5 + t11
-    rr_x_goal = -leg_rr_hip_y*t5 + t9
-    rr_y_goal = leg_rr_hip_x*t5 + t11
+    t3 = math.cos(body_trunk_yaw)
+    t4 = math.sin(body_trunk_yaw)
+    t5 = com_vx*t3 + com_vy*t4
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
+    t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t9 = com_vx*t4 - com_vy*t3
+    t10 = k_speed*(-side_trim - t9) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9
+    rl_y_goal = leg_rl_hip_x*t8 + t10
+    rr_y_goal = leg_rr_hip_x*t8 + t10
     return [
         leg_rl_spring_rest,
         leg_rr_spring_rest,
@@ -1027,7 +1023,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
         0.0,
         rl_x_goal,
         rl_y_goal,
-        rr_x_goal,
+        rl_x_goal,
         rr_y_goal,
     ]
 
