@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d927c1305605f71b"
+FINGERPRINT = "30ed4f391cf87acd"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -425,6 +425,7 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
     aim_rate = r[15]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -446,6 +447,7 @@ def action_LOADING_0(s, u, p, r, tis):
     t12 = leg_fr_touching*t7
     hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
     hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
+    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
     return [
         stand,
@@ -474,8 +476,8 @@ def action_LOADING_0(s, u, p, r, tis):
         hip_fr_pitch_kv,
         hip_fr_motor_force,
         hip_fr_roll_motor_force,
-        short,
-        short,
+        leg_rl_spring_rest,
+        leg_rl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -571,7 +573,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     turn_limit = p[16]
     swing_kp = p[17]
     swing_kv = p[18]
+    stand = p[23]
     short = p[24]
+    steps = r[0]
     aim_rate = r[15]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -593,6 +597,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t12 = leg_fr_touching*t7
     hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
     hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
+    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
     return [
         hip_fl_pitch_kp,
@@ -607,8 +612,8 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         hip_fr_pitch_kv,
         hip_fr_motor_force,
         hip_fr_roll_motor_force,
-        short,
-        short,
+        leg_rl_spring_rest,
+        leg_rl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -706,6 +711,7 @@ def action_THRUST_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
     thrust_stroke = r[12]
     aim_rate = r[15]
     leg_fl_spring_rest = stand + thrust_stroke
@@ -729,6 +735,7 @@ def action_THRUST_0(s, u, p, r, tis):
     t12 = leg_fr_touching*t7
     hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
     hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
+    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
     return [
         leg_fl_spring_rest,
@@ -745,8 +752,8 @@ def action_THRUST_0(s, u, p, r, tis):
         hip_fr_pitch_kv,
         hip_fr_motor_force,
         hip_fr_roll_motor_force,
-        short,
-        short,
+        leg_rl_spring_rest,
+        leg_rl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -816,6 +823,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
+    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
     return [
         stand,
@@ -832,8 +841,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
         0.0,
         0.0,
         0.0,
-        short,
-        short,
+        leg_rl_spring_rest,
+        leg_rl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -1116,6 +1125,7 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
     aim_rate = r[15]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
@@ -1137,6 +1147,7 @@ def action_LOADING_1(s, u, p, r, tis):
     t12 = leg_rr_touching*t7
     hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
     hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
+    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
@@ -1165,8 +1176,8 @@ def action_LOADING_1(s, u, p, r, tis):
         hip_rr_pitch_kv,
         hip_rr_motor_force,
         hip_rr_roll_motor_force,
-        short,
-        short,
+        leg_fl_spring_rest,
+        leg_fl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -1262,7 +1273,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     turn_limit = p[16]
     swing_kp = p[17]
     swing_kv = p[18]
+    stand = p[23]
     short = p[24]
+    steps = r[0]
     aim_rate = r[15]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
@@ -1284,6 +1297,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t12 = leg_rr_touching*t7
     hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
     hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
+    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
     return [
         hip_rl_pitch_kp,
@@ -1298,8 +1312,8 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         hip_rr_pitch_kv,
         hip_rr_motor_force,
         hip_rr_roll_motor_force,
-        short,
-        short,
+        leg_fl_spring_rest,
+        leg_fl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -1397,6 +1411,7 @@ def action_THRUST_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
     thrust_stroke = r[12]
     aim_rate = r[15]
     leg_rl_spring_rest = stand + thrust_stroke
@@ -1420,6 +1435,7 @@ def action_THRUST_1(s, u, p, r, tis):
     t12 = leg_rr_touching*t7
     hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
     hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
+    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
     return [
         leg_rl_spring_rest,
@@ -1436,8 +1452,8 @@ def action_THRUST_1(s, u, p, r, tis):
         hip_rr_pitch_kv,
         hip_rr_motor_force,
         hip_rr_roll_motor_force,
-        short,
-        short,
+        leg_fl_spring_rest,
+        leg_fl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -1507,6 +1523,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    steps = r[0]
+    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
@@ -1523,8 +1541,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
         0.0,
         0.0,
         0.0,
-        short,
-        short,
+        leg_fl_spring_rest,
+        leg_fl_spring_rest,
         swing_kp,
         swing_kp,
         swing_kv,
