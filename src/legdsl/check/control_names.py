@@ -83,6 +83,7 @@ class NameResolver:
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._planar_sites: set[Span] = set()
+        self.each_count = 0  # names each `each` block, in the order they are checked
 
     # ------------------------------------------------------------ errors
     def err(self, span: Span, message: str) -> None:
@@ -203,19 +204,20 @@ class NameResolver:
 
     def alias(self, legs: ir.Legs, attr: ast.Ident) -> Value | None:
         name = attr.name
+        root = legs.root()
         leg_names = (
-            (legs.leg,) if legs.leg is not None else self.scope.roles.get(legs.role or "", ())
+            (root.leg,) if root.leg is not None else self.scope.roles.get(root.role or "", ())
         )
         if not leg_names:
             return Opaque(name)  # a role bound to no legs: reported where it was declared
         first = leg_names[0]
         aliases = self.scope.aliases[first]
         if name not in aliases:
-            self.err(attr.span, no_alias_message(first, legs.role, name, aliases))
+            self.err(attr.span, no_alias_message(first, root.role, name, aliases))
             return None
         target = self.scope.names[aliases[name]]
-        if legs.leg is not None:
-            return target
+        if root.leg is not None:
+            return target  # one leg, or a member of one leg: the part itself
         assert isinstance(target, ir.Part)
         alias = ir.Alias(legs, name, target.kind)
         self.alias_uses.append(AliasUse(alias, attr.span, tuple(c for c, _ in self.calls)))
@@ -225,7 +227,8 @@ class NameResolver:
         """The part itself, or what the alias names on the first leg of its role."""
         if isinstance(thing, ir.Part):
             return thing
-        leg = thing.legs.leg or self.scope.roles[thing.legs.role or ""][0]
+        root = thing.legs.root()
+        leg = root.leg or self.scope.roles[root.role or ""][0]
         target = self.scope.names[self.scope.aliases[leg][thing.alias]]
         assert isinstance(target, ir.Part)
         return target
@@ -305,7 +308,7 @@ def no_alias_message(leg: str, role: str | None, name: str, aliases: dict[str, s
 
 def thing_kind(value: ir.Thing) -> str:
     if isinstance(value, ir.Legs):
-        return "role" if value.role is not None else "leg"
+        return "role" if value.role is not None else "leg"  # a member of a role is one leg
     return value.kind
 
 

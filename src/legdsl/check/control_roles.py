@@ -72,7 +72,7 @@ def check_aliases(
 ) -> None:
     """Every leg a role is ever bound to has the aliases read through the role, alike."""
     for use in uses:
-        role = use.alias.legs.role
+        role = use.alias.legs.root().role  # a member of a role: every leg of the role
         first = scope.roles.get(role or "", ())
         if not first:
             continue

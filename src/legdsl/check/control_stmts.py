@@ -45,7 +45,41 @@ class Elaborator(ExprChecker):
                 place = self.place(s, local)
                 if place is not None:
                     out.append(place)
+            elif isinstance(s, ast.EachStmt):
+                each = self.each(s, local)
+                if each is not None:
+                    out.append(each)
         return out
+
+    def each(self, s: ast.EachStmt, local: dict[str, Value]) -> ir.Each | None:
+        """``each LEG in GROUP { ... }``: the body checked once, LEG standing for a member of
+        GROUP (a role, a leg, or a member itself); lowering repeats it for each member."""
+        group = self.lookup(s.group, local)
+        if isinstance(group, Opaque):
+            self.stmts(s.body, {**local, s.var.name: group})
+            return None
+        if group is None:
+            return None
+        if not isinstance(group, ir.Legs):
+            self.err(
+                s.group.span,
+                f"'each' goes through the legs of a role or leg; '{s.group.name}' is "
+                f"{what_it_is(group)}",
+            )
+            return None
+        self.each_count += 1
+        member = ir.Legs(each=f"{s.var.name}#{self.each_count}", of=group)
+        body = self.stmts(s.body, {**local, s.var.name: member})
+        for inner in _flat(body):
+            if isinstance(inner, ir.Record | ir.Swap):
+                word = "record" if isinstance(inner, ir.Record) else "swap"
+                self.err(
+                    inner.span,
+                    f"'{word}' inside 'each' would run once per leg of '{s.group.name}'; "
+                    f"write it outside the 'each' block",
+                )
+        assert member.each is not None
+        return ir.Each(member.each, group, tuple(body), s.span)
 
     def assign(self, s: ast.AssignStmt, local: dict[str, Value]) -> list[ir.Stmt]:
         value = self.number(s.value, local)
@@ -205,6 +239,16 @@ class Elaborator(ExprChecker):
                 + did_you_mean(ident.name, self.scope.roles),
             )
         return None
+
+
+def _flat(body: list[ir.Stmt] | tuple[ir.Stmt, ...]) -> list[ir.Stmt]:
+    """Statements with inlined actions and nested ``each`` blocks opened."""
+    out: list[ir.Stmt] = []
+    for s in body:
+        out.append(s)
+        if isinstance(s, ir.Do | ir.Each):
+            out += _flat(s.body)
+    return out
 
 
 def _cannot_set(text: str) -> str:

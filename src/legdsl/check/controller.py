@@ -350,6 +350,8 @@ class ControllerChecker:
                     if action is not None:
                         reached.add(s.action.name)
                         walk(action.body)
+                elif isinstance(s, ast.EachStmt):
+                    walk(s.body)
 
         for t in tables:
             for row in t.rows:
@@ -367,6 +369,8 @@ def collect_records(
         for s in stmts:
             if isinstance(s, ast.RecordStmt):
                 found.setdefault(s.name.name, s.name.span)
+            elif isinstance(s, ast.EachStmt):
+                walk(s.body)
 
     for t in tables:
         for row in t.rows:

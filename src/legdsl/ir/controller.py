@@ -41,7 +41,7 @@ LEG_MEMBERS: dict[str, Dim] = {
     "length": LENGTH, "rate": VELOCITY, "touching": ONE, "stance_time": TIME,
     "flight_time": TIME, "foot_x": LENGTH, "foot_y": LENGTH, "foot_z": LENGTH,
     "foot_vx": VELOCITY, "foot_vy": VELOCITY, "foot_vz": VELOCITY,
-    "hip_x": LENGTH, "hip_y": LENGTH, "hip_z": LENGTH,
+    "hip_x": LENGTH, "hip_y": LENGTH, "hip_z": LENGTH, "feet_down": ONE,
 }  # fmt: skip
 BODY_MEMBERS: dict[str, Dim] = {
     "x": LENGTH, "y": LENGTH, "z": LENGTH, "vx": VELOCITY, "vy": VELOCITY, "vz": VELOCITY,
@@ -105,10 +105,18 @@ class Constant:
 # ------------------------------------------------------------------ what names stand for
 @dataclass(frozen=True)
 class Legs:
-    """The legs of a role (bound anew by each binding) or of one named leg."""
+    """The legs of a role (bound anew by each binding) or of one named leg; or, inside
+    ``each VAR in GROUP { ... }``, the one member of ``of`` that the statements are at
+    (``each`` names the loop, unique in the controller)."""
 
     role: str | None = None
     leg: str | None = None
+    each: str | None = None
+    of: Legs | None = None
+
+    def root(self) -> Legs:
+        """The role or leg whose members these are (itself, outside ``each``)."""
+        return self if self.of is None else self.of.root()
 
 
 @dataclass(frozen=True)
@@ -239,7 +247,18 @@ class Do:
     span: Span
 
 
-Stmt = Assign | Record | Swap | Place | Do
+@dataclass(frozen=True)
+class Each:
+    """``each VAR in GROUP { ... }``: ``body`` once for each leg of ``group``, where
+    ``Legs(each=var)`` stands for that leg (its own members, aliases and hip)."""
+
+    var: str
+    group: Legs
+    body: tuple[Stmt, ...]
+    span: Span
+
+
+Stmt = Assign | Record | Swap | Place | Do | Each
 
 Binding = tuple[tuple[str, tuple[str, ...]], ...]  # role -> legs, sorted by role
 

@@ -314,7 +314,17 @@ class PlaceStmt:
     span: Span
 
 
-Stmt = AssignStmt | SwapStmt | RecordStmt | LetStmt | InvokeStmt | PlaceStmt
+@dataclass(frozen=True)
+class EachStmt:
+    """``each LEG in ROLE { ... }``: the statements once per member of ROLE, LEG standing for it."""
+
+    var: Ident
+    group: Ident
+    body: tuple[Stmt, ...]
+    span: Span
+
+
+Stmt = AssignStmt | SwapStmt | RecordStmt | LetStmt | InvokeStmt | PlaceStmt | EachStmt
 
 
 @dataclass(frozen=True)

@@ -254,6 +254,9 @@ class _ToAst(Transformer):
     def invoke_stmt(self, meta: Any, c: list[Any]) -> ast.InvokeStmt:
         return ast.InvokeStmt(self._id(c[0]), tuple(c[1] or ()), self._s(meta))
 
+    def each_stmt(self, meta: Any, c: list[Any]) -> ast.EachStmt:
+        return ast.EachStmt(self._id(c[0]), self._id(c[1]), tuple(c[2]), self._s(meta))
+
     def goal(self, meta: Any, c: list[Any]) -> _Goal:
         return _Goal(self._id(c[0]), c[1])
 

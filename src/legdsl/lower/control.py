@@ -16,8 +16,11 @@ Semantics of a table row ``state S on EVENT: statements``:
 * every control tick while the state is active, its ``let`` and assignment
   statements run in order; an actuator keeps the last value it was given.
 
-Reading a member of a group of legs averages it over the group (``touching``
-is true if any foot touches); writing it writes every leg of the group.
+Reading a member of a group of legs reads the group as one virtual leg: the mean of
+its members (``touching`` is true if any foot touches, ``stance_time`` the longest
+member's, ``flight_time`` the shortest's, ``feet_down`` counts the feet down); writing it
+writes every leg of the group. ``each LEG in GROUP { ... }`` lowers its statements once
+per member, LEG bound to that member alone.
 ``touchdown(X)`` holds when any of X's feet touches and ``liftoff(X)`` when
 none does: as events they are tested only while the machine waits for them.
 """
@@ -176,6 +179,11 @@ class Lowerer:
                 self.statements(s.body, roles, records, settings, places, inner, record_where)
             elif isinstance(s, ir.Place):
                 places.extend(self.place(s, roles, (s.span, *calls)))
+            elif isinstance(s, ir.Each):
+                inner = (s.span, *calls)
+                for leg in self.legs(s.group, roles):
+                    member = {**roles, s.var: (leg,)}
+                    self.statements(s.body, member, records, settings, places, inner, record_where)
             # swaps are done on entry, before anything else (the IR's bindings)
 
     def place(self, s: ir.Place, roles: Roles, where: Where = ()) -> list[Place]:
@@ -196,6 +204,8 @@ class Lowerer:
 
     # ------------------------------------------------------------ things
     def legs(self, legs: ir.Legs, roles: Roles) -> tuple[str, ...]:
+        if legs.each is not None:
+            return roles[legs.each]  # the member an `each` block is at
         return roles[legs.role] if legs.role is not None else (legs.leg or "",)
 
     def parts(self, thing: ir.Part | ir.Alias, roles: Roles) -> list[ir.Part]:
@@ -254,10 +264,12 @@ class Lowerer:
             if member in ir.LEG_CONSTANTS:
                 constants = [sympy.Float(leg_constant(self.model, leg, member)) for leg in legs]
                 return sympy.Add(*constants) / len(constants)
+            if member == "feet_down":
+                return sympy.Add(*[self.sense(f"leg.{leg}.touching") for leg in legs])
             values = [self.sense(f"leg.{leg}.{member}") for leg in legs]
-            if member == "touching":
-                return sympy.Max(*values) if len(values) > 1 else values[0]
-            return sympy.Add(*values) / len(values)
+            if len(values) == 1:
+                return values[0]
+            return _GROUP.get(member, _mean)(*values)
         parts = self.parts(thing, roles)
         values = [self.value_of(part, member) for part in parts]
         return values[0] if len(values) == 1 else sympy.Add(*values) / len(values)
@@ -290,6 +302,15 @@ def _sensor_key(part: ir.Part, member: str) -> str:
         return f"act.{part.name}.{member}"
     return f"{part.kind}.{part.name}.{member}"
 
+
+def _mean(*values: Expr) -> Expr:
+    return sympy.Add(*values) / len(values)
+
+
+# A group of legs read as one virtual leg: its foot, hip, length and rate are its members'
+# means; it touches when any member does (touchdown: the first lands; liftoff: the last
+# leaves); its stance lasts as long as the longest member's, its flight as the shortest's.
+_GROUP = {"touching": sympy.Max, "stance_time": sympy.Max, "flight_time": sympy.Min}
 
 _BINARY = {
     "+": lambda a, b: a + b,

@@ -1,0 +1,99 @@
+"""The quadruped's gaits at the issue's speeds: each run 20 s from standing, and a table of
+whether it fell, its mean speed after 3 s against the command, how often the members of a
+pair land within 10 ms of each other, and the friction coefficient it needed.
+
+    nice python docs/scripts/quadruped_matrix.py                 # every gait the file has
+    nice python docs/scripts/quadruped_matrix.py --gait trot --speeds 1,2
+
+Runs go through the command line (``legdsl run``, ``legdsl metrics``) into --out.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+MATRIX = {"trot": (1, 2, 2.3, 3), "bound": (2, 2.8, 3.5), "pace": (1, 2), "gallop": (3, 4, 5)}
+PAIRS = {
+    "trot": {"toe_fl": "toe_rr", "toe_rr": "toe_fl", "toe_fr": "toe_rl", "toe_rl": "toe_fr"},
+    "pace": {"toe_fl": "toe_rl", "toe_rl": "toe_fl", "toe_fr": "toe_rr", "toe_rr": "toe_fr"},
+    "bound": {"toe_fl": "toe_fr", "toe_fr": "toe_fl", "toe_rl": "toe_rr", "toe_rr": "toe_rl"},
+}
+CREATURE = "creatures/quadruped.leg"
+
+
+def pair_spreads(run: Path, gait: str, start: float = 3.0) -> list[float]:
+    """At each LOADING (the first member lands), how long until its partner lands."""
+    info = json.loads((run / "run.json").read_text())
+    tds = [(e["t"], e["contact"]) for e in info["events"] if e["kind"] == "touchdown"]
+    out = []
+    for e in info["events"]:
+        if e.get("state") != "LOADING" or e["t"] < start:
+            continue
+        first = next((x for x in tds if abs(x[0] - e["t"]) <= 0.005), None)
+        if first is None or gait not in PAIRS:
+            continue
+        partner = PAIRS[gait][first[1]]
+        lands = [t for t, c in tds if c == partner and abs(t - first[0]) <= 0.06]
+        out.append(min(abs(t - first[0]) for t in lands) if lands else 1.0)
+    return out
+
+
+def measure(gait: str, speed: float, out: Path, time: float) -> dict[str, object]:
+    run = out / f"q_{gait}_{speed:g}"
+    cmd = ["legdsl", "run", CREATURE, "--controller", gait, "--set", f"speed={speed:g}m/s"]
+    done = subprocess.run(
+        [*cmd, "--time", str(time), "--out", str(run)], capture_output=True, text=True
+    )
+    row: dict[str, object] = {"gait": gait, "speed": speed, "exit": done.returncode}
+    info = json.loads((run / "run.json").read_text())
+    row["ended"] = info.get("ended_at") or info.get("sim_time")
+    t = np.load(run / "trajectory.npz")
+    later = t["t"] >= 3.0
+    if later.sum() > 2:
+        yaw = t["root_rpy"][later, 2]
+        dx = np.cos(yaw[0]) * (t["com"][later, 0][-1] - t["com"][later, 0][0])
+        dy = np.sin(yaw[0]) * (t["com"][later, 1][-1] - t["com"][later, 1][0])
+        row["mean_speed"] = (dx + dy) / (t["t"][later][-1] - t["t"][later][0])
+    metrics = subprocess.run(
+        ["legdsl", "metrics", str(run), "--from", "3"], capture_output=True, text=True
+    ).stdout
+    mu = [float(m) for m in re.findall(r"past first/last 10 ms \(-\)\s+([\d.]+)", metrics)]
+    row["friction"] = max(mu) if mu else float("nan")
+    spreads = pair_spreads(run, gait)
+    row["pairs_10ms"] = float(np.mean(np.array(spreads) <= 0.010)) if spreads else float("nan")
+    return row
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--gait", action="append", help="a gait (repeatable); default all")
+    parser.add_argument("--speeds", help="comma-separated speeds in m/s (default the issue's)")
+    parser.add_argument("--time", type=float, default=20.0)
+    parser.add_argument("--out", default="runs/matrix")
+    args = parser.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(
+        f"{'gait':7} {'cmd':>5} {'exit':>4} {'until':>6} {'speed':>6} {'err%':>6} {'pairs<10ms':>10} {'mu':>6}"
+    )
+    for gait in args.gait or list(MATRIX):
+        speeds = [float(v) for v in args.speeds.split(",")] if args.speeds else MATRIX[gait]
+        for v in speeds:
+            r = measure(gait, v, out, args.time)
+            ms = float(r.get("mean_speed", float("nan")))  # type: ignore[arg-type]
+            print(
+                f"{gait:7} {v:5.2f} {r['exit']:>4} {float(r['ended'] or 0):6.2f} {ms:6.3f} "  # type: ignore[arg-type]
+                f"{100 * (ms - v) / v:6.1f} {float(r['pairs_10ms']):10.2f} {float(r['friction']):6.2f}",  # type: ignore[arg-type]
+                flush=True,
+            )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
