@@ -152,15 +152,16 @@ def test_switch_mistakes_are_user_errors(session, capsys) -> None:
     assert "no controller 'trot'" in capsys.readouterr().err
 
 
+# Small tables of their own (the shipped file has controllers of these gaits too).
 TROT = """
-controller trot {
+controller pairs_trot {
   roles active = (fl, rr), idle = (fr, rl)
   table {
     state FLIGHT on liftoff(active): swap active idle; active.spring.rest = 0 m
     state STANCE on touchdown(active): active.spring.rest = 1 cm
   }
 }
-controller bound {
+controller pairs_bound {
   roles front = (fl, fr), rear = (rl, rr)
   table {
     state GATHERED on liftoff(front): rear.spring.rest = 0 m
@@ -176,7 +177,7 @@ def test_a_role_bound_to_a_group_is_down_when_any_member_is(tmp_path: Path) -> N
     path = tmp_path / "quadruped.leg"
     path.write_text((CREATURES / "quadruped.leg").read_text() + TROT)
     model = check_model(path)
-    trot = model.controller("trot")
+    trot = model.controller("pairs_trot")
     pairs = cycle(model, trot)
     diagonal = frozenset({"toe_fl", "toe_rr"})
     stance = next(p for p in pairs if trot.state_names[p.state] == "STANCE" and p.binding == 0)
@@ -190,7 +191,7 @@ def test_a_role_bound_to_a_group_is_down_when_any_member_is(tmp_path: Path) -> N
     assert trot.state_names[chosen.state] == "STANCE"
     assert dict(trot.bindings[chosen.binding])["active"] == ("fl", "rr")
     # the bound: the rear pair down alone is its rear stance, whichever member
-    bound = model.controller("bound")
+    bound = model.controller("pairs_bound")
     rear_down = dict(feet, toe_rr=Clock(False, 1.0, 1.2), toe_rl=Clock(True, 1.5, up))
     chosen = take_over(cycle(model, bound), rear_down, lambda p: False)
     assert bound.state_names[chosen.state] == "REAR"

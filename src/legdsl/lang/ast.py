@@ -3,6 +3,9 @@
 The tree mirrors what was written; meaning (which property a body accepts,
 what a name refers to) is given by the checker, which turns it into the model
 IR of ``legdsl.ir.model``.
+
+Long: one small frozen dataclass per construct of the grammar, in the grammar's order, so
+that the file reads as the grammar's mirror; split, it would be harder to check against it.
 """
 
 from __future__ import annotations
