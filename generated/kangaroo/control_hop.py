@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "2c1dd47380ee8251"
+FINGERPRINT = "0d7488c206a9182b"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
@@ -49,6 +49,8 @@ PARAMS = {
     "start_rest": -2.007128639793479,
     "ramp": 1.0471975511965976,
     "k_height": 1.3089969389957472,
+    "k_apex": 0.0,
+    "apex_limit": 0.06,
     "min_stroke": -0.10471975511965978,
     "max_stroke": 0.2617993877991494,
     "pitch_lead": 0.013962634015954637,
@@ -64,7 +66,7 @@ PARAMS = {
     "tail_kp": 60.0,
     "tail_kv": 4.0,
 }
-RECORDS = ('predicted_apex', 'desired_now', 'speed_trim')
+RECORDS = ('apex_seen', 'apex_trim', 'predicted_apex', 'desired_now', 'speed_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -104,26 +106,34 @@ def event_UNLOADING_0(s, u, p, r, tis):
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
     ankle_rest = p[14]
-    unload = p[24]
+    unload = p[26]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim)."""
+    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim)."""
     com_vx = s[4]
+    com_vz = s[5]
+    com_z = s[6]
     leg_main_flight_time = s[10]
     leg_main_stance_time = s[15]
     speed = u[0]
+    height = u[1]
     k_trim = p[3]
     max_trim = p[5]
     accel = p[6]
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
+    k_apex = p[19]
+    apex_limit = p[20]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
+    new_apex_trim = min(apex_limit, max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
     t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
     new_desired_now = desired_now + min(t1, max(-t1, -desired_now + speed))
     new_speed_trim = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
-    return [predicted_apex, new_desired_now, new_speed_trim]
+    return [new_apex_seen, new_apex_trim, predicted_apex, new_desired_now, new_speed_trim]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
@@ -148,17 +158,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     ankle_rest = p[14]
     start_rest = p[16]
     ramp = p[17]
-    reach = p[22]
-    tuck = p[23]
-    tail_up = p[25]
-    tail_b = p[27]
-    tail_stop = p[28]
-    tail_low = p[29]
-    tail_high = p[30]
-    tail_kp = p[31]
-    tail_kv = p[32]
-    desired_now = r[1]
-    speed_trim = r[2]
+    reach = p[24]
+    tuck = p[25]
+    tail_up = p[27]
+    tail_b = p[29]
+    tail_stop = p[30]
+    tail_low = p[31]
+    tail_high = p[32]
+    tail_kp = p[33]
+    tail_kv = p[34]
+    desired_now = r[3]
+    speed_trim = r[4]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     t1 = (com_vz > 0.0)
     t2 = 0.8*((tuck) if t1 else (reach))
@@ -194,10 +204,12 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
@@ -214,9 +226,9 @@ def action_LOADING_0(s, u, p, r, tis):
     hip_kp = p[9]
     hip_kv = p[10]
     ankle_k = p[13]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
+    pitch_lead = p[23]
+    tail_down = p[28]
+    tail_b = p[29]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -237,10 +249,12 @@ def action_LOADING_0(s, u, p, r, tis):
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
@@ -257,9 +271,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_kp = p[9]
     hip_kv = p[10]
     ankle_k = p[13]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
+    pitch_lead = p[23]
+    tail_down = p[28]
+    tail_b = p[29]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -283,10 +297,12 @@ def entry_THRUST_0(s, u, p, r, tis):
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
-    desired_now = r[1]
-    speed_trim = r[2]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    desired_now = r[3]
+    speed_trim = r[4]
     new_predicted_apex = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [new_predicted_apex, desired_now, speed_trim]
+    return [apex_seen, apex_trim, new_predicted_apex, desired_now, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
@@ -310,13 +326,14 @@ def action_THRUST_0(s, u, p, r, tis):
     start_rest = p[16]
     ramp = p[17]
     k_height = p[18]
-    min_stroke = p[19]
-    max_stroke = p[20]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
-    predicted_apex = r[0]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
+    min_stroke = p[21]
+    max_stroke = p[22]
+    pitch_lead = p[23]
+    tail_down = p[28]
+    tail_b = p[29]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -338,10 +355,12 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
@@ -362,9 +381,9 @@ def action_UNLOADING_0(s, u, p, r, tis):
     ankle_rest = p[14]
     start_rest = p[16]
     ramp = p[17]
-    pitch_lead = p[21]
-    tail_up = p[25]
-    tail_b = p[27]
+    pitch_lead = p[23]
+    tail_up = p[27]
+    tail_b = p[29]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
