@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "0d7488c206a9182b"
+FINGERPRINT = "f4d290e07855d781"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
