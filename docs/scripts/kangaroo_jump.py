@@ -109,12 +109,16 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("runs/jump"))
     ap.add_argument("--generated", type=Path, default=ROOT / "generated")
     ap.add_argument(
-        "--tallest", action="store_true", help="raise the box by 5 cm until it is not cleared"
+        "--tallest",
+        action="store_true",
+        help="from --height, raise the box by 5 cm until it is not cleared (or it falls)",
     )
     ap.add_argument("--set", action="append", default=[], metavar="NAME=SI")
     args = ap.parse_args()
     settings = {k: float(v) for k, v in (s.split("=") for s in args.set)}
-    heights = [args.height] if not args.tallest else [round(0.1 + 0.05 * i, 2) for i in range(15)]
+    heights = (
+        [args.height] if not args.tallest else [round(args.height + 0.05 * i, 2) for i in range(15)]
+    )
     for h in heights:
         source = box_file(args.out / f"h{h:.2f}", args.at, args.depth, h)
         model, dyn, run = jump(source, args.speed, args.time, args.generated, **settings)

@@ -20,17 +20,19 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "f4d290e07855d781"
+FINGERPRINT = "e18ae408d4640862"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
+SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.height', 'time')
 INPUTS = {
     "speed": 5.0,
     "height": 0.46,
     "tail_k": 4.0,
+    "match_window": 0.0,
 }
 PARAMS = {
     "k_speed": 0.03,
+    "match_lag": 0.035,
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.05,
@@ -105,8 +107,8 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)"""
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
-    ankle_rest = p[14]
-    unload = p[26]
+    ankle_rest = p[15]
+    unload = p[27]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -119,11 +121,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     leg_main_stance_time = s[15]
     speed = u[0]
     height = u[1]
-    k_trim = p[3]
-    max_trim = p[5]
-    accel = p[6]
-    k_apex = p[19]
-    apex_limit = p[20]
+    k_trim = p[4]
+    max_trim = p[6]
+    accel = p[7]
+    k_apex = p[20]
+    apex_limit = p[21]
     apex_trim = r[1]
     predicted_apex = r[2]
     desired_now = r[3]
@@ -142,46 +144,51 @@ def action_FLIGHT_0(s, u, p, r, tis):
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
     com_vz = s[5]
+    com_z = s[6]
     coord_ankle_value = s[8]
     coord_tail_base_value = s[9]
+    leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_stance_time = s[15]
-    time = s[17]
+    terrain_height = s[17]
+    time = s[18]
     tail_k = u[2]
+    match_window = u[3]
     k_speed = p[0]
-    max_correction = p[1]
-    stance_guess = p[2]
-    speed_ff = p[4]
-    swing_kp = p[11]
-    swing_kv = p[12]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    reach = p[24]
-    tuck = p[25]
-    tail_up = p[27]
-    tail_b = p[29]
-    tail_stop = p[30]
-    tail_low = p[31]
-    tail_high = p[32]
-    tail_kp = p[33]
-    tail_kv = p[34]
+    match_lag = p[1]
+    max_correction = p[2]
+    stance_guess = p[3]
+    speed_ff = p[5]
+    swing_kp = p[12]
+    swing_kv = p[13]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    reach = p[25]
+    tuck = p[26]
+    tail_up = p[28]
+    tail_b = p[30]
+    tail_stop = p[31]
+    tail_low = p[32]
+    tail_high = p[33]
+    tail_kp = p[34]
+    tail_kv = p[35]
     desired_now = r[3]
     speed_trim = r[4]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     t1 = (com_vz > 0.0)
     t2 = 0.8*((tuck) if t1 else (reach))
     t3 = min(t2, max(-t2, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
-    t4 = t3*t3
-    t5 = -t4 + ((tuck*tuck) if t1 else (reach*reach))
+    t4 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + min(match_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t3
+    t5 = -t3*t3 + ((tuck*tuck) if t1 else (reach*reach))
     t6 = 0.174*math.cos(coord_ankle_value) + 0.26
     t7 = math.sin(coord_ankle_value)
     t8 = t6*t6 + 0.030275999999999997*t7*t7
     t9 = math.sqrt(t8)
-    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4 + t5))
+    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4*t4 + t5))
     t11 = min(1.0, max(-1.0, 3.846153846153846*(-t8 + t10*t10 - 0.016900000000000002)/t9))
-    hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t3, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
+    hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t4, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
     knee_servo_setpoint = math.acos(t11) - math.atan2(0.174*t7, t6)
     tail_motor_force = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
@@ -221,14 +228,14 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[23]
-    tail_down = p[28]
-    tail_b = p[29]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -266,14 +273,14 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[23]
-    tail_down = p[28]
-    tail_b = p[29]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -313,24 +320,24 @@ def action_THRUST_0(s, u, p, r, tis):
     leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
-    time = s[17]
+    time = s[18]
     height = u[1]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    stroke = p[15]
-    start_rest = p[16]
-    ramp = p[17]
-    k_height = p[18]
-    min_stroke = p[21]
-    max_stroke = p[22]
-    pitch_lead = p[23]
-    tail_down = p[28]
-    tail_b = p[29]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    stroke = p[16]
+    start_rest = p[17]
+    ramp = p[18]
+    k_height = p[19]
+    min_stroke = p[22]
+    max_stroke = p[23]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     apex_trim = r[1]
     predicted_apex = r[2]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
@@ -371,19 +378,19 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
-    time = s[17]
+    time = s[18]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    pitch_lead = p[23]
-    tail_up = p[27]
-    tail_b = p[29]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    pitch_lead = p[24]
+    tail_up = p[28]
+    tail_b = p[30]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)

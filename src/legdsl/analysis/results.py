@@ -64,6 +64,7 @@ class Friction:
     samples: int  # stance samples used
     skipped: int  # stance samples left out because the normal force was below the floor
     edge: float = FRICTION_EDGE  # s left out at each end of a stance for ``peak_interior``
+    peak_first: float = math.nan  # max |F_t| / F_n over the first ``edge`` seconds of each stance
 
 
 @dataclass(frozen=True)
