@@ -58,3 +58,15 @@ def test_without_the_box_the_jump_controller_hops_like_hop(generated: Path) -> N
     model, _, run = kangaroo_jump.jump(kangaroo_jump.KANGAROO, 4.0, 3.0, generated)
     assert run.status == "ok"
     assert max(d for d, _ in _flights(run.trajectory)) < 0.4
+
+
+def test_the_animators_jump_at_a_time_on_flat_ground(generated: Path) -> None:
+    _, _, run = kangaroo_jump.jump(kangaroo_jump.KANGAROO, 4.0, 6.0, generated, jump_time=4.0)
+    assert run.status == "ok", run.message
+    flights = _flights(run.trajectory)
+    long = [d for d, _ in flights if d > 0.4]
+    assert len(long) == 1  # once, however long the run
+    starts = [e["t"] for e in run.events if e["kind"] == "state" and e["state"] == "FLIGHT"]
+    takeoff = next(t for t in starts if t > 4.0)
+    assert max(h for d, h in flights if d > 0.4) > 0.8
+    assert takeoff < 4.6  # the first touchdown after 4 s was the take-off
