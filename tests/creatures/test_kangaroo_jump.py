@@ -70,3 +70,21 @@ def test_the_animators_jump_at_a_time_on_flat_ground(generated: Path) -> None:
     takeoff = next(t for t in starts if t > 4.0)
     assert max(h for d, h in flights if d > 0.4) > 0.8
     assert takeoff < 4.6  # the first touchdown after 4 s was the take-off
+
+
+def test_legdsl_metrics_reports_the_margin_to_the_box(
+    jumped, generated: Path, tmp_path: Path
+) -> None:  # type: ignore[no-untyped-def]
+    from legdsl.pipeline.measure import measure_run
+    from legdsl.pipeline.scaled import run_options
+    from legdsl.pipeline.session import RunSession
+
+    _, _, _, r = jumped
+    source = kangaroo_jump.box_file(tmp_path / "box", 7.0, 0.3, 0.3)
+    session = RunSession.from_file(source, generated=generated)
+    run = session.run("jump", ["speed=4m/s"], options=run_options(session.model, duration=6.5))
+    run.write(tmp_path / "run")
+    metrics, _ = measure_run(tmp_path / "run", generated=generated)
+    (row,) = [s for s in metrics.summaries if s.key.startswith("terrain_margin_")]
+    assert row.value == pytest.approx(r["margin_m"], abs=1e-9)  # the same run, the same check
+    assert row.n == 0 and "box 7..7.3 m" in row.label

@@ -12,6 +12,7 @@ from legdsl.analysis.plot import run_paths
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import clearance_row, with_clearance
+from legdsl.pipeline.terrain_rows import terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory
 
@@ -56,6 +57,7 @@ def measure_run(
         keys = [s.key for s in metrics.summaries]
         at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
         metrics.summaries.insert(at, speed)
+    metrics.summaries += terrain_rows(run, trajectory, t_from, t_to, Path(generated))
     try:
         write_json(metrics, run / "metrics.json")
     except OSError as e:
