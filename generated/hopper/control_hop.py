@@ -20,10 +20,10 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "e9dde6c16daf7b94"
+FINGERPRINT = "5330c500ac7d918e"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
+SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
 INPUTS = {
     "speed": 1.0,
     "height": 1.0,
@@ -37,10 +37,11 @@ PARAMS = {
     "swing_kv": 6.0,
     "stroke": 0.03,
     "k_height": 0.3,
+    "k_apex": 0.5,
     "k_trim": 0.5,
     "full": 0.79,
 }
-RECORDS = ('speed_trim', 'predicted_apex')
+RECORDS = ('speed_trim', 'predicted_apex', 'thrust_stroke', 'apex_seen', 'apex_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -55,9 +56,9 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:67:5
+        event  creatures/hopper.leg:68:5
     """
-    leg_main_touching = s[10]
+    leg_main_touching = s[11]
     return (leg_main_touching < 0.5)
 
 
@@ -65,9 +66,9 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:68:5
+        event  creatures/hopper.leg:69:5
     """
-    leg_main_touching = s[10]
+    leg_main_touching = s[11]
     return (leg_main_touching > 0.5)
 
 
@@ -75,9 +76,9 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/hopper.leg:69:5
+        event  creatures/hopper.leg:70:5
     """
-    leg_main_rate = s[8]
+    leg_main_rate = s[9]
     return (leg_main_rate < 0.0)
 
 
@@ -85,9 +86,9 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/hopper.leg:70:5
+        event  creatures/hopper.leg:71:5
     """
-    leg_main_rate = s[8]
+    leg_main_rate = s[9]
     return (leg_main_rate > 0.0)
 
 
@@ -95,41 +96,51 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full
 
     From the .leg file:
-        event  creatures/hopper.leg:71:5
+        event  creatures/hopper.leg:72:5
     """
-    leg_main_length = s[7]
-    full = p[9]
+    leg_main_length = s[8]
+    full = p[10]
     return (leg_main_length > full)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: speed_trim).
+    """The records on entering FLIGHT under binding 0 (changed: speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record speed_trim  creatures/hopper.leg:67:104 > stdlib/raibert.leg:44:3
+        record speed_trim  creatures/hopper.leg:68:104 > stdlib/raibert.leg:44:3
+        record apex_seen   creatures/hopper.leg:68:131 > stdlib/raibert.leg:356:3
+        record apex_trim   creatures/hopper.leg:68:131 > stdlib/raibert.leg:357:3
     """
     com_vx = s[4]
+    com_vz = s[5]
+    com_z = s[6]
     speed = u[0]
-    k_trim = p[8]
+    height = u[1]
+    k_apex = p[8]
+    k_trim = p[9]
     speed_trim = r[0]
     predicted_apex = r[1]
+    thrust_stroke = r[2]
+    apex_trim = r[4]
     new_speed_trim = k_trim*(-com_vx + speed) + speed_trim
-    return [new_speed_trim, predicted_apex]
+    new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
+    new_apex_trim = min(0.5, max(-0.5, apex_trim + k_apex*(height - new_apex_seen)))
+    return [new_speed_trim, predicted_apex, thrust_stroke, new_apex_seen, new_apex_trim]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x).
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:67:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:67:69 > stdlib/raibert.leg:144:3
-        hip_servo.kv     creatures/hopper.leg:67:69 > stdlib/raibert.leg:145:3
-        hip_motor.force  creatures/hopper.leg:67:69 > stdlib/raibert.leg:146:3
-        place main (x)   creatures/hopper.leg:67:131 > stdlib/raibert.leg:20:3
+        leg_spring.rest  creatures/hopper.leg:68:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:68:69 > stdlib/raibert.leg:144:3
+        hip_servo.kv     creatures/hopper.leg:68:69 > stdlib/raibert.leg:145:3
+        hip_motor.force  creatures/hopper.leg:68:69 > stdlib/raibert.leg:146:3
+        place main (x)   creatures/hopper.leg:68:166 > stdlib/raibert.leg:20:3
     """
     com_vx = s[4]
-    leg_main_hip_x = s[6]
-    leg_main_stance_time = s[9]
+    leg_main_hip_x = s[7]
+    leg_main_stance_time = s[10]
     speed = u[0]
     k_speed = p[0]
     stance_guess = p[1]
@@ -144,16 +155,19 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    apex_seen = r[3]
+    apex_trim = r[4]
+    return [speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:68:49 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:68:49 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:68:49 > stdlib/raibert.leg:162:3
+        hip_servo.kp     creatures/hopper.leg:69:49 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:69:49 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:69:49 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0]
 
@@ -162,16 +176,19 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    apex_seen = r[3]
+    apex_trim = r[4]
+    return [speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:69:49 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:69:49 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:69:49 > stdlib/raibert.leg:86:3
+        hip_servo.kp     creatures/hopper.leg:70:49 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:70:49 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:70:49 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -182,56 +199,66 @@ def action_COMPRESSION_0(s, u, p, r, tis):
 
 
 def entry_THRUST_0(s, u, p, r, tis):
-    """The records on entering THRUST under binding 0 (changed: predicted_apex).
+    """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record predicted_apex  creatures/hopper.leg:70:49 > stdlib/raibert.leg:185:3 > stdlib/raibert.leg:191:3
+        record predicted_apex  creatures/hopper.leg:71:49 > stdlib/raibert.leg:340:3
+        record thrust_stroke   creatures/hopper.leg:71:49 > stdlib/raibert.leg:341:3
     """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
-    com_z = s[5]
+    com_vz = s[5]
+    com_z = s[6]
+    height = u[1]
+    stroke = p[6]
     speed_trim = r[0]
-    new_predicted_apex = 0.004591747711013765*act_leg_spring_force*act_leg_spring_force/act_leg_spring_k + com_z
-    return [speed_trim, new_predicted_apex]
+    apex_seen = r[3]
+    apex_trim = r[4]
+    t1 = com_vz*com_vz
+    t2 = act_leg_spring_force*act_leg_spring_force
+    t3 = 1/act_leg_spring_k
+    t4 = t2*t3
+    new_predicted_apex = com_z + 0.0509683995922528*t1 + 0.004591747711013765*t4
+    new_thrust_stroke = min(3.0*stroke, max(0.0, -act_leg_spring_force*t3 + math.sqrt(max(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + t2/(act_leg_spring_k*act_leg_spring_k)))))
+    return [speed_trim, new_predicted_apex, new_thrust_stroke, apex_seen, apex_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:70:49 > stdlib/raibert.leg:185:3 > stdlib/raibert.leg:192:3
-        hip_servo.kp     creatures/hopper.leg:70:100 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:70:100 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:70:100 > stdlib/raibert.leg:86:3
+        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:342:3
+        hip_servo.kp     creatures/hopper.leg:71:112 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:71:112 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:71:112 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
-    height = u[1]
     kp = p[2]
     kv = p[3]
-    stroke = p[6]
-    k_height = p[7]
-    predicted_apex = r[1]
-    leg_spring_rest = min(3.0*stroke, max(0.0, k_height*(height - predicted_apex) + stroke))
+    thrust_stroke = r[2]
     hip_motor_force = body_body_pitch*kp + body_body_pitch_rate*kv
-    return [leg_spring_rest, 0.0, 0.0, hip_motor_force]
+    return [thrust_stroke, 0.0, 0.0, hip_motor_force]
 
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
     speed_trim = r[0]
     predicted_apex = r[1]
-    return [speed_trim, predicted_apex]
+    thrust_stroke = r[2]
+    apex_seen = r[3]
+    apex_trim = r[4]
+    return [speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:71:69 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:71:69 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:71:69 > stdlib/raibert.leg:162:3
+        leg_spring.rest  creatures/hopper.leg:72:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:72:69 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:72:69 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:72:69 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0, 0.0]
 

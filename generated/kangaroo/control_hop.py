@@ -20,17 +20,19 @@ import math
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "a6f8a10244b78468"
+FINGERPRINT = "9318b8ec18f7c029"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'time')
+SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.height', 'time')
 INPUTS = {
     "speed": 5.0,
     "height": 0.46,
     "tail_k": 4.0,
+    "match_window": 0.0,
 }
 PARAMS = {
     "k_speed": 0.03,
+    "match_lag": 0.035,
     "max_correction": 0.05,
     "stance_guess": 0.11,
     "k_trim": 0.05,
@@ -49,6 +51,8 @@ PARAMS = {
     "start_rest": -2.007128639793479,
     "ramp": 1.0471975511965976,
     "k_height": 1.3089969389957472,
+    "k_apex": 0.0,
+    "apex_limit": 0.06,
     "min_stroke": -0.10471975511965978,
     "max_stroke": 0.2617993877991494,
     "pitch_lead": 0.013962634015954637,
@@ -64,7 +68,7 @@ PARAMS = {
     "tail_kp": 60.0,
     "tail_kv": 4.0,
 }
-RECORDS = ('predicted_apex', 'desired_now', 'speed_trim')
+RECORDS = ('apex_seen', 'apex_trim', 'predicted_apex', 'desired_now', 'speed_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -79,7 +83,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:252:5
+        event  creatures/kangaroo.leg:266:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
@@ -89,7 +93,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:253:5
+        event  creatures/kangaroo.leg:267:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
@@ -99,7 +103,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:254:5
+        event  creatures/kangaroo.leg:268:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate < 0.0)
@@ -109,7 +113,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:255:5
+        event  creatures/kangaroo.leg:269:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate > 0.0)
@@ -119,101 +123,116 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:256:5
+        event  creatures/kangaroo.leg:270:5
     """
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
-    ankle_rest = p[14]
-    unload = p[24]
+    ankle_rest = p[15]
+    unload = p[27]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim).
+    """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record desired_now  creatures/kangaroo.leg:252:65 > creatures/kangaroo.leg:222:5
-        record speed_trim   creatures/kangaroo.leg:252:92 > creatures/kangaroo.leg:227:5
+        record desired_now  creatures/kangaroo.leg:266:65 > creatures/kangaroo.leg:227:5
+        record speed_trim   creatures/kangaroo.leg:266:92 > creatures/kangaroo.leg:232:5
+        record apex_seen    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:356:3
+        record apex_trim    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:357:3
     """
     com_vx = s[4]
+    com_vz = s[5]
+    com_z = s[6]
     leg_main_flight_time = s[10]
     leg_main_stance_time = s[15]
     speed = u[0]
-    k_trim = p[3]
-    max_trim = p[5]
-    accel = p[6]
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
+    height = u[1]
+    k_trim = p[4]
+    max_trim = p[6]
+    accel = p[7]
+    k_apex = p[20]
+    apex_limit = p[21]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
+    new_apex_trim = min(apex_limit, max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
     t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
     new_desired_now = desired_now + min(t1, max(-t1, -desired_now + speed))
     new_speed_trim = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
-    return [predicted_apex, new_desired_now, new_speed_trim]
+    return [new_apex_seen, new_apex_trim, predicted_apex, new_desired_now, new_speed_trim]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:252:42 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:233:5
-        hip_servo.kv         creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:234:5
-        knee_servo.kp        creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:235:5
-        knee_servo.kv        creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:236:5
-        knee_motor.force     creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:237:5
-        hip_servo.setpoint   creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:240:5 > creatures/kangaroo.leg:248:5 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:252:133 > creatures/kangaroo.leg:240:5 > creatures/kangaroo.leg:248:5 > stdlib/raibert.leg:36:3
-        tail_spring.k        creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:191:5
-        tail_spring.b        creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:192:5
-        tail_spring.rest     creatures/kangaroo.leg:252:193 > creatures/kangaroo.leg:193:5
-        tail_motor.force     creatures/kangaroo.leg:252:208 > creatures/kangaroo.leg:177:5
-        neck_servo.setpoint  creatures/kangaroo.leg:252:224 > creatures/kangaroo.leg:184:5
-        ankle_spring.k       creatures/kangaroo.leg:252:238 > creatures/kangaroo.leg:188:5
+        ankle_spring.rest    creatures/kangaroo.leg:266:42 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:243:5
+        hip_servo.kv         creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:244:5
+        knee_servo.kp        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:245:5
+        knee_servo.kv        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:246:5
+        knee_motor.force     creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:247:5
+        hip_servo.setpoint   creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:266:248 > creatures/kangaroo.leg:182:5
+        neck_servo.setpoint  creatures/kangaroo.leg:266:264 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:266:278 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
     com_vx = s[4]
     com_vz = s[5]
+    com_z = s[6]
     coord_ankle_value = s[8]
     coord_tail_base_value = s[9]
+    leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_stance_time = s[15]
-    time = s[17]
+    terrain_height = s[17]
+    time = s[18]
     tail_k = u[2]
+    match_window = u[3]
     k_speed = p[0]
-    max_correction = p[1]
-    stance_guess = p[2]
-    speed_ff = p[4]
-    swing_kp = p[11]
-    swing_kv = p[12]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    reach = p[22]
-    tuck = p[23]
-    tail_up = p[25]
-    tail_b = p[27]
-    tail_stop = p[28]
-    tail_low = p[29]
-    tail_high = p[30]
-    tail_kp = p[31]
-    tail_kv = p[32]
-    desired_now = r[1]
-    speed_trim = r[2]
+    match_lag = p[1]
+    max_correction = p[2]
+    stance_guess = p[3]
+    speed_ff = p[5]
+    swing_kp = p[12]
+    swing_kv = p[13]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    reach = p[25]
+    tuck = p[26]
+    tail_up = p[28]
+    tail_b = p[30]
+    tail_stop = p[31]
+    tail_low = p[32]
+    tail_high = p[33]
+    tail_kp = p[34]
+    tail_kv = p[35]
+    desired_now = r[3]
+    speed_trim = r[4]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     t1 = (com_vz > 0.0)
     t2 = 0.8*((tuck) if t1 else (reach))
     t3 = min(t2, max(-t2, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
-    t4 = t3*t3
-    t5 = -t4 + ((tuck*tuck) if t1 else (reach*reach))
+    t4 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + min(match_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t3
+    t5 = -t3*t3 + ((tuck*tuck) if t1 else (reach*reach))
     t6 = 0.174*math.cos(coord_ankle_value) + 0.26
     t7 = math.sin(coord_ankle_value)
     t8 = t6*t6 + 0.030275999999999997*t7*t7
     t9 = math.sqrt(t8)
-    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4 + t5))
+    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4*t4 + t5))
     t11 = min(1.0, max(-1.0, 3.846153846153846*(-t8 + t10*t10 - 0.016900000000000002)/t9))
-    hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t3, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
+    hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t4, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
     knee_servo_setpoint = math.acos(t11) - math.atan2(0.174*t7, t6)
     tail_motor_force = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
     return [
@@ -236,28 +255,30 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:202:5
-        hip_servo.kv         creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:203:5
-        hip_servo.setpoint   creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:204:5
-        knee_servo.kp        creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:205:5
-        knee_servo.kv        creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:206:5
-        knee_motor.force     creatures/kangaroo.leg:253:43 > creatures/kangaroo.leg:207:5
-        tail_spring.k        creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:191:5
-        tail_spring.b        creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:192:5
-        tail_spring.rest     creatures/kangaroo.leg:253:77 > creatures/kangaroo.leg:193:5
-        tail_motor.force     creatures/kangaroo.leg:253:94 > creatures/kangaroo.leg:181:5
-        neck_servo.setpoint  creatures/kangaroo.leg:253:106 > creatures/kangaroo.leg:184:5
-        ankle_spring.k       creatures/kangaroo.leg:253:120 > creatures/kangaroo.leg:188:5
+        hip_servo.kp         creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:267:94 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:267:106 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:267:120 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -266,14 +287,14 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -294,28 +315,30 @@ def action_LOADING_0(s, u, p, r, tis):
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:202:5
-        hip_servo.kv         creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:203:5
-        hip_servo.setpoint   creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:204:5
-        knee_servo.kp        creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:205:5
-        knee_servo.kv        creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:206:5
-        knee_motor.force     creatures/kangaroo.leg:254:44 > creatures/kangaroo.leg:207:5
-        tail_spring.k        creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:191:5
-        tail_spring.b        creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:192:5
-        tail_spring.rest     creatures/kangaroo.leg:254:78 > creatures/kangaroo.leg:193:5
-        tail_motor.force     creatures/kangaroo.leg:254:95 > creatures/kangaroo.leg:181:5
-        neck_servo.setpoint  creatures/kangaroo.leg:254:107 > creatures/kangaroo.leg:184:5
-        ankle_spring.k       creatures/kangaroo.leg:254:121 > creatures/kangaroo.leg:188:5
+        hip_servo.kp         creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:268:95 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:268:107 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:268:121 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -324,14 +347,14 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -354,34 +377,36 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/kangaroo.leg:255:44 > creatures/kangaroo.leg:215:5
+        record predicted_apex  creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:220:5
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
     com_z = s[6]
-    desired_now = r[1]
-    speed_trim = r[2]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    desired_now = r[3]
+    speed_trim = r[4]
     new_predicted_apex = 0.007485445673704333*act_ankle_spring_force*act_ankle_spring_force/act_ankle_spring_k + com_z
-    return [new_predicted_apex, desired_now, speed_trim]
+    return [apex_seen, apex_trim, new_predicted_apex, desired_now, speed_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:255:44 > creatures/kangaroo.leg:216:5
-        hip_servo.kp         creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:202:5
-        hip_servo.kv         creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:203:5
-        hip_servo.setpoint   creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:204:5
-        knee_servo.kp        creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:205:5
-        knee_servo.kv        creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:206:5
-        knee_motor.force     creatures/kangaroo.leg:255:100 > creatures/kangaroo.leg:207:5
-        tail_spring.k        creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:191:5
-        tail_spring.b        creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:192:5
-        tail_spring.rest     creatures/kangaroo.leg:255:134 > creatures/kangaroo.leg:193:5
-        tail_motor.force     creatures/kangaroo.leg:255:151 > creatures/kangaroo.leg:181:5
-        neck_servo.setpoint  creatures/kangaroo.leg:255:163 > creatures/kangaroo.leg:184:5
-        ankle_spring.k       creatures/kangaroo.leg:255:177 > creatures/kangaroo.leg:188:5
+        ankle_spring.rest    creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:221:5
+        hip_servo.kp         creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:269:163 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:269:175 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:269:189 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -389,26 +414,27 @@ def action_THRUST_0(s, u, p, r, tis):
     leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
-    time = s[17]
+    time = s[18]
     height = u[1]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    stroke = p[15]
-    start_rest = p[16]
-    ramp = p[17]
-    k_height = p[18]
-    min_stroke = p[19]
-    max_stroke = p[20]
-    pitch_lead = p[21]
-    tail_down = p[26]
-    tail_b = p[27]
-    predicted_apex = r[0]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(height - predicted_apex) + stroke))
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    stroke = p[16]
+    start_rest = p[17]
+    ramp = p[18]
+    k_height = p[19]
+    min_stroke = p[22]
+    max_stroke = p[23]
+    pitch_lead = p[24]
+    tail_down = p[29]
+    tail_b = p[30]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -430,28 +456,30 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    predicted_apex = r[0]
-    desired_now = r[1]
-    speed_trim = r[2]
-    return [predicted_apex, desired_now, speed_trim]
+    apex_seen = r[0]
+    apex_trim = r[1]
+    predicted_apex = r[2]
+    desired_now = r[3]
+    speed_trim = r[4]
+    return [apex_seen, apex_trim, predicted_apex, desired_now, speed_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:256:78 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:202:5
-        hip_servo.kv         creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:203:5
-        hip_servo.setpoint   creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:204:5
-        knee_servo.kp        creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:205:5
-        knee_servo.kv        creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:206:5
-        knee_motor.force     creatures/kangaroo.leg:256:101 > creatures/kangaroo.leg:207:5
-        tail_spring.k        creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:191:5
-        tail_spring.b        creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:192:5
-        tail_spring.rest     creatures/kangaroo.leg:256:135 > creatures/kangaroo.leg:193:5
-        neck_servo.setpoint  creatures/kangaroo.leg:256:150 > creatures/kangaroo.leg:184:5
-        ankle_spring.k       creatures/kangaroo.leg:256:164 > creatures/kangaroo.leg:188:5
+        ankle_spring.rest    creatures/kangaroo.leg:270:78 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:198:5
+        neck_servo.setpoint  creatures/kangaroo.leg:270:150 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:270:164 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -459,19 +487,19 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_foot_z = s[12]
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
-    time = s[17]
+    time = s[18]
     tail_k = u[2]
-    kp = p[7]
-    kv = p[8]
-    hip_kp = p[9]
-    hip_kv = p[10]
-    ankle_k = p[13]
-    ankle_rest = p[14]
-    start_rest = p[16]
-    ramp = p[17]
-    pitch_lead = p[21]
-    tail_up = p[25]
-    tail_b = p[27]
+    kp = p[8]
+    kv = p[9]
+    hip_kp = p[10]
+    hip_kv = p[11]
+    ankle_k = p[14]
+    ankle_rest = p[15]
+    start_rest = p[17]
+    ramp = p[18]
+    pitch_lead = p[24]
+    tail_up = p[28]
+    tail_b = p[30]
     ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
     hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)

@@ -578,3 +578,13 @@ def test_cli_help_has_an_example(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit):
         main(["metrics", "--help"])
     assert "Example: legdsl metrics" in capsys.readouterr().out
+
+
+def test_friction_needed_in_the_first_10_ms_of_stance() -> None:
+    # at 1 kHz the first 10 ms are tau = 0..9: the spike at tau = 4 is in them, the one at
+    # tau = 95 (the last 10 ms) is not; with the spike at tau = 20 the first 10 ms only see
+    # the smooth part, whose largest value there is at tau = 9
+    assert compute_metrics(_friction_run()).value("friction_first_toe") == pytest.approx(1.9)
+    late = compute_metrics(_friction_run(spike_at=20))
+    assert late.value("friction_first_toe") == pytest.approx(0.3 + 0.22 * math.sin(math.pi * 0.09))
+    assert late.value("friction_toe") == pytest.approx(1.9)  # the whole stance still has it

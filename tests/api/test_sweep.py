@@ -19,7 +19,7 @@ DIMS = {"speed": (0, 1, -1, 0), "k_speed": (0, 0, 1, 0), "k_trim": (0, 0, 0, 0)}
 def sweep(out: Path, generated: Path, *extra: str) -> int:
     return main([
         "sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=0.5m/s:1.5m/s:2",
-        "--grid", "k_speed=0.04,0.08", "--time", "3", "--from", "0.5", "--jobs", "2",
+        "--grid", "k_speed=0.04,0.06", "--time", "3", "--from", "0.5", "--jobs", "2",
         "--out", str(out), "--generated", str(generated), *extra,
     ])  # fmt: skip
 
@@ -34,7 +34,7 @@ def test_a_grid_sweep_and_its_resume(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert sweep(out, generated, "--keep-runs") == 0
     table = rows(out)
     assert sorted((float(r["speed"]), float(r["k_speed"])) for r in table) == [
-        (0.5, 0.04), (0.5, 0.08), (1.5, 0.04), (1.5, 0.08),
+        (0.5, 0.04), (0.5, 0.06), (1.5, 0.04), (1.5, 0.06),
     ]  # fmt: skip
     assert all(r["outcome"] == "ok" and float(r["simulated"]) == 3.0 for r in table)
     fast = [float(r["running_speed"]) for r in table if float(r["speed"]) == 1.5]

@@ -48,7 +48,7 @@ def test_a_library_action_is_inlined_with_its_arguments() -> None:
     (servo,) = place.servos
     assert servo == ir.Alias(ir.Legs(role="active"), "hip_servo", "actuator")
     calls = [s.action for s in walk(flight.body) if isinstance(s, ir.Do)]
-    assert calls == ["relax", "swing", "trim_speed", "place_foot"]
+    assert calls == ["relax", "swing", "trim_speed", "learn_apex", "place_foot"]
 
 
 def test_assignments_carry_the_actuator_inputs_dimension() -> None:

@@ -40,7 +40,7 @@ def _flight_tuck_distance(tmp_path: Path, thigh: float) -> tuple[float, float]:
     dynamics = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(dynamics)
 
-    (hop,) = compiled.lowered
+    (hop,) = [c for c in compiled.lowered if c.name == "hop"]
     body = hop.bodies[(0, hop.states.index("FLIGHT"))]
     setpoint = {st.actuator: st.value for st in body.settings if st.key == "setpoint"}
     values = {f"input_{n}": v for n, v in hop.inputs} | {f"param_{n}": v for n, v in hop.params}

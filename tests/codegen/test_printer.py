@@ -142,3 +142,12 @@ def test_the_given_names_do_not_reorder_terms() -> None:
     renamed = LegPrinter(names={a: "zz", c: "aa"}).print(expr)
     assert plain == "t1 + t2 + t3"
     assert renamed == "zz + t2 + aa"
+
+
+def test_an_unrolled_power_alone_in_a_denominator_keeps_its_parentheses() -> None:
+    # a/k**2 printed as a/k*k would read back as a (found through raibert's hop_apex)
+    for expr in (x / y**2, -x / y**3, x * z / y**2):
+        text = print_expr(expr)
+        want = float(expr.subs({x: 3.0, y: 2.0, z: 5.0}))
+        assert run(text, x=3.0, y=2.0, z=5.0) == pytest.approx(want, rel=1e-15), text
+    assert print_expr(x * y**2) == "x*y*y"  # a numerator is printed as before

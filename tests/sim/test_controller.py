@@ -172,16 +172,16 @@ def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(
 
 
 def test_only_the_records_the_table_reaches_are_the_controllers(tmp_path: Path) -> None:
-    # raibert's hop_height_energy records `thrust_stroke`; the hopper never calls it, so
+    # raibert's trim_step_speed records `step_speed`; the hopper never calls it, so
     # the name stays free for the hopper's own parameter and adds no controller state.
     header = "controller hop {"
     text = HOPPER.read_text(encoding="utf-8").replace(
-        header, header + "\n  param thrust_stroke = 1 cm"
+        header, header + "\n  param step_speed = 1 m/s"
     )
     leg = tmp_path / "hopper.leg"
     leg.write_text(text, encoding="utf-8")
     model = check_model(leg)
     (hop,) = [c for c in model.controllers if c.name == "hop"]
     assert "speed_trim" in hop.record_names  # trim_speed is called, its record is kept
-    assert "thrust_stroke" not in hop.record_names
-    assert {c.name: c.value for c in hop.params}["thrust_stroke"] == pytest.approx(0.01)
+    assert "step_speed" not in hop.record_names
+    assert {c.name: c.value for c in hop.params}["step_speed"] == pytest.approx(1.0)

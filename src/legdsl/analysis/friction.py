@@ -1,5 +1,6 @@
 """The friction coefficient each contact needed to stay put: ``|F_t| / F_n`` over its
-complete stances, with and without the first and last instants of each stance."""
+complete stances, with and without the first and last instants of each stance, and over the
+first instants alone (a touchdown's: where ground speed matching matters)."""
 
 from __future__ import annotations
 
@@ -28,13 +29,14 @@ def contact_friction(
     usable = fn > floor
     a, b = runs(tr.contact[:, c] != 0)
     keep = in_window(tr.t, a, b, lo, hi)
-    peaks, interior_peaks, used, skipped = [], [], 0, 0
+    peaks, interior_peaks, first_peaks, used, skipped = [], [], [], 0, 0
     for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
         t = tr.t[s:e]
         ok = usable[s:e]
         away = (t - tr.t[s] >= edge - EPS_T) & (tr.t[e] - t > edge + EPS_T)
         peaks.append(_masked_max(ratio[s:e], ok))
         interior_peaks.append(_masked_max(ratio[s:e], ok & away))
+        first_peaks.append(_masked_max(ratio[s:e], ok & (t - tr.t[s] < edge - EPS_T)))
         used += int(ok.sum())
         skipped += int((~ok).sum())
     return Friction(
@@ -46,6 +48,7 @@ def contact_friction(
         samples=used,
         skipped=skipped,
         edge=edge,
+        peak_first=_nanmax(first_peaks),
     )
 
 
@@ -71,6 +74,14 @@ def friction_rows(f: Friction) -> list[Summary]:
             f.peak_interior,
             math.nan,
             n_in,
+            "max",
+        ),
+        Summary(
+            f"friction_first_{f.contact}",
+            f"{label}, first {f.edge * 1000:g} ms (-)",
+            f.peak_first,
+            math.nan,
+            n,
             "max",
         ),
     ]

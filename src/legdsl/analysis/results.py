@@ -64,6 +64,7 @@ class Friction:
     samples: int  # stance samples used
     skipped: int  # stance samples left out because the normal force was below the floor
     edge: float = FRICTION_EDGE  # s left out at each end of a stance for ``peak_interior``
+    peak_first: float = math.nan  # max |F_t| / F_n over the first ``edge`` seconds of each stance
 
 
 @dataclass(frozen=True)
@@ -75,7 +76,7 @@ class Summary:
     value: float
     std: float  # sample standard deviation; NaN for a maximum or fewer than two values
     n: int  # how many values went in
-    how: str = "mean"  # or "max"
+    how: str = "mean"  # or "max", or "min" (n: how many samples fall below 0)
 
 
 @dataclass
@@ -136,7 +137,7 @@ class GaitMetrics:
         width = max([len(s.label) for s in self.summaries] + [8])
         lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
         for s in self.summaries:
-            spread = "(peak)" if s.how == "max" else num_text(s.std)  # a maximum has no spread
+            spread = {"max": "(peak)", "min": "(least)"}.get(s.how, num_text(s.std))
             lines.append(f"{s.label:<{width}}  {num_text(s.value):>10}  {spread:>10}  {s.n:>4}")
         return "\n".join(lines) + "\n"
 

@@ -21,10 +21,13 @@ from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe
 
-KIND_WORDS = {"coord": "joint coordinate", "path": "path", "com": "centre of mass"}
+KIND_WORDS = {
+    "coord": "joint coordinate", "path": "path", "com": "centre of mass",
+    "terrain": "terrain ahead",
+}  # fmt: skip
 MEMBER_EXAMPLES = {
     "body": "z", "leg": "length", "role": "length", "contact": "z", "com": "vx",
-    "coord": "value", "actuator": "force", "path": "lateral",
+    "coord": "value", "actuator": "force", "path": "lateral", "terrain": "ahead_distance",
 }  # fmt: skip
 
 
@@ -259,6 +262,7 @@ class NameResolver:
             "contact": ir.CONTACT_MEMBERS,
             "com": ir.COM_MEMBERS,
             "path": ir.PATH_MEMBERS,
+            "terrain": ir.TERRAIN_MEMBERS,
         }[part.kind]
 
     def signal(self, name: str) -> ir.Named | None:

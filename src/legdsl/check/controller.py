@@ -76,6 +76,7 @@ class ControllerChecker:
         for name, dim in ir.BUILTIN_VALUES.items():
             names[name] = ir.Named("builtin", name, dim)
         names["com"] = ir.Part("com", "com")
+        names.setdefault("terrain", ir.Part("terrain", "terrain"))  # a part may be named so
         return names
 
     def check(self) -> ir.Controller | None:

@@ -59,6 +59,11 @@ PATH_MEMBERS: dict[str, Dim] = {
     "lateral": LENGTH, "heading": ANGLE, "progress": LENGTH, "length": LENGTH, "x": LENGTH,
     "y": LENGTH, "ahead_x": LENGTH, "ahead_y": LENGTH, "ahead_heading": ANGLE, "given": ONE,
 }  # fmt: skip
+# The terrain ahead of the centre of mass along the heading (``legdsl.sim.terrain_ahead``).
+TERRAIN_MEMBERS: dict[str, Dim] = {
+    "ahead_distance": LENGTH, "ahead_height": LENGTH, "ahead_depth": LENGTH,
+    "ahead_given": ONE, "height": LENGTH,
+}  # fmt: skip
 # The model's own geometry and mass properties, read as constants (``thigh.length``): a
 # controller never restates what the creature says. Body frame, or the parent body's frame
 # for a joint's location (``at``, as the .leg file writes it).
@@ -122,7 +127,7 @@ class Legs:
 @dataclass(frozen=True)
 class Part:
     """A named part of the creature: a body, contact, coord (a joint coordinate) or actuator,
-    the centre of mass (``com``), or a path to follow."""
+    the centre of mass (``com``), the terrain ahead (``terrain``), or a path to follow."""
 
     kind: str
     name: str

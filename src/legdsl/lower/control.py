@@ -296,8 +296,8 @@ class Lowerer:
 
 
 def _sensor_key(part: ir.Part, member: str) -> str:
-    if part.kind == "com":
-        return f"com.{member}"
+    if part.kind in ("com", "terrain"):
+        return f"{part.kind}.{member}"
     if part.kind == "actuator":
         return f"act.{part.name}.{member}"
     return f"{part.kind}.{part.name}.{member}"

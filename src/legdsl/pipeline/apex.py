@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,10 +33,9 @@ KEY = "apex_foot_clearance"
 LABEL = "foot clearance at the apex (m)"
 
 
-def clearance_row(
-    run: Path, tr: Trajectory, flights: Sequence[Flight], generated: Path
-) -> Summary | None:
-    """The mean clearance over the flights, or None when the kinematics are not at hand."""
+def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> tuple[Any, Any, Any] | None:
+    """(model, dynamics module, coordinate factors) of a run's creature, or None when its
+    generated dynamics are not at hand (missing, stale, or another creature's)."""
     try:
         info = load_run_info(run)
     except UsageError:
@@ -52,8 +52,18 @@ def clearance_row(
     dyn = import_module_file(path, f"legdsl_apex_{model.name}")
     if getattr(dyn, "MODEL_FINGERPRINT", None) != model_fingerprint(model):
         return None
-    scale = float(info.get("scale") or 1.0)
-    q_f = q_factors(model, scale)
+    return model, dyn, q_factors(model, float(info.get("scale") or 1.0))
+
+
+def clearance_row(
+    run: Path, tr: Trajectory, flights: Sequence[Flight], generated: Path
+) -> Summary | None:
+    """The mean clearance over the flights, or None when the kinematics are not at hand."""
+    found = load_kinematics(run, tr, generated)
+    if found is None:
+        return None
+    model, dyn, q_f = found
+    scale = float(load_run_info(run).get("scale") or 1.0)
     names = tuple(c.name for c in model.contacts)
     ground = GroundContact(model.ground, names, model.planar) if model.ground else None
     feet_of = list(tr.leg_feet) or list(range(len(names)))

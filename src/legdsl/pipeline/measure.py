@@ -16,6 +16,8 @@ from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import clearance_row, with_clearance
+from legdsl.pipeline.terrain_rows import terrain_rows
+from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
 
@@ -32,8 +34,9 @@ def measure_run(
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
     lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
-    foot clearance at the apex is measured with ``generated/NAME/dynamics.py`` when it is there
-    and fresh (``legdsl.pipeline.apex``).
+    foot clearance at the apex and the foot's speed over the ground at touchdown are measured
+    with ``generated/NAME/dynamics.py`` when it is there and fresh (``legdsl.pipeline.apex``,
+    ``legdsl.pipeline.touchdown``).
 
     ``groups`` are virtual legs, ``NAME=LEG,LEG``. With ``table2`` (a gait of Table 2 measured
     on virtual legs, such as "quadruped bound") and no ``groups``, the gait's pairs are found
@@ -61,6 +64,12 @@ def measure_run(
         raise UsageError(str(e)) from None
     row = clearance_row(run, trajectory, metrics.flights, Path(generated))
     metrics.summaries = with_clearance(metrics.summaries, row)
+    speed = touchdown_speed_row(run, trajectory, t_from, t_to, Path(generated))
+    if speed is not None:  # before the friction rows
+        keys = [s.key for s in metrics.summaries]
+        at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
+        metrics.summaries.insert(at, speed)
+    metrics.summaries += terrain_rows(run, trajectory, t_from, t_to, Path(generated))
     try:
         write_json(metrics, run / "metrics.json")
     except OSError as e:

@@ -133,6 +133,11 @@ def q_factors(model: Model, scale: float) -> np.ndarray:
     return np.array([factor(d, scale) for d in _q_dims(model, False)])
 
 
+def v_factors(model: Model, scale: float) -> np.ndarray:
+    """The Table 1 factor of each entry of v."""
+    return np.array([factor(d, scale) for d in _q_dims(model, True)])
+
+
 def scale_trajectory(traj: Trajectory, model: Model, scale: float) -> Trajectory:
     """The outputs of the unscaled model as the scaled creature's (each by its Table 1 factor)."""
 

@@ -21,6 +21,7 @@ from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
+from legdsl.sim import terrain_ahead
 from legdsl.sim.path_tracking import PathTracker
 
 Vec = tuple[float, float, float]
@@ -151,6 +152,8 @@ class Sensors:
             pos, vel = self._feet(sim, cache)
             axis = "xyz".index(member[-1])
             return float(vel[i][axis] if member.startswith("v") else pos[i][axis])
+        if kind == "terrain":
+            return self._terrain(sim, cache)[member]
         if kind == "act":
             return float(sim.actuators.by_name[name].get(member))
         if kind == "path":
@@ -168,6 +171,20 @@ class Sensors:
             com = self._com(sim, cache)[0]
             cache[key] = self.paths[name].update(float(com[0]), float(com[1]))
         return cache[key]
+
+    def _terrain(self, sim: Any, cache: dict[str, Any]) -> dict[str, float]:
+        """The terrain ahead of the centre of mass along the heading, and under it."""
+        if "terrain" not in cache:
+            com = self._com(sim, cache)[0]
+            x, y = float(com[0]), float(com[1])
+            c, s = self._heading(sim, cache)
+            ground = sim.ground
+            found = dict(
+                terrain_ahead.ahead(ground.ground.terrain if ground else (), x, y, math.atan2(s, c))
+            )
+            found["height"] = ground.height(x, y) if ground else 0.0
+            cache["terrain"] = found
+        return cache["terrain"]
 
     def _body(self, sim: Any, cache: dict[str, Any], i: int, member: str) -> float:
         pos, rot = self._poses(sim, cache)[i]

@@ -56,6 +56,26 @@ class LegPrinter(PythonCodePrinter):
     def _print_Rational(self, expr: Rational) -> str:
         return repr(float(expr))
 
+    def _print_Mul(self, expr: Expr) -> str:
+        """A product; one unrolled power alone in the denominator is put in parentheses.
+
+        sympy writes a single denominator factor after ``/`` without parentheses, since a
+        power binds tighter than a division; but an unrolled power prints as a product,
+        and ``a/k*k`` would read back as ``a``: it is written ``a/(k*k)``.
+        """
+        text = str(super()._print_Mul(expr))
+        below = [
+            f for f in expr.as_ordered_factors()
+            if f.is_Pow and f.exp.is_Rational and f.exp.is_negative
+        ]  # fmt: skip
+        if len(below) != 1 or below[0].exp == -1:
+            return text
+        factor = Pow(below[0].base, -below[0].exp, evaluate=False)
+        shown = self.parenthesize(factor, PRECEDENCE["Mul"])
+        if "*" in shown and not shown.startswith("(") and text.endswith("/" + shown):
+            return f"{text[: -len(shown)]}({shown})"
+        return text
+
     def _print_Pow(self, expr: Pow, rational: bool = False) -> str:
         base, exp = expr.as_base_exp()
         if is_unrolled_power(expr):

@@ -1,0 +1,52 @@
+"""The foot's speed over the ground at touchdown: a metric that needs the creature's kinematics.
+
+Ground speed matching (raibert's ``place_two_link_matched``, ``place_foot_matched``) swings the
+foot back late in flight so that it lands moving with the ground; how well it does is the
+horizontal speed of each leg's foot contact relative to the ground just before its
+touchdown, at the last recorded sample of the flight (so within one record interval of it:
+5 ms at the default 200 Hz, one integration step with ``--record-rate 0 Hz``). The contact
+velocities are recomputed with the creature's generated dynamics module, as the apex
+clearance is (``legdsl.pipeline.apex``); a run made with ``--scale L`` is measured as the
+scaled creature (speeds by L^(1/2)).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from legdsl.analysis.results import Summary
+from legdsl.analysis.rows import stat
+from legdsl.analysis.strides import runs
+from legdsl.pipeline.apex import load_kinematics
+from legdsl.pipeline.scaled import v_factors
+from legdsl.sim.trajectory import Trajectory, load_run_info
+
+KEY = "touchdown_foot_speed"
+LABEL = "foot speed over the ground at touchdown (m/s)"
+
+
+def touchdown_speed_row(
+    run: Path, tr: Trajectory, t_from: float, t_to: float | None, generated: Path
+) -> Summary | None:
+    """The mean over the legs' touchdowns in the window, or None without the kinematics."""
+    found = load_kinematics(run, tr, generated)
+    if found is None:
+        return None
+    model, dyn, q_f = found
+    scale = float(load_run_info(run).get("scale") or 1.0)
+    v_f = v_factors(model, scale)
+    hi = float(tr.t[-1]) if t_to is None else t_to
+    values = []
+    for c in list(tr.leg_feet) or list(range(len(tr.contact_names))):
+        starts, _ = runs(tr.contact[:, c] != 0)
+        for k in starts.tolist():
+            if k == 0 or not t_from <= tr.t[k] <= hi:
+                continue
+            q = [float(x) for x in tr.q[k - 1] / q_f]
+            v = [float(x) for x in tr.v[k - 1] / v_f]
+            vx, vy, _ = dyn.contact_velocities(q, v)[c]
+            values.append(math.sqrt(scale) * float(np.hypot(vx, vy)))
+    return stat(KEY, LABEL, values)
