@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from legdsl.check.source import check_tree, choose
+from legdsl.codegen.c.dynamics import render_header, render_source
 from legdsl.codegen.python.control import render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Controller, Model
@@ -102,6 +103,8 @@ def compile_checked(
     files: tuple[tuple[str, str], ...] = (
         ("__init__.py", render_init(model)),
         ("dynamics.py", render_dynamics(system, source)),
+        ("dynamics.c", render_source(system, source)),
+        ("dynamics.h", render_header(system, source)),
     )
     controllers: tuple[LoweredController, ...] = ()
     for controller in model.controllers:
