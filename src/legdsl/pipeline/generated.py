@@ -98,6 +98,33 @@ def _load(
     return import_module_file(path, label + "_new")
 
 
+def c_sources(
+    model: Model,
+    source: Path,
+    generated: Path,
+    log: Any = None,
+    syntax: ast.SourceFile | None = None,
+) -> Path:
+    """``generated/NAME/``, with its ``dynamics.c`` and ``dynamics.h`` fresh (compiled first if
+    missing or stale, like the Python modules): the directory the C backend builds from."""
+    folder = generated / model.name
+    stamp = f'legdsl_model_fingerprint[] = "{model_fingerprint(model)}";'
+    if generated.is_dir():
+        recover_dir(folder)
+    try:
+        fresh = stamp in (folder / "dynamics.c").read_text() and (folder / "dynamics.h").is_file()
+    except OSError:
+        fresh = False
+    if not fresh:
+        if log is not None:
+            print(f"legdsl: {folder}/dynamics.c is missing or stale; compiling {source}", file=log)
+        compiled = (
+            compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+        )
+        write_generated(compiled, generated)
+    return folder
+
+
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
     """Write ``out_root/NAME/`` as a whole: the old directory is replaced only once the new one is complete."""
     return write_module_dir(Path(out_root), compiled.name, compiled.files)

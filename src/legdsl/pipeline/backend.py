@@ -1,0 +1,62 @@
+"""Which backend runs a simulation: the Python runtime (``legdsl.sim.simulate``), or the same
+steps in C (``legdsl.sim.c_backend``), chosen by ``legdsl run --backend c|python|auto``.
+
+``auto`` is the C backend where a C compiler is found and the Python backend with a one-line
+notice where none is. The default is Python for now: the switch to ``auto`` is the one line
+``DEFAULT_BACKEND`` below (docs/runtime.md, "The C backend", says what is checked first).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from legdsl.ir.model import Model
+from legdsl.lang import ast
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.generated import c_sources
+from legdsl.sim.simulate import Controller, RunOptions, Simulation
+
+BACKENDS = ("python", "c", "auto")
+DEFAULT_BACKEND = "python"
+
+
+def make_simulation(
+    model: Model,
+    dynamics: ModuleType,
+    options: RunOptions,
+    controller: Controller | None,
+    backend: str,
+    where: tuple[Path, Path, ast.SourceFile | None],
+    log: Any = None,
+) -> Simulation:
+    """A simulation on ``backend``; ``where`` is (the .leg file, generated/, its syntax tree)."""
+    if backend not in BACKENDS:
+        raise UsageError(f"--backend {backend}: use one of {', '.join(BACKENDS)}")
+    if backend == "python":
+        return Simulation(model, dynamics, options, controller)
+    from legdsl.codegen.c.build import BuildFailed, NoCompiler
+    from legdsl.sim.c_backend import CSimulation, available, load_library, python_version_note
+
+    missing = available()
+    if missing is not None:
+        if backend == "c":
+            raise UsageError(f"--backend c: {missing}; install gcc or use --backend python")
+        if log is not None:
+            print(f"legdsl: {missing}: running on the Python backend", file=log)
+        return Simulation(model, dynamics, options, controller)
+    source, generated, syntax = where
+    folder = c_sources(model, source, generated, log, syntax)
+    note = python_version_note()
+    if note is not None and log is not None:
+        print(f"legdsl: {note}", file=log)
+    try:
+        library = load_library(model, folder)
+    except NoCompiler as e:  # the compiler went away between the check and the build
+        raise UsageError(f"--backend {backend}: {e}") from None
+    except BuildFailed as e:
+        raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
+    if log is not None and not library.built.cached:
+        print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
+    return CSimulation(model, dynamics, options, controller, library)
