@@ -734,3 +734,12 @@ int64_t leg_call_forward_dynamics(const double *q, const double *v, const double
     forward_dynamics(q, v, tau, out, &e);
     return e;
 }
+
+/* forward_dynamics n times at one state, for the benchmark (benchmarks/bench_c_backend.py):
+ * it lives in another translation unit, so the compiler cannot hoist the call out. */
+int64_t leg_bench_forward_dynamics(const double *q, const double *v, const double *tau, int64_t n,
+                                   double *out) {
+    int e = 0;
+    for (int64_t k = 0; k < n; k++) forward_dynamics(q, v, tau, out, &e);
+    return e;
+}
