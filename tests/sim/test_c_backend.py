@@ -188,3 +188,34 @@ def test_a_state_gone_infinite_between_checks_stops_the_same() -> None:
     c = sess.run(None, [], options=opts, backend="c").result
     assert python.status == "diverged" and "no longer finite" in python.message
     assert_same(python, c)
+
+
+@pytest.mark.parametrize(
+    ("name", "controller", "in_c"),
+    [
+        ("hopper", "hop", True),
+        ("kangaroo", "hop", True),
+        ("biped", "gallop", True),
+        ("biped", "gallop_human", True),
+        ("biped", "run", False),
+    ],  # fmt: skip
+)
+def test_the_state_machine_runs_in_c_where_it_can(name: str, controller: str, in_c: bool) -> None:
+    """Every control tick of these controllers is taken by the C state machine (with its
+    kinematic solves); the run controller reads a path, whose tracker stays in Python."""
+    from legdsl.pipeline.backend import make_simulation
+    from legdsl.pipeline.settings import sort_settings
+    from legdsl.sim.c_backend import CSimulation
+    from legdsl.sim.machine import StateMachine
+
+    sess = session(name)
+    s = sort_settings(["speed=1.5m/s"], sess.model, controller)
+    machine = StateMachine(sess.model, sess.control(controller), s.inputs, s.params, s.schedule)
+    opts = RunOptions(duration=0.5)
+    sim = make_simulation(sess.model, sess.dynamics, opts, machine, "c",
+                          (sess.source, sess.generated, sess.syntax))  # fmt: skip
+    assert isinstance(sim, CSimulation)
+    result = sim.run()
+    assert result.status == "ok"
+    ticks = result.steps // 5 + 1
+    assert sim.c.ctl_ticks == (ticks if in_c else 0)

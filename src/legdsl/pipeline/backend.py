@@ -52,7 +52,8 @@ def make_simulation(
     if note is not None and log is not None:
         print(f"legdsl: {note}", file=log)
     try:
-        library = load_library(model, folder)
+        name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
+        library = load_library(model, folder, name)
     except NoCompiler as e:  # the compiler went away between the check and the build
         raise UsageError(f"--backend {backend}: {e}") from None
     except BuildFailed as e:

@@ -34,6 +34,7 @@ import numpy as np
 from legdsl.codegen.c.build import Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
 from legdsl.sim.contact import ContactEvent
+from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
 
@@ -59,6 +60,7 @@ _CTYPES = {
     "int64_t *": ctypes.POINTER(ctypes.c_int64),
     "int8_t *": ctypes.POINTER(ctypes.c_int8),
     "int16_t *": ctypes.POINTER(ctypes.c_int16),
+    "void *": ctypes.c_void_p,
 }
 
 
@@ -88,6 +90,8 @@ class CLibrary:
         for name in ("leg_run", "leg_begin", "leg_contact_state"):
             getattr(self.lib, name).restype = ctypes.c_int64
             getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
+        # the controller's state machine runs in C (else the Python one, at each control instant)
+        self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
 
 
 _LOADED: dict[Path, CLibrary] = {}
@@ -100,9 +104,11 @@ def available() -> str | None:
     return None
 
 
-def load_library(model: Model, generated_dir: Path) -> CLibrary:
-    """Build (or take from the cache) and load the library of ``generated_dir``'s C."""
-    built = build(model.name, sources(generated_dir))
+def load_library(model: Model, generated_dir: Path, controller: str | None = None) -> CLibrary:
+    """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
+    controller's state machine in C when it has one."""
+    name = model.name if controller is None else f"{model.name}-{controller}"
+    built = build(name, sources(generated_dir, controller))
     if built.path not in _LOADED:
         _LOADED[built.path] = CLibrary(built, model)
     return _LOADED[built.path]
@@ -186,6 +192,7 @@ class CSimulation(Simulation):
         self._sync_controller()
         self._point_recording(loop)
         self._array("scratch", [], size=9 * nc)
+        self._setup_machine()
 
     def _setup_ground(self) -> None:
         c, ground = self.c, self.ground
@@ -246,6 +253,80 @@ class CSimulation(Simulation):
             self._keep[f"rec_{name}"] = array
             setattr(self.c, f"rec_{name}", _ptr(array))
 
+    def _setup_machine(self) -> None:
+        """The state machine in C, when the library has the controller's (else c_control = 0)."""
+        c, m = self.c, self.controller
+        use = isinstance(m, StateMachine) and self.library.c_controller
+        c.c_control = int(use)
+        if not use:
+            return
+        assert isinstance(m, StateMachine)
+        mod, nc, ni = m.module, len(self.contact_names), len(m.inputs)
+        self._schedule = list(m.schedule)
+        self._array("ctl_records", m.records)
+        self._array("ctl_inputs", m.inputs)
+        self._array("ctl_params", m.params)
+        c.sched_n = len(self._schedule)
+        self._array("sched_t", [ch.t for ch in self._schedule])
+        self._array(
+            "sched_input", [m.input_names.index(ch.name) for ch in self._schedule], np.int64
+        )
+        self._array("sched_value", [ch.value for ch in self._schedule])
+        self._array("hist_t", [], size=len(self._schedule) + 1)
+        self._array("hist_inputs", [], size=(len(self._schedule) + 1) * ni)
+        c.speed_input = m.input_names.index("speed") if "speed" in m.input_names else -1
+        self._array("clocks", [], size=5 * nc)
+        self._array("ctl_event_t", [], size=STEP_BUDGET + 16)
+        self._array("ctl_event_state", [], np.int64, STEP_BUDGET + 16)
+        outputs = [
+            len(targets) + sum(len(axes) for _, axes, _ in mod.PLACES.get(key, ()))
+            for key, targets in mod.SETTINGS.items()
+        ]
+        most = max([len(mod.RECORDS), *outputs])
+        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
+        self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
+        c.dgesv = _dgesv()
+        self._push_machine()
+
+    def _push_machine(self) -> None:
+        c, m, keep = self.c, self.controller, self._keep
+        assert isinstance(m, StateMachine)
+        c.ctl_started, c.ctl_state, c.ctl_binding = int(m.started), m.state_index, m.binding
+        c.ctl_entered_at = m.entered_at
+        keep["ctl_records"][: len(m.records)] = m.records
+        keep["ctl_inputs"][: len(m.inputs)] = m.inputs
+        c.sched_pos = len(self._schedule) - len(m.schedule)
+        for i, clock in enumerate(m.sensors.clocks.values()):
+            keep["clocks"][5 * i : 5 * i + 5] = [float(clock.touching), clock.touchdown,
+                                                 clock.liftoff, clock.stance, clock.flight]  # fmt: skip
+
+    def _pull_machine(self) -> None:
+        c, m, keep = self.c, self.controller, self._keep
+        assert isinstance(m, StateMachine)
+        m.started, m.state_index, m.binding = (
+            bool(c.ctl_started),
+            int(c.ctl_state),
+            int(c.ctl_binding),
+        )
+        m.entered_at = float(c.ctl_entered_at)
+        m.records = keep["ctl_records"][: len(m.records)].tolist()
+        m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
+        m.schedule = self._schedule[int(c.sched_pos) :]
+        for i, clock in enumerate(m.sensors.clocks.values()):
+            touching, clock.touchdown, clock.liftoff, clock.stance, clock.flight = keep["clocks"][
+                5 * i : 5 * i + 5
+            ].tolist()
+            clock.touching = touching != 0.0
+        ni = len(m.inputs)
+        for k in range(int(c.n_hist)):
+            values = keep["hist_inputs"][k * ni : (k + 1) * ni].tolist()
+            m._history.append((float(keep["hist_t"][k]), values))
+        c.n_hist = 0
+        for k in range(int(c.n_ctl_events)):
+            t, state = float(keep["ctl_event_t"][k]), int(keep["ctl_event_state"][k])
+            m.events.append({"t": round(t, 9), "kind": "state", "state": m.state_names[state]})
+        c.n_ctl_events = 0
+
     # ------------------------------------------------------------ state between C and Python
     def _push_actuators(self) -> None:
         keep = self._keep
@@ -266,8 +347,10 @@ class CSimulation(Simulation):
         self.q = keep["q"][:nq].tolist()
         self.v = keep["v"][:nv].tolist()
         self.steps_taken, self.t = int(c.steps_taken), float(c.t)
-        for k, a in enumerate(self.actuators.states):
+        for k, a in enumerate(self.actuators.states):  # the C state machine may have set them
             a.last_force = float(keep["act_last"][k])
+            a.gain, a.damping = float(keep["act_gain"][k]), float(keep["act_damping"][k])
+            a.target, a.force = float(keep["act_target"][k]), float(keep["act_force"][k])
         for k, st in enumerate(self._stops):
             self.stop_time[st.dof] = float(keep["stop_time"][k])
         nc = len(self.contact_names)
@@ -294,6 +377,8 @@ class CSimulation(Simulation):
     def _end(self) -> None:
         if getattr(self, "_started", False):
             self._pull()
+            if self.c.c_control:
+                self._pull_machine()
 
     def _loop(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
         lib, c = self.library.lib, self.c
@@ -306,12 +391,16 @@ class CSimulation(Simulation):
         while True:
             code = lib.leg_run(pointer)
             loop.steps, loop.recorded, loop.next_record = int(c.steps), c.recorded, c.next_record
+            if c.c_control:
+                self._pull_machine()  # its events, and its state for a tick Python takes
             if code == CONTROL:
                 self._pull()
                 assert self.controller is not None
-                self.controller(self)
+                self.controller(self)  # the Python state machine: raises where C gave up
                 self._push_actuators()
                 self._sync_controller()
+                if c.c_control:
+                    self._push_machine()
             elif code == FULL:
                 loop.traj = loop.traj.grown(min(loop.capacity, 2 * len(loop.traj)))
                 self._point_recording(loop)
@@ -336,6 +425,20 @@ class CSimulation(Simulation):
                 raise ERRORS[int(c.err)]()
             else:
                 raise RuntimeError(f"leg_run returned {code}")
+
+
+def _dgesv() -> int | None:
+    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
+    try:
+        from numpy.linalg import _umath_linalg
+
+        lib = ctypes.CDLL(_umath_linalg.__file__)
+        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
+            if hasattr(lib, name):
+                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
+    except (OSError, ImportError, AttributeError):
+        pass
+    return None
 
 
 class _InternalRaise(RuntimeError):

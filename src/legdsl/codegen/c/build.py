@@ -32,7 +32,14 @@ from functools import lru_cache
 from pathlib import Path
 
 RUNTIME = Path(__file__).parent / "runtime"
-RUNTIME_FILES = ("legdsl_math.h", "step.c")
+RUNTIME_FILES = (
+    "legdsl_math.h",
+    "legdsl_sim.h",
+    "legdsl_control.h",
+    "step.c",
+    "machine.c",
+    "control_none.c",
+)
 FLAGS = ("-O2", "-std=c99", "-fno-fast-math", "-ffp-contract=off", "-fPIC", "-shared")
 LIBS = ("-lm",)
 
@@ -87,11 +94,16 @@ def find_compiler() -> Compiler | None:
     return _compiler(os.environ.get("LEGDSL_CC") or None)
 
 
-def sources(generated_dir: Path) -> dict[str, str]:
-    """The files of a creature's library: its generated C and the runtime, by file name."""
+def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str]:
+    """The files of a creature's library (with ``controller``'s C, if given): its generated C
+    and the runtime, by file name; ``control.c`` is the controller's (or the runtime's none)."""
     files = {name: (RUNTIME / name).read_text() for name in RUNTIME_FILES}
     for name in ("dynamics.c", "dynamics.h"):
         files[name] = (generated_dir / name).read_text()
+    if controller is not None:
+        files["control.c"] = (generated_dir / f"control_{controller}.c").read_text()
+    else:
+        files["control.c"] = files["control_none.c"]
     return files
 
 
@@ -119,7 +131,7 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         for file, text in files.items():
             (Path(work) / file).write_text(text)
         partial = Path(work) / "lib.so"
-        units = [str(Path(work) / "dynamics.c"), str(Path(work) / "step.c")]
+        units = [str(Path(work) / u) for u in ("dynamics.c", "step.c", "machine.c", "control.c")]
         command = [compiler.path, *FLAGS, "-I", work, "-o", str(partial), *units, *LIBS]
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:

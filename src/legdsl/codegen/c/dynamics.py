@@ -50,10 +50,9 @@ def _signature(function: Function) -> str:
     return f"void {function.name}({params}, double *out, int *err)"
 
 
-def function_text(function: Function) -> str:
-    """One C function: the Python function's statements, then its result written to ``out``."""
-    printer = CPrinter(function.names, function.bases)
-    lines = [_signature(function), "{"]
+def statements_text(function: Function, printer: CPrinter) -> list[str]:
+    """The Python function's statements as C declarations, in order."""
+    lines = []
     for st in function.statements:
         if isinstance(st, Unpack):
             lines.append(f"{INDENT}const double {c_name(st.target.name)} = {st.array}[{st.index}];")
@@ -62,6 +61,13 @@ def function_text(function: Function) -> str:
             lines.append(f"{INDENT}const double {name} = {printer.print(st.value)};")
         elif isinstance(st, Comment):
             lines.append(f"{INDENT}/* {st.text} */")
+    return lines
+
+
+def function_text(function: Function) -> str:
+    """One C function: the Python function's statements, then its result written to ``out``."""
+    printer = CPrinter(function.names, function.bases)
+    lines = [_signature(function), "{", *statements_text(function, printer)]
     for k, leaf in enumerate(flatten(function.result)):
         if isinstance(leaf, Call):
             raise ValueError(f"{function.name}: a call in a result has no C form")

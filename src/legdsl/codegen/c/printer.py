@@ -31,7 +31,19 @@ from legdsl.codegen.python.printer import LegPrinter, _is_half
 from legdsl.lower.straightline import is_unrolled_power
 
 # The functions of Python's math module the C runtime has a checked twin of (legdsl_math.h).
-C_MATH = {"math.sin": "leg_sin", "math.cos": "leg_cos", "math.sqrt": "leg_sqrt"}
+C_MATH = {
+    "math.sin": "leg_sin",
+    "math.cos": "leg_cos",
+    "math.tan": "leg_tan",
+    "math.sqrt": "leg_sqrt",
+    "math.asin": "leg_asin",
+    "math.acos": "leg_acos",
+    "math.atan": "atan",  # never raises
+    "math.atan2": "atan2",  # never raises (CPython's special cases are C99's)
+    "math.exp": "leg_exp",
+    "math.log": "leg_log",
+    "abs": "fabs",
+}
 
 _RESERVED = """auto break case char const continue default do double else enum extern float for
 goto if inline int long register restrict return short signed sizeof static struct switch typedef
@@ -122,6 +134,61 @@ class CPrinter(LegPrinter):
         if not denom:
             return top
         return f"leg_div({top}, {'*'.join(b_str)})"
+
+    # ---------------------------------------------------------------- control expressions
+    def _print_Min(self, expr: Expr) -> str:
+        return _fold("leg_min", [self._print(a) for a in expr.args])
+
+    def _print_Max(self, expr: Expr) -> str:
+        return _fold("leg_max", [self._print(a) for a in expr.args])
+
+    def _print_sign(self, expr: Expr) -> str:
+        x = self._print(expr.args[0])
+        return f"(({x}) == 0 ? 0.0 : copysign(1.0, {x}))"
+
+    def _print_Piecewise(self, expr: Expr) -> str:
+        *pieces, last = expr.args
+        if last.cond != True:  # noqa: E712 (sympy's true): Python would give None
+            raise UnsupportedInC("a select without a last 'otherwise' branch")
+        text = f"({self._print(last.expr)})"
+        for piece in reversed(pieces):
+            text = f"(({self._print(piece.cond)}) ? ({self._print(piece.expr)}) : {text})"
+        return text
+
+    def _print_Relational(self, expr: Expr) -> str:
+        if expr.rel_op not in ("==", "!=", "<", "<=", ">", ">="):
+            raise UnsupportedInC(f"the relation {expr.rel_op}")
+        return f"({self._print(expr.lhs)} {expr.rel_op} {self._print(expr.rhs)})"
+
+    def _print_And(self, expr: Expr) -> str:
+        return self._logic(expr, "&&")
+
+    def _print_Or(self, expr: Expr) -> str:
+        return self._logic(expr, "||")
+
+    def _logic(self, expr: Expr, op: str) -> str:
+        # the Python print's order (default_sort_key), which is also its short-circuit order
+        from sympy import default_sort_key
+
+        args = sorted(expr.args, key=default_sort_key)
+        return "(" + f" {op} ".join(f"({self._print(a)})" for a in args) + ")"
+
+    def _print_Not(self, expr: Expr) -> str:
+        return f"(!({self._print(expr.args[0])}))"
+
+    def _print_BooleanTrue(self, expr: Expr) -> str:
+        return "1"
+
+    def _print_BooleanFalse(self, expr: Expr) -> str:
+        return "0"
+
+
+def _fold(name: str, args: list[str]) -> str:
+    """Python's min(a, b, c) as leg_min(leg_min(a, b), c): the same comparisons in order."""
+    text = args[0]
+    for arg in args[1:]:
+        text = f"{name}({text}, {arg})"
+    return text
 
 
 def c_name(name: str) -> str:

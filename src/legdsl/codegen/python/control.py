@@ -8,6 +8,8 @@ subexpressions, numbered temporaries) and printer as the dynamics.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy
 from sympy import Expr, Symbol
 
@@ -55,10 +57,18 @@ def _program(
     return Function(name, PARAMS, program.statements, result, program.names, program.bases)
 
 
-def render_control(
-    lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
-) -> str:
-    """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written."""
+@dataclass(frozen=True)
+class ControlPrograms:
+    """A lowered controller's generated functions and tables: what both targets print."""
+
+    functions: list[tuple[Function, str]]  # (function, its docstring)
+    tables: dict[str, list[tuple[tuple[int, int], str]]]  # events, entries, actions
+    settings: list[tuple[tuple[int, int], tuple[tuple[str, str], ...]]]
+    places: list[tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]]
+
+
+def control_programs(lc: LoweredController, event_text: dict[str, str]) -> ControlPrograms:
+    """The functions of a control module (each event, entry and action), and its tables."""
     functions = []
     tables: dict[str, list[tuple[tuple[int, int], str]]] = {
         "events": [],
@@ -102,6 +112,16 @@ def render_control(
         settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
         if body.places:
             places.append(((b, s), tuple((p.leg, p.axes, p.servos) for p in body.places)))
+    return ControlPrograms(functions, tables, settings, places)
+
+
+def render_control(
+    lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
+) -> str:
+    """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written."""
+    programs = control_programs(lc, event_text)
+    functions, tables = programs.functions, programs.tables
+    settings, places = programs.settings, programs.places
     bindings = [
         "; ".join(f"{role} = {', '.join(legs)}" for role, legs in binding)
         for binding in lc.bindings

@@ -44,6 +44,13 @@ static inline double leg_tan_e(double x, int *err) { return leg_math1(tan(x), x,
 static inline double leg_asin_e(double x, int *err) { return leg_math1(asin(x), x, err); }
 static inline double leg_acos_e(double x, int *err) { return leg_math1(acos(x), x, err); }
 
+/* math.exp: an overflow from a finite argument is a range error (math_1 with can_overflow) */
+static inline double leg_exp_e(double x, int *err) {
+    double r = exp(x);
+    if (isinf(r) && isfinite(x)) leg_flag(err, LEG_ERANGE);
+    return r;
+}
+
 /* math.sqrt: a domain error below zero (CPython's math_1 again). */
 static inline double leg_sqrt_e(double x, int *err) { return leg_math1(sqrt(x), x, err); }
 
@@ -92,6 +99,7 @@ static inline double leg_min(double a, double b) { return b < a ? b : a; }
 #define leg_acos(x) leg_acos_e((x), err)
 #define leg_sqrt(x) leg_sqrt_e((x), err)
 #define leg_log(x) leg_log_e((x), err)
+#define leg_exp(x) leg_exp_e((x), err)
 #define leg_pow(x, y) leg_pow_e((x), (y), err)
 
 #endif

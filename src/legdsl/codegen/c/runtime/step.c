@@ -14,49 +14,15 @@
  * and compares every recorded array bit for bit, so any drift between the two fails CI.
  *
  * The creature comes from dynamics.h (generated); everything that varies per run is in the
- * leg_sim struct, whose fields are listed once in LEG_SIM_FIELDS: the Python side
- * (legdsl/sim/c_backend.py) reads the same list from leg_sim_fields to build its ctypes twin.
+ * leg_sim struct (legdsl_sim.h).
  */
 #include <stdint.h>
 #include <float.h>
 #include <math.h>
 
 #include "legdsl_math.h"
+#include "legdsl_sim.h"
 #include "dynamics.h"
-
-#define LEG_SIM_FIELDS(X) \
-    X(double, dt) X(int64_t, rk4) X(int64_t, n_steps) X(int64_t, control_every) \
-    X(int64_t, has_controller) X(int64_t, every_step) X(double, record_dt) X(int64_t, capacity) \
-    X(int64_t, has_fall_height) X(double, fall_height) X(double, fall_tilt) \
-    X(double, start_height) X(int64_t, step_budget) \
-    X(int64_t, steps) X(int64_t, phase) X(int64_t, steps_taken) X(double, t) \
-    X(int64_t, recorded) X(double, next_record) X(int64_t, rows) \
-    X(double *, q) X(double *, v) \
-    X(int64_t, n_act) X(int64_t *, act_is_force) X(int64_t *, act_qi) X(int64_t *, act_vi) \
-    X(int64_t *, act_has_limit) X(double *, act_gain) X(double *, act_damping) \
-    X(double *, act_target) X(double *, act_force) X(double *, act_limit) X(double *, act_last) \
-    X(int64_t, n_stops) X(int64_t *, stop_qi) X(int64_t *, stop_vi) X(double *, stop_low) \
-    X(double *, stop_high) X(double *, stop_k) X(double *, stop_b) X(double *, stop_time) \
-    X(int64_t, has_ground) X(int64_t, normal_pad) X(double, normal_k) X(double, normal_b) \
-    X(double, pad_thickness) X(double, tangent_k) X(double, tangent_b) \
-    X(int64_t, has_friction) X(double, friction) X(int64_t, torsion) X(double, torsion_k) \
-    X(double, torsion_b) X(int64_t, has_slope) X(double, slope_angle) X(int64_t, n_flats) \
-    X(int64_t *, flat_is_box) X(double *, flats) \
-    X(int64_t *, contact_body) X(int64_t *, touching) X(double *, anchor) \
-    X(double *, yaw_anchor) X(int64_t *, slipping) X(double *, contact_force) \
-    X(int64_t, n_events) X(int64_t, event_cap) X(double *, event_t) X(int64_t *, event_kind) \
-    X(int64_t *, event_contact) \
-    X(int64_t, n_legs) X(int64_t *, leg_hip) X(int64_t *, leg_foot) X(int64_t *, leg_spring) \
-    X(int64_t, state_index) X(double, speed_command) \
-    X(double *, rec_t) X(double *, rec_q) X(double *, rec_v) X(int8_t *, rec_contact) \
-    X(double *, rec_force) X(double *, rec_com) X(double *, rec_com_vel) \
-    X(double *, rec_root_pos) X(double *, rec_root_rpy) X(double *, rec_leg_length) \
-    X(double *, rec_leg_spring_energy) X(double *, rec_kinetic) X(double *, rec_potential) \
-    X(double *, rec_elastic) X(int16_t *, rec_state) X(double *, rec_speed_command) \
-    X(int64_t, err) X(double *, scratch)
-
-#define LEG_DECLARE(type, name) type name;
-typedef struct { LEG_SIM_FIELDS(LEG_DECLARE) } leg_sim;
 
 #define LEG_DESCRIBE(type, name) #type " " #name ";"
 const char leg_sim_fields[] = LEG_SIM_FIELDS(LEG_DESCRIBE);
@@ -65,17 +31,6 @@ int64_t leg_sizes(int64_t *out) {
     out[0] = LEG_NQ; out[1] = LEG_NV; out[2] = LEG_NB; out[3] = LEG_NC;
     return 4;
 }
-
-/* What leg_run returns: why it handed control back to Python. */
-enum {
-    LEG_DONE = 0,         /* the last step was taken */
-    LEG_CONTROL = 1,      /* the controller is due (call it, then leg_run again) */
-    LEG_FULL = 2,         /* the recording buffers are full (grow them, then leg_run again) */
-    LEG_YIELD = 3,        /* the step budget of one call is spent, or the events buffer is full */
-    LEG_CHECK = 4,        /* the fall and divergence check failed (Python says how) */
-    LEG_NONFINITE = 5,    /* the state is no longer finite at a recorded instant */
-    LEG_RAISED = 6        /* Python would have raised: sim->err says what */
-};
 
 #define NQ LEG_NQ
 #define NV LEG_NV
@@ -695,7 +650,10 @@ int64_t leg_run(leg_sim *s) {
         int tick = steps % s->control_every == 0;
         if (s->phase == 0) {
             s->phase = 1;
-            if (tick && s->has_controller) return LEG_CONTROL;
+            if (tick && s->has_controller) {
+                if (!s->c_control) return LEG_CONTROL;
+                if (leg_control_tick(s)) return LEG_CONTROL; /* Python takes this tick */
+            }
         }
         if (s->phase == 1) {
             if (s->t >= s->next_record - 1e-12 && s->recorded < s->capacity) {
