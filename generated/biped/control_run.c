@@ -8,6 +8,1160 @@
 #include "legdsl_control.h"
 
 const char legdsl_control_fingerprint[] = "b655239544e87037";
-/* Not in C: the sensor path.route.ahead_heading (it stays in Python); the Python state machine runs it. */
-const int64_t leg_has_c_controller = 0;
-const leg_controller leg_the_controller = {0};
+
+const int64_t leg_has_c_controller = 1;
+
+static void read_sensors(leg_sim *s, double *out, int *err)
+{
+    out[0] = leg_sense_act(s, 0, 3);  /* act.leg_l_spring.force */
+    out[1] = leg_sense_act(s, 0, 0);  /* act.leg_l_spring.k */
+    out[2] = leg_sense_act(s, 0, 2);  /* act.leg_l_spring.rest */
+    out[3] = leg_sense_act(s, 1, 3);  /* act.leg_r_spring.force */
+    out[4] = leg_sense_act(s, 1, 0);  /* act.leg_r_spring.k */
+    out[5] = leg_sense_act(s, 1, 2);  /* act.leg_r_spring.rest */
+    out[6] = leg_sense_body(s, 0, 7, err);  /* body.trunk.pitch */
+    out[7] = leg_sense_body(s, 0, 10, err);  /* body.trunk.pitch_rate */
+    out[8] = leg_sense_body(s, 0, 6, err);  /* body.trunk.roll */
+    out[9] = leg_sense_body(s, 0, 9, err);  /* body.trunk.roll_rate */
+    out[10] = leg_sense_body(s, 0, 8, err);  /* body.trunk.yaw */
+    out[11] = leg_sense_body(s, 0, 11, err);  /* body.trunk.yaw_rate */
+    out[12] = leg_sense_com(s, 0, 1, err);  /* com.vx */
+    out[13] = leg_sense_com(s, 1, 1, err);  /* com.vy */
+    out[14] = leg_sense_com(s, 0, 0, err);  /* com.x */
+    out[15] = leg_sense_com(s, 1, 0, err);  /* com.y */
+    out[16] = leg_sense_com(s, 2, 0, err);  /* com.z */
+    out[17] = s->q[7];  /* coord.hip_l_x.value */
+    out[18] = s->q[8];  /* coord.hip_l_y.value */
+    out[19] = s->q[9];  /* coord.hip_l_z.value */
+    out[20] = s->q[11];  /* coord.hip_r_x.value */
+    out[21] = s->q[12];  /* coord.hip_r_y.value */
+    out[22] = s->q[13];  /* coord.hip_r_z.value */
+    out[23] = leg_sense_leg(s, 0, 1, 8, err);  /* leg.left.foot_x */
+    out[24] = leg_sense_leg(s, 0, 1, 9, err);  /* leg.left.foot_y */
+    out[25] = leg_sense_leg(s, 0, 1, 10, err);  /* leg.left.foot_z */
+    out[26] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.left.hip_x */
+    out[27] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.left.hip_y */
+    out[28] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.left.hip_z */
+    out[29] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.left.length */
+    out[30] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.left.rate */
+    out[31] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.left.touching */
+    out[32] = leg_sense_leg(s, 1, 3, 8, err);  /* leg.right.foot_x */
+    out[33] = leg_sense_leg(s, 1, 3, 9, err);  /* leg.right.foot_y */
+    out[34] = leg_sense_leg(s, 1, 3, 10, err);  /* leg.right.foot_z */
+    out[35] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.right.hip_x */
+    out[36] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.right.hip_y */
+    out[37] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.right.hip_z */
+    out[38] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.right.length */
+    out[39] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.right.rate */
+    out[40] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.right.touching */
+    out[41] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[42] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[43] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[44] = s->t;  /* time */
+    (void)s; (void)out; (void)err;
+}
+
+/* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
+static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_left_touching = s[31];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_left_touching < 0.5);
+}
+
+/* Enter LOADING (waiting under binding 0) when: touchdown(active) */
+static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_left_touching = s[31];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_left_touching > 0.5);
+}
+
+/* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
+static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_left_rate = s[30];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_left_rate < 0.0);
+}
+
+/* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
+static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_left_rate = s[30];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_left_rate > 0.0);
+}
+
+/* Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest */
+static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double act_leg_l_spring_rest = s[2];
+    const double leg_left_length = s[29];
+    const double full = p[18];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_left_length > act_leg_l_spring_rest + full);
+}
+
+/* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
+static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_right_touching = s[40];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_right_touching < 0.5);
+}
+
+/* Enter LOADING (waiting under binding 1) when: touchdown(active) */
+static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_right_touching = s[40];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_right_touching > 0.5);
+}
+
+/* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
+static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_right_rate = s[39];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_right_rate < 0.0);
+}
+
+/* Enter THRUST (waiting under binding 1) when: active.rate > 0 */
+static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double leg_right_rate = s[39];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_right_rate > 0.0);
+}
+
+/* Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest */
+static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
+{
+    const double act_leg_r_spring_rest = s[5];
+    const double leg_right_length = s[38];
+    const double full = p[18];
+    (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
+    return (leg_right_length > act_leg_r_spring_rest + full);
+}
+
+/* The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record step_speed: stdlib/raibert.leg:72 */
+/*   record speed_trim: stdlib/raibert.leg:73 */
+/*   record lifted: stdlib/raibert.leg:74 */
+/*   record lifted_x: stdlib/raibert.leg:75 */
+/*   record lifted_y: stdlib/raibert.leg:76 */
+/*   record stance: creatures/biped.leg:182 */
+static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double body_trunk_yaw = s[10];
+    const double com_x = s[14];
+    const double com_y = s[15];
+    const double time = s[44];
+    const double speed = u[0];
+    const double k_trim = p[1];
+    const double trim_band = p[2];
+    const double stance_guess = p[3];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
+    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
+    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, speed - step_speed)) + speed_trim;
+    out[0] = new_stance;
+    out[1] = landed;
+    out[2] = new_step_speed;
+    out[3] = new_speed_trim;
+    out[4] = time;
+    out[5] = com_x;
+    out[6] = com_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y). */
+/*   leg_l_spring.rest: stdlib/raibert.leg:196 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:179 */
+/*   hip_l_yaw.kp: creatures/biped.leg:180 */
+/*   leg_r_spring.rest: creatures/biped.leg:160 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:164 */
+/*   place left: stdlib/raibert.leg:57 */
+static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double com_vx = s[12];
+    const double com_vy = s[13];
+    const double coord_hip_l_x_value = s[17];
+    const double coord_hip_l_y_value = s[18];
+    const double leg_left_hip_x = s[26];
+    const double leg_left_hip_y = s[27];
+    const double speed = u[0];
+    const double k_speed = p[0];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double balance = p[14];
+    const double lead = p[15];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double slew = p[19];
+    const double stance = r[0];
+    const double speed_trim = r[3];
+    const double t1 = slew*tis;
+    const double leg_l_spring_rest = leg_min(0.0, short_ + t1);
+    const double leg_r_spring_rest = leg_max(short_, -t1);
+    const double hip_r_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_l_y_value*mirror;
+    const double hip_r_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_l_x_value;
+    const double t2 = leg_cos(body_trunk_yaw);
+    const double t3 = leg_sin(body_trunk_yaw);
+    const double t4 = com_vx*t2 + com_vy*t3;
+    const double left_x_goal = k_speed*(-speed - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4;
+    const double t5 = -com_vx*t3 + com_vy*t2;
+    const double left_y_goal = k_speed*t5 - leg_left_hip_y + 0.5*stance*t5;
+    out[0] = leg_l_spring_rest;
+    out[1] = swing_kp;
+    out[2] = swing_kv;
+    out[3] = 0.0;
+    out[4] = swing_kp;
+    out[5] = swing_kv;
+    out[6] = 0.0;
+    out[7] = 0.0;
+    out[8] = swing_kp;
+    out[9] = leg_r_spring_rest;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = swing_kp;
+    out[14] = swing_kv;
+    out[15] = 0.0;
+    out[16] = hip_r_pitch_setpoint;
+    out[17] = hip_r_roll_setpoint;
+    out[18] = 0.0;
+    out[19] = left_x_goal;
+    out[20] = left_y_goal;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering LOADING under binding 0 (changed: landed). */
+/*   record landed: creatures/biped.leg:185 */
+static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double time = s[44];
+    const double stance = r[0];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = time;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:160 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:161 */
+/*   hip_l_motor.force: stdlib/raibert.leg:162 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:167 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:168 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:169 */
+/*   leg_r_spring.rest: creatures/biped.leg:160 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:164 */
+static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double coord_hip_l_x_value = s[17];
+    const double coord_hip_l_y_value = s[18];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = 0.0;
+    out[6] = short_;
+    out[7] = swing_kp;
+    out[8] = swing_kv;
+    out[9] = 0.0;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = hip_r_pitch_setpoint;
+    out[14] = -coord_hip_l_x_value;
+    out[15] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering COMPRESSION under binding 0 (changed: none). */
+static void entry_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:107 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:108 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:109 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:110 */
+/*   hip_l_motor.force: stdlib/raibert.leg:111 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:112 */
+/*   hip_l_yaw.kp: creatures/biped.leg:170 */
+/*   hip_l_yaw.setpoint: stdlib/raibert.leg:125 */
+/*   leg_r_spring.rest: creatures/biped.leg:160 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:164 */
+static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_l_spring_force = s[0];
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double body_trunk_yaw_rate = s[11];
+    const double coord_hip_l_x_value = s[17];
+    const double coord_hip_l_y_value = s[18];
+    const double coord_hip_l_z_value = s[19];
+    const double leg_left_foot_x = s[23];
+    const double leg_left_foot_y = s[24];
+    const double leg_left_foot_z = s[25];
+    const double leg_left_hip_x = s[26];
+    const double leg_left_hip_y = s[27];
+    const double leg_left_hip_z = s[28];
+    const double leg_left_length = s[29];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double time = s[44];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double kp = p[4];
+    const double kv = p[5];
+    const double kp_roll = p[6];
+    const double kv_roll = p[7];
+    const double kp_yaw = p[8];
+    const double yaw_lead = p[9];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double k_path = p[20];
+    const double turn_limit = p[21];
+    const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
+    const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
+    const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
+    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(leg_sin(t3), leg_cos(t3));
+    const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = hip_l_motor_force;
+    out[5] = hip_l_roll_motor_force;
+    out[6] = kp_yaw;
+    out[7] = hip_l_yaw_setpoint;
+    out[8] = short_;
+    out[9] = swing_kp;
+    out[10] = swing_kv;
+    out[11] = 0.0;
+    out[12] = swing_kp;
+    out[13] = swing_kv;
+    out[14] = 0.0;
+    out[15] = hip_r_pitch_setpoint;
+    out[16] = -coord_hip_l_x_value;
+    out[17] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering THRUST under binding 0 (changed: predicted_apex). */
+/*   record predicted_apex: stdlib/raibert.leg:191 */
+static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_l_spring_force = s[0];
+    const double act_leg_l_spring_k = s[1];
+    const double com_z = s[16];
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + com_z;
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = new_predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
+/*   leg_l_spring.rest: stdlib/raibert.leg:192 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:107 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:108 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:109 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:110 */
+/*   hip_l_motor.force: stdlib/raibert.leg:111 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:112 */
+/*   hip_l_yaw.kp: creatures/biped.leg:170 */
+/*   hip_l_yaw.setpoint: stdlib/raibert.leg:125 */
+/*   leg_r_spring.rest: creatures/biped.leg:160 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:164 */
+static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_l_spring_force = s[0];
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double body_trunk_yaw_rate = s[11];
+    const double coord_hip_l_x_value = s[17];
+    const double coord_hip_l_y_value = s[18];
+    const double coord_hip_l_z_value = s[19];
+    const double leg_left_foot_x = s[23];
+    const double leg_left_foot_y = s[24];
+    const double leg_left_foot_z = s[25];
+    const double leg_left_hip_x = s[26];
+    const double leg_left_hip_y = s[27];
+    const double leg_left_hip_z = s[28];
+    const double leg_left_length = s[29];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double time = s[44];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double height = u[3];
+    const double kp = p[4];
+    const double kv = p[5];
+    const double kp_roll = p[6];
+    const double kv_roll = p[7];
+    const double kp_yaw = p[8];
+    const double yaw_lead = p[9];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double stroke = p[12];
+    const double k_height = p[13];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double k_path = p[20];
+    const double turn_limit = p[21];
+    const double predicted_apex = r[7];
+    const double leg_l_spring_rest = leg_min(0.06, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
+    const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
+    const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
+    const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
+    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(leg_sin(t3), leg_cos(t3));
+    const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
+    out[0] = leg_l_spring_rest;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = hip_l_motor_force;
+    out[6] = hip_l_roll_motor_force;
+    out[7] = kp_yaw;
+    out[8] = hip_l_yaw_setpoint;
+    out[9] = short_;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = swing_kp;
+    out[14] = swing_kv;
+    out[15] = 0.0;
+    out[16] = hip_r_pitch_setpoint;
+    out[17] = -coord_hip_l_x_value;
+    out[18] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering UNLOADING under binding 0 (changed: none). */
+static void entry_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
+/*   leg_l_spring.rest: stdlib/raibert.leg:196 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:160 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:161 */
+/*   hip_l_motor.force: stdlib/raibert.leg:162 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:167 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:168 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:169 */
+/*   leg_r_spring.rest: creatures/biped.leg:160 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:164 */
+static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double coord_hip_l_x_value = s[17];
+    const double coord_hip_l_y_value = s[18];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = 0.0;
+    out[6] = 0.0;
+    out[7] = short_;
+    out[8] = swing_kp;
+    out[9] = swing_kv;
+    out[10] = 0.0;
+    out[11] = swing_kp;
+    out[12] = swing_kv;
+    out[13] = 0.0;
+    out[14] = hip_r_pitch_setpoint;
+    out[15] = -coord_hip_l_x_value;
+    out[16] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record step_speed: stdlib/raibert.leg:72 */
+/*   record speed_trim: stdlib/raibert.leg:73 */
+/*   record lifted: stdlib/raibert.leg:74 */
+/*   record lifted_x: stdlib/raibert.leg:75 */
+/*   record lifted_y: stdlib/raibert.leg:76 */
+/*   record stance: creatures/biped.leg:182 */
+static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double body_trunk_yaw = s[10];
+    const double com_x = s[14];
+    const double com_y = s[15];
+    const double time = s[44];
+    const double speed = u[0];
+    const double k_trim = p[1];
+    const double trim_band = p[2];
+    const double stance_guess = p[3];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
+    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
+    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, speed - step_speed)) + speed_trim;
+    out[0] = new_stance;
+    out[1] = landed;
+    out[2] = new_step_speed;
+    out[3] = new_speed_trim;
+    out[4] = time;
+    out[5] = com_x;
+    out[6] = com_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y). */
+/*   leg_r_spring.rest: stdlib/raibert.leg:196 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_r_motor.force: stdlib/raibert.leg:146 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:179 */
+/*   hip_r_yaw.kp: creatures/biped.leg:180 */
+/*   leg_l_spring.rest: creatures/biped.leg:160 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:164 */
+/*   place right: stdlib/raibert.leg:57 */
+static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double com_vx = s[12];
+    const double com_vy = s[13];
+    const double coord_hip_r_x_value = s[20];
+    const double coord_hip_r_y_value = s[21];
+    const double leg_right_hip_x = s[35];
+    const double leg_right_hip_y = s[36];
+    const double speed = u[0];
+    const double k_speed = p[0];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double balance = p[14];
+    const double lead = p[15];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double slew = p[19];
+    const double stance = r[0];
+    const double speed_trim = r[3];
+    const double t1 = slew*tis;
+    const double leg_r_spring_rest = leg_min(0.0, short_ + t1);
+    const double leg_l_spring_rest = leg_max(short_, -t1);
+    const double hip_l_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_r_y_value*mirror;
+    const double hip_l_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_r_x_value;
+    const double t2 = leg_cos(body_trunk_yaw);
+    const double t3 = leg_sin(body_trunk_yaw);
+    const double t4 = com_vx*t2 + com_vy*t3;
+    const double right_x_goal = k_speed*(-speed - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4;
+    const double t5 = -com_vx*t3 + com_vy*t2;
+    const double right_y_goal = k_speed*t5 - leg_right_hip_y + 0.5*stance*t5;
+    out[0] = leg_r_spring_rest;
+    out[1] = swing_kp;
+    out[2] = swing_kv;
+    out[3] = 0.0;
+    out[4] = swing_kp;
+    out[5] = swing_kv;
+    out[6] = 0.0;
+    out[7] = 0.0;
+    out[8] = swing_kp;
+    out[9] = leg_l_spring_rest;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = swing_kp;
+    out[14] = swing_kv;
+    out[15] = 0.0;
+    out[16] = hip_l_pitch_setpoint;
+    out[17] = hip_l_roll_setpoint;
+    out[18] = 0.0;
+    out[19] = right_x_goal;
+    out[20] = right_y_goal;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering LOADING under binding 1 (changed: landed). */
+/*   record landed: creatures/biped.leg:185 */
+static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double time = s[44];
+    const double stance = r[0];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = time;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:160 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:161 */
+/*   hip_r_motor.force: stdlib/raibert.leg:162 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:167 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:168 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:169 */
+/*   leg_l_spring.rest: creatures/biped.leg:160 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:164 */
+static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double coord_hip_r_x_value = s[20];
+    const double coord_hip_r_y_value = s[21];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = 0.0;
+    out[6] = short_;
+    out[7] = swing_kp;
+    out[8] = swing_kv;
+    out[9] = 0.0;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = hip_l_pitch_setpoint;
+    out[14] = -coord_hip_r_x_value;
+    out[15] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering COMPRESSION under binding 1 (changed: none). */
+static void entry_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:107 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:108 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:109 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:110 */
+/*   hip_r_motor.force: stdlib/raibert.leg:111 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:112 */
+/*   hip_r_yaw.kp: creatures/biped.leg:170 */
+/*   hip_r_yaw.setpoint: stdlib/raibert.leg:125 */
+/*   leg_l_spring.rest: creatures/biped.leg:160 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:164 */
+static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_r_spring_force = s[3];
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double body_trunk_yaw_rate = s[11];
+    const double coord_hip_r_x_value = s[20];
+    const double coord_hip_r_y_value = s[21];
+    const double coord_hip_r_z_value = s[22];
+    const double leg_right_foot_x = s[32];
+    const double leg_right_foot_y = s[33];
+    const double leg_right_foot_z = s[34];
+    const double leg_right_hip_x = s[35];
+    const double leg_right_hip_y = s[36];
+    const double leg_right_hip_z = s[37];
+    const double leg_right_length = s[38];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double time = s[44];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double kp = p[4];
+    const double kv = p[5];
+    const double kp_roll = p[6];
+    const double kv_roll = p[7];
+    const double kp_yaw = p[8];
+    const double yaw_lead = p[9];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double k_path = p[20];
+    const double turn_limit = p[21];
+    const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
+    const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
+    const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
+    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(leg_sin(t3), leg_cos(t3));
+    const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = hip_r_motor_force;
+    out[5] = hip_r_roll_motor_force;
+    out[6] = kp_yaw;
+    out[7] = hip_r_yaw_setpoint;
+    out[8] = short_;
+    out[9] = swing_kp;
+    out[10] = swing_kv;
+    out[11] = 0.0;
+    out[12] = swing_kp;
+    out[13] = swing_kv;
+    out[14] = 0.0;
+    out[15] = hip_l_pitch_setpoint;
+    out[16] = -coord_hip_r_x_value;
+    out[17] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering THRUST under binding 1 (changed: predicted_apex). */
+/*   record predicted_apex: stdlib/raibert.leg:191 */
+static void entry_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_r_spring_force = s[3];
+    const double act_leg_r_spring_k = s[4];
+    const double com_z = s[16];
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force, act_leg_r_spring_k) + com_z;
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = new_predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
+/*   leg_r_spring.rest: stdlib/raibert.leg:192 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:107 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:108 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:109 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:110 */
+/*   hip_r_motor.force: stdlib/raibert.leg:111 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:112 */
+/*   hip_r_yaw.kp: creatures/biped.leg:170 */
+/*   hip_r_yaw.setpoint: stdlib/raibert.leg:125 */
+/*   leg_l_spring.rest: creatures/biped.leg:160 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:164 */
+static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double act_leg_r_spring_force = s[3];
+    const double body_trunk_pitch = s[6];
+    const double body_trunk_pitch_rate = s[7];
+    const double body_trunk_roll = s[8];
+    const double body_trunk_roll_rate = s[9];
+    const double body_trunk_yaw = s[10];
+    const double body_trunk_yaw_rate = s[11];
+    const double coord_hip_r_x_value = s[20];
+    const double coord_hip_r_y_value = s[21];
+    const double coord_hip_r_z_value = s[22];
+    const double leg_right_foot_x = s[32];
+    const double leg_right_foot_y = s[33];
+    const double leg_right_foot_z = s[34];
+    const double leg_right_hip_x = s[35];
+    const double leg_right_hip_y = s[36];
+    const double leg_right_hip_z = s[37];
+    const double leg_right_length = s[38];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double time = s[44];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double height = u[3];
+    const double kp = p[4];
+    const double kv = p[5];
+    const double kp_roll = p[6];
+    const double kv_roll = p[7];
+    const double kp_yaw = p[8];
+    const double yaw_lead = p[9];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double stroke = p[12];
+    const double k_height = p[13];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double k_path = p[20];
+    const double turn_limit = p[21];
+    const double predicted_apex = r[7];
+    const double leg_r_spring_rest = leg_min(0.06, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
+    const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
+    const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
+    const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
+    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(leg_sin(t3), leg_cos(t3));
+    const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
+    out[0] = leg_r_spring_rest;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = hip_r_motor_force;
+    out[6] = hip_r_roll_motor_force;
+    out[7] = kp_yaw;
+    out[8] = hip_r_yaw_setpoint;
+    out[9] = short_;
+    out[10] = swing_kp;
+    out[11] = swing_kv;
+    out[12] = 0.0;
+    out[13] = swing_kp;
+    out[14] = swing_kv;
+    out[15] = 0.0;
+    out[16] = hip_l_pitch_setpoint;
+    out[17] = -coord_hip_r_x_value;
+    out[18] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* The records on entering UNLOADING under binding 1 (changed: none). */
+static void entry_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double stance = r[0];
+    const double landed = r[1];
+    const double step_speed = r[2];
+    const double speed_trim = r[3];
+    const double lifted = r[4];
+    const double lifted_x = r[5];
+    const double lifted_y = r[6];
+    const double predicted_apex = r[7];
+    out[0] = stance;
+    out[1] = landed;
+    out[2] = step_speed;
+    out[3] = speed_trim;
+    out[4] = lifted;
+    out[5] = lifted_x;
+    out[6] = lifted_y;
+    out[7] = predicted_apex;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+/* Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
+/*   leg_r_spring.rest: stdlib/raibert.leg:196 */
+/*   hip_r_pitch.kp: stdlib/raibert.leg:160 */
+/*   hip_r_pitch.kv: stdlib/raibert.leg:161 */
+/*   hip_r_motor.force: stdlib/raibert.leg:162 */
+/*   hip_r_roll.kp: stdlib/raibert.leg:167 */
+/*   hip_r_roll.kv: stdlib/raibert.leg:168 */
+/*   hip_r_roll_motor.force: stdlib/raibert.leg:169 */
+/*   leg_l_spring.rest: creatures/biped.leg:160 */
+/*   hip_l_pitch.kp: stdlib/raibert.leg:144 */
+/*   hip_l_pitch.kv: stdlib/raibert.leg:145 */
+/*   hip_l_motor.force: stdlib/raibert.leg:146 */
+/*   hip_l_roll.kp: stdlib/raibert.leg:153 */
+/*   hip_l_roll.kv: stdlib/raibert.leg:154 */
+/*   hip_l_roll_motor.force: stdlib/raibert.leg:155 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:163 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:164 */
+static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
+{
+    const double coord_hip_r_x_value = s[20];
+    const double coord_hip_r_y_value = s[21];
+    const double swing_kp = p[10];
+    const double swing_kv = p[11];
+    const double mirror = p[16];
+    const double short_ = p[17];
+    const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = 0.0;
+    out[6] = 0.0;
+    out[7] = short_;
+    out[8] = swing_kp;
+    out[9] = swing_kv;
+    out[10] = 0.0;
+    out[11] = swing_kp;
+    out[12] = swing_kv;
+    out[13] = 0.0;
+    out[14] = hip_l_pitch_setpoint;
+    out[15] = -coord_hip_r_x_value;
+    out[16] = 0.0;
+    (void)s; (void)u; (void)p; (void)r; (void)tis;
+    (void)err;
+}
+
+static const int64_t after_entry[] = {1, 0, 0, 0, 0, 0, 1, 1, 1, 1};
+
+static const leg_event_fn events[] = {event_FLIGHT_0, event_LOADING_0, event_COMPRESSION_0, event_THRUST_0, event_UNLOADING_0, event_FLIGHT_1, event_LOADING_1, event_COMPRESSION_1, event_THRUST_1, event_UNLOADING_1};
+
+static const leg_values_fn entries[] = {entry_FLIGHT_0, entry_LOADING_0, entry_COMPRESSION_0, entry_THRUST_0, entry_UNLOADING_0, entry_FLIGHT_1, entry_LOADING_1, entry_COMPRESSION_1, entry_THRUST_1, entry_UNLOADING_1};
+
+static const leg_values_fn actions[] = {action_FLIGHT_0, action_LOADING_0, action_COMPRESSION_0, action_THRUST_0, action_UNLOADING_0, action_FLIGHT_1, action_LOADING_1, action_COMPRESSION_1, action_THRUST_1, action_UNLOADING_1};
+
+static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 6, 2, 5, 2, 7, 2};
+static const int64_t settings_0_1[] = {3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 6, 2, 5, 2, 7, 2};
+static const int64_t settings_0_2[] = {3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 6, 2, 5, 2, 7, 2};
+static const int64_t settings_0_3[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 6, 2, 5, 2, 7, 2};
+static const int64_t settings_0_4[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 6, 2, 5, 2, 7, 2};
+static const int64_t settings_1_0[] = {1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 3, 2, 2, 2, 4, 2};
+static const int64_t settings_1_1[] = {6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 3, 2, 2, 2, 4, 2};
+static const int64_t settings_1_2[] = {6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 3, 2, 2, 2, 4, 2};
+static const int64_t settings_1_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 3, 2, 2, 2, 4, 2};
+static const int64_t settings_1_4[] = {1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 3, 2, 2, 2, 4, 2};
+
+static const int64_t n_settings[] = {19, 16, 18, 19, 17, 19, 16, 18, 19, 17};
+
+static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3, settings_0_4, settings_1_0, settings_1_1, settings_1_2, settings_1_3, settings_1_4};
+
+static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 3, 2, 8, 7, 7, 6, 1, 1};
+
+static const int64_t places_1_0_i[] = {1, 3, 2, 0, 1, 6, 5, 12, 11, 11, 10, 1, 1};
+
+static const double places_0_0_d[] = {-1.3962634015954636, -0.5235987755982988, 1.3962634015954636, 0.5235987755982988};
+
+static const double places_1_0_d[] = {-1.3962634015954636, -0.5235987755982988, 1.3962634015954636, 0.5235987755982988};
+
+static const int64_t n_outputs[] = {21, 16, 18, 19, 17, 21, 16, 18, 19, 17};
+
+static const int64_t n_places[] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0};
+
+static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i, 0, 0, 0, 0};
+
+static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
+
+const leg_controller leg_the_controller = {
+    5, 2, 45, 4, 8, 21,
+    after_entry, events, entries, actions, n_settings, settings, read_sensors,
+    n_outputs, n_places, places_i, places_d,
+};

@@ -81,6 +81,22 @@ def test_shipped_controllers_run_the_same(name: str, controller: str, settings: 
     both(session(name), controller, settings)
 
 
+@pytest.mark.parametrize(
+    "path",
+    [
+        "circle(center = (0, 5) m, radius = 5 m, turn = left)",
+        "square(corner = (0, -2) m, side = 4 m)",  # a closed polyline
+        "polyline((0, 0) m, (3, 0) m, (3, 3) m)",  # an open one, past its end
+    ],
+)
+def test_paths_are_followed_the_same(path: str) -> None:
+    sess = session("biped")
+    opts = RunOptions(duration=DURATION * 2)
+    python = sess.run("run", ["speed=1.5m/s"], [path], options=opts, backend="python").result
+    c = sess.run("run", ["speed=1.5m/s"], [path], options=opts, backend="c").result
+    assert_same(python, c)
+
+
 def test_the_quadruped_drop_runs_the_same() -> None:
     both(session("quadruped"), None, [], drop=0.3, record_rate=0.0)
 
@@ -197,12 +213,12 @@ def test_a_state_gone_infinite_between_checks_stops_the_same() -> None:
         ("kangaroo", "hop", True),
         ("biped", "gallop", True),
         ("biped", "gallop_human", True),
-        ("biped", "run", False),
+        ("biped", "run", True),
     ],  # fmt: skip
 )
 def test_the_state_machine_runs_in_c_where_it_can(name: str, controller: str, in_c: bool) -> None:
     """Every control tick of these controllers is taken by the C state machine (with its
-    kinematic solves); the run controller reads a path, whose tracker stays in Python."""
+    kinematic solves and, for the run controller, its path tracker)."""
     from legdsl.pipeline.backend import make_simulation
     from legdsl.pipeline.settings import sort_settings
     from legdsl.sim.c_backend import CSimulation

@@ -33,6 +33,7 @@ import numpy as np
 
 from legdsl.codegen.c.build import Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
+from legdsl.ir.paths import MEMBERS
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
@@ -286,7 +287,27 @@ class CSimulation(Simulation):
         size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
         c.dgesv = _dgesv()
+        self._setup_paths(m)
         self._push_machine()
+
+    def _setup_paths(self, m: StateMachine) -> None:
+        """The paths' geometry (PathGeometry's vertices and arclengths) and trackers, for C."""
+        data: list[float] = []
+        at = []
+        for tracker in m.sensors.paths.values():
+            at.append(len(data))
+            geo, spec = tracker.geometry, tracker.spec
+            if geo is None or spec is None:
+                data += [0.0] * 9
+                continue
+            shape = 1.0 if spec.shape == "circle" else 2.0
+            data += [shape, float(geo.closed), *spec.center, spec.radius, float(spec.turn)]
+            data += [spec.lookahead, geo.length, float(len(geo.vertices))]
+            data += [c for v in geo.vertices for c in v] + list(geo.starts)
+        self.c.n_paths = len(at)
+        self._array("path_at", at, np.int64)
+        self._array("path_data", data)
+        self._array("path_state", [], size=12 * len(at))
 
     def _push_machine(self) -> None:
         c, m, keep = self.c, self.controller, self._keep
@@ -296,6 +317,9 @@ class CSimulation(Simulation):
         keep["ctl_records"][: len(m.records)] = m.records
         keep["ctl_inputs"][: len(m.inputs)] = m.inputs
         c.sched_pos = len(self._schedule) - len(m.schedule)
+        for k, tracker in enumerate(m.sensors.paths.values()):
+            values = [tracker.values[name] for name in MEMBERS]
+            keep["path_state"][12 * k : 12 * k + 12] = [tracker.progress, tracker._last_s, *values]
         for i, clock in enumerate(m.sensors.clocks.values()):
             keep["clocks"][5 * i : 5 * i + 5] = [float(clock.touching), clock.touchdown,
                                                  clock.liftoff, clock.stance, clock.flight]  # fmt: skip
@@ -312,6 +336,11 @@ class CSimulation(Simulation):
         m.records = keep["ctl_records"][: len(m.records)].tolist()
         m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
         m.schedule = self._schedule[int(c.sched_pos) :]
+        for k, tracker in enumerate(m.sensors.paths.values()):
+            state = keep["path_state"][12 * k : 12 * k + 12].tolist()
+            tracker.progress, tracker._last_s = state[0], state[1]
+            if tracker.geometry is not None:
+                tracker.values = dict(zip(MEMBERS, state[2:], strict=True))
         for i, clock in enumerate(m.sensors.clocks.values()):
             touching, clock.touchdown, clock.liftoff, clock.stance, clock.flight = keep["clocks"][
                 5 * i : 5 * i + 5

@@ -20,6 +20,7 @@ from legdsl.codegen.c.dynamics import statements_text
 from legdsl.codegen.c.printer import CPrinter, UnsupportedInC
 from legdsl.codegen.python.control import PARAMS, control_programs
 from legdsl.ir.model import Model
+from legdsl.ir.paths import MEMBERS
 from legdsl.lower.control import LoweredController, Where
 from legdsl.lower.symbolic import Function
 
@@ -31,7 +32,7 @@ LEG_MEMBERS = ("touching", "stance_time", "flight_time", "length", "rate", "hip_
                "hip_z", "foot_x", "foot_y", "foot_z")  # fmt: skip
 
 
-def sensor_call(model: Model, key: str) -> str:
+def sensor_call(model: Model, key: str, controller: str | None = None) -> str:
     """The C expression of one sensor key (``Sensors._value``)."""
     kind, _, rest = key.partition(".")
     name, _, member = rest.rpartition(".")
@@ -61,6 +62,10 @@ def sensor_call(model: Model, key: str) -> str:
         hip = model.hip_body_index(leg)
         code = LEG_MEMBERS.index(member) if member in LEG_MEMBERS else 11 + "xyz".index(member[-1])
         return f"leg_sense_leg(s, {foot}, {hip}, {code}, err)"
+    if kind == "path" and controller is not None and member in MEMBERS:
+        names = [p.name for p in model.controller(controller).paths]
+        if len(names) <= 64:
+            return f"leg_sense_path(s, {names.index(name)}, {MEMBERS.index(member)}, err)"
     raise UnsupportedInC(f"the sensor {key} (it stays in Python)")
 
 
@@ -102,7 +107,7 @@ def render_control_c(
         f'const char legdsl_control_fingerprint[] = "{stamp}";',
     ]
     try:
-        sensors = [f"    out[{k}] = {sensor_call(model, key)};  /* {key} */"
+        sensors = [f"    out[{k}] = {sensor_call(model, key, lc.name)};  /* {key} */"
                    for k, key in enumerate(lc.sensors)]  # fmt: skip
     except UnsupportedInC as why:
         return "\n".join([*header, f"/* Not in C: {why}; the Python state machine runs it. */",

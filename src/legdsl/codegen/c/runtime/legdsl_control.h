@@ -47,10 +47,12 @@ double leg_sense_contact(leg_sim *s, int contact, int member, int *err);
 double leg_sense_act(const leg_sim *s, int actuator, int member);
 double leg_sense_body(leg_sim *s, int body, int member, int *err);
 double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err);
+double leg_sense_path(leg_sim *s, int path, int member, int *err);
 
 /* contact members: 0 touching, 1-3 x y z, 4-6 vx vy vz */
 /* actuator members: 0 gain (k, kp), 1 damping (b, kv), 2 target (rest, setpoint), 3 force */
 /* body members: 0-2 x y z, 3-5 vx vy vz, 6 roll, 7 pitch, 8 yaw, 9-11 their rates */
+/* path members: MEMBERS of legdsl/ir/paths.py, in order (lateral ... given) */
 /* leg members: 0 touching, 1 stance_time, 2 flight_time, 3 length, 4 rate, 5-7 hip_x y z,
  * 8-10 foot_x y z, 11-13 foot_vx vy vz */
 

@@ -26,7 +26,11 @@ static struct {
     double pose[12 * NB], velocity[6 * NB], foot[NCS], foot_v[NCS], c[3], cv[3], hc, hs;
 } K;
 
-void leg_sense_begin(void) { K.poses = K.vel = K.feet = K.com = K.heading = 0; }
+static int path_fresh[64];
+void leg_sense_begin(void) {
+    K.poses = K.vel = K.feet = K.com = K.heading = 0;
+    for (int k = 0; k < 64; k++) path_fresh[k] = 0;
+}
 
 static const double *poses(leg_sim *s, int *err) {
     if (!K.poses) { body_poses(s->q, K.pose, err); K.poses = 1; }
@@ -139,6 +143,119 @@ double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
     }
     double rel_v[3] = {fv[0] - K.cv[0], fv[1] - K.cv[1], fv[2] - K.cv[2]};
     return to_heading(s, rel_v, member - 11, err);
+}
+
+/* ------------------------------------------------------------ paths (path_tracking.py) */
+/* path_data at path_at[k]: shape (0 none, 1 circle, 2 polyline), closed, cx, cy, radius, turn,
+ * lookahead, length, n vertices, then x y per vertex, then their arclengths (PathGeometry's).
+ * path_state: 12 per path: progress, last_s, then the 10 MEMBERS' values. */
+#define PY_PI 3.141592653589793
+
+/* Python's float %: the sign of the divisor (CPython's float_rem) */
+static double py_mod(double x, double y, int *err) {
+    if (y == 0.0) {
+        leg_flag(err, LEG_EZERODIV);
+        return NAN;
+    }
+    double mod = fmod(x, y);
+    if (mod != 0.0) {
+        if ((y < 0) != (mod < 0)) mod += y;
+    } else {
+        mod = copysign(0.0, y);
+    }
+    return mod;
+}
+
+static double wrap(double angle, int *err) { return atan2(leg_sin(angle), leg_cos(angle)); }
+
+/* PathGeometry.project: s, x, y, heading, lateral */
+static void project(const double *g, double x, double y, double *out, int *err) {
+    if (g[0] == 1.0) {
+        double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
+        double dx = x - cx, dy = y - cy;
+        double r = leg_hypot(dx, dy);
+        double phi = r > 0 ? atan2(dy, dx) : 0.0;
+        double start = leg_div(-turn * PY_PI, 2.0);
+        out[0] = py_mod((phi - start) * turn, 2 * PY_PI, err) * radius;
+        double heading = phi + leg_div(turn * PY_PI, 2.0);
+        out[4] = (radius - r) * turn;
+        out[1] = cx + radius * leg_cos(phi);
+        out[2] = cy + radius * leg_sin(phi);
+        out[3] = wrap(heading, err);
+        return;
+    }
+    int closed = g[1] != 0.0;
+    int64_t nv = (int64_t)g[8];
+    const double *v = g + 9, *starts = g + 9 + 2 * nv;
+    double best_d = INFINITY;
+    for (int64_t i = 0; i + 1 < nv; i++) {
+        const double *a = v + 2 * i, *b = v + 2 * i + 2;
+        double ex = b[0] - a[0], ey = b[1] - a[1];
+        double seg = leg_hypot(ex, ey);
+        double u = leg_div((x - a[0]) * ex + (y - a[1]) * ey, seg * seg);
+        u = leg_min(1.0, leg_max(0.0, u));
+        double px = a[0] + u * ex, py = a[1] + u * ey;
+        double d = leg_hypot(x - px, y - py);
+        if (d < best_d - 1e-12) {
+            best_d = d;
+            double tx = leg_div(ex, seg), ty = leg_div(ey, seg);
+            double cross = tx * (y - py) - ty * (x - px);
+            double lateral;
+            if (!closed && ((i == 0 && u == 0.0) || (u == 1.0 && i == nv - 2))) lateral = cross;
+            else lateral = d > 0 ? copysign(d, cross) : 0.0;
+            out[0] = starts[i] + u * seg;
+            out[1] = px; out[2] = py; out[3] = atan2(ty, tx); out[4] = lateral;
+        }
+    }
+}
+
+/* PathGeometry.at: x, y, heading at arclength s */
+static void path_at_s(const double *g, double s, double *out, int *err) {
+    if (g[0] == 1.0) {
+        double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
+        double phi = leg_div(-turn * PY_PI, 2.0) + leg_div(turn * s, radius);
+        out[0] = cx + radius * leg_cos(phi);
+        out[1] = cy + radius * leg_sin(phi);
+        out[2] = wrap(phi + leg_div(turn * PY_PI, 2.0), err);
+        return;
+    }
+    double length = g[7];
+    int64_t nv = (int64_t)g[8];
+    const double *v = g + 9, *starts = g + 9 + 2 * nv;
+    s = g[1] != 0.0 ? py_mod(s, length, err) : leg_min(leg_max(s, 0.0), length);
+    int64_t i = 0;
+    while (i < nv - 2 && s >= starts[i + 1]) i++;
+    const double *a = v + 2 * i, *b = v + 2 * i + 2;
+    double seg = starts[i + 1] - starts[i];
+    double u = leg_div(s - starts[i], seg);
+    out[0] = a[0] + u * (b[0] - a[0]);
+    out[1] = a[1] + u * (b[1] - a[1]);
+    out[2] = atan2(b[1] - a[1], b[0] - a[0]);
+}
+
+/* PathTracker.update, once per tick, at the centre of mass */
+double leg_sense_path(leg_sim *s, int k, int member, int *err) {
+    const double *g = s->path_data + s->path_at[k];
+    double *st = s->path_state + 12 * k;
+    if (g[0] != 0.0 && !path_fresh[k]) {
+        path_fresh[k] = 1;
+        com(s, err);
+        double p[5], ahead[3];
+        project(g, K.c[0], K.c[1], p, err);
+        double length = g[7];
+        if (isnan(st[1])) {
+            st[0] = p[0];
+        } else {
+            double ds = p[0] - st[1];
+            if (g[1] != 0.0 || g[0] == 1.0) ds = py_mod(ds + leg_div(length, 2.0), length, err) - leg_div(length, 2.0);
+            st[0] += ds;
+        }
+        st[1] = p[0];
+        path_at_s(g, p[0] + g[6], ahead, err);
+        double values[10] = {p[4], p[3], st[0], length, p[1], p[2], ahead[0], ahead[1], ahead[2], 1.0};
+        for (int j = 0; j < 10; j++) st[2 + j] = values[j];
+    }
+    return st[2 + member];
 }
 
 /* ------------------------------------------------------------ place (FootPlacer.solve) */
