@@ -31,14 +31,32 @@ pytestmark = pytest.mark.skipif(
     reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
 )
 
-# (creature, controller, --set) of every shipped controller
-SHIPPED_RUNS = [
+# (creature, controller, --set) of the shipped controllers, with a speed they hold
+CHOSEN_RUNS = [
     ("hopper", "hop", ["speed=1m/s"]),
     ("kangaroo", "hop", ["speed=3m/s", "speed=4m/s@0.5s"]),
     ("biped", "run", ["speed=1.5m/s"]),
     ("biped", "gallop", ["speed=1.5m/s"]),
     ("biped", "gallop_human", ["speed=1.5m/s"]),
 ]
+
+
+def _every_controller() -> list[tuple[str, str, list[str]]]:
+    """The chosen runs, and every other controller of a shipped creature at its defaults (a
+    controller added to a .leg file is checked without editing this test)."""
+    from conftest import SHIPPED, shipped_model
+
+    chosen = {(name, controller) for name, controller, _ in CHOSEN_RUNS}
+    more = [
+        (name, c.name, [])
+        for name in SHIPPED
+        for c in shipped_model(name).controllers
+        if (name, c.name) not in chosen
+    ]
+    return CHOSEN_RUNS + more
+
+
+SHIPPED_RUNS = _every_controller()
 DURATION = 1.0
 
 
@@ -235,3 +253,18 @@ def test_the_state_machine_runs_in_c_where_it_can(name: str, controller: str, in
     assert result.status == "ok"
     ticks = result.steps // 5 + 1
     assert sim.c.ctl_ticks == (ticks if in_c else 0)
+
+
+def test_a_batch_runs_each_job_as_alone() -> None:
+    from legdsl.pipeline.backend import run_batch
+
+    sess = session("kangaroo")
+    jobs = [
+        {"controller": "hop", "settings": [f"speed={v}m/s"], "options": RunOptions(duration=0.4)}
+        for v in (2, 3, 4, 5)
+    ]
+    runs = run_batch(sess, jobs, threads=2)
+    for job, run in zip(jobs, runs, strict=True):
+        alone = sess.run(**job, backend="python").result
+        assert_same(alone, run.result)
+    assert len({run.result.trajectory.speed_command.tobytes() for run in runs}) == 4

@@ -21,12 +21,13 @@
 #define NCS (3 * LEG_NC + 1)
 
 /* ------------------------------------------------------------ the per-tick kinematics cache */
-static struct {
+/* one per thread: runs of a batch go on in parallel threads (legdsl.pipeline.backend.run_batch) */
+static __thread struct {
     int poses, vel, feet, com, heading;
     double pose[12 * NB], velocity[6 * NB], foot[NCS], foot_v[NCS], c[3], cv[3], hc, hs;
 } K;
 
-static int path_fresh[64];
+static __thread int path_fresh[64];
 void leg_sense_begin(void) {
     K.poses = K.vel = K.feet = K.com = K.heading = 0;
     for (int k = 0; k < 64; k++) path_fresh[k] = 0;
