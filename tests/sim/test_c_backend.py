@@ -268,3 +268,17 @@ def test_a_batch_runs_each_job_as_alone() -> None:
         alone = sess.run(**job, backend="python").result
         assert_same(alone, run.result)
     assert len({run.result.trajectory.speed_command.tobytes() for run in runs}) == 4
+
+
+def test_a_missing_or_stale_c_file_is_compiled_again(generated: Path) -> None:
+    folder = generated / "kangaroo"
+    (folder / "control_hop.c").unlink()
+    text = (folder / "dynamics.c").read_text()
+    (folder / "dynamics.c").write_text(text.replace('legdsl_model_fingerprint[] = "', 'x[] = "'))
+    sess = RunSession.from_file(CREATURES / "kangaroo.leg", generated=generated)
+    run = sess.run("hop", ["speed=3m/s"], options=RunOptions(duration=0.2), backend="c")
+    assert run.status == "ok"
+    assert (folder / "control_hop.c").is_file()
+    assert (folder / "dynamics.c").read_text() == (
+        GENERATED / "kangaroo" / "dynamics.c"
+    ).read_text()

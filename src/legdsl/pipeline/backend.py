@@ -49,12 +49,12 @@ def make_simulation(
             print(f"legdsl: {missing}: running on the Python backend", file=log)
         return Simulation(model, dynamics, options, controller)
     source, generated, syntax = where
-    folder = c_sources(model, source, generated, log, syntax)
+    name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
+    folder = c_sources(model, source, generated, log, syntax, name)
     note = python_version_note()
     if note is not None and log is not None:
         print(f"legdsl: {note}", file=log)
     try:
-        name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
         library = load_library(model, folder, name)
     except NoCompiler as e:  # the compiler went away between the check and the build
         raise UsageError(f"--backend {backend}: {e}") from None

@@ -104,20 +104,28 @@ def c_sources(
     generated: Path,
     log: Any = None,
     syntax: ast.SourceFile | None = None,
+    controller: str | None = None,
 ) -> Path:
-    """``generated/NAME/``, with its ``dynamics.c`` and ``dynamics.h`` fresh (compiled first if
-    missing or stale, like the Python modules): the directory the C backend builds from."""
+    """``generated/NAME/``, with its ``dynamics.c`` and ``dynamics.h`` (and the controller's
+    ``control_CONTROLLER.c``) fresh, compiled first if missing or stale like the Python
+    modules: the directory the C backend builds from."""
     folder = generated / model.name
-    stamp = f'legdsl_model_fingerprint[] = "{model_fingerprint(model)}";'
+    wanted = {"dynamics.c": f'legdsl_model_fingerprint[] = "{model_fingerprint(model)}";'}
+    if controller is not None:
+        stamp = controller_fingerprint(model, model.controller(controller))
+        wanted[f"control_{controller}.c"] = f'legdsl_control_fingerprint[] = "{stamp}";'
     if generated.is_dir():
         recover_dir(folder)
     try:
-        fresh = stamp in (folder / "dynamics.c").read_text() and (folder / "dynamics.h").is_file()
+        fresh = (folder / "dynamics.h").is_file() and all(
+            line in (folder / file).read_text() for file, line in wanted.items()
+        )
     except OSError:
         fresh = False
     if not fresh:
         if log is not None:
-            print(f"legdsl: {folder}/dynamics.c is missing or stale; compiling {source}", file=log)
+            names = ", ".join(wanted)
+            print(f"legdsl: {folder}/{{{names}}} missing or stale; compiling {source}", file=log)
         compiled = (
             compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
         )
