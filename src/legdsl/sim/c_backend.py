@@ -193,6 +193,8 @@ class CSimulation(Simulation):
         self._sync_controller()
         self._point_recording(loop)
         self._array("scratch", [], size=9 * nc)
+        c.kin_valid = 0
+        self._array("kin", [], size=7 * nc)
         self._setup_machine()
 
     def _setup_ground(self) -> None:

@@ -311,7 +311,12 @@ static void generalized_forces(leg_sim *s, const double *q, const double *v, int
     for (int i = 0; i < NC; i++) any |= s->has_ground && s->touching[i];
     if (any) {
         double pos[NC3], vel[NC3], yaws[NC3], jac[NCJ], f[3];
-        contact_kinematics(s, q, v, pos, vel, yaws, err);
+        if (q == s->q && v == s->v && s->kin_valid) { /* found at the end of the last step */
+            for (int k = 0; k < 3 * NC; k++) { pos[k] = s->kin[k]; vel[k] = s->kin[3 * NC + k]; }
+            for (int k = 0; k < NC; k++) yaws[k] = s->kin[6 * NC + k];
+        } else {
+            contact_kinematics(s, q, v, pos, vel, yaws, err);
+        }
         contact_jacobians(q, jac, err);
         for (int i = 0; i < NC; i++) {
             if (!s->touching[i]) {
@@ -412,6 +417,15 @@ static void normalise(double *q, int *err) {
 #endif
 }
 
+/* The contact kinematics at the state now: the next forces at this state reuse them, as
+ * Simulation._contact_kinematics does (the same values, computed once). */
+static void remember_kinematics(leg_sim *s, const double *pos, const double *vel,
+                                const double *yaws) {
+    for (int k = 0; k < 3 * NC; k++) { s->kin[k] = pos[k]; s->kin[3 * NC + k] = vel[k]; }
+    for (int k = 0; k < NC; k++) s->kin[6 * NC + k] = s->torsion ? yaws[k] : 0.0;
+    s->kin_valid = 1;
+}
+
 /* One step; 0, or LEG_RAISED with the state as Python leaves it when it raises there. */
 static int step(leg_sim *s) {
     int e = 0;
@@ -457,6 +471,7 @@ static int step(leg_sim *s) {
     }
     for (int k = 0; k < NQ; k++) s->q[k] = qn[k];
     for (int k = 0; k < NV; k++) s->v[k] = vn[k];
+    s->kin_valid = 0;
     s->steps_taken += 1;
     for (int64_t k = 0; k < s->n_stops; k++) {
         double x = s->q[s->stop_qi[k]];
@@ -467,6 +482,7 @@ static int step(leg_sim *s) {
         double pos[NC3], vel[NC3], yaws[NC3];
         contact_kinematics(s, s->q, s->v, pos, vel, yaws, err);
         if (e) goto raised;
+        remember_kinematics(s, pos, vel, yaws);
         ground_update(s, s->t, pos, vel, s->torsion ? yaws : 0, err);
         if (e) goto raised;
     }
@@ -628,6 +644,7 @@ int64_t leg_begin(leg_sim *s) {
     if (s->has_ground) {
         double pos[NC3], vel[NC3], yaws[NC3];
         contact_kinematics(s, s->q, s->v, pos, vel, yaws, err);
+        if (!e) remember_kinematics(s, pos, vel, yaws);
         if (!e) ground_update(s, 0.0, pos, vel, s->torsion ? yaws : 0, err);
     }
     s->err = e;
