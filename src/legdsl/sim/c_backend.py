@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.codegen.c.build import Built, build, find_compiler, sources
+from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
 from legdsl.ir.paths import MEMBERS
 from legdsl.sim.contact import ContactEvent
@@ -96,6 +96,7 @@ class CLibrary:
 
 
 _LOADED: dict[Path, CLibrary] = {}
+_BY_STAT: dict[tuple[Any, ...], CLibrary] = {}
 
 
 def available() -> str | None:
@@ -109,9 +110,20 @@ def load_library(model: Model, generated_dir: Path, controller: str | None = Non
     """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
     controller's state machine in C when it has one."""
     name = model.name if controller is None else f"{model.name}-{controller}"
+    # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
+    # process, files whose size and modification time are unchanged give the library again.
+    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
+    if controller is not None:
+        files.append(generated_dir / f"control_{controller}.c")
+    files += [RUNTIME / f for f in RUNTIME_FILES]
+    stats = tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+    key = (name, stats, find_compiler())
+    if key in _BY_STAT:
+        return _BY_STAT[key]
     built = build(name, sources(generated_dir, controller))
     if built.path not in _LOADED:
         _LOADED[built.path] = CLibrary(built, model)
+    _BY_STAT[key] = _LOADED[built.path]
     return _LOADED[built.path]
 
 
