@@ -188,7 +188,7 @@ def add_run_parser(sub: Any) -> Command:
         default=None,
         help="take the steps in Python (the reference; the default for now) or in C, compiled "
         "from generated/NAME/dynamics.c and cached (bit-identical runs, several times faster); "
-        "auto: C when a C compiler is found (docs/runtime.md)",
+        "auto: C when a C compiler is found; default $LEGDSL_BACKEND, else python (docs/runtime.md)",
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
         r.add_argument(flag, default=default, metavar=metavar, help=text)

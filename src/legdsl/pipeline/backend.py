@@ -21,7 +21,12 @@ from legdsl.pipeline.generated import c_sources
 from legdsl.sim.simulate import Controller, RunOptions, Simulation
 
 BACKENDS = ("python", "c", "auto")
-DEFAULT_BACKEND = "python"
+DEFAULT_BACKEND = "python"  # the one line to change for C by default ("auto")
+
+
+def chosen(backend: str | None) -> str:
+    """``backend`` if given, else ``$LEGDSL_BACKEND`` if set, else ``DEFAULT_BACKEND``."""
+    return backend or os.environ.get("LEGDSL_BACKEND") or DEFAULT_BACKEND
 
 
 def make_simulation(
@@ -29,11 +34,13 @@ def make_simulation(
     dynamics: ModuleType,
     options: RunOptions,
     controller: Controller | None,
-    backend: str,
+    backend: str | None,
     where: tuple[Path, Path, ast.SourceFile | None],
     log: Any = None,
 ) -> Simulation:
-    """A simulation on ``backend``; ``where`` is (the .leg file, generated/, its syntax tree)."""
+    """A simulation on ``backend`` (None: ``chosen``); ``where`` is (the .leg file, generated/,
+    its syntax tree)."""
+    backend = chosen(backend)
     if backend not in BACKENDS:
         raise UsageError(f"--backend {backend}: use one of {', '.join(BACKENDS)}")
     if backend == "python":

@@ -31,7 +31,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline import scaled
-from legdsl.pipeline.backend import DEFAULT_BACKEND, make_simulation
+from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
@@ -98,7 +98,7 @@ class RunSession:
         options: RunOptions | None = None,
         progress: Progress | None = None,
         scale: float | None = None,
-        backend: str = DEFAULT_BACKEND,
+        backend: str | None = None,
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
@@ -106,7 +106,7 @@ class RunSession:
         ``UsageError`` before anything is simulated. With ``scale`` (L), every input is for the
         creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
         and its outputs by L (``legdsl.pipeline.scaled``). ``backend`` is ``python``, ``c`` or
-        ``auto`` (``legdsl.pipeline.backend``)."""
+        ``auto``; None takes ``$LEGDSL_BACKEND``, else Python (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         options = asked
