@@ -101,3 +101,29 @@ def test_the_header_names_the_source_and_the_sizes() -> None:
     model = shipped_model("biped")
     assert f"#define LEG_NV {model.nv}\n" in text
     assert f"#define LEG_OUT_FORWARD_DYNAMICS {model.nv}\n" in text
+
+
+def test_a_controller_with_no_c_twin_is_printed_as_a_stub_for_python() -> None:
+    """A control law the C printer cannot spell exactly (here math.erf) keeps the controller
+    on the Python state machine: the C file says so, and says nothing else."""
+    import dataclasses
+
+    import sympy
+    from conftest import compiled_creature
+
+    from legdsl.codegen.c.control import render_control_c
+    from legdsl.lower.control import Setting
+
+    compiled = compiled_creature("hopper")
+    lc = compiled.lowered[0]
+    key, body = next(iter(sorted(lc.bodies.items())))
+    odd = Setting("hip_motor", "force", sympy.erf(sympy.Symbol("input_speed")))
+    bodies = dict(lc.bodies)
+    bodies[key] = dataclasses.replace(body, settings=(*body.settings, odd))
+    text = render_control_c(compiled.model, dataclasses.replace(lc, bodies=bodies),
+                            "creatures/hopper.leg", {s: "" for s in lc.states}, "x")  # fmt: skip
+    assert "const int64_t leg_has_c_controller = 0;" in text
+    assert "math.erf" in text and "static" not in text
+    normal = render_control_c(compiled.model, lc, "creatures/hopper.leg",
+                              {s: "" for s in lc.states}, "x")  # fmt: skip
+    assert "const int64_t leg_has_c_controller = 1;" in normal

@@ -24,6 +24,7 @@ from legdsl.ir.paths import MEMBERS
 from legdsl.lower.control import LoweredController, Where
 from legdsl.lower.symbolic import Function
 
+AXES = ("x", "y", "z", "vx", "vy", "vz")
 ACT_MEMBERS = {"k": 0, "kp": 0, "b": 1, "kv": 1, "rest": 2, "setpoint": 2, "force": 3}
 SET_KEYS = {"k": 0, "kp": 0, "b": 1, "kv": 1, "rest": 2, "setpoint": 2, "force": 3}
 BODY_MEMBERS = ("x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "roll_rate",
@@ -56,7 +57,7 @@ def sensor_call(model: Model, key: str, controller: str | None = None) -> str:
     if kind == "body" and member in BODY_MEMBERS:
         b = [x.name for x in model.bodies].index(name)
         return f"leg_sense_body(s, {b}, {BODY_MEMBERS.index(member)}, err)"
-    if kind == "leg":
+    if kind == "leg" and member in (*LEG_MEMBERS, "foot_vx", "foot_vy", "foot_vz"):
         leg = next(x for x in model.legs if x.name == name)
         foot = [c.name for c in model.contacts].index(leg.foot)
         hip = model.hip_body_index(leg)
@@ -107,12 +108,18 @@ def render_control_c(
         f'const char legdsl_control_fingerprint[] = "{stamp}";',
     ]
     try:
-        sensors = [f"    out[{k}] = {sensor_call(model, key, lc.name)};  /* {key} */"
-                   for k, key in enumerate(lc.sensors)]  # fmt: skip
+        return _render(model, lc, header, event_text)
     except UnsupportedInC as why:
         return "\n".join([*header, f"/* Not in C: {why}; the Python state machine runs it. */",
                           "const int64_t leg_has_c_controller = 0;",
                           "const leg_controller leg_the_controller = {0};", ""])  # fmt: skip
+
+
+def _render(
+    model: Model, lc: LoweredController, header: list[str], event_text: dict[str, str]
+) -> str:
+    sensors = [f"    out[{k}] = {sensor_call(model, key, lc.name)};  /* {key} */"
+               for k, key in enumerate(lc.sensors)]  # fmt: skip
     programs = control_programs(lc, event_text)
     parts = ["\n".join(header), "const int64_t leg_has_c_controller = 1;"]
     parts.append("\n".join(["static void read_sensors(leg_sim *s, double *out, int *err)", "{",
