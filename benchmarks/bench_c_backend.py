@@ -52,6 +52,7 @@ RUNS = [
     ("quadruped", None, []),  # no controller yet: the passive drop
 ]
 DURATION = 5.0
+REPEAT = 3  # the C runs and MuJoCo's: the best of this many (the machine is shared)
 
 
 def identical(a, b) -> bool:  # type: ignore[no-untyped-def]
@@ -71,14 +72,15 @@ def bench_runs() -> list[tuple[str, float, float, float, bool]]:
         )
         options = RunOptions(duration=DURATION, drop=0.3 if controller is None else None)
         py = session.run(controller, settings, options=options, backend="python").result
-        c = session.run(controller, settings, options=options, backend="c").result
-        same = identical(py, c)
+        runs = [session.run(controller, settings, options=options, backend="c").result
+                for _ in range(REPEAT)]  # fmt: skip
+        same = all(identical(py, r) for r in runs)
+        c_rate = max(r.steps / r.wall_time for r in runs)
         if name not in mj_cache:
             q0 = [float(x) for x in py.trajectory.q[0]]
-            rtf, _ = mujoco_drop(name, q0)
-            mj_cache[name] = rtf / STEP
+            mj_cache[name] = max(mujoco_drop(name, q0)[0] for _ in range(REPEAT)) / STEP
         label = f"{name} {controller or '(drop)'}"
-        rows.append((label, py.steps / py.wall_time, c.steps / c.wall_time, mj_cache[name], same))
+        rows.append((label, py.steps / py.wall_time, c_rate, mj_cache[name], same))
         print(f"{label}: python {rows[-1][1]:.0f} steps/s, C {rows[-1][2]:.0f}, "
               f"MuJoCo {rows[-1][3]:.0f}, identical {same}", flush=True)  # fmt: skip
     return rows
@@ -191,7 +193,8 @@ def main() -> None:
         "2 cores shared with other work, so take the timings as rough).",
         "",
         f"Controlled runs of {DURATION:g} s at the paper's step (semi-implicit Euler, 0.0004 s, "
-        "control every 2 ms, recording at 200 Hz); steps per second of the run loop (`RunResult.wall_time`). "
+        "control every 2 ms, recording at 200 Hz); steps per second of the run loop (`RunResult.wall_time`; "
+        f"C and MuJoCo: the best of {REPEAT} runs, Python: one). "
         "On the C backend the state machine runs in C too (runtime/machine.c with the generated "
         "control_CONTROLLER.c), so a run enters Python only to start, to grow its recording and "
         "every 20000 steps; the quadruped has no controller yet (its passive drop). MuJoCo: `mj_step` on the exported MJCF "
@@ -237,6 +240,23 @@ def main() -> None:
     by = {(n, t): v for n, t, v in batch}
     for n in sorted({n for n, _, _ in batch}):
         lines.append(f"| {n} | {by[(n, 1)]:,.0f} | {by[(n, 2)]:,.0f} |")
+    ratios = [c / mj for _, _, c, mj, _ in runs]
+    kangaroo = next(c for label, _, c, _, _ in runs if label.startswith("kangaroo"))
+    lines += [
+        "",
+        f"Against the issue's aims: every run identical; C runs {min(ratios):.1f}x to "
+        f"{max(ratios):.1f}x as many steps per second as MuJoCo's `mj_step` (the aim of 10x is not "
+        "reached: a C step of these creatures takes 0.3 to 1 microsecond, of which the forward "
+        "dynamics is a quarter; the rest is the contact kinematics and Jacobians, the controller's "
+        "sensors every 5 steps and the recording); forward dynamics within 2x of the issue's "
+        "transliteration figures; the quadruped from `.leg` to a loaded library in "
+        f"{first:.1f} s (the C compiler {cc:.1f} s), reused from the cache the second time. The "
+        f"batch's cost per creature-step at N = 256 is {kangaroo / by[(256, 1)]:.1f} times a "
+        "single run's loop alone, because each run's setup in Python (about a millisecond: its "
+        "state machine, arrays and trajectory) is not yet batched, and it holds the GIL, which "
+        f"is also why two threads give {2 * by[(256, 2)] / by[(256, 1)]:.2f} times one thread's "
+        "throughput here, not the aim of 1.8.",
+    ]
     replace_section("c-backend", "\n".join(lines))
     print(f"wrote {DOC}")
 

@@ -1,16 +1,16 @@
 """The C backend: the same simulation as ``legdsl.sim.simulate``, its steps taken in C.
 
-``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the recording, the checks
-and the steps to the creature's shared library (``legdsl.codegen.c.build``: the generated
-``dynamics.c`` with the runtime ``step.c``). C advances many steps per call and writes the
-recorded samples straight into the trajectory's numpy arrays; it returns to Python only
+``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording,
+the checks and the controller's state machine to the creature's shared library
+(``legdsl.codegen.c.build``: the generated ``dynamics.c`` and ``control_CONTROLLER.c`` with the
+runtime ``step.c`` and ``machine.c``). C advances many steps per call and writes the recorded
+samples straight into the trajectory's numpy arrays; it returns to Python only
 
-* at each control instant, where the controller runs as on the Python backend (the state
-  machine and its actions are still the generated Python module; Python is entered once per
-  control interval, never per step): the state is copied into this object before and the
-  actuator settings back into C after;
 * when the recording arrays are full (they grow as on the Python backend);
 * every ``STEP_BUDGET`` steps, so that Ctrl-C and the progress line are served;
+* for a control tick the C state machine hands over (where Python would raise or fault, or
+  for a controller with no C twin, ``leg_has_c_controller`` 0): the state is copied into this
+  object and into the Python ``StateMachine``, which takes the tick, and back;
 * when the run stops: at its end, at a fall or divergence (found in C by the rules of
   ``Simulation._check``, whose message Python then writes by running that same check), or
   where Python would have raised (``legdsl_math.h``'s error codes become the same exceptions).
