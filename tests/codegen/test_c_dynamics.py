@@ -11,6 +11,7 @@ from __future__ import annotations
 import ctypes
 import math
 import random
+from pathlib import Path
 
 import pytest
 from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
@@ -79,6 +80,32 @@ def test_every_function_equals_the_python_print(name: str) -> None:
             assert [math.copysign(1, x) for x in got] == [math.copysign(1, x) for x in expected]
             checked += len(expected)
     assert checked > 1000
+
+
+def _has_fma() -> bool:
+    try:
+        return " fma " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not _has_fma(), reason="the processor has no FMA instructions to tempt gcc")
+def test_the_flags_keep_fused_multiply_adds_out_even_with_fma_allowed(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With -mfma, gcc's vectorizer would fuse a product into an add-and-subtract in spite of
+    -ffp-contract=off (the biped's dynamics then differ); legdsl's flags keep it out."""
+    import legdsl.codegen.c.build as build_module
+
+    monkeypatch.setattr(build_module, "FLAGS", (*build_module.FLAGS, "-mfma"))
+    lib = _library("biped")
+    dyn = shipped_dynamics("biped")
+    model = shipped_model("biped")
+    rng = random.Random("fma")
+    for _ in range(100):
+        state = _state("biped", rng)
+        got, _ = _call_c(lib, "forward_dynamics", ("q", "v", "tau"), state, model.nv)
+        assert got == dyn.forward_dynamics(state["q"], state["v"], state["tau"])
 
 
 @pytest.mark.parametrize("name", ["hopper", "biped"])

@@ -5,11 +5,15 @@ together with the runtime in ``runtime/`` (``step.c``: actuators, ground, integr
 loop; ``legdsl_math.h``) by the system C compiler, found at run time: ``$LEGDSL_CC`` if set,
 else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
 
-Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fPIC -shared``. ``-ffp-contract=off``
-keeps gcc and clang from fusing ``a*b + c`` into one rounding (an FMA), and no fast-math keeps
-them from reassociating sums or replacing divisions: then each printed operation is one IEEE
-double operation, in the order the Python print gives, and the results equal Python's bit for
-bit (x86-64 and arm64 compute doubles in SSE/NEON registers, without x87's wider ones).
+Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize -fPIC -shared``.
+``-ffp-contract=off`` keeps gcc and clang from fusing ``a*b + c`` into one rounding (an FMA),
+and no fast-math keeps them from reassociating sums or replacing divisions: then each printed
+operation is one IEEE double operation, in the order the Python print gives, and the results
+equal Python's bit for bit (x86-64 and arm64 compute doubles in SSE/NEON registers, without
+x87's wider ones). ``-fno-tree-vectorize``: gcc 12's straight-line vectorizer pairs a
+multiplication with an add-and-subtract into ``vfmaddsub`` where the machine has FMA (with
+``-mfma`` or ``-march=native``), a fused rounding in spite of ``-ffp-contract=off`` that changed
+the biped's dynamics; without it the runs stay identical with any ``-march``, at no cost here.
 
 The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
 A library is named by the hash of its sources, the compiler's path and version and the flags,
@@ -40,7 +44,15 @@ RUNTIME_FILES = (
     "machine.c",
     "control_none.c",
 )
-FLAGS = ("-O2", "-std=c99", "-fno-fast-math", "-ffp-contract=off", "-fPIC", "-shared")
+FLAGS = (
+    "-O2",
+    "-std=c99",
+    "-fno-fast-math",
+    "-ffp-contract=off",
+    "-fno-tree-vectorize",
+    "-fPIC",
+    "-shared",
+)
 LIBS = ("-lm",)
 
 

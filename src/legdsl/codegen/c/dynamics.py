@@ -85,7 +85,8 @@ def _header_comment(system: SymbolicSystem, source: str, file: str) -> str:
             f" * {file}: the equations of motion of '{model.name}' ({model.nv} DOF,"
             f" {len(model.bodies)} bodies) in C,",
             " * printed from the same straight-line code as dynamics.py (legdsl compile), so",
-            " * that built with -O2 -fno-fast-math -ffp-contract=off it computes the same doubles.",
+            " * that built with legdsl's flags (no fast-math, no FMA contraction: codegen/c/build.py)",
+            " * it computes the same doubles.",
             " * Each function writes its result, flattened as dynamics.py nests it, into out and",
             " * flags in *err where Python would have raised (legdsl_math.h).",
             " */",
