@@ -282,3 +282,19 @@ def test_a_missing_or_stale_c_file_is_compiled_again(generated: Path) -> None:
     assert (folder / "dynamics.c").read_text() == (
         GENERATED / "kangaroo" / "dynamics.c"
     ).read_text()
+
+
+def test_the_c_runtime_mirrors_the_python_runtime_as_it_is() -> None:
+    """step.c and machine.c transliterate these Python functions; an edit of one of them must
+    be followed in the C (the identity tests here check the result) and then recorded by
+    updating the digests in legdsl/sim/c_mirrors.py (python -m legdsl.sim.c_mirrors prints
+    them). Until then the C twin steps aside at run time, so no run differs."""
+    from legdsl.sim import c_mirrors
+
+    step = c_mirrors.digest(c_mirrors._step_functions())
+    machine = c_mirrors.digest(c_mirrors._machine_functions())
+    assert (step, machine) == (c_mirrors.STEP_DIGEST, c_mirrors.MACHINE_DIGEST), (
+        "the Python runtime changed since codegen/c/runtime/step.c or machine.c was brought in "
+        "line with it: make the same change there, run tests/sim/test_c_backend.py, then set "
+        f'STEP_DIGEST = "{step}" and MACHINE_DIGEST = "{machine}" in legdsl/sim/c_mirrors.py'
+    )

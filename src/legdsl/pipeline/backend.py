@@ -55,6 +55,16 @@ def make_simulation(
         if log is not None:
             print(f"legdsl: {missing}: running on the Python backend", file=log)
         return Simulation(model, dynamics, options, controller)
+    from legdsl.sim.c_mirrors import step_matches
+
+    if not step_matches():  # the Python runtime was edited since step.c was brought in line
+        if log is not None:
+            print(
+                "legdsl: the C runtime mirrors an older Python runtime (see "
+                "legdsl/sim/c_mirrors.py): running on the Python backend",
+                file=log,
+            )
+        return Simulation(model, dynamics, options, controller)
     source, generated, syntax = where
     name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
     folder = _fresh_sources(model, source, generated, log, syntax, name)

@@ -34,6 +34,7 @@ import numpy as np
 from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
 from legdsl.ir.paths import MEMBERS
+from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
@@ -271,7 +272,7 @@ class CSimulation(Simulation):
     def _setup_machine(self) -> None:
         """The state machine in C, when the library has the controller's (else c_control = 0)."""
         c, m = self.c, self.controller
-        use = isinstance(m, StateMachine) and self.library.c_controller
+        use = type(m) is StateMachine and self.library.c_controller and machine_matches()
         c.c_control = int(use)
         if not use:
             return
