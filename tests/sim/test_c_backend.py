@@ -298,3 +298,26 @@ def test_the_c_runtime_mirrors_the_python_runtime_as_it_is() -> None:
         "line with it: make the same change there, run tests/sim/test_c_backend.py, then set "
         f'STEP_DIGEST = "{step}" and MACHINE_DIGEST = "{machine}" in legdsl/sim/c_mirrors.py'
     )
+
+
+def test_an_interrupt_between_c_calls_stops_the_run_where_c_is() -> None:
+    """A signal lands in Python between two calls into C (here from the progress callback,
+    which runs at such a moment): the run is interrupted there, its time, steps, message and
+    recording telling the same instant, as on the Python backend."""
+    from legdsl.sim.simulate import Interrupted
+
+    calls = []
+
+    def stop(t: float, duration: float) -> None:
+        calls.append(t)
+        if len(calls) == 1:  # the signal, once (run() reports progress once more at the end)
+            raise Interrupted("SIGTERM")
+
+    sess = session("kangaroo")
+    opts = RunOptions(duration=60.0, record_rate=10.0)
+    result = sess.run("hop", [], options=opts, progress=stop, backend="c").result
+    assert result.status == "interrupted" and result.cause == "SIGTERM"
+    assert 0 < result.sim_time < 60.0
+    assert result.sim_time == result.steps * opts.dt
+    assert f"at t = {result.sim_time:.4f} s" in result.message
+    assert result.trajectory.t[-1] <= result.sim_time < result.trajectory.t[-1] + 0.1 + 1e-9

@@ -425,6 +425,16 @@ class CSimulation(Simulation):
                 self._pull_machine()
 
     def _loop(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
+        try:
+            self._run_c(loop, progress)
+        except BaseException as stop:
+            if getattr(self, "_started", False) and not isinstance(stop, _InternalRaise):
+                # a signal lands between two C calls: the run stops where C is
+                loop.steps, loop.recorded = int(self.c.steps), int(self.c.recorded)
+                self._pull()
+            raise
+
+    def _run_c(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
         lib, c = self.library.lib, self.c
         self._setup(loop)
         self._started = True
