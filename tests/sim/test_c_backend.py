@@ -321,3 +321,39 @@ def test_an_interrupt_between_c_calls_stops_the_run_where_c_is() -> None:
     assert result.sim_time == result.steps * opts.dt
     assert f"at t = {result.sim_time:.4f} s" in result.message
     assert result.trajectory.t[-1] <= result.sim_time < result.trajectory.t[-1] + 0.1 + 1e-9
+
+
+def test_a_python_runtime_edited_since_the_c_steps_the_c_aside(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With the digests of c_mirrors out of date, the C backend (for the step) or the C state
+    machine (for the controller) is not used, and the run is still the Python backend's."""
+    import io
+
+    from legdsl.pipeline.backend import make_simulation
+    from legdsl.pipeline.settings import sort_settings
+    from legdsl.sim import c_mirrors
+    from legdsl.sim.c_backend import CSimulation
+    from legdsl.sim.machine import StateMachine
+    from legdsl.sim.simulate import Simulation
+
+    sess = session("hopper")
+    s = sort_settings(["speed=1m/s"], sess.model, "hop")
+    where = (sess.source, sess.generated, sess.syntax)
+    opts = RunOptions(duration=0.3)
+
+    def simulation() -> Simulation:
+        machine = StateMachine(sess.model, sess.control("hop"), s.inputs, s.params, s.schedule)
+        return make_simulation(sess.model, sess.dynamics, opts, machine, "c", where, log)
+
+    log = io.StringIO()
+    monkeypatch.setattr(c_mirrors, "MACHINE_DIGEST", "edited")
+    sim = simulation()
+    assert isinstance(sim, CSimulation)
+    result = sim.run()
+    assert sim.c.ctl_ticks == 0 and not sim.c.c_control  # the Python state machine ran
+    assert_same(sess.run("hop", ["speed=1m/s"], options=opts, backend="python").result, result)
+    monkeypatch.setattr(c_mirrors, "STEP_DIGEST", "edited")
+    sim = simulation()
+    assert type(sim) is Simulation
+    assert "mirrors an older Python runtime" in log.getvalue()
