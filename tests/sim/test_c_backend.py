@@ -15,6 +15,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -333,7 +334,6 @@ def test_a_python_runtime_edited_since_the_c_steps_the_c_aside(
     from legdsl.pipeline.backend import make_simulation
     from legdsl.pipeline.settings import sort_settings
     from legdsl.sim import c_mirrors
-    from legdsl.sim.c_backend import CSimulation
     from legdsl.sim.machine import StateMachine
     from legdsl.sim.simulate import Simulation
 
@@ -348,12 +348,29 @@ def test_a_python_runtime_edited_since_the_c_steps_the_c_aside(
 
     log = io.StringIO()
     monkeypatch.setattr(c_mirrors, "MACHINE_DIGEST", "edited")
+    c_mirrors.machine_matches.cache_clear()
+    c_mirrors.step_matches.cache_clear()
+    try:
+        _stepped_aside(simulation, sess, opts, log, monkeypatch)
+    finally:  # the digests come back with monkeypatch; what was read from them must go too
+        monkeypatch.undo()
+        c_mirrors.machine_matches.cache_clear()
+        c_mirrors.step_matches.cache_clear()
+
+
+def _stepped_aside(simulation: Any, sess: RunSession, opts: RunOptions, log: Any,
+                   monkeypatch: pytest.MonkeyPatch) -> None:  # fmt: skip
+    from legdsl.sim import c_mirrors
+    from legdsl.sim.c_backend import CSimulation
+    from legdsl.sim.simulate import Simulation
+
     sim = simulation()
     assert isinstance(sim, CSimulation)
     result = sim.run()
     assert sim.c.ctl_ticks == 0 and not sim.c.c_control  # the Python state machine ran
     assert_same(sess.run("hop", ["speed=1m/s"], options=opts, backend="python").result, result)
     monkeypatch.setattr(c_mirrors, "STEP_DIGEST", "edited")
+    c_mirrors.step_matches.cache_clear()
     sim = simulation()
     assert type(sim) is Simulation
     assert "mirrors an older Python runtime" in log.getvalue()

@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import inspect
 from collections.abc import Callable
+from functools import lru_cache
 from typing import Any
 
 from legdsl.sim import (
@@ -64,14 +65,18 @@ STEP_DIGEST = "37ef36551ff54405"
 MACHINE_DIGEST = "5d7116ccf6471c2a"
 
 
+@lru_cache(maxsize=1)
 def step_matches() -> bool:
+    """Whether step.c still mirrors the Python step (read once per process)."""
     try:
         return digest(_step_functions()) == STEP_DIGEST
     except (OSError, TypeError):  # no source to read (a frozen install): trust the tests
         return True
 
 
+@lru_cache(maxsize=1)
 def machine_matches() -> bool:
+    """Whether machine.c still mirrors the Python state machine (read once per process)."""
     try:
         return digest(_machine_functions()) == MACHINE_DIGEST
     except (OSError, TypeError):

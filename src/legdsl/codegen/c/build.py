@@ -13,7 +13,7 @@ equal Python's bit for bit (x86-64 and arm64 compute doubles in SSE/NEON registe
 x87's wider ones). ``-fno-tree-vectorize``: gcc 12's straight-line vectorizer pairs a
 multiplication with an add-and-subtract into ``vfmaddsub`` where the machine has FMA (with
 ``-mfma`` or ``-march=native``), a fused rounding in spite of ``-ffp-contract=off`` that changed
-the biped's dynamics; without it the runs stay identical with any ``-march``, at no cost here.
+the biped's dynamics; without it the runs stay identical with any ``-march``, for a few percent.
 
 The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
 A library is named by the hash of its sources, the compiler's path and version and the flags,
