@@ -39,7 +39,12 @@ def test_compile_model_shows_every_stage(tiny: Path) -> None:
     assert compiled.model.name == "tiny" and compiled.name == "tiny"
     names = [f.name for f in compiled.system.functions]
     assert "forward_dynamics" in names and "mass_matrix" in names
-    assert [name for name, _ in compiled.files] == ["__init__.py", "dynamics.py"]
+    assert [name for name, _ in compiled.files] == [
+        "__init__.py",
+        "dynamics.py",
+        "dynamics.c",
+        "dynamics.h",
+    ]
     assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
     assert compiled.text("dynamics.py") == compile_model(tiny).text("dynamics.py")
 
@@ -49,7 +54,12 @@ def test_cli_compile_writes_the_modules(
 ) -> None:
     out = tmp_path / "gen"
     assert main(["compile", str(tiny), "--out", str(out)]) == 0
-    assert sorted(p.name for p in (out / "tiny").iterdir()) == ["__init__.py", "dynamics.py"]
+    assert sorted(p.name for p in (out / "tiny").iterdir()) == [
+        "__init__.py",
+        "dynamics.c",
+        "dynamics.h",
+        "dynamics.py",
+    ]
     assert (out / "tiny" / "dynamics.py").read_text(encoding="utf-8") == compile_model(tiny).text(
         "dynamics.py"
     )
@@ -107,7 +117,12 @@ def test_write_replaces_the_whole_directory(tiny: Path, tmp_path: Path) -> None:
     (out / "tiny").mkdir(parents=True)
     (out / "tiny" / "stale.py").write_text("from an older legdsl", encoding="utf-8")
     write_generated(compile_model(tiny), out)
-    assert sorted(os.listdir(out / "tiny")) == ["__init__.py", "dynamics.py"]
+    assert sorted(os.listdir(out / "tiny")) == [
+        "__init__.py",
+        "dynamics.c",
+        "dynamics.h",
+        "dynamics.py",
+    ]
     assert sorted(os.listdir(out)) == ["tiny"]
 
 

@@ -67,7 +67,14 @@ def test_the_driver_returns_every_stage_and_parses_each_file_once(
     assert [c.name for c in compiled.controllers] == ["hop"]
     assert len(compiled.lowered) == 1
     assert compiled.system is not None
-    assert [name for name, _ in compiled.files] == ["__init__.py", "dynamics.py", "control_hop.py"]
+    assert [name for name, _ in compiled.files] == [
+        "__init__.py",
+        "dynamics.py",
+        "dynamics.c",
+        "dynamics.h",
+        "control_hop.py",
+        "control_hop.c",
+    ]
     assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
 
 
@@ -80,7 +87,10 @@ def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
     assert "dynamics.py is missing; compiling" in log.getvalue()
     assert sorted(p.name for p in (tmp_path / "gen" / "hopper").iterdir()) == [
         "__init__.py",
+        "control_hop.c",
         "control_hop.py",
+        "dynamics.c",
+        "dynamics.h",
         "dynamics.py",
     ]
     session.control("hop")  # fresh now: no second compile

@@ -115,10 +115,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     check_run_options(options)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
+    backend = {"backend": args.backend} if args.backend else {}
     with (
         _terminate_as_interrupt()
     ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
-        run = session.run(controller, settings, args.path, options, progress, args.scale, switches)
+        run = session.run(
+            controller, settings, args.path, options, progress, args.scale, switches, **backend
+        )
     with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
         try:
             out = run.write(out)
@@ -206,6 +209,14 @@ def add_run_parser(sub: Any) -> Command:
         choices=("euler", "rk4"),
         default="euler",
         help="semi-implicit Euler (default) or RK4",
+    )
+    r.add_argument(
+        "--backend",
+        choices=("python", "c", "auto"),
+        default=None,
+        help="take the steps in Python (the reference; the default for now) or in C, compiled "
+        "from generated/NAME/dynamics.c and cached (bit-identical runs, several times faster); "
+        "auto: C when a C compiler is found; default $LEGDSL_BACKEND, else python (docs/runtime.md)",
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
         r.add_argument(flag, default=default, metavar=metavar, help=text)

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from legdsl.check.source import check_tree, choose
+from legdsl.codegen.c.control import render_control_c
+from legdsl.codegen.c.dynamics import render_header, render_source
 from legdsl.codegen.python.control import render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Controller, Model
@@ -102,6 +104,8 @@ def compile_checked(
     files: tuple[tuple[str, str], ...] = (
         ("__init__.py", render_init(model)),
         ("dynamics.py", render_dynamics(system, source)),
+        ("dynamics.c", render_source(system, source)),
+        ("dynamics.h", render_header(system, source)),
     )
     controllers: tuple[LoweredController, ...] = ()
     for controller in model.controllers:
@@ -112,6 +116,8 @@ def compile_checked(
         stamp = controller_fingerprint(model, controller)
         text = render_control(lowered_controller, source, events, stamp)
         files += ((f"control_{controller.name}.py", text),)
+        c_text = render_control_c(model, lowered_controller, source, events, stamp)
+        files += ((f"control_{controller.name}.c", c_text),)
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")

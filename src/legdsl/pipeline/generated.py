@@ -98,6 +98,41 @@ def _load(
     return import_module_file(path, label + "_new")
 
 
+def c_sources(
+    model: Model,
+    source: Path,
+    generated: Path,
+    log: Any = None,
+    syntax: ast.SourceFile | None = None,
+    controller: str | None = None,
+) -> Path:
+    """``generated/NAME/``, with its ``dynamics.c`` and ``dynamics.h`` (and the controller's
+    ``control_CONTROLLER.c``) fresh, compiled first if missing or stale like the Python
+    modules: the directory the C backend builds from."""
+    folder = generated / model.name
+    wanted = {"dynamics.c": f'legdsl_model_fingerprint[] = "{model_fingerprint(model)}";'}
+    if controller is not None:
+        stamp = controller_fingerprint(model, model.controller(controller))
+        wanted[f"control_{controller}.c"] = f'legdsl_control_fingerprint[] = "{stamp}";'
+    if generated.is_dir():
+        recover_dir(folder)
+    try:
+        fresh = (folder / "dynamics.h").is_file() and all(
+            line in (folder / file).read_text() for file, line in wanted.items()
+        )
+    except OSError:
+        fresh = False
+    if not fresh:
+        if log is not None:
+            names = ", ".join(wanted)
+            print(f"legdsl: {folder}/{{{names}}} missing or stale; compiling {source}", file=log)
+        compiled = (
+            compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+        )
+        write_generated(compiled, generated)
+    return folder
+
+
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
     """Write ``out_root/NAME/`` as a whole: the old directory is replaced only once the new one is complete."""
     return write_module_dir(Path(out_root), compiled.name, compiled.files)

@@ -33,6 +33,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline import scaled
+from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
@@ -106,6 +107,7 @@ class RunSession:
         progress: Progress | None = None,
         scale: float | None = None,
         switches: Sequence[str | Switch] = (),
+        backend: str | None = None,
     ) -> Run:
         """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
@@ -114,7 +116,8 @@ class RunSession:
         creature scaled by L (Table 1), run as the unscaled model with its inputs scaled by 1/L
         and its outputs by L (``legdsl.pipeline.scaled``). ``switches`` (``--switch`` texts,
         ``6s=gallop``, or ``Switch``es) change the controller during the run
-        (``legdsl.sim.switching``)."""
+        (``legdsl.sim.switching``). ``backend`` is ``python``, ``c`` or
+        ``auto``; None takes ``$LEGDSL_BACKEND``, else Python (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         options = asked
@@ -153,7 +156,8 @@ class RunSession:
         elif control is not None:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
-        sim = Simulation(self.model, self.dynamics, options, machine)
+        where = (self.source, self.generated, self.syntax)
+        sim = make_simulation(self.model, self.dynamics, options, machine, backend, where, self.log)
         self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")

@@ -94,6 +94,21 @@ class Interrupted(BaseException):
 INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
 
 
+@dataclass
+class RunLoop:
+    """How far a run's loop got: what ``Simulation.run`` reports once it stops."""
+
+    n_steps: int
+    record_every: int  # steps per sample (steps_per_sample)
+    capacity: int  # most samples the run records
+    traj: Trajectory  # the recording, grown as it fills
+    control_every: int  # steps per control interval
+    start_height: float  # the root over its feet at the start (the fall rule)
+    recorded: int = 0
+    steps: int = 0  # the loop's step index when it stopped
+    status: str = "ok"
+
+
 class Simulation:
     def __init__(
         self,
@@ -409,75 +424,93 @@ class Simulation:
         # At most this many samples; the arrays start small and double when full, so that a
         # long run (--time 1e9) starts at once and memory follows what was recorded.
         capacity = n_steps // record_every + 1
-        traj = empty_trajectory(self, min(capacity, INITIAL_ROWS))
-        control_every = max(1, int(round(opts.control_dt / opts.dt)))
-        start_height = self._standing_height()
+        loop = RunLoop(
+            n_steps=n_steps,
+            record_every=record_every,
+            capacity=capacity,
+            traj=empty_trajectory(self, min(capacity, INITIAL_ROWS)),
+            control_every=max(1, int(round(opts.control_dt / opts.dt))),
+            start_height=self._standing_height(),
+        )
         self.message = ""
-        status = "ok"
         cause = ""
-        recorded = 0
         wall0 = time.perf_counter()
-        last_report = wall0
-        if self.ground is not None:
-            self.events += self.ground.update(0.0, *self._contact_kinematics(self.q, self.v))
-        steps = 0
+        self._begin()
         try:
-            for steps in range(n_steps + 1):
-                if steps % control_every == 0 and self.controller is not None:
-                    self.controller(self)
-                if steps % record_every == 0:
-                    if recorded == len(traj):
-                        traj = traj.grown(min(capacity, 2 * len(traj)))
-                    self.generalized_forces(self.q, self.v, record=True)
-                    record_row(self, traj, recorded)
-                    recorded += 1
-                if steps % control_every == 0:
-                    fell = self._check(start_height)
-                    if fell:
-                        status = fell
-                        break
-                if steps == n_steps:
-                    break
-                self.step()
-                if progress is not None and steps % 500 == 0:
-                    now = time.perf_counter()
-                    if now - last_report > 0.2:
-                        progress(self.t, opts.duration)
-                        last_report = now
+            self._loop(loop, progress)
         except ControlFault as fault:
-            status = "diverged"
+            loop.status = "diverged"
             cause = str(fault)
             self.message = cause  # it names the time
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
-            status = "diverged"
+            loop.status = "diverged"
             state = ", ".join(
                 f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True)
             )
             cause = f"{err}. Likely cause: {self.likely_cause()}"
             self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
         except (KeyboardInterrupt, Interrupted) as sig:
-            status = "interrupted"
+            loop.status = "interrupted"
             cause = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
             self.message = (
                 f"interrupted by {cause} at t = {self.t:.4f} s of {opts.duration:g} s; "
                 "what was recorded up to then is kept"
             )
-        if status == "fell":
+        finally:
+            self._end()
+        if loop.status == "fell":
             cause = self.message
         wall = time.perf_counter() - wall0
         if progress is not None:
             progress(self.t, opts.duration)
         return RunResult(
-            trajectory=traj.head(recorded),
+            trajectory=loop.traj.head(loop.recorded),
             events=self._all_events(),
-            status=status,
+            status=loop.status,
             message=self.message,
-            steps=steps,
+            steps=loop.steps,
             wall_time=wall,
             sim_time=self.t,
             cause=cause,
             stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
         )
+
+    def _begin(self) -> None:
+        """The ground's first look at the contacts, before the first step."""
+        if self.ground is not None:
+            self.events += self.ground.update(0.0, *self._contact_kinematics(self.q, self.v))
+
+    def _end(self) -> None:
+        """After the loop, however it ended (the C backend copies its state back here)."""
+
+    def _loop(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
+        """Control, record, check and step until the run ends (``loop`` says how far it got)."""
+        opts = self.options
+        control_every = loop.control_every
+        last_report = time.perf_counter()
+        for steps in range(loop.n_steps + 1):
+            loop.steps = steps
+            if steps % control_every == 0 and self.controller is not None:
+                self.controller(self)
+            if steps % loop.record_every == 0:
+                if loop.recorded == len(loop.traj):
+                    loop.traj = loop.traj.grown(min(loop.capacity, 2 * len(loop.traj)))
+                self.generalized_forces(self.q, self.v, record=True)
+                record_row(self, loop.traj, loop.recorded)
+                loop.recorded += 1
+            if steps % control_every == 0:
+                fell = self._check(loop.start_height)
+                if fell:
+                    loop.status = fell
+                    return
+            if steps == loop.n_steps:
+                return
+            self.step()
+            if progress is not None and steps % 500 == 0:
+                now = time.perf_counter()
+                if now - last_report > 0.2:
+                    progress(self.t, opts.duration)
+                    last_report = now
 
     def _all_events(self) -> list[dict[str, Any]]:
         """Contact events and the controller's state changes, in time order."""

@@ -8,6 +8,7 @@ subexpressions, numbered temporaries) and printer as the dynamics.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import sympy
@@ -58,6 +59,64 @@ def _program(
     return Function(name, PARAMS, program.statements, result, program.names, program.bases)
 
 
+@dataclass(frozen=True)
+class ControlPrograms:
+    """A lowered controller's generated functions and tables: what both targets print."""
+
+    functions: list[tuple[Function, str]]  # (function, its docstring)
+    tables: dict[str, list[tuple[tuple[int, int], str]]]  # events, entries, actions
+    settings: list[tuple[tuple[int, int], tuple[tuple[str, str], ...]]]
+    places: list[tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]]
+
+
+def control_programs(lc: LoweredController, event_text: dict[str, str]) -> ControlPrograms:
+    """The functions of a control module (each event, entry and action), and its tables."""
+    functions = []
+    tables: dict[str, list[tuple[tuple[int, int], str]]] = {
+        "events": [],
+        "entries": [],
+        "actions": [],
+    }
+    settings = []
+    places: list[
+        tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]
+    ] = []
+    for (b, s), event in sorted(lc.events.items()):
+        state = lc.states[s]
+        fn = _program(f"event_{state}_{b}", [event], lc, let=False)
+        functions.append(
+            (fn, f"Enter {state} (waiting under binding {b}) when: {event_text[state]}")
+        )
+        tables["events"].append(((b, s), fn.name))
+    for (b, s), body in sorted(lc.bodies.items()):
+        state = lc.states[s]
+        new = dict(body.records)
+        values = [new.get(name, Symbol(f"record_{name}")) for name in lc.records]
+        fn = _program(
+            f"entry_{state}_{b}", values, lc, names=[f"new_{name}" for name in lc.records]
+        )
+        done = ", ".join(new) or "none"
+        functions.append(
+            (fn, f"The records on entering {state} under binding {b} (changed: {done}).")
+        )
+        tables["entries"].append(((b, s), fn.name))
+        targets = [f"{st.actuator}.{st.key}" for st in body.settings]
+        targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
+        goals = [g for p in body.places for g in p.goals]
+        names = [f"{st.actuator}_{st.key}" for st in body.settings]
+        names += [f"{p.leg}_{axis}_goal" for p in body.places for axis in p.axes]
+        values = [st.value for st in body.settings] + goals
+        fn = _program(f"action_{state}_{b}", values, lc, names=names)
+        functions.append(
+            (fn, f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}.")
+        )
+        tables["actions"].append(((b, s), fn.name))
+        settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
+        if body.places:
+            places.append(((b, s), tuple((p.leg, p.axes, p.servos) for p in body.places)))
+    return ControlPrograms(functions, tables, settings, places)
+
+
 def shown_file(file: str, source: str) -> str:
     """A span's file as the generated code names it, the same on every machine: the standard
     library's as ``stdlib/NAME``, a used file's from the compiled file's folder."""
@@ -80,8 +139,27 @@ def origin(where: Where, source: str) -> str:
     )
 
 
+def origins(lc: LoweredController) -> dict[str, list[tuple[str, Where]]]:
+    """Per generated function, each value it returns and where it was written (both targets
+    print them: the Python module in docstrings, the C one in comments)."""
+    found: dict[str, list[tuple[str, Where]]] = {}
+    for (b, s), where in lc.event_where.items():
+        found[f"event_{lc.states[s]}_{b}"] = [("event", where)] if where else []
+    for (b, s), body in lc.bodies.items():
+        state = lc.states[s]
+        found[f"entry_{state}_{b}"] = [
+            (f"record {name}", where)
+            for (name, _), where in zip(body.records, body.record_where, strict=True)
+        ]
+        found[f"action_{state}_{b}"] = [
+            *((f"{st.actuator}.{st.key}", st.where) for st in body.settings),
+            *((f"place {p.leg} ({', '.join(p.axes)})", p.where) for p in body.places),
+        ]
+    return found
+
+
 def _doc(first: str, lines: list[tuple[str, Where]], source: str) -> str:
-    """A function's docstring: what it does, then the ``.leg`` line of each value it returns."""
+    """A function's docstring: what it does, then the ``.leg`` place of each value it returns."""
     if not lines:
         return first
     width = max(len(target) for target, _ in lines)
@@ -93,50 +171,10 @@ def render_control(
     lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
 ) -> str:
     """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written."""
-    functions = []
-    tables: dict[str, list[tuple[tuple[int, int], str]]] = {
-        "events": [],
-        "entries": [],
-        "actions": [],
-    }
-    settings = []
-    places: list[
-        tuple[tuple[int, int], tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]]
-    ] = []
-    for (b, s), event in sorted(lc.events.items()):
-        state = lc.states[s]
-        fn = _program(f"event_{state}_{b}", [event], lc, let=False)
-        first = f"Enter {state} (waiting under binding {b}) when: {event_text[state]}"
-        where = lc.event_where.get((b, s), ())
-        functions.append((fn, _doc(first, [("event", where)] if where else [], source)))
-        tables["events"].append(((b, s), fn.name))
-    for (b, s), body in sorted(lc.bodies.items()):
-        state = lc.states[s]
-        new = dict(body.records)
-        values = [new.get(name, Symbol(f"record_{name}")) for name in lc.records]
-        fn = _program(
-            f"entry_{state}_{b}", values, lc, names=[f"new_{name}" for name in lc.records]
-        )
-        done = ", ".join(new) or "none"
-        first = f"The records on entering {state} under binding {b} (changed: {done})."
-        recorded = [(f"record {name}", w)
-                    for (name, _), w in zip(body.records, body.record_where, strict=True)]  # fmt: skip
-        functions.append((fn, _doc(first, recorded, source)))
-        tables["entries"].append(((b, s), fn.name))
-        targets = [f"{st.actuator}.{st.key}" for st in body.settings]
-        targets += [f"place {p.leg} ({', '.join(p.axes)})" for p in body.places]
-        goals = [g for p in body.places for g in p.goals]
-        names = [f"{st.actuator}_{st.key}" for st in body.settings]
-        names += [f"{p.leg}_{axis}_goal" for p in body.places for axis in p.axes]
-        values = [st.value for st in body.settings] + goals
-        fn = _program(f"action_{state}_{b}", values, lc, names=names)
-        first = f"Every tick in {state} under binding {b}: {', '.join(targets) or 'nothing'}."
-        wheres = [st.where for st in body.settings] + [p.where for p in body.places]
-        functions.append((fn, _doc(first, list(zip(targets, wheres, strict=True)), source)))
-        tables["actions"].append(((b, s), fn.name))
-        settings.append(((b, s), tuple((st.actuator, st.key) for st in body.settings)))
-        if body.places:
-            places.append(((b, s), tuple((p.leg, p.axes, p.servos) for p in body.places)))
+    programs = control_programs(lc, event_text)
+    functions, tables = programs.functions, programs.tables
+    written = origins(lc)
+    settings, places = programs.settings, programs.places
     bindings = [
         "; ".join(f"{role} = {', '.join(legs)}" for role, legs in binding)
         for binding in lc.bindings
@@ -155,7 +193,10 @@ def render_control(
         params={n: repr(float(v)) for n, v in lc.params},
         bindings=bindings,
         after_entry=sorted(lc.after_entry.items()),
-        functions=[(fn, doc, function_body(fn)) for fn, doc in functions],
+        functions=[
+            (fn, _doc(doc, written.get(fn.name, []), source), function_body(fn))
+            for fn, doc in functions
+        ],  # fmt: skip
         tables=tables,
         settings=settings,
         places=places,

@@ -1,0 +1,155 @@
+"""Build the C of a creature into a shared library, cached, and say where it is.
+
+The library of a creature is its ``generated/NAME/dynamics.c`` and ``dynamics.h`` compiled
+together with the runtime in ``runtime/`` (``step.c``: actuators, ground, integrators, the run
+loop; ``legdsl_math.h``) by the system C compiler, found at run time: ``$LEGDSL_CC`` if set,
+else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
+
+Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize -fPIC -shared``.
+``-ffp-contract=off`` keeps gcc and clang from fusing ``a*b + c`` into one rounding (an FMA),
+and no fast-math keeps them from reassociating sums or replacing divisions: then each printed
+operation is one IEEE double operation, in the order the Python print gives, and the results
+equal Python's bit for bit (x86-64 and arm64 compute doubles in SSE/NEON registers, without
+x87's wider ones). ``-fno-tree-vectorize``: gcc 12's straight-line vectorizer pairs a
+multiplication with an add-and-subtract into ``vfmaddsub`` where the machine has FMA (with
+``-mfma`` or ``-march=native``), a fused rounding in spite of ``-ffp-contract=off`` that changed
+the biped's dynamics; without it the runs stay identical with any ``-march``, for a few percent.
+
+The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
+A library is named by the hash of its sources, the compiler's path and version and the flags,
+so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
+reused. The compiler writes into a temporary file in the cache directory, which is then
+renamed to the final name: two runs that build the same library at once each rename a
+complete file, and a reader never sees a half-written one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+RUNTIME = Path(__file__).parent / "runtime"
+RUNTIME_FILES = (
+    "legdsl_math.h",
+    "legdsl_sim.h",
+    "legdsl_control.h",
+    "step.c",
+    "machine.c",
+    "control_none.c",
+)
+FLAGS = (
+    "-O2",
+    "-std=c99",
+    "-fno-fast-math",
+    "-ffp-contract=off",
+    "-fno-tree-vectorize",
+    "-fPIC",
+    "-shared",
+)
+LIBS = ("-lm",)
+
+
+class NoCompiler(Exception):
+    """No C compiler was found (the Python backend runs instead)."""
+
+
+class BuildFailed(Exception):
+    """The C compiler refused the generated code (a legdsl bug: the message has its output)."""
+
+
+@dataclass(frozen=True)
+class Compiler:
+    path: str
+    version: str  # the first line of ``--version``
+
+
+@dataclass(frozen=True)
+class Built:
+    path: Path  # the shared library
+    cached: bool  # reused from the cache (no compiler run)
+    seconds: float  # time spent in the compiler (0 when cached)
+
+
+def cache_dir() -> Path:
+    if os.environ.get("LEGDSL_CACHE"):
+        return Path(os.environ["LEGDSL_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "legdsl"
+
+
+@lru_cache(maxsize=8)
+def _compiler(wanted: str | None) -> Compiler | None:
+    names = [wanted] if wanted else ["cc", "gcc", "clang"]
+    for name in names:
+        path = shutil.which(name)
+        if path is None:
+            continue
+        try:
+            out = subprocess.run(
+                [path, "--version"], capture_output=True, text=True, timeout=30, check=True
+            ).stdout
+        except (OSError, subprocess.SubprocessError):
+            continue
+        return Compiler(path, out.splitlines()[0] if out else "")
+    return None
+
+
+def find_compiler() -> Compiler | None:
+    """The C compiler to build with, or None when there is none."""
+    return _compiler(os.environ.get("LEGDSL_CC") or None)
+
+
+def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str]:
+    """The files of a creature's library (with ``controller``'s C, if given): its generated C
+    and the runtime, by file name; ``control.c`` is the controller's (or the runtime's none)."""
+    files = {name: (RUNTIME / name).read_text() for name in RUNTIME_FILES}
+    for name in ("dynamics.c", "dynamics.h"):
+        files[name] = (generated_dir / name).read_text()
+    if controller is not None:
+        files["control.c"] = (generated_dir / f"control_{controller}.c").read_text()
+    else:
+        files["control.c"] = files["control_none.c"]
+    return files
+
+
+def library_key(files: dict[str, str], compiler: Compiler) -> str:
+    digest = hashlib.sha256()
+    for name in sorted(files):
+        digest.update(f"{name}\0{len(files[name])}\0".encode())
+        digest.update(files[name].encode())
+    digest.update(f"{compiler.path}\0{compiler.version}\0{' '.join(FLAGS + LIBS)}".encode())
+    return digest.hexdigest()[:20]
+
+
+def build(name: str, files: dict[str, str], compiler: Compiler | None = None) -> Built:
+    """The shared library of ``files`` (compiled now unless the cache has it)."""
+    compiler = compiler or find_compiler()
+    if compiler is None:
+        raise NoCompiler("no C compiler found (looked for $LEGDSL_CC, cc, gcc, clang)")
+    root = cache_dir()
+    root.mkdir(parents=True, exist_ok=True)
+    final = root / f"{name}-{library_key(files, compiler)}.so"
+    if final.is_file():
+        return Built(final, cached=True, seconds=0.0)
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(dir=root, prefix=f".{name}-src-") as work:
+        for file, text in files.items():
+            (Path(work) / file).write_text(text)
+        partial = Path(work) / "lib.so"
+        units = [str(Path(work) / u) for u in ("dynamics.c", "step.c", "machine.c", "control.c")]
+        command = [compiler.path, *FLAGS, "-I", work, "-o", str(partial), *units, *LIBS]
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise BuildFailed(
+                f"{compiler.path} failed on the C of {name} ({' '.join(command)}):\n"
+                + done.stderr[-4000:]
+            )
+        os.replace(partial, final)  # atomic: a concurrent build renames an identical file
+    return Built(final, cached=False, seconds=time.perf_counter() - start)

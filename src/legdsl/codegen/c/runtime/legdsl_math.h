@@ -1,0 +1,105 @@
+/* legdsl_math.h: the arithmetic helpers of the generated C (legdsl's C backend).
+ *
+ * Each helper computes what C computes (libm's function, IEEE division) and, where Python's
+ * float arithmetic or math module would raise instead, records the error in *err: the first
+ * error of a call wins, as the first exception does in Python. The run loop checks *err where
+ * Python would have stopped, so a run that fails stops at the same step with the same message.
+ * A name `err` (int *) must be in scope where these are used.
+ */
+#ifndef LEGDSL_MATH_H
+#define LEGDSL_MATH_H
+
+#include <math.h>
+
+enum {
+    LEG_OK = 0,
+    LEG_EDOM = 1,       /* ValueError: math domain error */
+    LEG_EZERODIV = 2,   /* ZeroDivisionError: float division by zero */
+    LEG_ERANGE = 3,     /* OverflowError: math range error */
+    LEG_EPOWZERO = 4,   /* ZeroDivisionError: 0.0 cannot be raised to a negative power */
+    LEG_EPOWRANGE = 5,  /* OverflowError: (34, 'Numerical result out of range') */
+    LEG_ECOMPLEX = 6    /* a negative number to a fractional power (complex in Python) */
+};
+
+static inline void leg_flag(int *err, int code) {
+    if (*err == LEG_OK) *err = code;
+}
+
+/* Python's a / b: ZeroDivisionError when b is zero (either sign). */
+static inline double leg_div_e(double a, double b, int *err) {
+    if (b == 0.0) leg_flag(err, LEG_EZERODIV);
+    return a / b;
+}
+
+/* CPython's math_1: a NaN from a non-NaN argument is a domain error. */
+static inline double leg_math1(double r, double x, int *err) {
+    if (isnan(r) && !isnan(x)) leg_flag(err, LEG_EDOM);
+    else if (isinf(r) && isfinite(x)) leg_flag(err, LEG_EDOM);
+    return r;
+}
+
+static inline double leg_sin_e(double x, int *err) { return leg_math1(sin(x), x, err); }
+static inline double leg_cos_e(double x, int *err) { return leg_math1(cos(x), x, err); }
+static inline double leg_tan_e(double x, int *err) { return leg_math1(tan(x), x, err); }
+static inline double leg_asin_e(double x, int *err) { return leg_math1(asin(x), x, err); }
+static inline double leg_acos_e(double x, int *err) { return leg_math1(acos(x), x, err); }
+
+/* math.exp: an overflow from a finite argument is a range error (math_1 with can_overflow) */
+static inline double leg_exp_e(double x, int *err) {
+    double r = exp(x);
+    if (isinf(r) && isfinite(x)) leg_flag(err, LEG_ERANGE);
+    return r;
+}
+
+/* math.sqrt: a domain error below zero (CPython's math_1 again). */
+static inline double leg_sqrt_e(double x, int *err) { return leg_math1(sqrt(x), x, err); }
+
+/* math.log (CPython's loghelper/m_log): zero and negative numbers are domain errors. */
+static inline double leg_log_e(double x, int *err) {
+    if (isfinite(x) && x <= 0.0) {
+        leg_flag(err, LEG_EDOM);
+        return NAN;
+    }
+    if (isnan(x) || x == INFINITY) return x;
+    if (x == -INFINITY) {
+        leg_flag(err, LEG_EDOM);
+        return NAN;
+    }
+    return log(x);
+}
+
+/* CPython's float_pow for the cases the generated code can meet. */
+static inline double leg_pow_e(double x, double y, int *err) {
+    if (y == 0.0) return 1.0;
+    if (isnan(x)) return x;
+    if (isnan(y)) return x == 1.0 ? 1.0 : y;
+    if (x == 0.0 && y < 0.0 && isfinite(y)) {
+        leg_flag(err, LEG_EPOWZERO);
+        return NAN;
+    }
+    if (x < 0.0 && isfinite(x) && isfinite(y) && floor(y) != y) {
+        leg_flag(err, LEG_ECOMPLEX);
+        return NAN;
+    }
+    double r = pow(x, y);
+    if (isinf(r) && isfinite(x) && isfinite(y) && x != 0.0) leg_flag(err, LEG_EPOWRANGE);
+    return r;
+}
+
+/* Python's max(a, b) and min(a, b): the first argument unless the second compares greater
+ * (smaller); unlike fmax and fmin, a NaN second argument gives the first. */
+static inline double leg_max(double a, double b) { return b > a ? b : a; }
+static inline double leg_min(double a, double b) { return b < a ? b : a; }
+
+#define leg_div(a, b) leg_div_e((a), (b), err)
+#define leg_sin(x) leg_sin_e((x), err)
+#define leg_cos(x) leg_cos_e((x), err)
+#define leg_tan(x) leg_tan_e((x), err)
+#define leg_asin(x) leg_asin_e((x), err)
+#define leg_acos(x) leg_acos_e((x), err)
+#define leg_sqrt(x) leg_sqrt_e((x), err)
+#define leg_log(x) leg_log_e((x), err)
+#define leg_exp(x) leg_exp_e((x), err)
+#define leg_pow(x, y) leg_pow_e((x), (y), err)
+
+#endif

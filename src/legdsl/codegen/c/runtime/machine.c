@@ -1,0 +1,503 @@
+/* machine.c: the controller's state machine and sensors in C (the C backend's runtime).
+ *
+ * A transliteration of legdsl/sim/machine.py (StateMachine.__call__: the input schedule, the
+ * event of the next state, entry records, the actions' settings) and legdsl/sim/sensors.py
+ * (the stance and flight clocks, the sensor values), keeping each expression's operations in
+ * the Python order. Where the Python would raise or fault (a math error, an output that is
+ * not finite, a state that is no longer finite), this tick is undone and handed to the Python
+ * state machine, which then fails exactly as on the Python backend (or, if it does not fail,
+ * continues): leg_control_tick returns LEG_CONTROL. Identity: tests/sim/test_c_backend.py.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "legdsl_math.h"
+#include "legdsl_sim.h"
+#include "dynamics.h"
+#include "legdsl_control.h"
+
+#define NB LEG_NB
+#define NC LEG_NC
+#define NCS (3 * LEG_NC + 1)
+
+/* ------------------------------------------------------------ the per-tick kinematics cache */
+/* one per thread: runs of a batch go on in parallel threads (legdsl.pipeline.backend.run_batch) */
+static __thread struct {
+    int poses, vel, feet, com, heading;
+    double pose[12 * NB], velocity[6 * NB], foot[NCS], foot_v[NCS], c[3], cv[3], hc, hs;
+} K;
+
+static __thread int path_fresh[64];
+void leg_sense_begin(void) {
+    K.poses = K.vel = K.feet = K.com = K.heading = 0;
+    for (int k = 0; k < 64; k++) path_fresh[k] = 0;
+}
+
+static const double *poses(leg_sim *s, int *err) {
+    if (!K.poses) { body_poses(s->q, K.pose, err); K.poses = 1; }
+    return K.pose;
+}
+static const double *velocities(leg_sim *s, int *err) {
+    if (!K.vel) { body_velocities(s->q, s->v, K.velocity, err); K.vel = 1; }
+    return K.velocity;
+}
+static void feet(leg_sim *s, int *err) {
+    if (!K.feet) {
+        contact_positions(s->q, K.foot, err);
+        contact_velocities(s->q, s->v, K.foot_v, err);
+        K.feet = 1;
+    }
+}
+static void com(leg_sim *s, int *err) {
+    if (!K.com) {
+        center_of_mass(s->q, K.c, err);
+        center_of_mass_velocity(s->q, s->v, K.cv, err);
+        K.com = 1;
+    }
+}
+static void heading(leg_sim *s, int *err) {
+    if (!K.heading) {
+        const double *rot = poses(s, err) + 3;
+        double yaw = LEG_PLANAR ? 0.0 : atan2(rot[3], rot[0]);
+        K.hc = leg_cos(yaw);
+        K.hs = leg_sin(yaw);
+        K.heading = 1;
+    }
+}
+static double to_heading(leg_sim *s, const double *vec, int axis, int *err) {
+    heading(s, err);
+    double c = K.hc, sn = K.hs;
+    if (axis == 0) return c * vec[0] + sn * vec[1];
+    if (axis == 1) return -sn * vec[0] + c * vec[1];
+    return vec[2];
+}
+
+/* ------------------------------------------------------------ sensor values (Sensors._value) */
+double leg_sense_com(leg_sim *s, int axis, int velocity, int *err) {
+    com(s, err);
+    return velocity ? K.cv[axis] : K.c[axis];
+}
+
+double leg_sense_contact(leg_sim *s, int i, int member, int *err) {
+    if (member == 0) return s->has_ground && s->touching[i] ? 1.0 : 0.0;
+    feet(s, err);
+    return member >= 4 ? K.foot_v[3 * i + member - 4] : K.foot[3 * i + member - 1];
+}
+
+double leg_sense_act(const leg_sim *s, int a, int member) {
+    if (member == 0) return s->act_gain[a];
+    if (member == 1) return s->act_damping[a];
+    if (member == 2) return s->act_target[a];
+    return s->act_last[a];
+}
+
+double leg_sense_body(leg_sim *s, int b, int member, int *err) {
+    const double *pose = poses(s, err) + 12 * b;
+    if (member < 3) return pose[member];
+    const double *vel = velocities(s, err) + 6 * b;
+    if (member < 6) return vel[member - 3];
+    const double *rot = pose + 3, *omega = vel + 3; /* euler_rates */
+    double roll = atan2(rot[7], rot[8]);
+    double pitch = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
+    double yaw = atan2(rot[3], rot[0]);
+    double bx = rot[0] * omega[0] + rot[3] * omega[1] + rot[6] * omega[2];
+    double by = rot[1] * omega[0] + rot[4] * omega[1] + rot[7] * omega[2];
+    double bz = rot[2] * omega[0] + rot[5] * omega[1] + rot[8] * omega[2];
+    double sr = leg_sin(roll), cr = leg_cos(roll);
+    double cp = leg_cos(pitch);
+    cp = fabs(cp) > 1e-9 ? cp : copysign(1e-9, cp);
+    switch (member) {
+    case 6: return roll;
+    case 7: return pitch;
+    case 8: return yaw;
+    case 9: return bx + (by * sr + bz * cr) * leg_tan(pitch);
+    case 10: return by * cr - bz * sr;
+    default: return leg_div(by * sr + bz * cr, cp);
+    }
+}
+
+double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
+    const double *clock = s->clocks + 5 * foot; /* touching, touchdown, liftoff, stance, flight */
+    if (member == 0) return clock[0] != 0.0 ? 1.0 : 0.0;
+    if (member == 1) return clock[3];
+    if (member == 2) return clock[4];
+    feet(s, err);
+    const double *f = K.foot + 3 * foot, *fv = K.foot_v + 3 * foot;
+    if (member == 3 || member == 4) {
+        const double *h = poses(s, err) + 12 * hip;
+        const double *hv = velocities(s, err) + 6 * hip;
+        double d[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
+        double length = leg_sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (member == 3) return length;
+        double dv[3] = {fv[0] - hv[0], fv[1] - hv[1], fv[2] - hv[2]};
+        return length > 0 ? leg_div(d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2], length) : 0.0;
+    }
+    com(s, err);
+    if (member <= 7) {
+        const double *h = poses(s, err) + 12 * hip;
+        double rel[3] = {h[0] - K.c[0], h[1] - K.c[1], h[2] - K.c[2]};
+        return to_heading(s, rel, member - 5, err);
+    }
+    if (member <= 10) {
+        double rel[3] = {f[0] - K.c[0], f[1] - K.c[1], f[2] - K.c[2]};
+        return to_heading(s, rel, member - 8, err);
+    }
+    double rel_v[3] = {fv[0] - K.cv[0], fv[1] - K.cv[1], fv[2] - K.cv[2]};
+    return to_heading(s, rel_v, member - 11, err);
+}
+
+/* ------------------------------------------------------------ paths (path_tracking.py) */
+/* path_data at path_at[k]: shape (0 none, 1 circle, 2 polyline), closed, cx, cy, radius, turn,
+ * lookahead, length, n vertices, then x y per vertex, then their arclengths (PathGeometry's).
+ * path_state: 12 per path: progress, last_s, then the 10 MEMBERS' values. */
+#define PY_PI 3.141592653589793
+
+/* Python's float %: the sign of the divisor (CPython's float_rem) */
+static double py_mod(double x, double y, int *err) {
+    if (y == 0.0) {
+        leg_flag(err, LEG_EZERODIV);
+        return NAN;
+    }
+    double mod = fmod(x, y);
+    if (mod != 0.0) {
+        if ((y < 0) != (mod < 0)) mod += y;
+    } else {
+        mod = copysign(0.0, y);
+    }
+    return mod;
+}
+
+static double wrap(double angle, int *err) { return atan2(leg_sin(angle), leg_cos(angle)); }
+
+/* PathGeometry.project: s, x, y, heading, lateral */
+static void project(const double *g, double x, double y, double *out, int *err) {
+    if (g[0] == 1.0) {
+        double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
+        double dx = x - cx, dy = y - cy;
+        double r = leg_hypot(dx, dy);
+        double phi = r > 0 ? atan2(dy, dx) : 0.0;
+        double start = leg_div(-turn * PY_PI, 2.0);
+        out[0] = py_mod((phi - start) * turn, 2 * PY_PI, err) * radius;
+        double heading = phi + leg_div(turn * PY_PI, 2.0);
+        out[4] = (radius - r) * turn;
+        out[1] = cx + radius * leg_cos(phi);
+        out[2] = cy + radius * leg_sin(phi);
+        out[3] = wrap(heading, err);
+        return;
+    }
+    int closed = g[1] != 0.0;
+    int64_t nv = (int64_t)g[8];
+    const double *v = g + 9, *starts = g + 9 + 2 * nv;
+    double best_d = INFINITY;
+    for (int64_t i = 0; i + 1 < nv; i++) {
+        const double *a = v + 2 * i, *b = v + 2 * i + 2;
+        double ex = b[0] - a[0], ey = b[1] - a[1];
+        double seg = leg_hypot(ex, ey);
+        double u = leg_div((x - a[0]) * ex + (y - a[1]) * ey, seg * seg);
+        u = leg_min(1.0, leg_max(0.0, u));
+        double px = a[0] + u * ex, py = a[1] + u * ey;
+        double d = leg_hypot(x - px, y - py);
+        if (d < best_d - 1e-12) {
+            best_d = d;
+            double tx = leg_div(ex, seg), ty = leg_div(ey, seg);
+            double cross = tx * (y - py) - ty * (x - px);
+            double lateral;
+            if (!closed && ((i == 0 && u == 0.0) || (u == 1.0 && i == nv - 2))) lateral = cross;
+            else lateral = d > 0 ? copysign(d, cross) : 0.0;
+            out[0] = starts[i] + u * seg;
+            out[1] = px; out[2] = py; out[3] = atan2(ty, tx); out[4] = lateral;
+        }
+    }
+}
+
+/* PathGeometry.at: x, y, heading at arclength s */
+static void path_at_s(const double *g, double s, double *out, int *err) {
+    if (g[0] == 1.0) {
+        double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
+        double phi = leg_div(-turn * PY_PI, 2.0) + leg_div(turn * s, radius);
+        out[0] = cx + radius * leg_cos(phi);
+        out[1] = cy + radius * leg_sin(phi);
+        out[2] = wrap(phi + leg_div(turn * PY_PI, 2.0), err);
+        return;
+    }
+    double length = g[7];
+    int64_t nv = (int64_t)g[8];
+    const double *v = g + 9, *starts = g + 9 + 2 * nv;
+    s = g[1] != 0.0 ? py_mod(s, length, err) : leg_min(leg_max(s, 0.0), length);
+    int64_t i = 0;
+    while (i < nv - 2 && s >= starts[i + 1]) i++;
+    const double *a = v + 2 * i, *b = v + 2 * i + 2;
+    double seg = starts[i + 1] - starts[i];
+    double u = leg_div(s - starts[i], seg);
+    out[0] = a[0] + u * (b[0] - a[0]);
+    out[1] = a[1] + u * (b[1] - a[1]);
+    out[2] = atan2(b[1] - a[1], b[0] - a[0]);
+}
+
+/* PathTracker.update, once per tick, at the centre of mass */
+double leg_sense_path(leg_sim *s, int k, int member, int *err) {
+    const double *g = s->path_data + s->path_at[k];
+    double *st = s->path_state + 12 * k;
+    if (g[0] != 0.0 && !path_fresh[k]) {
+        path_fresh[k] = 1;
+        com(s, err);
+        double p[5], ahead[3];
+        project(g, K.c[0], K.c[1], p, err);
+        double length = g[7];
+        if (isnan(st[1])) {
+            st[0] = p[0];
+        } else {
+            double ds = p[0] - st[1];
+            if (g[1] != 0.0 || g[0] == 1.0) ds = py_mod(ds + leg_div(length, 2.0), length, err) - leg_div(length, 2.0);
+            st[0] += ds;
+        }
+        st[1] = p[0];
+        path_at_s(g, p[0] + g[6], ahead, err);
+        double values[10] = {p[4], p[3], st[0], length, p[1], p[2], ahead[0], ahead[1], ahead[2], 1.0};
+        for (int j = 0; j < 10; j++) st[2 + j] = values[j];
+    }
+    return st[2 + member];
+}
+
+/* ------------------------------------------------------------ place (FootPlacer.solve) */
+#define PLACE_ITERATIONS 2 /* FootPlacer's default */
+#define MAX_STEP 0.3
+
+/* The servos' setpoints that put the foot at goals from the hip; 0, or 1 where Python raises. */
+static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *goals) {
+    int e = 0;
+    int *err = &e;
+    int64_t foot = pi[0], hip = pi[1], n = pi[2];
+    const int64_t *rows = pi + 3, *servo = rows + n, *qi = servo + n, *vi = qi + n;
+    const int64_t *limited = vi + n;
+    const double *low = pd, *high = pd + n;
+    leg_dgesv_fn dgesv = (leg_dgesv_fn)s->dgesv;
+    if (dgesv == 0 || n > 3) return 1;
+    double q[LEG_NQ], guess[3], pose[12 * NB], pos[NCS], jac[3 * NC * LEG_NV + 1];
+    for (int k = 0; k < LEG_NQ; k++) q[k] = s->q[k];
+    for (int64_t k = 0; k < n; k++) {
+        guess[k] = s->act_target[servo[k]];
+        if (!isfinite(guess[k])) guess[k] = q[qi[k]];
+        q[qi[k]] = guess[k];
+    }
+    double yaw = 0.0;
+    if (!LEG_PLANAR) {
+        body_poses(q, pose, err);
+        yaw = atan2(pose[3 + 3], pose[3 + 0]);
+    }
+    double c = leg_cos(yaw), sn = leg_sin(yaw);
+    for (int it = 0; it < PLACE_ITERATIONS; it++) {
+        contact_positions(q, pos, err);
+        body_poses(q, pose, err);
+        const double *f = pos + 3 * foot, *h = pose + 12 * hip;
+        double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
+        double rel[3] = {c * delta[0] + sn * delta[1], -sn * delta[0] + c * delta[1], delta[2]};
+        double residual[3], a[9], b[3], world[3][3], heading[3][3];
+        int64_t ipiv[3], info = 0, one = 1;
+        for (int64_t k = 0; k < n; k++) residual[k] = rel[rows[k]] - goals[k];
+        contact_jacobians(q, jac, err);
+        const double *J = jac + 3 * LEG_NV * foot;
+        for (int r = 0; r < 3; r++)
+            for (int64_t k = 0; k < n; k++) world[r][k] = J[r * LEG_NV + vi[k]];
+        for (int64_t k = 0; k < n; k++) {
+            heading[0][k] = c * world[0][k] + sn * world[1][k];
+            heading[1][k] = -sn * world[0][k] + c * world[1][k];
+            heading[2][k] = world[2][k];
+        }
+        for (int64_t i = 0; i < n; i++) { /* numpy hands LAPACK the matrix column by column */
+            for (int64_t k = 0; k < n; k++) a[k * n + i] = heading[rows[i]][k];
+            b[i] = -residual[i];
+        }
+        dgesv(&n, &one, a, &n, ipiv, b, &n, &info);
+        if (info != 0) break; /* a singular pose: numpy raises LinAlgError, the placer stops */
+        for (int64_t k = 0; k < n; k++) {
+            double step = b[k]; /* np.clip */
+            if (step < -MAX_STEP) step = -MAX_STEP;
+            else if (step > MAX_STEP) step = MAX_STEP;
+            guess[k] += step;
+            q[qi[k]] = guess[k];
+        }
+    }
+    for (int64_t k = 0; k < n; k++)
+        if (limited[k]) guess[k] = leg_min(leg_max(guess[k], low[k]), high[k]);
+    if (e) return 1;
+    for (int64_t k = 0; k < n; k++) s->act_target[servo[k]] = guess[k];
+    return 0;
+}
+
+/* ------------------------------------------------------------ the machine (StateMachine.__call__) */
+static int all_finite(const double *x, int n) {
+    for (int k = 0; k < n; k++)
+        if (!isfinite(x[k])) return 0;
+    return 1;
+}
+
+/* StateMachine._enter: 0, or 1 where Python would fault */
+static int enter(leg_sim *s, const leg_controller *c, int64_t state, double t, const double *sens,
+                 double *out) {
+    int e = 0;
+    s->ctl_state = state;
+    s->ctl_entered_at = t;
+    int64_t key = s->ctl_binding * c->n_states + state;
+    c->entries[key](sens, s->ctl_inputs, s->ctl_params, s->ctl_records, 0.0, out, &e);
+    if (e || !all_finite(out, (int)c->n_records)) return 1;
+    for (int64_t k = 0; k < c->n_records; k++) s->ctl_records[k] = out[k];
+    s->ctl_event_t[s->n_ctl_events] = t;
+    s->ctl_event_state[s->n_ctl_events++] = state;
+    return 0;
+}
+
+int64_t leg_control_tick(leg_sim *s) {
+    const leg_controller *c = &leg_the_controller;
+    if (!leg_has_c_controller || !all_finite(s->q, LEG_NQ) || !all_finite(s->v, LEG_NV))
+        return LEG_CONTROL;
+    int64_t ni = c->n_inputs, nr = c->n_records;
+    double *sens = s->ctl_work, *out = sens + c->n_sensors + 1;
+    double *saved = out + (nr > c->max_settings ? nr : c->max_settings) + 1;
+    double *acts = saved + nr + ni + 5 * NC;
+    int64_t na = s->n_act;
+    /* what this tick may change, to undo it if Python must take the tick */
+    int64_t started = s->ctl_started, state = s->ctl_state, binding = s->ctl_binding;
+    int64_t sched_pos = s->sched_pos, n_hist = s->n_hist, n_events = s->n_ctl_events;
+    double entered_at = s->ctl_entered_at;
+    memcpy(saved, s->ctl_records, sizeof(double) * nr);
+    memcpy(saved + nr, s->ctl_inputs, sizeof(double) * ni);
+    memcpy(saved + nr + ni, s->clocks, sizeof(double) * 5 * NC);
+    memcpy(acts, s->act_gain, sizeof(double) * na);
+    memcpy(acts + na, s->act_damping, sizeof(double) * na);
+    memcpy(acts + 2 * na, s->act_target, sizeof(double) * na);
+    memcpy(acts + 3 * na, s->act_force, sizeof(double) * na);
+    double t = s->t;
+    int e = 0;
+    int *err = &e;
+    int changed = 0; /* _apply_schedule */
+    while (s->sched_pos < s->sched_n && s->sched_t[s->sched_pos] <= t + 1e-12) {
+        s->ctl_inputs[s->sched_input[s->sched_pos]] = s->sched_value[s->sched_pos];
+        s->sched_pos++;
+        changed = 1;
+    }
+    if (changed) {
+        s->hist_t[s->n_hist] = t;
+        memcpy(s->hist_inputs + s->n_hist * ni, s->ctl_inputs, sizeof(double) * ni);
+        s->n_hist++;
+    }
+    for (int i = 0; i < NC; i++) { /* Sensors.observe */
+        double *clock = s->clocks + 5 * i;
+        int now = s->has_ground && s->touching[i];
+        if (now && clock[0] == 0.0) {
+            if (!isnan(clock[2])) clock[4] = t - clock[2];
+            clock[1] = t;
+        } else if (clock[0] != 0.0 && !now) {
+            if (!isnan(clock[1])) clock[3] = t - clock[1];
+            clock[2] = t;
+        }
+        clock[0] = now ? 1.0 : 0.0;
+    }
+    leg_sense_begin();
+    c->read_sensors(s, sens, err);
+    if (e) goto python;
+    if (!s->ctl_started) {
+        s->ctl_started = 1;
+        if (enter(s, c, s->ctl_state, t, sens, out)) goto python;
+    } else {
+        int64_t next = (s->ctl_state + 1) % c->n_states;
+        int64_t key = s->ctl_binding * c->n_states + next;
+        double tis = t - s->ctl_entered_at;
+        int fire = c->events[key](sens, s->ctl_inputs, s->ctl_params, s->ctl_records, tis, err);
+        if (e) goto python;
+        if (fire) {
+            s->ctl_binding = c->after_entry[key];
+            if (enter(s, c, next, t, sens, out)) goto python;
+        }
+    }
+    {
+        int64_t key = s->ctl_binding * c->n_states + s->ctl_state;
+        double tis = t - s->ctl_entered_at;
+        c->actions[key](sens, s->ctl_inputs, s->ctl_params, s->ctl_records, tis, out, err);
+        int64_t n = c->n_settings[key];
+        if (e || !all_finite(out, (int)c->n_outputs[key])) goto python;
+        const int64_t *targets = c->settings[key];
+        for (int64_t k = 0; k < n; k++) {
+            int64_t a = targets[2 * k];
+            switch (targets[2 * k + 1]) {
+            case LEG_SET_GAIN: s->act_gain[a] = out[k]; break;
+            case LEG_SET_DAMPING: s->act_damping[a] = out[k]; break;
+            case LEG_SET_TARGET: s->act_target[a] = out[k]; break;
+            default: s->act_force[a] = out[k]; break;
+            }
+        }
+        const double *goals = out + n;
+        for (int64_t k = 0; k < c->n_places[key]; k++) {
+            const int64_t *pi = c->places_i[key] + 0;
+            const double *pd = c->places_d[key] + 0;
+            for (int64_t j = 0; j < k; j++) { /* the k-th place of this (binding, state) */
+                pd += 2 * pi[2];
+                pi += 3 + 5 * pi[2];
+            }
+            if (place(s, pi, pd, goals)) goto python;
+            goals += pi[2];
+        }
+    }
+    s->state_index = s->ctl_state;
+    s->speed_command = s->speed_input >= 0 ? s->ctl_inputs[s->speed_input] : NAN;
+    s->ctl_ticks++;
+    return 0;
+python: /* undo the tick: Python's state machine takes it from the same state */
+    s->ctl_started = started; s->ctl_state = state; s->ctl_binding = binding;
+    s->ctl_entered_at = entered_at;
+    s->sched_pos = sched_pos; s->n_hist = n_hist; s->n_ctl_events = n_events;
+    memcpy(s->ctl_records, saved, sizeof(double) * nr);
+    memcpy(s->ctl_inputs, saved + nr, sizeof(double) * ni);
+    memcpy(s->clocks, saved + nr + ni, sizeof(double) * 5 * NC);
+    memcpy(s->act_gain, acts, sizeof(double) * na);
+    memcpy(s->act_damping, acts + na, sizeof(double) * na);
+    memcpy(s->act_target, acts + 2 * na, sizeof(double) * na);
+    memcpy(s->act_force, acts + 3 * na, sizeof(double) * na);
+    return LEG_CONTROL;
+}
+
+/* ------------------------------------------------------------ the terrain ahead */
+/* Sensors._terrain and terrain_ahead.ahead: member 0 ahead_distance, 1 ahead_height,
+ * 2 ahead_depth, 3 ahead_given, 4 height (under the centre of mass). Only steps and boxes
+ * are features ahead (s->flats holds them in the terrain's order; a slope is never one). */
+double leg_sense_terrain(leg_sim *s, int member, int *err) {
+    com(s, err);
+    double x = K.c[0], y = K.c[1];
+    if (member == 4) return s->has_ground ? leg_ground_height(s, x, y, err) : 0.0;
+    heading(s, err);
+    double yaw = atan2(K.hs, K.hc);
+    double c = leg_cos(yaw), sn = leg_sin(yaw);
+    int found = 0;
+    double best[3] = {0.0, 0.0, 0.0}; /* distance, depth, height */
+    for (int64_t k = 0; s->has_ground && k < s->n_flats; k++) {
+        const double *f = s->flats + 6 * k; /* x, x0, x1, y0, y1, height */
+        double hit[2];
+        if (!s->flat_is_box[k]) {
+            if (c <= 0.0 || x >= f[0]) continue;
+            hit[0] = (f[0] - x) / c;
+            hit[1] = 0.0;
+        } else {
+            double enter = -INFINITY, leave = INFINITY;
+            double p[2] = {x, y}, d[2] = {c, sn}, lo[2] = {f[1], f[3]}, hi[2] = {f[2], f[4]};
+            int miss = 0;
+            for (int i = 0; i < 2; i++) {
+                if (fabs(d[i]) < 1e-12) {
+                    if (!(lo[i] <= p[i] && p[i] <= hi[i])) { miss = 1; break; }
+                    continue;
+                }
+                double a = (lo[i] - p[i]) / d[i], b = (hi[i] - p[i]) / d[i];
+                enter = leg_max(enter, leg_min(a, b));
+                leave = leg_min(leave, leg_max(a, b));
+            }
+            if (miss || enter <= 0.0 || leave < enter) continue;
+            hit[0] = enter;
+            hit[1] = leave - enter;
+        }
+        if (!found || hit[0] < best[0]) {
+            found = 1;
+            best[0] = hit[0]; best[1] = hit[1]; best[2] = f[5];
+        }
+    }
+    if (!found) return 0.0;
+    return member == 0 ? best[0] : member == 1 ? best[2] : member == 2 ? best[1] : 1.0;
+}

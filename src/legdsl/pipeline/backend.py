@@ -1,0 +1,145 @@
+"""Which backend runs a simulation: the Python runtime (``legdsl.sim.simulate``), or the same
+steps in C (``legdsl.sim.c_backend``), chosen by ``legdsl run --backend c|python|auto``.
+
+``auto`` is the C backend where a C compiler is found and the Python backend with a one-line
+notice where none is. The default is Python for now: the switch to ``auto`` is the one line
+``DEFAULT_BACKEND`` below (docs/runtime.md, "The C backend", says what is checked first).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from legdsl.ir.model import Model
+from legdsl.lang import ast
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.generated import c_sources
+from legdsl.sim.simulate import Controller, RunOptions, Simulation
+
+BACKENDS = ("python", "c", "auto")
+DEFAULT_BACKEND = "python"  # the one line to change for C by default ("auto")
+
+
+def chosen(backend: str | None) -> str:
+    """``backend`` if given, else ``$LEGDSL_BACKEND`` if set, else ``DEFAULT_BACKEND``."""
+    return backend or os.environ.get("LEGDSL_BACKEND") or DEFAULT_BACKEND
+
+
+def make_simulation(
+    model: Model,
+    dynamics: ModuleType,
+    options: RunOptions,
+    controller: Controller | None,
+    backend: str | None,
+    where: tuple[Path, Path, ast.SourceFile | None],
+    log: Any = None,
+) -> Simulation:
+    """A simulation on ``backend`` (None: ``chosen``); ``where`` is (the .leg file, generated/,
+    its syntax tree)."""
+    backend = chosen(backend)
+    if backend not in BACKENDS:
+        raise UsageError(f"--backend {backend}: use one of {', '.join(BACKENDS)}")
+    if backend == "python":
+        return Simulation(model, dynamics, options, controller)
+    from legdsl.codegen.c.build import BuildFailed, NoCompiler
+    from legdsl.sim.c_backend import CSimulation, available, load_library, python_version_note
+
+    missing = available()
+    if missing is not None:
+        if backend == "c":
+            raise UsageError(f"--backend c: {missing}; install gcc or use --backend python")
+        if log is not None:
+            print(f"legdsl: {missing}: running on the Python backend", file=log)
+        return Simulation(model, dynamics, options, controller)
+    from legdsl.sim.c_mirrors import step_matches
+
+    if not step_matches():  # the Python runtime was edited since step.c was brought in line
+        if log is not None:
+            print(
+                "legdsl: the C runtime mirrors an older Python runtime (see "
+                "legdsl/sim/c_mirrors.py): running on the Python backend",
+                file=log,
+            )
+        return Simulation(model, dynamics, options, controller)
+    source, generated, syntax = where
+    name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
+    folder = _fresh_sources(model, source, generated, log, syntax, name)
+    note = python_version_note()
+    if note is not None and log is not None:
+        print(f"legdsl: {note}", file=log)
+    try:
+        library = load_library(model, folder, name)
+    except NoCompiler as e:  # the compiler went away between the check and the build
+        raise UsageError(f"--backend {backend}: {e}") from None
+    except BuildFailed as e:
+        raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
+    if log is not None and not library.built.cached:
+        print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
+    return CSimulation(model, dynamics, options, controller, library)
+
+
+# (model, controller, generated/) -> (the model, the stats of its C files when found fresh):
+# fingerprinting a model takes tens of milliseconds, which a batch of short runs would feel
+_FRESH: dict[tuple[int, str | None, str], tuple[Model, tuple[Any, ...]]] = {}
+
+
+def _stats(folder: Path, controller: str | None) -> tuple[Any, ...]:
+    names = ["dynamics.c", "dynamics.h"] + ([f"control_{controller}.c"] if controller else [])
+    found = []
+    for file in names:
+        try:
+            st = (folder / file).stat()
+        except OSError:
+            return ()
+        found.append((file, st.st_mtime_ns, st.st_size))
+    return tuple(found)
+
+
+def _fresh_sources(
+    model: Model,
+    source: Path,
+    generated: Path,
+    log: Any,
+    syntax: ast.SourceFile | None,
+    controller: str | None,
+) -> Path:
+    """``c_sources``, skipped when this model's C files are unchanged since it last passed."""
+    key = (id(model), controller, str(generated))
+    folder = generated / model.name
+    known = _FRESH.get(key)
+    if (
+        known is not None
+        and known[0] is model
+        and known[1]
+        and known[1] == _stats(folder, controller)
+    ):
+        return folder
+    folder = c_sources(model, source, generated, log, syntax, controller)
+    _FRESH[key] = (model, _stats(folder, controller))
+    return folder
+
+
+def run_batch(
+    session: Any,
+    jobs: Sequence[Mapping[str, Any]],
+    threads: int | None = None,
+) -> list[Any]:
+    """Run many copies of a session's creature on the C backend at once, ``threads`` at a time.
+
+    Each job is the keyword arguments of ``RunSession.run`` (``controller``, ``settings``,
+    ``paths``, ``options``, ...): its own inputs, parameters, actuator settings and start
+    (``options.drop``). The runs go on in parallel threads: the C loop releases the GIL, and
+    with the state machine in C a run enters Python only to start, to grow its recording and
+    every 20000 steps, so N runs on k cores take about N/k times one run. Returns the ``Run``
+    of each job, in order. (The copies are separate simulations, each with its own arrays: an
+    array-of-structures batch, not one structure of arrays.)
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    workers = threads or os.cpu_count() or 1
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        return list(pool.map(lambda job: session.run(**{"backend": "c", **job}), jobs))

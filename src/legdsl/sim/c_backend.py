@@ -1,0 +1,523 @@
+"""The C backend: the same simulation as ``legdsl.sim.simulate``, its steps taken in C.
+
+``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording,
+the checks and the controller's state machine to the creature's shared library
+(``legdsl.codegen.c.build``: the generated ``dynamics.c`` and ``control_CONTROLLER.c`` with the
+runtime ``step.c`` and ``machine.c``). C advances many steps per call and writes the recorded
+samples straight into the trajectory's numpy arrays; it returns to Python only
+
+* when the recording arrays are full (they grow as on the Python backend);
+* every ``STEP_BUDGET`` steps, so that Ctrl-C and the progress line are served;
+* for a control tick the C state machine hands over (where Python would raise or fault, or
+  for a controller with no C twin, ``leg_has_c_controller`` 0): the state is copied into this
+  object and into the Python ``StateMachine``, which takes the tick, and back;
+* when the run stops: at its end, at a fall or divergence (found in C by the rules of
+  ``Simulation._check``, whose message Python then writes by running that same check), or
+  where Python would have raised (``legdsl_math.h``'s error codes become the same exceptions).
+
+So every status, message, event and recorded array is the Python backend's
+(tests/sim/test_c_backend.py compares them bit for bit).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import re
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
+from legdsl.ir.model import Model, Pad
+from legdsl.ir.paths import MEMBERS
+from legdsl.sim.c_mirrors import machine_matches
+from legdsl.sim.contact import ContactEvent
+from legdsl.sim.machine import StateMachine
+from legdsl.sim.recorder import Divergence
+from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
+
+STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
+EVENT_CAP = 4096
+
+DONE, CONTROL, FULL, YIELD, CHECK, NONFINITE, RAISED = range(7)
+
+# legdsl_math.h's error codes as the exceptions Python raises there
+ERRORS: dict[int, Callable[[], BaseException]] = {
+    1: lambda: ValueError("math domain error"),
+    2: lambda: ZeroDivisionError("float division by zero"),
+    3: lambda: OverflowError("math range error"),
+    4: lambda: ZeroDivisionError("0.0 cannot be raised to a negative power"),
+    5: lambda: OverflowError(34, "Numerical result out of range"),
+    6: lambda: TypeError("a negative number to a fractional power (complex in Python)"),
+}
+
+_CTYPES = {
+    "double": ctypes.c_double,
+    "int64_t": ctypes.c_int64,
+    "double *": ctypes.POINTER(ctypes.c_double),
+    "int64_t *": ctypes.POINTER(ctypes.c_int64),
+    "int8_t *": ctypes.POINTER(ctypes.c_int8),
+    "int16_t *": ctypes.POINTER(ctypes.c_int16),
+    "void *": ctypes.c_void_p,
+}
+
+
+# Seconds of wall time between progress reports (as the Python loop's).
+PROGRESS_EVERY = 0.2
+
+
+class CLibrary:
+    """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
+
+    def __init__(self, built: Built, model: Model):
+        self.built = built
+        self.lib = ctypes.CDLL(str(built.path))
+        start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
+        text = ctypes.cast(start, ctypes.c_char_p).value
+        assert text is not None
+        fields = []
+        for decl in text.decode().split(";")[:-1]:
+            match = re.fullmatch(r"(\w+(?: \*)?) (\w+)", decl.strip())
+            assert match is not None, decl
+            fields.append((match.group(2), _CTYPES[match.group(1)]))
+        self.Sim = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
+        self.lib.leg_sim_size.restype = ctypes.c_int64
+        if ctypes.sizeof(self.Sim) != self.lib.leg_sim_size():
+            raise RuntimeError("the C backend's struct layout does not match its description")
+        sizes = (ctypes.c_int64 * 4)()
+        self.lib.leg_sizes(sizes)
+        self.nq, self.nv, self.nb, self.nc = list(sizes)
+        if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
+            raise RuntimeError(f"the C library of {model.name} is of another model")
+        for name in ("leg_run", "leg_begin", "leg_contact_state"):
+            getattr(self.lib, name).restype = ctypes.c_int64
+            getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
+        # the controller's state machine runs in C (else the Python one, at each control instant)
+        self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
+
+
+_LOADED: dict[Path, CLibrary] = {}
+_BY_STAT: dict[tuple[Any, ...], CLibrary] = {}
+
+
+def available() -> str | None:
+    """None when the C backend can run here, else why not (one line)."""
+    if find_compiler() is None:
+        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
+    return None
+
+
+def load_library(model: Model, generated_dir: Path, controller: str | None = None) -> CLibrary:
+    """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
+    controller's state machine in C when it has one."""
+    name = model.name if controller is None else f"{model.name}-{controller}"
+    # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
+    # process, files whose size and modification time are unchanged give the library again.
+    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
+    if controller is not None:
+        files.append(generated_dir / f"control_{controller}.c")
+    files += [RUNTIME / f for f in RUNTIME_FILES]
+    stats = tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+    key = (name, stats, find_compiler())
+    if key in _BY_STAT:
+        return _BY_STAT[key]
+    built = build(name, sources(generated_dir, controller))
+    if built.path not in _LOADED:
+        _LOADED[built.path] = CLibrary(built, model)
+    _BY_STAT[key] = _LOADED[built.path]
+    return _LOADED[built.path]
+
+
+def _ptr(array: np.ndarray) -> Any:
+    kinds: dict[Any, Any] = {np.float64: ctypes.c_double, np.int64: ctypes.c_int64,
+                             np.int8: ctypes.c_int8, np.int16: ctypes.c_int16}  # fmt: skip
+    kind = kinds[array.dtype.type]
+    assert array.flags.c_contiguous
+    return array.ctypes.data_as(ctypes.POINTER(kind))
+
+
+class CSimulation(Simulation):
+    """A ``Simulation`` whose steps run in C (see the module docstring)."""
+
+    def __init__(
+        self,
+        model: Model,
+        dynamics: ModuleType,
+        options: RunOptions,
+        controller: Controller | None,
+        library: CLibrary,
+    ):
+        super().__init__(model, dynamics, options, controller)
+        self.library = library
+        self._keep: dict[str, np.ndarray] = {}  # the arrays the struct points into
+        self.c = library.Sim()
+
+    # ------------------------------------------------------------ the struct
+    def _array(self, name: str, values: Any, dtype: Any = np.float64, size: int = 0) -> None:
+        array = np.array(values, dtype=dtype).reshape(-1)
+        if array.size < max(size, 1):
+            array = np.concatenate([array, np.zeros(max(size, 1) - array.size, dtype=dtype)])
+        self._keep[name] = array
+        setattr(self.c, name, _ptr(array))
+
+    def _setup(self, loop: RunLoop) -> None:
+        c, m, opts = self.c, self.model, self.options
+        c.dt, c.rk4, c.n_steps = opts.dt, int(opts.integrator == "rk4"), loop.n_steps
+        c.control_every, c.has_controller = loop.control_every, int(self.controller is not None)
+        c.record_every, c.capacity = loop.record_every, loop.capacity
+        c.has_fall_height = int(opts.fall_height is not None)
+        c.fall_height = opts.fall_height if opts.fall_height is not None else 0.0
+        c.fall_tilt, c.start_height = opts.fall_tilt, loop.start_height
+        c.step_budget = STEP_BUDGET
+        c.steps, c.phase, c.steps_taken, c.t = 0, 0, self.steps_taken, self.t
+        c.recorded = loop.recorded
+        self._array("q", self.q)
+        self._array("v", self.v)
+        acts = self.actuators.states
+        c.n_act = len(acts)
+        self._array("act_is_force", [a.kind == "force" for a in acts], np.int64)
+        self._array("act_qi", [a.q_index for a in acts], np.int64)
+        self._array("act_vi", [a.v_index for a in acts], np.int64)
+        self._array("act_has_limit", [a.limit is not None for a in acts], np.int64)
+        self._array("act_limit", [a.limit or 0.0 for a in acts])
+        for name in ("act_gain", "act_damping", "act_target", "act_force", "act_last"):
+            self._array(name, [0.0] * len(acts))
+        self._push_actuators()
+        self._keep["act_last"][: len(acts)] = [a.last_force for a in acts]
+        stops = self._stops
+        c.n_stops = len(stops)
+        self._array("stop_qi", [st.q_index for st in stops], np.int64)
+        self._array("stop_vi", [st.v_index for st in stops], np.int64)
+        for name in ("low", "high", "k", "b"):
+            self._array(f"stop_{name}", [getattr(st, name) for st in stops])
+        self._array("stop_time", [self.stop_time[st.dof] for st in stops])
+        self._setup_ground()
+        nc = len(self.contact_names)
+        c.n_events, c.event_cap = 0, EVENT_CAP
+        self._array("event_t", [], size=EVENT_CAP)
+        self._array("event_kind", [], np.int64, EVENT_CAP)
+        self._array("event_contact", [], np.int64, EVENT_CAP)
+        legs = m.legs
+        c.n_legs = len(self._hip_body)
+        self._array("leg_hip", self._hip_body, np.int64)
+        self._array("leg_foot", self._foot, np.int64)
+        mask = [[a.name in springs for a in acts] for springs in self._leg_springs]
+        self._array("leg_spring", mask if legs else [], np.int64)
+        self._sync_controller()
+        self._point_recording(loop)
+        self._array("scratch", [], size=9 * nc)
+        c.kin_valid = 0
+        self._array("kin", [], size=7 * nc)
+        self._setup_machine()
+
+    def _setup_ground(self) -> None:
+        c, ground = self.c, self.ground
+        nc = len(self.contact_names)
+        self._array("contact_body", self._contact_body, np.int64)
+        self._array("touching", [], np.int64, nc)
+        self._array("anchor", [], size=3 * nc)
+        self._array("yaw_anchor", [], size=nc)
+        self._array("slipping", [], np.int64, nc)
+        self._array("contact_force", self.contact_force)
+        if ground is None:
+            c.has_ground = 0
+            self._array("flat_is_box", [], np.int64)
+            self._array("flats", [])
+            return
+        g = ground.ground
+        c.has_ground = 1
+        c.normal_pad = int(isinstance(g.normal, Pad))
+        c.normal_k, c.normal_b = g.normal.k, g.normal.b
+        c.pad_thickness = g.normal.thickness if isinstance(g.normal, Pad) else 0.0
+        c.tangent_k, c.tangent_b = g.tangent.k, g.tangent.b
+        c.has_friction = int(g.friction is not None)
+        c.friction = g.friction if g.friction is not None else 0.0
+        c.torsion = int(self._torsion)
+        c.torsion_k = g.torsion.k if g.torsion is not None else 0.0
+        c.torsion_b = g.torsion.b if g.torsion is not None else 0.0
+        slope = ground._slope
+        c.has_slope = int(slope is not None)
+        c.slope_angle = slope.get("angle") if slope is not None else 0.0
+        flats = ground._flats
+        c.n_flats = len(flats)
+        self._array("flat_is_box", [t.kind == "box" for t in flats], np.int64)
+        rows = [
+            [t.get("x"), 0.0, 0.0, 0.0, 0.0, t.get("height")]
+            if t.kind == "step"
+            else [0.0, t.get("x0"), t.get("x1"), t.get("y0"), t.get("y1"), t.get("height")]
+            for t in flats
+        ]
+        self._array("flats", rows)
+        self._push_ground()
+
+    def _push_ground(self) -> None:
+        assert self.ground is not None
+        g = self.ground
+        self._keep["touching"][: len(g.touching)] = g.touching
+        self._keep["slipping"][: len(g.slipping)] = g.slipping
+        self._keep["yaw_anchor"][: len(g.yaw_anchor)] = g.yaw_anchor
+        for i, a in enumerate(g.anchor):
+            self._keep["anchor"][3 * i : 3 * i + 3] = a
+
+    def _point_recording(self, loop: RunLoop) -> None:
+        traj = loop.traj
+        self.c.rows = len(traj)
+        for name in ("t", "q", "v", "contact", "force", "com", "com_vel", "root_pos",
+                     "root_rpy", "leg_length", "leg_spring_energy", "kinetic", "potential",
+                     "elastic", "state", "speed_command"):  # fmt: skip
+            array = getattr(traj, name)
+            self._keep[f"rec_{name}"] = array
+            setattr(self.c, f"rec_{name}", _ptr(array))
+
+    def _setup_machine(self) -> None:
+        """The state machine in C, when the library has the controller's (else c_control = 0)."""
+        c, m = self.c, self.controller
+        use = type(m) is StateMachine and self.library.c_controller and machine_matches()
+        c.c_control = int(use)
+        if not use:
+            return
+        assert isinstance(m, StateMachine)
+        mod, nc, ni = m.module, len(self.contact_names), len(m.inputs)
+        self._schedule = list(m.schedule)
+        self._array("ctl_records", m.records)
+        self._array("ctl_inputs", m.inputs)
+        self._array("ctl_params", m.params)
+        c.sched_n = len(self._schedule)
+        self._array("sched_t", [ch.t for ch in self._schedule])
+        self._array(
+            "sched_input", [m.input_names.index(ch.name) for ch in self._schedule], np.int64
+        )
+        self._array("sched_value", [ch.value for ch in self._schedule])
+        self._array("hist_t", [], size=len(self._schedule) + 1)
+        self._array("hist_inputs", [], size=(len(self._schedule) + 1) * ni)
+        c.speed_input = m.input_names.index("speed") if "speed" in m.input_names else -1
+        self._array("clocks", [], size=5 * nc)
+        self._array("ctl_event_t", [], size=STEP_BUDGET + 16)
+        self._array("ctl_event_state", [], np.int64, STEP_BUDGET + 16)
+        outputs = [
+            len(targets) + sum(len(axes) for _, axes, _ in mod.PLACES.get(key, ()))
+            for key, targets in mod.SETTINGS.items()
+        ]
+        most = max([len(mod.RECORDS), *outputs])
+        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
+        self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
+        c.dgesv = _dgesv()
+        self._setup_paths(m)
+        self._push_machine()
+
+    def _setup_paths(self, m: StateMachine) -> None:
+        """The paths' geometry (PathGeometry's vertices and arclengths) and trackers, for C."""
+        data: list[float] = []
+        at = []
+        for tracker in m.sensors.paths.values():
+            at.append(len(data))
+            geo, spec = tracker.geometry, tracker.spec
+            if geo is None or spec is None:
+                data += [0.0] * 9
+                continue
+            shape = 1.0 if spec.shape == "circle" else 2.0
+            data += [shape, float(geo.closed), *spec.center, spec.radius, float(spec.turn)]
+            data += [spec.lookahead, geo.length, float(len(geo.vertices))]
+            data += [c for v in geo.vertices for c in v] + list(geo.starts)
+        self.c.n_paths = len(at)
+        self._array("path_at", at, np.int64)
+        self._array("path_data", data)
+        self._array("path_state", [], size=12 * len(at))
+
+    def _push_machine(self) -> None:
+        c, m, keep = self.c, self.controller, self._keep
+        assert isinstance(m, StateMachine)
+        c.ctl_started, c.ctl_state, c.ctl_binding = int(m.started), m.state_index, m.binding
+        c.ctl_entered_at = m.entered_at
+        keep["ctl_records"][: len(m.records)] = m.records
+        keep["ctl_inputs"][: len(m.inputs)] = m.inputs
+        c.sched_pos = len(self._schedule) - len(m.schedule)
+        for k, tracker in enumerate(m.sensors.paths.values()):
+            values = [tracker.values[name] for name in MEMBERS]
+            keep["path_state"][12 * k : 12 * k + 12] = [tracker.progress, tracker._last_s, *values]
+        for i, clock in enumerate(m.sensors.clocks.values()):
+            keep["clocks"][5 * i : 5 * i + 5] = [float(clock.touching), clock.touchdown,
+                                                 clock.liftoff, clock.stance, clock.flight]  # fmt: skip
+
+    def _pull_machine(self) -> None:
+        c, m, keep = self.c, self.controller, self._keep
+        assert isinstance(m, StateMachine)
+        m.started, m.state_index, m.binding = (
+            bool(c.ctl_started),
+            int(c.ctl_state),
+            int(c.ctl_binding),
+        )
+        m.entered_at = float(c.ctl_entered_at)
+        m.records = keep["ctl_records"][: len(m.records)].tolist()
+        m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
+        m.schedule = self._schedule[int(c.sched_pos) :]
+        for k, tracker in enumerate(m.sensors.paths.values()):
+            state = keep["path_state"][12 * k : 12 * k + 12].tolist()
+            tracker.progress, tracker._last_s = state[0], state[1]
+            if tracker.geometry is not None:
+                tracker.values = dict(zip(MEMBERS, state[2:], strict=True))
+        for i, clock in enumerate(m.sensors.clocks.values()):
+            touching, clock.touchdown, clock.liftoff, clock.stance, clock.flight = keep["clocks"][
+                5 * i : 5 * i + 5
+            ].tolist()
+            clock.touching = touching != 0.0
+        ni = len(m.inputs)
+        for k in range(int(c.n_hist)):
+            values = keep["hist_inputs"][k * ni : (k + 1) * ni].tolist()
+            m._history.append((float(keep["hist_t"][k]), values))
+        c.n_hist = 0
+        for k in range(int(c.n_ctl_events)):
+            t, state = float(keep["ctl_event_t"][k]), int(keep["ctl_event_state"][k])
+            m.events.append({"t": round(t, 9), "kind": "state", "state": m.state_names[state]})
+        c.n_ctl_events = 0
+
+    # ------------------------------------------------------------ state between C and Python
+    def _push_actuators(self) -> None:
+        keep = self._keep
+        for k, a in enumerate(self.actuators.states):
+            keep["act_gain"][k], keep["act_damping"][k] = a.gain, a.damping
+            keep["act_target"][k], keep["act_force"][k] = a.target, a.force
+
+    def _sync_controller(self) -> None:
+        controller = self.controller
+        if controller is not None:
+            self.c.state_index = controller.state_index
+            self.c.speed_command = controller.speed_command(self.t)
+
+    def _pull(self) -> None:
+        """C's state into this object (what the controller, the checks and the result read)."""
+        c, keep = self.c, self._keep
+        nq, nv = self.library.nq, self.library.nv
+        self.q = keep["q"][:nq].tolist()
+        self.v = keep["v"][:nv].tolist()
+        self.steps_taken, self.t = int(c.steps_taken), float(c.t)
+        for k, a in enumerate(self.actuators.states):  # the C state machine may have set them
+            a.last_force = float(keep["act_last"][k])
+            a.gain, a.damping = float(keep["act_gain"][k]), float(keep["act_damping"][k])
+            a.target, a.force = float(keep["act_target"][k]), float(keep["act_force"][k])
+        for k, st in enumerate(self._stops):
+            self.stop_time[st.dof] = float(keep["stop_time"][k])
+        nc = len(self.contact_names)
+        if self.ground is not None:
+            g = self.ground
+            g.touching = [bool(x) for x in keep["touching"][:nc]]
+            g.slipping = [bool(x) for x in keep["slipping"][:nc]]
+            g.yaw_anchor = keep["yaw_anchor"][:nc].tolist()
+            anchors = keep["anchor"][: 3 * nc].tolist()
+            g.anchor = [tuple(anchors[3 * i : 3 * i + 3]) for i in range(nc)]
+            forces = keep["contact_force"][: 3 * nc].tolist()
+            self.contact_force = [tuple(forces[3 * i : 3 * i + 3]) for i in range(nc)]
+        for n in range(int(c.n_events)):
+            kind = "touchdown" if keep["event_kind"][n] == 1 else "liftoff"
+            name = self.contact_names[int(keep["event_contact"][n])]
+            self.events.append(ContactEvent(float(keep["event_t"][n]), kind, name))
+        c.n_events = 0
+        self._kinematics = None
+
+    # ------------------------------------------------------------ the run
+    def _begin(self) -> None:
+        pass  # the ground's first update is C's, at the start of _loop
+
+    def _end(self) -> None:
+        if getattr(self, "_started", False):
+            self._pull()
+            if self.c.c_control:
+                self._pull_machine()
+
+    def _loop(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
+        try:
+            self._run_c(loop, progress)
+        except BaseException as stop:
+            if getattr(self, "_started", False) and not isinstance(stop, _InternalRaise):
+                # a signal lands between two C calls: the run stops where C is
+                loop.steps, loop.recorded = int(self.c.steps), int(self.c.recorded)
+                self._pull()
+            raise
+
+    def _run_c(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
+        lib, c = self.library.lib, self.c
+        self._setup(loop)
+        self._started = True
+        pointer = ctypes.byref(c)
+        if lib.leg_begin(pointer) == RAISED:
+            self._pull()
+            raise _InternalRaise(c.err)  # outside the run's handlers, as in Python
+        last_report = time.perf_counter()
+        while True:
+            code = lib.leg_run(pointer)
+            loop.steps, loop.recorded = int(c.steps), c.recorded
+            if c.c_control:
+                self._pull_machine()  # its events, and its state for a tick Python takes
+            if code == CONTROL:
+                self._pull()
+                assert self.controller is not None
+                self.controller(self)  # the Python state machine: raises where C gave up
+                self._push_actuators()
+                self._sync_controller()
+                if c.c_control:
+                    self._push_machine()
+                # C returns at every tick the Python controller takes, never running out of
+                # its step budget: report the progress from here, as the Python loop does
+                now = time.perf_counter()
+                if progress is not None and now - last_report > PROGRESS_EVERY:
+                    progress(self.t, self.options.duration)
+                    last_report = now
+            elif code == FULL:
+                loop.traj = loop.traj.grown(min(loop.capacity, 2 * len(loop.traj)))
+                self._point_recording(loop)
+            elif code == YIELD:
+                self._pull()
+                if progress is not None:
+                    progress(self.t, self.options.duration)
+            elif code == DONE:
+                return
+            elif code == CHECK:
+                self._pull()
+                fell = self._check(loop.start_height)  # raises the divergence it found
+                if not fell:
+                    raise RuntimeError("C and Python disagree on the fall check (a legdsl bug)")
+                loop.status = fell
+                return
+            elif code == NONFINITE:
+                self._pull()
+                raise Divergence("the state is no longer finite (NaN or infinity)")
+            elif code == RAISED:
+                self._pull()
+                raise ERRORS[int(c.err)]()
+            else:
+                raise RuntimeError(f"leg_run returned {code}")
+
+
+def _dgesv() -> int | None:
+    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
+    try:
+        from numpy.linalg import _umath_linalg
+
+        lib = ctypes.CDLL(_umath_linalg.__file__)
+        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
+            if hasattr(lib, name):
+                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
+    except (OSError, ImportError, AttributeError):
+        pass
+    return None
+
+
+class _InternalRaise(RuntimeError):
+    def __init__(self, code: int):
+        super().__init__(f"the ground's first update raised: {ERRORS[code]()!r}")
+
+
+def python_version_note() -> str | None:
+    """The C runtime follows CPython 3.11's sum() and math.hypot; another Python may differ."""
+    if sys.version_info[:2] != (3, 11):
+        return (
+            f"the C backend reproduces CPython 3.11's float sums; on Python "
+            f"{sys.version_info.major}.{sys.version_info.minor} its runs may differ from the "
+            "Python backend's in the last bits (tests/sim/test_c_backend.py checks)"
+        )
+    return None

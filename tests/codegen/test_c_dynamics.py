@@ -1,0 +1,156 @@
+"""The C print of the dynamics computes the same doubles as the Python print.
+
+For every shipped creature, every function of ``dynamics.c`` is called through ctypes at random
+states and compared with the same function of the golden ``dynamics.py`` by ``==`` on every
+float, and byte for byte (a zero's sign counts). Where Python raises (``math.cos`` of an
+infinity), the C function flags the same error (``legdsl_math.h``).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import random
+from pathlib import Path
+
+import pytest
+from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
+
+from legdsl.codegen.c.build import build, find_compiler, sources
+from legdsl.codegen.c.dynamics import C_FUNCTIONS, flatten
+
+pytestmark = pytest.mark.skipif(
+    find_compiler() is None,
+    reason="the C backend's tests need a C compiler (cc, gcc or clang; apt-get install gcc)",
+)
+
+DOUBLES = ctypes.POINTER(ctypes.c_double)
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path_factory.getbasetemp() / "c-cache"))
+
+
+def _library(name: str) -> ctypes.CDLL:
+    return ctypes.CDLL(str(build(name, sources(GENERATED / name)).path))
+
+
+def _state(name: str, rng: random.Random) -> dict[str, list[float]]:
+    model = shipped_model(name)
+    q = [rng.uniform(-1.5, 1.5) for _ in range(model.nq)]
+    if model.joints[0].is_free_3d:  # a quaternion, not of unit norm (the code divides by it)
+        q[3:7] = [rng.uniform(-1.0, 1.0) for _ in range(4)]
+    return {
+        "q": q,
+        "v": [rng.uniform(-5.0, 5.0) for _ in range(model.nv)],
+        "tau": [rng.uniform(-50.0, 50.0) for _ in range(model.nv)],
+    }
+
+
+def _call_c(lib: ctypes.CDLL, name: str, params: tuple[str, ...], state: dict[str, list[float]],
+            size: int) -> tuple[list[float], int]:  # fmt: skip
+    args = [(ctypes.c_double * len(state[p]))(*state[p]) for p in params]
+    out = (ctypes.c_double * size)()
+    err = ctypes.c_int(0)
+    getattr(lib, name)(*args, out, ctypes.byref(err))
+    return list(out), err.value
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_function_equals_the_python_print(name: str) -> None:
+    from conftest import compiled_creature
+
+    lib = _library(name)
+    dyn = shipped_dynamics(name)
+    system = compiled_creature(name).system
+    rng = random.Random(f"c-dynamics-{name}")
+    checked = 0
+    for _ in range(60):
+        state = _state(name, rng)
+        for fname in C_FUNCTIONS:
+            function = system.function(fname)
+            expected = [
+                float(x) for x in flatten(getattr(dyn, fname)(*(state[p] for p in function.params)))
+            ]
+            got, err = _call_c(lib, fname, function.params, state, len(expected))
+            assert err == 0, fname
+            assert got == expected, f"{name}.{fname} differs at {state}"
+            # byte for byte: -0.0 == 0.0, so compare the bits too
+            assert [math.copysign(1, x) for x in got] == [math.copysign(1, x) for x in expected]
+            checked += len(expected)
+    assert checked > 1000
+
+
+def _has_fma() -> bool:
+    try:
+        return " fma " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not _has_fma(), reason="the processor has no FMA instructions to tempt gcc")
+def test_the_flags_keep_fused_multiply_adds_out_even_with_fma_allowed(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With -mfma, gcc's vectorizer would fuse a product into an add-and-subtract in spite of
+    -ffp-contract=off (the biped's dynamics then differ); legdsl's flags keep it out."""
+    import legdsl.codegen.c.build as build_module
+
+    monkeypatch.setattr(build_module, "FLAGS", (*build_module.FLAGS, "-mfma"))
+    lib = _library("biped")
+    dyn = shipped_dynamics("biped")
+    model = shipped_model("biped")
+    rng = random.Random("fma")
+    for _ in range(100):
+        state = _state("biped", rng)
+        got, _ = _call_c(lib, "forward_dynamics", ("q", "v", "tau"), state, model.nv)
+        assert got == dyn.forward_dynamics(state["q"], state["v"], state["tau"])
+
+
+@pytest.mark.parametrize("name", ["hopper", "biped"])
+def test_an_infinite_angle_is_a_domain_error_as_in_python(name: str) -> None:
+    lib = _library(name)
+    dyn = shipped_dynamics(name)
+    model = shipped_model(name)
+    state = _state(name, random.Random(1))
+    hinge = [d for d in model.dofs if d.motion == "hinge"][-1]  # a joint angle, not the root
+    state["q"][hinge.q_index] = math.inf
+    with pytest.raises(ValueError, match="math domain error"):
+        dyn.forward_dynamics(state["q"], state["v"], state["tau"])
+    _, err = _call_c(lib, "forward_dynamics", ("q", "v", "tau"), state, model.nv)
+    assert err == 1  # LEG_EDOM: ValueError("math domain error")
+
+
+def test_the_header_names_the_source_and_the_sizes() -> None:
+    text = (GENERATED / "biped" / "dynamics.h").read_text()
+    assert text.startswith("/* Generated by legdsl") and "creatures/biped.leg" in text
+    model = shipped_model("biped")
+    assert f"#define LEG_NV {model.nv}\n" in text
+    assert f"#define LEG_OUT_FORWARD_DYNAMICS {model.nv}\n" in text
+
+
+def test_a_controller_with_no_c_twin_is_printed_as_a_stub_for_python() -> None:
+    """A control law the C printer cannot spell exactly (here math.erf) keeps the controller
+    on the Python state machine: the C file says so, and says nothing else."""
+    import dataclasses
+
+    import sympy
+    from conftest import compiled_creature
+
+    from legdsl.codegen.c.control import render_control_c
+    from legdsl.lower.control import Setting
+
+    compiled = compiled_creature("hopper")
+    lc = compiled.lowered[0]
+    key, body = next(iter(sorted(lc.bodies.items())))
+    odd = Setting("hip_motor", "force", sympy.erf(sympy.Symbol("input_speed")))
+    bodies = dict(lc.bodies)
+    bodies[key] = dataclasses.replace(body, settings=(*body.settings, odd))
+    text = render_control_c(compiled.model, dataclasses.replace(lc, bodies=bodies),
+                            "creatures/hopper.leg", {s: "" for s in lc.states}, "x")  # fmt: skip
+    assert "const int64_t leg_has_c_controller = 0;" in text
+    assert "math.erf" in text and "static" not in text
+    normal = render_control_c(compiled.model, lc, "creatures/hopper.leg",
+                              {s: "" for s in lc.states}, "x")  # fmt: skip
+    assert "const int64_t leg_has_c_controller = 1;" in normal

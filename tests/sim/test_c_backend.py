@@ -1,0 +1,394 @@
+"""The C backend against the Python backend: the same run, bit for bit.
+
+For every shipped creature and controller (and the ground's features no shipped creature uses:
+friction and slip, terrain steps, boxes and a slope, the pad, RK4), a short run on both
+backends must give the same status, message, step count and events, and every recorded array
+equal byte for byte (so even the sign of a zero counts). A falling and a diverging run must
+stop at the same time with the same cause. This is the test that catches any drift between
+the hand-transliterated C runtime (legdsl/codegen/c/runtime/step.c) and the Python runtime.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from conftest import CREATURES, GENERATED, ROOT
+
+from legdsl.ir.model import Terrain
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.c_backend import available
+from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.trajectory import ARRAYS
+
+pytestmark = pytest.mark.skipif(
+    available() is not None,
+    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
+)
+
+# (creature, controller, --set) of the shipped controllers, with a speed they hold
+CHOSEN_RUNS = [
+    ("hopper", "hop", ["speed=1m/s"]),
+    ("kangaroo", "hop", ["speed=3m/s", "speed=4m/s@0.5s"]),
+    ("biped", "run", ["speed=1.5m/s"]),
+    ("biped", "gallop", ["speed=1.5m/s"]),
+    ("biped", "gallop_human", ["speed=1.5m/s"]),
+]
+
+
+def _every_controller() -> list[tuple[str, str, list[str]]]:
+    """The chosen runs, and every other controller of a shipped creature at its defaults (a
+    controller added to a .leg file is checked without editing this test)."""
+    from conftest import SHIPPED, shipped_model
+
+    chosen = {(name, controller) for name, controller, _ in CHOSEN_RUNS}
+    more = [
+        (name, c.name, [])
+        for name in SHIPPED
+        for c in shipped_model(name).controllers
+        if (name, c.name) not in chosen
+    ]
+    return CHOSEN_RUNS + more
+
+
+SHIPPED_RUNS = _every_controller()
+DURATION = 1.0
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path_factory.getbasetemp() / "c-cache"))
+
+
+def session(name: str) -> RunSession:
+    return RunSession.from_file(CREATURES / f"{name}.leg", generated=GENERATED)
+
+
+def assert_same(python: RunResult, c: RunResult) -> None:
+    assert (c.status, c.message, c.cause) == (python.status, python.message, python.cause)
+    assert c.steps == python.steps and c.sim_time == python.sim_time
+    assert c.events == python.events
+    assert c.stop_time == python.stop_time
+    for name in ARRAYS:
+        a, b = getattr(python.trajectory, name), getattr(c.trajectory, name)
+        assert a.shape == b.shape, name
+        if a.tobytes() != b.tobytes():
+            differ = np.argwhere(~((a == b) | (np.isnan(a) & np.isnan(b))))
+            pytest.fail(f"{name} differs first at {differ[:1].tolist()}: {a[tuple(differ[0])]!r} "
+                        f"(python) vs {b[tuple(differ[0])]!r} (c)")  # fmt: skip
+
+
+def both(
+    sess: RunSession, controller: str | None, settings: list[str], **options: object
+) -> RunResult:
+    opts = RunOptions(duration=DURATION, **options)  # type: ignore[arg-type]
+    python = sess.run(controller, settings, options=opts, backend="python").result
+    c = sess.run(controller, settings, options=opts, backend="c").result
+    assert len(python.trajectory) > 0
+    assert_same(python, c)
+    return python
+
+
+@pytest.mark.parametrize(("name", "controller", "settings"), SHIPPED_RUNS)
+def test_shipped_controllers_run_the_same(name: str, controller: str, settings: list[str]) -> None:
+    both(session(name), controller, settings)
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "circle(center = (0, 5) m, radius = 5 m, turn = left)",
+        "square(corner = (0, -2) m, side = 4 m)",  # a closed polyline
+        "polyline((0, 0) m, (3, 0) m, (3, 3) m)",  # an open one, past its end
+    ],
+)
+def test_paths_are_followed_the_same(path: str) -> None:
+    sess = session("biped")
+    opts = RunOptions(duration=DURATION * 2)
+    python = sess.run("run", ["speed=1.5m/s"], [path], options=opts, backend="python").result
+    c = sess.run("run", ["speed=1.5m/s"], [path], options=opts, backend="c").result
+    assert_same(python, c)
+
+
+def test_the_quadruped_drop_runs_the_same() -> None:
+    both(session("quadruped"), None, [], drop=0.3, record_rate=0.0)
+
+
+def test_rk4_and_every_step_recorded_run_the_same() -> None:
+    both(session("kangaroo"), "hop", ["speed=2m/s"], integrator="rk4", record_rate=0.0)
+    both(session("biped"), "run", ["speed=1m/s"], integrator="rk4")
+
+
+def _with_ground(sess: RunSession, **changes: object) -> RunSession:
+    model = sess.model
+    assert model.ground is not None
+    ground = dataclasses.replace(model.ground, **changes)  # type: ignore[arg-type]
+    sess.model = dataclasses.replace(model, ground=ground)
+    return sess
+
+
+def _terrain(kind: str, **params: float) -> Terrain:
+    return Terrain(kind, tuple(params.items()), session("hopper").model.ground.span)  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize(
+    ("name", "controller", "settings", "ground"),
+    [
+        ("hopper", "hop", ["speed=1.5m/s"], {"friction": 0.25}),  # it slips
+        ("biped", "run", ["speed=1.5m/s"], {"friction": 0.3}),
+        ("kangaroo", "hop", ["speed=3m/s"], {"friction": 0.2}),  # the pad, slipping
+        ("hopper", "hop", ["speed=1m/s"], {"terrain": (_terrain("step", x=0.3, height=0.04),)}),
+        (
+            "biped",
+            "run",
+            ["speed=1.5m/s"],
+            {
+                "terrain": (
+                    _terrain("box", x0=0.2, x1=0.8, y0=-1.0, y1=1.0, height=0.03),
+                    _terrain("step", x=1.0, height=0.05),
+                )
+            },
+        ),  # fmt: skip
+        ("hopper", "hop", ["speed=1m/s"], {"terrain": (_terrain("slope", angle=0.05),)}),
+    ],
+)
+def test_ground_features_run_the_same(
+    name: str, controller: str, settings: list[str], ground: dict[str, object]
+) -> None:
+    plain = session(name).run(controller, settings, options=RunOptions(duration=DURATION))
+    changed = both(_with_ground(session(name), **ground), controller, settings)
+    # the feature must change the motion (the foot slips, meets the step...), or this tests nothing
+    assert changed.trajectory.q.tobytes() != plain.result.trajectory.q.tobytes()
+
+
+def test_a_jump_over_a_box_runs_the_same() -> None:
+    """The jump controller reads the box ahead (terrain.ahead_*) and the height under the
+    centre of mass, in C as in Python, and jumps it (3 s: it meets the box at about 2 s)."""
+    box = _terrain("box", x0=2.0, x1=2.3, y0=-10.0, y1=10.0, height=0.2)
+    sess = _with_ground(session("kangaroo"), terrain=(box,))
+    opts = RunOptions(duration=3.0)
+    python = sess.run("jump", ["speed=3m/s"], options=opts, backend="python").result
+    c = sess.run("jump", ["speed=3m/s"], options=opts, backend="c").result
+    assert_same(python, c)
+    plain = session("kangaroo").run("jump", ["speed=3m/s"], options=opts).result
+    assert c.trajectory.q.tobytes() != plain.trajectory.q.tobytes()  # the box changed the run
+
+
+def test_a_fall_stops_the_same() -> None:
+    sess = session("hopper")
+    opts = RunOptions(duration=DURATION)
+    python = sess.run("hop", ["speed=6m/s"], options=opts, backend="python").result
+    c = sess.run("hop", ["speed=6m/s"], options=opts, backend="c").result
+    assert python.status == "fell", python.message  # asked for 6 m/s from standing, it falls
+    assert_same(python, c)
+
+
+def test_a_divergence_stops_the_same() -> None:
+    sess = session("hopper")
+    opts = RunOptions(
+        duration=DURATION, dt=0.01, control_dt=0.01
+    )  # too coarse for the contact (not the leg spring)
+    python = sess.run("hop", [], options=opts, backend="python").result
+    c = sess.run("hop", [], options=opts, backend="c").result
+    assert python.status == "diverged", python.message
+    assert_same(python, c)
+
+
+def test_the_library_is_cached_and_rebuilt_when_its_source_changes(tmp_path: Path) -> None:
+    from legdsl.codegen.c.build import build, sources
+
+    files = sources(GENERATED / "hopper")
+    first = build("hopper", files)
+    again = build("hopper", files)
+    assert again.cached and again.path == first.path
+    changed = dict(files, **{"dynamics.c": files["dynamics.c"] + "\n/* edited */\n"})
+    other = build("hopper", changed)
+    assert not other.cached and other.path != first.path
+
+
+def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
+    """Two processes building the same library into an empty cache: both end with a whole one."""
+    env = dict(os.environ, LEGDSL_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT / "src"))
+    code = (
+        "import ctypes; from pathlib import Path; from legdsl.codegen.c.build import build, sources;"
+        f"b = build('hopper', sources(Path({str(GENERATED / 'hopper')!r})));"
+        "ctypes.CDLL(str(b.path)); print(b.path)"
+    )
+    procs = [
+        subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, text=True)
+        for _ in range(2)
+    ]
+    outs = [p.communicate(timeout=120)[0].strip() for p in procs]
+    assert [p.returncode for p in procs] == [0, 0]
+    assert outs[0] == outs[1]
+    assert [p.name for p in (tmp_path / "cache").iterdir()] == [Path(outs[0]).name]
+
+
+def test_a_state_gone_infinite_between_checks_stops_the_same() -> None:
+    """Checked once in 20 s, the state overflows to NaN first: the recorder's check stops it
+    (12 ms steps: too coarse for the ground, just inside the leg springs' bound)."""
+    sess = session("biped")
+    opts = RunOptions(duration=20.0, dt=0.012, control_dt=20.0, record_rate=0.1)
+    python = sess.run(None, [], options=opts, backend="python").result
+    c = sess.run(None, [], options=opts, backend="c").result
+    assert python.status == "diverged" and "no longer finite" in python.message
+    assert_same(python, c)
+
+
+@pytest.mark.parametrize(
+    ("name", "controller", "in_c"),
+    [
+        ("hopper", "hop", True),
+        ("kangaroo", "hop", True),
+        ("kangaroo", "jump", True),  # it reads the terrain ahead
+        ("quadruped", "trot", True),
+        ("biped", "gallop", True),
+        ("biped", "gallop_human", True),
+        ("biped", "run", True),
+    ],  # fmt: skip
+)
+def test_the_state_machine_runs_in_c_where_it_can(name: str, controller: str, in_c: bool) -> None:
+    """Every control tick of these controllers is taken by the C state machine (with its
+    kinematic solves and, for the run controller, its path tracker)."""
+    from legdsl.pipeline.backend import make_simulation
+    from legdsl.pipeline.settings import sort_settings
+    from legdsl.sim.c_backend import CSimulation
+    from legdsl.sim.machine import StateMachine
+
+    sess = session(name)
+    s = sort_settings(["speed=1.5m/s"], sess.model, controller)
+    machine = StateMachine(sess.model, sess.control(controller), s.inputs, s.params, s.schedule)
+    opts = RunOptions(duration=0.5)
+    sim = make_simulation(sess.model, sess.dynamics, opts, machine, "c",
+                          (sess.source, sess.generated, sess.syntax))  # fmt: skip
+    assert isinstance(sim, CSimulation)
+    result = sim.run()
+    assert result.status == "ok"
+    ticks = result.steps // 5 + 1
+    assert sim.c.ctl_ticks == (ticks if in_c else 0)
+
+
+def test_a_batch_runs_each_job_as_alone() -> None:
+    from legdsl.pipeline.backend import run_batch
+
+    sess = session("kangaroo")
+    jobs = [
+        {"controller": "hop", "settings": [f"speed={v}m/s"], "options": RunOptions(duration=0.4)}
+        for v in (2, 3, 4, 5)
+    ]
+    runs = run_batch(sess, jobs, threads=2)
+    for job, run in zip(jobs, runs, strict=True):
+        alone = sess.run(**job, backend="python").result
+        assert_same(alone, run.result)
+    assert len({run.result.trajectory.speed_command.tobytes() for run in runs}) == 4
+
+
+def test_a_missing_or_stale_c_file_is_compiled_again(generated: Path) -> None:
+    folder = generated / "kangaroo"
+    (folder / "control_hop.c").unlink()
+    text = (folder / "dynamics.c").read_text()
+    (folder / "dynamics.c").write_text(text.replace('legdsl_model_fingerprint[] = "', 'x[] = "'))
+    sess = RunSession.from_file(CREATURES / "kangaroo.leg", generated=generated)
+    run = sess.run("hop", ["speed=3m/s"], options=RunOptions(duration=0.2), backend="c")
+    assert run.status == "ok"
+    assert (folder / "control_hop.c").is_file()
+    assert (folder / "dynamics.c").read_text() == (
+        GENERATED / "kangaroo" / "dynamics.c"
+    ).read_text()
+
+
+def test_the_c_runtime_mirrors_the_python_runtime_as_it_is() -> None:
+    """step.c and machine.c transliterate these Python functions; an edit of one of them must
+    be followed in the C (the identity tests here check the result) and then recorded by
+    updating the digests in legdsl/sim/c_mirrors.py (python -m legdsl.sim.c_mirrors prints
+    them). Until then the C twin steps aside at run time, so no run differs."""
+    from legdsl.sim import c_mirrors
+
+    step = c_mirrors.digest(c_mirrors._step_functions())
+    machine = c_mirrors.digest(c_mirrors._machine_functions())
+    assert (step, machine) == (c_mirrors.STEP_DIGEST, c_mirrors.MACHINE_DIGEST), (
+        "the Python runtime changed since codegen/c/runtime/step.c or machine.c was brought in "
+        "line with it: make the same change there, run tests/sim/test_c_backend.py, then set "
+        f'STEP_DIGEST = "{step}" and MACHINE_DIGEST = "{machine}" in legdsl/sim/c_mirrors.py'
+    )
+
+
+def test_an_interrupt_between_c_calls_stops_the_run_where_c_is() -> None:
+    """A signal lands in Python between two calls into C (here from the progress callback,
+    which runs at such a moment): the run is interrupted there, its time, steps, message and
+    recording telling the same instant, as on the Python backend."""
+    from legdsl.sim.simulate import Interrupted
+
+    calls = []
+
+    def stop(t: float, duration: float) -> None:
+        calls.append(t)
+        if len(calls) == 1:  # the signal, once (run() reports progress once more at the end)
+            raise Interrupted("SIGTERM")
+
+    sess = session("kangaroo")
+    opts = RunOptions(duration=60.0, record_rate=10.0)
+    result = sess.run("hop", [], options=opts, progress=stop, backend="c").result
+    assert result.status == "interrupted" and result.cause == "SIGTERM"
+    assert 0 < result.sim_time < 60.0
+    assert result.sim_time == result.steps * opts.dt
+    assert f"at t = {result.sim_time:.4f} s" in result.message
+    assert result.trajectory.t[-1] <= result.sim_time < result.trajectory.t[-1] + 0.1 + 1e-9
+
+
+def test_a_python_runtime_edited_since_the_c_steps_the_c_aside(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With the digests of c_mirrors out of date, the C backend (for the step) or the C state
+    machine (for the controller) is not used, and the run is still the Python backend's."""
+    import io
+
+    from legdsl.pipeline.backend import make_simulation
+    from legdsl.pipeline.settings import sort_settings
+    from legdsl.sim import c_mirrors
+    from legdsl.sim.machine import StateMachine
+    from legdsl.sim.simulate import Simulation
+
+    sess = session("hopper")
+    s = sort_settings(["speed=1m/s"], sess.model, "hop")
+    where = (sess.source, sess.generated, sess.syntax)
+    opts = RunOptions(duration=0.3)
+
+    def simulation() -> Simulation:
+        machine = StateMachine(sess.model, sess.control("hop"), s.inputs, s.params, s.schedule)
+        return make_simulation(sess.model, sess.dynamics, opts, machine, "c", where, log)
+
+    log = io.StringIO()
+    monkeypatch.setattr(c_mirrors, "MACHINE_DIGEST", "edited")
+    c_mirrors.machine_matches.cache_clear()
+    c_mirrors.step_matches.cache_clear()
+    try:
+        _stepped_aside(simulation, sess, opts, log, monkeypatch)
+    finally:  # the digests come back with monkeypatch; what was read from them must go too
+        monkeypatch.undo()
+        c_mirrors.machine_matches.cache_clear()
+        c_mirrors.step_matches.cache_clear()
+
+
+def _stepped_aside(simulation: Any, sess: RunSession, opts: RunOptions, log: Any,
+                   monkeypatch: pytest.MonkeyPatch) -> None:  # fmt: skip
+    from legdsl.sim import c_mirrors
+    from legdsl.sim.c_backend import CSimulation
+    from legdsl.sim.simulate import Simulation
+
+    sim = simulation()
+    assert isinstance(sim, CSimulation)
+    result = sim.run()
+    assert sim.c.ctl_ticks == 0 and not sim.c.c_control  # the Python state machine ran
+    assert_same(sess.run("hop", ["speed=1m/s"], options=opts, backend="python").result, result)
+    monkeypatch.setattr(c_mirrors, "STEP_DIGEST", "edited")
+    c_mirrors.step_matches.cache_clear()
+    sim = simulation()
+    assert type(sim) is Simulation
+    assert "mirrors an older Python runtime" in log.getvalue()
