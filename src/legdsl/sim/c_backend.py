@@ -67,8 +67,7 @@ _CTYPES = {
 }
 
 
-# Seconds of wall time between progress reports (as the Python loop's).
-PROGRESS_EVERY = 0.2
+PROGRESS_EVERY = 0.2  # seconds of wall time between progress reports (as the Python loop's)
 
 
 class CLibrary:
@@ -461,9 +460,7 @@ class CSimulation(Simulation):
                 self._sync_controller()
                 if c.c_control:
                     self._push_machine()
-                # C returns at every tick the Python controller takes, never running out of
-                # its step budget: report the progress from here, as the Python loop does
-                now = time.perf_counter()
+                now = time.perf_counter()  # C gives way at every such tick: report here
                 if progress is not None and now - last_report > PROGRESS_EVERY:
                     progress(self.t, self.options.duration)
                     last_report = now
