@@ -214,9 +214,9 @@ def add_run_parser(sub: Any) -> Command:
         "--backend",
         choices=("python", "c", "auto"),
         default=None,
-        help="take the steps in Python (the reference; the default for now) or in C, compiled "
-        "from generated/NAME/dynamics.c and cached (bit-identical runs, several times faster); "
-        "auto: C when a C compiler is found; default $LEGDSL_BACKEND, else python (docs/runtime.md)",
+        help="take the steps in C, compiled from generated/NAME/*.c and cached, or in Python (the "
+        "reference: bit-identical runs, tens of times slower); auto (the default, or "
+        "$LEGDSL_BACKEND): C when a C compiler is found (docs/runtime.md)",
     )
     for flag, default, metavar, text in _SIMULATION_OPTIONS:
         r.add_argument(flag, default=default, metavar=metavar, help=text)

@@ -1,9 +1,9 @@
 """Which backend runs a simulation: the Python runtime (``legdsl.sim.simulate``), or the same
 steps in C (``legdsl.sim.c_backend``), chosen by ``legdsl run --backend c|python|auto``.
 
-``auto`` is the C backend where a C compiler is found and the Python backend with a one-line
-notice where none is. The default is Python for now: the switch to ``auto`` is the one line
-``DEFAULT_BACKEND`` below (docs/runtime.md, "The C backend", says what is checked first).
+``auto``, the default, is the C backend where a C compiler is found and the Python backend
+with a one-line notice where none is (docs/runtime.md, "The C backend"); ``python`` is the
+readable reference the C is checked against, bit for bit.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from legdsl.pipeline.generated import c_sources
 from legdsl.sim.simulate import Controller, RunOptions, Simulation
 
 BACKENDS = ("python", "c", "auto")
-DEFAULT_BACKEND = "python"  # the one line to change for C by default ("auto")
+DEFAULT_BACKEND = "auto"
 
 
 def chosen(backend: str | None) -> str:
