@@ -58,3 +58,19 @@ def test_the_tuned_file_keeps_units_and_comments(tmp_path: Path) -> None:
     text = out.read_text()
     assert "  param kp = 212.5 N*m/rad     # eq. (4)" in text  # the comment's column kept
     assert "  param k_speed = 0.075 s      # eq. (3) gain" in text
+
+
+def test_a_parameter_of_a_shared_part_is_written_where_it_is_declared(tmp_path: Path) -> None:
+    """The kangaroo's hop takes its gains from the shared part kangaroo_hop: the tuned file
+    changes them there, and a value is never silently left as it was."""
+    from legdsl.api.tune import write_tuned
+    from legdsl.check.source import check_model
+
+    source = ROOT / "creatures" / "kangaroo.leg"
+    hop = check_model(source).controller("hop")
+    out = write_tuned(source, hop, {"k_speed": 0.09, "kp": 48.0}, tmp_path / "k.leg")
+    tuned = {p.name: p.value for p in check_model(out).controller("hop").params}
+    assert tuned["k_speed"] == pytest.approx(0.09) and tuned["kp"] == pytest.approx(48.0)
+    changed = [a for a, b in zip(source.read_text().splitlines(), out.read_text().splitlines(),
+                                 strict=True) if a != b]  # fmt: skip
+    assert len(changed) == 2

@@ -163,10 +163,17 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
                 )
             spans[c.name] = c.span
     edits = []
-    for decl in tree.controllers:
-        for item in decl.items:
-            if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
-                edits.append(_value_edit(item, values[item.name.name]))
+    found = set()
+    # a parameter is declared by the controller, or by a shared part it includes
+    declared: list[ast.ControllerItem | ast.SharedItem] = [
+        item for decl in tree.controllers for item in decl.items
+    ] + [item for part in tree.shared for item in part.items]
+    for item in declared:
+        if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
+            edits.append(_value_edit(item, values[item.name.name]))
+            found.add(item.name.name)
+    if missing := sorted(set(spans) - found):
+        raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
     for line, col, end, new in sorted(edits, reverse=True):
         row = lines[line - 1]
