@@ -21,10 +21,10 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "30ed4f391cf87acd"
+FINGERPRINT = "ae34a61d0529c488"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -57,14 +57,23 @@ PARAMS = {
     "stroke_max": 0.04,
     "stand": -0.04,
     "short": -0.14,
-    "accel": 1.0,
+    "accel": 0.5,
     "slew": 2.0,
     "full": 0.8,
     "settle": 0.02,
     "leg_b": 60.0,
     "leg_k": 6000.0,
+    "kv_rate": 20.0,
+    "omega_f": 2.0,
+    "omega_r": 2.0,
+    "k_center": 2.0,
+    "k_pitch_i": 1.0,
+    "trim_most": 2.0,
+    "k_pitch_thrust": 0.05,
+    "idle_delay": 0.06,
+    "lift_slew": 5.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -84,10 +93,10 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:253:5
+        event  creatures/quadruped.leg:280:5
     """
-    leg_fl_touching = s[21]
-    leg_fr_touching = s[27]
+    leg_fl_touching = s[17]
+    leg_fr_touching = s[23]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5)
 
 
@@ -95,10 +104,10 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:269:5
+        event  creatures/quadruped.leg:296:5
     """
-    leg_fl_touching = s[21]
-    leg_fr_touching = s[27]
+    leg_fl_touching = s[17]
+    leg_fr_touching = s[23]
     return (leg_fl_touching > 0.5) or (leg_fr_touching > 0.5)
 
 
@@ -106,10 +115,10 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:276:5
+        event  creatures/quadruped.leg:306:5
     """
-    leg_fl_rate = s[20]
-    leg_fr_rate = s[26]
+    leg_fl_rate = s[16]
+    leg_fr_rate = s[22]
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0)
 
 
@@ -117,10 +126,10 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:279:5
+        event  creatures/quadruped.leg:309:5
     """
-    leg_fl_rate = s[20]
-    leg_fr_rate = s[26]
+    leg_fl_rate = s[16]
+    leg_fr_rate = s[22]
     settle = p[28]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
@@ -129,15 +138,15 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:283:5
+        event  creatures/quadruped.leg:313:5
     """
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
+    leg_fl_length = s[15]
+    leg_fl_touching = s[17]
+    leg_fr_length = s[21]
+    leg_fr_touching = s[23]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[12]
+    thrust_stroke = r[15]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)
 
 
@@ -145,10 +154,10 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:253:5
+        event  creatures/quadruped.leg:280:5
     """
-    leg_rl_touching = s[33]
-    leg_rr_touching = s[39]
+    leg_rl_touching = s[29]
+    leg_rr_touching = s[35]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
@@ -156,10 +165,10 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:269:5
+        event  creatures/quadruped.leg:296:5
     """
-    leg_rl_touching = s[33]
-    leg_rr_touching = s[39]
+    leg_rl_touching = s[29]
+    leg_rr_touching = s[35]
     return (leg_rl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
@@ -167,10 +176,10 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:276:5
+        event  creatures/quadruped.leg:306:5
     """
-    leg_rl_rate = s[32]
-    leg_rr_rate = s[38]
+    leg_rl_rate = s[28]
+    leg_rr_rate = s[34]
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0)
 
 
@@ -178,10 +187,10 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:279:5
+        event  creatures/quadruped.leg:309:5
     """
-    leg_rl_rate = s[32]
-    leg_rr_rate = s[38]
+    leg_rl_rate = s[28]
+    leg_rr_rate = s[34]
     settle = p[28]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
@@ -190,15 +199,15 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:283:5
+        event  creatures/quadruped.leg:313:5
     """
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
+    leg_rl_length = s[27]
+    leg_rl_touching = s[29]
+    leg_rr_length = s[33]
+    leg_rr_touching = s[35]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[12]
+    thrust_stroke = r[15]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
@@ -206,27 +215,27 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:255:7
-        record ramped_speed  creatures/quadruped.leg:262:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:262:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:263:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:263:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:264:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:264:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:264:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:265:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:265:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:265:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:265:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:265:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:266:7
+        record steps         creatures/quadruped.leg:282:7
+        record ramped_speed  creatures/quadruped.leg:289:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:289:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:290:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:290:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:291:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:291:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:291:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:292:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:292:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:292:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:292:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:292:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:293:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[43]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    time = s[39]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -237,20 +246,23 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     accel = p[25]
     steps = r[0]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    ahead_then = r[19]
+    ahead_at = r[20]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -272,6 +284,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         new_steps,
         new_stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         new_step_speed,
         new_speed_trim,
         time,
@@ -291,68 +306,68 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place fr (x, y).
+    """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.rest       creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:257:7
-        leg_fr_spring.k          creatures/quadruped.leg:257:7
-        leg_rl_spring.k          creatures/quadruped.leg:258:7
-        leg_rr_spring.k          creatures/quadruped.leg:258:7
-        leg_fl_spring.b          creatures/quadruped.leg:259:7
-        leg_fr_spring.b          creatures/quadruped.leg:259:7
-        leg_rl_spring.b          creatures/quadruped.leg:260:7
-        leg_rr_spring.b          creatures/quadruped.leg:260:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5
-        place fl (x, y)          creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.rest       creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:284:7
+        leg_fr_spring.k          creatures/quadruped.leg:284:7
+        leg_rl_spring.k          creatures/quadruped.leg:285:7
+        leg_rr_spring.k          creatures/quadruped.leg:285:7
+        leg_fl_spring.b          creatures/quadruped.leg:286:7
+        leg_fr_spring.b          creatures/quadruped.leg:286:7
+        leg_rl_spring.b          creatures/quadruped.leg:287:7
+        leg_rr_spring.b          creatures/quadruped.leg:287:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5
+        leg_rr_spring.rest       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    coord_hip_fl_y_value = s[12]
-    coord_hip_fr_y_value = s[13]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_hip_z = s[18]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_hip_z = s[24]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fl_hip_z = s[14]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_fr_hip_z = s[20]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -368,18 +383,18 @@ def action_FLIGHT_0(s, u, p, r, tis):
     slew = p[26]
     leg_b = p[29]
     leg_k = p[30]
+    lift_slew = p[39]
     steps = r[0]
     stance = r[1]
-    speed_trim = r[4]
-    ramped_speed = r[8]
-    side_trim = r[14]
-    aim_rate = r[15]
-    t1 = slew*tis
-    t2 = min(stand, short + t1)
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = (steps > 1.0)
+    t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2
-    leg_rl_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
-    hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
+    leg_rl_spring_rest = ((max(short, -lift_slew*tis + stand)) if t1 else (stand))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
@@ -388,9 +403,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
-    t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t9
-    fl_y_goal = leg_fl_hip_x*t8 + t10
-    fr_y_goal = leg_fr_hip_x*t8 + t10
+    t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
+    t11 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t10
+    fl_y_goal = leg_fl_hip_x*t8 + t11
+    fr_y_goal = leg_fr_hip_x*t8 + t11
+    t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t10
+    rl_y_goal = leg_rl_hip_x*t8 + t12
+    rr_y_goal = leg_rr_hip_x*t8 + t12
     return [
         leg_fl_spring_rest,
         leg_fr_spring_rest,
@@ -428,50 +447,61 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_rl_pitch_setpoint,
-        hip_rl_pitch_setpoint,
-        0.0,
-        0.0,
         fl_x_goal,
         fl_y_goal,
         fl_x_goal,
         fr_y_goal,
+        fl_x_goal,
+        rl_y_goal,
+        fl_x_goal,
+        rr_y_goal,
     ]
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:270:7
-        record flight_apex    creatures/quadruped.leg:271:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:271:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:271:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:297:7
+        record pitch_mean     creatures/quadruped.leg:298:7
+        record pitch_last_td  creatures/quadruped.leg:299:7
+        record pitch_trim     creatures/quadruped.leg:300:7
+        record flight_apex    creatures/quadruped.leg:301:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:301:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:301:7 > stdlib/raibert.leg:312:3
     """
+    body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[43]
+    time = s[39]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
     k_height_trim = p[21]
     stroke_max = p[22]
+    k_pitch_i = p[35]
+    trim_most = p[36]
     steps = r[0]
     stance = r[1]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
+    new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
+    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
@@ -480,6 +510,9 @@ def entry_LOADING_0(s, u, p, r, tis):
         steps,
         stance,
         time,
+        new_pitch_mean,
+        body_trunk_pitch,
+        new_pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -499,80 +532,83 @@ def entry_LOADING_0(s, u, p, r, tis):
 
 
 def action_LOADING_0(s, u, p, r, tis):
-    """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint.
+    """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_rl_spring.rest       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5
+        leg_rr_spring.rest       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_fl_y_value = s[12]
-    coord_hip_fr_y_value = s[13]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fl_length = s[15]
+    leg_fl_touching = s[17]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_fr_length = s[21]
+    leg_fr_touching = s[23]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -581,30 +617,50 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
     steps = r[0]
-    aim_rate = r[15]
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t8 = leg_fl_touching*t7
-    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t10
-    hip_fr_pitch_kv = swing_kv*t10
-    t11 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t12 = leg_fr_touching*t7
-    hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
-    hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
+    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = math.atan2(math.sin(t4), math.cos(t4))
+    t6 = -aim_rate + body_trunk_yaw_rate
+    t7 = -kp_yaw*t5 - kv_yaw*t6
+    t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t10 = leg_fl_touching*t9
+    hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
+    t12 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t12
+    hip_fr_pitch_kv = swing_kv*t12
+    t13 = leg_fr_length*t7/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t14 = leg_fr_touching*t9
+    hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2)
+    hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11)
     leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
+    t15 = math.cos(body_trunk_yaw)
+    t16 = math.sin(body_trunk_yaw)
+    t17 = com_vx*t15 + com_vy*t16
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t19 = com_vx*t16 - com_vy*t15
+    t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19
+    rl_y_goal = leg_rl_hip_x*t18 + t20
+    rr_y_goal = leg_rr_hip_x*t18 + t20
     return [
         stand,
         stand,
@@ -646,10 +702,10 @@ def action_LOADING_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_rl_pitch_setpoint,
-        hip_rl_pitch_setpoint,
-        0.0,
-        0.0,
+        rl_x_goal,
+        rl_y_goal,
+        rl_x_goal,
+        rr_y_goal,
     ]
 
 
@@ -658,25 +714,31 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -696,66 +758,69 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint.
+    """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_rl_spring.rest       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5
+        leg_rr_spring.rest       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_fl_y_value = s[12]
-    coord_hip_fr_y_value = s[13]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fl_length = s[15]
+    leg_fl_touching = s[17]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_fr_length = s[21]
+    leg_fr_touching = s[23]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -764,30 +829,50 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
     steps = r[0]
-    aim_rate = r[15]
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t8 = leg_fl_touching*t7
-    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t10
-    hip_fr_pitch_kv = swing_kv*t10
-    t11 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t12 = leg_fr_touching*t7
-    hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
-    hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
+    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = math.atan2(math.sin(t4), math.cos(t4))
+    t6 = -aim_rate + body_trunk_yaw_rate
+    t7 = -kp_yaw*t5 - kv_yaw*t6
+    t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t10 = leg_fl_touching*t9
+    hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
+    t12 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t12
+    hip_fr_pitch_kv = swing_kv*t12
+    t13 = leg_fr_length*t7/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t14 = leg_fr_touching*t9
+    hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2)
+    hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11)
     leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
+    t15 = math.cos(body_trunk_yaw)
+    t16 = math.sin(body_trunk_yaw)
+    t17 = com_vx*t15 + com_vy*t16
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t19 = com_vx*t16 - com_vy*t15
+    t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19
+    rl_y_goal = leg_rl_hip_x*t18 + t20
+    rr_y_goal = leg_rr_hip_x*t18 + t20
     return [
         hip_fl_pitch_kp,
         hip_fl_pitch_kv,
@@ -815,10 +900,10 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_rl_pitch_setpoint,
-        hip_rl_pitch_setpoint,
-        0.0,
-        0.0,
+        rl_x_goal,
+        rl_y_goal,
+        rl_x_goal,
+        rr_y_goal,
     ]
 
 
@@ -827,25 +912,31 @@ def entry_THRUST_0(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -865,68 +956,71 @@ def entry_THRUST_0(s, u, p, r, tis):
 
 
 def action_THRUST_0(s, u, p, r, tis):
-    """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint.
+    """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_rl_spring.rest       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5
+        leg_rr_spring.rest       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_fl_y_value = s[12]
-    coord_hip_fr_y_value = s[13]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fl_length = s[15]
+    leg_fl_touching = s[17]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_fr_length = s[21]
+    leg_fr_touching = s[23]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -935,32 +1029,56 @@ def action_THRUST_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    slew = p[26]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
+    k_pitch_thrust = p[37]
+    idle_delay = p[38]
     steps = r[0]
-    thrust_stroke = r[12]
-    aim_rate = r[15]
-    leg_fl_spring_rest = stand + thrust_stroke
-    t1 = 1.0 - leg_fl_touching
-    hip_fl_pitch_kp = swing_kp*t1
-    hip_fl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t8 = leg_fl_touching*t7
-    hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t10
-    hip_fr_pitch_kv = swing_kv*t10
-    t11 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t12 = leg_fr_touching*t7
-    hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6)
-    hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9)
-    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    thrust_stroke = r[15]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    t2 = 1.0 - leg_fl_touching
+    hip_fl_pitch_kp = swing_kp*t2
+    hip_fl_pitch_kv = swing_kv*t2
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t11 = leg_fl_touching*t10
+    hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t13
+    hip_fr_pitch_kv = swing_kv*t13
+    t14 = leg_fr_length*t8/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t15 = leg_fr_touching*t10
+    hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3)
+    hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
+    leg_rl_spring_rest = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    t16 = math.cos(body_trunk_yaw)
+    t17 = math.sin(body_trunk_yaw)
+    t18 = com_vx*t16 + com_vy*t17
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18
+    t19 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
+    t20 = com_vx*t17 - com_vy*t16
+    t21 = k_speed*(-side_trim - t20) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t20
+    rl_y_goal = leg_rl_hip_x*t19 + t21
+    rr_y_goal = leg_rr_hip_x*t19 + t21
     return [
         leg_fl_spring_rest,
         leg_fl_spring_rest,
@@ -990,10 +1108,10 @@ def action_THRUST_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_rl_pitch_setpoint,
-        hip_rl_pitch_setpoint,
-        0.0,
-        0.0,
+        rl_x_goal,
+        rl_y_goal,
+        rl_x_goal,
+        rr_y_goal,
     ]
 
 
@@ -1002,25 +1120,31 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -1040,51 +1164,79 @@ def entry_UNLOADING_0(s, u, p, r, tis):
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint.
+    """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5
+        leg_rr_spring.rest       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    coord_hip_fl_y_value = s[12]
-    coord_hip_fr_y_value = s[13]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
+    heading = u[1]
+    turn_rate = u[2]
+    k_speed = p[0]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
+    k_path = p[15]
+    turn_limit = p[16]
     swing_kp = p[17]
     swing_kv = p[18]
     stand = p[23]
-    short = p[24]
-    steps = r[0]
-    leg_rl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value
+    stance = r[1]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = math.cos(body_trunk_yaw)
+    t2 = math.sin(body_trunk_yaw)
+    t3 = com_vx*t1 + com_vy*t2
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
+    t7 = com_vx*t2 - com_vy*t1
+    t8 = k_speed*(-side_trim - t7) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t7
+    rl_y_goal = leg_rl_hip_x*t6 + t8
+    rr_y_goal = leg_rr_hip_x*t6 + t8
     return [
         stand,
         stand,
@@ -1100,8 +1252,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
         0.0,
         0.0,
         0.0,
-        leg_rl_spring_rest,
-        leg_rl_spring_rest,
+        stand,
+        stand,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -1114,10 +1266,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_rl_pitch_setpoint,
-        hip_rl_pitch_setpoint,
-        0.0,
-        0.0,
+        rl_x_goal,
+        rl_y_goal,
+        rl_x_goal,
+        rr_y_goal,
     ]
 
 
@@ -1125,27 +1277,27 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:255:7
-        record ramped_speed  creatures/quadruped.leg:262:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:262:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:263:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:263:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:264:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:264:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:264:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:265:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:265:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:265:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:265:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:265:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:266:7
+        record steps         creatures/quadruped.leg:282:7
+        record ramped_speed  creatures/quadruped.leg:289:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:289:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:290:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:290:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:291:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:291:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:291:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:292:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:292:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:292:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:292:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:292:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:293:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[43]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    time = s[39]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -1156,20 +1308,23 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     accel = p[25]
     steps = r[0]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    ahead_then = r[19]
+    ahead_at = r[20]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1191,6 +1346,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         new_steps,
         new_stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         new_step_speed,
         new_speed_trim,
         time,
@@ -1210,68 +1368,68 @@ def entry_FLIGHT_1(s, u, p, r, tis):
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint, place rl (x, y), place rr (x, y).
+    """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.k          creatures/quadruped.leg:257:7
-        leg_rr_spring.k          creatures/quadruped.leg:257:7
-        leg_fl_spring.k          creatures/quadruped.leg:258:7
-        leg_fr_spring.k          creatures/quadruped.leg:258:7
-        leg_rl_spring.b          creatures/quadruped.leg:259:7
-        leg_rr_spring.b          creatures/quadruped.leg:259:7
-        leg_fl_spring.b          creatures/quadruped.leg:260:7
-        leg_fr_spring.b          creatures/quadruped.leg:260:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5
-        leg_fr_spring.rest       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5
-        place rl (x, y)          creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.k          creatures/quadruped.leg:284:7
+        leg_rr_spring.k          creatures/quadruped.leg:284:7
+        leg_fl_spring.k          creatures/quadruped.leg:285:7
+        leg_fr_spring.k          creatures/quadruped.leg:285:7
+        leg_rl_spring.b          creatures/quadruped.leg:286:7
+        leg_rr_spring.b          creatures/quadruped.leg:286:7
+        leg_fl_spring.b          creatures/quadruped.leg:287:7
+        leg_fr_spring.b          creatures/quadruped.leg:287:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5
+        leg_fr_spring.rest       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    coord_hip_rl_y_value = s[14]
-    coord_hip_rr_y_value = s[15]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_hip_z = s[30]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rl_hip_z = s[26]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    leg_rr_hip_z = s[32]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -1287,18 +1445,18 @@ def action_FLIGHT_1(s, u, p, r, tis):
     slew = p[26]
     leg_b = p[29]
     leg_k = p[30]
+    lift_slew = p[39]
     steps = r[0]
     stance = r[1]
-    speed_trim = r[4]
-    ramped_speed = r[8]
-    side_trim = r[14]
-    aim_rate = r[15]
-    t1 = slew*tis
-    t2 = min(stand, short + t1)
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = (steps > 1.0)
+    t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2
-    leg_fl_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
-    hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
+    leg_fl_spring_rest = ((max(short, -lift_slew*tis + stand)) if t1 else (stand))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
@@ -1307,9 +1465,13 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
-    t10 = k_speed*(-side_trim - t9) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9
-    rl_y_goal = leg_rl_hip_x*t8 + t10
-    rr_y_goal = leg_rr_hip_x*t8 + t10
+    t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
+    t11 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t10
+    rl_y_goal = leg_rl_hip_x*t8 + t11
+    rr_y_goal = leg_rr_hip_x*t8 + t11
+    t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t10
+    fl_y_goal = leg_fl_hip_x*t8 + t12
+    fr_y_goal = leg_fr_hip_x*t8 + t12
     return [
         leg_rl_spring_rest,
         leg_rr_spring_rest,
@@ -1347,50 +1509,61 @@ def action_FLIGHT_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_fl_pitch_setpoint,
-        hip_fl_pitch_setpoint,
-        0.0,
-        0.0,
         rl_x_goal,
         rl_y_goal,
         rl_x_goal,
         rr_y_goal,
+        rl_x_goal,
+        fl_y_goal,
+        rl_x_goal,
+        fr_y_goal,
     ]
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:270:7
-        record flight_apex    creatures/quadruped.leg:271:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:271:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:271:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:297:7
+        record pitch_mean     creatures/quadruped.leg:298:7
+        record pitch_last_td  creatures/quadruped.leg:299:7
+        record pitch_trim     creatures/quadruped.leg:300:7
+        record flight_apex    creatures/quadruped.leg:301:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:301:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:301:7 > stdlib/raibert.leg:312:3
     """
+    body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[43]
+    time = s[39]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
     k_height_trim = p[21]
     stroke_max = p[22]
+    k_pitch_i = p[35]
+    trim_most = p[36]
     steps = r[0]
     stance = r[1]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
+    new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
+    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
@@ -1399,6 +1572,9 @@ def entry_LOADING_1(s, u, p, r, tis):
         steps,
         stance,
         time,
+        new_pitch_mean,
+        body_trunk_pitch,
+        new_pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -1418,80 +1594,83 @@ def entry_LOADING_1(s, u, p, r, tis):
 
 
 def action_LOADING_1(s, u, p, r, tis):
-    """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint.
+    """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5
-        leg_fr_spring.rest       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5
+        leg_fr_spring.rest       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_rl_y_value = s[14]
-    coord_hip_rr_y_value = s[15]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rl_length = s[27]
+    leg_rl_touching = s[29]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    leg_rr_length = s[33]
+    leg_rr_touching = s[35]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -1500,30 +1679,50 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
     steps = r[0]
-    aim_rate = r[15]
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t8 = leg_rl_touching*t7
-    hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t10
-    hip_rr_pitch_kv = swing_kv*t10
-    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t12 = leg_rr_touching*t7
-    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
-    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
+    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = math.atan2(math.sin(t4), math.cos(t4))
+    t6 = -aim_rate + body_trunk_yaw_rate
+    t7 = -kp_yaw*t5 - kv_yaw*t6
+    t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t10 = leg_rl_touching*t9
+    hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
+    t12 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t12
+    hip_rr_pitch_kv = swing_kv*t12
+    t13 = leg_rr_length*t7/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t14 = leg_rr_touching*t9
+    hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2)
+    hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11)
     leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
+    t15 = math.cos(body_trunk_yaw)
+    t16 = math.sin(body_trunk_yaw)
+    t17 = com_vx*t15 + com_vy*t16
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t19 = com_vx*t16 - com_vy*t15
+    t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19
+    fl_y_goal = leg_fl_hip_x*t18 + t20
+    fr_y_goal = leg_fr_hip_x*t18 + t20
     return [
         stand,
         stand,
@@ -1565,10 +1764,10 @@ def action_LOADING_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_fl_pitch_setpoint,
-        hip_fl_pitch_setpoint,
-        0.0,
-        0.0,
+        fl_x_goal,
+        fl_y_goal,
+        fl_x_goal,
+        fr_y_goal,
     ]
 
 
@@ -1577,25 +1776,31 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -1615,66 +1820,69 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
-    """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint.
+    """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5
-        leg_fr_spring.rest       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5
+        leg_fr_spring.rest       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_rl_y_value = s[14]
-    coord_hip_rr_y_value = s[15]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rl_length = s[27]
+    leg_rl_touching = s[29]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    leg_rr_length = s[33]
+    leg_rr_touching = s[35]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -1683,30 +1891,50 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
     steps = r[0]
-    aim_rate = r[15]
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t8 = leg_rl_touching*t7
-    hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t10
-    hip_rr_pitch_kv = swing_kv*t10
-    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t12 = leg_rr_touching*t7
-    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
-    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
+    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = math.atan2(math.sin(t4), math.cos(t4))
+    t6 = -aim_rate + body_trunk_yaw_rate
+    t7 = -kp_yaw*t5 - kv_yaw*t6
+    t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t10 = leg_rl_touching*t9
+    hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
+    t12 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t12
+    hip_rr_pitch_kv = swing_kv*t12
+    t13 = leg_rr_length*t7/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t14 = leg_rr_touching*t9
+    hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2)
+    hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11)
     leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
+    t15 = math.cos(body_trunk_yaw)
+    t16 = math.sin(body_trunk_yaw)
+    t17 = com_vx*t15 + com_vy*t16
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t19 = com_vx*t16 - com_vy*t15
+    t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19
+    fl_y_goal = leg_fl_hip_x*t18 + t20
+    fr_y_goal = leg_fr_hip_x*t18 + t20
     return [
         hip_rl_pitch_kp,
         hip_rl_pitch_kv,
@@ -1734,10 +1962,10 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_fl_pitch_setpoint,
-        hip_fl_pitch_setpoint,
-        0.0,
-        0.0,
+        fl_x_goal,
+        fl_y_goal,
+        fl_x_goal,
+        fr_y_goal,
     ]
 
 
@@ -1746,25 +1974,31 @@ def entry_THRUST_1(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -1784,68 +2018,71 @@ def entry_THRUST_1(s, u, p, r, tis):
 
 
 def action_THRUST_1(s, u, p, r, tis):
-    """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint.
+    """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5
-        leg_fr_spring.rest       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5
+        leg_fr_spring.rest       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
     body_trunk_roll_rate = s[3]
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
-    coord_hip_rl_y_value = s[14]
-    coord_hip_rr_y_value = s[15]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    leg_rl_hip_x = s[24]
+    leg_rl_hip_y = s[25]
+    leg_rl_length = s[27]
+    leg_rl_touching = s[29]
+    leg_rr_hip_x = s[30]
+    leg_rr_hip_y = s[31]
+    leg_rr_length = s[33]
+    leg_rr_touching = s[35]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
+    k_speed = p[0]
     kp_roll = p[8]
     kv_roll = p[9]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
     kp_yaw = p[13]
     kv_yaw = p[14]
     k_path = p[15]
@@ -1854,32 +2091,56 @@ def action_THRUST_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
+    slew = p[26]
+    kv_rate = p[31]
+    omega_f = p[32]
+    omega_r = p[33]
+    k_center = p[34]
+    k_pitch_thrust = p[37]
+    idle_delay = p[38]
     steps = r[0]
-    thrust_stroke = r[12]
-    aim_rate = r[15]
-    leg_rl_spring_rest = stand + thrust_stroke
-    t1 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t1
-    hip_rl_pitch_kv = swing_kv*t1
-    t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
-    t5 = leg_rl_length*t4/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t8 = leg_rl_touching*t7
-    hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6)
-    t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9)
-    t10 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t10
-    hip_rr_pitch_kv = swing_kv*t10
-    t11 = leg_rr_length*t4/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t12 = leg_rr_touching*t7
-    hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6)
-    hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9)
-    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
+    stance = r[1]
+    pitch_mean = r[3]
+    pitch_trim = r[5]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    thrust_stroke = r[15]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    t2 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t2
+    hip_rl_pitch_kv = swing_kv*t2
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t11 = leg_rl_touching*t10
+    hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t13
+    hip_rr_pitch_kv = swing_kv*t13
+    t14 = leg_rr_length*t8/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t15 = leg_rr_touching*t10
+    hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3)
+    hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
+    leg_fl_spring_rest = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    t16 = math.cos(body_trunk_yaw)
+    t17 = math.sin(body_trunk_yaw)
+    t18 = com_vx*t16 + com_vy*t17
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18
+    t19 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
+    t20 = com_vx*t17 - com_vy*t16
+    t21 = k_speed*(-side_trim - t20) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t20
+    fl_y_goal = leg_fl_hip_x*t19 + t21
+    fr_y_goal = leg_fr_hip_x*t19 + t21
     return [
         leg_rl_spring_rest,
         leg_rl_spring_rest,
@@ -1909,10 +2170,10 @@ def action_THRUST_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_fl_pitch_setpoint,
-        hip_fl_pitch_setpoint,
-        0.0,
-        0.0,
+        fl_x_goal,
+        fl_y_goal,
+        fl_x_goal,
+        fr_y_goal,
     ]
 
 
@@ -1921,25 +2182,31 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     landed = r[2]
-    step_speed = r[3]
-    speed_trim = r[4]
-    lifted = r[5]
-    lifted_x = r[6]
-    lifted_y = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    flight_apex = r[10]
-    stroke_trim = r[11]
-    thrust_stroke = r[12]
-    step_side = r[13]
-    side_trim = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    pitch_mean = r[3]
+    pitch_last_td = r[4]
+    pitch_trim = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    ramped_speed = r[11]
+    ramped_at = r[12]
+    flight_apex = r[13]
+    stroke_trim = r[14]
+    thrust_stroke = r[15]
+    step_side = r[16]
+    side_trim = r[17]
+    aim_rate = r[18]
+    ahead_then = r[19]
+    ahead_at = r[20]
     return [
         steps,
         stance,
         landed,
+        pitch_mean,
+        pitch_last_td,
+        pitch_trim,
         step_speed,
         speed_trim,
         lifted,
@@ -1959,51 +2226,79 @@ def entry_UNLOADING_1(s, u, p, r, tis):
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
-    """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint.
+    """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5
-        leg_fr_spring.rest       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5
+        leg_fr_spring.rest       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
-    coord_hip_rl_y_value = s[14]
-    coord_hip_rr_y_value = s[15]
+    body_trunk_yaw = s[4]
+    body_trunk_yaw_rate = s[5]
+    com_vx = s[6]
+    com_vy = s[7]
+    leg_fl_hip_x = s[12]
+    leg_fl_hip_y = s[13]
+    leg_fr_hip_x = s[18]
+    leg_fr_hip_y = s[19]
+    path_route_ahead_heading = s[36]
+    path_route_given = s[37]
+    path_route_lateral = s[38]
+    time = s[39]
+    heading = u[1]
+    turn_rate = u[2]
+    k_speed = p[0]
+    k_turn = p[10]
+    yaw_lead = p[11]
+    turn_most = p[12]
+    k_path = p[15]
+    turn_limit = p[16]
     swing_kp = p[17]
     swing_kv = p[18]
     stand = p[23]
-    short = p[24]
-    steps = r[0]
-    leg_fl_spring_rest = ((short) if (steps > 1.0) else (stand))
-    hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value
+    stance = r[1]
+    speed_trim = r[7]
+    ramped_speed = r[11]
+    side_trim = r[17]
+    aim_rate = r[18]
+    t1 = math.cos(body_trunk_yaw)
+    t2 = math.sin(body_trunk_yaw)
+    t3 = com_vx*t1 + com_vy*t2
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
+    t7 = com_vx*t2 - com_vy*t1
+    t8 = k_speed*(-side_trim - t7) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t7
+    fl_y_goal = leg_fl_hip_x*t6 + t8
+    fr_y_goal = leg_fr_hip_x*t6 + t8
     return [
         stand,
         stand,
@@ -2019,8 +2314,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
         0.0,
         0.0,
         0.0,
-        leg_fl_spring_rest,
-        leg_fl_spring_rest,
+        stand,
+        stand,
         swing_kp,
         swing_kp,
         swing_kv,
@@ -2033,10 +2328,10 @@ def action_UNLOADING_1(s, u, p, r, tis):
         swing_kv,
         0.0,
         0.0,
-        hip_fl_pitch_setpoint,
-        hip_fl_pitch_setpoint,
-        0.0,
-        0.0,
+        fl_x_goal,
+        fl_y_goal,
+        fl_x_goal,
+        fr_y_goal,
     ]
 
 
@@ -2078,20 +2373,28 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('leg_fl_spring', 'k'), ('leg_fr_spring', 'k'), ('leg_rl_spring', 'k'), ('leg_rr_spring', 'k'), ('leg_fl_spring', 'b'), ('leg_fr_spring', 'b'), ('leg_rl_spring', 'b'), ('leg_rr_spring', 'b'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'setpoint'), ('hip_rr_pitch', 'setpoint'), ('hip_rl_roll', 'setpoint'), ('hip_rr_roll', 'setpoint')),
-    (0, 1): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'setpoint'), ('hip_rr_pitch', 'setpoint'), ('hip_rl_roll', 'setpoint'), ('hip_rr_roll', 'setpoint')),
-    (0, 2): (('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'setpoint'), ('hip_rr_pitch', 'setpoint'), ('hip_rl_roll', 'setpoint'), ('hip_rr_roll', 'setpoint')),
-    (0, 3): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'setpoint'), ('hip_rr_pitch', 'setpoint'), ('hip_rl_roll', 'setpoint'), ('hip_rr_roll', 'setpoint')),
-    (0, 4): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'setpoint'), ('hip_rr_pitch', 'setpoint'), ('hip_rl_roll', 'setpoint'), ('hip_rr_roll', 'setpoint')),
-    (1, 0): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('leg_rl_spring', 'k'), ('leg_rr_spring', 'k'), ('leg_fl_spring', 'k'), ('leg_fr_spring', 'k'), ('leg_rl_spring', 'b'), ('leg_rr_spring', 'b'), ('leg_fl_spring', 'b'), ('leg_fr_spring', 'b'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'setpoint'), ('hip_fr_pitch', 'setpoint'), ('hip_fl_roll', 'setpoint'), ('hip_fr_roll', 'setpoint')),
-    (1, 1): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'setpoint'), ('hip_fr_pitch', 'setpoint'), ('hip_fl_roll', 'setpoint'), ('hip_fr_roll', 'setpoint')),
-    (1, 2): (('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'setpoint'), ('hip_fr_pitch', 'setpoint'), ('hip_fl_roll', 'setpoint'), ('hip_fr_roll', 'setpoint')),
-    (1, 3): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'setpoint'), ('hip_fr_pitch', 'setpoint'), ('hip_fl_roll', 'setpoint'), ('hip_fr_roll', 'setpoint')),
-    (1, 4): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'setpoint'), ('hip_fr_pitch', 'setpoint'), ('hip_fl_roll', 'setpoint'), ('hip_fr_roll', 'setpoint')),
+    (0, 0): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('leg_fl_spring', 'k'), ('leg_fr_spring', 'k'), ('leg_rl_spring', 'k'), ('leg_rr_spring', 'k'), ('leg_fl_spring', 'b'), ('leg_fr_spring', 'b'), ('leg_rl_spring', 'b'), ('leg_rr_spring', 'b'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force')),
+    (0, 1): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force')),
+    (0, 2): (('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force')),
+    (0, 3): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fl_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fl_motor', 'force'), ('hip_fl_roll_motor', 'force'), ('hip_fr_pitch', 'kp'), ('hip_fr_pitch', 'kv'), ('hip_fr_roll', 'kp'), ('hip_fr_roll', 'kv'), ('hip_fr_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force')),
+    (0, 4): (('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force'), ('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force')),
+    (1, 0): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('leg_rl_spring', 'k'), ('leg_rr_spring', 'k'), ('leg_fl_spring', 'k'), ('leg_fr_spring', 'k'), ('leg_rl_spring', 'b'), ('leg_rr_spring', 'b'), ('leg_fl_spring', 'b'), ('leg_fr_spring', 'b'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force')),
+    (1, 1): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force')),
+    (1, 2): (('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force')),
+    (1, 3): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rl_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rl_motor', 'force'), ('hip_rl_roll_motor', 'force'), ('hip_rr_pitch', 'kp'), ('hip_rr_pitch', 'kv'), ('hip_rr_roll', 'kp'), ('hip_rr_roll', 'kv'), ('hip_rr_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force')),
+    (1, 4): (('leg_rl_spring', 'rest'), ('leg_rr_spring', 'rest'), ('hip_rl_pitch', 'kp'), ('hip_rr_pitch', 'kp'), ('hip_rl_pitch', 'kv'), ('hip_rr_pitch', 'kv'), ('hip_rl_motor', 'force'), ('hip_rr_motor', 'force'), ('hip_rl_roll', 'kp'), ('hip_rr_roll', 'kp'), ('hip_rl_roll', 'kv'), ('hip_rr_roll', 'kv'), ('hip_rl_roll_motor', 'force'), ('hip_rr_roll_motor', 'force'), ('leg_fl_spring', 'rest'), ('leg_fr_spring', 'rest'), ('hip_fl_pitch', 'kp'), ('hip_fr_pitch', 'kp'), ('hip_fl_pitch', 'kv'), ('hip_fr_pitch', 'kv'), ('hip_fl_motor', 'force'), ('hip_fr_motor', 'force'), ('hip_fl_roll', 'kp'), ('hip_fr_roll', 'kp'), ('hip_fl_roll', 'kv'), ('hip_fr_roll', 'kv'), ('hip_fl_roll_motor', 'force'), ('hip_fr_roll_motor', 'force')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.
 PLACES = {
-    (0, 0): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
-    (1, 0): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (0, 0): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll')), ('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (0, 1): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (0, 2): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (0, 3): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (0, 4): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll'))),
+    (1, 0): (('rl', ('x', 'y'), ('hip_rl_pitch', 'hip_rl_roll')), ('rr', ('x', 'y'), ('hip_rr_pitch', 'hip_rr_roll')), ('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
+    (1, 1): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
+    (1, 2): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
+    (1, 3): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
+    (1, 4): (('fl', ('x', 'y'), ('hip_fl_pitch', 'hip_fl_roll')), ('fr', ('x', 'y'), ('hip_fr_pitch', 'hip_fr_roll'))),
 }
