@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "30ed4f391cf87acd";
+const char legdsl_control_fingerprint[] = "ae34a61d0529c488";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -25,176 +25,172 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[9] = leg_sense_com(s, 0, 0, err);  /* com.x */
     out[10] = leg_sense_com(s, 1, 0, err);  /* com.y */
     out[11] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[12] = s->q[8];  /* coord.hip_fl_y.value */
-    out[13] = s->q[11];  /* coord.hip_fr_y.value */
-    out[14] = s->q[14];  /* coord.hip_rl_y.value */
-    out[15] = s->q[17];  /* coord.hip_rr_y.value */
-    out[16] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
-    out[17] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
-    out[18] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
-    out[19] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
-    out[20] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
-    out[21] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
-    out[22] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
-    out[23] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
-    out[24] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
-    out[25] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
-    out[26] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
-    out[27] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
-    out[28] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
-    out[29] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
-    out[30] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
-    out[31] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
-    out[32] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
-    out[33] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
-    out[34] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
-    out[35] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
-    out[36] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
-    out[37] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
-    out[38] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
-    out[39] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
-    out[40] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[41] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[42] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[43] = s->t;  /* time */
+    out[12] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
+    out[13] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
+    out[14] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
+    out[15] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
+    out[16] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
+    out[17] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
+    out[18] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
+    out[19] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
+    out[20] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
+    out[21] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
+    out[22] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
+    out[23] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
+    out[24] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
+    out[25] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
+    out[26] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
+    out[27] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
+    out[28] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
+    out[29] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
+    out[30] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
+    out[31] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
+    out[32] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
+    out[33] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
+    out[34] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
+    out[35] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
+    out[36] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[37] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[38] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[39] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:253:5 */
+/*   event: creatures/quadruped.leg:280:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[21];
-    const double leg_fr_touching = s[27];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_touching = s[23];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)));
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:269:5 */
+/*   event: creatures/quadruped.leg:296:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[21];
-    const double leg_fr_touching = s[27];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_touching = s[23];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching > 0.5)) || ((leg_fr_touching > 0.5)));
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:276:5 */
+/*   event: creatures/quadruped.leg:306:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[20];
-    const double leg_fr_rate = s[26];
+    const double leg_fl_rate = s[16];
+    const double leg_fr_rate = s[22];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0);
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:279:5 */
+/*   event: creatures/quadruped.leg:309:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[20];
-    const double leg_fr_rate = s[26];
+    const double leg_fl_rate = s[16];
+    const double leg_fr_rate = s[22];
     const double settle = p[28];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:283:5 */
+/*   event: creatures/quadruped.leg:313:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
+    const double leg_fl_length = s[15];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_length = s[21];
+    const double leg_fr_touching = s[23];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[15];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:253:5 */
+/*   event: creatures/quadruped.leg:280:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[33];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_touching = s[35];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)));
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:269:5 */
+/*   event: creatures/quadruped.leg:296:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[33];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_touching = s[35];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching > 0.5)) || ((leg_rr_touching > 0.5)));
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:276:5 */
+/*   event: creatures/quadruped.leg:306:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[32];
-    const double leg_rr_rate = s[38];
+    const double leg_rl_rate = s[28];
+    const double leg_rr_rate = s[34];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0);
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:279:5 */
+/*   event: creatures/quadruped.leg:309:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[32];
-    const double leg_rr_rate = s[38];
+    const double leg_rl_rate = s[28];
+    const double leg_rr_rate = s[34];
     const double settle = p[28];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:283:5 */
+/*   event: creatures/quadruped.leg:313:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_length = s[27];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_length = s[33];
+    const double leg_rr_touching = s[35];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[15];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:255:7 */
-/*   record ramped_speed: creatures/quadruped.leg:262:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:262:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:263:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:263:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:266:7 */
+/*   record steps: creatures/quadruped.leg:282:7 */
+/*   record ramped_speed: creatures/quadruped.leg:289:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:289:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:290:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:290:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:293:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[43];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double time = s[39];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -205,20 +201,23 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double accel = p[25];
     const double steps = r[0];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -239,86 +238,89 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
-    out[3] = new_step_speed;
-    out[4] = new_speed_trim;
-    out[5] = time;
-    out[6] = com_x;
-    out[7] = com_y;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = new_step_side;
-    out[14] = new_side_trim;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = new_step_speed;
+    out[7] = new_speed_trim;
+    out[8] = time;
+    out[9] = com_x;
+    out[10] = com_y;
+    out[11] = new_ramped_speed;
+    out[12] = new_ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = new_step_side;
+    out[17] = new_side_trim;
+    out[18] = new_aim_rate;
+    out[19] = path_route_ahead_heading;
+    out[20] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place fr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:257:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:257:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:258:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:258:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:259:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:259:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:260:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:260:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5 */
-/*   place fl (x, y): creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:284:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:284:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:285:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:285:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:286:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:286:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:287:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:287:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double coord_hip_fl_y_value = s[12];
-    const double coord_hip_fr_y_value = s[13];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_hip_z = s[18];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_hip_z = s[24];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fl_hip_z = s[14];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_fr_hip_z = s[20];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -334,18 +336,18 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double slew = p[26];
     const double leg_b = p[29];
     const double leg_k = p[30];
+    const double lift_slew = p[39];
     const double steps = r[0];
     const double stance = r[1];
-    const double speed_trim = r[4];
-    const double ramped_speed = r[8];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double t1 = slew*tis;
-    const double t2 = leg_min(stand, short_ + t1);
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = (steps > 1.0);
+    const double t2 = ((t1) ? (stand) : (leg_min(stand, short_ + slew*tis)));
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2;
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2;
-    const double leg_rl_spring_rest = (((steps > 1.0)) ? (leg_max(short_, stand - t1)) : (stand));
-    const double hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value;
+    const double leg_rl_spring_rest = ((t1) ? (leg_max(short_, -lift_slew*tis + stand)) : (stand));
     const double t3 = leg_cos(body_trunk_yaw);
     const double t4 = leg_sin(body_trunk_yaw);
     const double t5 = com_vx*t3 + com_vy*t4;
@@ -354,9 +356,13 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
-    const double t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t9;
-    const double fl_y_goal = leg_fl_hip_x*t8 + t10;
-    const double fr_y_goal = leg_fr_hip_x*t8 + t10;
+    const double t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9;
+    const double t11 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t10;
+    const double fl_y_goal = leg_fl_hip_x*t8 + t11;
+    const double fr_y_goal = leg_fr_hip_x*t8 + t11;
+    const double t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t10;
+    const double rl_y_goal = leg_rl_hip_x*t8 + t12;
+    const double rr_y_goal = leg_rr_hip_x*t8 + t12;
     out[0] = leg_fl_spring_rest;
     out[1] = leg_fr_spring_rest;
     out[2] = leg_k;
@@ -393,49 +399,60 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     out[33] = swing_kv;
     out[34] = 0.0;
     out[35] = 0.0;
-    out[36] = hip_rl_pitch_setpoint;
-    out[37] = hip_rl_pitch_setpoint;
-    out[38] = 0.0;
-    out[39] = 0.0;
+    out[36] = fl_x_goal;
+    out[37] = fl_y_goal;
+    out[38] = fl_x_goal;
+    out[39] = fr_y_goal;
     out[40] = fl_x_goal;
-    out[41] = fl_y_goal;
+    out[41] = rl_y_goal;
     out[42] = fl_x_goal;
-    out[43] = fr_y_goal;
+    out[43] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:270:7 */
-/*   record flight_apex: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:297:7 */
+/*   record pitch_mean: creatures/quadruped.leg:298:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:299:7 */
+/*   record pitch_trim: creatures/quadruped.leg:300:7 */
+/*   record flight_apex: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
+    const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[43];
+    const double time = s[39];
     const double height = u[3];
     const double stroke = p[19];
     const double k_height = p[20];
     const double k_height_trim = p[21];
     const double stroke_max = p[22];
+    const double k_pitch_i = p[35];
+    const double trim_most = p[36];
     const double steps = r[0];
     const double stance = r[1];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
+    const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
+    const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
     const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
@@ -443,98 +460,104 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = new_flight_apex;
-    out[11] = new_stroke_trim;
-    out[12] = new_thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = new_pitch_mean;
+    out[4] = body_trunk_pitch;
+    out[5] = new_pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = new_flight_apex;
+    out[14] = new_stroke_trim;
+    out[15] = new_thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_fl_y_value = s[12];
-    const double coord_hip_fr_y_value = s[13];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fl_length = s[15];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_fr_length = s[21];
+    const double leg_fr_touching = s[23];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -543,30 +566,50 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
     const double steps = r[0];
-    const double aim_rate = r[15];
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t8 = leg_fl_touching*t7;
-    const double hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t10;
-    const double hip_fr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t12 = leg_fr_touching*t7;
-    const double hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6);
-    const double hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9);
+    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
+    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
+    const double t6 = -aim_rate + body_trunk_yaw_rate;
+    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
+    const double t8 = leg_div(leg_fl_length*t7, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t10 = leg_fl_touching*t9;
+    const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
+    const double t12 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t12;
+    const double hip_fr_pitch_kv = swing_kv*t12;
+    const double t13 = leg_div(leg_fr_length*t7, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t14 = leg_fr_touching*t9;
+    const double hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2);
+    const double hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11);
     const double leg_rl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value;
+    const double t15 = leg_cos(body_trunk_yaw);
+    const double t16 = leg_sin(body_trunk_yaw);
+    const double t17 = com_vx*t15 + com_vy*t16;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17;
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
+    const double t19 = com_vx*t16 - com_vy*t15;
+    const double t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19;
+    const double rl_y_goal = leg_rl_hip_x*t18 + t20;
+    const double rr_y_goal = leg_rr_hip_x*t18 + t20;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -607,10 +650,10 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     out[37] = swing_kv;
     out[38] = 0.0;
     out[39] = 0.0;
-    out[40] = hip_rl_pitch_setpoint;
-    out[41] = hip_rl_pitch_setpoint;
-    out[42] = 0.0;
-    out[43] = 0.0;
+    out[40] = rl_x_goal;
+    out[41] = rl_y_goal;
+    out[42] = rl_x_goal;
+    out[43] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -621,102 +664,111 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_fl_y_value = s[12];
-    const double coord_hip_fr_y_value = s[13];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fl_length = s[15];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_fr_length = s[21];
+    const double leg_fr_touching = s[23];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -725,30 +777,50 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
     const double steps = r[0];
-    const double aim_rate = r[15];
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t8 = leg_fl_touching*t7;
-    const double hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t10;
-    const double hip_fr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t12 = leg_fr_touching*t7;
-    const double hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6);
-    const double hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9);
+    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
+    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
+    const double t6 = -aim_rate + body_trunk_yaw_rate;
+    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
+    const double t8 = leg_div(leg_fl_length*t7, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t10 = leg_fl_touching*t9;
+    const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
+    const double t12 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t12;
+    const double hip_fr_pitch_kv = swing_kv*t12;
+    const double t13 = leg_div(leg_fr_length*t7, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t14 = leg_fr_touching*t9;
+    const double hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2);
+    const double hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11);
     const double leg_rl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value;
+    const double t15 = leg_cos(body_trunk_yaw);
+    const double t16 = leg_sin(body_trunk_yaw);
+    const double t17 = com_vx*t15 + com_vy*t16;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17;
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
+    const double t19 = com_vx*t16 - com_vy*t15;
+    const double t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19;
+    const double rl_y_goal = leg_rl_hip_x*t18 + t20;
+    const double rr_y_goal = leg_rr_hip_x*t18 + t20;
     out[0] = hip_fl_pitch_kp;
     out[1] = hip_fl_pitch_kv;
     out[2] = hip_fl_pitch_kp;
@@ -775,10 +847,10 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     out[23] = swing_kv;
     out[24] = 0.0;
     out[25] = 0.0;
-    out[26] = hip_rl_pitch_setpoint;
-    out[27] = hip_rl_pitch_setpoint;
-    out[28] = 0.0;
-    out[29] = 0.0;
+    out[26] = rl_x_goal;
+    out[27] = rl_y_goal;
+    out[28] = rl_x_goal;
+    out[29] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -789,104 +861,113 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_fl_y_value = s[12];
-    const double coord_hip_fr_y_value = s[13];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fl_length = s[15];
+    const double leg_fl_touching = s[17];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_fr_length = s[21];
+    const double leg_fr_touching = s[23];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -895,32 +976,56 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double slew = p[26];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
+    const double k_pitch_thrust = p[37];
+    const double idle_delay = p[38];
     const double steps = r[0];
-    const double thrust_stroke = r[12];
-    const double aim_rate = r[15];
-    const double leg_fl_spring_rest = stand + thrust_stroke;
-    const double t1 = 1.0 - leg_fl_touching;
-    const double hip_fl_pitch_kp = swing_kp*t1;
-    const double hip_fl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t8 = leg_fl_touching*t7;
-    const double hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t8*(-leg_fl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t10;
-    const double hip_fr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t12 = leg_fr_touching*t7;
-    const double hip_fr_motor_force = t12*(-leg_fr_hip_y*t11 + t6);
-    const double hip_fr_roll_motor_force = t12*(-leg_fr_hip_x*t11 + t9);
-    const double leg_rl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value;
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double thrust_stroke = r[15];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double t2 = 1.0 - leg_fl_touching;
+    const double hip_fl_pitch_kp = swing_kp*t2;
+    const double hip_fl_pitch_kv = swing_kv*t2;
+    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_fl_length*t8, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t11 = leg_fl_touching*t10;
+    const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t13;
+    const double hip_fr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_fr_length*t8, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t15 = leg_fr_touching*t10;
+    const double hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3);
+    const double hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12);
+    const double leg_rl_spring_rest = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double t16 = leg_cos(body_trunk_yaw);
+    const double t17 = leg_sin(body_trunk_yaw);
+    const double t18 = com_vx*t16 + com_vy*t17;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18;
+    const double t19 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7*yaw_lead + t6))));
+    const double t20 = com_vx*t17 - com_vy*t16;
+    const double t21 = k_speed*(-side_trim - t20) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t20;
+    const double rl_y_goal = leg_rl_hip_x*t19 + t21;
+    const double rr_y_goal = leg_rr_hip_x*t19 + t21;
     out[0] = leg_fl_spring_rest;
     out[1] = leg_fl_spring_rest;
     out[2] = hip_fl_pitch_kp;
@@ -949,10 +1054,10 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     out[25] = swing_kv;
     out[26] = 0.0;
     out[27] = 0.0;
-    out[28] = hip_rl_pitch_setpoint;
-    out[29] = hip_rl_pitch_setpoint;
-    out[30] = 0.0;
-    out[31] = 0.0;
+    out[28] = rl_x_goal;
+    out[29] = rl_y_goal;
+    out[30] = rl_x_goal;
+    out[31] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -963,87 +1068,121 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.setpoint, hip_rr_pitch.setpoint, hip_rl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5 */
+/* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double coord_hip_fl_y_value = s[12];
-    const double coord_hip_fr_y_value = s[13];
+    const double body_trunk_yaw = s[4];
+    const double body_trunk_yaw_rate = s[5];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double k_speed = p[0];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
+    const double k_path = p[15];
+    const double turn_limit = p[16];
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double stand = p[23];
-    const double short_ = p[24];
-    const double steps = r[0];
-    const double leg_rl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_rl_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_fr_y_value;
+    const double stance = r[1];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = leg_cos(body_trunk_yaw);
+    const double t2 = leg_sin(body_trunk_yaw);
+    const double t3 = com_vx*t1 + com_vy*t2;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3;
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t5), leg_cos(t5))))));
+    const double t7 = com_vx*t2 - com_vy*t1;
+    const double t8 = k_speed*(-side_trim - t7) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t7;
+    const double rl_y_goal = leg_rl_hip_x*t6 + t8;
+    const double rr_y_goal = leg_rr_hip_x*t6 + t8;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -1058,8 +1197,8 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     out[11] = 0.0;
     out[12] = 0.0;
     out[13] = 0.0;
-    out[14] = leg_rl_spring_rest;
-    out[15] = leg_rl_spring_rest;
+    out[14] = stand;
+    out[15] = stand;
     out[16] = swing_kp;
     out[17] = swing_kp;
     out[18] = swing_kv;
@@ -1072,37 +1211,37 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     out[25] = swing_kv;
     out[26] = 0.0;
     out[27] = 0.0;
-    out[28] = hip_rl_pitch_setpoint;
-    out[29] = hip_rl_pitch_setpoint;
-    out[30] = 0.0;
-    out[31] = 0.0;
+    out[28] = rl_x_goal;
+    out[29] = rl_y_goal;
+    out[30] = rl_x_goal;
+    out[31] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:255:7 */
-/*   record ramped_speed: creatures/quadruped.leg:262:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:262:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:263:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:263:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:264:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:265:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:266:7 */
+/*   record steps: creatures/quadruped.leg:282:7 */
+/*   record ramped_speed: creatures/quadruped.leg:289:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:289:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:290:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:290:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:291:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:292:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:293:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[43];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double time = s[39];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -1113,20 +1252,23 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double accel = p[25];
     const double steps = r[0];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1147,86 +1289,89 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
-    out[3] = new_step_speed;
-    out[4] = new_speed_trim;
-    out[5] = time;
-    out[6] = com_x;
-    out[7] = com_y;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = new_step_side;
-    out[14] = new_side_trim;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = new_step_speed;
+    out[7] = new_speed_trim;
+    out[8] = time;
+    out[9] = com_x;
+    out[10] = com_y;
+    out[11] = new_ramped_speed;
+    out[12] = new_ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = new_step_side;
+    out[17] = new_side_trim;
+    out[18] = new_aim_rate;
+    out[19] = path_route_ahead_heading;
+    out[20] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint, place rl (x, y), place rr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:256:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:257:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:257:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:258:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:258:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:259:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:259:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:260:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:260:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:261:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:268:7 > creatures/quadruped.leg:124:5 */
-/*   place rl (x, y): creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:267:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:283:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:284:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:284:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:285:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:285:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:286:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:286:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:287:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:287:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:288:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:274:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:295:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:294:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:295:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double coord_hip_rl_y_value = s[14];
-    const double coord_hip_rr_y_value = s[15];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_hip_z = s[30];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rl_hip_z = s[26];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double leg_rr_hip_z = s[32];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1242,18 +1387,18 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double slew = p[26];
     const double leg_b = p[29];
     const double leg_k = p[30];
+    const double lift_slew = p[39];
     const double steps = r[0];
     const double stance = r[1];
-    const double speed_trim = r[4];
-    const double ramped_speed = r[8];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double t1 = slew*tis;
-    const double t2 = leg_min(stand, short_ + t1);
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = (steps > 1.0);
+    const double t2 = ((t1) ? (stand) : (leg_min(stand, short_ + slew*tis)));
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2;
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2;
-    const double leg_fl_spring_rest = (((steps > 1.0)) ? (leg_max(short_, stand - t1)) : (stand));
-    const double hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value;
+    const double leg_fl_spring_rest = ((t1) ? (leg_max(short_, -lift_slew*tis + stand)) : (stand));
     const double t3 = leg_cos(body_trunk_yaw);
     const double t4 = leg_sin(body_trunk_yaw);
     const double t5 = com_vx*t3 + com_vy*t4;
@@ -1262,9 +1407,13 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
-    const double t10 = k_speed*(-side_trim - t9) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9;
-    const double rl_y_goal = leg_rl_hip_x*t8 + t10;
-    const double rr_y_goal = leg_rr_hip_x*t8 + t10;
+    const double t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9;
+    const double t11 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t10;
+    const double rl_y_goal = leg_rl_hip_x*t8 + t11;
+    const double rr_y_goal = leg_rr_hip_x*t8 + t11;
+    const double t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t10;
+    const double fl_y_goal = leg_fl_hip_x*t8 + t12;
+    const double fr_y_goal = leg_fr_hip_x*t8 + t12;
     out[0] = leg_rl_spring_rest;
     out[1] = leg_rr_spring_rest;
     out[2] = leg_k;
@@ -1301,49 +1450,60 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     out[33] = swing_kv;
     out[34] = 0.0;
     out[35] = 0.0;
-    out[36] = hip_fl_pitch_setpoint;
-    out[37] = hip_fl_pitch_setpoint;
-    out[38] = 0.0;
-    out[39] = 0.0;
+    out[36] = rl_x_goal;
+    out[37] = rl_y_goal;
+    out[38] = rl_x_goal;
+    out[39] = rr_y_goal;
     out[40] = rl_x_goal;
-    out[41] = rl_y_goal;
+    out[41] = fl_y_goal;
     out[42] = rl_x_goal;
-    out[43] = rr_y_goal;
+    out[43] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:270:7 */
-/*   record flight_apex: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:271:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:297:7 */
+/*   record pitch_mean: creatures/quadruped.leg:298:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:299:7 */
+/*   record pitch_trim: creatures/quadruped.leg:300:7 */
+/*   record flight_apex: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:301:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
+    const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[43];
+    const double time = s[39];
     const double height = u[3];
     const double stroke = p[19];
     const double k_height = p[20];
     const double k_height_trim = p[21];
     const double stroke_max = p[22];
+    const double k_pitch_i = p[35];
+    const double trim_most = p[36];
     const double steps = r[0];
     const double stance = r[1];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
+    const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
+    const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
     const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
@@ -1351,98 +1511,104 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = new_flight_apex;
-    out[11] = new_stroke_trim;
-    out[12] = new_thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = new_pitch_mean;
+    out[4] = body_trunk_pitch;
+    out[5] = new_pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = new_flight_apex;
+    out[14] = new_stroke_trim;
+    out[15] = new_thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint. */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:272:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:273:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:274:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:275:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:302:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:303:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:304:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:274:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:305:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:305:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_rl_y_value = s[14];
-    const double coord_hip_rr_y_value = s[15];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rl_length = s[27];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double leg_rr_length = s[33];
+    const double leg_rr_touching = s[35];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -1451,30 +1617,50 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
     const double steps = r[0];
-    const double aim_rate = r[15];
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_rl_length*t4, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t8 = leg_rl_touching*t7;
-    const double hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t10;
-    const double hip_rr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_rr_length*t4, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t12 = leg_rr_touching*t7;
-    const double hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6);
-    const double hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9);
+    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
+    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
+    const double t6 = -aim_rate + body_trunk_yaw_rate;
+    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
+    const double t8 = leg_div(leg_rl_length*t7, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t10 = leg_rl_touching*t9;
+    const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
+    const double t12 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t12;
+    const double hip_rr_pitch_kv = swing_kv*t12;
+    const double t13 = leg_div(leg_rr_length*t7, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t14 = leg_rr_touching*t9;
+    const double hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2);
+    const double hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11);
     const double leg_fl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value;
+    const double t15 = leg_cos(body_trunk_yaw);
+    const double t16 = leg_sin(body_trunk_yaw);
+    const double t17 = com_vx*t15 + com_vy*t16;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17;
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
+    const double t19 = com_vx*t16 - com_vy*t15;
+    const double t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19;
+    const double fl_y_goal = leg_fl_hip_x*t18 + t20;
+    const double fr_y_goal = leg_fr_hip_x*t18 + t20;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -1515,10 +1701,10 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     out[37] = swing_kv;
     out[38] = 0.0;
     out[39] = 0.0;
-    out[40] = hip_fl_pitch_setpoint;
-    out[41] = hip_fl_pitch_setpoint;
-    out[42] = 0.0;
-    out[43] = 0.0;
+    out[40] = fl_x_goal;
+    out[41] = fl_y_goal;
+    out[42] = fl_x_goal;
+    out[43] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1529,102 +1715,111 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint. */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:277:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:278:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:307:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:274:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:308:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:308:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_rl_y_value = s[14];
-    const double coord_hip_rr_y_value = s[15];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rl_length = s[27];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double leg_rr_length = s[33];
+    const double leg_rr_touching = s[35];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -1633,30 +1828,50 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
     const double steps = r[0];
-    const double aim_rate = r[15];
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_rl_length*t4, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t8 = leg_rl_touching*t7;
-    const double hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t10;
-    const double hip_rr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_rr_length*t4, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t12 = leg_rr_touching*t7;
-    const double hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6);
-    const double hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9);
+    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
+    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
+    const double t6 = -aim_rate + body_trunk_yaw_rate;
+    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
+    const double t8 = leg_div(leg_rl_length*t7, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t10 = leg_rl_touching*t9;
+    const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
+    const double t12 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t12;
+    const double hip_rr_pitch_kv = swing_kv*t12;
+    const double t13 = leg_div(leg_rr_length*t7, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t14 = leg_rr_touching*t9;
+    const double hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2);
+    const double hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11);
     const double leg_fl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value;
+    const double t15 = leg_cos(body_trunk_yaw);
+    const double t16 = leg_sin(body_trunk_yaw);
+    const double t17 = com_vx*t15 + com_vy*t16;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17;
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
+    const double t19 = com_vx*t16 - com_vy*t15;
+    const double t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19;
+    const double fl_y_goal = leg_fl_hip_x*t18 + t20;
+    const double fr_y_goal = leg_fr_hip_x*t18 + t20;
     out[0] = hip_rl_pitch_kp;
     out[1] = hip_rl_pitch_kv;
     out[2] = hip_rl_pitch_kp;
@@ -1683,10 +1898,10 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     out[23] = swing_kv;
     out[24] = 0.0;
     out[25] = 0.0;
-    out[26] = hip_fl_pitch_setpoint;
-    out[27] = hip_fl_pitch_setpoint;
-    out[28] = 0.0;
-    out[29] = 0.0;
+    out[26] = fl_x_goal;
+    out[27] = fl_y_goal;
+    out[28] = fl_x_goal;
+    out[29] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1697,104 +1912,113 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint. */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:280:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:281:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:282:7 > creatures/quadruped.leg:124:5 */
+/* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:310:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:311:7 > creatures/quadruped.leg:268:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:274:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:312:7 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:312:7 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_pitch = s[0];
     const double body_trunk_pitch_rate = s[1];
     const double body_trunk_roll = s[2];
     const double body_trunk_roll_rate = s[3];
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
-    const double coord_hip_rl_y_value = s[14];
-    const double coord_hip_rr_y_value = s[15];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double leg_rl_hip_x = s[24];
+    const double leg_rl_hip_y = s[25];
+    const double leg_rl_length = s[27];
+    const double leg_rl_touching = s[29];
+    const double leg_rr_hip_x = s[30];
+    const double leg_rr_hip_y = s[31];
+    const double leg_rr_length = s[33];
+    const double leg_rr_touching = s[35];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
+    const double k_speed = p[0];
     const double kp_roll = p[8];
     const double kv_roll = p[9];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
     const double kp_yaw = p[13];
     const double kv_yaw = p[14];
     const double k_path = p[15];
@@ -1803,32 +2027,56 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
+    const double slew = p[26];
+    const double kv_rate = p[31];
+    const double omega_f = p[32];
+    const double omega_r = p[33];
+    const double k_center = p[34];
+    const double k_pitch_thrust = p[37];
+    const double idle_delay = p[38];
     const double steps = r[0];
-    const double thrust_stroke = r[12];
-    const double aim_rate = r[15];
-    const double leg_rl_spring_rest = stand + thrust_stroke;
-    const double t1 = 1.0 - leg_rl_touching;
-    const double hip_rl_pitch_kp = swing_kp*t1;
-    const double hip_rl_pitch_kv = swing_kv*t1;
-    const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
-    const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
-    const double t5 = leg_div(leg_rl_length*t4, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
-    const double t7 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t8 = leg_rl_touching*t7;
-    const double hip_rl_motor_force = t8*(-leg_rl_hip_y*t5 + t6);
-    const double t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t8*(-leg_rl_hip_x*t5 + t9);
-    const double t10 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t10;
-    const double hip_rr_pitch_kv = swing_kv*t10;
-    const double t11 = leg_div(leg_rr_length*t4, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t12 = leg_rr_touching*t7;
-    const double hip_rr_motor_force = t12*(-leg_rr_hip_y*t11 + t6);
-    const double hip_rr_roll_motor_force = t12*(-leg_rr_hip_x*t11 + t9);
-    const double leg_fl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value;
+    const double stance = r[1];
+    const double pitch_mean = r[3];
+    const double pitch_trim = r[5];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double thrust_stroke = r[15];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double t2 = 1.0 - leg_rl_touching;
+    const double hip_rl_pitch_kp = swing_kp*t2;
+    const double hip_rl_pitch_kv = swing_kv*t2;
+    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_rl_length*t8, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t11 = leg_rl_touching*t10;
+    const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t13;
+    const double hip_rr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_rr_length*t8, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t15 = leg_rr_touching*t10;
+    const double hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3);
+    const double hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12);
+    const double leg_fl_spring_rest = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double t16 = leg_cos(body_trunk_yaw);
+    const double t17 = leg_sin(body_trunk_yaw);
+    const double t18 = com_vx*t16 + com_vy*t17;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18;
+    const double t19 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7*yaw_lead + t6))));
+    const double t20 = com_vx*t17 - com_vy*t16;
+    const double t21 = k_speed*(-side_trim - t20) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t20;
+    const double fl_y_goal = leg_fl_hip_x*t19 + t21;
+    const double fr_y_goal = leg_fr_hip_x*t19 + t21;
     out[0] = leg_rl_spring_rest;
     out[1] = leg_rl_spring_rest;
     out[2] = hip_rl_pitch_kp;
@@ -1857,10 +2105,10 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     out[25] = swing_kv;
     out[26] = 0.0;
     out[27] = 0.0;
-    out[28] = hip_fl_pitch_setpoint;
-    out[29] = hip_fl_pitch_setpoint;
-    out[30] = 0.0;
-    out[31] = 0.0;
+    out[28] = fl_x_goal;
+    out[29] = fl_y_goal;
+    out[30] = fl_x_goal;
+    out[31] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1871,87 +2119,121 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double pitch_mean = r[3];
+    const double pitch_last_td = r[4];
+    const double pitch_trim = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double ramped_speed = r[11];
+    const double ramped_at = r[12];
+    const double flight_apex = r[13];
+    const double stroke_trim = r[14];
+    const double thrust_stroke = r[15];
+    const double step_side = r[16];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double ahead_then = r[19];
+    const double ahead_at = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[3] = pitch_mean;
+    out[4] = pitch_last_td;
+    out[5] = pitch_trim;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = ramped_speed;
+    out[12] = ramped_at;
+    out[13] = flight_apex;
+    out[14] = stroke_trim;
+    out[15] = thrust_stroke;
+    out[16] = step_side;
+    out[17] = side_trim;
+    out[18] = aim_rate;
+    out[19] = ahead_then;
+    out[20] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.setpoint, hip_fr_pitch.setpoint, hip_fl_roll.setpoint, hip_fr_roll.setpoint. */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:284:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:284:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:284:50 > creatures/quadruped.leg:124:5 */
+/* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:314:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:314:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:274:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:314:50 > creatures/quadruped.leg:275:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:314:50 > creatures/quadruped.leg:276:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double coord_hip_rl_y_value = s[14];
-    const double coord_hip_rr_y_value = s[15];
+    const double body_trunk_yaw = s[4];
+    const double body_trunk_yaw_rate = s[5];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
+    const double leg_fl_hip_x = s[12];
+    const double leg_fl_hip_y = s[13];
+    const double leg_fr_hip_x = s[18];
+    const double leg_fr_hip_y = s[19];
+    const double path_route_ahead_heading = s[36];
+    const double path_route_given = s[37];
+    const double path_route_lateral = s[38];
+    const double time = s[39];
+    const double heading = u[1];
+    const double turn_rate = u[2];
+    const double k_speed = p[0];
+    const double k_turn = p[10];
+    const double yaw_lead = p[11];
+    const double turn_most = p[12];
+    const double k_path = p[15];
+    const double turn_limit = p[16];
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double stand = p[23];
-    const double short_ = p[24];
-    const double steps = r[0];
-    const double leg_fl_spring_rest = (((steps > 1.0)) ? (short_) : (stand));
-    const double hip_fl_pitch_setpoint = -0.5*coord_hip_rl_y_value - 0.5*coord_hip_rr_y_value;
+    const double stance = r[1];
+    const double speed_trim = r[7];
+    const double ramped_speed = r[11];
+    const double side_trim = r[17];
+    const double aim_rate = r[18];
+    const double t1 = leg_cos(body_trunk_yaw);
+    const double t2 = leg_sin(body_trunk_yaw);
+    const double t3 = com_vx*t1 + com_vy*t2;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3;
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t5), leg_cos(t5))))));
+    const double t7 = com_vx*t2 - com_vy*t1;
+    const double t8 = k_speed*(-side_trim - t7) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t7;
+    const double fl_y_goal = leg_fl_hip_x*t6 + t8;
+    const double fr_y_goal = leg_fr_hip_x*t6 + t8;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -1966,8 +2248,8 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     out[11] = 0.0;
     out[12] = 0.0;
     out[13] = 0.0;
-    out[14] = leg_fl_spring_rest;
-    out[15] = leg_fl_spring_rest;
+    out[14] = stand;
+    out[15] = stand;
     out[16] = swing_kp;
     out[17] = swing_kp;
     out[18] = swing_kv;
@@ -1980,10 +2262,10 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     out[25] = swing_kv;
     out[26] = 0.0;
     out[27] = 0.0;
-    out[28] = hip_fl_pitch_setpoint;
-    out[29] = hip_fl_pitch_setpoint;
-    out[30] = 0.0;
-    out[31] = 0.0;
+    out[28] = fl_x_goal;
+    out[29] = fl_y_goal;
+    out[30] = fl_x_goal;
+    out[31] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1996,39 +2278,71 @@ static const leg_values_fn entries[] = {entry_FLIGHT_0, entry_LOADING_0, entry_C
 
 static const leg_values_fn actions[] = {action_FLIGHT_0, action_LOADING_0, action_COMPRESSION_0, action_THRUST_0, action_UNLOADING_0, action_FLIGHT_1, action_LOADING_1, action_COMPRESSION_1, action_THRUST_1, action_UNLOADING_1};
 
-static const int64_t settings_0_0[] = {0, 2, 1, 2, 0, 0, 1, 0, 2, 0, 3, 0, 0, 1, 1, 1, 2, 1, 3, 1, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 2, 11, 2, 8, 2, 10, 2};
-static const int64_t settings_0_1[] = {0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 2, 11, 2, 8, 2, 10, 2};
-static const int64_t settings_0_2[] = {5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 2, 11, 2, 8, 2, 10, 2};
-static const int64_t settings_0_3[] = {0, 2, 1, 2, 5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 2, 11, 2, 8, 2, 10, 2};
-static const int64_t settings_0_4[] = {0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 2, 11, 2, 8, 2, 10, 2};
-static const int64_t settings_1_0[] = {2, 2, 3, 2, 2, 0, 3, 0, 0, 0, 1, 0, 2, 1, 3, 1, 0, 1, 1, 1, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 2, 7, 2, 4, 2, 6, 2};
-static const int64_t settings_1_1[] = {2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 2, 7, 2, 4, 2, 6, 2};
-static const int64_t settings_1_2[] = {9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 2, 7, 2, 4, 2, 6, 2};
-static const int64_t settings_1_3[] = {2, 2, 3, 2, 9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 2, 7, 2, 4, 2, 6, 2};
-static const int64_t settings_1_4[] = {2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 2, 7, 2, 4, 2, 6, 2};
+static const int64_t settings_0_0[] = {0, 2, 1, 2, 0, 0, 1, 0, 2, 0, 3, 0, 0, 1, 1, 1, 2, 1, 3, 1, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3};
+static const int64_t settings_0_1[] = {0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3};
+static const int64_t settings_0_2[] = {5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3};
+static const int64_t settings_0_3[] = {0, 2, 1, 2, 5, 0, 5, 1, 4, 0, 4, 1, 12, 3, 13, 3, 7, 0, 7, 1, 6, 0, 6, 1, 14, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3};
+static const int64_t settings_0_4[] = {0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3, 2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3};
+static const int64_t settings_1_0[] = {2, 2, 3, 2, 2, 0, 3, 0, 0, 0, 1, 0, 2, 1, 3, 1, 0, 1, 1, 1, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3};
+static const int64_t settings_1_1[] = {2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3};
+static const int64_t settings_1_2[] = {9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3};
+static const int64_t settings_1_3[] = {2, 2, 3, 2, 9, 0, 9, 1, 8, 0, 8, 1, 16, 3, 17, 3, 11, 0, 11, 1, 10, 0, 10, 1, 18, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3};
+static const int64_t settings_1_4[] = {2, 2, 3, 2, 9, 0, 11, 0, 9, 1, 11, 1, 16, 3, 18, 3, 8, 0, 10, 0, 8, 1, 10, 1, 17, 3, 19, 3, 0, 2, 1, 2, 5, 0, 7, 0, 5, 1, 7, 1, 12, 3, 14, 3, 4, 0, 6, 0, 4, 1, 6, 1, 13, 3, 15, 3};
 
-static const int64_t n_settings[] = {40, 44, 30, 32, 32, 40, 44, 30, 32, 32};
+static const int64_t n_settings[] = {36, 40, 26, 28, 28, 36, 40, 26, 28, 28};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3, settings_0_4, settings_1_0, settings_1_1, settings_1_2, settings_1_3, settings_1_4};
 
-static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0, 2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_1_0_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_1_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const double places_0_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+static const int64_t places_0_2_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const double places_1_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+static const int64_t places_0_3_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+
+static const int64_t places_0_4_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+
+static const int64_t places_1_0_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0, 0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+
+static const int64_t places_1_1_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+
+static const int64_t places_1_2_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+
+static const int64_t places_1_3_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+
+static const int64_t places_1_4_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+
+static const double places_0_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_0_1_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_0_2_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_0_3_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_0_4_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_1_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_1_1_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_1_2_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_1_3_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+
+static const double places_1_4_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
 
 static const int64_t n_outputs[] = {44, 44, 30, 32, 32, 44, 44, 30, 32, 32};
 
-static const int64_t n_places[] = {2, 0, 0, 0, 0, 2, 0, 0, 0, 0};
+static const int64_t n_places[] = {4, 2, 2, 2, 2, 4, 2, 2, 2, 2};
 
-static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i, 0, 0, 0, 0};
+static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2_i, places_0_3_i, places_0_4_i, places_1_0_i, places_1_1_i, places_1_2_i, places_1_3_i, places_1_4_i};
 
-static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
+static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 44, 4, 18, 44,
+    5, 2, 40, 4, 21, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };
