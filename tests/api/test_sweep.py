@@ -94,3 +94,15 @@ def test_a_sweep_on_a_dask_local_cluster_gives_the_same_table(tmp_path: Path) ->
     assert sweep(tmp_path / "dask", generated, "--dask", "local") == 0
     by_run = [{r["run"]: r for r in rows(tmp_path / d)} for d in ("local", "dask")]
     assert by_run[0] == by_run[1]
+
+
+def test_two_sweeps_never_write_one_directory_at_once(tmp_path: Path) -> None:
+    """The second is refused while the first holds OUT/.sweep.lock (they would both append)."""
+    from legdsl.api.sweep_cli import _writer_lock
+    from legdsl.lang.errors import UsageError
+
+    held = _writer_lock(tmp_path)
+    with pytest.raises(UsageError, match="another legdsl sweep is writing"):
+        _writer_lock(tmp_path)
+    held.close()
+    _writer_lock(tmp_path).close()  # free again once the first is done

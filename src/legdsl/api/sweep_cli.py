@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import fcntl
 import json
 import os
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from legdsl.analysis.sweep_plot import plot_sweep
 from legdsl.api.sweep import (
@@ -93,6 +94,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     combos = points(axes, args.samples, args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    lock = _writer_lock(out)  # held until the sweep is done (two would append the same rows)
     plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
             "from": args.t_from, "set": args.set, "runs": combos}  # fmt: skip
     plan_file = out / "sweep.json"
@@ -126,6 +128,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     fell = sum(1 for r in rows if r["outcome"] != "ok")
     resumed = f", {before} of them from before" if before else ""
     print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")
+    lock.close()
     return 0
 
 
@@ -138,3 +141,17 @@ def _parquet(rows: list[dict[str, Any]], path: Path) -> None:
         return
     columns = {k: [r.get(k) for r in rows] for k in rows[0]} if rows else {}
     pq.write_table(pa.table(columns), path)
+
+
+def _writer_lock(out: Path) -> IO[str]:
+    """An exclusive lock on ``OUT/.sweep.lock``, or a ``UsageError`` if another sweep holds it
+    (released by the system when the process ends, killed or not)."""
+    handle = (out / ".sweep.lock").open("w")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.close()
+        raise UsageError(
+            f"another legdsl sweep is writing {out}; wait for it to finish, or choose another --out"
+        ) from None
+    return handle
