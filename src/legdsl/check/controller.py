@@ -23,7 +23,7 @@ from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_shared import expand_includes, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
-from legdsl.check.values import MAX_NAME, did_you_mean, too_long
+from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import Constant, Type
 from legdsl.ir.model import Model
@@ -412,7 +412,6 @@ def check_controllers(
     diag: Diagnostics,
 ) -> list[Model]:
     """Attach each controller of the file to its creature."""
-    by_name = {m.name: m for m in models}
     parts = shared_parts(shared, diag)
     lib: dict[str, ast.ActionDef] = {}
     for a in library:
@@ -427,25 +426,8 @@ def check_controllers(
     attached: dict[str, list[ir.Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
     for decl in tree.controllers:
-        if decl.creature is not None:
-            model = by_name.get(decl.creature.name)
-            if model is None:
-                if tree.creatures and decl.creature.name not in {
-                    c.name.name for c in tree.creatures
-                }:
-                    diag.error(
-                        decl.creature.span,
-                        f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
-                    )
-                continue
-        elif len(models) == 1:
-            model = models[0]
-        else:
-            if models:
-                diag.error(
-                    decl.name.span,
-                    "this file has several creatures: say which one, as in 'controller run for biped { ... }'",
-                )
+        model = owning_creature(decl, "controller run", tree, models, diag)
+        if model is None:
             continue
         key = f"{model.name}/{decl.name.name}"
         if key in seen:

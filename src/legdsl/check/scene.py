@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import re
 
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, owning_creature
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
@@ -301,26 +301,11 @@ class _SceneChecker:
 
 def check_scenes(tree: ast.SourceFile, models: list[Model], diag: Diagnostics) -> list[Model]:
     """Attach each scene of the file to its creature (``Model.scenes``)."""
-    by_name = {m.name: m for m in models}
     scenes: dict[str, list[Scene]] = {m.name: [] for m in models}
     seen: dict[tuple[str, str], Span] = {}
     for decl in tree.scenes:
-        if decl.creature is not None:
-            model = by_name.get(decl.creature.name)
-            if model is None:
-                diag.error(
-                    decl.creature.span,
-                    f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
-                )
-                continue
-        elif len(models) == 1:
-            model = models[0]
-        else:
-            if models:
-                diag.error(
-                    decl.name.span,
-                    "this file has several creatures: say which one, as in 'scene demo for biped { ... }'",
-                )
+        model = owning_creature(decl, "scene demo", tree, models, diag)
+        if model is None:
             continue
         key = (model.name, decl.name.name)
         if key in seen:

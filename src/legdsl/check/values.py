@@ -10,6 +10,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
+from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe, parse_unit
@@ -45,6 +46,36 @@ def place_of(span: Span) -> str:
 def did_you_mean(word: str, choices: Iterable[str]) -> str:
     close = difflib.get_close_matches(word, list(choices), n=1)
     return f"; did you mean '{close[0]}'?" if close else ""
+
+
+def owning_creature(
+    decl: ast.ControllerDecl | ast.SceneDecl,
+    example: str,
+    tree: ast.SourceFile,
+    models: list[Model],
+    diag: Diagnostics,
+) -> Model | None:
+    """The creature a controller or scene belongs to: the one named after ``for``, or the
+    file's only one; else an error and None. ``example`` starts the fix the message shows
+    (``controller run``). A creature of the file that failed its own check is no unknown one."""
+    by_name = {m.name: m for m in models}
+    if decl.creature is not None:
+        model = by_name.get(decl.creature.name)
+        written = {c.name.name for c in tree.creatures}
+        if model is None and tree.creatures and decl.creature.name not in written:
+            diag.error(
+                decl.creature.span,
+                f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
+            )
+        return model
+    if len(models) == 1:
+        return models[0]
+    if models:
+        diag.error(
+            decl.name.span,
+            f"this file has several creatures: say which one, as in '{example} for biped {{ ... }}'",
+        )
+    return None
 
 
 def unit_hint(kind: str) -> str:

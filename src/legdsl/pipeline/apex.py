@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -33,9 +33,19 @@ KEY = "apex_foot_clearance"
 LABEL = "foot clearance at the apex (m)"
 
 
-def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> tuple[Any, Any, Any] | None:
-    """(model, dynamics module, coordinate factors) of a run's creature, or None when its
-    generated dynamics are not at hand (missing, stale, or another creature's)."""
+class Kinematics(NamedTuple):
+    """What a metric needs to recompute a run's contacts: its creature and generated dynamics,
+    and the run's ``--scale`` (1 without) with the factors its coordinates were scaled by."""
+
+    model: Any
+    dynamics: Any
+    q_factors: Any
+    scale: float
+
+
+def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> Kinematics | None:
+    """The kinematics of a run's creature, or None when its generated dynamics are not at
+    hand (missing, stale, or another creature's)."""
     try:
         info = load_run_info(run)
     except UsageError:
@@ -52,7 +62,8 @@ def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> tuple[Any, An
     dyn = import_module_file(path, f"legdsl_apex_{model.name}")
     if getattr(dyn, "MODEL_FINGERPRINT", None) != model_fingerprint(model):
         return None
-    return model, dyn, q_factors(model, float(info.get("scale") or 1.0))
+    scale = float(info.get("scale") or 1.0)
+    return Kinematics(model, dyn, q_factors(model, scale), scale)
 
 
 def clearance_row(
@@ -62,8 +73,7 @@ def clearance_row(
     found = load_kinematics(run, tr, generated)
     if found is None:
         return None
-    model, dyn, q_f = found
-    scale = float(load_run_info(run).get("scale") or 1.0)
+    model, dyn, q_f, scale = found
     names = tuple(c.name for c in model.contacts)
     ground = GroundContact(model.ground, names, model.planar) if model.ground else None
     feet_of = list(tr.leg_feet) or list(range(len(names)))

@@ -27,11 +27,12 @@ from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.python.dynamics import creature_fingerprint
 from legdsl.files import leftovers, remove, write_atomic
-from legdsl.ir.model import Model
+from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
+from legdsl.lang.units import KINDS
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
@@ -206,7 +207,7 @@ class RunSession:
         rotary = {a.name: a.rotary for a in self.model.actuators}
 
         def unit(f: TooStiff) -> str:
-            return _SETTING_UNITS[f.setting, rotary[f.actuator]]
+            return KINDS[setting_kind(f.setting, rotary[f.actuator])][1]
 
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
         if found:
@@ -216,13 +217,6 @@ class RunSession:
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
         for f in held:  # saturating actuators past the bound: they chatter, a warning
             print(f"legdsl: warning: {f.message(opts.dt, unit(f), True)}", file=self.log)
-
-
-_SETTING_UNITS = {
-    ("k", False): "N/m", ("k", True): "N*m/rad", ("kp", False): "N/m", ("kp", True): "N*m/rad",
-    ("b", False): "N*s/m", ("b", True): "N*m*s/rad", ("kv", False): "N*s/m",
-    ("kv", True): "N*m*s/rad",
-}  # fmt: skip
 
 
 def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) -> dict[str, Any]:

@@ -17,7 +17,7 @@ import numpy as np
 from legdsl.analysis.clearance import terrain_contacts
 from legdsl.analysis.results import Summary
 from legdsl.pipeline.apex import load_kinematics
-from legdsl.sim.trajectory import Trajectory, load_run_info
+from legdsl.sim.trajectory import Trajectory
 
 
 def terrain_rows(
@@ -27,11 +27,10 @@ def terrain_rows(
     found = load_kinematics(run, tr, generated)
     if found is None:
         return []
-    model, dyn, q_f = found
+    model, dyn, q_f, scale = found
     terrain = model.ground.terrain if model.ground else ()
     if not any(t.kind in ("step", "box") for t in terrain):
         return []
-    scale = float(load_run_info(run).get("scale") or 1.0)
     hi = float(tr.t[-1]) if t_to is None else t_to
     inside = np.flatnonzero((tr.t >= t_from) & (tr.t <= hi))
     poses = [dyn.body_poses([float(x) for x in tr.q[k] / q_f]) for k in inside]

@@ -4,7 +4,7 @@ Ground speed matching (raibert's ``place_two_link_matched``, ``place_foot_matche
 foot back late in flight so that it lands moving with the ground; how well it does is the
 horizontal speed of each leg's foot contact relative to the ground just before its
 touchdown, at the last recorded sample of the flight (so within one record interval of it:
-5 ms at the default 200 Hz, one integration step with ``--record-rate 0 Hz``). The contact
+5.2 ms at the default 200 Hz, one integration step with ``--record-rate 0 Hz``). The contact
 velocities are recomputed with the creature's generated dynamics module, as the apex
 clearance is (``legdsl.pipeline.apex``); a run made with ``--scale L`` is measured as the
 scaled creature (speeds by L^(1/2)).
@@ -22,7 +22,7 @@ from legdsl.analysis.rows import stat
 from legdsl.analysis.strides import runs
 from legdsl.pipeline.apex import load_kinematics
 from legdsl.pipeline.scaled import v_factors
-from legdsl.sim.trajectory import Trajectory, load_run_info
+from legdsl.sim.trajectory import Trajectory
 
 KEY = "touchdown_foot_speed"
 LABEL = "foot speed over the ground at touchdown (m/s)"
@@ -35,8 +35,7 @@ def touchdown_speed_row(
     found = load_kinematics(run, tr, generated)
     if found is None:
         return None
-    model, dyn, q_f = found
-    scale = float(load_run_info(run).get("scale") or 1.0)
+    model, dyn, q_f, scale = found
     v_f = v_factors(model, scale)
     hi = float(tr.t[-1]) if t_to is None else t_to
     values = []
