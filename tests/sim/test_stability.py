@@ -113,3 +113,19 @@ def test_a_saturating_actuator_past_the_bound_is_a_warning(
             "--generated", str(generated)]  # fmt: skip
     assert main(argv) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_stiffness_written_in_the_file_is_refused_at_its_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], generated: Path, creatures_dir: Path
+) -> None:
+    leg = tmp_path / "hopper.leg"
+    text = (creatures_dir / "hopper.leg").read_text()
+    leg.write_text(text.replace("spring(k = 3000 N/m", "spring(k = 1e9 N/m", 1))
+    line = next(i for i, row in enumerate(leg.read_text().split("\n"), 1) if "k = 1e9 N/m" in row)
+    argv = ["run", str(leg), "--controller", "hop", "--time", "1s", "--out", str(tmp_path / "r"),
+            "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err.splitlines()
+    head = next(i for i, row in enumerate(err) if "is too stiff" in row)
+    assert err[head].startswith(f"{leg}:{line}:3: error: actuator 'leg_spring' is too stiff")
+    assert "k = 1e9 N/m" in err[head + 1] and err[head + 2].strip().startswith("^")

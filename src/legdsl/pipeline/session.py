@@ -30,7 +30,7 @@ from legdsl.files import leftovers, remove, write_atomic
 from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import Diagnostic, LegError, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lang.units import KINDS
 from legdsl.pipeline import scaled
@@ -163,7 +163,8 @@ class RunSession:
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
             sim.actuators.by_name[actuator].set(key, value)
-        self._check_stiffness(sim, getattr(machine, "modules", {"": control}).values())
+        controls = getattr(machine, "modules", {"": control}).values()
+        self._check_stiffness(sim, controls, set(sorted_settings.actuators))
         result = sim.run(progress)
         if scale is not None:
             result = scaled.scale_result(result, self.model, scale)
@@ -197,9 +198,13 @@ class RunSession:
             "--drop H (the lowest foot H metres above the ground)"
         )
 
-    def _check_stiffness(self, sim: Simulation, controls: Iterable[ModuleType | None]) -> None:
+    def _check_stiffness(
+        self, sim: Simulation, controls: Iterable[ModuleType | None], given: set[str]
+    ) -> None:
         """An actuator too stiff or too damped for the step diverges at once: refused (exit 2)
-        with the bound (``legdsl.sim.stability``); one held by its ``max`` chatters: a warning."""
+        with the bound (``legdsl.sim.stability``), at its line of the .leg file unless the
+        value came from ``--set`` (``given``: ACTUATOR.KEY); one held by its ``max`` chatters:
+        a warning."""
         written = {t for control in controls
                    for targets in getattr(control, "SETTINGS", {}).values() for t in targets}  # fmt: skip
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
@@ -210,8 +215,15 @@ class RunSession:
             return KINDS[setting_kind(f.setting, rotary[f.actuator])][1]
 
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
-        if found:
+        spans = {a.name: a.span for a in self.model.actuators}
+        if any(f"{f.actuator}.{f.setting}" in given or spans[f.actuator].line <= 0 for f in found):
             raise UsageError("; ".join(f.message(opts.dt, unit(f)) for f in found))
+        if found:
+            files = {spans[f.actuator].file for f in found}
+            raise LegError(
+                [Diagnostic(spans[f.actuator], f.message(opts.dt, unit(f))) for f in found],
+                {file: Path(file).read_text(encoding="utf-8") for file in files},
+            )
         if self.log is None:
             return
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
