@@ -31,12 +31,14 @@ def _start(generated: Path, out: Path) -> subprocess.Popen[str]:
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
 
 
-def _wait_and_send(proc: subprocess.Popen[str], signals: list[int], after: float) -> str:
+def _wait_and_send(
+    proc: subprocess.Popen[str], signals: list[int], after: float, gap: float = 0.05
+) -> str:
     time.sleep(after)  # some simulated seconds (the hopper runs faster than real time)
     assert proc.poll() is None, proc.communicate()
     for sig in signals:
         proc.send_signal(sig)
-        time.sleep(0.05)
+        time.sleep(gap)
     _, err = proc.communicate(timeout=60)
     return err
 
@@ -50,20 +52,22 @@ def _readable(out: Path) -> dict:
 
 
 @pytest.mark.parametrize(
-    ("signals", "code", "cause"),
+    ("signals", "gap", "code", "cause"),
     [
-        ([signal.SIGINT], 130, "SIGINT"),
-        ([signal.SIGTERM], 143, "SIGTERM"),
-        ([signal.SIGINT, signal.SIGINT], 130, "SIGINT"),  # the second one while writing
+        ([signal.SIGINT], 0.0, 130, "SIGINT"),
+        ([signal.SIGTERM], 0.0, 143, "SIGTERM"),
+        ([signal.SIGINT, signal.SIGINT], 0.05, 130, "SIGINT"),  # the second one while writing
+        # the others while the run loop is still winding down, before anything is written
+        ([signal.SIGINT, signal.SIGINT, signal.SIGTERM, signal.SIGINT], 0.001, 130, "SIGINT"),
     ],
-    ids=["ctrl-c", "sigterm", "ctrl-c-twice"],
+    ids=["ctrl-c", "sigterm", "ctrl-c-twice", "ctrl-c-held-down"],
 )
 def test_an_interrupted_long_run_keeps_what_it_recorded(
-    generated: Path, tmp_path: Path, signals: list[int], code: int, cause: str
+    generated: Path, tmp_path: Path, signals: list[int], gap: float, code: int, cause: str
 ) -> None:
     out = tmp_path / "run"
     proc = _start(generated, out)
-    err = _wait_and_send(proc, signals, after=4.0)
+    err = _wait_and_send(proc, signals, after=4.0, gap=gap)
     assert proc.returncode == code, err
     assert "Traceback" not in err and "internal error" not in err, err
     info = _readable(out)

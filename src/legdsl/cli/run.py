@@ -34,38 +34,40 @@ _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
 )  # fmt: skip
 
 
-@contextlib.contextmanager
-def _terminate_as_interrupt() -> Iterator[None]:
-    """While simulating, SIGTERM raises ``Interrupted``, which the run loop turns into the
-    status ``interrupted`` as it does Ctrl-C's ``KeyboardInterrupt``."""
-    from legdsl.sim.simulate import Interrupted
+class _Interrupts:
+    """SIGINT and SIGTERM for the length of a run: the first one while simulating ends the
+    simulation (the run loop turns Ctrl-C's ``KeyboardInterrupt`` and SIGTERM's
+    ``Interrupted`` into the status ``interrupted``); any other, until the run directory is
+    whole, is noted and not obeyed. One handler from start to end, so that a second Ctrl-C
+    sent a moment after the first cannot land between two handlers and lose the run."""
 
-    def stop(signum: int, frame: Any) -> None:
-        raise Interrupted("SIGTERM")
+    def __init__(self, out: Path) -> None:
+        self.out = out
+        self.simulating = True
+        self.stopped = False  # the simulation was told to stop
+        self.late: list[str] = []  # the signals noted and not obeyed
 
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    def __call__(self, signum: int, frame: Any) -> None:
+        from legdsl.sim.simulate import Interrupted
 
+        if self.simulating and not self.stopped:
+            self.stopped = True
+            if signum == signal.SIGINT:
+                raise KeyboardInterrupt
+            raise Interrupted("SIGTERM")
+        self.late.append(signal.Signals(signum).name)
+        print(
+            f"legdsl: finishing {self.out}/ first; it takes a moment", file=sys.stderr, flush=True
+        )
 
-@contextlib.contextmanager
-def _deferred_interrupts(out: Path) -> Iterator[list[str]]:
-    """While the run directory is written, SIGINT and SIGTERM are noted, not obeyed: the
-    directory is finished first (it takes a moment), then legdsl exits as interrupted."""
-    late: list[str] = []
-
-    def note(signum: int, frame: Any) -> None:
-        late.append(signal.Signals(signum).name)
-        print(f"legdsl: finishing {out}/ first; it takes a moment", file=sys.stderr, flush=True)
-
-    previous = {sig: signal.signal(sig, note) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield late
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+    @contextlib.contextmanager
+    def installed(self) -> Iterator[_Interrupts]:
+        previous = {sig: signal.signal(sig, self) for sig in (signal.SIGINT, signal.SIGTERM)}
+        try:
+            yield self
+        finally:
+            for sig, handler in previous.items():
+                signal.signal(sig, handler)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -116,13 +118,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = progress_bar if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
-    with (
-        _terminate_as_interrupt()
-    ):  # SIGTERM ends the run as Ctrl-C does: what was recorded is kept
+    with _Interrupts(out).installed() as interrupts:
         run = session.run(
             controller, settings, args.path, options, progress, args.scale, switches, **backend
         )
-    with _deferred_interrupts(out) as late:  # a second Ctrl-C waits for the directory to be whole
+        interrupts.simulating = False  # from here on a signal waits for the directory
         try:
             out = run.write(out)
         except OSError as e:
@@ -134,9 +134,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
         animate_result(out, session.model, run.result, session.dynamics)
     result = run.result
-    if result.status == "interrupted" or late:
+    if result.status == "interrupted" or interrupts.late:
         print(f"legdsl: {result.message or 'interrupted'}; {out}/ is complete", file=sys.stderr)
-        return EXIT_TERMINATED if "SIGTERM" in result.cause else EXIT_INTERRUPTED
+        first = result.cause if result.status == "interrupted" else interrupts.late[0]
+        return EXIT_TERMINATED if "SIGTERM" in first else EXIT_INTERRUPTED
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
