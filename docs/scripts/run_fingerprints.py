@@ -7,7 +7,8 @@ to the compiler or the runtime leaves every run byte-identical.
 
 Each run goes through the command line (``legdsl run``), so the script does not depend on
 the package's internals and works on either side of a reorganisation. The runs are short
-(``--time``, 2 s by default) but cover every controller, a schedule, a path and a passive drop.
+(``--time``, 2 s by default) but cover every controller, a schedule, a path, a change of
+controller and a passive drop.
 """
 
 from __future__ import annotations
@@ -36,7 +37,15 @@ RUNS: dict[str, list[str]] = {
     "biped-gallop_human": [
         "creatures/biped.leg", "--controller", "gallop_human", "--set", "speed=1.5m/s",
     ],
+    "kangaroo-jump": ["creatures/kangaroo.leg", "--controller", "jump", "--set", "speed=4m/s"],
     "quadruped-drop": ["creatures/quadruped.leg", "--drop", "0.3"],
+    "quadruped-trot": ["creatures/quadruped.leg", "--controller", "trot", "--set", "speed=2m/s"],
+    "quadruped-pace": ["creatures/quadruped.leg", "--controller", "pace", "--set", "speed=1m/s"],
+    "quadruped-bound": ["creatures/quadruped.leg", "--controller", "bound", "--set", "speed=1m/s"],
+    "biped-switch": [
+        "creatures/biped.leg", "--controller", "run", "--set", "speed=1.5m/s",
+        "--switch", "1s=gallop",
+    ],
 }  # fmt: skip
 FILES = ("trajectory.npz", "trajectory.csv", "run.json")
 
