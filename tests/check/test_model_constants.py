@@ -63,7 +63,7 @@ def _flight_tuck_distance(tmp_path: Path, thigh: float) -> tuple[float, float]:
     return math.dist(hip, toe), dict(hop.params)["tuck"]
 
 
-@pytest.mark.parametrize("thigh", [0.13, 0.16])
+@pytest.mark.parametrize("thigh", [0.16])  # the file says 0.13 m; a compile each
 def test_the_kangaroos_foot_placement_follows_its_thigh(tmp_path: Path, thigh: float) -> None:
     distance, tuck = _flight_tuck_distance(tmp_path, thigh)
     assert distance == pytest.approx(tuck, abs=1e-9)
