@@ -1,14 +1,21 @@
-"""Shared controller parts: ``shared NAME { ... }`` blocks that controllers ``include``.
+"""Controllers said once: ``shared NAME { ... }`` parts that controllers ``include``, and
+controllers that ``extends`` another.
 
 A part holds inputs, parameters, signals and actions. ``include gains`` puts the part's
 declarations where the ``include`` stands, in the part's order; a controller's own
 declaration of a name the part declares (of the same kind) gives it another value in the
 part's place, so several controllers share their common gains and state only what differs.
 Two included parts may not declare one name, nor may one part declare a name twice.
+
+``controller pace extends trot { ... }`` starts from trot's items (its includes too) and puts
+each of its own declarations, roles, start, table and actions in the place of trot's of the
+same name (or kind), the rest after them; so pace states only what differs, and the order of
+its inputs and parameters, which run.json and the generated code follow, stays trot's.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable
 
 from legdsl.check.values import did_you_mean
@@ -111,3 +118,90 @@ def expand_includes(
             continue
         out.append(item)
     return tuple(out)
+
+
+def _key(item: ast.ControllerItem) -> tuple[str, ...]:
+    """What an item of a derived controller replaces in its base: the same kind and name."""
+    if isinstance(item, Declared):
+        return ("declared", item.name.name)
+    if isinstance(item, ast.ActionDef | ast.PathDecl):
+        return (type(item).__name__, item.name.name)
+    if isinstance(item, ast.IncludeDecl):
+        return ("include", *(n.name for n in item.names))
+    return (type(item).__name__,)  # roles, start, table: one each
+
+
+def extend_bases(
+    decls: Iterable[ast.ControllerDecl], diag: Diagnostics
+) -> list[ast.ControllerDecl]:
+    """The controllers with every ``extends`` resolved (bases first, chains followed); one
+    that extends an unknown controller, or itself through a chain, is reported and left out."""
+    written = list(decls)
+    by_name = {d.name.name: d for d in written}
+    done: dict[str, ast.ControllerDecl | None] = {}
+
+    def resolve(decl: ast.ControllerDecl, chain: tuple[str, ...]) -> ast.ControllerDecl | None:
+        name = decl.name.name
+        if name in done:
+            return done[name]
+        if decl.base is None:
+            done[name] = decl
+            return decl
+        base_name = decl.base.name
+        if base_name == name or base_name in chain:
+            loop = (*chain[chain.index(base_name) :], name) if base_name in chain else (name,)
+            diag.error(
+                decl.base.span,
+                f"controller '{name}' extends itself ({' -> '.join((*loop, base_name))}); "
+                "break the loop: one of them must extend none of the others",
+            )
+            done[name] = None
+            return None
+        written_base = by_name.get(base_name)
+        if written_base is None:
+            diag.error(
+                decl.base.span,
+                f"unknown controller '{base_name}' to extend; write 'controller {base_name} "
+                f"{{ ... }}' in this file{did_you_mean(base_name, by_name)}",
+            )
+            done[name] = None
+            return None
+        base = resolve(written_base, (*chain, name))
+        done[name] = None if base is None else _merged(decl, base, diag)
+        return done[name]
+
+    resolved = [resolve(d, ()) for d in written]
+    return [d for d in resolved if d is not None]
+
+
+def _merged(
+    decl: ast.ControllerDecl, base: ast.ControllerDecl, diag: Diagnostics
+) -> ast.ControllerDecl:
+    own: dict[tuple[str, ...], ast.ControllerItem] = {}
+    for item in decl.items:
+        own.setdefault(_key(item), item)  # a second one is 'defined twice' later
+    used: set[int] = set()
+    items: list[ast.ControllerItem] = []
+    for item in base.items:
+        override = own.get(_key(item))
+        if override is None:
+            items.append(item)
+            continue
+        used.add(id(override))
+        if (
+            isinstance(item, Declared)
+            and isinstance(override, Declared)
+            and (type(override) is not type(item))
+        ):
+            diag.error(
+                override.name.span,
+                f"'{item.name.name}' is {_ARTICLED[type(item)]} in controller "
+                f"'{base.name.name}'; give it another value with "
+                f"'{_WORDS[type(item)]} {item.name.name} = ...'",
+            )
+            items.append(item)
+            continue
+        items.append(override)
+    items += [item for item in decl.items if id(item) not in used]
+    creature = decl.creature if decl.creature is not None else base.creature
+    return dataclasses.replace(decl, creature=creature, items=tuple(items))

@@ -20,7 +20,7 @@ from legdsl.check.control_names import (
     describe_type,
 )
 from legdsl.check.control_roles import check_aliases, reachable_bindings
-from legdsl.check.control_shared import expand_includes, shared_parts
+from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
 from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
@@ -425,7 +425,7 @@ def check_controllers(
         lib[a.name.name] = a
     attached: dict[str, list[ir.Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
-    for decl in tree.controllers:
+    for decl in extend_bases(tree.controllers, diag):
         model = owning_creature(decl, "controller run", tree, models, diag)
         if model is None:
             continue

@@ -440,6 +440,7 @@ class ControllerDecl:
     creature: Ident | None
     items: tuple[ControllerItem, ...]
     span: Span
+    base: Ident | None = None  # ``extends BASE``: resolved by the checker (check.control_shared)
 
 
 @dataclass(frozen=True)

@@ -277,7 +277,8 @@ class _ToAst(Transformer):
 
     def controller(self, meta: Any, c: list[Any]) -> ast.ControllerDecl:
         creature = self._id(c[1]) if c[1] is not None else None
-        return ast.ControllerDecl(self._id(c[0]), creature, tuple(c[2:]), self._s(meta))
+        base = self._id(c[2]) if c[2] is not None else None
+        return ast.ControllerDecl(self._id(c[0]), creature, tuple(c[3:]), self._s(meta), base)
 
     def shared(self, meta: Any, c: list[Any]) -> ast.SharedDecl:
         return ast.SharedDecl(self._id(c[0]), tuple(c[1:]), self._s(meta))

@@ -1,0 +1,78 @@
+"""``controller B extends A``: A's items with B's own in their places, the rest after them."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+from legdsl.check.source import check_model
+from legdsl.ir.controller import Controller
+
+ROOT = Path(__file__).resolve().parents[2]
+CREATURE = (ROOT / "tests" / "bad" / "ctl_dim_comparison.leg").read_text().split("controller")[0]
+HOP = """controller hop {
+  input speed = 1 m/s
+  param kp = 50 N*m/rad
+  param kv = 2 N*m*s/rad
+  action stiffen(leg) { leg.hip_servo.kp = kp }
+  table {
+    state FLIGHT on liftoff(main): stiffen(main); hip_servo.kv = kv
+    state STANCE on touchdown(main): hip_servo.kp = 0 N*m/rad
+  }
+}
+"""
+
+
+def _same(a: Controller, b: Controller) -> bool:
+    """Equal but for the name and where each part was written."""
+
+    def bare(c: Controller) -> str:
+        text = repr(dataclasses.replace(c, name="x"))
+        return "".join(part.split(")", 1)[-1] for part in text.split("Span("))
+
+    return bare(a) == bare(b)
+
+
+def test_a_derived_controller_is_the_one_written_out(tmp_path: Path) -> None:
+    derived = tmp_path / "derived.leg"
+    derived.write_text(
+        CREATURE + HOP + "controller stiff extends hop {\n  param kv = 5 N*m*s/rad\n"
+        "  param extra = 1 s\n  action stiffen(leg) { leg.hip_servo.kp = 2 * kp }\n}\n"
+    )
+    by_hand = tmp_path / "by_hand.leg"
+    by_hand.write_text(
+        CREATURE
+        + HOP.replace("controller hop", "controller stiff")
+        .replace("kv = 2 N", "kv = 5 N")
+        .replace("kv = 5 N*m*s/rad\n", "kv = 5 N*m*s/rad\n  param extra = 1 s\n")
+        .replace("hip_servo.kp = kp }", "hip_servo.kp = 2 * kp }")
+    )
+    stiff = check_model(derived).controller("stiff")
+    # in the base's order, with the derived values; the new one after them
+    assert [(c.name, c.value) for c in stiff.params] == [("kp", 50.0), ("kv", 5.0), ("extra", 1.0)]
+    assert _same(stiff, check_model(by_hand).controller("stiff"))
+    assert not _same(stiff, check_model(derived).controller("hop"))
+
+
+def test_a_chain_of_bases_and_a_table_of_its_own(tmp_path: Path) -> None:
+    path = tmp_path / "chain.leg"
+    path.write_text(
+        CREATURE + HOP + "controller soft extends hop {\n  param kp = 10 N*m/rad\n}\n"
+        "controller softer extends soft {\n  param kv = 1 N*m*s/rad\n  table {\n"
+        "    state ONLY on liftoff(main): hip_servo.kv = kv\n  }\n}\n"
+    )
+    model = check_model(path)
+    softer = model.controller("softer")
+    assert [(c.name, c.value) for c in softer.params] == [("kp", 10.0), ("kv", 1.0)]
+    assert softer.state_names == ("ONLY",)
+    assert model.controller("soft").state_names == ("FLIGHT", "STANCE")
+
+
+def test_the_quadrupeds_pace_is_the_trot_with_its_own_pairs_and_roll_gains() -> None:
+    model = check_model(ROOT / "creatures" / "quadruped.leg")
+    trot, pace = model.controller("trot"), model.controller("pace")
+    assert [c.name for c in trot.params] == [c.name for c in pace.params]
+    differ = {a.name for a, b in zip(trot.params, pace.params, strict=True) if a.value != b.value}
+    assert differ == {"kp_roll", "k_side_trim"}
+    assert trot.state_names == pace.state_names
+    assert trot.bindings[0] != pace.bindings[0]
