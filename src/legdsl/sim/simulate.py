@@ -17,11 +17,12 @@ from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Protocol
 
-from legdsl.ir.model import Model, Pad
+from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.stability import likely_cause
 from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
@@ -385,36 +386,8 @@ class Simulation:
         return None
 
     def likely_cause(self) -> str:
-        """Why a run diverged, from the contact stiffness, the step and the joint limits."""
-        opts = self.options
-        causes = []
-        g = self.model.ground
-        if g is not None and self.model.contacts:
-            lightest = min(self.model.body(c.body).mass for c in self.model.contacts)
-            # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
-            normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
-            stiffness = max(normal, g.tangent.k)
-            if stiffness > 0:
-                critical = 2.0 / math.sqrt(stiffness / lightest)
-                if opts.integrator == "euler" and opts.dt > 0.5 * critical:
-                    causes.append(
-                        f"the step {opts.dt:g} s is too large for the contact stiffness "
-                        f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
-                        f"dt < {critical:.2g} s); try --dt {critical / 4:.1g} or --integrator rk4"
-                    )
-        for d in self.model.dofs:
-            if d.limits is None:
-                continue
-            lo, hi = d.limits
-            value = self.q[d.q_index]
-            span = hi - lo
-            if value < lo - 0.1 * span or value > hi + 0.1 * span:
-                causes.append(
-                    f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
-                )
-        if not causes:
-            causes.append("the state grew without bound; try a smaller --dt or --integrator rk4")
-        return "; ".join(causes)
+        """Why a run diverged (``legdsl.sim.stability.likely_cause``)."""
+        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q)
 
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
