@@ -52,6 +52,17 @@ def test_falls_score_by_how_early_they_happen() -> None:
     assert score([ok], objective) < score([late], objective) < score([early], objective)
 
 
+def test_the_energy_weight_adds_the_cost_of_transport() -> None:
+    row = {"outcome": "ok", "running_speed": 1.9, "simulated": 10.0, "by_label": {},
+           "cost_of_transport": 0.4, "energy_per_metre": 40.0}  # fmt: skip
+    plain = Objective(speeds=(2.0,), duration=10.0, start=3.0)
+    weighted = Objective(speeds=(2.0,), duration=10.0, start=3.0, energy_weight=0.5)
+    assert score([row], plain) == pytest.approx(0.05)
+    assert score([row], weighted) == pytest.approx(0.05 + 0.5 * 0.4)
+    standing = {**row, "cost_of_transport": float("nan")}  # no distance: the speed term says
+    assert score([standing], weighted) == pytest.approx(0.05)
+
+
 def test_the_tuned_file_keeps_units_and_comments(tmp_path: Path) -> None:
     hop = check_model(HOPPER).controller("hop")
     out = write_tuned(HOPPER, hop, {"kp": 212.5, "k_speed": 0.075}, tmp_path / "h.leg")

@@ -23,6 +23,9 @@ Definitions (docs/metrics.md has the long form):
   elastic energy the leg springs take up during a stance (peak minus the value
   at touchdown) divided by the fluctuation (max - min) of the external
   mechanical energy ``1/2 M |com_vel|^2 + M g com_z`` over the stride.
+- **Positive actuator work**, **energy per metre** and **cost of transport** over the
+  window (``energy``): the rise of the recorded running sums of max(0, tau qd) dt, per
+  metre of the centre of mass's horizontal path, and divided by the weight ``M g``.
 
 This module is the entry, ``compute_metrics``, and the names the command line uses; the work
 is done in ``strides`` (strides, stances, flights), ``friction``, ``rows`` and ``support``
@@ -34,6 +37,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+from legdsl.analysis.energy import energy_rows
 from legdsl.analysis.friction import MIN_NORMAL_FRACTION, contact_friction
 from legdsl.analysis.pairs import pair_rows
 from legdsl.analysis.results import (
@@ -134,7 +138,8 @@ def compute_metrics(
             t_from,
             t_to,
         )
-        + pair_rows(tr, units, t_from, t_to),
+        + pair_rows(tr, units, t_from, t_to)
+        + energy_rows(tr, t_from, t_to),
         note=note,
         options=options,
     )

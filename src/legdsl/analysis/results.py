@@ -76,7 +76,8 @@ class Summary:
     value: float
     std: float  # sample standard deviation; NaN for a maximum or fewer than two values
     n: int  # how many values went in
-    how: str = "mean"  # or "max", or "min" (n: how many samples fall below 0)
+    how: str = "mean"  # or "max", or "min" (n: how many samples fall below 0), or "total"
+    # over the window (n: its samples)
 
 
 @dataclass
@@ -137,7 +138,9 @@ class GaitMetrics:
         width = max([len(s.label) for s in self.summaries] + [8])
         lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
         for s in self.summaries:
-            spread = {"max": "(peak)", "min": "(least)"}.get(s.how, num_text(s.std))
+            spread = {"max": "(peak)", "min": "(least)", "total": "(window)"}.get(
+                s.how, num_text(s.std)
+            )
             lines.append(f"{s.label:<{width}}  {num_text(s.value):>10}  {spread:>10}  {s.n:>4}")
         return "\n".join(lines) + "\n"
 

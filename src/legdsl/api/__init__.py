@@ -169,7 +169,8 @@ class Run:
         """Every recorded series by name: ``t``, ``q.NAME``, ``v.NAME``, ``com.x``...,
         ``com_vel.x``..., ``root.x``..., ``root.roll``..., ``contact.NAME`` (1 touching),
         ``force.NAME.x``..., ``leg_length.LEG``, ``state`` (an index into ``state_names``),
-        ``speed_command``, ``energy.kinetic``... (SI units)."""
+        ``speed_command``, ``energy.kinetic``..., ``work_positive.ACTUATOR`` and
+        ``work_negative.ACTUATOR`` (each actuator's work since the start) (SI units)."""
         tr = self.trajectory
         out: dict[str, np.ndarray] = {"t": tr.t}
         out |= {f"q.{n}": tr.q[:, i] for i, n in enumerate(tr.q_names)}
@@ -188,6 +189,9 @@ class Run:
         out |= {"state": tr.state, "speed_command": tr.speed_command}
         for name in ("kinetic", "potential", "elastic"):
             out[f"energy.{name}"] = getattr(tr, name)
+        for i, n in enumerate(tr.actuator_names):
+            out[f"work_positive.{n}"] = tr.work_positive[:, i]
+            out[f"work_negative.{n}"] = tr.work_negative[:, i]
         return out
 
     @property

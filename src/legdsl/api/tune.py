@@ -8,6 +8,9 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
 * the relative speed error ``|running speed - command| / command`` (from ``--from`` on),
 * plus ``--table2-weight`` times the mean relative distance of the run's metrics to the
   rows of ``--table2 ROW`` (the paper's animation column, where the run measured them),
+* plus ``--energy-weight`` times the run's cost of transport: its positive actuator work per
+  metre divided by its weight ``m g`` (``legdsl.analysis.energy``), the energy per metre
+  made dimensionless like the other terms,
 
 and a run that falls or diverges at ``t`` of ``T`` scores ``2 + (T - t) / T`` instead: more
 the earlier it ends, always worse than any run that lasts. CMA-ES (the ``cma`` package)
@@ -54,6 +57,7 @@ class Objective:
     start: float  # measure from
     table2: str | None = None
     table2_weight: float = 1.0
+    energy_weight: float = 0.0  # on the cost of transport (-)
 
 
 def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
@@ -67,6 +71,9 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
         term = abs(measured - speed) / speed if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
             term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
+        cot = float(row.get("cost_of_transport", math.nan))
+        if objective.energy_weight and math.isfinite(cot):  # no distance: the speed term says
+            term += objective.energy_weight * cot
         total += term
     return total / len(objective.speeds)
 
@@ -232,7 +239,17 @@ def report(result: dict[str, Any], units: dict[str, str]) -> str:
     lines.append("running speed (m/s)   start                tuned")
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
         lines.append(f"  at {before['speed']:<6.4g}    {_speed(before):<20} {_speed(after)}")
+    lines.append("energy per metre (J/m), cost of transport (-)   start          tuned")
+    for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
+        lines.append(f"  at {before['speed']:<6.4g}    {_energy(before):<20} {_energy(after)}")
     return "\n".join(lines)
+
+
+def _energy(row: dict[str, Any]) -> str:
+    """A run's positive actuator work per metre and its cost of transport."""
+    per_metre = float(row.get("energy_per_metre", math.nan))
+    cot = float(row.get("cost_of_transport", math.nan))
+    return "n/a" if not math.isfinite(per_metre) else f"{per_metre:.4g}, {cot:.3g}"
 
 
 def _speed(row: dict[str, Any]) -> str:

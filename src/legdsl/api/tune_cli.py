@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -19,10 +20,11 @@ Command = Callable[[argparse.Namespace], int]
 def add_tune_parser(sub: Any) -> Command:
     p = sub.add_parser(
         "tune",
-        help="tune controller parameters by CMA-ES against speed error (and Table 2)",
+        help="tune controller parameters by CMA-ES against speed error (Table 2, energy)",
         description=(
             "Search the named parameters within their bounds by CMA-ES so that the controller "
-            "holds each of --speeds (and, with --table2, comes close to the paper's rows); "
+            "holds each of --speeds (and, with --table2, comes close to the paper's rows; with "
+            "--energy-weight, spends less positive actuator work per metre); "
             "falls are penalised by how early they happen. Writes OUT/NAME.leg with the "
             "tuned values, OUT/tune.json and OUT/tune.png."
         ),
@@ -40,6 +42,9 @@ def add_tune_parser(sub: Any) -> Command:
         "--table2", metavar="ROW", help="also approach this Table 2 row's animation column"
     )
     p.add_argument("--table2-weight", type=float, default=1.0, help="its weight (1)")
+    p.add_argument("--energy-weight", type=float, default=0.0,
+                   help="add this times the cost of transport, positive actuator work / (m g d) "
+                   "(dimensionless; 0)")  # fmt: skip
     p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
     p.add_argument("--from", dest="t_from", type=float, default=3.0, help="measure from (s, 3)")
     p.add_argument("--generations", type=int, default=10, help="CMA-ES generations (10)")
@@ -82,6 +87,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
     speeds = parse_axis("grid", f"speed={args.speeds}", {"speed": inputs["speed"].dim}).values
     if args.table2 is not None and args.table2 not in TABLE2:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
+    if not (math.isfinite(args.energy_weight) and args.energy_weight >= 0):
+        raise UsageError(f"--energy-weight {args.energy_weight:g}: give a weight of 0 or more")
     if args.generations < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("tune: --generations, --jobs and --time must be positive")
     out = Path(args.out)
@@ -93,7 +100,9 @@ def cmd_tune(args: argparse.Namespace) -> int:
     from legdsl.api import load
 
     load(source, args.creature, args.generated).session.control(args.controller)  # compile once
-    objective = Objective(speeds, args.time, args.t_from, args.table2, args.table2_weight)
+    objective = Objective(
+        speeds, args.time, args.t_from, args.table2, args.table2_weight, args.energy_weight
+    )
     result = tune(
         base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
         dask=args.dask,

@@ -13,6 +13,12 @@ Sign convention: a spring pulls its coordinate towards ``rest``::
 
 clipped to ``[-max, max]`` when the .leg file gives ``max`` (the torque the
 actuator can deliver).
+
+Work: each actuator's mechanical power is its force or torque times its coordinate's rate,
+``tau * qd`` (W), integrated at every integration step with the integrator's own weights
+(``Simulation.step``); the positive and the negative parts are summed apart
+(``positive_work``, ``negative_work``, J since the start), so the work between two
+instants is a difference of two recorded values.
 """
 
 from __future__ import annotations
@@ -65,6 +71,8 @@ class ActuatorBank:
             self._state(a, dofs[a.dof].q_index, dofs[a.dof].v_index) for a in model.actuators
         ]
         self.by_name = {s.name: s for s in self.states}
+        self.positive_work = [0.0] * len(self.states)  # J: the sums of max(0, tau qd) dt
+        self.negative_work = [0.0] * len(self.states)  # J: of min(0, tau qd) dt
 
     @staticmethod
     def _state(a: Actuator, qi: int, vi: int) -> ActuatorState:
@@ -86,6 +94,18 @@ class ActuatorBank:
                 f = max(-s.limit, min(s.limit, f))
             s.last_force = f
             tau[s.v_index] += f
+
+    def power(self, v: list[float]) -> list[float]:
+        """Each actuator's power (W): the force ``apply`` found last times its rate in ``v``."""
+        return [s.last_force * v[s.v_index] for s in self.states]
+
+    def add_work(self, power: list[float], dt: float) -> None:
+        """One step's work at ``power``: the positive part to one sum, the rest to the other."""
+        for i, p in enumerate(power):
+            if p > 0.0:
+                self.positive_work[i] += p * dt
+            else:
+                self.negative_work[i] += p * dt
 
     def elastic_energy(self, q: list[float], names: tuple[str, ...] | None = None) -> float:
         """½ k (q - rest)² summed over springs and servos (a servo is a spring with a setpoint)."""

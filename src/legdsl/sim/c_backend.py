@@ -40,6 +40,7 @@ from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
+from legdsl.sim.trajectory import ARRAYS
 
 STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
 EVENT_CAP = 4096
@@ -188,6 +189,7 @@ class CSimulation(Simulation):
             self._array(name, [0.0] * len(acts))
         self._push_actuators()
         self._keep["act_last"][: len(acts)] = [a.last_force for a in acts]
+        self._array("act_work", self.actuators.positive_work + self.actuators.negative_work)
         stops = self._stops
         c.n_stops = len(stops)
         self._array("stop_qi", [st.q_index for st in stops], np.int64)
@@ -266,9 +268,7 @@ class CSimulation(Simulation):
     def _point_recording(self, loop: RunLoop) -> None:
         traj = loop.traj
         self.c.rows = len(traj)
-        for name in ("t", "q", "v", "contact", "force", "com", "com_vel", "root_pos",
-                     "root_rpy", "leg_length", "leg_spring_energy", "kinetic", "potential",
-                     "elastic", "state", "speed_command"):  # fmt: skip
+        for name in ARRAYS:
             array = getattr(traj, name)
             self._keep[f"rec_{name}"] = array
             setattr(self.c, f"rec_{name}", _ptr(array))
@@ -346,11 +346,8 @@ class CSimulation(Simulation):
     def _pull_machine(self) -> None:
         c, m, keep = self.c, self.controller, self._keep
         assert isinstance(m, StateMachine)
-        m.started, m.state_index, m.binding = (
-            bool(c.ctl_started),
-            int(c.ctl_state),
-            int(c.ctl_binding),
-        )
+        m.started, m.state_index = bool(c.ctl_started), int(c.ctl_state)
+        m.binding = int(c.ctl_binding)
         m.entered_at = float(c.ctl_entered_at)
         m.records = keep["ctl_records"][: len(m.records)].tolist()
         m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
@@ -399,6 +396,8 @@ class CSimulation(Simulation):
             a.last_force = float(keep["act_last"][k])
             a.gain, a.damping = float(keep["act_gain"][k]), float(keep["act_damping"][k])
             a.target, a.force = float(keep["act_target"][k]), float(keep["act_force"][k])
+        work, n = keep["act_work"].tolist(), len(self.actuators.states)  # positive, negative
+        self.actuators.positive_work, self.actuators.negative_work = work[:n], work[n : 2 * n]
         for k, st in enumerate(self._stops):
             self.stop_time[st.dof] = float(keep["stop_time"][k])
         nc = len(self.contact_names)

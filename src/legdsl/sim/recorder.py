@@ -22,12 +22,14 @@ def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
         sim.dyn.NV,
         len(sim.contact_names),
         len(m.legs),
+        len(sim.actuators.states),
         q_names=m.q_names,
         v_names=m.v_names,
         contact_names=sim.contact_names,
         leg_names=tuple(leg.name for leg in m.legs),
         leg_feet=tuple(sim._foot),
         state_names=sim.controller.state_names if sim.controller else (),
+        actuator_names=tuple(s.name for s in sim.actuators.states),
         total_mass=m.total_mass,
         gravity=-m.gravity[2],
         planar=m.planar,
@@ -63,6 +65,8 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
     if sim.controller is not None:
         traj.state[row] = sim.controller.state_index
         traj.speed_command[row] = sim.controller.speed_command(sim.t)
+    traj.work_positive[row] = sim.actuators.positive_work
+    traj.work_negative[row] = sim.actuators.negative_work
 
 
 def rpy(r: tuple[float, ...]) -> tuple[float, float, float]:

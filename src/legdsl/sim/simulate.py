@@ -17,11 +17,12 @@ from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Protocol
 
-from legdsl.ir.model import Model, Pad
+from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.stability import likely_cause
 from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
@@ -292,23 +293,34 @@ class Simulation:
         return self.dyn.forward_dynamics(q, v, self.generalized_forces(q, v, record))
 
     def step(self) -> None:
+        """One integration step; the actuators' work over it is added up (``ActuatorBank``):
+        for Euler, the force held over the step times the mean of the rates at its two ends
+        (the rule by which the step's change of kinetic energy is the forces' work); for RK4,
+        the stages' powers with RK4's weights."""
         dt = self.options.dt
         q, v = self.q, self.v
+        bank = self.actuators
         if self.options.integrator == "euler":
             a = self._accel(q, v, record=True)
             v = [vi + dt * ai for vi, ai in zip(v, a, strict=True)]
             q = self._advance_positions(q, v, dt)
+            power = bank.power([0.5 * (x + y) for x, y in zip(self.v, v, strict=True)])
         else:
             k1q, k1v = self._qdot(q, v), self._accel(q, v, record=True)
+            p1 = bank.power(v)
             q2 = [x + 0.5 * dt * d for x, d in zip(q, k1q, strict=True)]
             v2 = [x + 0.5 * dt * d for x, d in zip(v, k1v, strict=True)]
             k2q, k2v = self._qdot(q2, v2), self._accel(q2, v2)
+            p2 = bank.power(v2)
             q3 = [x + 0.5 * dt * d for x, d in zip(q, k2q, strict=True)]
             v3 = [x + 0.5 * dt * d for x, d in zip(v, k2v, strict=True)]
             k3q, k3v = self._qdot(q3, v3), self._accel(q3, v3)
+            p3 = bank.power(v3)
             q4 = [x + dt * d for x, d in zip(q, k3q, strict=True)]
             v4 = [x + dt * d for x, d in zip(v, k3v, strict=True)]
             k4q, k4v = self._qdot(q4, v4), self._accel(q4, v4)
+            p4 = bank.power(v4)
+            power = [(a + 2 * b + 2 * c + d) / 6 for a, b, c, d in zip(p1, p2, p3, p4, strict=True)]
             q = [
                 x + dt / 6 * (a + 2 * b + 2 * c + d)
                 for x, a, b, c, d in zip(q, k1q, k2q, k3q, k4q, strict=True)
@@ -319,6 +331,7 @@ class Simulation:
             ]
             self._normalise(q)
         self.q, self.v = q, v
+        bank.add_work(power, dt)
         self.steps_taken += 1
         for st in self._stops:
             if not st.low <= q[st.q_index] <= st.high:
@@ -385,36 +398,8 @@ class Simulation:
         return None
 
     def likely_cause(self) -> str:
-        """Why a run diverged, from the contact stiffness, the step and the joint limits."""
-        opts = self.options
-        causes = []
-        g = self.model.ground
-        if g is not None and self.model.contacts:
-            lightest = min(self.model.body(c.body).mass for c in self.model.contacts)
-            # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
-            normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
-            stiffness = max(normal, g.tangent.k)
-            if stiffness > 0:
-                critical = 2.0 / math.sqrt(stiffness / lightest)
-                if opts.integrator == "euler" and opts.dt > 0.5 * critical:
-                    causes.append(
-                        f"the step {opts.dt:g} s is too large for the contact stiffness "
-                        f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
-                        f"dt < {critical:.2g} s); try --dt {critical / 4:.1g} or --integrator rk4"
-                    )
-        for d in self.model.dofs:
-            if d.limits is None:
-                continue
-            lo, hi = d.limits
-            value = self.q[d.q_index]
-            span = hi - lo
-            if value < lo - 0.1 * span or value > hi + 0.1 * span:
-                causes.append(
-                    f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
-                )
-        if not causes:
-            causes.append("the state grew without bound; try a smaller --dt or --integrator rk4")
-        return "; ".join(causes)
+        """Why a run diverged (``legdsl.sim.stability.likely_cause``)."""
+        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q)
 
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:

@@ -14,6 +14,9 @@ RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
 ``c h < 2.78``. A run past these bounds is certain to diverge, so it is refused
 with the bound and what to change instead of diverging after a few steps.
 
+A run that diverges all the same is told its likely cause (``likely_cause``): a ground too
+stiff for the step, or a joint far past its limits.
+
 An actuator with a ``max`` saturates (it cannot grow without bound): past the bound it
 chatters between its limits, which is worth a warning, not a refusal. A gain the controller
 sets every tick is not the one in the file, and is not checked.
@@ -27,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from legdsl.ir.model import Model, Pad
 from legdsl.sim.actuators import ActuatorState
 
 # RK4's stability interval on the imaginary axis (undamped) and on the real axis (damped).
@@ -102,3 +106,35 @@ def inverse_inertia_diagonal(mass_matrix: Sequence[Sequence[float]]) -> list[flo
         return [float(x) for x in np.diag(np.linalg.inv(np.asarray(mass_matrix, dtype=float)))]
     except np.linalg.LinAlgError:
         return [0.0] * len(mass_matrix)
+
+
+def likely_cause(model: Model, dt: float, integrator: str, q: Sequence[float]) -> str:
+    """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``."""
+    causes = []
+    g = model.ground
+    if g is not None and model.contacts:
+        lightest = min(model.body(c.body).mass for c in model.contacts)
+        # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
+        normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
+        stiffness = max(normal, g.tangent.k)
+        if stiffness > 0:
+            critical = 2.0 / math.sqrt(stiffness / lightest)
+            if integrator == "euler" and dt > 0.5 * critical:
+                causes.append(
+                    f"the step {dt:g} s is too large for the contact stiffness "
+                    f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
+                    f"dt < {critical:.2g} s); try --dt {critical / 4:.1g} or --integrator rk4"
+                )
+    for d in model.dofs:
+        if d.limits is None:
+            continue
+        lo, hi = d.limits
+        value = q[d.q_index]
+        span = hi - lo
+        if value < lo - 0.1 * span or value > hi + 0.1 * span:
+            causes.append(
+                f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
+            )
+    if not causes:
+        causes.append("the state grew without bound; try a smaller --dt or --integrator rk4")
+    return "; ".join(causes)

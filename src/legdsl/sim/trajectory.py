@@ -4,7 +4,12 @@ A run directory holds ``trajectory.npz`` (this dataclass, one row per recorded
 sample), ``trajectory.csv`` (the same samples for people, with units in the
 column names) and ``run.json`` (inputs, parameters, events, status).
 
-Shapes: N samples, NQ/NV coordinates, NC contacts, NL legs.
+Shapes: N samples, NQ/NV coordinates, NC contacts, NL legs, NA actuators.
+
+The actuators' work is recorded as running sums since the start (``work_positive``,
+``work_negative``: the integrals of max(0, tau qd) and min(0, tau qd), summed at every
+integration step, not only at the recorded ones), so the work between two samples is a
+difference of two rows.
 """
 
 from __future__ import annotations
@@ -25,7 +30,9 @@ from legdsl.lang.errors import UsageError
 ARRAYS = (
     "t", "q", "v", "contact", "force", "com", "com_vel", "root_pos", "root_rpy",
     "leg_length", "leg_spring_energy", "kinetic", "potential", "elastic", "state", "speed_command",
+    "work_positive", "work_negative",
 )  # fmt: skip
+LATER = ("work_positive", "work_negative")  # arrays a run of an older legdsl lacks (empty then)
 
 
 @dataclass
@@ -46,12 +53,15 @@ class Trajectory:
     elastic: np.ndarray  # (N,) J: all actuator springs and ground springs
     state: np.ndarray  # (N,) int16: index into state_names, -1 without a controller
     speed_command: np.ndarray  # (N,) m/s: commanded forward speed, NaN without one
+    work_positive: np.ndarray  # (N, NA) J: each actuator's positive work since the start
+    work_negative: np.ndarray  # (N, NA) J: its negative work (<= 0) since the start
     q_names: tuple[str, ...] = ()
     v_names: tuple[str, ...] = ()
     contact_names: tuple[str, ...] = ()
     leg_names: tuple[str, ...] = ()
     leg_feet: tuple[int, ...] = ()  # for each leg, the index of its foot in contact_names
     state_names: tuple[str, ...] = ()
+    actuator_names: tuple[str, ...] = ()
     total_mass: float = 0.0
     gravity: float = 9.81  # magnitude, m/s^2
     planar: bool = True
@@ -71,7 +81,7 @@ class Trajectory:
         never sized by the duration asked for); new rows hold ``empty``'s fill values."""
         n = len(self)
         more = empty(capacity - n, self.q.shape[1], self.v.shape[1], self.contact.shape[1],
-                     self.leg_length.shape[1])  # fmt: skip
+                     self.leg_length.shape[1], self.work_positive.shape[1])  # fmt: skip
         cut: dict[str, Any] = {
             name: np.concatenate([getattr(self, name), getattr(more, name)]) for name in ARRAYS
         }
@@ -90,6 +100,7 @@ class Trajectory:
             "leg_names": list(self.leg_names),
             "leg_feet": list(self.leg_feet),
             "state_names": list(self.state_names),
+            "actuator_names": list(self.actuator_names),
             "total_mass": self.total_mass,
             "gravity": self.gravity,
             "planar": self.planar,
@@ -111,12 +122,12 @@ class Trajectory:
         again = "; run the creature again (legdsl run FILE.leg --out DIR)"
         try:
             with np.load(path, allow_pickle=False) as data:
-                missing = [k for k in (*ARRAYS, "meta") if k not in data.files]
+                missing = [k for k in (*ARRAYS, "meta") if k not in data.files and k not in LATER]
                 if missing:
                     raise UsageError(
                         f"{path} is not a legdsl trajectory: it lacks {', '.join(missing)}{again}"
                     )
-                arrays = {name: data[name] for name in ARRAYS}
+                arrays = {name: data[name] for name in ARRAYS if name in data.files}
                 meta = json.loads(bytes(data["meta"]).decode())
         except UsageError:
             raise
@@ -125,7 +136,8 @@ class Trajectory:
         try:
             if not isinstance(meta, dict):
                 raise TypeError("it is not an object")
-            for key in ("q_names", "v_names", "contact_names", "leg_names", "state_names"):
+            names = ("q_names", "v_names", "contact_names", "leg_names", "state_names")
+            for key in (*names, "actuator_names"):
                 if not all(isinstance(n, str) for n in meta.get(key, [])):
                     raise TypeError(f"{key} is not a list of names")
             feet = meta["leg_feet"]
@@ -144,10 +156,15 @@ class Trajectory:
             for key in ("q_names", "v_names", "contact_names", "leg_names", "leg_feet"):
                 meta[key] = tuple(meta[key])
             meta["state_names"] = tuple(meta.get("state_names", ()))
+            meta["actuator_names"] = tuple(meta.get("actuator_names", ()))
             unknown = set(meta) - {f.name for f in fields(cls)}
             if unknown:
                 raise KeyError(", ".join(sorted(unknown)))
-            trajectory = cls(**arrays, **meta)
+            older = [name for name in LATER if name not in arrays]  # a run from before them
+            for name in older:
+                arrays[name] = np.zeros((len(arrays["t"]), 0))
+                meta["actuator_names"] = ()
+            trajectory = cls(**arrays, **meta, extra={"unrecorded": older} if older else {})
         except (KeyError, TypeError, ValueError) as e:
             raise UsageError(f"{path}: its meta data is damaged ({e}){again}") from None
         trajectory._check_shapes(path, again)
@@ -158,7 +175,8 @@ class Trajectory:
         want = {
             "q": 2, "v": 2, "contact": 2, "force": 3, "com": 2, "com_vel": 2, "root_pos": 2,
             "root_rpy": 2, "leg_length": 2, "leg_spring_energy": 2, "kinetic": 1,
-            "potential": 1, "elastic": 1, "state": 1, "speed_command": 1,
+            "potential": 1, "elastic": 1, "state": 1, "speed_command": 1, "work_positive": 2,
+            "work_negative": 2,
         }  # fmt: skip
         for name, ndim in want.items():
             a = getattr(self, name)
@@ -184,6 +202,9 @@ class Trajectory:
         if not (self.leg_length.shape[1] == self.leg_spring_energy.shape[1] == legs
                 == len(self.leg_feet)):  # fmt: skip
             raise UsageError(f"{path}: the leg arrays do not match its leg names{again}")
+        if not (self.work_positive.shape[1] == self.work_negative.shape[1]
+                == len(self.actuator_names)):  # fmt: skip
+            raise UsageError(f"{path}: the work arrays do not match its actuator names{again}")
         if self.state.size and (self.state.max() >= max(len(self.state_names), 1)
                                 or self.state.min() < -1):  # fmt: skip
             raise UsageError(f"{path}: a controller state index is out of range{again}")
@@ -219,6 +240,9 @@ class Trajectory:
             ("state_name", np.array([self._state_name(i) for i in self.state], dtype=object)),
             ("speed_command [m/s]", self.speed_command),
         ]
+        for i, name in enumerate(self.actuator_names):  # last: the columns before keep their place
+            cols.append((f"{name}.work_positive [J]", self.work_positive[:, i]))
+            cols.append((f"{name}.work_negative [J]", self.work_negative[:, i]))
         buf = io.StringIO()
         writer = csv.writer(buf, lineterminator="\n")
         writer.writerow([c[0] for c in cols])
@@ -284,7 +308,7 @@ def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
     return buf.getvalue()
 
 
-def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory:
+def empty(n: int, nq: int, nv: int, nc: int, nl: int, na: int = 0, **meta: Any) -> Trajectory:
     """Arrays for ``n`` samples (the recorder fills them, ``grown`` when full, cut with ``head``)."""
     return Trajectory(
         t=np.zeros(n),
@@ -303,5 +327,7 @@ def empty(n: int, nq: int, nv: int, nc: int, nl: int, **meta: Any) -> Trajectory
         elastic=np.zeros(n),
         state=np.full(n, -1, dtype=np.int16),
         speed_command=np.full(n, np.nan),
+        work_positive=np.zeros((n, na)),
+        work_negative=np.zeros((n, na)),
         **meta,
     )

@@ -47,7 +47,8 @@
     X(int64_t, n_ctl_events) X(double *, ctl_event_t) X(int64_t *, ctl_event_state) \
     X(double *, ctl_work) X(int64_t, ctl_ticks) X(void *, dgesv) \
     X(int64_t, n_paths) X(int64_t *, path_at) X(double *, path_data) X(double *, path_state) \
-    X(int64_t, kin_valid) X(double *, kin)
+    X(int64_t, kin_valid) X(double *, kin) \
+    X(double *, act_work) X(double *, rec_work_positive) X(double *, rec_work_negative)
 
 #define LEG_DECLARE(type, name) type name;
 typedef struct { LEG_SIM_FIELDS(LEG_DECLARE) } leg_sim;

@@ -1,7 +1,7 @@
 /* step.c: legdsl's simulation step and run loop in C (the C backend's runtime).
  *
  * A line-by-line transliteration of the Python runtime, which stays the readable reference:
- *   actuators        legdsl/sim/actuators.py   (eqs. 1 and 5, saturation)
+ *   actuators        legdsl/sim/actuators.py   (eqs. 1 and 5, saturation, their work)
  *   joint stops      legdsl/sim/simulate.py    Simulation.generalized_forces
  *   ground contact   legdsl/sim/contact.py     (four spring-dampers, anchors, eq. 6, slip, terrain)
  *   integrators      legdsl/sim/simulate.py    Simulation.step (semi-implicit Euler, RK4)
@@ -431,6 +431,20 @@ static void remember_kinematics(leg_sim *s, const double *pos, const double *vel
     s->kin_valid = 1;
 }
 
+/* Each actuator's power: the force the last forces found times its rate in v (W). */
+static void power(const leg_sim *s, const double *v, double *out) {
+    for (int64_t a = 0; a < s->n_act; a++) out[a] = s->act_last[a] * v[s->act_vi[a]];
+}
+
+/* One step's work at power p (ActuatorBank.add_work): act_work holds the n_act positive
+ * sums, then the n_act negative ones. */
+static void add_work(leg_sim *s, const double *p, double dt) {
+    for (int64_t a = 0; a < s->n_act; a++) {
+        if (p[a] > 0.0) s->act_work[a] += p[a] * dt;
+        else s->act_work[s->n_act + a] += p[a] * dt;
+    }
+}
+
 /* One step; 0, or LEG_RAISED with the state as Python leaves it when it raises there. */
 static int step(leg_sim *s) {
     int e = 0;
@@ -438,6 +452,8 @@ static int step(leg_sim *s) {
     double dt = s->dt;
     double qn[NQ], vn[NV];
     const double *q = s->q, *v = s->v;
+    int64_t na = s->n_act;
+    double pw[4 * na + 1]; /* the step's power (Euler), or each RK4 stage's */
     if (!s->rk4) {
         double a[NV];
         accel(s, q, v, 1, a, err);
@@ -445,27 +461,36 @@ static int step(leg_sim *s) {
         for (int k = 0; k < NV; k++) vn[k] = v[k] + dt * a[k];
         advance_positions(q, vn, dt, qn, err);
         if (e) goto raised;
+        double mean[NV]; /* the rates at the step's two ends, averaged */
+        for (int k = 0; k < NV; k++) mean[k] = 0.5 * (v[k] + vn[k]);
+        power(s, mean, pw);
     } else {
         double k1q[NQ], k1v[NV], k2q[NQ], k2v[NV], k3q[NQ], k3v[NV], k4q[NQ], k4v[NV];
         double q2[NQ], v2[NV], q3[NQ], v3[NV], q4[NQ], v4[NV];
         qdot(q, v, k1q);
         accel(s, q, v, 1, k1v, err);
         if (e) goto raised;
+        power(s, v, pw);
         for (int k = 0; k < NQ; k++) q2[k] = q[k] + 0.5 * dt * k1q[k];
         for (int k = 0; k < NV; k++) v2[k] = v[k] + 0.5 * dt * k1v[k];
         qdot(q2, v2, k2q);
         accel(s, q2, v2, 0, k2v, err);
         if (e) goto raised;
+        power(s, v2, pw + na);
         for (int k = 0; k < NQ; k++) q3[k] = q[k] + 0.5 * dt * k2q[k];
         for (int k = 0; k < NV; k++) v3[k] = v[k] + 0.5 * dt * k2v[k];
         qdot(q3, v3, k3q);
         accel(s, q3, v3, 0, k3v, err);
         if (e) goto raised;
+        power(s, v3, pw + 2 * na);
         for (int k = 0; k < NQ; k++) q4[k] = q[k] + dt * k3q[k];
         for (int k = 0; k < NV; k++) v4[k] = v[k] + dt * k3v[k];
         qdot(q4, v4, k4q);
         accel(s, q4, v4, 0, k4v, err);
         if (e) goto raised;
+        power(s, v4, pw + 3 * na);
+        for (int64_t k = 0; k < na; k++)
+            pw[k] = (pw[k] + 2.0 * pw[na + k] + 2.0 * pw[2 * na + k] + pw[3 * na + k]) / 6.0;
         double sixth = leg_div(dt, 6.0);
         for (int k = 0; k < NQ; k++)
             qn[k] = q[k] + sixth * (k1q[k] + 2.0 * k2q[k] + 2.0 * k3q[k] + k4q[k]);
@@ -476,6 +501,7 @@ static int step(leg_sim *s) {
     }
     for (int k = 0; k < NQ; k++) s->q[k] = qn[k];
     for (int k = 0; k < NV; k++) s->v[k] = vn[k];
+    add_work(s, pw, dt);
     s->kin_valid = 0;
     s->steps_taken += 1;
     for (int64_t k = 0; k < s->n_stops; k++) {
@@ -603,6 +629,10 @@ static int record_row(leg_sim *s, int64_t row) {
     if (s->has_controller) {
         s->rec_state[row] = (int16_t)s->state_index;
         s->rec_speed_command[row] = s->speed_command;
+    }
+    for (int64_t a = 0; a < s->n_act; a++) {
+        s->rec_work_positive[row * s->n_act + a] = s->act_work[a];
+        s->rec_work_negative[row * s->n_act + a] = s->act_work[s->n_act + a];
     }
     if (e) {
         s->err = e;
