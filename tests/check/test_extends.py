@@ -73,6 +73,6 @@ def test_the_quadrupeds_pace_is_the_trot_with_its_own_pairs_and_roll_gains() -> 
     trot, pace = model.controller("trot"), model.controller("pace")
     assert [c.name for c in trot.params] == [c.name for c in pace.params]
     differ = {a.name for a, b in zip(trot.params, pace.params, strict=True) if a.value != b.value}
-    assert differ == {"kp_roll", "k_side_trim"}
+    assert differ == {"kp_roll", "kv_roll", "k_side_trim"}
     assert trot.state_names == pace.state_names
     assert trot.bindings[0] != pace.bindings[0]
