@@ -117,7 +117,7 @@ def main() -> int:
             ms = float(r.get("mean_speed", float("nan")))  # type: ignore[arg-type]
             print(
                 f"{gait:7} {v:5.2f} {r['exit']:>4} {float(r['ended'] or 0):6.2f} {ms:6.3f} "  # type: ignore[arg-type]
-                f"{100 * (ms - v) / v:6.1f} {float(r['pairs_10ms']):10.2f} "  # type: ignore[arg-type]
+                f"{100 * (ms - v) / v if v else float('nan'):6.1f} {float(r['pairs_10ms']):10.2f} "  # type: ignore[arg-type]
                 f"{1000 * float(r['median_lag']):6.1f} {float(r['single_double_single']):5.2f} "  # type: ignore[arg-type]
                 f"{float(r['friction']):6.2f}",  # type: ignore[arg-type]
                 flush=True,

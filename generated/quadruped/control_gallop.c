@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "5b0ae591e1faf516";
+const char legdsl_control_fingerprint[] = "31fa6844246b51f5";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:354:5 */
+/*   event: creatures/quadruped.leg:355:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -67,7 +67,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:370:5 */
+/*   event: creatures/quadruped.leg:371:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -77,7 +77,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:380:5 */
+/*   event: creatures/quadruped.leg:381:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -87,7 +87,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:383:5 */
+/*   event: creatures/quadruped.leg:384:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -98,7 +98,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:387:5 */
+/*   event: creatures/quadruped.leg:388:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[15];
@@ -113,7 +113,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:354:5 */
+/*   event: creatures/quadruped.leg:355:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -123,7 +123,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:370:5 */
+/*   event: creatures/quadruped.leg:371:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -133,7 +133,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:380:5 */
+/*   event: creatures/quadruped.leg:381:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -143,7 +143,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:383:5 */
+/*   event: creatures/quadruped.leg:384:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -154,7 +154,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:387:5 */
+/*   event: creatures/quadruped.leg:388:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[27];
@@ -169,20 +169,20 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:356:7 */
-/*   record ramped_speed: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:367:7 */
+/*   record steps: creatures/quadruped.leg:357:7 */
+/*   record ramped_speed: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:368:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -261,46 +261,46 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:358:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:358:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:359:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:359:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:360:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:360:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:361:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:361:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:359:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:359:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:360:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:360:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:361:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:361:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:362:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:362:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -421,13 +421,13 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:371:7 */
-/*   record pitch_mean: creatures/quadruped.leg:372:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:373:7 */
-/*   record pitch_trim: creatures/quadruped.leg:374:7 */
-/*   record flight_apex: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3 */
+/*   record landed: creatures/quadruped.leg:372:7 */
+/*   record pitch_mean: creatures/quadruped.leg:373:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:374:7 */
+/*   record pitch_trim: creatures/quadruped.leg:375:7 */
+/*   record flight_apex: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -492,48 +492,48 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -545,10 +545,12 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double com_vy = s[7];
     const double leg_fl_hip_x = s[12];
     const double leg_fl_hip_y = s[13];
+    const double leg_fl_hip_z = s[14];
     const double leg_fl_length = s[15];
     const double leg_fl_touching = s[17];
     const double leg_fr_hip_x = s[18];
     const double leg_fr_hip_y = s[19];
+    const double leg_fr_hip_z = s[20];
     const double leg_fr_length = s[21];
     const double leg_fr_touching = s[23];
     const double leg_rl_hip_x = s[24];
@@ -584,6 +586,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double stance_lead = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -592,43 +595,46 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double ramped_speed = r[11];
     const double side_trim = r[17];
     const double aim_rate = r[18];
-    const double t1 = 1.0 - leg_fl_touching;
-    const double hip_fl_pitch_kp = swing_kp*t1;
-    const double hip_fl_pitch_kv = swing_kv*t1;
-    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
-    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
-    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
-    const double t6 = -aim_rate + body_trunk_yaw_rate;
-    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
-    const double t8 = leg_div(leg_fl_length*t7, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t10 = leg_fl_touching*t9;
-    const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
-    const double t12 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t12;
-    const double hip_fr_pitch_kv = swing_kv*t12;
-    const double t13 = leg_div(leg_fr_length*t7, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t14 = leg_fr_touching*t9;
-    const double hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2);
-    const double hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11);
-    const double t15 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t15 + ((((t16) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t15 + ((((t16) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t17 = leg_cos(body_trunk_yaw);
-    const double t18 = leg_sin(body_trunk_yaw);
-    const double t19 = com_vx*t17 + com_vy*t18;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19;
-    const double t20 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
-    const double t21 = com_vx*t18 - com_vy*t17;
-    const double t22 = k_speed*(-side_trim - t21) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t21;
-    const double rl_y_goal = leg_rl_hip_x*t20 + t22;
-    const double rr_y_goal = leg_rr_hip_x*t20 + t22;
-    out[0] = stand;
-    out[1] = stand;
+    const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t2 = 1.0 - leg_fl_touching;
+    const double hip_fl_pitch_kp = swing_kp*t2;
+    const double hip_fl_pitch_kv = swing_kv*t2;
+    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_fl_length*t8, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t11 = leg_fl_touching*t10;
+    const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t13;
+    const double hip_fr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_fr_length*t8, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t15 = leg_fr_touching*t10;
+    const double hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3);
+    const double hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12);
+    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t18 = leg_cos(body_trunk_yaw);
+    const double t19 = leg_sin(body_trunk_yaw);
+    const double t20 = com_vx*t18 + com_vy*t19;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
+    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
+    const double t22 = com_vx*t19 - com_vy*t18;
+    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22;
+    const double rl_y_goal = leg_rl_hip_x*t21 + t23;
+    const double rr_y_goal = leg_rr_hip_x*t21 + t23;
+    out[0] = leg_fl_spring_rest;
+    out[1] = leg_fr_spring_rest;
     out[2] = 0.0;
     out[3] = 0.0;
     out[4] = 0.0;
@@ -725,34 +731,34 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -930,36 +936,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -971,10 +977,12 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double leg_fl_hip_x = s[12];
     const double leg_fl_hip_y = s[13];
+    const double leg_fl_hip_z = s[14];
     const double leg_fl_length = s[15];
     const double leg_fl_touching = s[17];
     const double leg_fr_hip_x = s[18];
     const double leg_fr_hip_y = s[19];
+    const double leg_fr_hip_z = s[20];
     const double leg_fr_length = s[21];
     const double leg_fr_touching = s[23];
     const double leg_rl_hip_x = s[24];
@@ -1013,6 +1021,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double stance_lead = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1023,44 +1032,46 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double side_trim = r[17];
     const double aim_rate = r[18];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
-    const double t2 = 1.0 - leg_fl_touching;
-    const double hip_fl_pitch_kp = swing_kp*t2;
-    const double hip_fl_pitch_kv = swing_kv*t2;
-    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
-    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
-    const double t7 = -aim_rate + body_trunk_yaw_rate;
-    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
-    const double t9 = leg_div(leg_fl_length*t8, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t11 = leg_fl_touching*t10;
-    const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
-    const double t13 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t13;
-    const double hip_fr_pitch_kv = swing_kv*t13;
-    const double t14 = leg_div(leg_fr_length*t8, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t15 = leg_fr_touching*t10;
-    const double hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3);
-    const double hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12);
-    const double t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double t17 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t17 + ((((t16) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t17 + ((((t16) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t18 = leg_cos(body_trunk_yaw);
-    const double t19 = leg_sin(body_trunk_yaw);
-    const double t20 = com_vx*t18 + com_vy*t19;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
-    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7*yaw_lead + t6))));
-    const double t22 = com_vx*t19 - com_vy*t18;
-    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22;
-    const double rl_y_goal = leg_rl_hip_x*t21 + t23;
-    const double rr_y_goal = leg_rr_hip_x*t21 + t23;
+    const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2 + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t3 = 1.0 - leg_fl_touching;
+    const double hip_fl_pitch_kp = swing_kp*t3;
+    const double hip_fl_pitch_kv = swing_kv*t3;
+    const double t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
+    const double t8 = -aim_rate + body_trunk_yaw_rate;
+    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
+    const double t10 = leg_div(leg_fl_length*t9, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t11 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t12 = leg_fl_touching*t11;
+    const double hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 + t4);
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13);
+    const double t14 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t14;
+    const double hip_fr_pitch_kv = swing_kv*t14;
+    const double t15 = leg_div(leg_fr_length*t9, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t16 = leg_fr_touching*t11;
+    const double hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 + t4);
+    const double hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13);
+    const double t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double t18 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t18 + ((((t17) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t18 + ((((t17) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t19 = leg_cos(body_trunk_yaw);
+    const double t20 = leg_sin(body_trunk_yaw);
+    const double t21 = com_vx*t19 + com_vy*t20;
+    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21;
+    const double t22 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
+    const double t23 = com_vx*t20 - com_vy*t19;
+    const double t24 = k_speed*(-side_trim - t23) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t23;
+    const double rl_y_goal = leg_rl_hip_x*t22 + t24;
+    const double rr_y_goal = leg_rr_hip_x*t22 + t24;
     out[0] = leg_fl_spring_rest;
-    out[1] = leg_fl_spring_rest;
+    out[1] = leg_fr_spring_rest;
     out[2] = hip_fl_pitch_kp;
     out[3] = hip_fl_pitch_kv;
     out[4] = hip_fl_pitch_kp;
@@ -1145,36 +1156,36 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1261,20 +1272,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:356:7 */
-/*   record ramped_speed: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:366:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:367:7 */
+/*   record steps: creatures/quadruped.leg:357:7 */
+/*   record ramped_speed: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:368:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1353,46 +1364,46 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:358:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:358:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:359:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:359:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:360:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:360:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:361:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:361:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:359:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:359:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:360:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:360:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:361:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:361:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:362:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:362:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1513,13 +1524,13 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:371:7 */
-/*   record pitch_mean: creatures/quadruped.leg:372:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:373:7 */
-/*   record pitch_trim: creatures/quadruped.leg:374:7 */
-/*   record flight_apex: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3 */
+/*   record landed: creatures/quadruped.leg:372:7 */
+/*   record pitch_mean: creatures/quadruped.leg:373:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:374:7 */
+/*   record pitch_trim: creatures/quadruped.leg:375:7 */
+/*   record flight_apex: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1584,48 +1595,48 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1643,10 +1654,12 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double leg_fr_hip_z = s[20];
     const double leg_rl_hip_x = s[24];
     const double leg_rl_hip_y = s[25];
+    const double leg_rl_hip_z = s[26];
     const double leg_rl_length = s[27];
     const double leg_rl_touching = s[29];
     const double leg_rr_hip_x = s[30];
     const double leg_rr_hip_y = s[31];
+    const double leg_rr_hip_z = s[32];
     const double leg_rr_length = s[33];
     const double leg_rr_touching = s[35];
     const double path_route_ahead_heading = s[36];
@@ -1676,6 +1689,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double stance_lead = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1684,43 +1698,46 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double ramped_speed = r[11];
     const double side_trim = r[17];
     const double aim_rate = r[18];
-    const double t1 = 1.0 - leg_rl_touching;
-    const double hip_rl_pitch_kp = swing_kp*t1;
-    const double hip_rl_pitch_kv = swing_kv*t1;
-    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
-    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
-    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
-    const double t6 = -aim_rate + body_trunk_yaw_rate;
-    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
-    const double t8 = leg_div(leg_rl_length*t7, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t10 = leg_rl_touching*t9;
-    const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
-    const double t12 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t12;
-    const double hip_rr_pitch_kv = swing_kv*t12;
-    const double t13 = leg_div(leg_rr_length*t7, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t14 = leg_rr_touching*t9;
-    const double hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2);
-    const double hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11);
-    const double t15 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t15 + ((((t16) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t15 + ((((t16) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t17 = leg_cos(body_trunk_yaw);
-    const double t18 = leg_sin(body_trunk_yaw);
-    const double t19 = com_vx*t17 + com_vy*t18;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19;
-    const double t20 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
-    const double t21 = com_vx*t18 - com_vy*t17;
-    const double t22 = k_speed*(-side_trim - t21) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t21;
-    const double fl_y_goal = leg_fl_hip_x*t20 + t22;
-    const double fr_y_goal = leg_fr_hip_x*t20 + t22;
-    out[0] = stand;
-    out[1] = stand;
+    const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t2 = 1.0 - leg_rl_touching;
+    const double hip_rl_pitch_kp = swing_kp*t2;
+    const double hip_rl_pitch_kv = swing_kv*t2;
+    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_rl_length*t8, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t11 = leg_rl_touching*t10;
+    const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t13;
+    const double hip_rr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_rr_length*t8, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t15 = leg_rr_touching*t10;
+    const double hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3);
+    const double hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12);
+    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t18 = leg_cos(body_trunk_yaw);
+    const double t19 = leg_sin(body_trunk_yaw);
+    const double t20 = com_vx*t18 + com_vy*t19;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
+    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
+    const double t22 = com_vx*t19 - com_vy*t18;
+    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22;
+    const double fl_y_goal = leg_fl_hip_x*t21 + t23;
+    const double fr_y_goal = leg_fr_hip_x*t21 + t23;
+    out[0] = leg_rl_spring_rest;
+    out[1] = leg_rr_spring_rest;
     out[2] = 0.0;
     out[3] = 0.0;
     out[4] = 0.0;
@@ -1817,34 +1834,34 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2022,36 +2039,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2069,10 +2086,12 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double leg_fr_hip_z = s[20];
     const double leg_rl_hip_x = s[24];
     const double leg_rl_hip_y = s[25];
+    const double leg_rl_hip_z = s[26];
     const double leg_rl_length = s[27];
     const double leg_rl_touching = s[29];
     const double leg_rr_hip_x = s[30];
     const double leg_rr_hip_y = s[31];
+    const double leg_rr_hip_z = s[32];
     const double leg_rr_length = s[33];
     const double leg_rr_touching = s[35];
     const double path_route_ahead_heading = s[36];
@@ -2105,6 +2124,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double stance_lead = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2115,44 +2135,46 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double side_trim = r[17];
     const double aim_rate = r[18];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
-    const double t2 = 1.0 - leg_rl_touching;
-    const double hip_rl_pitch_kp = swing_kp*t2;
-    const double hip_rl_pitch_kv = swing_kv*t2;
-    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
-    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
-    const double t7 = -aim_rate + body_trunk_yaw_rate;
-    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
-    const double t9 = leg_div(leg_rl_length*t8, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t11 = leg_rl_touching*t10;
-    const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
-    const double t13 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t13;
-    const double hip_rr_pitch_kv = swing_kv*t13;
-    const double t14 = leg_div(leg_rr_length*t8, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t15 = leg_rr_touching*t10;
-    const double hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3);
-    const double hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12);
-    const double t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double t17 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t17 + ((((t16) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t17 + ((((t16) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t18 = leg_cos(body_trunk_yaw);
-    const double t19 = leg_sin(body_trunk_yaw);
-    const double t20 = com_vx*t18 + com_vy*t19;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
-    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7*yaw_lead + t6))));
-    const double t22 = com_vx*t19 - com_vy*t18;
-    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22;
-    const double fl_y_goal = leg_fl_hip_x*t21 + t23;
-    const double fr_y_goal = leg_fr_hip_x*t21 + t23;
+    const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2 + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t3 = 1.0 - leg_rl_touching;
+    const double hip_rl_pitch_kp = swing_kp*t3;
+    const double hip_rl_pitch_kv = swing_kv*t3;
+    const double t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
+    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
+    const double t8 = -aim_rate + body_trunk_yaw_rate;
+    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
+    const double t10 = leg_div(leg_rl_length*t9, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t11 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t12 = leg_rl_touching*t11;
+    const double hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 + t4);
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13);
+    const double t14 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t14;
+    const double hip_rr_pitch_kv = swing_kv*t14;
+    const double t15 = leg_div(leg_rr_length*t9, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t16 = leg_rr_touching*t11;
+    const double hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 + t4);
+    const double hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13);
+    const double t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double t18 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t18 + ((((t17) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t18 + ((((t17) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t19 = leg_cos(body_trunk_yaw);
+    const double t20 = leg_sin(body_trunk_yaw);
+    const double t21 = com_vx*t19 + com_vy*t20;
+    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21;
+    const double t22 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
+    const double t23 = com_vx*t20 - com_vy*t19;
+    const double t24 = k_speed*(-side_trim - t23) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t23;
+    const double fl_y_goal = leg_fl_hip_x*t22 + t24;
+    const double fr_y_goal = leg_fr_hip_x*t22 + t24;
     out[0] = leg_rl_spring_rest;
-    out[1] = leg_rl_spring_rest;
+    out[1] = leg_rr_spring_rest;
     out[2] = hip_rl_pitch_kp;
     out[3] = hip_rl_pitch_kv;
     out[4] = hip_rl_pitch_kp;
@@ -2237,36 +2259,36 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];

@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "5b0ae591e1faf516"
+FINGERPRINT = "31fa6844246b51f5"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -75,6 +75,7 @@ PARAMS = {
     "stagger": 0.015,
     "lead_front": 1.0,
     "lead_rear": -1.0,
+    "stance_lead": -0.01,
 }
 RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -96,7 +97,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:354:5
+        event  creatures/quadruped.leg:355:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -107,7 +108,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:370:5
+        event  creatures/quadruped.leg:371:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -118,7 +119,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:380:5
+        event  creatures/quadruped.leg:381:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -129,7 +130,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:383:5
+        event  creatures/quadruped.leg:384:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -141,7 +142,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:387:5
+        event  creatures/quadruped.leg:388:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
@@ -157,7 +158,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:354:5
+        event  creatures/quadruped.leg:355:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -168,7 +169,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:370:5
+        event  creatures/quadruped.leg:371:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -179,7 +180,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:380:5
+        event  creatures/quadruped.leg:381:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -190,7 +191,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:383:5
+        event  creatures/quadruped.leg:384:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -202,7 +203,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:387:5
+        event  creatures/quadruped.leg:388:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
@@ -218,20 +219,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:356:7
-        record ramped_speed  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:365:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:365:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:365:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:366:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:366:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:366:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:366:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:366:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:367:7
+        record steps         creatures/quadruped.leg:357:7
+        record ramped_speed  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:368:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -312,46 +313,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fl_spring.k          creatures/quadruped.leg:358:7
-        leg_fr_spring.k          creatures/quadruped.leg:358:7
-        leg_rl_spring.k          creatures/quadruped.leg:359:7
-        leg_rr_spring.k          creatures/quadruped.leg:359:7
-        leg_fl_spring.b          creatures/quadruped.leg:360:7
-        leg_fr_spring.b          creatures/quadruped.leg:360:7
-        leg_rl_spring.b          creatures/quadruped.leg:361:7
-        leg_rr_spring.b          creatures/quadruped.leg:361:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.k          creatures/quadruped.leg:359:7
+        leg_fr_spring.k          creatures/quadruped.leg:359:7
+        leg_rl_spring.k          creatures/quadruped.leg:360:7
+        leg_rr_spring.k          creatures/quadruped.leg:360:7
+        leg_fl_spring.b          creatures/quadruped.leg:361:7
+        leg_fr_spring.b          creatures/quadruped.leg:361:7
+        leg_rl_spring.b          creatures/quadruped.leg:362:7
+        leg_rr_spring.b          creatures/quadruped.leg:362:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -474,13 +475,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:371:7
-        record pitch_mean     creatures/quadruped.leg:372:7
-        record pitch_last_td  creatures/quadruped.leg:373:7
-        record pitch_trim     creatures/quadruped.leg:374:7
-        record flight_apex    creatures/quadruped.leg:375:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:375:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:372:7
+        record pitch_mean     creatures/quadruped.leg:373:7
+        record pitch_last_td  creatures/quadruped.leg:374:7
+        record pitch_trim     creatures/quadruped.leg:375:7
+        record flight_apex    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -547,48 +548,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -599,10 +600,12 @@ def action_LOADING_0(s, u, p, r, tis):
     com_vy = s[7]
     leg_fl_hip_x = s[12]
     leg_fl_hip_y = s[13]
+    leg_fl_hip_z = s[14]
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
     leg_fr_hip_x = s[18]
     leg_fr_hip_y = s[19]
+    leg_fr_hip_z = s[20]
     leg_fr_length = s[21]
     leg_fr_touching = s[23]
     leg_rl_hip_x = s[24]
@@ -638,6 +641,7 @@ def action_LOADING_0(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    stance_lead = p[43]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -646,44 +650,47 @@ def action_LOADING_0(s, u, p, r, tis):
     ramped_speed = r[11]
     side_trim = r[17]
     aim_rate = r[18]
-    t1 = 1.0 - leg_fl_touching
-    hip_fl_pitch_kp = swing_kp*t1
-    hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.atan2(math.sin(t4), math.cos(t4))
-    t6 = -aim_rate + body_trunk_yaw_rate
-    t7 = -kp_yaw*t5 - kv_yaw*t6
-    t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t10 = leg_fl_touching*t9
-    hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
-    t12 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t12
-    hip_fr_pitch_kv = swing_kv*t12
-    t13 = leg_fr_length*t7/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t14 = leg_fr_touching*t9
-    hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2)
-    hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11)
-    t15 = ((short) if (steps > 1.0) else (stand))
-    t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t15 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t16 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t15 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t16 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t17 = math.cos(body_trunk_yaw)
-    t18 = math.sin(body_trunk_yaw)
-    t19 = com_vx*t17 + com_vy*t18
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19
-    t20 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
-    t21 = com_vx*t18 - com_vy*t17
-    t22 = k_speed*(-side_trim - t21) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t21
-    rl_y_goal = leg_rl_hip_x*t20 + t22
-    rr_y_goal = leg_rr_hip_x*t20 + t22
+    t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t2 = 1.0 - leg_fl_touching
+    hip_fl_pitch_kp = swing_kp*t2
+    hip_fl_pitch_kv = swing_kv*t2
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t11 = leg_fl_touching*t10
+    hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t13
+    hip_fr_pitch_kv = swing_kv*t13
+    t14 = leg_fr_length*t8/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t15 = leg_fr_touching*t10
+    hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3)
+    hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
+    t16 = ((short) if (steps > 1.0) else (stand))
+    t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t17 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t17 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t18 = math.cos(body_trunk_yaw)
+    t19 = math.sin(body_trunk_yaw)
+    t20 = com_vx*t18 + com_vy*t19
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
+    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t22 = com_vx*t19 - com_vy*t18
+    t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22
+    rl_y_goal = leg_rl_hip_x*t21 + t23
+    rr_y_goal = leg_rr_hip_x*t21 + t23
     return [
-        stand,
-        stand,
+        leg_fl_spring_rest,
+        leg_fr_spring_rest,
         0.0,
         0.0,
         0.0,
@@ -781,34 +788,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -987,36 +994,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1027,10 +1034,12 @@ def action_THRUST_0(s, u, p, r, tis):
     com_vy = s[7]
     leg_fl_hip_x = s[12]
     leg_fl_hip_y = s[13]
+    leg_fl_hip_z = s[14]
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
     leg_fr_hip_x = s[18]
     leg_fr_hip_y = s[19]
+    leg_fr_hip_z = s[20]
     leg_fr_length = s[21]
     leg_fr_touching = s[23]
     leg_rl_hip_x = s[24]
@@ -1069,6 +1078,7 @@ def action_THRUST_0(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    stance_lead = p[43]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1079,45 +1089,47 @@ def action_THRUST_0(s, u, p, r, tis):
     side_trim = r[17]
     aim_rate = r[18]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
-    t2 = 1.0 - leg_fl_touching
-    hip_fl_pitch_kp = swing_kp*t2
-    hip_fl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -aim_rate + body_trunk_yaw_rate
-    t8 = -kp_yaw*t6 - kv_yaw*t7
-    t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t11 = leg_fl_touching*t10
-    hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
-    t13 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t13
-    hip_fr_pitch_kv = swing_kv*t13
-    t14 = leg_fr_length*t8/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t15 = leg_fr_touching*t10
-    hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3)
-    hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
-    t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t17 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t17 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t16 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t17 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t16 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t18 = math.cos(body_trunk_yaw)
-    t19 = math.sin(body_trunk_yaw)
-    t20 = com_vx*t18 + com_vy*t19
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
-    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
-    t22 = com_vx*t19 - com_vy*t18
-    t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22
-    rl_y_goal = leg_rl_hip_x*t21 + t23
-    rr_y_goal = leg_rr_hip_x*t21 + t23
+    t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t3 = 1.0 - leg_fl_touching
+    hip_fl_pitch_kp = swing_kp*t3
+    hip_fl_pitch_kv = swing_kv*t3
+    t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -aim_rate + body_trunk_yaw_rate
+    t9 = -kp_yaw*t7 - kv_yaw*t8
+    t10 = leg_fl_length*t9/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t11 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t12 = leg_fl_touching*t11
+    hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 + t4)
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13)
+    t14 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t14
+    hip_fr_pitch_kv = swing_kv*t14
+    t15 = leg_fr_length*t9/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t16 = leg_fr_touching*t11
+    hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 + t4)
+    hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13)
+    t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    t18 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t18 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t17 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t18 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t17 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t19 = math.cos(body_trunk_yaw)
+    t20 = math.sin(body_trunk_yaw)
+    t21 = com_vx*t19 + com_vy*t20
+    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21
+    t22 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t23 = com_vx*t20 - com_vy*t19
+    t24 = k_speed*(-side_trim - t23) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t23
+    rl_y_goal = leg_rl_hip_x*t22 + t24
+    rr_y_goal = leg_rr_hip_x*t22 + t24
     return [
         leg_fl_spring_rest,
-        leg_fl_spring_rest,
+        leg_fr_spring_rest,
         hip_fl_pitch_kp,
         hip_fl_pitch_kv,
         hip_fl_pitch_kp,
@@ -1203,36 +1215,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1321,20 +1333,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:356:7
-        record ramped_speed  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:365:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:365:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:365:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:366:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:366:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:366:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:366:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:366:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:367:7
+        record steps         creatures/quadruped.leg:357:7
+        record ramped_speed  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:368:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1415,46 +1427,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rl_spring.k          creatures/quadruped.leg:358:7
-        leg_rr_spring.k          creatures/quadruped.leg:358:7
-        leg_fl_spring.k          creatures/quadruped.leg:359:7
-        leg_fr_spring.k          creatures/quadruped.leg:359:7
-        leg_rl_spring.b          creatures/quadruped.leg:360:7
-        leg_rr_spring.b          creatures/quadruped.leg:360:7
-        leg_fl_spring.b          creatures/quadruped.leg:361:7
-        leg_fr_spring.b          creatures/quadruped.leg:361:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.k          creatures/quadruped.leg:359:7
+        leg_rr_spring.k          creatures/quadruped.leg:359:7
+        leg_fl_spring.k          creatures/quadruped.leg:360:7
+        leg_fr_spring.k          creatures/quadruped.leg:360:7
+        leg_rl_spring.b          creatures/quadruped.leg:361:7
+        leg_rr_spring.b          creatures/quadruped.leg:361:7
+        leg_fl_spring.b          creatures/quadruped.leg:362:7
+        leg_fr_spring.b          creatures/quadruped.leg:362:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1577,13 +1589,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:371:7
-        record pitch_mean     creatures/quadruped.leg:372:7
-        record pitch_last_td  creatures/quadruped.leg:373:7
-        record pitch_trim     creatures/quadruped.leg:374:7
-        record flight_apex    creatures/quadruped.leg:375:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:375:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:372:7
+        record pitch_mean     creatures/quadruped.leg:373:7
+        record pitch_last_td  creatures/quadruped.leg:374:7
+        record pitch_trim     creatures/quadruped.leg:375:7
+        record flight_apex    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -1650,48 +1662,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1708,10 +1720,12 @@ def action_LOADING_1(s, u, p, r, tis):
     leg_fr_hip_z = s[20]
     leg_rl_hip_x = s[24]
     leg_rl_hip_y = s[25]
+    leg_rl_hip_z = s[26]
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
     leg_rr_hip_x = s[30]
     leg_rr_hip_y = s[31]
+    leg_rr_hip_z = s[32]
     leg_rr_length = s[33]
     leg_rr_touching = s[35]
     path_route_ahead_heading = s[36]
@@ -1741,6 +1755,7 @@ def action_LOADING_1(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    stance_lead = p[43]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1749,44 +1764,47 @@ def action_LOADING_1(s, u, p, r, tis):
     ramped_speed = r[11]
     side_trim = r[17]
     aim_rate = r[18]
-    t1 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t1
-    hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.atan2(math.sin(t4), math.cos(t4))
-    t6 = -aim_rate + body_trunk_yaw_rate
-    t7 = -kp_yaw*t5 - kv_yaw*t6
-    t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t10 = leg_rl_touching*t9
-    hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
-    t12 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t12
-    hip_rr_pitch_kv = swing_kv*t12
-    t13 = leg_rr_length*t7/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t14 = leg_rr_touching*t9
-    hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2)
-    hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11)
-    t15 = ((short) if (steps > 1.0) else (stand))
-    t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t15 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t16 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t15 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t16 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t17 = math.cos(body_trunk_yaw)
-    t18 = math.sin(body_trunk_yaw)
-    t19 = com_vx*t17 + com_vy*t18
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19
-    t20 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
-    t21 = com_vx*t18 - com_vy*t17
-    t22 = k_speed*(-side_trim - t21) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t21
-    fl_y_goal = leg_fl_hip_x*t20 + t22
-    fr_y_goal = leg_fr_hip_x*t20 + t22
+    t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t2 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t2
+    hip_rl_pitch_kv = swing_kv*t2
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t11 = leg_rl_touching*t10
+    hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t13
+    hip_rr_pitch_kv = swing_kv*t13
+    t14 = leg_rr_length*t8/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t15 = leg_rr_touching*t10
+    hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3)
+    hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
+    t16 = ((short) if (steps > 1.0) else (stand))
+    t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t17 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t17 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t18 = math.cos(body_trunk_yaw)
+    t19 = math.sin(body_trunk_yaw)
+    t20 = com_vx*t18 + com_vy*t19
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
+    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t22 = com_vx*t19 - com_vy*t18
+    t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22
+    fl_y_goal = leg_fl_hip_x*t21 + t23
+    fr_y_goal = leg_fr_hip_x*t21 + t23
     return [
-        stand,
-        stand,
+        leg_rl_spring_rest,
+        leg_rr_spring_rest,
         0.0,
         0.0,
         0.0,
@@ -1884,34 +1902,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2090,36 +2108,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2136,10 +2154,12 @@ def action_THRUST_1(s, u, p, r, tis):
     leg_fr_hip_z = s[20]
     leg_rl_hip_x = s[24]
     leg_rl_hip_y = s[25]
+    leg_rl_hip_z = s[26]
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
     leg_rr_hip_x = s[30]
     leg_rr_hip_y = s[31]
+    leg_rr_hip_z = s[32]
     leg_rr_length = s[33]
     leg_rr_touching = s[35]
     path_route_ahead_heading = s[36]
@@ -2172,6 +2192,7 @@ def action_THRUST_1(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    stance_lead = p[43]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2182,45 +2203,47 @@ def action_THRUST_1(s, u, p, r, tis):
     side_trim = r[17]
     aim_rate = r[18]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
-    t2 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t2
-    hip_rl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -aim_rate + body_trunk_yaw_rate
-    t8 = -kp_yaw*t6 - kv_yaw*t7
-    t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t11 = leg_rl_touching*t10
-    hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
-    t13 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t13
-    hip_rr_pitch_kv = swing_kv*t13
-    t14 = leg_rr_length*t8/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t15 = leg_rr_touching*t10
-    hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3)
-    hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
-    t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t17 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t17 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t16 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t17 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t16 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t18 = math.cos(body_trunk_yaw)
-    t19 = math.sin(body_trunk_yaw)
-    t20 = com_vx*t18 + com_vy*t19
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
-    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
-    t22 = com_vx*t19 - com_vy*t18
-    t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22
-    fl_y_goal = leg_fl_hip_x*t21 + t23
-    fr_y_goal = leg_fr_hip_x*t21 + t23
+    t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t3 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t3
+    hip_rl_pitch_kv = swing_kv*t3
+    t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -aim_rate + body_trunk_yaw_rate
+    t9 = -kp_yaw*t7 - kv_yaw*t8
+    t10 = leg_rl_length*t9/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t11 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t12 = leg_rl_touching*t11
+    hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 + t4)
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13)
+    t14 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t14
+    hip_rr_pitch_kv = swing_kv*t14
+    t15 = leg_rr_length*t9/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t16 = leg_rr_touching*t11
+    hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 + t4)
+    hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13)
+    t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    t18 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t18 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t17 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t18 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t17 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t19 = math.cos(body_trunk_yaw)
+    t20 = math.sin(body_trunk_yaw)
+    t21 = com_vx*t19 + com_vy*t20
+    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21
+    t22 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t23 = com_vx*t20 - com_vy*t19
+    t24 = k_speed*(-side_trim - t23) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t23
+    fl_y_goal = leg_fl_hip_x*t22 + t24
+    fr_y_goal = leg_fr_hip_x*t22 + t24
     return [
         leg_rl_spring_rest,
-        leg_rl_spring_rest,
+        leg_rr_spring_rest,
         hip_rl_pitch_kp,
         hip_rl_pitch_kv,
         hip_rl_pitch_kp,
@@ -2306,36 +2329,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:348:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:350:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
