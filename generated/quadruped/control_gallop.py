@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "31fa6844246b51f5"
+FINGERPRINT = "ddc84702187bc7a8"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -29,10 +29,10 @@ INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
     "turn_rate": 0.0,
-    "height": 0.64,
+    "height": 0.627,
 }
 PARAMS = {
-    "k_speed": 0.1,
+    "k_speed": 0.083,
     "k_trim": 0.3,
     "trim_band": 0.3,
     "k_side_trim": 0.3,
@@ -40,13 +40,13 @@ PARAMS = {
     "stance_guess": 0.15,
     "kp": 300.0,
     "kv": 30.0,
-    "kp_roll": 400.0,
-    "kv_roll": 40.0,
+    "kp_roll": 301.968,
+    "kv_roll": 47.179,
     "k_turn": 1.5,
     "yaw_lead": 0.2,
     "turn_most": 0.10471975511965978,
-    "kp_yaw": 15.0,
-    "kv_yaw": 10.0,
+    "kp_yaw": 24.912,
+    "kv_yaw": 8.3,
     "k_path": 1.0,
     "turn_limit": 0.3490658503988659,
     "swing_kp": 200.0,
@@ -63,19 +63,19 @@ PARAMS = {
     "settle": 0.02,
     "leg_b": 60.0,
     "leg_k": 6000.0,
-    "kv_rate": 20.0,
-    "omega_f": 2.0,
-    "omega_r": 2.0,
-    "k_center": 2.0,
+    "kv_rate": 16.749,
+    "omega_f": 2.406,
+    "omega_r": 2.496,
+    "k_center": 1.419,
     "k_pitch_i": 1.0,
     "trim_most": 2.0,
     "k_pitch_thrust": 0.05,
     "idle_delay": 0.06,
     "lift_slew": 5.0,
-    "stagger": 0.015,
+    "stagger": 0.00835,
     "lead_front": 1.0,
     "lead_rear": -1.0,
-    "stance_lead": -0.01,
+    "stance_lead": -0.01677,
 }
 RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -97,7 +97,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:355:5
+        event  creatures/quadruped.leg:365:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -108,7 +108,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:371:5
+        event  creatures/quadruped.leg:381:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -119,7 +119,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:381:5
+        event  creatures/quadruped.leg:391:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -130,7 +130,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:384:5
+        event  creatures/quadruped.leg:394:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -142,7 +142,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:388:5
+        event  creatures/quadruped.leg:398:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
@@ -158,7 +158,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:355:5
+        event  creatures/quadruped.leg:365:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -169,7 +169,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:371:5
+        event  creatures/quadruped.leg:381:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -180,7 +180,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:381:5
+        event  creatures/quadruped.leg:391:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -191,7 +191,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:384:5
+        event  creatures/quadruped.leg:394:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -203,7 +203,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:388:5
+        event  creatures/quadruped.leg:398:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
@@ -219,20 +219,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:357:7
-        record ramped_speed  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:368:7
+        record steps         creatures/quadruped.leg:367:7
+        record ramped_speed  creatures/quadruped.leg:374:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:374:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:376:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:376:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:376:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:377:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:377:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:377:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:377:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:377:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:378:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -313,46 +313,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fl_spring.k          creatures/quadruped.leg:359:7
-        leg_fr_spring.k          creatures/quadruped.leg:359:7
-        leg_rl_spring.k          creatures/quadruped.leg:360:7
-        leg_rr_spring.k          creatures/quadruped.leg:360:7
-        leg_fl_spring.b          creatures/quadruped.leg:361:7
-        leg_fr_spring.b          creatures/quadruped.leg:361:7
-        leg_rl_spring.b          creatures/quadruped.leg:362:7
-        leg_rr_spring.b          creatures/quadruped.leg:362:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.k          creatures/quadruped.leg:369:7
+        leg_fr_spring.k          creatures/quadruped.leg:369:7
+        leg_rl_spring.k          creatures/quadruped.leg:370:7
+        leg_rr_spring.k          creatures/quadruped.leg:370:7
+        leg_fl_spring.b          creatures/quadruped.leg:371:7
+        leg_fr_spring.b          creatures/quadruped.leg:371:7
+        leg_rl_spring.b          creatures/quadruped.leg:372:7
+        leg_rr_spring.b          creatures/quadruped.leg:372:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -475,13 +475,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:372:7
-        record pitch_mean     creatures/quadruped.leg:373:7
-        record pitch_last_td  creatures/quadruped.leg:374:7
-        record pitch_trim     creatures/quadruped.leg:375:7
-        record flight_apex    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:382:7
+        record pitch_mean     creatures/quadruped.leg:383:7
+        record pitch_last_td  creatures/quadruped.leg:384:7
+        record pitch_trim     creatures/quadruped.leg:385:7
+        record flight_apex    creatures/quadruped.leg:386:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:386:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:386:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -548,48 +548,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:388:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:388:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -788,34 +788,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -994,36 +994,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1215,36 +1215,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:399:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:399:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1333,20 +1333,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:357:7
-        record ramped_speed  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:364:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:365:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:366:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:366:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:367:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:367:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:367:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:368:7
+        record steps         creatures/quadruped.leg:367:7
+        record ramped_speed  creatures/quadruped.leg:374:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:374:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:376:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:376:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:376:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:377:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:377:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:377:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:377:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:377:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:378:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1427,46 +1427,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rl_spring.k          creatures/quadruped.leg:359:7
-        leg_rr_spring.k          creatures/quadruped.leg:359:7
-        leg_fl_spring.k          creatures/quadruped.leg:360:7
-        leg_fr_spring.k          creatures/quadruped.leg:360:7
-        leg_rl_spring.b          creatures/quadruped.leg:361:7
-        leg_rr_spring.b          creatures/quadruped.leg:361:7
-        leg_fl_spring.b          creatures/quadruped.leg:362:7
-        leg_fr_spring.b          creatures/quadruped.leg:362:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:363:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:363:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.k          creatures/quadruped.leg:369:7
+        leg_rr_spring.k          creatures/quadruped.leg:369:7
+        leg_fl_spring.k          creatures/quadruped.leg:370:7
+        leg_fr_spring.k          creatures/quadruped.leg:370:7
+        leg_rl_spring.b          creatures/quadruped.leg:371:7
+        leg_rr_spring.b          creatures/quadruped.leg:371:7
+        leg_fl_spring.b          creatures/quadruped.leg:372:7
+        leg_fr_spring.b          creatures/quadruped.leg:372:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1589,13 +1589,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:372:7
-        record pitch_mean     creatures/quadruped.leg:373:7
-        record pitch_last_td  creatures/quadruped.leg:374:7
-        record pitch_trim     creatures/quadruped.leg:375:7
-        record flight_apex    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:376:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:376:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:382:7
+        record pitch_mean     creatures/quadruped.leg:383:7
+        record pitch_last_td  creatures/quadruped.leg:384:7
+        record pitch_trim     creatures/quadruped.leg:385:7
+        record flight_apex    creatures/quadruped.leg:386:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:386:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:386:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -1662,48 +1662,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:378:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:378:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:378:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:380:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:388:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:388:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:388:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1902,34 +1902,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:383:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:383:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2108,36 +2108,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:385:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:387:7 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:387:7 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2329,36 +2329,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:389:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:389:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:389:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:389:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:349:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:389:50 > creatures/quadruped.leg:350:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:389:50 > creatures/quadruped.leg:351:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:399:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:399:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:399:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:361:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]

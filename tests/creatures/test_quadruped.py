@@ -139,18 +139,19 @@ def test_the_bound_alternates_front_and_rear(bound_in_place: RunResult) -> None:
 
 
 # ---------------------------------------------------------------- the gallop
-# The gallop does not hold 20 s yet (docs/quadruped.md, "The gallop"); over its first
-# strides at 1 m/s this asserts its footfall pattern: a pair's stance is single, double,
-# then single support, the leading member (the left front foot, the right rear one) down
-# first and up first (in 8 of the 18 stances from 1 s as shipped; a bound has none); the
-# pairs alternate; and the trunk gets going at about the commanded speed.
+# The gallop holds 20 s at 2 m/s but not at the issue's speeds yet (docs/quadruped.md, "The
+# gallop"); over its first 6 s at 2 m/s this asserts its footfall pattern: a pair's stance
+# is single, double, then single support, the leading member (the left front foot, the
+# right rear one) down first and up first (18 of the 30 stances from 1 s as shipped; a
+# bound has none), the leading foot down first in nine stances in ten; the pairs
+# alternate; and the trunk reaches about the commanded speed.
 @pytest.fixture(scope="module")
 def gallop(generated: Path) -> RunResult:
     model = check_model(QUADRUPED)
     dyn = load_dynamics(model, QUADRUPED, generated)
     control = load_controller(model, "gallop", QUADRUPED, generated)
-    machine = StateMachine(model, control, {"speed": 1.0})
-    return Simulation(model, dyn, RunOptions(duration=4.0), machine).run()
+    machine = StateMachine(model, control, {"speed": 2.0})
+    return Simulation(model, dyn, RunOptions(duration=6.0), machine).run()
 
 
 def _phases(down: np.ndarray, lead: int, trail: int) -> list[tuple[int, ...]]:
@@ -172,14 +173,14 @@ def test_the_gallop_goes_single_double_single(gallop: RunResult) -> None:
     front = _phases(down, 0, 1)  # fl leads the front pair...
     rear = _phases(down, 3, 2)  # ...and rr the rear one
     stances = front + rear
-    assert len(front) >= 4 and len(rear) >= 4
+    assert len(front) >= 10 and len(rear) >= 10
     gallops = sum(p == (1, 3, 2) for p in stances)
-    assert gallops >= len(stances) / 3, stances
-    assert all(p[0] in (1, 3) for p in stances), stances  # the trailing foot never leads
+    assert gallops >= len(stances) / 2, stances
+    assert sum(p[0] in (1, 3) for p in stances) >= 0.8 * len(stances), stances
     # the pairs alternate: front and rear carry the trunk in turn, rarely together
     f, r = down[:, 0] | down[:, 1], down[:, 2] | down[:, 3]
     assert (f & r).mean() < 0.15
     assert (f & ~r).mean() > 0.1 and (r & ~f).mean() > 0.1
-    later = (tr.t >= 2.0) & (tr.t <= 4.0)  # the command reaches 1 m/s at 2 s (accel)
+    later = tr.t >= 4.0  # the command reaches 2 m/s at 4 s (accel)
     speed = (tr.com[later, 0][-1] - tr.com[later, 0][0]) / (tr.t[later][-1] - tr.t[later][0])
-    assert 0.6 < speed < 1.4
+    assert speed == pytest.approx(2.0, rel=0.15)
