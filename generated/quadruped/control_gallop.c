@@ -261,8 +261,8 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   leg_fl_spring.k: creatures/quadruped.leg:369:7 */
 /*   leg_fr_spring.k: creatures/quadruped.leg:369:7 */
 /*   leg_rl_spring.k: creatures/quadruped.leg:370:7 */
@@ -283,8 +283,8 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 /*   hip_fr_roll.kv: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3 */
 /*   hip_fl_roll_motor.force: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -492,8 +492,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
@@ -518,8 +518,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 /*   hip_fr_roll.kv: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_fr_motor.force: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -743,8 +743,8 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 /*   hip_fr_roll.kv: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_fr_motor.force: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -936,8 +936,8 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
 /*   hip_fl_roll.kp: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
@@ -950,8 +950,8 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 /*   hip_fr_roll.kv: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_fr_motor.force: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -1170,8 +1170,8 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 /*   hip_fr_roll.kv: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3 */
 /*   hip_fl_roll_motor.force: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -1364,8 +1364,8 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   leg_rl_spring.k: creatures/quadruped.leg:369:7 */
 /*   leg_rr_spring.k: creatures/quadruped.leg:369:7 */
 /*   leg_fl_spring.k: creatures/quadruped.leg:370:7 */
@@ -1386,8 +1386,8 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 /*   hip_rr_roll.kv: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3 */
 /*   hip_rl_roll_motor.force: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -1595,8 +1595,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
 /*   hip_rr_pitch.kp: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
@@ -1621,8 +1621,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 /*   hip_rr_roll.kv: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_rr_motor.force: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -1846,8 +1846,8 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 /*   hip_rr_roll.kv: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_rr_motor.force: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -2039,8 +2039,8 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
 /*   hip_rl_pitch.kv: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
 /*   hip_rl_roll.kp: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
@@ -2053,8 +2053,8 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 /*   hip_rr_roll.kv: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
 /*   hip_rr_motor.force: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
@@ -2273,8 +2273,8 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 /*   hip_rr_roll.kv: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3 */
 /*   hip_rl_roll_motor.force: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fr_pitch.kp: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_fl_pitch.kv: creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */

@@ -313,8 +313,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         leg_fl_spring.k          creatures/quadruped.leg:369:7
         leg_fr_spring.k          creatures/quadruped.leg:369:7
         leg_rl_spring.k          creatures/quadruped.leg:370:7
@@ -335,8 +335,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
         hip_fl_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
         hip_fr_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -548,8 +548,8 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_fr_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_fl_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
@@ -574,8 +574,8 @@ def action_LOADING_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_fr_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_fr_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -800,8 +800,8 @@ def action_COMPRESSION_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_fr_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_fr_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -994,8 +994,8 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
         hip_fl_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
         hip_fl_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
@@ -1008,8 +1008,8 @@ def action_THRUST_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_fr_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_fr_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1229,8 +1229,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
         hip_fl_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
         hip_fr_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1427,8 +1427,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:368:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         leg_rl_spring.k          creatures/quadruped.leg:369:7
         leg_rr_spring.k          creatures/quadruped.leg:369:7
         leg_fl_spring.k          creatures/quadruped.leg:370:7
@@ -1449,8 +1449,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:373:7 > stdlib/raibert.leg:154:3
         hip_rl_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
         hip_rr_roll_motor.force  creatures/quadruped.leg:373:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:380:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:380:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1662,8 +1662,8 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:387:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_rr_pitch.kp          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_rl_pitch.kv          creatures/quadruped.leg:388:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
@@ -1688,8 +1688,8 @@ def action_LOADING_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_rr_motor.force       creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_rr_roll_motor.force  creatures/quadruped.leg:389:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:390:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:390:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1914,8 +1914,8 @@ def action_COMPRESSION_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_rr_motor.force       creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_rr_roll_motor.force  creatures/quadruped.leg:392:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:393:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:393:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -2108,8 +2108,8 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_rr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_rl_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:395:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
         hip_rl_pitch.kv          creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
         hip_rl_roll.kp           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
@@ -2122,8 +2122,8 @@ def action_THRUST_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
         hip_rr_motor.force       creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
         hip_rr_roll_motor.force  creatures/quadruped.leg:396:7 > creatures/quadruped.leg:254:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:397:7 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:397:7 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -2343,8 +2343,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:399:29 > stdlib/raibert.leg:168:3
         hip_rl_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
         hip_rr_roll_motor.force  creatures/quadruped.leg:399:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
-        leg_fr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:416:3 > stdlib/raibert.leg:416:20
+        leg_fl_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:399:50 > creatures/quadruped.leg:359:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:399:50 > creatures/quadruped.leg:360:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
