@@ -1,6 +1,8 @@
 """The quadruped's gaits at the issue's speeds: each run 20 s from standing, and a table of
 whether it fell, its mean speed after 3 s against the command, how often the members of a
-pair land within 10 ms of each other, and the friction coefficient it needed.
+pair land within 10 ms of each other (and the median time between them), the share of a
+bound's or gallop's pair stances that go single, double, then single support, and the
+friction coefficient it needed.
 
     nice python docs/scripts/quadruped_matrix.py                 # every gait the file has
     nice python docs/scripts/quadruped_matrix.py --gait trot --speeds 1,2
@@ -24,6 +26,8 @@ PAIRS = {
     "pace": {"toe_fl": "toe_rl", "toe_rl": "toe_fl", "toe_fr": "toe_rr", "toe_rr": "toe_fr"},
     "bound": {"toe_fl": "toe_fr", "toe_fr": "toe_fl", "toe_rl": "toe_rr", "toe_rr": "toe_rl"},
 }
+PAIRS["gallop"] = PAIRS["bound"]
+FEET = ("toe_fl", "toe_fr", "toe_rl", "toe_rr")  # the order of trajectory.contact
 CREATURE = "creatures/quadruped.leg"
 
 
@@ -42,6 +46,27 @@ def pair_spreads(run: Path, gait: str, start: float = 3.0) -> list[float]:
         lands = [t for t, c in tds if c == partner and abs(t - first[0]) <= 0.06]
         out.append(min(abs(t - first[0]) for t in lands) if lands else 1.0)
     return out
+
+
+def staggered_stances(run: Path, gait: str, start: float = 3.0) -> tuple[int, int]:
+    """(stances, of which single-double-single): a pair's stance, from its first foot down
+    to its last foot up, counts when one member is down alone first, then both, then the
+    other alone (each phase at least one sample)."""
+    t = np.load(run / "trajectory.npz")
+    down = t["contact"] > 0.5
+    keep = t["t"] >= start
+    total = sds = 0
+    for a, b in ((0, 1), (2, 3)) if gait in ("bound", "gallop") else ():
+        pair = (down[:, a] | down[:, b]) & keep
+        edges = np.flatnonzero(np.diff(np.r_[0, pair.astype(np.int8), 0]))
+        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
+            if lo == 0 or hi >= len(pair):
+                continue
+            pattern = down[lo:hi, a].astype(int) + 2 * down[lo:hi, b].astype(int)
+            phases = [int(p) for k, p in enumerate(pattern) if k == 0 or p != pattern[k - 1]]
+            total += 1
+            sds += phases in ([1, 3, 2], [2, 3, 1])
+    return total, sds
 
 
 def measure(gait: str, speed: float, out: Path, time: float) -> dict[str, object]:
@@ -67,6 +92,9 @@ def measure(gait: str, speed: float, out: Path, time: float) -> dict[str, object
     row["friction"] = max(mu) if mu else float("nan")
     spreads = pair_spreads(run, gait)
     row["pairs_10ms"] = float(np.mean(np.array(spreads) <= 0.010)) if spreads else float("nan")
+    row["median_lag"] = float(np.median(spreads)) if spreads else float("nan")
+    total, sds = staggered_stances(run, gait)
+    row["single_double_single"] = sds / total if total else float("nan")
     return row
 
 
@@ -80,7 +108,7 @@ def main() -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print(
-        f"{'gait':7} {'cmd':>5} {'exit':>4} {'until':>6} {'speed':>6} {'err%':>6} {'pairs<10ms':>10} {'mu':>6}"
+        f"{'gait':7} {'cmd':>5} {'exit':>4} {'until':>6} {'speed':>6} {'err%':>6} {'pairs<10ms':>10} {'lag ms':>6} {'s-d-s':>5} {'mu':>6}"
     )
     for gait in args.gait or list(MATRIX):
         speeds = [float(v) for v in args.speeds.split(",")] if args.speeds else MATRIX[gait]
@@ -89,7 +117,9 @@ def main() -> int:
             ms = float(r.get("mean_speed", float("nan")))  # type: ignore[arg-type]
             print(
                 f"{gait:7} {v:5.2f} {r['exit']:>4} {float(r['ended'] or 0):6.2f} {ms:6.3f} "  # type: ignore[arg-type]
-                f"{100 * (ms - v) / v:6.1f} {float(r['pairs_10ms']):10.2f} {float(r['friction']):6.2f}",  # type: ignore[arg-type]
+                f"{100 * (ms - v) / v if v else float('nan'):6.1f} {float(r['pairs_10ms']):10.2f} "  # type: ignore[arg-type]
+                f"{1000 * float(r['median_lag']):6.1f} {float(r['single_double_single']):5.2f} "  # type: ignore[arg-type]
+                f"{float(r['friction']):6.2f}",  # type: ignore[arg-type]
                 flush=True,
             )
     return 0

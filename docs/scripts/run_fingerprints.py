@@ -42,6 +42,7 @@ RUNS: dict[str, list[str]] = {
     "quadruped-trot": ["creatures/quadruped.leg", "--controller", "trot", "--set", "speed=2m/s"],
     "quadruped-pace": ["creatures/quadruped.leg", "--controller", "pace", "--set", "speed=1m/s"],
     "quadruped-bound": ["creatures/quadruped.leg", "--controller", "bound", "--set", "speed=1m/s"],
+    "quadruped-gallop": ["creatures/quadruped.leg", "--controller", "gallop", "--set", "speed=2m/s"],
     "biped-switch": [
         "creatures/biped.leg", "--controller", "run", "--set", "speed=1.5m/s",
         "--switch", "1s=gallop",

@@ -136,3 +136,51 @@ def test_the_bound_alternates_front_and_rear(bound_in_place: RunResult) -> None:
     assert len(loads) >= 8
     assert len(spreads) >= 0.8 * len(loads)
     assert np.median(spreads) <= 0.010, spreads
+
+
+# ---------------------------------------------------------------- the gallop
+# The gallop holds 20 s at 2 m/s but not at the issue's speeds yet (docs/quadruped.md, "The
+# gallop"); over its first 6 s at 2 m/s this asserts its footfall pattern: a pair's stance
+# is single, double, then single support, the leading member (the left front foot, the
+# right rear one) down first and up first (18 of the 30 stances from 1 s as shipped; a
+# bound has none), the leading foot down first in nine stances in ten; the pairs
+# alternate; and the trunk reaches about the commanded speed.
+@pytest.fixture(scope="module")
+def gallop(generated: Path) -> RunResult:
+    model = check_model(QUADRUPED)
+    dyn = load_dynamics(model, QUADRUPED, generated)
+    control = load_controller(model, "gallop", QUADRUPED, generated)
+    machine = StateMachine(model, control, {"speed": 2.0})
+    return Simulation(model, dyn, RunOptions(duration=6.0), machine).run()
+
+
+def _phases(down: np.ndarray, lead: int, trail: int) -> list[tuple[int, ...]]:
+    """Each stance of a pair as its phases: 1 the leading foot alone, 2 the trailing
+    one alone, 3 both."""
+    pair = down[:, lead] | down[:, trail]
+    edges = np.flatnonzero(np.diff(np.r_[0, pair.astype(np.int8), 0]))
+    out = []
+    for lo, hi in zip(edges[::2], edges[1::2], strict=True):
+        code = down[lo:hi, lead].astype(int) + 2 * down[lo:hi, trail].astype(int)
+        out.append(tuple(int(c) for k, c in enumerate(code) if k == 0 or c != code[k - 1]))
+    return out
+
+
+def test_the_gallop_goes_single_double_single(gallop: RunResult) -> None:
+    assert gallop.status == "ok", gallop.message
+    tr = gallop.trajectory
+    down = tr.contact[tr.t >= 1.0] > 0.5
+    front = _phases(down, 0, 1)  # fl leads the front pair...
+    rear = _phases(down, 3, 2)  # ...and rr the rear one
+    stances = front + rear
+    assert len(front) >= 10 and len(rear) >= 10
+    gallops = sum(p == (1, 3, 2) for p in stances)
+    assert gallops >= len(stances) / 2, stances
+    assert sum(p[0] in (1, 3) for p in stances) >= 0.8 * len(stances), stances
+    # the pairs alternate: front and rear carry the trunk in turn, rarely together
+    f, r = down[:, 0] | down[:, 1], down[:, 2] | down[:, 3]
+    assert (f & r).mean() < 0.15
+    assert (f & ~r).mean() > 0.1 and (r & ~f).mean() > 0.1
+    later = tr.t >= 4.0  # the command reaches 2 m/s at 4 s (accel)
+    speed = (tr.com[later, 0][-1] - tr.com[later, 0][0]) / (tr.t[later][-1] - tr.t[later][0])
+    assert speed == pytest.approx(2.0, rel=0.15)
