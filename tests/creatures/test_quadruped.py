@@ -184,3 +184,18 @@ def test_the_gallop_goes_single_double_single(gallop: RunResult) -> None:
     later = tr.t >= 4.0  # the command reaches 2 m/s at 4 s (accel)
     speed = (tr.com[later, 0][-1] - tr.com[later, 0][0]) / (tr.t[later][-1] - tr.t[later][0])
     assert speed == pytest.approx(2.0, rel=0.15)
+
+
+def test_the_trot_follows_a_circle(generated: Path) -> None:
+    """12 s on the 5 m circle at 1.5 m/s, on the default backend: over half a lap, close to it
+    (docs/quadruped.md, "Turning": 60 s hold at 0.155 m RMS)."""
+    import legdsl
+
+    circle = "circle(center = (0, 5) m, radius = 5 m, turn = left)"
+    run = legdsl.load(QUADRUPED, generated=generated).run(
+        controller="trot", set={"speed": "1.5 m/s"}, time=12, path=circle
+    )
+    assert run.status == "ok", run.info.get("message")
+    (report,) = run.info["path_reports"]
+    assert report["laps"] > 0.2 and report["lateral_rms"] < 0.3
+    assert report["path_speed"] == pytest.approx(1.5, rel=0.1)
