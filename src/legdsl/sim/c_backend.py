@@ -22,25 +22,24 @@ So every status, message, event and recorded array is the Python backend's
 from __future__ import annotations
 
 import ctypes
-import re
 import sys
 import time
 from collections.abc import Callable
-from functools import lru_cache
-from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 import numpy as np
 
-from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
 from legdsl.ir.paths import MEMBERS
+from legdsl.sim.c_library import CLibrary, address, available, load_library, numpy_dgesv
 from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
+
+__all__ = ["CLibrary", "CSimulation", "available", "load_library", "python_version_note"]
 
 STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
 EVENT_CAP = 4096
@@ -57,103 +56,7 @@ ERRORS: dict[int, Callable[[], BaseException]] = {
     6: lambda: TypeError("a negative number to a fractional power (complex in Python)"),
 }
 
-# Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
-# pointer), set from the address of a numpy array: a run's setup points some 70 of them, and
-# building a typed ctypes pointer for each took a tenth of a millisecond in all.
-_CTYPES = {
-    "double": ctypes.c_double,
-    "int64_t": ctypes.c_int64,
-    "double *": ctypes.c_void_p,
-    "int64_t *": ctypes.c_void_p,
-    "int8_t *": ctypes.c_void_p,
-    "int16_t *": ctypes.c_void_p,
-    "void *": ctypes.c_void_p,
-}
-_DTYPES = {
-    "double": np.float64, "int64_t": np.int64, "int8_t": np.int8, "int16_t": np.int16,
-}  # fmt: skip
-
-
 PROGRESS_EVERY = 0.2  # seconds of wall time between progress reports (as the Python loop's)
-
-
-class CLibrary:
-    """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
-
-    def __init__(self, built: Built, model: Model):
-        self.built = built
-        self.lib = ctypes.CDLL(str(built.path))
-        start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
-        text = ctypes.cast(start, ctypes.c_char_p).value
-        assert text is not None
-        fields = []
-        self.pointee: dict[str, Any] = {}  # the dtype each pointer field points to
-        for decl in text.decode().split(";")[:-1]:
-            match = re.fullmatch(r"(\w+(?: \*)?) (\w+)", decl.strip())
-            assert match is not None, decl
-            fields.append((match.group(2), _CTYPES[match.group(1)]))
-            if match.group(1).endswith(" *") and match.group(1) != "void *":
-                self.pointee[match.group(2)] = _DTYPES[match.group(1)[:-2]]
-        self.Sim = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
-        self.lib.leg_sim_size.restype = ctypes.c_int64
-        if ctypes.sizeof(self.Sim) != self.lib.leg_sim_size():
-            raise RuntimeError("the C backend's struct layout does not match its description")
-        sizes = (ctypes.c_int64 * 4)()
-        self.lib.leg_sizes(sizes)
-        self.nq, self.nv, self.nb, self.nc = list(sizes)
-        if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
-            raise RuntimeError(f"the C library of {model.name} is of another model")
-        for name in ("leg_run", "leg_begin", "leg_contact_state"):
-            getattr(self.lib, name).restype = ctypes.c_int64
-            getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
-        # the controller's state machine runs in C (else the Python one, at each control instant)
-        self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
-
-
-_LOADED: dict[Path, CLibrary] = {}
-_BY_STAT: dict[tuple[Any, ...], CLibrary] = {}
-_TRUSTED: dict[tuple[str, str], CLibrary] = {}  # the last library found for (name, folder)
-
-
-def available() -> str | None:
-    """None when the C backend can run here, else why not (one line)."""
-    if find_compiler() is None:
-        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
-    return None
-
-
-def load_library(
-    model: Model, generated_dir: Path, controller: str | None = None, trust: bool = False
-) -> CLibrary:
-    """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
-    controller's state machine in C when it has one. With ``trust`` (the runs of one batch), a
-    library this process has loaded for these files is given again without looking at them."""
-    name = model.name if controller is None else f"{model.name}-{controller}"
-    trusted = (name, str(generated_dir))
-    if trust and trusted in _TRUSTED:
-        return _TRUSTED[trusted]
-    # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
-    # process, files whose size and modification time are unchanged give the library again.
-    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
-    if controller is not None:
-        files.append(generated_dir / f"control_{controller}.c")
-    files += [RUNTIME / f for f in RUNTIME_FILES]
-    stats = tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
-    key = (name, stats, find_compiler())
-    if key in _BY_STAT:
-        _TRUSTED[trusted] = _BY_STAT[key]
-        return _BY_STAT[key]
-    built = build(name, sources(generated_dir, controller))
-    if built.path not in _LOADED:
-        _LOADED[built.path] = CLibrary(built, model)
-    _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
-    return _LOADED[built.path]
-
-
-def _ptr(array: np.ndarray) -> int:
-    """The address of a contiguous array, for a pointer of the struct."""
-    assert array.flags.c_contiguous
-    return int(array.__array_interface__["data"][0])
 
 
 class CSimulation(Simulation):
@@ -195,7 +98,7 @@ class CSimulation(Simulation):
             by_type.setdefault(self._keep[name].dtype.type, []).append(name)
         for names in by_type.values():
             block = np.concatenate([self._keep[name] for name in names])
-            base, size, at = _ptr(block), block.itemsize, 0
+            base, size, at = address(block), block.itemsize, 0
             for name in names:
                 n = self._keep[name].size
                 self._keep[name] = block[at : at + n]
@@ -210,7 +113,7 @@ class CSimulation(Simulation):
                 f"leg_sim.{name} points to {self.library.pointee[name]}, not {array.dtype}"
             )
         self._keep[name] = array
-        setattr(self.c, name, _ptr(array))
+        setattr(self.c, name, address(array))
 
     def _setup(self, loop: RunLoop) -> None:
         c, m, opts = self.c, self.model, self.options
@@ -352,7 +255,7 @@ class CSimulation(Simulation):
         most = max([len(mod.RECORDS), *outputs])
         size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
-        c.dgesv = _dgesv()
+        c.dgesv = numpy_dgesv()
         self._setup_paths(m)
         self._push_machine()
 
@@ -535,21 +438,6 @@ class CSimulation(Simulation):
                 raise ERRORS[int(c.err)]()
             else:
                 raise RuntimeError(f"leg_run returned {code}")
-
-
-@lru_cache(maxsize=1)
-def _dgesv() -> int | None:
-    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
-    try:
-        from numpy.linalg import _umath_linalg
-
-        lib = ctypes.CDLL(_umath_linalg.__file__)
-        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
-            if hasattr(lib, name):
-                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
-    except (OSError, ImportError, AttributeError):
-        pass
-    return None
 
 
 class _InternalRaise(RuntimeError):
