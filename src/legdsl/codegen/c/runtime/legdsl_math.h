@@ -54,23 +54,33 @@ static inline double leg_cos_e(double x, int *err) { return leg_math1(cos(x), x,
 typedef struct { uint64_t key; double s, c; } leg_trig_entry;
 leg_trig_entry *leg_trig_table(void);
 
-static inline const leg_trig_entry *leg_trig_find(leg_trig_entry *table, double x) {
+#if defined(__GLIBC__) /* glibc's sincos: the same two doubles as its sin and cos, in one call */
+void sincos(double x, double *s, double *c);
+#define LEG_SINCOS(x, s, c) sincos((x), (s), (c))
+#else
+#define LEG_SINCOS(x, s, c) (*(s) = sin(x), *(c) = cos(x))
+#endif
+
+static __attribute__((noinline)) void leg_trig_fill(leg_trig_entry *e, uint64_t key, double x) {
+    LEG_SINCOS(x, &e->s, &e->c);
+    e->key = key;
+}
+static inline __attribute__((always_inline)) const leg_trig_entry *leg_trig_find(
+    leg_trig_entry *table, double x) {
     uint64_t bits;
     memcpy(&bits, &x, sizeof bits);
     uint64_t key = bits + 1; /* 0, an empty slot, would be the NaN with every bit set */
     leg_trig_entry *e = table + (((bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull) >>
                                  (64 - LEG_TRIG_BITS));
-    if (e->key != key) {
-        e->s = sin(x);
-        e->c = cos(x);
-        e->key = key;
-    }
+    if (e->key != key) leg_trig_fill(e, key, x);
     return e;
 }
-static inline double leg_sin_t(double x, leg_trig_entry *table, int *err) {
+static inline __attribute__((always_inline)) double leg_sin_t(double x, leg_trig_entry *table,
+                                                              int *err) {
     return leg_math1(isnan(x) ? sin(x) : leg_trig_find(table, x)->s, x, err);
 }
-static inline double leg_cos_t(double x, leg_trig_entry *table, int *err) {
+static inline __attribute__((always_inline)) double leg_cos_t(double x, leg_trig_entry *table,
+                                                              int *err) {
     return leg_math1(isnan(x) ? cos(x) : leg_trig_find(table, x)->c, x, err);
 }
 static inline double leg_tan_e(double x, int *err) { return leg_math1(tan(x), x, err); }
