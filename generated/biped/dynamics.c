@@ -7,6 +7,7 @@
  * flags in *err where Python would have raised (legdsl_math.h).
  */
 
+#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */
 #include "legdsl_math.h"
 #include "dynamics.h"
 
@@ -14,6 +15,7 @@ const char legdsl_model_fingerprint[] = "26fbb5f5a7dc80ea";
 
 void mass_matrix(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -412,6 +414,7 @@ void mass_matrix(const double *q, double *out, int *err)
 
 void bias_forces(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -704,6 +707,7 @@ void bias_forces(const double *q, const double *v, double *out, int *err)
 
 void forward_dynamics(const double *q, const double *v, const double *tau, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -1376,6 +1380,7 @@ void forward_dynamics(const double *q, const double *v, const double *tau, doubl
 
 void contact_positions(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -1459,6 +1464,7 @@ void contact_positions(const double *q, double *out, int *err)
 
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -1616,6 +1622,7 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
 
 void contact_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -1831,6 +1838,7 @@ void contact_jacobians(const double *q, double *out, int *err)
 
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -1973,6 +1981,7 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
 
 void body_poses(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2137,6 +2146,7 @@ void body_poses(const double *q, double *out, int *err)
 
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2354,6 +2364,7 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
 
 void center_of_mass(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2446,6 +2457,7 @@ void center_of_mass(const double *q, double *out, int *err)
 
 void center_of_mass_velocity(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2699,6 +2711,7 @@ void center_of_mass_velocity(const double *q, const double *v, double *out, int 
 
 void kinetic_energy(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -2817,6 +2830,7 @@ void kinetic_energy(const double *q, const double *v, double *out, int *err)
 
 void potential_energy(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double z = q[2];
     const double qw = q[3];
     const double qx = q[4];

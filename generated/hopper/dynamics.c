@@ -7,6 +7,7 @@
  * flags in *err where Python would have raised (legdsl_math.h).
  */
 
+#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */
 #include "legdsl_math.h"
 #include "dynamics.h"
 
@@ -14,6 +15,7 @@ const char legdsl_model_fingerprint[] = "6ad810c2282581ad";
 
 void mass_matrix(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double leg = q[4];
@@ -69,6 +71,7 @@ void mass_matrix(const double *q, double *out, int *err)
 
 void bias_forces(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double leg = q[4];
@@ -132,6 +135,7 @@ void bias_forces(const double *q, const double *v, double *out, int *err)
 
 void forward_dynamics(const double *q, const double *v, const double *tau, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double leg = q[4];
@@ -248,6 +252,7 @@ void forward_dynamics(const double *q, const double *v, const double *tau, doubl
 
 void contact_positions(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -273,6 +278,7 @@ void contact_positions(const double *q, double *out, int *err)
 
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -307,6 +313,7 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
 
 void contact_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -366,6 +373,7 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
 
 void body_poses(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -424,6 +432,7 @@ void body_poses(const double *q, double *out, int *err)
 
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -474,6 +483,7 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
 
 void center_of_mass(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -505,6 +515,7 @@ void center_of_mass(const double *q, double *out, int *err)
 
 void center_of_mass_velocity(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -547,6 +558,7 @@ void center_of_mass_velocity(const double *q, const double *v, double *out, int 
 
 void kinetic_energy(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double leg = q[4];
@@ -579,6 +591,7 @@ void kinetic_energy(const double *q, const double *v, double *out, int *err)
 
 void potential_energy(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double z = q[1];
     const double pitch = q[2];
     const double hip = q[3];

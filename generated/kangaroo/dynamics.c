@@ -7,6 +7,7 @@
  * flags in *err where Python would have raised (legdsl_math.h).
  */
 
+#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */
 #include "legdsl_math.h"
 #include "dynamics.h"
 
@@ -14,6 +15,7 @@ const char legdsl_model_fingerprint[] = "6c7f861b8dd791b5";
 
 void mass_matrix(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double knee = q[4];
@@ -255,6 +257,7 @@ void mass_matrix(const double *q, double *out, int *err)
 
 void bias_forces(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double knee = q[4];
@@ -450,6 +453,7 @@ void bias_forces(const double *q, const double *v, double *out, int *err)
 
 void forward_dynamics(const double *q, const double *v, const double *tau, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double knee = q[4];
@@ -835,6 +839,7 @@ void forward_dynamics(const double *q, const double *v, const double *tau, doubl
 
 void contact_positions(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -905,6 +910,7 @@ void contact_positions(const double *q, double *out, int *err)
 
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1004,6 +1010,7 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
 
 void contact_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1209,6 +1216,7 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
 
 void body_poses(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1382,6 +1390,7 @@ void body_poses(const double *q, double *out, int *err)
 
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1539,6 +1548,7 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
 
 void center_of_mass(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1631,6 +1641,7 @@ void center_of_mass(const double *q, double *out, int *err)
 
 void center_of_mass_velocity(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double z = q[1];
     const double pitch = q[2];
@@ -1797,6 +1808,7 @@ void center_of_mass_velocity(const double *q, const double *v, double *out, int 
 
 void kinetic_energy(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double pitch = q[2];
     const double hip = q[3];
     const double knee = q[4];
@@ -1883,6 +1895,7 @@ void kinetic_energy(const double *q, const double *v, double *out, int *err)
 
 void potential_energy(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double z = q[1];
     const double pitch = q[2];
     const double hip = q[3];

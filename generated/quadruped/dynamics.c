@@ -7,6 +7,7 @@
  * flags in *err where Python would have raised (legdsl_math.h).
  */
 
+#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */
 #include "legdsl_math.h"
 #include "dynamics.h"
 
@@ -14,6 +15,7 @@ const char legdsl_model_fingerprint[] = "e49b33d7737e2ff9";
 
 void mass_matrix(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -660,6 +662,7 @@ void mass_matrix(const double *q, double *out, int *err)
 
 void bias_forces(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -1096,6 +1099,7 @@ void bias_forces(const double *q, const double *v, double *out, int *err)
 
 void forward_dynamics(const double *q, const double *v, const double *tau, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -1993,6 +1997,7 @@ void forward_dynamics(const double *q, const double *v, const double *tau, doubl
 
 void contact_positions(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2133,6 +2138,7 @@ void contact_positions(const double *q, double *out, int *err)
 
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2399,6 +2405,7 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
 
 void contact_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -2839,6 +2846,7 @@ void contact_jacobians(const double *q, double *out, int *err)
 
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -3109,6 +3117,7 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
 
 void body_poses(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -3362,6 +3371,7 @@ void body_poses(const double *q, double *out, int *err)
 
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -3738,6 +3748,7 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
 
 void center_of_mass(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -3889,6 +3900,7 @@ void center_of_mass(const double *q, double *out, int *err)
 
 void center_of_mass_velocity(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double x = q[0];
     const double y = q[1];
     const double z = q[2];
@@ -4325,6 +4337,7 @@ void center_of_mass_velocity(const double *q, const double *v, double *out, int 
 
 void kinetic_energy(const double *q, const double *v, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double qw = q[3];
     const double qx = q[4];
     const double qy = q[5];
@@ -4488,6 +4501,7 @@ void kinetic_energy(const double *q, const double *v, double *out, int *err)
 
 void potential_energy(const double *q, double *out, int *err)
 {
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
     const double z = q[2];
     const double qw = q[3];
     const double qx = q[4];

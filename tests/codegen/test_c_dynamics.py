@@ -82,6 +82,23 @@ def test_every_function_equals_the_python_print(name: str) -> None:
     assert checked > 1000
 
 
+def test_the_table_of_sines_gives_what_libm_gives_for_each_angle_bit_for_bit() -> None:
+    """dynamics.c remembers sin and cos by the argument's bits: 0.0 and -0.0 (whose sines
+    differ in sign) are two entries, and angles that evict each other are taken again."""
+    name = "hopper"  # planar: the pitch's sine is an entry of the root's rotation
+    lib, dyn = _library(name), shipped_dynamics(name)
+    base = _state(name, random.Random("trig-table"))
+    angles = [0.0, -0.0, 0.0, 1e-300, -1e-300] + [0.01 * k for k in range(200)] + [-0.0, 0.0]
+    for angle in angles:
+        state = {**base, "q": [*base["q"][:2], angle, -angle, *base["q"][4:]]}
+        for fname in ("body_poses", "forward_dynamics"):
+            params = ("q",) if fname == "body_poses" else ("q", "v", "tau")
+            expected = [float(x) for x in flatten(getattr(dyn, fname)(*(state[p] for p in params)))]
+            got, err = _call_c(lib, fname, params, state, len(expected))
+            assert err == 0
+            assert [x.hex() for x in got] == [x.hex() for x in expected], (fname, angle)
+
+
 def _has_fma() -> bool:
     try:
         return " fma " in Path("/proc/cpuinfo").read_text().replace("\n", " ")

@@ -22,25 +22,25 @@ So every status, message, event and recorded array is the Python backend's
 from __future__ import annotations
 
 import ctypes
-import re
 import sys
 import time
 from collections.abc import Callable
-from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 import numpy as np
 
-from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
 from legdsl.ir.model import Model, Pad
 from legdsl.ir.paths import MEMBERS
+from legdsl.sim.c_library import CLibrary, address, available, load_library, numpy_dgesv
 from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
 from legdsl.sim.trajectory import ARRAYS
+
+__all__ = ["CLibrary", "CSimulation", "available", "load_library", "python_version_note"]
 
 STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
 EVENT_CAP = 4096
@@ -57,88 +57,7 @@ ERRORS: dict[int, Callable[[], BaseException]] = {
     6: lambda: TypeError("a negative number to a fractional power (complex in Python)"),
 }
 
-_CTYPES = {
-    "double": ctypes.c_double,
-    "int64_t": ctypes.c_int64,
-    "double *": ctypes.POINTER(ctypes.c_double),
-    "int64_t *": ctypes.POINTER(ctypes.c_int64),
-    "int8_t *": ctypes.POINTER(ctypes.c_int8),
-    "int16_t *": ctypes.POINTER(ctypes.c_int16),
-    "void *": ctypes.c_void_p,
-}
-
-
 PROGRESS_EVERY = 0.2  # seconds of wall time between progress reports (as the Python loop's)
-
-
-class CLibrary:
-    """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
-
-    def __init__(self, built: Built, model: Model):
-        self.built = built
-        self.lib = ctypes.CDLL(str(built.path))
-        start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
-        text = ctypes.cast(start, ctypes.c_char_p).value
-        assert text is not None
-        fields = []
-        for decl in text.decode().split(";")[:-1]:
-            match = re.fullmatch(r"(\w+(?: \*)?) (\w+)", decl.strip())
-            assert match is not None, decl
-            fields.append((match.group(2), _CTYPES[match.group(1)]))
-        self.Sim = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
-        self.lib.leg_sim_size.restype = ctypes.c_int64
-        if ctypes.sizeof(self.Sim) != self.lib.leg_sim_size():
-            raise RuntimeError("the C backend's struct layout does not match its description")
-        sizes = (ctypes.c_int64 * 4)()
-        self.lib.leg_sizes(sizes)
-        self.nq, self.nv, self.nb, self.nc = list(sizes)
-        if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
-            raise RuntimeError(f"the C library of {model.name} is of another model")
-        for name in ("leg_run", "leg_begin", "leg_contact_state"):
-            getattr(self.lib, name).restype = ctypes.c_int64
-            getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
-        # the controller's state machine runs in C (else the Python one, at each control instant)
-        self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
-
-
-_LOADED: dict[Path, CLibrary] = {}
-_BY_STAT: dict[tuple[Any, ...], CLibrary] = {}
-
-
-def available() -> str | None:
-    """None when the C backend can run here, else why not (one line)."""
-    if find_compiler() is None:
-        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
-    return None
-
-
-def load_library(model: Model, generated_dir: Path, controller: str | None = None) -> CLibrary:
-    """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
-    controller's state machine in C when it has one."""
-    name = model.name if controller is None else f"{model.name}-{controller}"
-    # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
-    # process, files whose size and modification time are unchanged give the library again.
-    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
-    if controller is not None:
-        files.append(generated_dir / f"control_{controller}.c")
-    files += [RUNTIME / f for f in RUNTIME_FILES]
-    stats = tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
-    key = (name, stats, find_compiler())
-    if key in _BY_STAT:
-        return _BY_STAT[key]
-    built = build(name, sources(generated_dir, controller))
-    if built.path not in _LOADED:
-        _LOADED[built.path] = CLibrary(built, model)
-    _BY_STAT[key] = _LOADED[built.path]
-    return _LOADED[built.path]
-
-
-def _ptr(array: np.ndarray) -> Any:
-    kinds: dict[Any, Any] = {np.float64: ctypes.c_double, np.int64: ctypes.c_int64,
-                             np.int8: ctypes.c_int8, np.int16: ctypes.c_int16}  # fmt: skip
-    kind = kinds[array.dtype.type]
-    assert array.flags.c_contiguous
-    return array.ctypes.data_as(ctypes.POINTER(kind))
 
 
 class CSimulation(Simulation):
@@ -155,15 +74,47 @@ class CSimulation(Simulation):
         super().__init__(model, dynamics, options, controller)
         self.library = library
         self._keep: dict[str, np.ndarray] = {}  # the arrays the struct points into
+        self._pending: list[str] = []  # arrays made, not yet pointed to (_commit)
         self.c = library.Sim()
 
     # ------------------------------------------------------------ the struct
     def _array(self, name: str, values: Any, dtype: Any = np.float64, size: int = 0) -> None:
+        """An array of the struct, at least ``size`` long (and never empty), filled from
+        ``values``; pointed to when ``_commit`` lays them all out in one block per type."""
         array = np.array(values, dtype=dtype).reshape(-1)
         if array.size < max(size, 1):
             array = np.concatenate([array, np.zeros(max(size, 1) - array.size, dtype=dtype)])
+        if array.dtype.type is not self.library.pointee[name]:
+            raise TypeError(
+                f"leg_sim.{name} points to {self.library.pointee[name]}, not {array.dtype}"
+            )
         self._keep[name] = array
-        setattr(self.c, name, _ptr(array))
+        self._pending.append(name)
+
+    def _commit(self) -> None:
+        """The arrays of ``_array`` copied into one block per dtype and pointed to there:
+        asking numpy for an array's address takes microseconds, and a run has some fifty."""
+        by_type: dict[Any, list[str]] = {}
+        for name in self._pending:
+            by_type.setdefault(self._keep[name].dtype.type, []).append(name)
+        for names in by_type.values():
+            block = np.concatenate([self._keep[name] for name in names])
+            base, size, at = address(block), block.itemsize, 0
+            for name in names:
+                n = self._keep[name].size
+                self._keep[name] = block[at : at + n]
+                setattr(self.c, name, base + at * size)
+                at += n
+        self._pending = []
+
+    def _point(self, name: str, array: np.ndarray) -> None:
+        """The struct's pointer ``name`` at ``array`` (kept alive here), of the C type's dtype."""
+        if array.dtype.type is not self.library.pointee[name]:
+            raise TypeError(
+                f"leg_sim.{name} points to {self.library.pointee[name]}, not {array.dtype}"
+            )
+        self._keep[name] = array
+        setattr(self.c, name, address(array))
 
     def _setup(self, loop: RunLoop) -> None:
         c, m, opts = self.c, self.model, self.options
@@ -215,6 +166,7 @@ class CSimulation(Simulation):
         c.kin_valid = 0
         self._array("kin", [], size=7 * nc)
         self._setup_machine()
+        self._commit()
 
     def _setup_ground(self) -> None:
         c, ground = self.c, self.ground
@@ -269,9 +221,7 @@ class CSimulation(Simulation):
         traj = loop.traj
         self.c.rows = len(traj)
         for name in ARRAYS:
-            array = getattr(traj, name)
-            self._keep[f"rec_{name}"] = array
-            setattr(self.c, f"rec_{name}", _ptr(array))
+            self._point(f"rec_{name}", getattr(traj, name))
 
     def _setup_machine(self) -> None:
         """The state machine in C, when the library has the controller's (else c_control = 0)."""
@@ -305,7 +255,7 @@ class CSimulation(Simulation):
         most = max([len(mod.RECORDS), *outputs])
         size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
-        c.dgesv = _dgesv()
+        c.dgesv = numpy_dgesv()
         self._setup_paths(m)
         self._push_machine()
 
@@ -487,20 +437,6 @@ class CSimulation(Simulation):
                 raise ERRORS[int(c.err)]()
             else:
                 raise RuntimeError(f"leg_run returned {code}")
-
-
-def _dgesv() -> int | None:
-    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
-    try:
-        from numpy.linalg import _umath_linalg
-
-        lib = ctypes.CDLL(_umath_linalg.__file__)
-        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
-            if hasattr(lib, name):
-                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
-    except (OSError, ImportError, AttributeError):
-        pass
-    return None
 
 
 class _InternalRaise(RuntimeError):

@@ -67,7 +67,11 @@ def statements_text(function: Function, printer: CPrinter) -> list[str]:
 def function_text(function: Function) -> str:
     """One C function: the Python function's statements, then its result written to ``out``."""
     printer = CPrinter(function.names, function.bases)
-    lines = [_signature(function), "{", *statements_text(function, printer)]
+    body = statements_text(function, printer)
+    lines = [_signature(function), "{"]
+    if any("leg_sin(" in line or "leg_cos(" in line for line in body):
+        lines.append(f"{INDENT}leg_trig_entry *const leg_trig_here = leg_trig_table();")
+    lines += body
     for k, leaf in enumerate(flatten(function.result)):
         if isinstance(leaf, Call):
             raise ValueError(f"{function.name}: a call in a result has no C form")
@@ -124,6 +128,7 @@ def render_source(system: SymbolicSystem, source: str) -> str:
     """The text of ``generated/NAME/dynamics.c``."""
     parts = [
         _header_comment(system, source, "dynamics.c"),
+        "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
         '#include "legdsl_math.h"\n#include "dynamics.h"',
         f'const char legdsl_model_fingerprint[] = "{model_fingerprint(system.model)}";',
     ]

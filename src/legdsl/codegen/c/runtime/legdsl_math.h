@@ -10,6 +10,8 @@
 #define LEGDSL_MATH_H
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 enum {
     LEG_OK = 0,
@@ -40,6 +42,47 @@ static inline double leg_math1(double r, double x, int *err) {
 
 static inline double leg_sin_e(double x, int *err) { return leg_math1(sin(x), x, err); }
 static inline double leg_cos_e(double x, int *err) { return leg_math1(cos(x), x, err); }
+
+/* sin and cos, remembered (the generated dynamics.c): the kinematic functions of one state
+ * (forward dynamics, the contacts' positions, velocities and Jacobians, the body poses...) each
+ * take the sine and cosine of the same joint angles, and libm's sincos was a quarter of a step.
+ * A small table per thread (leg_trig_table, step.c; each generated function asks for it once),
+ * indexed by the argument's bits and checked against them in full, gives back libm's own two
+ * values for an argument seen before: the same doubles as calling libm again (-0.0 and 0.0
+ * are different keys; a NaN goes to libm and is never stored). */
+#define LEG_TRIG_BITS 6
+typedef struct { uint64_t key; double s, c; } leg_trig_entry;
+leg_trig_entry *leg_trig_table(void);
+
+#if defined(__GLIBC__) /* glibc's sincos: the same two doubles as its sin and cos, in one call */
+void sincos(double x, double *s, double *c);
+#define LEG_SINCOS(x, s, c) sincos((x), (s), (c))
+#else
+#define LEG_SINCOS(x, s, c) (*(s) = sin(x), *(c) = cos(x))
+#endif
+
+static __attribute__((noinline)) void leg_trig_fill(leg_trig_entry *e, uint64_t key, double x) {
+    LEG_SINCOS(x, &e->s, &e->c);
+    e->key = key;
+}
+static inline __attribute__((always_inline)) const leg_trig_entry *leg_trig_find(
+    leg_trig_entry *table, double x) {
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    uint64_t key = bits + 1; /* 0, an empty slot, would be the NaN with every bit set */
+    leg_trig_entry *e = table + (((bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull) >>
+                                 (64 - LEG_TRIG_BITS));
+    if (e->key != key) leg_trig_fill(e, key, x);
+    return e;
+}
+static inline __attribute__((always_inline)) double leg_sin_t(double x, leg_trig_entry *table,
+                                                              int *err) {
+    return leg_math1(isnan(x) ? sin(x) : leg_trig_find(table, x)->s, x, err);
+}
+static inline __attribute__((always_inline)) double leg_cos_t(double x, leg_trig_entry *table,
+                                                              int *err) {
+    return leg_math1(isnan(x) ? cos(x) : leg_trig_find(table, x)->c, x, err);
+}
 static inline double leg_tan_e(double x, int *err) { return leg_math1(tan(x), x, err); }
 static inline double leg_asin_e(double x, int *err) { return leg_math1(asin(x), x, err); }
 static inline double leg_acos_e(double x, int *err) { return leg_math1(acos(x), x, err); }
@@ -92,8 +135,13 @@ static inline double leg_max(double a, double b) { return b > a ? b : a; }
 static inline double leg_min(double a, double b) { return b < a ? b : a; }
 
 #define leg_div(a, b) leg_div_e((a), (b), err)
+#ifdef LEG_TRIG_LOCAL /* a function that declared leg_trig_here = leg_trig_table() */
+#define leg_sin(x) leg_sin_t((x), leg_trig_here, err)
+#define leg_cos(x) leg_cos_t((x), leg_trig_here, err)
+#else
 #define leg_sin(x) leg_sin_e((x), err)
 #define leg_cos(x) leg_cos_e((x), err)
+#endif
 #define leg_tan(x) leg_tan_e((x), err)
 #define leg_asin(x) leg_asin_e((x), err)
 #define leg_acos(x) leg_acos_e((x), err)

@@ -1,7 +1,7 @@
 /* legdsl_sim.h: the state a run shares between Python and the C runtime (legdsl's C backend).
  *
  * Every field of leg_sim is listed once, in LEG_SIM_FIELDS: step.c exports the list as text
- * (leg_sim_fields) and legdsl/sim/c_backend.py builds its ctypes twin from it, so the two
+ * (leg_sim_fields) and legdsl/sim/c_library.py builds its ctypes twin from it, so the two
  * layouts cannot differ. Arrays are owned by Python (numpy) and only pointed to.
  */
 #ifndef LEGDSL_SIM_H

@@ -281,14 +281,17 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         q[qi[k]] = guess[k];
     }
     double yaw = 0.0;
+    int posed = 0; /* pose is of q as it is now (the first iteration's, which Python computes again) */
     if (!LEG_PLANAR) {
         body_poses(q, pose, err);
         yaw = atan2(pose[3 + 3], pose[3 + 0]);
+        posed = 1;
     }
     double c = leg_cos(yaw), sn = leg_sin(yaw);
     for (int it = 0; it < PLACE_ITERATIONS; it++) {
         contact_positions(q, pos, err);
-        body_poses(q, pose, err);
+        if (!posed) body_poses(q, pose, err);
+        posed = 0;
         const double *f = pos + 3 * foot, *h = pose + 12 * hip;
         double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double rel[3] = {c * delta[0] + sn * delta[1], -sn * delta[0] + c * delta[1], delta[2]};

@@ -32,6 +32,10 @@ int64_t leg_sizes(int64_t *out) {
     return 4;
 }
 
+/* This thread's table of sines and cosines (legdsl_math.h): runs of a batch go on in threads. */
+static __thread leg_trig_entry trig_table[1 << LEG_TRIG_BITS];
+leg_trig_entry *leg_trig_table(void) { return trig_table; }
+
 #define NQ LEG_NQ
 #define NV LEG_NV
 #define NC LEG_NC

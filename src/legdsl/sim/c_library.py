@@ -1,0 +1,131 @@
+"""A creature's C library loaded into this process, and the ctypes twin of its ``leg_sim``.
+
+``load_library`` builds the library (``legdsl.codegen.c.build``: cached by the hash of its
+sources) or takes it from the cache, loads it with ``ctypes`` and reads the struct's layout
+from the text the library exports (``leg_sim_fields``, from ``LEG_SIM_FIELDS`` in
+``legdsl_sim.h``), so that the two layouts cannot differ. ``legdsl.sim.c_backend`` runs
+simulations on it.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import re
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
+from legdsl.ir.model import Model
+
+# Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
+# pointer), set from the address of a numpy array: a run's setup points some 70 of them, and
+# building a typed ctypes pointer for each took a tenth of a millisecond in all.
+_CTYPES = {
+    "double": ctypes.c_double,
+    "int64_t": ctypes.c_int64,
+    "double *": ctypes.c_void_p,
+    "int64_t *": ctypes.c_void_p,
+    "int8_t *": ctypes.c_void_p,
+    "int16_t *": ctypes.c_void_p,
+    "void *": ctypes.c_void_p,
+}
+_DTYPES = {
+    "double": np.float64, "int64_t": np.int64, "int8_t": np.int8, "int16_t": np.int16,
+}  # fmt: skip
+
+
+class CLibrary:
+    """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
+
+    def __init__(self, built: Built, model: Model):
+        self.built = built
+        self.lib = ctypes.CDLL(str(built.path))
+        start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
+        text = ctypes.cast(start, ctypes.c_char_p).value
+        assert text is not None
+        fields = []
+        self.pointee: dict[str, Any] = {}  # the dtype each pointer field points to
+        for decl in text.decode().split(";")[:-1]:
+            match = re.fullmatch(r"(\w+(?: \*)?) (\w+)", decl.strip())
+            assert match is not None, decl
+            fields.append((match.group(2), _CTYPES[match.group(1)]))
+            if match.group(1).endswith(" *") and match.group(1) != "void *":
+                self.pointee[match.group(2)] = _DTYPES[match.group(1)[:-2]]
+        self.Sim = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
+        self.lib.leg_sim_size.restype = ctypes.c_int64
+        if ctypes.sizeof(self.Sim) != self.lib.leg_sim_size():
+            raise RuntimeError("the C backend's struct layout does not match its description")
+        sizes = (ctypes.c_int64 * 4)()
+        self.lib.leg_sizes(sizes)
+        self.nq, self.nv, self.nb, self.nc = list(sizes)
+        if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
+            raise RuntimeError(f"the C library of {model.name} is of another model")
+        for name in ("leg_run", "leg_begin", "leg_contact_state"):
+            getattr(self.lib, name).restype = ctypes.c_int64
+            getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
+        # the controller's state machine runs in C (else the Python one, at each control instant)
+        self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
+
+
+_LOADED: dict[Path, CLibrary] = {}
+_BY_STAT: dict[tuple[Any, ...], CLibrary] = {}
+_TRUSTED: dict[tuple[str, str], CLibrary] = {}  # the last library found for (name, folder)
+
+
+def available() -> str | None:
+    """None when the C backend can run here, else why not (one line)."""
+    if find_compiler() is None:
+        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
+    return None
+
+
+def load_library(
+    model: Model, generated_dir: Path, controller: str | None = None, trust: bool = False
+) -> CLibrary:
+    """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
+    controller's state machine in C when it has one. With ``trust`` (the runs of one batch), a
+    library this process has loaded for these files is given again without looking at them."""
+    name = model.name if controller is None else f"{model.name}-{controller}"
+    trusted = (name, str(generated_dir))
+    if trust and trusted in _TRUSTED:
+        return _TRUSTED[trusted]
+    # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
+    # process, files whose size and modification time are unchanged give the library again.
+    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
+    if controller is not None:
+        files.append(generated_dir / f"control_{controller}.c")
+    files += [RUNTIME / f for f in RUNTIME_FILES]
+    stats = tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+    key = (name, stats, find_compiler())
+    if key in _BY_STAT:
+        _TRUSTED[trusted] = _BY_STAT[key]
+        return _BY_STAT[key]
+    built = build(name, sources(generated_dir, controller))
+    if built.path not in _LOADED:
+        _LOADED[built.path] = CLibrary(built, model)
+    _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
+    return _LOADED[built.path]
+
+
+def address(array: np.ndarray) -> int:
+    """The address of a contiguous array, for a pointer of the struct."""
+    assert array.flags.c_contiguous
+    return int(array.__array_interface__["data"][0])
+
+
+@lru_cache(maxsize=1)
+def numpy_dgesv() -> int | None:
+    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
+    try:
+        from numpy.linalg import _umath_linalg
+
+        lib = ctypes.CDLL(_umath_linalg.__file__)
+        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
+            if hasattr(lib, name):
+                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
+    except (OSError, ImportError, AttributeError):
+        pass
+    return None
