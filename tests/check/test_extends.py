@@ -68,11 +68,13 @@ def test_a_chain_of_bases_and_a_table_of_its_own(tmp_path: Path) -> None:
     assert model.controller("soft").state_names == ("FLIGHT", "STANCE")
 
 
-def test_the_quadrupeds_pace_is_the_trot_with_its_own_pairs_and_roll_gains() -> None:
+def test_the_quadrupeds_pace_is_the_trot_with_its_own_pairs_and_gains() -> None:
     model = check_model(ROOT / "creatures" / "quadruped.leg")
     trot, pace = model.controller("trot"), model.controller("pace")
     assert [c.name for c in trot.params] == [c.name for c in pace.params]
     differ = {a.name for a, b in zip(trot.params, pace.params, strict=True) if a.value != b.value}
-    assert differ == {"kp_roll", "kv_roll", "k_side_trim"}
+    assert {"kp_roll", "kv_roll", "k_side_trim"} <= differ
+    assert differ == {"kp_roll", "kv_roll", "k_side_trim", "kp", "kv", "k_speed", "stroke",
+                      "leg_k", "leg_b"}  # fmt: skip
     assert trot.state_names == pace.state_names
     assert trot.bindings[0] != pace.bindings[0]
