@@ -161,6 +161,8 @@ def scale_trajectory(traj: Trajectory, model: Model, scale: float) -> Trajectory
         kinetic=traj.kinetic * energy,
         potential=traj.potential * energy,
         elastic=traj.elastic * energy,
+        work_positive=traj.work_positive * energy,
+        work_negative=traj.work_negative * energy,
         speed_command=traj.speed_command * by(_SPEED),
         total_mass=traj.total_mass * scale**3,
     )
