@@ -199,3 +199,24 @@ def test_the_trot_follows_a_circle(generated: Path) -> None:
     (report,) = run.info["path_reports"]
     assert report["laps"] > 0.2 and report["lateral_rms"] < 0.3
     assert report["path_speed"] == pytest.approx(1.5, rel=0.1)
+
+
+def test_the_bound_at_the_papers_speed(generated: Path) -> None:
+    """8 s at 2.8 m/s on the default backend: the front and the rear pair land in turn, each
+    pair's feet together, and the speed is near the command (20 s: docs/quadruped.md)."""
+    import legdsl
+
+    run = legdsl.load(QUADRUPED, generated=generated).run(
+        controller="bound", set={"speed": "2.8 m/s"}, time=8
+    )
+    assert run.status == "ok", run.info.get("message")
+    downs = [(e["t"], e["contact"]) for e in run.info["events"] if e["kind"] == "touchdown"]
+    later = [(t, c) for t, c in downs if t > 3.0]
+    pairs = [set(c for t2, c in later if abs(t2 - t) < 0.01) for t, _ in later]
+    assert all(p in ({"toe_fl", "toe_fr"}, {"toe_rl", "toe_rr"}) for p in pairs)
+    front = [t for t, c in later if c == "toe_fl"]
+    rear = [t for t, c in later if c == "toe_rl"]
+    assert len(front) >= 8 and abs(len(front) - len(rear)) <= 2  # in turn
+    times, x = run.samples["t"], run.samples["q.x"]
+    i = int(np.searchsorted(times, 3.0))
+    assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(2.8, rel=0.25)
