@@ -121,6 +121,10 @@ class Lowerer:
             self.kinds[a.name] = "actuator"
         self.signals = {s.name: s.value for s in controller.signals}
         self.sensors: set[str] = set()
+        # a function of the same arguments, called again (an action inlined in several states
+        # and bindings): its value once, for sympy's Min and Max compare their every pair of
+        # arguments, which takes seconds on a placement's expressions
+        self._calls: dict[tuple[str, tuple[Any, ...]], Any] = {}
 
     def lower(self) -> LoweredController:
         events: dict[tuple[int, int], sympy.Basic] = {}
@@ -236,7 +240,11 @@ class Lowerer:
         if e.func == "select":
             condition, a, b = (self.expr(x, roles) for x in e.args)
             return sympy.Piecewise((a, condition), (b, True))
-        return _FUNCTIONS[e.func](*[self.expr(a, roles) for a in e.args])
+        args = tuple(self.expr(a, roles) for a in e.args)
+        key = (e.func, args)
+        if key not in self._calls:
+            self._calls[key] = _FUNCTIONS[e.func](*args)
+        return self._calls[key]
 
     def named(self, e: ir.Named, roles: Roles) -> Any:
         if e.kind in ("input", "param", "record"):

@@ -40,7 +40,37 @@ def fold(expr: Expr) -> Expr:
     numbers = {f: Integer(int(f)) for f in expr.atoms(Float) if float(f).is_integer()}
     # fractions such as 1/2 print and run as floats
     numbers |= {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
-    return expr.xreplace(numbers) if numbers else expr
+    return substituted(expr, numbers) if numbers else expr
+
+
+def substituted(
+    expr: sympy.Basic,
+    subs: Mapping[sympy.Basic, sympy.Basic],
+    memo: dict[sympy.Basic, sympy.Basic] | None = None,
+) -> sympy.Basic:
+    """``expr.xreplace(subs)`` for a ``subs`` that changes no value (symbols renamed one to
+    one, a float by the equal integer), without evaluating each ``Min`` and ``Max`` again.
+    They were evaluated when built, and such a substitution lets none of them drop an argument,
+    but sympy's search for one compares every pair of their arguments (seconds, on a foot
+    placement). Their arguments still go in sympy's canonical order, so the result is
+    ``xreplace``'s. ``memo`` carries the work done over several calls."""
+    if expr in subs:
+        return subs[expr]
+    if not expr.args:
+        return expr
+    memo = {} if memo is None else memo
+    done = memo.get(expr)
+    if done is not None:
+        return done
+    args = tuple(substituted(a, subs, memo) for a in expr.args)
+    if args == expr.args:
+        out = expr
+    elif isinstance(expr, sympy.Min | sympy.Max):
+        out = expr.func(*args, evaluate=False)
+    else:
+        out = expr.func(*args)
+    memo[expr] = out
+    return out
 
 
 # Powers of a name up to this exponent print as products (x*x*x).
@@ -233,13 +263,15 @@ class Block:
                 while f"t{n}" in self._taken:
                     n += 1
                 rename[st.target] = Symbol(f"t{n}")
+        memo: dict[sympy.Basic, sympy.Basic] = {}
         statements = [
-            Assign(rename.get(st.target, st.target), st.value.xreplace(rename))
+            Assign(rename.get(st.target, st.target), substituted(st.value, rename, memo))
             if isinstance(st, Assign)
             else st
             for st in body
         ]
-        return statements, [o.xreplace(rename) for o in outputs], set(rename.values())
+        outputs = [substituted(o, rename, memo) for o in outputs]
+        return statements, outputs, set(rename.values())
 
     def _unpacks(self, exprs: list[Expr]) -> list[Unpack]:
         needed = _symbols_of(exprs)
@@ -438,7 +470,8 @@ def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Commen
             inline[sym] = expr
         else:
             kept.append((sym, expr))
-    value_at = {i: fold(v.xreplace(inline)) for i, v in zip(where, reduced, strict=True)}
+    # (putting pieces back gives what cse was given, so no Min or Max simplifies further)
+    value_at = {i: fold(substituted(v, inline)) for i, v in zip(where, reduced, strict=True)}
     # A piece that is the whole value of an assignment takes that assignment's name.
     pieces_named = {s for s, _ in kept}
     alias: dict[Symbol, Symbol] = {}

@@ -17,7 +17,7 @@ from pathlib import Path
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.c.control import render_control_c
 from legdsl.codegen.c.dynamics import render_header, render_source
-from legdsl.codegen.python.control import render_control
+from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
@@ -114,9 +114,10 @@ def compile_checked(
         controllers += (lowered_controller,)
         events = {state.name: state.event_text for state in controller.states}
         stamp = controller_fingerprint(model, controller)
-        text = render_control(lowered_controller, source, events, stamp)
+        programs = control_programs(lowered_controller, events)  # both targets print these
+        text = render_control(lowered_controller, source, events, stamp, programs)
         files += ((f"control_{controller.name}.py", text),)
-        c_text = render_control_c(model, lowered_controller, source, events, stamp)
+        c_text = render_control_c(model, lowered_controller, source, events, stamp, programs)
         files += ((f"control_{controller.name}.c", c_text),)
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)

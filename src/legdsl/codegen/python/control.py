@@ -18,7 +18,7 @@ from legdsl import __version__
 from legdsl.check.values import STDLIB
 from legdsl.codegen.python.dynamics import _environment, _names, function_body
 from legdsl.lower.control import LoweredController, Where, sensor_symbol
-from legdsl.lower.straightline import Block
+from legdsl.lower.straightline import Block, substituted
 from legdsl.lower.symbolic import Function
 
 PARAMS = ("s", "u", "p", "r", "tis")
@@ -51,7 +51,8 @@ def _program(
             array, index = arrays[sym.name]
             wanted = sym.name.split("_", 1)[1] if array in ("u", "p", "r") else sym.name
             subs[sym] = block.input(wanted, array, index)
-    outs = [e.xreplace(subs) for e in exprs]
+    memo: dict[sympy.Basic, sympy.Basic] = {}
+    outs = [substituted(e, subs, memo) for e in exprs]
     if let:
         outs = [block.let(o) if isinstance(o, Expr) else o for o in outs]
     program = block.finish(outs, names=names)
@@ -168,10 +169,16 @@ def _doc(first: str, lines: list[tuple[str, Where]], source: str) -> str:
 
 
 def render_control(
-    lc: LoweredController, source: str, event_text: dict[str, str], fingerprint: str
+    lc: LoweredController,
+    source: str,
+    event_text: dict[str, str],
+    fingerprint: str,
+    programs: ControlPrograms | None = None,
 ) -> str:
-    """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written."""
-    programs = control_programs(lc, event_text)
+    """The text of ``control_CONTROLLER.py``; ``event_text`` gives each state's event as written.
+    ``programs``: ``control_programs(lc, event_text)``, when the caller has them (they take
+    most of a controller's printing time, and the C target prints the same ones)."""
+    programs = programs or control_programs(lc, event_text)
     functions, tables = programs.functions, programs.tables
     written = origins(lc)
     settings, places = programs.settings, programs.places
