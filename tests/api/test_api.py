@@ -54,3 +54,29 @@ def test_samples_and_pandas(monkeypatch: pytest.MonkeyPatch) -> None:
     with pytest.raises(KeyError, match="did you mean 'com.z'"):
         run["com.zz"]
     assert "<iframe" in run._repr_html_()
+
+
+def test_run_many_gives_each_run_as_run_gives_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A batch (threads through the C backend where there is one) returns every run as it
+    finishes, each with its index and the same samples as the same run alone."""
+    import sys
+
+    monkeypatch.chdir(ROOT)
+    hopper = legdsl.load("creatures/hopper.leg")
+    asked = [
+        {"controller": "hop", "set": {"speed": f"{v} m/s"}, "time": 0.6} for v in (0.5, 1, 1.5)
+    ]
+    interval = sys.getswitchinterval()
+    done = dict(hopper.run_many(asked, threads=2))
+    assert sys.getswitchinterval() == interval  # put back after the batch
+    assert sorted(done) == [0, 1, 2]
+    for i, kwargs in enumerate(asked):
+        alone = hopper.run(**kwargs)
+        assert done[i].samples.keys() == alone.samples.keys()
+        for name, values in alone.samples.items():
+            assert done[i][name].tobytes() == values.tobytes(), name
+    from legdsl.lang.errors import UsageError
+
+    with pytest.raises(UsageError, match="speed"):
+        list(hopper.run_many([*asked, {"controller": "hop", "set": {"speed": "2 kg"}}]))
+    assert sys.getswitchinterval() == interval

@@ -106,3 +106,36 @@ def test_two_sweeps_never_write_one_directory_at_once(tmp_path: Path) -> None:
         _writer_lock(tmp_path)
     held.close()
     _writer_lock(tmp_path).close()  # free again once the first is done
+
+
+def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -> None:
+    """Each worker is handed a few runs of one creature at a time, which it runs as one
+    batch (Creature.run_many); every job comes back as one row."""
+    from legdsl.api.sweep import BATCH_RUNS, Job, run_jobs
+
+    class InProcess:  # a pool of 2 "workers" that runs what it is handed here
+        workers = 2
+
+        def __init__(self) -> None:
+            self.handed: list[list[Job]] = []
+
+        def as_completed(self, fn, items):  # type: ignore[no-untyped-def]
+            for item in items:
+                self.handed.append(list(item))
+                yield fn(item)
+
+    def job(i: int, source: Path) -> Job:
+        return Job(index=i, source=str(source), creature=None, controller="hop",
+                   values={"speed": 0.5 + 0.1 * i}, units={"speed": "m/s"}, fixed=(),
+                   duration=0.3, start=0.0, generated=str(tmp_path / "generated"), keep=None)  # fmt: skip
+
+    other = tmp_path / "hopper2.leg"  # the same creature from another file: its own batches
+    other.write_text(HOPPER.read_text())
+    jobs = [job(i, HOPPER) for i in range(10)] + [job(i, other) for i in range(10, 13)]
+    pool = InProcess()
+    rows = list(run_jobs(jobs, pool))  # type: ignore[arg-type]
+    assert sorted(r["run"] for r in rows) == list(range(13))
+    assert all(r["outcome"] == "ok" for r in rows)
+    assert all(len({j.source for j in batch}) == 1 for batch in pool.handed)
+    assert all(1 <= len(batch) <= BATCH_RUNS for batch in pool.handed)
+    assert len(pool.handed) >= 2 * 2  # a few per worker

@@ -18,7 +18,7 @@ from __future__ import annotations
 import html
 import math
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -110,6 +110,35 @@ class Creature:
         ``set`` and ``switch`` added to it. ``options`` are those of ``legdsl run`` (``dt``,
         ``integrator``, ``control_dt``, ``record_rate``, ``fall_height``, ``fall_tilt`` in
         radians, ``drop``)."""
+        plan = self._session_args(controller, set, time, path, switch, scene, **options)
+        return self._wrap(self.session.run(**plan))
+
+    def run_many(
+        self, runs: Sequence[Mapping[str, Any]], threads: int | None = None
+    ) -> Iterator[tuple[int, Run]]:
+        """Many runs at once, each a dict of ``run``'s keyword arguments: (its index, its
+        ``Run``) as each finishes. On the C backend they go on in ``threads`` parallel
+        threads (default: one per core) through its batched entry point
+        (``legdsl.pipeline.backend.iter_batch``), on the Python backend one after another.
+        A run whose arguments are wrong raises its ``UsageError`` here, and the runs not yet
+        started are cancelled."""
+        from legdsl.pipeline.backend import iter_batch
+
+        plans = [self._session_args(**r) for r in runs]
+        for i, done in iter_batch(self.session, plans, threads):
+            yield i, self._wrap(done)
+
+    def _session_args(
+        self,
+        controller: str | None = None,
+        set: Mapping[str, str | float] | None = None,  # noqa: A002
+        time: float | None = None,
+        path: str | None = None,
+        switch: Mapping[str, str] | None = None,
+        scene: str | None = None,
+        **options: Any,
+    ) -> dict[str, Any]:
+        """``run``'s arguments as those of ``RunSession.run``."""
         settings = [_setting(name, value) for name, value in (set or {}).items()]
         switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
         if scene is not None:
@@ -125,8 +154,15 @@ class Creature:
             run_options = RunOptions(duration=float(5.0 if time is None else time), **options)
         except TypeError as e:
             raise UsageError(f"run(): {e}") from None
-        paths = [path] if path is not None else []
-        done = self.session.run(controller, settings, paths, run_options, switches=switches)
+        return {
+            "controller": controller,
+            "settings": settings,
+            "paths": [path] if path is not None else [],
+            "options": run_options,
+            "switches": switches,
+        }
+
+    def _wrap(self, done: Any) -> Run:
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
 
     def __repr__(self) -> str:

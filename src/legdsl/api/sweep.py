@@ -9,7 +9,8 @@ draws, with ``--seed``). Numbers take a unit right after them (``2m/s:6m/s:5``);
 number is in the SI unit of what it sets (m/s for a speed, s for ``k_speed``). Grids combine
 with each other; random and Latin-hypercube draws combine with the grid.
 
-Each run is a process of its own (all cores unless ``--jobs``); each finished run's row is
+The runs go on in parallel processes (all cores unless ``--jobs``) or on a Dask cluster, in
+small batches through the C backend's batched entry point; each finished run's row is
 appended to ``OUT/sweep.csv`` at once (and the whole table to ``OUT/sweep.parquet`` when
 pyarrow is installed), so an interrupted sweep resumes where it stopped: rows already in the
 table are not run again. ``--keep-runs`` keeps each run's directory under ``OUT/runs/``.
@@ -148,22 +149,55 @@ class Job:
     keep: str | None  # the run's directory, if kept
 
 
-_CREATURES: dict[tuple[str, str | None, str], Any] = {}  # per worker process
+_CREATURES: dict[tuple[str, str | None, str], Any] = {}  # per process
 
 
-def run_job(job: Job) -> dict[str, Any]:
-    """One run in a worker process: its row of the table."""
+def _creature(job: Job) -> Any:
     from legdsl.api import load
 
     key = (job.source, job.creature, job.generated)
     if key not in _CREATURES:
         _CREATURES[key] = load(job.source, job.creature, job.generated)
+    return _CREATURES[key]
+
+
+def _run_args(job: Job) -> dict[str, Any]:
+    """The job as the keyword arguments of ``Creature.run``."""
     settings = {f"{n}": f"{v!r}{job.units[n]}" for n, v in job.values.items()}
     for text in job.fixed:
         name, _, value = text.partition("=")
         settings[name] = value
+    return {"controller": job.controller, "set": settings, "time": job.duration}
+
+
+def run_jobs(jobs: Sequence[Job], pool: Workers) -> Iterator[dict[str, Any]]:
+    """The row of each job, as each finishes: the jobs go to the pool's processes (or Dask
+    workers) in small batches of one creature, each run there through the C backend's
+    batched entry point (``run_batch_of_jobs``)."""
+    by_creature: dict[tuple[str, str | None, str], list[Job]] = {}
+    for job in jobs:
+        by_creature.setdefault((job.source, job.creature, job.generated), []).append(job)
+    # about four batches per worker: a row comes back soon after its run (for the progress
+    # bar and for resuming), and a batch's setup is shared by several runs
+    size = max(1, min(BATCH_RUNS, math.ceil(len(jobs) / (4 * pool.workers))))
+    batches = [group[k : k + size] for group in by_creature.values()
+               for k in range(0, len(group), size)]  # fmt: skip
+    for rows in pool.as_completed(run_batch_of_jobs, batches):
+        yield from rows
+
+
+BATCH_RUNS = 8  # runs in one batch at most
+
+
+def run_batch_of_jobs(jobs: Sequence[Job]) -> list[dict[str, Any]]:
+    """The rows of several jobs of one creature, in this process: one batch
+    (``Creature.run_many``, on one thread: the pool's workers are the parallelism)."""
+    runs = _creature(jobs[0]).run_many([_run_args(j) for j in jobs], threads=1)
+    return [_row(jobs[i], run) for i, run in runs]
+
+
+def _row(job: Job, run: Any) -> dict[str, Any]:
     row: dict[str, Any] = {"run": job.index, **job.values}
-    run = _CREATURES[key].run(controller=job.controller, set=settings, time=job.duration)
     end = float(run.info.get("sim_time", 0.0))  # the last sample may be before it
     row["outcome"] = "ok" if run.status == "ok" else f"{run.status} at {end:.3f} s"
     row["simulated"] = end
@@ -211,7 +245,7 @@ def run_sweep(
         fresh.replace(table)
     started = time.monotonic()
     with Workers(workers, dask) as pool:
-        for count, row in enumerate(pool.as_completed(run_job, todo), 1):
+        for count, row in enumerate(run_jobs(todo, pool), 1):
             _append(table, columns, row)
             if progress is not None:
                 elapsed = time.monotonic() - started

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.table2 import MEASURE, TABLE2
-from legdsl.api.sweep import Job, run_job
+from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.workers import Workers
 from legdsl.files import write_atomic
 from legdsl.ir.controller import Controller
@@ -114,7 +114,8 @@ def tune(
             replace(base, index=i, values={**c, "speed": s}, units={**base.units, "speed": "m/s"})
             for i, (c, s) in enumerate((c, s) for c in candidates for s in objective.speeds)
         ]
-        rows = pool.map(run_job, jobs)
+        done = {row["run"]: row for row in run_jobs(jobs, pool)}
+        rows = [done[i] for i in range(len(jobs))]
         n = len(objective.speeds)
         return [rows[k * n : (k + 1) * n] for k in range(len(candidates))]
 

@@ -1,11 +1,11 @@
 """Where sweeps and tuning run their simulations: local processes, or a Dask cluster.
 
     with Workers(2) as pool:                 # or Workers(2, dask="tcp://host:8786"), "local"
-        for row in pool.as_completed(run_job, jobs): ...
-        rows = pool.map(run_job, jobs)       # in the jobs' order
+        for result in pool.as_completed(fn, items): ...   # fn(item) for each, as each ends
 
-``Workers(n)`` keeps ``n`` local processes (``concurrent.futures``) for as long as it is
-open; ``dask="tcp://HOST:PORT"`` sends the work to that Dask distributed scheduler, and
+``Workers(n)`` keeps ``n`` local processes
+(``concurrent.futures``, started when first needed) for as long as it is open;
+``dask="tcp://HOST:PORT"`` sends the work to that Dask distributed scheduler, and
 ``dask="local"`` starts a ``LocalCluster`` of ``n`` single-threaded worker processes for the
 purpose. Every result is the same wherever it was computed: a run depends only on its inputs.
 """
@@ -32,8 +32,7 @@ class Workers:
 
     def __enter__(self) -> Workers:
         if self.dask is None:
-            self._pool = ProcessPoolExecutor(max_workers=self.workers)
-            return self
+            return self  # the processes start with the first as_completed
         try:
             from distributed import Client, LocalCluster
         except ImportError:
@@ -62,7 +61,9 @@ class Workers:
         """``fn`` of each item, in the order they finish."""
         if not items:
             return
-        if self._pool is not None:
+        if self.dask is None:
+            if self._pool is None:
+                self._pool = ProcessPoolExecutor(max_workers=self.workers)
             pending = {self._pool.submit(fn, item) for item in items}
             while pending:
                 ready, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -73,18 +74,3 @@ class Workers:
 
         for future in as_completed(self._client.map(fn, list(items), pure=False)):
             yield future.result()
-
-    def map(self, fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
-        """``fn`` of each item, in the items' order."""
-        done = dict(self.as_completed(_Indexed(fn), list(enumerate(items))))
-        return [done[i] for i in range(len(items))]
-
-
-class _Indexed:
-    """``fn`` that keeps its item's index (picklable, unlike a closure)."""
-
-    def __init__(self, fn: Callable[[Any], Any]):
-        self.fn = fn
-
-    def __call__(self, pair: tuple[int, Any]) -> tuple[int, Any]:
-        return pair[0], self.fn(pair[1])

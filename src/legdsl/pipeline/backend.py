@@ -9,7 +9,8 @@ readable reference the C is checked against, bit for bit.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+import sys
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -124,6 +125,15 @@ def _fresh_sources(
     return folder
 
 
+def batches_in_c(backend: str | None = None) -> bool:
+    """Whether runs on ``backend`` (None: ``chosen``) go through the C backend's batches."""
+    if chosen(backend) == "python":
+        return False
+    from legdsl.sim.c_backend import available
+
+    return available() is None
+
+
 def run_batch(
     session: Any,
     jobs: Sequence[Mapping[str, Any]],
@@ -133,18 +143,65 @@ def run_batch(
 
     Each job is the keyword arguments of ``RunSession.run`` (``controller``, ``settings``,
     ``paths``, ``options``, ...): its own inputs, parameters, actuator settings and start
-    (``options.drop``). The runs go on in parallel threads: the C loop releases the GIL, and
-    with the state machine in C a run enters Python only to start, to grow its recording and
-    every 20000 steps, so N runs on k cores take about N/k times one run. Returns the ``Run``
-    of each job, in order. (The copies are separate simulations, each with its own arrays: an
-    array-of-structures batch, not one structure of arrays.)
+    (``options.drop``). Returns the ``Run`` of each job, in order; ``iter_batch`` gives them
+    as they finish.
     """
-    from concurrent.futures import ThreadPoolExecutor
+    done = dict(iter_batch(session, jobs, threads))
+    return [done[i] for i in range(len(jobs))]
 
-    workers = threads or os.cpu_count() or 1
+
+# While a batch runs, a thread whose C loop returns gets the GIL back within this many seconds
+# (Python's default, 5 ms, left one thread's C waiting on the other's Python: 1.5 times one
+# thread's throughput on two, instead of 1.8 or more; docs/benchmarks.md).
+BATCH_SWITCH_INTERVAL = 0.0002
+_SWITCH_INTERVAL = [0.005]  # the interval before the batches under way began
+
+
+def iter_batch(
+    session: Any,
+    jobs: Sequence[Mapping[str, Any]],
+    threads: int | None = None,
+) -> Iterator[tuple[int, Any]]:
+    """``run_batch``'s runs as they finish: (the job's index, its ``Run``).
+
+    The runs go on in ``threads`` parallel threads (default: one per core): the C loop
+    releases the GIL, and with the state machine in C a run enters Python only to start, to
+    grow its recording and every 20000 steps, so N runs on k cores take about N/k times one
+    run. (The copies are separate simulations, each with its own arrays: an
+    array-of-structures batch.) Within a batch the sources and library found fresh for the
+    first run are not looked at again. A run that raises stops the batch: the runs not yet
+    started are cancelled, and the error is raised here. Without the C backend
+    (``batches_in_c``) the runs go one after another in this thread (threads would only take
+    turns at the GIL).
+    """
+    from concurrent.futures import ThreadPoolExecutor, as_completed
+
+    in_c = batches_in_c()
+    for name in dict.fromkeys(j.get("controller") for j in jobs):
+        if name is not None:
+            session.control(name)  # compiled and loaded here, not by two threads at once
+    workers = (threads or os.cpu_count() or 1) if in_c else 1
     _BATCH[0] += 1
+    if workers == 1:
+        try:
+            for i, job in enumerate(jobs):
+                yield i, session.run(**{**({"backend": "c"} if in_c else {}), **job})
+        finally:
+            _BATCH[0] -= 1
+        return
+    if _BATCH[0] == 1:  # the first batch under way sets it, the last one puts it back
+        _SWITCH_INTERVAL[0] = sys.getswitchinterval()
+        sys.setswitchinterval(min(_SWITCH_INTERVAL[0], BATCH_SWITCH_INTERVAL))
+    pool = ThreadPoolExecutor(max_workers=workers)
     try:
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            return list(pool.map(lambda job: session.run(**{"backend": "c", **job}), jobs))
+        futures = {
+            pool.submit(lambda job: session.run(**{"backend": "c", **job}), job): i
+            for i, job in enumerate(jobs)
+        }
+        for future in as_completed(futures):
+            yield futures[future], future.result()
     finally:
+        pool.shutdown(wait=True, cancel_futures=True)
         _BATCH[0] -= 1
+        if _BATCH[0] == 0:
+            sys.setswitchinterval(_SWITCH_INTERVAL[0])
