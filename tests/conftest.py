@@ -3,6 +3,7 @@ from __future__ import annotations
 import functools
 import shutil
 import types
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,6 +17,24 @@ ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
 GENERATED = ROOT / "generated"
 SHIPPED = ("kangaroo", "biped", "quadruped", "hopper")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """One cache of compiled C libraries for the session, shared by its xdist workers (their
+    base directories are siblings) and the ``legdsl`` processes tests start: each creature's
+    library is built once, and never into the user's own cache."""
+    import os
+
+    base = tmp_path_factory.getbasetemp()
+    shared = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    before = os.environ.get("LEGDSL_CACHE")
+    os.environ["LEGDSL_CACHE"] = str(shared / "c-cache")
+    yield
+    if before is None:
+        del os.environ["LEGDSL_CACHE"]
+    else:
+        os.environ["LEGDSL_CACHE"] = before
 
 
 @pytest.fixture(scope="module")

@@ -61,11 +61,6 @@ SHIPPED_RUNS = _every_controller()
 DURATION = 1.0
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path_factory.getbasetemp() / "c-cache"))
-
-
 def session(name: str) -> RunSession:
     return RunSession.from_file(CREATURES / f"{name}.leg", generated=GENERATED)
 

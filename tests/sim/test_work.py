@@ -96,10 +96,7 @@ def test_an_undamped_leg_spring_gives_back_what_it_stored(generated: Path) -> No
 
 
 @pytest.mark.skipif(available() is not None, reason=f"needs a C compiler: {available()}")
-def test_both_backends_record_the_same_work(
-    tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path_factory.getbasetemp() / "c-cache"))
+def test_both_backends_record_the_same_work() -> None:
     sess = RunSession.from_file(CREATURES / "kangaroo.leg", generated=GENERATED)
     for integrator in ("euler", "rk4"):
         opts = RunOptions(duration=0.6, integrator=integrator)
