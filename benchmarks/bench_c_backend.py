@@ -267,7 +267,7 @@ def main() -> None:
     lines += [
         "",
         "Batched (`legdsl.pipeline.backend.run_batch`): N kangaroo hop runs of 0.5 s, each with its own "
-        "commanded speed, in 1 or 2 threads (Python's switch interval 0.2 ms during a batch); "
+        "commanded speed, in 1 or 2 threads; "
         f"creature-steps per second per thread (the best of {REPEAT} tries up to N = 256), including each "
         f"run's setup and result in Python ({overhead:.2f} ms a run, measured on runs of one step). "
         "The machine's 2 cores were shared with other jobs while this ran "

@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 import pytest
-from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
+from conftest import CREATURES, GENERATED, SHIPPED, shipped_dynamics, shipped_model
 
 from legdsl.cli import main
 from legdsl.lang import ast
@@ -168,3 +168,31 @@ def test_generated_module_api(name: str) -> None:
     text = (GENERATED / name / "dynamics.py").read_text(encoding="utf-8")
     imports = [line for line in text.splitlines() if line.startswith(("import ", "from "))]
     assert imports == ["import math"]  # plain floats and math only
+
+
+def test_controllers_lowered_in_other_processes_are_those_lowered_here(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A creature with several controllers has them lowered in a pool of processes while its
+    dynamics are lowered here; the files and the lowered controllers are the same as when
+    everything is done in this process (LEGDSL_COMPILE_JOBS=1)."""
+    from legdsl.pipeline.compile import _controller_pool
+
+    text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
+    path = tmp_path / "hopper.leg"  # the hop twice more, with other gains
+    path.write_text(
+        text + "\ncontroller slow extends hop { input speed = 0.5 m/s }\n"
+        "controller stiff extends hop { param kp = 200 N*m/rad }\n",
+        encoding="utf-8",
+    )
+    monkeypatch.setenv("LEGDSL_COMPILE_JOBS", "2")
+    assert _controller_pool(3) is not None
+    pooled = compile_model(path)
+    monkeypatch.setenv("LEGDSL_COMPILE_JOBS", "1")
+    assert _controller_pool(3) is None
+    here = compile_model(path)
+    assert [name for name, _ in pooled.files] == [name for name, _ in here.files]
+    assert pooled.files == here.files
+    assert len(pooled.lowered) == 3
+    for a, b in zip(pooled.lowered, here.lowered, strict=True):
+        assert a == b

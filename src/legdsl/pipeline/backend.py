@@ -9,7 +9,6 @@ readable reference the C is checked against, bit for bit.
 from __future__ import annotations
 
 import os
-import sys
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
@@ -150,13 +149,6 @@ def run_batch(
     return [done[i] for i in range(len(jobs))]
 
 
-# While a batch runs, a thread whose C loop returns gets the GIL back within this many seconds
-# (Python's default, 5 ms, left one thread's C waiting on the other's Python: 1.5 times one
-# thread's throughput on two, instead of 1.8 or more; docs/benchmarks.md).
-BATCH_SWITCH_INTERVAL = 0.0002
-_SWITCH_INTERVAL = [0.005]  # the interval before the batches under way began
-
-
 def iter_batch(
     session: Any,
     jobs: Sequence[Mapping[str, Any]],
@@ -189,9 +181,6 @@ def iter_batch(
         finally:
             _BATCH[0] -= 1
         return
-    if _BATCH[0] == 1:  # the first batch under way sets it, the last one puts it back
-        _SWITCH_INTERVAL[0] = sys.getswitchinterval()
-        sys.setswitchinterval(min(_SWITCH_INTERVAL[0], BATCH_SWITCH_INTERVAL))
     pool = ThreadPoolExecutor(max_workers=workers)
     try:
         futures = {
@@ -203,5 +192,3 @@ def iter_batch(
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         _BATCH[0] -= 1
-        if _BATCH[0] == 0:
-            sys.setswitchinterval(_SWITCH_INTERVAL[0])

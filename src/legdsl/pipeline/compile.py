@@ -9,10 +9,17 @@ modules are stale). Writing ``generated/NAME/`` is ``legdsl.pipeline.generated``
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import pickle
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+
+from sympy.core.parameters import evaluate
 
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.c.control import render_control_c
@@ -92,33 +99,45 @@ def compile_checked(
     progress: Progress | None = None,
     timings: tuple[tuple[str, float], ...] = (),
 ) -> Compiled:
-    """Lower and print a model already checked from ``syntax`` (the stages after the checker)."""
+    """Lower and print a model already checked from ``syntax`` (the stages after the checker).
+
+    A creature's controllers are lowered and printed in other processes while this one
+    lowers its dynamics (``compile_jobs``): they depend on the model alone."""
     say = progress or (lambda _: None)
-    say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
-    start = time.perf_counter()
-    system = lower(model)
-    lowered = time.perf_counter() - start
-    say(f"{model.name}: lowered in {lowered:.2f} s; printing")
-    start = time.perf_counter()
     source = source_label(model.source)
-    files: tuple[tuple[str, str], ...] = (
-        ("__init__.py", render_init(model)),
-        ("dynamics.py", render_dynamics(system, source)),
-        ("dynamics.c", render_source(system, source)),
-        ("dynamics.h", render_header(system, source)),
+    pool = _controller_pool(len(model.controllers))
+    pending = (
+        [pool.submit(controller_files, model, c, source) for c in model.controllers] if pool else []
     )
-    controllers: tuple[LoweredController, ...] = ()
-    for controller in model.controllers:
-        say(f"{model.name}: lowering controller {controller.name}")
-        lowered_controller = lower_controller(model, controller)
-        controllers += (lowered_controller,)
-        events = {state.name: state.event_text for state in controller.states}
-        stamp = controller_fingerprint(model, controller)
-        programs = control_programs(lowered_controller, events)  # both targets print these
-        text = render_control(lowered_controller, source, events, stamp, programs)
-        files += ((f"control_{controller.name}.py", text),)
-        c_text = render_control_c(model, lowered_controller, source, events, stamp, programs)
-        files += ((f"control_{controller.name}.c", c_text),)
+    try:
+        say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
+        start = time.perf_counter()
+        system = lower(model)
+        lowered = time.perf_counter() - start
+        say(f"{model.name}: lowered in {lowered:.2f} s; printing")
+        start = time.perf_counter()
+        files: tuple[tuple[str, str], ...] = (
+            ("__init__.py", render_init(model)),
+            ("dynamics.py", render_dynamics(system, source)),
+            ("dynamics.c", render_source(system, source)),
+            ("dynamics.h", render_header(system, source)),
+        )
+        controllers: tuple[LoweredController, ...] = ()
+        for k, controller in enumerate(model.controllers):
+            say(f"{model.name}: lowering controller {controller.name}")
+            if pool:
+                with evaluate(False):  # rebuilt as printed: evaluating them again is seconds
+                    lowered_controller, text, c_text = pickle.loads(pending[k].result())
+            else:
+                lowered_controller, text, c_text = _controller_files(model, controller, source)
+            controllers += (lowered_controller,)
+            files += (
+                (f"control_{controller.name}.py", text),
+                (f"control_{controller.name}.c", c_text),
+            )
+    finally:
+        if pool:
+            pool.shutdown(cancel_futures=True)
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")
@@ -131,3 +150,41 @@ def compile_checked(
         files=files,
         timings=(*timings, ("lower", lowered), ("print", printed)),
     )
+
+
+def compile_jobs() -> int:
+    """Processes that lower controllers beside the dynamics: ``$LEGDSL_COMPILE_JOBS`` if set,
+    else one per core (1: all in this process)."""
+    asked = os.environ.get("LEGDSL_COMPILE_JOBS", "")
+    return int(asked) if asked.isdigit() and int(asked) > 0 else (os.cpu_count() or 1)
+
+
+def _controller_pool(controllers: int) -> ProcessPoolExecutor | None:
+    """A pool for the controllers when there are two or more and more than one core. Forked
+    (no import of sympy again) where this process has one thread; spawned where it has more
+    (a Dask worker compiling a stale creature), as forking a threaded process may deadlock."""
+    jobs = min(compile_jobs(), controllers)
+    if controllers < 2 or jobs < 2:
+        return None
+    how = "fork" if threading.active_count() == 1 and os.name == "posix" else "spawn"
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context(how))
+
+
+def _controller_files(
+    model: Model, controller: Controller, source: str
+) -> tuple[LoweredController, str, str]:
+    """One controller lowered, and its Python and C modules."""
+    lowered = lower_controller(model, controller)
+    events = {state.name: state.event_text for state in controller.states}
+    stamp = controller_fingerprint(model, controller)
+    programs = control_programs(lowered, events)  # both targets print these
+    return (
+        lowered,
+        render_control(lowered, source, events, stamp, programs),
+        render_control_c(model, lowered, source, events, stamp, programs),
+    )
+
+
+def controller_files(model: Model, controller: Controller, source: str) -> bytes:
+    """``_controller_files`` in a pool's process, pickled here (see ``compile_checked``)."""
+    return pickle.dumps(_controller_files(model, controller, source))
