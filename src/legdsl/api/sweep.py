@@ -170,6 +170,9 @@ def _run_args(job: Job) -> dict[str, Any]:
     return {"controller": job.controller, "set": settings, "time": job.duration}
 
 
+BATCH_RUNS = 8  # runs in one batch at most
+
+
 def run_jobs(jobs: Sequence[Job], pool: Workers) -> Iterator[dict[str, Any]]:
     """The row of each job, as each finishes: the jobs go to the pool's processes (or Dask
     workers) in small batches of one creature, each run there through the C backend's
@@ -184,9 +187,6 @@ def run_jobs(jobs: Sequence[Job], pool: Workers) -> Iterator[dict[str, Any]]:
                for k in range(0, len(group), size)]  # fmt: skip
     for rows in pool.as_completed(run_batch_of_jobs, batches):
         yield from rows
-
-
-BATCH_RUNS = 8  # runs in one batch at most
 
 
 def run_batch_of_jobs(jobs: Sequence[Job]) -> list[dict[str, Any]]:
