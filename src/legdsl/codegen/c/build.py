@@ -1,8 +1,9 @@
 """Build the C of a creature into a shared library, cached, and say where it is.
 
 The library of a creature is its ``generated/NAME/dynamics.c`` and ``dynamics.h`` compiled
-(each translation unit in a compiler process of its own, at once, then linked) with the runtime in ``runtime/`` (``step.c``: actuators, ground, integrators, the run
-loop; ``legdsl_math.h``) by the system C compiler, found at run time: ``$LEGDSL_CC`` if set,
+with the runtime in ``runtime/`` (``step.c``: actuators, ground, integrators, the run loop;
+``legdsl_math.h``), each translation unit in a compiler process of its own, all at once,
+then linked, by the system C compiler, found at run time: ``$LEGDSL_CC`` if set,
 else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
 
 Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize -fPIC -shared``.
