@@ -12,6 +12,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import pickle
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -166,7 +167,8 @@ def _controller_pool(controllers: int) -> ProcessPoolExecutor | None:
     jobs = min(compile_jobs(), controllers)
     if controllers < 2 or jobs < 2:
         return None
-    how = "fork" if threading.active_count() == 1 and os.name == "posix" else "spawn"
+    # (macOS forks unsafely under its system frameworks: Python spawns there by default too)
+    how = "fork" if threading.active_count() == 1 and sys.platform.startswith("linux") else "spawn"
     return ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context(how))
 
 
