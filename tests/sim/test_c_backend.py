@@ -207,6 +207,22 @@ def test_the_library_is_cached_and_rebuilt_when_its_source_changes(tmp_path: Pat
     assert not other.cached and other.path != first.path
 
 
+def test_a_unit_that_does_not_compile_fails_the_build_and_leaves_no_library(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The units compile at once: one that fails is reported with the compiler's words, after
+    the others are waited for, and nothing is left in the cache."""
+    from legdsl.codegen.c.build import BuildFailed, build, sources
+
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    files = sources(GENERATED / "hopper")
+    broken = dict(files, **{"machine.c": files["machine.c"] + "\nthis is not C;\n"})
+    with pytest.raises(BuildFailed, match="failed on the C of hopper .*machine.c"):
+        build("hopper", broken)
+    assert list((tmp_path / "cache").iterdir()) == []  # no library, no leftover sources
+    assert not build("hopper", files).cached  # and the good sources still build
+
+
 def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
     """Two processes building the same library into an empty cache: both end with a whole one."""
     env = dict(os.environ, LEGDSL_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT / "src"))

@@ -153,8 +153,8 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
             source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
             command = [compiler.path, *compile_flags, "-I", work, "-c", "-o", obj, source]
             started.append((command, subprocess.Popen(command, stderr=subprocess.PIPE, text=True)))
-        for command, process in started:  # every one waited for, failed or not
-            _, err = process.communicate()
+        errors = [process.communicate()[1] for _, process in started]  # all, failed or not
+        for (command, process), err in zip(started, errors, strict=True):
             _check(process.returncode, command, err, name, compiler)
         objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
         command = [compiler.path, *FLAGS, "-o", str(partial), *objects, *LIBS]
