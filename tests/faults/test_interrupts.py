@@ -33,10 +33,29 @@ def _start(generated: Path, out: Path) -> subprocess.Popen[str]:
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
 
 
+def _cpu_seconds(pid: int) -> float | None:
+    """The processor time a process has used so far (Linux's /proc), or None elsewhere."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return (int(stat[11]) + int(stat[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def _wait_and_send(
     proc: subprocess.Popen[str], signals: list[int], after: float, gap: float = 0.05
 ) -> str:
-    time.sleep(after)  # some simulated seconds (the hopper runs faster than real time)
+    # some simulated seconds (the hopper runs faster than real time): `after` seconds of the
+    # run's own processor time where it can be read, so that a machine busy with other tests
+    # (the run starting slowly) cannot make the signal come before the first sample
+    deadline = time.monotonic() + 120
+    while proc.poll() is None and (_cpu_seconds(proc.pid) or 0.0) < after:
+        if time.monotonic() > deadline:
+            break
+        if _cpu_seconds(proc.pid) is None:
+            time.sleep(after)
+            break
+        time.sleep(0.05)
     assert proc.poll() is None, proc.communicate()
     for sig in signals:
         proc.send_signal(sig)
