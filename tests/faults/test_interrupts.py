@@ -49,11 +49,12 @@ def _wait_and_send(
     # run's own processor time where it can be read, so that a machine busy with other tests
     # (the run starting slowly) cannot make the signal come before the first sample
     deadline = time.monotonic() + 120
-    while proc.poll() is None and (_cpu_seconds(proc.pid) or 0.0) < after:
-        if time.monotonic() > deadline:
-            break
-        if _cpu_seconds(proc.pid) is None:
+    while proc.poll() is None and time.monotonic() < deadline:
+        used = _cpu_seconds(proc.pid)
+        if used is None:
             time.sleep(after)
+            break
+        if used >= after:
             break
         time.sleep(0.05)
     assert proc.poll() is None, proc.communicate()

@@ -124,9 +124,9 @@ def _fresh_sources(
     return folder
 
 
-def batches_in_c(backend: str | None = None) -> bool:
-    """Whether runs on ``backend`` (None: ``chosen``) go through the C backend's batches."""
-    if chosen(backend) == "python":
+def batches_in_c() -> bool:
+    """Whether the runs of a batch go on the C backend (``chosen``, and a compiler found)."""
+    if chosen(None) == "python":
         return False
     from legdsl.sim.c_backend import available
 
@@ -168,27 +168,23 @@ def iter_batch(
     """
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
-    in_c = batches_in_c()
     for name in dict.fromkeys(j.get("controller") for j in jobs):
         if name is not None:
             session.control(name)  # compiled and loaded here, not by two threads at once
-    workers = (threads or os.cpu_count() or 1) if in_c else 1
+    workers = (threads or os.cpu_count() or 1) if batches_in_c() else 1
     _BATCH[0] += 1
-    if workers == 1:
-        try:
-            for i, job in enumerate(jobs):
-                yield i, session.run(**{**({"backend": "c"} if in_c else {}), **job})
-        finally:
-            _BATCH[0] -= 1
-        return
-    pool = ThreadPoolExecutor(max_workers=workers)
     try:
-        futures = {
-            pool.submit(lambda job: session.run(**{"backend": "c", **job}), job): i
-            for i, job in enumerate(jobs)
-        }
-        for future in as_completed(futures):
-            yield futures[future], future.result()
+        if workers == 1:
+            for i, job in enumerate(jobs):
+                yield i, session.run(**job)
+            return
+        pool = ThreadPoolExecutor(max_workers=workers)
+        try:
+            futures = {pool.submit(lambda job: session.run(**job), job): i
+                       for i, job in enumerate(jobs)}  # fmt: skip
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:  # a run that raised, or a caller that stopped: start no more
+            pool.shutdown(wait=True, cancel_futures=True)
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
         _BATCH[0] -= 1

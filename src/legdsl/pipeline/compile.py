@@ -108,7 +108,9 @@ def compile_checked(
     source = source_label(model.source)
     pool = _controller_pool(len(model.controllers))
     pending = (
-        [pool.submit(controller_files, model, c, source) for c in model.controllers] if pool else []
+        [pool.submit(_pickled_controller_files, model, c, source) for c in model.controllers]
+        if pool
+        else []
     )
     try:
         say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
@@ -187,6 +189,6 @@ def _controller_files(
     )
 
 
-def controller_files(model: Model, controller: Controller, source: str) -> bytes:
+def _pickled_controller_files(model: Model, controller: Controller, source: str) -> bytes:
     """``_controller_files`` in a pool's process, pickled here (see ``compile_checked``)."""
     return pickle.dumps(_controller_files(model, controller, source))
