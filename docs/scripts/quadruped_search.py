@@ -4,6 +4,8 @@
     nice python docs/scripts/quadruped_search.py --search speed --generations 25 --seed 1
     nice python docs/scripts/quadruped_search.py --search pace --generations 20 --seed 1
     nice python docs/scripts/quadruped_search.py --search bound --generations 30 --seed 1
+    nice python docs/scripts/quadruped_search.py --search gallop --generations 60 --popsize 16 \
+        --start-from bound --jobs 2
 
 CMA-ES (pycma) through the Python API over a search's gains (SEARCHES, bounds in SI units),
 each scaled to [0, 1] within its bounds, starting from the file's values (or ``--start
@@ -29,6 +31,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
+import tempfile
 import time
 from pathlib import Path
 
@@ -66,6 +70,18 @@ SEARCHES: dict[str, tuple[str, Space]] = {
         "kp_roll": (100, 500, "N*m/rad"), "kv_roll": (5, 50, "N*m*s/rad"),
         "accel": (0.8, 2, "m/s^2"),
     }),
+    "gallop": ("gallop", {
+        "kv_rate": (5, 40, "N*m*s/rad"), "omega_f": (0.5, 5, "rad/s"),
+        "omega_r": (0.5, 5, "rad/s"), "k_center": (0, 8, "s^-1"), "k_pitch_i": (0, 3, "s^-1"),
+        "k_pitch_thrust": (0, 0.2, "m/rad"), "idle_delay": (0, 0.12, "s"),
+        "k_speed": (0.005, 0.2, "s"), "k_trim": (0, 0.8, ""), "stroke": (0.005, 0.05, "m"),
+        "k_height": (0, 0.5, ""), "stroke_max": (0.02, 0.1, "m"), "stand": (-0.06, 0, "m"),
+        "leg_k": (3000, 12000, "N/m"), "leg_b": (30, 120, "N*s/m"),
+        "kp_roll": (100, 600, "N*m/rad"), "kv_roll": (5, 60, "N*m*s/rad"),
+        "accel": (0.5, 2, "m/s^2"), "stagger": (0, 0.04, "m"), "stance_lead": (-0.04, 0.01, "m"),
+        "kp_yaw": (2, 60, "N*m/rad"), "kv_yaw": (1, 30, "N*m*s/rad"),
+        "lift_slew": (1, 10, "m/s"), "height": (0.6, 0.75, "m"),
+    }),
     "pace": ("pace", {
         "kp": (150, 600, "N*m/rad"), "kv": (10, 60, "N*m*s/rad"), "kp_roll": (100, 600, "N*m/rad"),
         "kv_roll": (5, 50, "N*m*s/rad"), "k_side_trim": (0, 0.5, ""), "leg_k": (3000, 9000, "N/m"),
@@ -80,6 +96,57 @@ def fell(run: legdsl.Run, duration: float) -> float | None:
     return 10 + (duration - float(run.info.get("sim_time", 0.0))) / duration
 
 
+PACE_PAIRS = ((0, 2), (1, 3))  # the lateral pairs, as columns of trajectory.contact
+BOUND_PAIRS = ((0, 1), (2, 3))  # the front and the rear pair
+
+
+def unison(run: legdsl.Run, pairs: tuple[tuple[int, int], ...], start: float = 3.0) -> float:
+    """The share of a pair's stances from ``start`` whose members land within 10 ms."""
+    tr = run.trajectory
+    down, keep = tr.contact != 0, tr.t >= start
+    spreads = []
+    for a, b in pairs:
+        either = np.r_[0, (down[:, a] | down[:, b]).astype(np.int8), 0]
+        edges = np.flatnonzero(np.diff(either))
+        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
+            firsts = [lo + np.argmax(down[lo:hi, c]) for c in (a, b) if down[lo:hi, c].any()]
+            if keep[lo] and hi < len(tr.t) and len(firsts) == 2:
+                spreads.append(abs(tr.t[firsts[0]] - tr.t[firsts[1]]))
+    return float(np.mean(np.array(spreads) <= 0.0101)) if spreads else 0.0
+
+
+def staggered(run: legdsl.Run, pairs: tuple[tuple[int, int], ...], start: float = 3.0) -> float:
+    """The share of a pair's stances from ``start`` that go single, double, then single
+    support (one member down alone, then both, then the other alone)."""
+    tr = run.trajectory
+    down, keep = tr.contact != 0, tr.t >= start
+    total = sds = 0
+    for a, b in pairs:
+        either = np.r_[0, (down[:, a] | down[:, b]).astype(np.int8), 0]
+        edges = np.flatnonzero(np.diff(either))
+        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
+            if not keep[lo] or hi >= len(tr.t):
+                continue
+            pattern = down[lo:hi, a].astype(int) + 2 * down[lo:hi, b].astype(int)
+            phases = [int(p) for k, p in enumerate(pattern) if k == 0 or p != pattern[k - 1]]
+            total += 1
+            sds += phases in ([1, 3, 2], [2, 3, 1])
+    return sds / total if total else 0.0
+
+
+Trial = tuple[float, str, float, float]  # (weight, path or "", speed, seconds)
+PATH_TRIALS = {"circle": CIRCLE, "square": SQUARE}
+TRIALS: dict[str, list[Trial]] = {
+    "turning": [(2, CIRCLE, PATH_SPEED, 30), (0.5, SQUARE, PATH_SPEED, 30),
+                (1, "", 2.3, 20), (1, "", 2.6, 20), (1, "", 1.0, 10)],
+    "speed": [(2, "", 3.0, 20), (1, "", 2.6, 20), (1, "", 2.3, 20), (1, "", 1.0, 10),
+              (0.5, CIRCLE, PATH_SPEED, 30)],
+    "bound": [(w, "", v, 20) for v, w in ((2.0, 1), (2.4, 1), (2.8, 2), (3.2, 1), (3.5, 1))],
+    "gallop": [(w, "", v, 20) for v, w in ((3.0, 1), (3.5, 0.5), (4.0, 1), (4.5, 1), (5.0, 1))],
+    "pace": [(1, "", v, 20) for v in (1.0, 1.5, 2.0)],
+}  # fmt: skip
+
+
 class Search:
     """A search's controller and gains, and its runs through the API."""
 
@@ -91,38 +158,50 @@ class Search:
         units = {n: unit for n, (_, _, unit) in self.space.items()}
         return {"speed": f"{speed} m/s"} | {n: f"{v} {units[n]}".strip() for n, v in values.items()}
 
-    def on_path(self, values: dict[str, float], path: str) -> float:
-        sets = self.settings(values, PATH_SPEED)
-        run = self.creature.run(controller=self.controller, set=sets, time=30.0, path=path)
-        penalty = fell(run, 30.0)
-        if penalty is not None:
-            return penalty
-        report = run.info["path_reports"][0]
-        return float(report["lateral_rms"] + abs(report["path_speed"] - PATH_SPEED) / PATH_SPEED)
-
-    def straight(self, values: dict[str, float], speed: float, t: float) -> float:
+    def score(self, values: dict[str, float], trial: Trial) -> float:
+        """A run's score: a path run its lateral deviation (RMS, from 3 s) plus its relative
+        speed error along the path; a straight one its relative speed error from 3 s; a
+        fall 10 and more."""
+        _, path, speed, t = trial
         sets = self.settings(values, speed)
-        run = self.creature.run(controller=self.controller, set=sets, time=t)
+        run = self.creature.run(controller=self.controller, set=sets, time=t, path=path or None)
         penalty = fell(run, t)
         if penalty is not None:
             return penalty
+        if path:
+            report = run.info["path_reports"][0]
+            return float(report["lateral_rms"] + abs(report["path_speed"] - speed) / speed)
         times, x = run.samples["t"], run.samples["q.x"]
         i = int(np.searchsorted(times, 3.0))
-        return float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
+        error = float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
+        if self.name == "pace":  # and the pairs must land together (95% within 10 ms)
+            error += 2 * max(0.0, 0.97 - unison(run, PACE_PAIRS))
+        if self.name == "gallop":  # and the pairs must not: single, double, single support
+            error += 2 * max(0.0, 0.6 - staggered(run, BOUND_PAIRS))
+        return error
 
-    def objective(self, v: dict[str, float]) -> float:
-        if self.name == "turning":
-            return (2 * self.on_path(v, CIRCLE) + 0.5 * self.on_path(v, SQUARE)
-                    + self.straight(v, 2.3, 20.0) + self.straight(v, 2.6, 20.0)
-                    + self.straight(v, 1.0, 10.0))  # fmt: skip
-        if self.name == "speed":
-            return (2 * self.straight(v, 3.0, 20.0) + self.straight(v, 2.6, 20.0)
-                    + self.straight(v, 2.3, 20.0) + self.straight(v, 1.0, 10.0)
-                    + 0.5 * self.on_path(v, CIRCLE))  # fmt: skip
-        if self.name == "bound":
-            return sum(w * self.straight(v, speed, 20.0)
-                       for speed, w in ((2.0, 1), (2.4, 1), (2.8, 2), (3.2, 1), (3.5, 1)))  # fmt: skip
-        return sum(self.straight(v, speed, 20.0) for speed in (1.0, 1.5, 2.0))
+    def objectives(self, candidates: list[dict[str, float]], jobs: int) -> list[float]:
+        """Each candidate's weighted sum of its trials' scores, the runs in ``jobs`` processes."""
+        trials = TRIALS[self.name]
+        tasks = [(v, trial) for v in candidates for trial in trials]
+        if jobs > 1:
+            _FORKED[0] = self  # the forked workers find the search here (it does not pickle)
+            with multiprocessing.get_context("fork").Pool(jobs) as pool:
+                scores = pool.starmap(_forked_score, tasks, chunksize=1)
+        else:
+            scores = [self.score(v, trial) for v, trial in tasks]
+        n = len(trials)
+        return [sum(trial[0] * scores[k * n + j] for j, trial in enumerate(trials))
+                for k in range(len(candidates))]  # fmt: skip
+
+
+_FORKED: list[Search | None] = [None]
+
+
+def _forked_score(values: dict[str, float], trial: Trial) -> float:
+    search = _FORKED[0]
+    assert search is not None
+    return search.score(values, trial)
 
 
 def main() -> None:
@@ -134,32 +213,47 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--step", type=float, default=0.2, help="CMA-ES's first step in [0, 1]")
     parser.add_argument("--popsize", type=int, default=10)
+    parser.add_argument("--jobs", type=int, default=1, help="runs in this many processes")
+    parser.add_argument("--start-from", help="start from another controller's values")
     args = parser.parse_args()
-    creature = legdsl.load(args.file)
+    # its own generated code: a search never writes generated/ (nor reads a later compile's)
+    creature = legdsl.load(args.file, generated=tempfile.mkdtemp(prefix="quadruped-search-"))
     search = Search(creature, args.search)
-    own = creature.controllers[search.controller].params
+    own = (
+        creature.controllers[search.controller].params
+        | creature.controllers[search.controller].inputs
+    )
     start = (
         json.loads(Path(args.start).read_text())["values"]
         if args.start
         else {n: own[n].value for n in search.space}
     )
+    if args.start_from:
+        other = (
+            creature.controllers[args.start_from].params
+            | creature.controllers[args.start_from].inputs
+        )
+        start |= {n: other[n].value for n in search.space if n in other}
     bounds = {n: (lo, hi) for n, (lo, hi, _) in search.space.items()}
 
     def values(x: list[float]) -> dict[str, float]:
+        """The gains at ``x``, rounded to the three significant digits the file is written
+        with (so the values the search scores are the values shipped)."""
         return {
-            n: lo + min(max(xi, 0.0), 1.0) * (hi - lo)
+            n: float(f"{lo + min(max(xi, 0.0), 1.0) * (hi - lo):.3g}")
             for xi, (n, (lo, hi)) in zip(x, bounds.items(), strict=True)
         }
 
+    search.creature.run(controller=search.controller, time=0.01)  # built once, before a fork
     x0 = [min(max((start[n] - lo) / (hi - lo), 0.0), 1.0) for n, (lo, hi) in bounds.items()]
-    print(f"start: {search.objective(values(x0)):.3f}", flush=True)
+    print(f"start: {search.objectives([values(x0)], args.jobs)[0]:.3f}", flush=True)
     options = {"seed": args.seed, "popsize": args.popsize, "bounds": [0, 1], "verbose": -9}
     cmaes = cma.CMAEvolutionStrategy(x0, args.step, options)
     best: tuple[float, dict[str, float]] = (float("inf"), start)
     began = time.perf_counter()
     for generation in range(args.generations):
         xs = cmaes.ask()
-        scores = [search.objective(values(x)) for x in xs]
+        scores = search.objectives([values(x) for x in xs], args.jobs)
         cmaes.tell(xs, scores)
         i = int(np.argmin(scores))
         if scores[i] < best[0]:
