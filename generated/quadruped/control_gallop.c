@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "c78a5f36c4d1370c";
+const char legdsl_control_fingerprint[] = "0444e2b6b5e9ffbc";
 
 const int64_t leg_has_c_controller = 1;
 
