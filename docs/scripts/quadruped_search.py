@@ -141,7 +141,8 @@ TRIALS: dict[str, list[Trial]] = {
                 (1, "", 2.3, 20), (1, "", 2.6, 20), (1, "", 1.0, 10)],
     "speed": [(2, "", 3.0, 20), (1, "", 2.6, 20), (1, "", 2.3, 20), (1, "", 1.0, 10),
               (0.5, CIRCLE, PATH_SPEED, 30)],
-    "bound": [(w, "", v, 20) for v, w in ((2.0, 1), (2.4, 1), (2.8, 2), (3.2, 1), (3.5, 1))],
+    "bound": [(w, "", v, 20) for v, w in ((2.0, 1), (2.2, 1), (2.4, 1), (2.6, 1), (2.8, 2), (3.0, 1),
+                                          (3.2, 1), (3.5, 1))],
     "gallop": [(w, "", v, 20) for v, w in ((3.0, 1), (3.5, 0.5), (4.0, 1), (4.5, 1), (5.0, 1))],
     "pace": [(1, "", v, 20) for v in (1.0, 1.5, 2.0)],
 }  # fmt: skip
@@ -174,6 +175,8 @@ class Search:
         times, x = run.samples["t"], run.samples["q.x"]
         i = int(np.searchsorted(times, 3.0))
         error = float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
+        if self.name == "bound":  # every speed within 5%: an error past 3.5% costs five times
+            error += 5 * max(0.0, error - 0.035)
         if self.name == "pace":  # and the pairs must land together (95% within 10 ms)
             error += 2 * max(0.0, 0.97 - unison(run, PACE_PAIRS))
         if self.name == "gallop":  # and the pairs must not: single, double, single support

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "8945f0dac5f96868";
+const char legdsl_control_fingerprint[] = "2bb8574836604989";
 
 const int64_t leg_has_c_controller = 1;
 

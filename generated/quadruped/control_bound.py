@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "8945f0dac5f96868"
+FINGERPRINT = "2bb8574836604989"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -32,16 +32,16 @@ INPUTS = {
     "height": 0.64,
 }
 PARAMS = {
-    "k_speed": 0.0358,
-    "k_trim": 0.0331,
+    "k_speed": 0.0454,
+    "k_trim": 0.0571,
     "trim_band": 0.3,
     "k_side_trim": 0.3,
     "k_aim_rate": 1.0,
     "stance_guess": 0.15,
     "kp": 300.0,
     "kv": 30.0,
-    "kp_roll": 415.0,
-    "kv_roll": 8.57,
+    "kp_roll": 484.0,
+    "kv_roll": 15.1,
     "k_turn": 1.5,
     "yaw_lead": 0.2,
     "turn_most": 0.10471975511965978,
@@ -51,26 +51,26 @@ PARAMS = {
     "turn_limit": 0.3490658503988659,
     "swing_kp": 200.0,
     "swing_kv": 8.0,
-    "stroke": 0.0298,
-    "k_height": 0.00107,
+    "stroke": 0.0294,
+    "k_height": 0.00204,
     "k_height_trim": 0.03,
-    "stroke_max": 0.0687,
-    "stand": -0.0374,
+    "stroke_max": 0.0714,
+    "stand": -0.0382,
     "short": -0.14,
-    "accel": 1.11,
+    "accel": 1.14,
     "slew": 2.0,
     "full": 0.8,
     "settle": 0.02,
-    "leg_b": 71.8,
-    "leg_k": 4760.0,
-    "kv_rate": 29.9,
-    "omega_f": 3.78,
-    "omega_r": 3.66,
-    "k_center": 2.4,
-    "k_pitch_i": 2.65,
+    "leg_b": 68.6,
+    "leg_k": 4800.0,
+    "kv_rate": 27.8,
+    "omega_f": 3.62,
+    "omega_r": 4.0,
+    "k_center": 3.13,
+    "k_pitch_i": 2.4,
     "trim_most": 2.0,
-    "k_pitch_thrust": 0.0287,
-    "idle_delay": 0.0375,
+    "k_pitch_thrust": 0.0445,
+    "idle_delay": 0.034,
     "lift_slew": 5.0,
 }
 RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
