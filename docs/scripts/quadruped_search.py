@@ -1,17 +1,22 @@
-"""The searches that found the trot's, the pace's and the bound's own gains (quadruped.leg).
+"""The searches that found the trot's, the pace's, the bound's and the gallop's own gains.
 
     nice python docs/scripts/quadruped_search.py --search turning --generations 15 --seed 3
     nice python docs/scripts/quadruped_search.py --search speed --generations 25 --seed 1
     nice python docs/scripts/quadruped_search.py --search pace --generations 20 --seed 1
-    nice python docs/scripts/quadruped_search.py --search bound --generations 30 --seed 1
-    nice python docs/scripts/quadruped_search.py --search gallop --generations 60 --popsize 16 \
-        --start-from bound --jobs 2
+    nice python docs/scripts/quadruped_search.py --search bound --generations 60 --popsize 16 \
+        --step 0.05 --seed 7 --jobs 2
+    nice python docs/scripts/quadruped_search.py --search gallop --generations 100 --popsize 16 \
+        --start-from bound --step 0.15 --seed 3 --jobs 2
 
 CMA-ES (pycma) through the Python API over a search's gains (SEARCHES, bounds in SI units),
 each scaled to [0, 1] within its bounds, starting from the file's values (or ``--start
-FILE.json``, the JSON this prints at the end). A straight run scores its relative speed
-error from 3 s; a path run its lateral deviation (RMS, from 3 s) plus its relative speed
-error along the path; a run that falls at t of T scores 10 + (T - t) / T. The objectives:
+FILE.json``, the JSON this prints at the end; or ``--start-from`` another controller's),
+each candidate rounded to the three significant digits the file is written with before it
+runs, its runs in ``--jobs`` processes, on generated code of its own (a search never
+writes ``generated/``). A straight run scores its relative speed error from 3 s; a path run
+its lateral deviation (RMS, from 3 s) plus its relative speed error along the path; a run
+that falls at t of T scores 10 + (T - t) / T. The objectives (TRIALS: weight, path, speed,
+seconds):
 
 * ``turning`` (the trot): 2 x a 5 m circle + 0.5 x an 8 m square (30 s each at 1.5 m/s) +
   straight runs at 2.3, 2.6 (20 s) and 1 m/s (10 s). The shipped values were reached in
@@ -20,11 +25,15 @@ error along the path; a run that falls at t of T scores 10 + (T - t) / T. The ob
 * ``speed`` (the trot, on the turning values): 2 x straight at 3 m/s + 2.6 + 2.3 (20 s) +
   1 m/s (10 s) + 0.5 x the circle.
 * ``pace`` (on the trot's values, which it extends): straight runs of 20 s at 1, 1.5 and
-  2 m/s.
-* ``bound``: straight runs of 20 s at 2, 2.4, 2 x 2.8, 3.2 and 3.5 m/s. The shipped values
-  came from two searches: one with 2, 2 x 2.8 and 3.5 m/s only (30 generations of 12 from
-  the file's values), then this one from its best (``--start``, ``--step 0.1``, ``--seed
-  2``, 25 generations of 12), the speeds between added so that the gains hold there too.
+  2 m/s, each plus twice the shortfall below 0.97 of its lateral pairs' stances whose
+  members land within 10 ms.
+* ``bound``: straight runs of 20 s at 2 to 3.5 m/s (2.8 twice), each relative error past
+  3.5% counted six times. The shipped values: three searches, the last (the command above)
+  from the second's values.
+* ``gallop``: straight runs of 20 s at 3, 3.5 (half), 4, 4.5 and 5 m/s, each plus twice the
+  shortfall below 0.6 of its pairs' stances that go single, double, then single support.
+  The shipped values: the command above at 3 (twice), 3.5 and 4 m/s, then from its best
+  (``--start``, ``--step 0.08 --seed 6``, 50 generations) at the speeds listed.
 """
 
 from __future__ import annotations
@@ -83,9 +92,10 @@ SEARCHES: dict[str, tuple[str, Space]] = {
         "lift_slew": (1, 10, "m/s"), "height": (0.6, 0.75, "m"),
     }),
     "pace": ("pace", {
-        "kp": (150, 600, "N*m/rad"), "kv": (10, 60, "N*m*s/rad"), "kp_roll": (100, 600, "N*m/rad"),
-        "kv_roll": (5, 50, "N*m*s/rad"), "k_side_trim": (0, 0.5, ""), "leg_k": (3000, 9000, "N/m"),
-        "leg_b": (30, 120, "N*s/m"), "k_speed": (0.03, 0.2, "s"), "stroke": (0.005, 0.04, "m"),
+        "kp": (150, 1200, "N*m/rad"), "kv": (10, 100, "N*m*s/rad"),
+        "kp_roll": (100, 1000, "N*m/rad"), "kv_roll": (5, 100, "N*m*s/rad"),
+        "k_side_trim": (0, 1, ""), "leg_k": (3000, 9000, "N/m"), "leg_b": (30, 200, "N*s/m"),
+        "k_speed": (0.03, 0.2, "s"), "stroke": (0.005, 0.04, "m"),
     }),
 }  # fmt: skip
 

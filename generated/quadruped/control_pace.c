@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "17d62c9474abab7e";
+const char legdsl_control_fingerprint[] = "dae9e430cadf8cc5";
 
 const int64_t leg_has_c_controller = 1;
 

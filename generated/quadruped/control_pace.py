@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "pace"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "17d62c9474abab7e"
+FINGERPRINT = "dae9e430cadf8cc5"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -32,16 +32,16 @@ INPUTS = {
     "height": 0.64,
 }
 PARAMS = {
-    "k_speed": 0.0952,
+    "k_speed": 0.0886,
     "k_trim": 0.324,
     "trim_band": 0.3,
-    "k_side_trim": 0.39,
+    "k_side_trim": 0.808,
     "k_aim_rate": 0.515,
     "stance_guess": 0.15,
-    "kp": 488.0,
-    "kv": 46.8,
-    "kp_roll": 409.0,
-    "kv_roll": 39.4,
+    "kp": 931.0,
+    "kv": 67.2,
+    "kp_roll": 505.0,
+    "kv_roll": 83.7,
     "k_turn": 0.656,
     "yaw_lead": 0.418,
     "turn_most": 0.19198621771937624,
@@ -51,7 +51,7 @@ PARAMS = {
     "turn_limit": 0.18675022996339324,
     "swing_kp": 233.0,
     "swing_kv": 8.0,
-    "stroke": 0.00817,
+    "stroke": 0.00698,
     "k_height": 0.176,
     "k_height_trim": 0.0766,
     "stroke_max": 0.0776,
@@ -61,8 +61,8 @@ PARAMS = {
     "slew": 2.0,
     "full": 0.8,
     "settle": 0.02,
-    "leg_b": 120.0,
-    "leg_k": 4700.0,
+    "leg_b": 199.0,
+    "leg_k": 6510.0,
 }
 RECORDS = ('steps', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
