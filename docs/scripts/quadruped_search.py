@@ -49,6 +49,9 @@ import cma
 import numpy as np
 
 import legdsl
+from legdsl.analysis.pairs import UNISON, touchdown_spreads
+from legdsl.analysis.strides import EPS_T, Unit, runs, touching
+from legdsl.api import Quantity
 
 CIRCLE = "circle(center = (0, 5) m, radius = 5 m, turn = left)"
 SQUARE = "square(corner = (0, 0) m, side = 8 m, turn = left, lookahead = 2 m)"
@@ -111,31 +114,24 @@ BOUND_PAIRS = ((0, 1), (2, 3))  # the front and the rear pair
 
 
 def unison(run: legdsl.Run, pairs: tuple[tuple[int, int], ...], start: float = 3.0) -> float:
-    """The share of a pair's stances from ``start`` whose members land within 10 ms."""
+    """The share of a pair's stances from ``start`` whose members land within 10 ms (the
+    touchdown spread of ``legdsl metrics``)."""
     tr = run.trajectory
-    down, keep = tr.contact != 0, tr.t >= start
-    spreads = []
-    for a, b in pairs:
-        either = np.r_[0, (down[:, a] | down[:, b]).astype(np.int8), 0]
-        edges = np.flatnonzero(np.diff(either))
-        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
-            firsts = [lo + np.argmax(down[lo:hi, c]) for c in (a, b) if down[lo:hi, c].any()]
-            if keep[lo] and hi < len(tr.t) and len(firsts) == 2:
-                spreads.append(abs(tr.t[firsts[0]] - tr.t[firsts[1]]))
-    return float(np.mean(np.array(spreads) <= 0.0101)) if spreads else 0.0
+    spreads = [spread for a, b in pairs
+               for spread in touchdown_spreads(tr, _pair(a, b), start, float(tr.t[-1]))]  # fmt: skip
+    return float(np.mean(np.array(spreads) <= UNISON + EPS_T)) if spreads else 0.0
 
 
 def staggered(run: legdsl.Run, pairs: tuple[tuple[int, int], ...], start: float = 3.0) -> float:
     """The share of a pair's stances from ``start`` that go single, double, then single
     support (one member down alone, then both, then the other alone)."""
     tr = run.trajectory
-    down, keep = tr.contact != 0, tr.t >= start
+    down = tr.contact != 0
     total = sds = 0
     for a, b in pairs:
-        either = np.r_[0, (down[:, a] | down[:, b]).astype(np.int8), 0]
-        edges = np.flatnonzero(np.diff(either))
-        for lo, hi in zip(edges[::2], edges[1::2], strict=True):
-            if not keep[lo] or hi >= len(tr.t):
+        starts, stops = runs(touching(tr, (a, b)))
+        for lo, hi in zip(starts.tolist(), stops.tolist(), strict=True):
+            if tr.t[lo] < start:
                 continue
             pattern = down[lo:hi, a].astype(int) + 2 * down[lo:hi, b].astype(int)
             phases = [int(p) for k, p in enumerate(pattern) if k == 0 or p != pattern[k - 1]]
@@ -144,8 +140,12 @@ def staggered(run: legdsl.Run, pairs: tuple[tuple[int, int], ...], start: float 
     return sds / total if total else 0.0
 
 
+def _pair(a: int, b: int) -> Unit:
+    """Two feet (columns of trajectory.contact) as one virtual leg, for the analysis."""
+    return Unit(f"contacts {a} and {b}", "group", (a, b), ())
+
+
 Trial = tuple[float, str, float, float]  # (weight, path or "", speed, seconds)
-PATH_TRIALS = {"circle": CIRCLE, "square": SQUARE}
 TRIALS: dict[str, list[Trial]] = {
     "turning": [(2, CIRCLE, PATH_SPEED, 30), (0.5, SQUARE, PATH_SPEED, 30),
                 (1, "", 2.3, 20), (1, "", 2.6, 20), (1, "", 1.0, 10)],
@@ -217,6 +217,12 @@ def _forked_score(values: dict[str, float], trial: Trial) -> float:
     return search.score(values, trial)
 
 
+def gains(creature: legdsl.Creature, controller: str) -> dict[str, Quantity]:
+    """A controller's parameters and inputs, by name."""
+    found = creature.controllers[controller]
+    return found.params | found.inputs
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--search", choices=sorted(SEARCHES), required=True)
@@ -232,20 +238,14 @@ def main() -> None:
     # its own generated code: a search never writes generated/ (nor reads a later compile's)
     creature = legdsl.load(args.file, generated=tempfile.mkdtemp(prefix="quadruped-search-"))
     search = Search(creature, args.search)
-    own = (
-        creature.controllers[search.controller].params
-        | creature.controllers[search.controller].inputs
-    )
+    own = gains(creature, search.controller)
     start = (
         json.loads(Path(args.start).read_text())["values"]
         if args.start
         else {n: own[n].value for n in search.space}
     )
     if args.start_from:
-        other = (
-            creature.controllers[args.start_from].params
-            | creature.controllers[args.start_from].inputs
-        )
+        other = gains(creature, args.start_from)
         start |= {n: other[n].value for n in search.space if n in other}
     bounds = {n: (lo, hi) for n, (lo, hi, _) in search.space.items()}
 
