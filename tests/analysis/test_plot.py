@@ -84,4 +84,10 @@ def test_plot_writes_the_footfall_diagram_beside_figure_6(
     assert "footfall diagram" in capsys.readouterr().out
     other = tmp_path / "elsewhere" / "fig.png"
     assert main(["plot", str(run), "--output", str(other)]) == 0
-    assert (other.parent / "footfall.png").is_file()
+    assert (other.parent / "fig-footfall.png").is_file()
+    # a second run's pictures beside the first's overwrite none of them
+    second = other.with_name("second.png")
+    assert main(["plot", str(run), "--output", str(second), "--top"]) == 0
+    assert (other.parent / "second-footfall.png").is_file()
+    assert (other.parent / "second-top.png").is_file()
+    assert (other.parent / "fig-footfall.png").is_file()

@@ -169,11 +169,17 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     out = check_output_file(args.output or run / "figure6.png", "--output")
     plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
-    footfall = out.with_name("footfall.png") if args.output else run / "footfall.png"
+
+    # Beside --output the other pictures take its name (fig.png: fig-footfall.png), so that
+    # plotting several runs into one folder overwrites none of them.
+    def beside(kind: str) -> Path:
+        return out.with_name(f"{out.stem}-{kind}.png") if args.output else run / f"{kind}.png"
+
+    footfall = beside("footfall")
     plot_footfall(run, footfall, args.t_from, args.t_to)
     print(f"wrote {footfall} (footfall diagram)")
     if args.top or run_paths(run):
-        top = out.with_name("top.png") if args.output else run / "top.png"
+        top = beside("top")
         plot_top(run, top, args.t_from, args.t_to)
         print(f"wrote {top} (top view)")
     return 0
