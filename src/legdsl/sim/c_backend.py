@@ -162,7 +162,6 @@ class CSimulation(Simulation):
         self._array("leg_spring", mask if legs else [], np.int64)
         self._sync_controller()
         self._point_recording(loop)
-        self._array("scratch", [], size=9 * nc)
         c.kin_valid = 0
         self._array("kin", [], size=7 * nc)
         self._setup_machine()

@@ -63,7 +63,7 @@ class CLibrary:
         self.nq, self.nv, self.nb, self.nc = list(sizes)
         if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
             raise RuntimeError(f"the C library of {model.name} is of another model")
-        for name in ("leg_run", "leg_begin", "leg_contact_state"):
+        for name in ("leg_run", "leg_begin"):
             getattr(self.lib, name).restype = ctypes.c_int64
             getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
         # the controller's state machine runs in C (else the Python one, at each control instant)

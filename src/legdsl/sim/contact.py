@@ -137,6 +137,11 @@ class GroundContact:
         return -sd.k * err - sd.b * yaw_rate
 
     # ------------------------------------------------------------ events
+    def near(self, positions: list[Vec]) -> bool:
+        """Whether a foot touches, or is at or under the ground: whether ``update`` and the
+        forces will read any contact's velocity or yaw."""
+        return any(self.touching) or any(self.depth(p)[0] > 0.0 for p in positions)
+
     def update(
         self, t: float, positions: list[Vec], velocities: list[Vec], yaws: list[float] | None = None
     ) -> list[ContactEvent]:

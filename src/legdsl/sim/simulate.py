@@ -231,17 +231,26 @@ class Simulation:
         """Contact positions, velocities and body yaws (3D with torsion) at (q, v).
 
         Computed once per state: the values found at the end of a step serve the events
-        there and the forces at the start of the next step (the same q and v).
+        there and the forces at the start of the next step (the same q and v). While every
+        foot is in the air and above the ground, velocities and yaws serve no one (the
+        forces, slip and touchdowns read them only for a foot at or under the ground), so
+        they are zeros then, not computed: a third of a step's work in flight.
         """
         key = (tuple(q), tuple(v))
         cached = self._kinematics
         if cached is not None and cached[0] == key:
             return cached[1]
+        assert self.ground is not None
+        positions = self.dyn.contact_positions(q)
         yaws = None
-        if self._torsion:
-            poses = self.dyn.body_poses(q)
-            yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
-        found = (self.dyn.contact_positions(q), self.dyn.contact_velocities(q, v), yaws)
+        if not self.ground.near(positions):
+            n = len(positions)
+            found = (positions, [(0.0, 0.0, 0.0)] * n, [0.0] * n if self._torsion else None)
+        else:
+            if self._torsion:
+                poses = self.dyn.body_poses(q)
+                yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
+            found = (positions, self.dyn.contact_velocities(q, v), yaws)
         self._kinematics = (key, found)
         return found
 

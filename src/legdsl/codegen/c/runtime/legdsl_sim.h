@@ -38,7 +38,7 @@
     X(double *, rec_root_pos) X(double *, rec_root_rpy) X(double *, rec_leg_length) \
     X(double *, rec_leg_spring_energy) X(double *, rec_kinetic) X(double *, rec_potential) \
     X(double *, rec_elastic) X(int16_t *, rec_state) X(double *, rec_speed_command) \
-    X(int64_t, err) X(double *, scratch) \
+    X(int64_t, err) \
     X(int64_t, c_control) X(int64_t, ctl_started) X(int64_t, ctl_state) X(int64_t, ctl_binding) \
     X(double, ctl_entered_at) X(double *, ctl_records) X(double *, ctl_inputs) \
     X(double *, ctl_params) X(int64_t, sched_n) X(int64_t, sched_pos) X(double *, sched_t) \

@@ -275,9 +275,26 @@ static int ground_update(leg_sim *s, double t, const double *pos, const double *
     return 0;
 }
 
-/* Contact positions, velocities and (3D with torsion) body yaws (_contact_kinematics). */
+/* Whether a foot touches, or is at or under the ground (GroundContact.near). */
+static int near_ground(const leg_sim *s, const double *pos, int *err) {
+    double n[3];
+    for (int i = 0; i < NC; i++)
+        if (s->touching[i]) return 1;
+    for (int i = 0; i < NC; i++)
+        if (depth(s, pos + 3 * i, n, err) > 0.0) return 1;
+    return 0;
+}
+
+/* Contact positions, velocities and (3D with torsion) body yaws (_contact_kinematics); the
+ * velocities and yaws are zeros while every foot is in the air and above the ground. */
 static void contact_kinematics(const leg_sim *s, const double *q, const double *v, double *pos,
                                double *vel, double *yaws, int *err) {
+    contact_positions(q, pos, err);
+    if (!near_ground(s, pos, err)) {
+        for (int k = 0; k < 3 * NC; k++) vel[k] = 0.0;
+        for (int i = 0; i < NC; i++) yaws[i] = 0.0;
+        return;
+    }
     if (s->torsion) {
         double poses[NBP];
         body_poses(q, poses, err);
@@ -286,7 +303,6 @@ static void contact_kinematics(const leg_sim *s, const double *q, const double *
             yaws[i] = atan2(rot[3], rot[0]);
         }
     }
-    contact_positions(q, pos, err);
     contact_velocities(q, v, vel, err);
 }
 
@@ -688,13 +704,6 @@ int64_t leg_begin(leg_sim *s) {
     }
     s->err = e;
     return e ? LEG_RAISED : 0;
-}
-
-/* The positions, velocities and yaws of the contacts now, into s->scratch (for Python). */
-int64_t leg_contact_state(leg_sim *s) {
-    int e = 0;
-    contact_kinematics(s, s->q, s->v, s->scratch, s->scratch + 3 * NC, s->scratch + 6 * NC, &e);
-    return e;
 }
 
 /* Run from (s->steps, s->phase) until the run ends or Python is needed; see the enum above.
