@@ -112,3 +112,10 @@ def test_a_part_with_roles_and_a_table_calls_actions_each_controller_writes(
     assert repr(soft.states[0]) != repr(stiff.states[0])  # each with its own swing
     assert model.controller("other").state_names == ("ONLY",)
 
+
+def test_the_bipeds_gallops_share_their_table() -> None:
+    model = check_model(ROOT / "creatures" / "biped.leg")
+    gallop, human = model.controller("gallop"), model.controller("gallop_human")
+    assert gallop.state_names == human.state_names == ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")
+    assert [s.span for s in gallop.states] == [s.span for s in human.states]
+    assert {c.name for c in gallop.params} - {c.name for c in human.params} == {"stagger"}
