@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 
+from legdsl.check.templates import respan
 from legdsl.check.values import did_you_mean
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
@@ -65,7 +66,14 @@ def expand_includes(
     """The controller's items with each ``include`` replaced by the parts' items (a part's own
     includes expanded first), and the controller's own items of the same name and kind moved
     into the parts' places."""
-    return _expanded(decl.items, parts, diag, ())
+    items, source = _expanded(decl.items, parts, diag, ())
+    # a part's table (or roles...) is checked against each includer's names: say whose
+    return tuple(
+        respan(item, f" (in controller '{decl.name.name}', from shared part '{source[id(item)]}')")
+        if id(item) in source and not isinstance(item, Declared)
+        else item
+        for item in items
+    )
 
 
 def _expanded(
@@ -73,7 +81,8 @@ def _expanded(
     parts: dict[str, ast.SharedDecl],
     diag: Diagnostics,
     chain: tuple[str, ...],
-) -> tuple[ast.ControllerItem, ...]:
+) -> tuple[tuple[ast.ControllerItem, ...], dict[int, str]]:
+    """The items expanded, and the part each one that is not an action came from."""
     included: dict[tuple[str, ...], tuple[str, ast.ControllerItem]] = {}  # key -> (part, item)
     items: list[ast.ControllerItem] = []
     for item in written:
@@ -98,7 +107,7 @@ def _expanded(
                     "one of them must include none of the others",
                 )
                 continue
-            for shared in _expanded(part.items, parts, diag, (*chain, ident.name)):
+            for shared in _expanded(part.items, parts, diag, (*chain, ident.name))[0]:
                 if isinstance(shared, ast.ActionDef):
                     items.append(shared)  # two of one name: 'defined twice' later
                     continue
@@ -139,7 +148,7 @@ def _expanded(
             out.append(item)
             continue
         out.append(override)
-    return tuple(out)
+    return tuple(out), {id(item): part for part, item in included.values()}
 
 
 def _both(key: tuple[str, ...], first: str, second: str) -> str:
