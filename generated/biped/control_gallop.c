@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "6f5bd7ae0b31351f";
+const char legdsl_control_fingerprint[] = "9e5c5145f63200db";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -55,7 +55,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(second) */
-/*   event: creatures/biped.leg:220:5 */
+/*   event: creatures/biped.leg:208:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[36];
@@ -64,7 +64,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_1 (waiting under binding 0) when: touchdown(first) */
-/*   event: creatures/biped.leg:230:5 */
+/*   event: creatures/biped.leg:216:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[27];
@@ -73,7 +73,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 }
 
 /* Enter DOUBLE (waiting under binding 0) when: touchdown(second) */
-/*   event: creatures/biped.leg:236:5 */
+/*   event: creatures/biped.leg:223:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[36];
@@ -82,7 +82,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_2 (waiting under binding 0) when: liftoff(first) */
-/*   event: creatures/biped.leg:241:5 */
+/*   event: creatures/biped.leg:228:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[27];
@@ -91,13 +91,13 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at). */
-/*   record stance_2: creatures/biped.leg:221:7 */
-/*   record step_speed: creatures/biped.leg:222:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:222:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:222:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:222:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:222:7 > stdlib/raibert.leg:76:3 */
-/*   record extend_at: creatures/biped.leg:223:7 */
+/*   record stance_2: creatures/biped.leg:209:7 */
+/*   record step_speed: creatures/biped.leg:210:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:210:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:210:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:210:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:210:7 > stdlib/raibert.leg:76:3 */
+/*   record extend_at: creatures/biped.leg:211:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[7];
@@ -109,20 +109,20 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double extend_lead = p[18];
+    const double extend_lead = p[16];
     const double landed_1 = r[2];
     const double landed_2 = r[3];
     const double stance_1 = r[4];
     const double lifted_1 = r[5];
-    const double held_pitch = r[6];
-    const double held_roll = r[7];
-    const double step_speed = r[8];
-    const double speed_trim = r[9];
-    const double lifted = r[10];
-    const double lifted_x = r[11];
-    const double lifted_y = r[12];
-    const double predicted_apex = r[13];
-    const double thrust_stroke = r[14];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     const double new_stance_2 = (((landed_2 > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed_2 + time))) : (stance_guess));
     const double new_extend_at = time + leg_max(0.0, 0.2038735983690112*com_vz - extend_lead);
     const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
@@ -133,40 +133,40 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[3] = landed_2;
     out[4] = stance_1;
     out[5] = lifted_1;
-    out[6] = held_pitch;
-    out[7] = held_roll;
-    out[8] = new_step_speed;
-    out[9] = new_speed_trim;
-    out[10] = time;
-    out[11] = com_x;
-    out[12] = com_y;
-    out[13] = predicted_apex;
-    out[14] = thrust_stroke;
+    out[6] = new_step_speed;
+    out[7] = new_speed_trim;
+    out[8] = time;
+    out[9] = com_x;
+    out[10] = com_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in FLIGHT under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place left (x, y), place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:224:7 > creatures/biped.leg:123:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:225:7 > creatures/biped.leg:123:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:226:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:226:7 > creatures/biped.leg:128:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:226:7 > creatures/biped.leg:129:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:128:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:129:5 */
-/*   place left (x, y): creatures/biped.leg:228:7 > stdlib/raibert.leg:57:3 */
-/*   place right (x, y): creatures/biped.leg:229:7 > stdlib/raibert.leg:57:3 */
+/* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place left (x, y), place right (x, y). */
+/*   leg_l_spring.rest: creatures/biped.leg:212:7 > creatures/biped.leg:195:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:213:7 > creatures/biped.leg:101:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:213:7 > creatures/biped.leg:102:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:215:7 > creatures/biped.leg:256:5 > creatures/biped.leg:195:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:101:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:102:5 */
+/*   place left (x, y): creatures/biped.leg:214:7 > stdlib/raibert.leg:57:3 */
+/*   place right (x, y): creatures/biped.leg:215:7 > creatures/biped.leg:258:5 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[7];
@@ -182,15 +182,15 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double stance_guess = p[3];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double stagger = p[14];
-    const double short_ = p[16];
-    const double slew = p[17];
+    const double short_ = p[14];
+    const double slew = p[15];
+    const double stagger = p[17];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double stance_1 = r[4];
     const double lifted_1 = r[5];
-    const double speed_trim = r[9];
-    const double lifted = r[10];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
     const double t1 = short_ + slew*(-extend_at + time);
     const double leg_l_spring_rest = leg_min(0.0, leg_max(leg_max(short_, t1), -slew*(-lifted_1 + time)));
     const double leg_r_spring_rest = leg_min(stagger, leg_max(leg_max(short_, t1), -slew*(-lifted + time)));
@@ -206,23 +206,23 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double right_x_goal = -leg_right_hip_x + 0.5*stance_2*t4 + t5;
     const double right_y_goal = -leg_right_hip_y + 0.5*stance_2*t7 + t8;
     out[0] = leg_l_spring_rest;
-    out[1] = leg_r_spring_rest;
-    out[2] = swing_kp;
-    out[3] = swing_kv;
-    out[4] = 0.0;
-    out[5] = swing_kp;
-    out[6] = swing_kv;
+    out[1] = swing_kp;
+    out[2] = swing_kv;
+    out[3] = 0.0;
+    out[4] = swing_kp;
+    out[5] = swing_kv;
+    out[6] = 0.0;
     out[7] = 0.0;
     out[8] = swing_kp;
-    out[9] = 0.0;
+    out[9] = leg_r_spring_rest;
     out[10] = swing_kp;
     out[11] = swing_kv;
     out[12] = 0.0;
     out[13] = swing_kp;
     out[14] = swing_kv;
     out[15] = 0.0;
-    out[16] = swing_kp;
-    out[17] = 0.0;
+    out[16] = 0.0;
+    out[17] = swing_kp;
     out[18] = left_x_goal;
     out[19] = left_y_goal;
     out[20] = right_x_goal;
@@ -232,9 +232,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke). */
-/*   record landed_1: creatures/biped.leg:231:7 */
-/*   record predicted_apex: creatures/biped.leg:232:7 > stdlib/raibert.leg:215:3 */
-/*   record thrust_stroke: creatures/biped.leg:232:7 > stdlib/raibert.leg:216:3 */
+/*   record landed_1: creatures/biped.leg:217:7 */
+/*   record predicted_apex: creatures/biped.leg:218:7 > stdlib/raibert.leg:215:3 */
+/*   record thrust_stroke: creatures/biped.leg:218:7 > stdlib/raibert.leg:216:3 */
 static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -250,14 +250,14 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double landed_2 = r[3];
     const double stance_1 = r[4];
     const double lifted_1 = r[5];
-    const double held_pitch = r[6];
-    const double held_roll = r[7];
-    const double step_speed = r[8];
-    const double speed_trim = r[9];
-    const double lifted = r[10];
-    const double lifted_x = r[11];
-    const double lifted_y = r[12];
-    const double predicted_apex = r[13];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_thrust_stroke = leg_min(0.04, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
     out[0] = stance_2;
@@ -266,38 +266,38 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     out[3] = landed_2;
     out[4] = stance_1;
     out[5] = lifted_1;
-    out[6] = held_pitch;
-    out[7] = held_roll;
-    out[8] = step_speed;
-    out[9] = speed_trim;
-    out[10] = lifted;
-    out[11] = lifted_x;
-    out[12] = lifted_y;
-    out[13] = new_predicted_apex;
-    out[14] = new_thrust_stroke;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = new_predicted_apex;
+    out[12] = new_thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:232:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:233:7 > creatures/biped.leg:109:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:234:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:234:7 > creatures/biped.leg:128:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:234:7 > creatures/biped.leg:129:5 */
-/*   place right (x, y): creatures/biped.leg:235:7 > stdlib/raibert.leg:57:3 */
+/* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y). */
+/*   leg_l_spring.rest: creatures/biped.leg:218:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:219:7 > creatures/biped.leg:181:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:219:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:221:7 > creatures/biped.leg:101:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:221:7 > creatures/biped.leg:102:5 */
+/*   place right (x, y): creatures/biped.leg:222:7 > stdlib/raibert.leg:57:3 */
 static void action_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -335,8 +335,8 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double swing_kv = p[11];
     const double pitch_lead = p[19];
     const double stance_2 = r[0];
-    const double speed_trim = r[9];
-    const double thrust_stroke = r[14];
+    const double speed_trim = r[7];
+    const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
@@ -364,8 +364,8 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     out[12] = swing_kp;
     out[13] = swing_kv;
     out[14] = 0.0;
-    out[15] = swing_kp;
-    out[16] = 0.0;
+    out[15] = 0.0;
+    out[16] = swing_kp;
     out[17] = right_x_goal;
     out[18] = right_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
@@ -373,7 +373,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 }
 
 /* The records on entering DOUBLE under binding 0 (changed: landed_2). */
-/*   record landed_2: creatures/biped.leg:237:7 */
+/*   record landed_2: creatures/biped.leg:224:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[37];
@@ -382,53 +382,53 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
     const double landed_1 = r[2];
     const double stance_1 = r[4];
     const double lifted_1 = r[5];
-    const double held_pitch = r[6];
-    const double held_roll = r[7];
-    const double step_speed = r[8];
-    const double speed_trim = r[9];
-    const double lifted = r[10];
-    const double lifted_x = r[11];
-    const double lifted_y = r[12];
-    const double predicted_apex = r[13];
-    const double thrust_stroke = r[14];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     out[0] = stance_2;
     out[1] = extend_at;
     out[2] = landed_1;
     out[3] = time;
     out[4] = stance_1;
     out[5] = lifted_1;
-    out[6] = held_pitch;
-    out[7] = held_roll;
-    out[8] = step_speed;
-    out[9] = speed_trim;
-    out[10] = lifted;
-    out[11] = lifted_x;
-    out[12] = lifted_y;
-    out[13] = predicted_apex;
-    out[14] = thrust_stroke;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:238:7 > stdlib/raibert.leg:223:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:239:7 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:240:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:240:7 > creatures/biped.leg:115:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:240:7 > creatures/biped.leg:116:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:240:7 > creatures/biped.leg:117:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:240:7 > creatures/biped.leg:118:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:225:7 > stdlib/raibert.leg:223:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:226:7 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:187:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:188:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:190:5 > stdlib/raibert.leg:125:3 */
 static void action_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -466,11 +466,11 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double kv_roll = p[7];
     const double kp_yaw = p[8];
     const double yaw_lead = p[9];
-    const double double_time = p[15];
-    const double short_ = p[16];
-    const double slew = p[17];
+    const double short_ = p[14];
+    const double slew = p[15];
+    const double double_time = p[18];
     const double pitch_lead = p[19];
-    const double thrust_stroke = r[14];
+    const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0)) + (((double_time < tis)) ? (leg_max(short_, -slew*(-double_time + tis))) : (0.0));
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
@@ -508,10 +508,10 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, held_pitch, held_roll). */
-/*   record stance_1: creatures/biped.leg:242:7 */
-/*   record lifted_1: creatures/biped.leg:243:7 */
-/*   record held_pitch: creatures/biped.leg:244:7 */
-/*   record held_roll: creatures/biped.leg:245:7 */
+/*   record stance_1: creatures/biped.leg:229:7 */
+/*   record lifted_1: creatures/biped.leg:230:7 */
+/*   record held_pitch: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:199:5 */
+/*   record held_roll: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:200:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[15];
@@ -522,13 +522,13 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
     const double extend_at = r[1];
     const double landed_1 = r[2];
     const double landed_2 = r[3];
-    const double step_speed = r[8];
-    const double speed_trim = r[9];
-    const double lifted = r[10];
-    const double lifted_x = r[11];
-    const double lifted_y = r[12];
-    const double predicted_apex = r[13];
-    const double thrust_stroke = r[14];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
     const double new_stance_1 = leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed_1 + time));
     out[0] = stance_2;
     out[1] = extend_at;
@@ -536,40 +536,40 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
     out[3] = landed_2;
     out[4] = new_stance_1;
     out[5] = time;
-    out[6] = coord_hip_l_y_value;
-    out[7] = coord_hip_l_x_value;
-    out[8] = step_speed;
-    out[9] = speed_trim;
-    out[10] = lifted;
-    out[11] = lifted_x;
-    out[12] = lifted_y;
-    out[13] = predicted_apex;
-    out[14] = thrust_stroke;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = coord_hip_l_y_value;
+    out[14] = coord_hip_l_x_value;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:246:7 > stdlib/raibert.leg:223:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:247:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:247:7 > creatures/biped.leg:109:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:247:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:248:7 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:249:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:249:7 > creatures/biped.leg:128:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:249:7 > creatures/biped.leg:129:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:250:7 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:251:7 */
+/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
+/*   leg_r_spring.rest: creatures/biped.leg:231:7 > stdlib/raibert.leg:223:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:232:7 > creatures/biped.leg:181:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:232:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:201:5 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:101:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:102:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:203:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:204:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[2];
@@ -599,12 +599,12 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double short_ = p[16];
-    const double slew = p[17];
+    const double short_ = p[14];
+    const double slew = p[15];
     const double pitch_lead = p[19];
-    const double held_pitch = r[6];
-    const double held_roll = r[7];
-    const double thrust_stroke = r[14];
+    const double thrust_stroke = r[12];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
@@ -628,8 +628,8 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     out[13] = swing_kp;
     out[14] = swing_kv;
     out[15] = 0.0;
-    out[16] = swing_kp;
-    out[17] = 0.0;
+    out[16] = 0.0;
+    out[17] = swing_kp;
     out[18] = held_pitch;
     out[19] = held_roll;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
@@ -644,10 +644,10 @@ static const leg_values_fn entries[] = {entry_FLIGHT_0, entry_SINGLE_1_0, entry_
 
 static const leg_values_fn actions[] = {action_FLIGHT_0, action_SINGLE_1_0, action_DOUBLE_0, action_SINGLE_2_0};
 
-static const int64_t settings_0_0[] = {0, 2, 1, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 0, 4, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 0, 7, 2};
-static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 0, 7, 2};
+static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
+static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_2[] = {0, 2, 1, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 4, 0, 7, 0, 4, 2, 7, 2};
-static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 0, 4, 2, 3, 2, 2, 2};
+static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2};
 
 static const int64_t n_settings[] = {18, 17, 18, 20};
 

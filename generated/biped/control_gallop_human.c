@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "e646694cfe13c505";
+const char legdsl_control_fingerprint[] = "0994e9b009adcd46";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -56,7 +56,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(second) */
-/*   event: creatures/biped.leg:293:5 */
+/*   event: creatures/biped.leg:208:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[37];
@@ -65,7 +65,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_1 (waiting under binding 0) when: touchdown(first) */
-/*   event: creatures/biped.leg:306:5 */
+/*   event: creatures/biped.leg:216:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[28];
@@ -74,7 +74,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 }
 
 /* Enter DOUBLE (waiting under binding 0) when: touchdown(second) */
-/*   event: creatures/biped.leg:313:5 */
+/*   event: creatures/biped.leg:223:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[37];
@@ -83,7 +83,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_2 (waiting under binding 0) when: liftoff(first) */
-/*   event: creatures/biped.leg:318:5 */
+/*   event: creatures/biped.leg:228:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[28];
@@ -92,15 +92,15 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at, held_pitch, held_roll). */
-/*   record stance_2: creatures/biped.leg:294:7 */
-/*   record step_speed: creatures/biped.leg:295:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:295:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:295:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:295:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:295:7 > stdlib/raibert.leg:76:3 */
-/*   record extend_at: creatures/biped.leg:296:7 */
-/*   record held_pitch: creatures/biped.leg:297:7 */
-/*   record held_roll: creatures/biped.leg:298:7 */
+/*   record stance_2: creatures/biped.leg:209:7 */
+/*   record step_speed: creatures/biped.leg:210:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:210:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:210:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:210:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:210:7 > stdlib/raibert.leg:76:3 */
+/*   record extend_at: creatures/biped.leg:211:7 */
+/*   record held_pitch: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:199:5 */
+/*   record held_roll: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:200:5 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[8];
@@ -114,65 +114,65 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double extend_lead = p[21];
-    const double landed_1 = r[4];
-    const double landed_2 = r[5];
-    const double stance_1 = r[6];
-    const double lifted_1 = r[7];
-    const double leg_rest_at_lift = r[8];
-    const double step_speed = r[9];
-    const double speed_trim = r[10];
-    const double lifted = r[11];
-    const double lifted_x = r[12];
-    const double lifted_y = r[13];
-    const double predicted_apex = r[14];
-    const double thrust_stroke = r[15];
+    const double extend_lead = p[16];
+    const double landed_1 = r[2];
+    const double landed_2 = r[3];
+    const double stance_1 = r[4];
+    const double lifted_1 = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
+    const double leg_rest_at_lift = r[15];
     const double new_stance_2 = (((landed_2 > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed_2 + time))) : (stance_guess));
     const double new_extend_at = time + leg_max(0.0, 0.2038735983690112*com_vz - extend_lead);
     const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
     const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, speed - step_speed)) + speed_trim;
     out[0] = new_stance_2;
     out[1] = new_extend_at;
-    out[2] = coord_hip_r_y_value;
-    out[3] = coord_hip_r_x_value;
-    out[4] = landed_1;
-    out[5] = landed_2;
-    out[6] = stance_1;
-    out[7] = lifted_1;
-    out[8] = leg_rest_at_lift;
-    out[9] = new_step_speed;
-    out[10] = new_speed_trim;
-    out[11] = time;
-    out[12] = com_x;
-    out[13] = com_y;
-    out[14] = predicted_apex;
-    out[15] = thrust_stroke;
+    out[2] = landed_1;
+    out[3] = landed_2;
+    out[4] = stance_1;
+    out[5] = lifted_1;
+    out[6] = new_step_speed;
+    out[7] = new_speed_trim;
+    out[8] = time;
+    out[9] = com_x;
+    out[10] = com_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = coord_hip_r_y_value;
+    out[14] = coord_hip_r_x_value;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:299:7 > creatures/biped.leg:123:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:300:7 > creatures/biped.leg:128:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:300:7 > creatures/biped.leg:129:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:302:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:303:7 > creatures/biped.leg:128:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:303:7 > creatures/biped.leg:129:5 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:304:7 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:305:7 */
-/*   place left (x, y): creatures/biped.leg:301:7 > stdlib/raibert.leg:57:3 */
+/* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y). */
+/*   leg_l_spring.rest: creatures/biped.leg:212:7 > creatures/biped.leg:195:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:213:7 > creatures/biped.leg:101:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:213:7 > creatures/biped.leg:102:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:201:5 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:101:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:102:5 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:203:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:204:5 */
+/*   place left (x, y): creatures/biped.leg:214:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[8];
@@ -189,11 +189,11 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double short_ = p[14];
     const double slew = p[15];
     const double extend_at = r[1];
-    const double held_pitch = r[2];
-    const double held_roll = r[3];
-    const double stance_1 = r[6];
-    const double lifted_1 = r[7];
-    const double speed_trim = r[10];
+    const double stance_1 = r[4];
+    const double lifted_1 = r[5];
+    const double speed_trim = r[7];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     const double leg_l_spring_rest = leg_min(0.0, leg_max(leg_max(short_, -slew*(-lifted_1 + time)), short_ + slew*(-extend_at + time)));
     const double leg_r_spring_rest = leg_max(short_, -slew*tis);
     const double t1 = leg_cos(body_trunk_yaw);
@@ -210,8 +210,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     out[4] = swing_kp;
     out[5] = swing_kv;
     out[6] = 0.0;
-    out[7] = swing_kp;
-    out[8] = 0.0;
+    out[7] = 0.0;
+    out[8] = swing_kp;
     out[9] = leg_r_spring_rest;
     out[10] = swing_kp;
     out[11] = swing_kv;
@@ -219,8 +219,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     out[13] = swing_kp;
     out[14] = swing_kv;
     out[15] = 0.0;
-    out[16] = swing_kp;
-    out[17] = 0.0;
+    out[16] = 0.0;
+    out[17] = swing_kp;
     out[18] = held_pitch;
     out[19] = held_roll;
     out[20] = left_x_goal;
@@ -230,9 +230,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke). */
-/*   record landed_1: creatures/biped.leg:307:7 */
-/*   record predicted_apex: creatures/biped.leg:308:7 > stdlib/raibert.leg:215:3 */
-/*   record thrust_stroke: creatures/biped.leg:308:7 > stdlib/raibert.leg:216:3 */
+/*   record landed_1: creatures/biped.leg:217:7 */
+/*   record predicted_apex: creatures/biped.leg:218:7 > stdlib/raibert.leg:215:3 */
+/*   record thrust_stroke: creatures/biped.leg:218:7 > stdlib/raibert.leg:216:3 */
 static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -245,60 +245,60 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double k_height = p[13];
     const double stance_2 = r[0];
     const double extend_at = r[1];
-    const double held_pitch = r[2];
-    const double held_roll = r[3];
-    const double landed_2 = r[5];
-    const double stance_1 = r[6];
-    const double lifted_1 = r[7];
-    const double leg_rest_at_lift = r[8];
-    const double step_speed = r[9];
-    const double speed_trim = r[10];
-    const double lifted = r[11];
-    const double lifted_x = r[12];
-    const double lifted_y = r[13];
-    const double predicted_apex = r[14];
+    const double landed_2 = r[3];
+    const double stance_1 = r[4];
+    const double lifted_1 = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_thrust_stroke = leg_min(0.04, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
     out[0] = stance_2;
     out[1] = extend_at;
-    out[2] = held_pitch;
-    out[3] = held_roll;
-    out[4] = time;
-    out[5] = landed_2;
-    out[6] = stance_1;
-    out[7] = lifted_1;
-    out[8] = leg_rest_at_lift;
-    out[9] = step_speed;
-    out[10] = speed_trim;
-    out[11] = lifted;
-    out[12] = lifted_x;
-    out[13] = lifted_y;
-    out[14] = new_predicted_apex;
-    out[15] = new_thrust_stroke;
+    out[2] = time;
+    out[3] = landed_2;
+    out[4] = stance_1;
+    out[5] = lifted_1;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = new_predicted_apex;
+    out[12] = new_thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:308:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:309:7 > creatures/biped.leg:109:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:309:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:310:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:311:7 > creatures/biped.leg:128:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:311:7 > creatures/biped.leg:129:5 */
-/*   place right (x, y): creatures/biped.leg:312:7 > stdlib/raibert.leg:57:3 */
+/* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y). */
+/*   leg_l_spring.rest: creatures/biped.leg:218:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:219:7 > creatures/biped.leg:181:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:219:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:220:7 > creatures/biped.leg:285:28 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:221:7 > creatures/biped.leg:101:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:221:7 > creatures/biped.leg:102:5 */
+/*   place right (x, y): creatures/biped.leg:222:7 > stdlib/raibert.leg:57:3 */
 static void action_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -335,12 +335,12 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double swing_kp = p[10];
     const double swing_kv = p[11];
     const double short_ = p[14];
-    const double swing_slew = p[16];
-    const double swing_wait = p[17];
+    const double swing_slew = p[17];
+    const double swing_wait = p[18];
     const double pitch_lead = p[22];
     const double stance_2 = r[0];
-    const double speed_trim = r[10];
-    const double thrust_stroke = r[15];
+    const double speed_trim = r[7];
+    const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
@@ -370,8 +370,8 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     out[13] = swing_kp;
     out[14] = swing_kv;
     out[15] = 0.0;
-    out[16] = swing_kp;
-    out[17] = 0.0;
+    out[16] = 0.0;
+    out[17] = swing_kp;
     out[18] = right_x_goal;
     out[19] = right_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
@@ -379,64 +379,64 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 }
 
 /* The records on entering DOUBLE under binding 0 (changed: landed_2). */
-/*   record landed_2: creatures/biped.leg:314:7 */
+/*   record landed_2: creatures/biped.leg:224:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[38];
     const double stance_2 = r[0];
     const double extend_at = r[1];
-    const double held_pitch = r[2];
-    const double held_roll = r[3];
-    const double landed_1 = r[4];
-    const double stance_1 = r[6];
-    const double lifted_1 = r[7];
-    const double leg_rest_at_lift = r[8];
-    const double step_speed = r[9];
-    const double speed_trim = r[10];
-    const double lifted = r[11];
-    const double lifted_x = r[12];
-    const double lifted_y = r[13];
-    const double predicted_apex = r[14];
-    const double thrust_stroke = r[15];
+    const double landed_1 = r[2];
+    const double stance_1 = r[4];
+    const double lifted_1 = r[5];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     out[0] = stance_2;
     out[1] = extend_at;
-    out[2] = held_pitch;
-    out[3] = held_roll;
-    out[4] = landed_1;
-    out[5] = time;
-    out[6] = stance_1;
-    out[7] = lifted_1;
-    out[8] = leg_rest_at_lift;
-    out[9] = step_speed;
-    out[10] = speed_trim;
-    out[11] = lifted;
-    out[12] = lifted_x;
-    out[13] = lifted_y;
-    out[14] = predicted_apex;
-    out[15] = thrust_stroke;
+    out[2] = landed_1;
+    out[3] = time;
+    out[4] = stance_1;
+    out[5] = lifted_1;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:315:7 > stdlib/raibert.leg:223:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:316:7 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:317:7 > creatures/biped.leg:115:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:317:7 > creatures/biped.leg:116:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:317:7 > creatures/biped.leg:117:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:317:7 > creatures/biped.leg:118:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:225:7 > stdlib/raibert.leg:223:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:226:7 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:187:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:188:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:190:5 > stdlib/raibert.leg:125:3 */
 static void action_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -475,10 +475,10 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double kp_yaw = p[8];
     const double yaw_lead = p[9];
     const double short_ = p[14];
-    const double double_time = p[18];
-    const double lift_slew = p[19];
+    const double double_time = p[19];
+    const double lift_slew = p[20];
     const double pitch_lead = p[22];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0)) + (((double_time < tis)) ? (leg_max(short_, -lift_slew*(-double_time + tis))) : (0.0));
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
@@ -516,9 +516,9 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift). */
-/*   record stance_1: creatures/biped.leg:319:7 */
-/*   record lifted_1: creatures/biped.leg:320:7 */
-/*   record leg_rest_at_lift: creatures/biped.leg:321:7 */
+/*   record stance_1: creatures/biped.leg:229:7 */
+/*   record lifted_1: creatures/biped.leg:230:7 */
+/*   record leg_rest_at_lift: creatures/biped.leg:233:7 > creatures/biped.leg:287:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
@@ -526,59 +526,59 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
     const double stance_guess = p[3];
     const double stance_2 = r[0];
     const double extend_at = r[1];
-    const double held_pitch = r[2];
-    const double held_roll = r[3];
-    const double landed_1 = r[4];
-    const double landed_2 = r[5];
-    const double step_speed = r[9];
-    const double speed_trim = r[10];
-    const double lifted = r[11];
-    const double lifted_x = r[12];
-    const double lifted_y = r[13];
-    const double predicted_apex = r[14];
-    const double thrust_stroke = r[15];
+    const double landed_1 = r[2];
+    const double landed_2 = r[3];
+    const double step_speed = r[6];
+    const double speed_trim = r[7];
+    const double lifted = r[8];
+    const double lifted_x = r[9];
+    const double lifted_y = r[10];
+    const double predicted_apex = r[11];
+    const double thrust_stroke = r[12];
+    const double held_pitch = r[13];
+    const double held_roll = r[14];
     const double new_stance_1 = leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed_1 + time));
     out[0] = stance_2;
     out[1] = extend_at;
-    out[2] = held_pitch;
-    out[3] = held_roll;
-    out[4] = landed_1;
-    out[5] = landed_2;
-    out[6] = new_stance_1;
-    out[7] = time;
-    out[8] = act_leg_l_spring_rest;
-    out[9] = step_speed;
-    out[10] = speed_trim;
-    out[11] = lifted;
-    out[12] = lifted_x;
-    out[13] = lifted_y;
-    out[14] = predicted_apex;
-    out[15] = thrust_stroke;
+    out[2] = landed_1;
+    out[3] = landed_2;
+    out[4] = new_stance_1;
+    out[5] = time;
+    out[6] = step_speed;
+    out[7] = speed_trim;
+    out[8] = lifted;
+    out[9] = lifted_x;
+    out[10] = lifted_y;
+    out[11] = predicted_apex;
+    out[12] = thrust_stroke;
+    out[13] = held_pitch;
+    out[14] = held_roll;
+    out[15] = act_leg_l_spring_rest;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:322:7 > stdlib/raibert.leg:223:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:323:7 > creatures/biped.leg:109:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:323:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:324:7 > creatures/biped.leg:286:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:128:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:129:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:324:7 > creatures/biped.leg:288:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:324:7 > creatures/biped.leg:289:5 */
+/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
+/*   leg_r_spring.rest: creatures/biped.leg:231:7 > stdlib/raibert.leg:223:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:232:7 > creatures/biped.leg:181:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:232:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:233:7 > creatures/biped.leg:288:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:101:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:102:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:290:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:291:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -611,11 +611,11 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double swing_kp = p[10];
     const double swing_kv = p[11];
     const double short_ = p[14];
-    const double lift_slew = p[19];
-    const double mirror_gain = p[20];
+    const double lift_slew = p[20];
+    const double mirror_gain = p[21];
     const double pitch_lead = p[22];
-    const double leg_rest_at_lift = r[8];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[12];
+    const double leg_rest_at_lift = r[15];
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
@@ -640,8 +640,8 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     out[13] = swing_kp;
     out[14] = swing_kv;
     out[15] = 0.0;
-    out[16] = swing_kp;
-    out[17] = 0.0;
+    out[16] = 0.0;
+    out[17] = swing_kp;
     out[18] = hip_l_pitch_setpoint;
     out[19] = -coord_hip_r_x_value;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
@@ -656,10 +656,10 @@ static const leg_values_fn entries[] = {entry_FLIGHT_0, entry_SINGLE_1_0, entry_
 
 static const leg_values_fn actions[] = {action_FLIGHT_0, action_SINGLE_1_0, action_DOUBLE_0, action_SINGLE_2_0};
 
-static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 0, 4, 2, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 0, 7, 2, 6, 2, 5, 2};
-static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 0, 7, 2};
+static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0, 6, 2, 5, 2};
+static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_2[] = {0, 2, 1, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 4, 0, 7, 0, 4, 2, 7, 2};
-static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 0, 4, 2, 3, 2, 2, 2};
+static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2};
 
 static const int64_t n_settings[] = {20, 18, 18, 20};
 

@@ -20,7 +20,7 @@ import math
 
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "e646694cfe13c505"
+FINGERPRINT = "0994e9b009adcd46"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -47,15 +47,15 @@ PARAMS = {
     "k_height": 0.05,
     "short": -0.2,
     "slew": 2.0,
+    "extend_lead": 0.14,
     "swing_slew": 4.0,
     "swing_wait": 0.02,
     "double_time": 0.04,
     "lift_slew": 4.0,
     "mirror_gain": 1.0,
-    "extend_lead": 0.14,
     "pitch_lead": 0.0,
 }
-RECORDS = ('stance_2', 'extend_at', 'held_pitch', 'held_roll', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'leg_rest_at_lift', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke')
+RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke', 'held_pitch', 'held_roll', 'leg_rest_at_lift')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -69,7 +69,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(second)
 
     From the .leg file:
-        event  creatures/biped.leg:293:5
+        event  creatures/biped.leg:208:5
     """
     leg_right_touching = s[37]
     return (leg_right_touching < 0.5)
@@ -79,7 +79,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)
 
     From the .leg file:
-        event  creatures/biped.leg:306:5
+        event  creatures/biped.leg:216:5
     """
     leg_left_touching = s[28]
     return (leg_left_touching > 0.5)
@@ -89,7 +89,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     """Enter DOUBLE (waiting under binding 0) when: touchdown(second)
 
     From the .leg file:
-        event  creatures/biped.leg:313:5
+        event  creatures/biped.leg:223:5
     """
     leg_right_touching = s[37]
     return (leg_right_touching > 0.5)
@@ -99,7 +99,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)
 
     From the .leg file:
-        event  creatures/biped.leg:318:5
+        event  creatures/biped.leg:228:5
     """
     leg_left_touching = s[28]
     return (leg_left_touching < 0.5)
@@ -109,15 +109,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at, held_pitch, held_roll).
 
     From the .leg file:
-        record stance_2    creatures/biped.leg:294:7
-        record step_speed  creatures/biped.leg:295:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:295:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:295:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:295:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:295:7 > stdlib/raibert.leg:76:3
-        record extend_at   creatures/biped.leg:296:7
-        record held_pitch  creatures/biped.leg:297:7
-        record held_roll   creatures/biped.leg:298:7
+        record stance_2    creatures/biped.leg:209:7
+        record step_speed  creatures/biped.leg:210:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:210:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:210:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:210:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:210:7 > stdlib/raibert.leg:76:3
+        record extend_at   creatures/biped.leg:211:7
+        record held_pitch  creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:199:5
+        record held_roll   creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:200:5
     """
     body_trunk_yaw = s[8]
     com_vz = s[12]
@@ -130,19 +130,19 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    extend_lead = p[21]
-    landed_1 = r[4]
-    landed_2 = r[5]
-    stance_1 = r[6]
-    lifted_1 = r[7]
-    leg_rest_at_lift = r[8]
-    step_speed = r[9]
-    speed_trim = r[10]
-    lifted = r[11]
-    lifted_x = r[12]
-    lifted_y = r[13]
-    predicted_apex = r[14]
-    thrust_stroke = r[15]
+    extend_lead = p[16]
+    landed_1 = r[2]
+    landed_2 = r[3]
+    stance_1 = r[4]
+    lifted_1 = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    predicted_apex = r[11]
+    thrust_stroke = r[12]
+    leg_rest_at_lift = r[15]
     new_stance_2 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
     new_extend_at = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
@@ -150,13 +150,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     return [
         new_stance_2,
         new_extend_at,
-        coord_hip_r_y_value,
-        coord_hip_r_x_value,
         landed_1,
         landed_2,
         stance_1,
         lifted_1,
-        leg_rest_at_lift,
         new_step_speed,
         new_speed_trim,
         time,
@@ -164,34 +161,37 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         com_y,
         predicted_apex,
         thrust_stroke,
+        coord_hip_r_y_value,
+        coord_hip_r_x_value,
+        leg_rest_at_lift,
     ]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
-    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y).
+    """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, hip_r_pitch.setpoint, hip_r_roll.setpoint, place left (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:299:7 > creatures/biped.leg:123:5
-        hip_l_pitch.kp          creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:300:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.kp            creatures/biped.leg:300:7 > creatures/biped.leg:128:5
-        hip_l_yaw.setpoint      creatures/biped.leg:300:7 > creatures/biped.leg:129:5
-        leg_r_spring.rest       creatures/biped.leg:302:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:303:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.kp            creatures/biped.leg:303:7 > creatures/biped.leg:128:5
-        hip_r_yaw.setpoint      creatures/biped.leg:303:7 > creatures/biped.leg:129:5
-        hip_r_pitch.setpoint    creatures/biped.leg:304:7
-        hip_r_roll.setpoint     creatures/biped.leg:305:7
-        place left (x, y)       creatures/biped.leg:301:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:212:7 > creatures/biped.leg:195:5
+        hip_l_pitch.kp          creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:213:7 > creatures/biped.leg:101:5
+        hip_l_yaw.kp            creatures/biped.leg:213:7 > creatures/biped.leg:102:5
+        leg_r_spring.rest       creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:201:5 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:101:5
+        hip_r_yaw.kp            creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:202:5 > creatures/biped.leg:102:5
+        hip_r_pitch.setpoint    creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:203:5
+        hip_r_roll.setpoint     creatures/biped.leg:215:7 > creatures/biped.leg:284:27 > creatures/biped.leg:204:5
+        place left (x, y)       creatures/biped.leg:214:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_yaw = s[8]
     com_vx = s[10]
@@ -207,11 +207,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     short = p[14]
     slew = p[15]
     extend_at = r[1]
-    held_pitch = r[2]
-    held_roll = r[3]
-    stance_1 = r[6]
-    lifted_1 = r[7]
-    speed_trim = r[10]
+    stance_1 = r[4]
+    lifted_1 = r[5]
+    speed_trim = r[7]
+    held_pitch = r[13]
+    held_roll = r[14]
     leg_l_spring_rest = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
     leg_r_spring_rest = max(short, -slew*tis)
     t1 = math.cos(body_trunk_yaw)
@@ -229,8 +229,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        swing_kp,
         0.0,
+        swing_kp,
         leg_r_spring_rest,
         swing_kp,
         swing_kv,
@@ -238,8 +238,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        swing_kp,
         0.0,
+        swing_kp,
         held_pitch,
         held_roll,
         left_x_goal,
@@ -251,9 +251,9 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record landed_1        creatures/biped.leg:307:7
-        record predicted_apex  creatures/biped.leg:308:7 > stdlib/raibert.leg:215:3
-        record thrust_stroke   creatures/biped.leg:308:7 > stdlib/raibert.leg:216:3
+        record landed_1        creatures/biped.leg:217:7
+        record predicted_apex  creatures/biped.leg:218:7 > stdlib/raibert.leg:215:3
+        record thrust_stroke   creatures/biped.leg:218:7 > stdlib/raibert.leg:216:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
@@ -265,30 +265,27 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     k_height = p[13]
     stance_2 = r[0]
     extend_at = r[1]
-    held_pitch = r[2]
-    held_roll = r[3]
-    landed_2 = r[5]
-    stance_1 = r[6]
-    lifted_1 = r[7]
-    leg_rest_at_lift = r[8]
-    step_speed = r[9]
-    speed_trim = r[10]
-    lifted = r[11]
-    lifted_x = r[12]
-    lifted_y = r[13]
-    predicted_apex = r[14]
+    landed_2 = r[3]
+    stance_1 = r[4]
+    lifted_1 = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    predicted_apex = r[11]
+    held_pitch = r[13]
+    held_roll = r[14]
+    leg_rest_at_lift = r[15]
     new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
     new_thrust_stroke = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
         stance_2,
         extend_at,
-        held_pitch,
-        held_roll,
         time,
         landed_2,
         stance_1,
         lifted_1,
-        leg_rest_at_lift,
         step_speed,
         speed_trim,
         lifted,
@@ -296,32 +293,35 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         lifted_y,
         new_predicted_apex,
         new_thrust_stroke,
+        held_pitch,
+        held_roll,
+        leg_rest_at_lift,
     ]
 
 
 def action_SINGLE_1_0(s, u, p, r, tis):
-    """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, place right (x, y).
+    """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:308:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:309:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:309:7 > creatures/biped.leg:109:5
-        hip_l_yaw.setpoint      creatures/biped.leg:309:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:310:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:311:7 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.kp            creatures/biped.leg:311:7 > creatures/biped.leg:128:5
-        hip_r_yaw.setpoint      creatures/biped.leg:311:7 > creatures/biped.leg:129:5
-        place right (x, y)      creatures/biped.leg:312:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:218:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:219:7 > creatures/biped.leg:181:5
+        hip_l_yaw.setpoint      creatures/biped.leg:219:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:220:7 > creatures/biped.leg:285:28 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:221:7 > creatures/biped.leg:101:5
+        hip_r_yaw.kp            creatures/biped.leg:221:7 > creatures/biped.leg:102:5
+        place right (x, y)      creatures/biped.leg:222:7 > stdlib/raibert.leg:57:3
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[4]
@@ -357,12 +357,12 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     short = p[14]
-    swing_slew = p[16]
-    swing_wait = p[17]
+    swing_slew = p[17]
+    swing_wait = p[18]
     pitch_lead = p[22]
     stance_2 = r[0]
-    speed_trim = r[10]
-    thrust_stroke = r[15]
+    speed_trim = r[7]
+    thrust_stroke = r[12]
     leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -393,8 +393,8 @@ def action_SINGLE_1_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        swing_kp,
         0.0,
+        swing_kp,
         right_x_goal,
         right_y_goal,
     ]
@@ -404,34 +404,31 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     """The records on entering DOUBLE under binding 0 (changed: landed_2).
 
     From the .leg file:
-        record landed_2  creatures/biped.leg:314:7
+        record landed_2  creatures/biped.leg:224:7
     """
     time = s[38]
     stance_2 = r[0]
     extend_at = r[1]
-    held_pitch = r[2]
-    held_roll = r[3]
-    landed_1 = r[4]
-    stance_1 = r[6]
-    lifted_1 = r[7]
-    leg_rest_at_lift = r[8]
-    step_speed = r[9]
-    speed_trim = r[10]
-    lifted = r[11]
-    lifted_x = r[12]
-    lifted_y = r[13]
-    predicted_apex = r[14]
-    thrust_stroke = r[15]
+    landed_1 = r[2]
+    stance_1 = r[4]
+    lifted_1 = r[5]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    predicted_apex = r[11]
+    thrust_stroke = r[12]
+    held_pitch = r[13]
+    held_roll = r[14]
+    leg_rest_at_lift = r[15]
     return [
         stance_2,
         extend_at,
-        held_pitch,
-        held_roll,
         landed_1,
         time,
         stance_1,
         lifted_1,
-        leg_rest_at_lift,
         step_speed,
         speed_trim,
         lifted,
@@ -439,6 +436,9 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         lifted_y,
         predicted_apex,
         thrust_stroke,
+        held_pitch,
+        held_roll,
+        leg_rest_at_lift,
     ]
 
 
@@ -446,24 +446,24 @@ def action_DOUBLE_0(s, u, p, r, tis):
     """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:315:7 > stdlib/raibert.leg:223:3
-        leg_r_spring.rest       creatures/biped.leg:316:7 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
-        hip_r_pitch.kp          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:317:7 > creatures/biped.leg:114:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:317:7 > creatures/biped.leg:115:5
-        hip_r_yaw.kp            creatures/biped.leg:317:7 > creatures/biped.leg:116:5
-        hip_l_yaw.setpoint      creatures/biped.leg:317:7 > creatures/biped.leg:117:5 > stdlib/raibert.leg:125:3
-        hip_r_yaw.setpoint      creatures/biped.leg:317:7 > creatures/biped.leg:118:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:225:7 > stdlib/raibert.leg:223:3
+        leg_r_spring.rest       creatures/biped.leg:226:7 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
+        hip_r_pitch.kp          creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:227:7 > creatures/biped.leg:187:5
+        hip_r_yaw.kp            creatures/biped.leg:227:7 > creatures/biped.leg:188:5
+        hip_l_yaw.setpoint      creatures/biped.leg:227:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:125:3
+        hip_r_yaw.setpoint      creatures/biped.leg:227:7 > creatures/biped.leg:190:5 > stdlib/raibert.leg:125:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_r_spring_force = s[3]
@@ -501,10 +501,10 @@ def action_DOUBLE_0(s, u, p, r, tis):
     kp_yaw = p[8]
     yaw_lead = p[9]
     short = p[14]
-    double_time = p[18]
-    lift_slew = p[19]
+    double_time = p[19]
+    lift_slew = p[20]
     pitch_lead = p[22]
-    thrust_stroke = r[15]
+    thrust_stroke = r[12]
     leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
@@ -545,37 +545,34 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift).
 
     From the .leg file:
-        record stance_1          creatures/biped.leg:319:7
-        record lifted_1          creatures/biped.leg:320:7
-        record leg_rest_at_lift  creatures/biped.leg:321:7
+        record stance_1          creatures/biped.leg:229:7
+        record lifted_1          creatures/biped.leg:230:7
+        record leg_rest_at_lift  creatures/biped.leg:233:7 > creatures/biped.leg:287:5
     """
     act_leg_l_spring_rest = s[2]
     time = s[38]
     stance_guess = p[3]
     stance_2 = r[0]
     extend_at = r[1]
-    held_pitch = r[2]
-    held_roll = r[3]
-    landed_1 = r[4]
-    landed_2 = r[5]
-    step_speed = r[9]
-    speed_trim = r[10]
-    lifted = r[11]
-    lifted_x = r[12]
-    lifted_y = r[13]
-    predicted_apex = r[14]
-    thrust_stroke = r[15]
+    landed_1 = r[2]
+    landed_2 = r[3]
+    step_speed = r[6]
+    speed_trim = r[7]
+    lifted = r[8]
+    lifted_x = r[9]
+    lifted_y = r[10]
+    predicted_apex = r[11]
+    thrust_stroke = r[12]
+    held_pitch = r[13]
+    held_roll = r[14]
     new_stance_1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
         extend_at,
-        held_pitch,
-        held_roll,
         landed_1,
         landed_2,
         new_stance_1,
         time,
-        act_leg_l_spring_rest,
         step_speed,
         speed_trim,
         lifted,
@@ -583,33 +580,36 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         lifted_y,
         predicted_apex,
         thrust_stroke,
+        held_pitch,
+        held_roll,
+        act_leg_l_spring_rest,
     ]
 
 
 def action_SINGLE_2_0(s, u, p, r, tis):
-    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_l_pitch.setpoint, hip_l_roll.setpoint.
+    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:322:7 > stdlib/raibert.leg:223:3
-        hip_r_pitch.kp          creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:323:7 > creatures/biped.leg:108:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:323:7 > creatures/biped.leg:109:5
-        hip_r_yaw.setpoint      creatures/biped.leg:323:7 > creatures/biped.leg:110:5 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:324:7 > creatures/biped.leg:286:5
-        hip_l_pitch.kp          creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:127:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.kp            creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:128:5
-        hip_l_yaw.setpoint      creatures/biped.leg:324:7 > creatures/biped.leg:287:5 > creatures/biped.leg:129:5
-        hip_l_pitch.setpoint    creatures/biped.leg:324:7 > creatures/biped.leg:288:5
-        hip_l_roll.setpoint     creatures/biped.leg:324:7 > creatures/biped.leg:289:5
+        leg_r_spring.rest       creatures/biped.leg:231:7 > stdlib/raibert.leg:223:3
+        hip_r_pitch.kp          creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:232:7 > creatures/biped.leg:181:5
+        hip_r_yaw.setpoint      creatures/biped.leg:232:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:233:7 > creatures/biped.leg:288:5
+        hip_l_pitch.kp          creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:101:5
+        hip_l_yaw.kp            creatures/biped.leg:233:7 > creatures/biped.leg:289:5 > creatures/biped.leg:102:5
+        hip_l_pitch.setpoint    creatures/biped.leg:233:7 > creatures/biped.leg:290:5
+        hip_l_roll.setpoint     creatures/biped.leg:233:7 > creatures/biped.leg:291:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]
@@ -641,11 +641,11 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     short = p[14]
-    lift_slew = p[19]
-    mirror_gain = p[20]
+    lift_slew = p[20]
+    mirror_gain = p[21]
     pitch_lead = p[22]
-    leg_rest_at_lift = r[8]
-    thrust_stroke = r[15]
+    thrust_stroke = r[12]
+    leg_rest_at_lift = r[15]
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
@@ -671,8 +671,8 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         swing_kp,
         swing_kv,
         0.0,
-        swing_kp,
         0.0,
+        swing_kp,
         hip_l_pitch_setpoint,
         -coord_hip_r_x_value,
     ]
@@ -698,10 +698,10 @@ ACTIONS = {
 }
 # What each ACTIONS function's first values set, in order.
 SETTINGS = {
-    (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint')),
-    (0, 1): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint')),
+    (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp'), ('hip_r_pitch', 'setpoint'), ('hip_r_roll', 'setpoint')),
+    (0, 1): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp')),
     (0, 2): (('leg_l_spring', 'rest'), ('leg_r_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_r_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint')),
+    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.

@@ -62,3 +62,60 @@ def test_the_bipeds_controllers_share_their_gains() -> None:
     gallop = {c.name: c.value for c in model.controller("gallop").params}
     assert (run["k_trim"], gallop["k_trim"]) == (0.1, 0.25)  # overridden where it differs
     assert run["kp"] == gallop["kp"] == 300.0
+
+
+def test_a_part_includes_another_and_its_own_values_take_their_places(tmp_path: Path) -> None:
+    path = tmp_path / "hopper.leg"
+    path.write_text(
+        "shared gains {\n  param kp = 50 N*m/rad\n  param kv = 2 N*m*s/rad\n"
+        "  param k_leg = 900 N/m\n}\n"
+        "shared stiff {\n  include gains\n  param kv = 4 N*m*s/rad\n  param extra = 1 s\n}\n"
+        + CREATURE
+        + "controller hop {\n  include stiff\n  param k_leg = 1200 N/m\n"
+        + TABLE
+        + "}\n"
+        # two parts reaching one part (gains) unchanged share its items: no clash
+        + "shared soft {\n  include gains\n}\n"
+        + "shared slow {\n  include gains\n  param lag = 2 s\n}\n"
+        + "controller both {\n  include soft, slow\n"
+        + TABLE
+        + "}\n"
+    )
+    model = check_model(path)
+    hop = [(c.name, c.value) for c in model.controller("hop").params]
+    assert hop == [("kp", 50.0), ("kv", 4.0), ("k_leg", 1200.0), ("extra", 1.0)]
+    both = [c.name for c in model.controller("both").params]
+    assert both == ["kp", "kv", "k_leg", "lag"]
+
+
+def test_a_part_with_roles_and_a_table_calls_actions_each_controller_writes(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "hopper.leg"
+    path.write_text(
+        "shared machine {\n  param kp = 50 N*m/rad\n  roles active = main\n  table {\n"
+        "    state FLIGHT on liftoff(active): hip_servo.kp = kp; swing(active)\n"
+        "    state STANCE on touchdown(active): hip_servo.kp = 0 N*m/rad\n  }\n}\n"
+        + CREATURE
+        + "controller soft {\n  include machine\n"
+        "  action swing(leg) { leg.hip_servo.kv = 1 N*m*s/rad }\n}\n"
+        + "controller stiff {\n  include machine\n  param kv = 3 N*m*s/rad\n"
+        "  action swing(leg) { leg.hip_servo.kv = kv }\n}\n"
+        # a table of its own replaces the part's, in its place
+         + "controller other {\n  include machine\n  table {\n"
+        "    state ONLY on liftoff(main): hip_servo.kp = kp\n  }\n}\n"
+    )
+    model = check_model(path)
+    soft, stiff = model.controller("soft"), model.controller("stiff")
+    assert soft.state_names == stiff.state_names == ("FLIGHT", "STANCE")
+    assert soft.states[0].span == stiff.states[0].span  # the part's row, once
+    assert repr(soft.states[0]) != repr(stiff.states[0])  # each with its own swing
+    assert model.controller("other").state_names == ("ONLY",)
+
+
+def test_the_bipeds_gallops_share_their_table() -> None:
+    model = check_model(ROOT / "creatures" / "biped.leg")
+    gallop, human = model.controller("gallop"), model.controller("gallop_human")
+    assert gallop.state_names == human.state_names == ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")
+    assert [s.span for s in gallop.states] == [s.span for s in human.states]
+    assert {c.name for c in gallop.params} - {c.name for c in human.params} == {"stagger"}

@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 
+from legdsl.check.templates import respan
 from legdsl.check.values import did_you_mean
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
@@ -45,6 +46,8 @@ def shared_parts(parts: Iterable[ast.SharedDecl], diag: Diagnostics) -> dict[str
             continue
         seen: dict[str, Span] = {}
         for item in part.items:
+            if not isinstance(item, Declared | ast.ActionDef):
+                continue  # roles, a table, a path, includes: a second one is reported in use
             name = item.name
             if name.name in seen:
                 diag.error(
@@ -60,11 +63,29 @@ def shared_parts(parts: Iterable[ast.SharedDecl], diag: Diagnostics) -> dict[str
 def expand_includes(
     decl: ast.ControllerDecl, parts: dict[str, ast.SharedDecl], diag: Diagnostics
 ) -> tuple[ast.ControllerItem, ...]:
-    """The controller's items with each ``include`` replaced by the parts' declarations, and
-    the controller's own declarations of those names moved into the parts' places."""
-    included: dict[str, tuple[str, Declared]] = {}  # name -> (part, its declaration there)
+    """The controller's items with each ``include`` replaced by the parts' items (a part's own
+    includes expanded first), and the controller's own items of the same name and kind moved
+    into the parts' places."""
+    items, source = _expanded(decl.items, parts, diag, ())
+    # a part's table (or roles...) is checked against each includer's names: say whose
+    return tuple(
+        respan(item, f" (in controller '{decl.name.name}', from shared part '{source[id(item)]}')")
+        if id(item) in source and not isinstance(item, Declared)
+        else item
+        for item in items
+    )
+
+
+def _expanded(
+    written: tuple[ast.ControllerItem, ...],
+    parts: dict[str, ast.SharedDecl],
+    diag: Diagnostics,
+    chain: tuple[str, ...],
+) -> tuple[tuple[ast.ControllerItem, ...], dict[int, str]]:
+    """The items expanded, and the part each one that is not an action came from."""
+    included: dict[tuple[str, ...], tuple[str, ast.ControllerItem]] = {}  # key -> (part, item)
     items: list[ast.ControllerItem] = []
-    for item in decl.items:
+    for item in written:
         if not isinstance(item, ast.IncludeDecl):
             items.append(item)
             continue
@@ -78,46 +99,71 @@ def expand_includes(
                     f"{did_you_mean(ident.name, parts)}",
                 )
                 continue
-            for shared in part.items:
+            if ident.name in chain:
+                loop = " -> ".join((*chain[chain.index(ident.name) :], ident.name))
+                diag.error(
+                    ident.span,
+                    f"shared part '{ident.name}' includes itself ({loop}); break the loop: "
+                    "one of them must include none of the others",
+                )
+                continue
+            for shared in _expanded(part.items, parts, diag, (*chain, ident.name))[0]:
                 if isinstance(shared, ast.ActionDef):
-                    items.append(shared)
+                    items.append(shared)  # two of one name: 'defined twice' later
                     continue
-                other = included.get(shared.name.name)
+                key = _key(shared)
+                other = included.get(key)
+                if other is not None and other[1] is shared:
+                    continue  # the same part reached twice: its items are already here
                 if other is not None and other[0] == part.name.name:
-                    continue  # declared twice in the part: reported with the part
-                if other is not None:
-                    diag.error(
-                        ident.span,
-                        f"'{shared.name.name}' is declared by both shared parts '{other[0]}' "
-                        f"and '{part.name.name}'; include one of them, or rename it in one",
-                    )
+                    if not isinstance(shared, Declared):  # a name twice: reported with the part
+                        items.append(shared)  # a second table: 'one table' later
                     continue
-                included[shared.name.name] = (part.name.name, shared)
+                if other is not None:
+                    diag.error(ident.span, _both(key, other[0], part.name.name))
+                    continue
+                included[key] = (part.name.name, shared)
                 items.append(shared)
-    own: dict[str, Declared] = {}  # the controller's own declarations of included names
-    for item in decl.items:
-        if isinstance(item, Declared) and item.name.name in included:
-            own.setdefault(item.name.name, item)  # a second one is 'defined twice' later
+    own: dict[tuple[str, ...], ast.ControllerItem] = {}  # own items replacing included ones
+    for item in written:
+        if not isinstance(item, ast.IncludeDecl | ast.ActionDef) and _key(item) in included:
+            own.setdefault(_key(item), item)  # a second one is 'defined twice' later
     moved = {id(item) for item in own.values()}
     out: list[ast.ControllerItem] = []
     for item in items:
         if id(item) in moved:
             continue  # moved into the part's place below
-        if isinstance(item, Declared) and item.name.name in own:
-            override = own[item.name.name]
-            if type(override) is not type(item):
-                diag.error(
-                    override.name.span,
-                    f"'{item.name.name}' is {_ARTICLED[type(item)]} in shared part "
-                    f"'{included[item.name.name][0]}'; give it another value with "
-                    f"'{_WORDS[type(item)]} {item.name.name} = ...'",
-                )
-                out.append(item)
-                continue
-            out.append(override)
+        override = own.get(_key(item)) if not isinstance(item, ast.ActionDef) else None
+        if override is None or included.get(_key(item), ("", None))[1] is not item:
+            out.append(item)
             continue
-        out.append(item)
-    return tuple(out)
+        if isinstance(item, Declared) and type(override) is not type(item):
+            assert isinstance(override, Declared)
+            diag.error(
+                override.name.span,
+                f"'{item.name.name}' is {_ARTICLED[type(item)]} in shared part "
+                f"'{included[_key(item)][0]}'; give it another value with "
+                f"'{_WORDS[type(item)]} {item.name.name} = ...'",
+            )
+            out.append(item)
+            continue
+        out.append(override)
+    return tuple(out), {id(item): part for part, item in included.values()}
+
+
+def _both(key: tuple[str, ...], first: str, second: str) -> str:
+    """Two included parts that both have one item (a name, the roles, a table...)."""
+    if key[0] == "declared":
+        return (
+            f"'{key[1]}' is declared by both shared parts '{first}' and '{second}'; "
+            "include one of them, or rename it in one"
+        )
+    what = {"RolesDecl": "roles", "StartDecl": "a start state", "TableDecl": "a table"}
+    thing = f"a path '{key[1]}'" if key[0] == "PathDecl" else what.get(key[0], key[0])
+    return (
+        f"shared parts '{first}' and '{second}' both have {thing}; include one of them, "
+        "or leave it out of one"
+    )
 
 
 def _key(item: ast.ControllerItem) -> tuple[str, ...]:

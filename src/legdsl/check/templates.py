@@ -183,7 +183,7 @@ class _Expander:
                 self.diag.error(here(a.target.span), f"parameter '{a.target.name}' is given twice")
                 ok = False
             else:
-                args[a.target.name] = _respan(a.value, within)
+                args[a.target.name] = respan(a.value, within)
         missing = [p for p in params if p not in args]
         if missing:
             self.diag.error(
@@ -254,15 +254,15 @@ class _Expander:
         )
 
 
-def _respan(node: Any, within: str) -> Any:
+def respan(node: Any, within: str) -> Any:
     """``node`` with ``within`` on every span in it."""
     if isinstance(node, Span):
         return replace(node, within=within)
     if isinstance(node, tuple):
-        return tuple(_respan(x, within) for x in node)
+        return tuple(respan(x, within) for x in node)
     if is_dataclass(node) and not isinstance(node, type | Quantity):
         return replace(
-            node, **{f.name: _respan(getattr(node, f.name), within) for f in fields(node)}
+            node, **{f.name: respan(getattr(node, f.name), within) for f in fields(node)}
         )
     return node
 

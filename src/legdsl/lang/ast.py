@@ -409,18 +409,6 @@ class IncludeDecl:
     span: Span
 
 
-SharedItem = InputDecl | ParamDecl | SignalDecl | ActionDef
-
-
-@dataclass(frozen=True)
-class SharedDecl:
-    """``shared NAME { ... }``: inputs, parameters, signals and actions for several controllers."""
-
-    name: Ident
-    items: tuple[SharedItem, ...]
-    span: Span
-
-
 ControllerItem = (
     InputDecl
     | ParamDecl
@@ -432,6 +420,17 @@ ControllerItem = (
     | PathDecl
     | IncludeDecl
 )
+SharedItem = ControllerItem
+
+
+@dataclass(frozen=True)
+class SharedDecl:
+    """``shared NAME { ... }``: a controller's items (declarations, actions, roles, a table,
+    includes of other parts) for several controllers."""
+
+    name: Ident
+    items: tuple[SharedItem, ...]
+    span: Span
 
 
 @dataclass(frozen=True)
