@@ -16,11 +16,15 @@ from legdsl.ir.model import Model
 
 
 def load_mjcf(model: Model) -> mujoco.MjModel:
-    return mujoco.MjModel.from_xml_string(model_to_mjcf(model))
+    """The export without anchor pads: MuJoCo's tree is then exactly the model's."""
+    return mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=False))
 
 
 def index_maps(model: Model, mj: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
-    """(qmap, vmap): MuJoCo qpos[qmap[i]] is legdsl q[i], and qvel[vmap[i]] is legdsl v[i]."""
+    """(qmap, vmap): MuJoCo qpos[qmap[i]] is legdsl q[i], and qvel[vmap[i]] is legdsl v[i].
+
+    Every MuJoCo coordinate is a legdsl one or, in an export with anchor pads, a pad's.
+    """
     qmap = np.full(model.nq, -1)
     vmap = np.full(model.nv, -1)
     for j in model.joints:
@@ -34,8 +38,12 @@ def index_maps(model: Model, mj: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray
             jj = mj.joint(d.name)
             qmap[d.q_index] = jj.qposadr[0]
             vmap[d.v_index] = jj.dofadr[0]
-    assert sorted(qmap) == list(range(mj.nq)), "every MuJoCo qpos is some legdsl coordinate"
-    assert sorted(vmap) == list(range(mj.nv)), "every MuJoCo qvel is some legdsl velocity"
+    # every other MuJoCo coordinate is an anchor pad's (an export with pads)
+    known = {d.name for d in model.dofs} | {"root"}
+    pads = [j for j in range(mj.njnt) if mj.joint(j).name not in known]
+    assert all(mj.body(int(mj.jnt_bodyid[j])).name.endswith("_pad") for j in pads)
+    assert sorted([*qmap, *mj.jnt_qposadr[pads]]) == list(range(mj.nq))
+    assert sorted([*vmap, *mj.jnt_dofadr[pads]]) == list(range(mj.nv))
     return qmap, vmap
 
 

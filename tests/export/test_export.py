@@ -364,7 +364,7 @@ def test_cli_export_writes_files(tmp_path: Path, capsys: pytest.CaptureFixture[s
     )
     assert "wrote" in capsys.readouterr().out
     mj = mujoco.MjModel.from_xml_path(str(out))
-    assert mj.nv == 10
+    assert mj.nv == 10 + 2 * 2  # and each of its two contacts' anchor pad: a level hinge, a slide
     urdf = tmp_path / "k.urdf"
     assert (
         main(["export", str(CREATURES / "kangaroo.leg"), "--format", "urdf", "-o", str(urdf)]) == 0
@@ -384,6 +384,14 @@ def test_cli_export_default_name_and_stdout(
     capsys.readouterr()
     assert main(["export", str(CREATURES / "biped.leg"), "--format", "mjcf", "-o", "-"]) == 0
     assert capsys.readouterr().out == model_to_mjcf(check_model(CREATURES / "biped.leg"))
+    bare = ["export", str(CREATURES / "biped.leg"), "--format", "mjcf", "--no-anchor-pads"]
+    assert main([*bare, "-o", "-"]) == 0
+    out = capsys.readouterr().out
+    assert out == model_to_mjcf(check_model(CREATURES / "biped.leg"), pads=False)
+    assert "_pad" not in out and "_pad" in model_to_mjcf(check_model(CREATURES / "biped.leg"))
+    assert main(["export", str(CREATURES / "biped.leg"), "--format", "urdf",
+                 "--no-anchor-pads"]) == 2  # fmt: skip
+    assert "MJCF options" in capsys.readouterr().err
 
 
 def test_cli_export_bad_file_writes_nothing(

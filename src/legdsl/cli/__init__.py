@@ -195,9 +195,11 @@ def _cmd_export(args: argparse.Namespace) -> int:
     model = check_model(args.file, args.creature)
     if args.format != "urdf" and (args.base != "world" or args.link_mass):
         raise UsageError("--base and --link-mass are URDF options (--format urdf)")
+    if args.format != "mjcf" and args.anchor_pads is not None:
+        raise UsageError("--anchor-pads and --no-anchor-pads are MJCF options (--format mjcf)")
     if not args.link_mass >= 0:
         raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
-    text = export_text(model, args.format, args.base, args.link_mass)
+    text = export_text(model, args.format, args.base, args.link_mass, args.anchor_pads is not False)
     if args.output == "-":
         sys.stdout.write(text)
         return 0
@@ -392,6 +394,14 @@ def _parser() -> argparse.ArgumentParser:
         metavar="KG",
         help="URDF: give the intermediate links of composite joints this mass (e.g. 1e-6), for "
         "loaders that refuse moving massless links (MuJoCo's); default 0",
+    )
+    e.add_argument(
+        "--anchor-pads",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="MJCF: hold each contact on a small pad body on tangent slides, which carries the "
+        "ground's tangential spring (the default); --no-anchor-pads writes exactly the model's "
+        "link tree, for comparing dynamics (docs/export.md)",
     )
     _COMMANDS["export"] = _cmd_export
 

@@ -24,14 +24,16 @@ FORMATS: dict[str, tuple[Callable[[Model], str], str]] = {
 }
 
 
-def export_text(model: Model, fmt: str, base: str = "world", link_mass: float = 0.0) -> str:
+def export_text(
+    model: Model, fmt: str, base: str = "world", link_mass: float = 0.0, pads: bool = True
+) -> str:
     """The text of ``model`` in format ``fmt`` ("mjcf" or "urdf"); URDF takes ``base`` and
-    ``link_mass`` (``legdsl.export.urdf``)."""
+    ``link_mass`` (``legdsl.export.urdf``), MJCF ``pads`` (``legdsl.export.mjpads``)."""
     if fmt not in FORMATS:
         raise ValueError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
     if fmt == "urdf":
         return model_to_urdf(model, base, link_mass)
-    return FORMATS[fmt][0](model)
+    return model_to_mjcf(model, pads)
 
 
 def default_path(model: Model, fmt: str) -> Path:

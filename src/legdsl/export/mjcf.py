@@ -21,15 +21,18 @@ The mapping (every choice here is tested against MuJoCo itself in
   ``fullinertia`` about it in body axes. Drawing geoms come from
   ``Body.shape`` (a frustum is drawn as a capsule of its mean radius) and
   neither collide nor weigh anything. Each contact point gets a small sphere
-  geom and a site, both named after the contact.
+  geom and a site, both named after the contact; the sphere sits on the
+  contact's anchor pad (``mjpads.py``), a small body on slides along the
+  ground that carries the ground's tangential spring, unless the export is
+  asked for the bare link tree (``pads=False``, for comparing dynamics).
 * The ground: the floor plane, each terrain feature (a step or box as a box
   geom, a slope as a tilted plane that replaces the floor), every surface
   ``CONTACT_RADIUS`` below legdsl's so that a contact sphere touches it
   exactly when the contact point reaches legdsl's surface. Each contact
   sphere meets each surface through an explicit ``<pair>`` whose
   ``solref``/``solimp``/``solreffriction`` carry the ``.leg`` ground's normal
-  spring-damper (or paw pad) and tangent damper (``mjcontact.py``); the spheres
-  collide with nothing else.
+  spring-damper (or paw pad) and, without pads, the tangent damper
+  (``mjcontact.py``); the spheres collide with nothing else.
 * Actuators: springs (eq. 1) and servos (eq. 5) are MuJoCo ``position``
   actuators with ``kp = k``, ``kv = b`` and ``forcerange = +-max``: their force
   ``kp (ctrl - q) - kv qd`` clipped to the range is legdsl's law exactly when
@@ -37,8 +40,8 @@ The mapping (every choice here is tested against MuJoCo itself in
   ``motor`` actuators (gear 1). The keyframe ``initial`` holds the model's
   initial state and the controls that reproduce the declared rest lengths and
   set points.
-* No damping, armature or friction loss on joints; ``RK4`` at the paper's
-  0.0004 s; gravity from the model.
+* No damping, armature or friction loss on the model's joints (the pads'
+  slides have theirs); ``RK4`` at the paper's 0.0004 s; gravity from the model.
 """
 
 from __future__ import annotations
@@ -48,7 +51,8 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from legdsl import __version__
-from legdsl.export.mjcontact import contact_parameters
+from legdsl.export.mjcontact import FRICTION_IMPRATIO, contact_parameters
+from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model, Stop
 from legdsl.lang.errors import LegError
@@ -58,12 +62,32 @@ CONTACT_RADIUS = 0.005  # m: the sphere touches the floor when the contact point
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
 NO_SLIP_FRICTION = 10.0
 FLOOR_RGBA = "0.85 0.85 0.8 1"
+# The pads' level constraint: stiff (5 steps' time constant, critically damped) and hard
+# (impedance 0.99 to 0.999), so that a pad springing back after liftoff, which its body's
+# turning pushes sideways, stays within 0.1 degrees of level; it only turns the pad, whose
+# inertia is tiny, so it pushes nothing else.
+LEVEL_SOLREF = (5 * TIMESTEP, 1.0)
+LEVEL_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
+# An anchor pad's friction for legdsl's no slip. legdsl's tangent spring holds however light
+# the load; MuJoCo's pad slips past mu N, so mu is large (its friction rows are hard and the
+# cone elliptic, so this costs nothing). At 10 a toe touching down lightly slipped.
+PAD_NO_SLIP_FRICTION = 1000.0
+# m: a level pad's rolling friction over its sliding friction. The torque asked of rolling
+# friction is the normal force times the slide (plus the friction times the sphere's
+# radius), so an arm well above the slides' travel never uses up the cone.
+PAD_ROLLING_ARM = 1.0
 TERRAIN_EXTENT = 50.0  # m, half length of the box that draws a 'step' (it extends to +x)
 
 
-def model_to_mjcf(model: Model) -> str:
-    """The MJCF text of ``model``; the same model gives the same bytes."""
+def model_to_mjcf(model: Model, pads: bool = True) -> str:
+    """The MJCF text of ``model``; the same model gives the same bytes.
+
+    ``pads``: hold each contact on an anchor pad (``mjpads.py``), which carries the ground's
+    tangential spring; without them (for comparing dynamics) the tree is exactly the model's.
+    """
     _check_names(model)
+    anchors = anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if pads else ()
+    inertials = carrier_inertials(model, anchors)
     root = ET.Element("mujoco", model=model.name)
     root.append(
         ET.Comment(
@@ -76,7 +100,7 @@ def model_to_mjcf(model: Model) -> str:
     # An elliptic friction cone: no slip (the paper's ground) is exported as a large friction
     # coefficient, and with MuJoCo's default pyramidal cone such a coefficient makes the contact
     # solve so soft that a creature sinks through the floor (seen in benchmarks/bench_runtime.py).
-    ET.SubElement(
+    option = ET.SubElement(
         root,
         "option",
         integrator="RK4",
@@ -84,6 +108,8 @@ def model_to_mjcf(model: Model) -> str:
         gravity=nums(model.gravity),
         cone="elliptic",
     )
+    if anchors:  # hard friction: the pads stick (mjcontact.py)
+        option.set("impratio", num(FRICTION_IMPRATIO))
     _defaults(root, model)
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", name="sun", pos="0 0 4", dir="0 0 -1", directional="true")
@@ -94,31 +120,35 @@ def model_to_mjcf(model: Model) -> str:
     for b in model.bodies:
         children.setdefault(b.parent, []).append(b)
     joints = {j.child: j for j in model.joints}
-    order: list[Joint] = []
+    on_pad = {pad.contact: pad for pad in anchors}
+    qpos: list[float] = []  # the keyframe, in MuJoCo's order of joints
+    qvel: list[float] = []
 
     def emit(parent: ET.Element, body: Body) -> None:
         joint = joints[body.name]
-        order.append(joint)
+        qpos.extend(model.q0[joint.q_start : joint.q_start + joint.nq])
+        qvel.extend(model.v0[joint.v_start : joint.v_start + joint.nv])
         el = ET.SubElement(parent, "body", name=body.name, pos=nums(joint.origin))
         _joint(el, joint, {st.dof: st for st in model.stops})
-        i = body.inertia
+        mass, com, i = inertials[body.name]
         ET.SubElement(
             el,
             "inertial",
-            pos=nums(body.com),
-            mass=num(body.mass),
+            pos=nums(com),
+            mass=num(mass),
             fullinertia=nums((i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2])),
         )
         _shape(el, body)
         for c in model.contacts:
             if c.body == body.name:
-                ET.SubElement(
-                    el,
-                    "geom",
-                    {"class": "contact"},
-                    name=c.name,
-                    pos=nums(c.point),
-                )
+                pad = on_pad.get(c.name)
+                if pad is None:
+                    ET.SubElement(el, "geom", {"class": "contact"}, name=c.name, pos=nums(c.point))
+                else:
+                    _anchor_pad(el, pad)
+                    joints_on_pad = len(pad.slides) + (pad.level is not None)
+                    qpos.extend([0.0] * joints_on_pad)
+                    qvel.extend([0.0] * joints_on_pad)
                 ET.SubElement(el, "site", {"class": "contact"}, name=c.name, pos=nums(c.point))
         for child in children.get(body.name, []):
             emit(el, child)
@@ -126,10 +156,9 @@ def model_to_mjcf(model: Model) -> str:
     for b in children.get(None, []):
         emit(world, b)
 
-    _contact_pairs(root, model, surfaces)
+    _contact_pairs(root, model, surfaces, anchors)
+    _level_pads(root, anchors)
     _actuators(root, model)
-    qpos = [model.q0[j.q_start + k] for j in order for k in range(j.nq)]
-    qvel = [model.v0[j.v_start + k] for j in order for k in range(j.nv)]
     key = ET.SubElement(ET.SubElement(root, "keyframe"), "key", name="initial")
     key.set("qpos", nums(qpos))
     if qvel:
@@ -181,20 +210,80 @@ def _friction(model: Model) -> str:
     return nums((NO_SLIP_FRICTION if mu is None else mu, 0.005, 0.0001))
 
 
-def _contact_pairs(root: ET.Element, model: Model, surfaces: list[str]) -> None:
+def _anchor_pad(body: ET.Element, pad: AnchorPad) -> None:
+    """The pad at the contact point on its tangent slides, carrying the contact sphere."""
+    el = ET.SubElement(body, "body", name=pad.name, pos=nums(pad.point))
+    if pad.level is not None:
+        ET.SubElement(el, "joint", name=pad.level, type="hinge", axis="0 1 0")
+    for name, axis in pad.slides:
+        ET.SubElement(
+            el,
+            "joint",
+            name=name,
+            type="slide",
+            axis=nums(axis),
+            stiffness=num(pad.k),
+            damping=num(pad.b),
+            armature=num(pad.mass),
+        )
+    ET.SubElement(
+        el, "inertial", pos="0 0 0", mass=num(pad.mass), diaginertia=nums([pad.inertia] * 3)
+    )
+    ET.SubElement(el, "geom", {"class": "contact"}, name=pad.contact)
+
+
+def _level_pads(root: ET.Element, pads: tuple[AnchorPad, ...]) -> None:
+    """A planar creature's pads kept level: each pad's hinge plus its body's hinges (a fixed
+    tendon) held at the initial pose's sum, so the pad keeps its initial world orientation."""
+    level = [pad for pad in pads if pad.level is not None]
+    if not level:
+        return
+    tendons = ET.SubElement(root, "tendon")
+    equality = ET.SubElement(root, "equality")
+    for pad in level:
+        assert pad.level is not None
+        fixed = ET.SubElement(tendons, "fixed", name=pad.level)
+        for joint, coef in (*pad.turns, (pad.level, 1.0)):
+            ET.SubElement(fixed, "joint", joint=joint, coef=num(coef))
+        # MuJoCo holds tendon1 - (its length at qpos0, here 0) = polycoef[0]
+        ET.SubElement(
+            equality,
+            "tendon",
+            name=pad.level,
+            tendon1=pad.level,
+            polycoef=nums((pad.turned, 0.0, 0.0, 0.0, 0.0)),
+            solref=nums(LEVEL_SOLREF),
+            solimp=nums(LEVEL_SOLIMP),
+        )
+
+
+def _contact_pairs(
+    root: ET.Element, model: Model, surfaces: list[str], pads: tuple[AnchorPad, ...]
+) -> None:
     """Each contact sphere against each ground surface, with the ground's law (mjcontact.py)."""
-    solver = contact_parameters(model)
+    solver = contact_parameters(model, pads)
     if not solver or not surfaces:
         return
     pairs = ET.SubElement(root, "contact")
-    mu = _friction(model).split()
+    slide, spin, roll = _friction(model).split()
+    level = {pad.contact for pad in pads if pad.level is not None}
+    if pads:
+        assert model.ground is not None
+        mu = model.ground.friction
+        slide = num(PAD_NO_SLIP_FRICTION if mu is None else mu)
     for c in model.contacts:
+        # A level pad turns freely about y, so the ground holds its turn (rolling friction):
+        # the normal force then reaches the body at the contact point, as in legdsl, and not
+        # at the anchor with the moment N * slide. The rolling coefficient is the sliding one
+        # times PAD_ROLLING_ARM: MuJoCo's regulariser of a friction row scales with the
+        # inverse square of its coefficient, so the two are as hard as each other.
+        rolling = num(float(slide) * PAD_ROLLING_ARM) if c.name in level else roll
         for surface in surfaces:
             attrs = {
                 "geom1": c.name,
                 "geom2": surface,
-                "condim": "3",
-                "friction": " ".join((mu[0], mu[0], mu[1], mu[2], mu[2])),
+                "condim": "6" if c.name in level else "3",
+                "friction": " ".join((slide, slide, spin, rolling, rolling)),
                 **solver[c.name],
             }
             ET.SubElement(pairs, "pair", attrs)

@@ -23,10 +23,12 @@ The paw pad (eq. 6) is stiffer the deeper it is pressed; MuJoCo lets the
 impedance rise with the penetration (``solimp``'s width, midpoint and power),
 and the curve below makes the force follow eq. (6) within 7%.
 
-What MuJoCo cannot carry over: the tangential spring's anchor (friction rows
-have no position error), so the tangent law becomes its damper alone
-(``solreffriction``); the torsion spring (no torsional friction row is
-written); and no slip is a friction coefficient of ``NO_SLIP_FRICTION``.
+What MuJoCo's contact cannot carry over is the tangential spring's anchor
+(friction rows have no position error): the export's anchor pads (``mjpads.py``)
+carry the tangent spring-damper on slide joints and make the contact's friction
+hard, so that the pad sticks (``FRICTION_IMPRATIO``). Without pads the tangent
+law becomes its damper alone (``solreffriction``). The torsion spring is not
+written, and no slip is a large friction coefficient.
 ``tests/export/test_mjcf_ground.py`` drops each shipped creature in both simulators.
 
 ``body_invweight0`` is computed here as MuJoCo does (trace of ``J M^-1 J^T`` / 3
@@ -38,14 +40,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from legdsl.export.mjpads import AnchorPad, carrier_inertials
 from legdsl.export.xml import nums
 from legdsl.ir.model import Model, Pad
 
 IMPEDANCE = 0.001  # solimp dmin = dmax: small, so the constraint acts as the declared spring
+# Anchor pads' friction: MuJoCo divides the friction rows' regulariser by impratio (elliptic
+# cones), which turns the soft rows of IMPEDANCE into hard ones: R = (1 - d) / d A0 / impratio.
+FRICTION_IMPRATIO = 1e7
+# 1/s: the hard row's velocity decay. legdsl sets its anchor the instant the foot touches
+# down; the faster the pad stops the closer MuJoCo comes (the kangaroo's first landing: pitch
+# within 0.4 degrees RMS at 1000/s, 0.08 at 5000/s). The decay is explicit in RK4, whose limit
+# is 2.78 / dt: 5000/s is 2 / dt at the 0.4 ms step, the pads' own margin (mjpads.py).
+FRICTION_RATE = 5000.0
 
 
-def invweight0(model: Model) -> dict[str, tuple[float, float]]:
-    """MuJoCo's ``body_invweight0`` (translational, rotational) of each body of ``model``."""
+def invweight0(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, tuple[float, float]]:
+    """MuJoCo's ``body_invweight0`` (translational, rotational) of each body of ``model``,
+    and of each anchor pad's body when the export has ``pads`` (``mjpads.py``)."""
     origin: dict[str, np.ndarray] = {}
     chains: dict[str, list[tuple[str, np.ndarray, np.ndarray, int]]] = {}
     for body, joint in zip(model.bodies, model.joints, strict=True):
@@ -65,21 +77,39 @@ def invweight0(model: Model) -> dict[str, tuple[float, float]]:
                 chain.append((dof.motion, np.asarray(dof.axis, float), p, dof.v_index))
         origin[body.name] = p
         chains[body.name] = chain
+    inertials = carrier_inertials(model, pads)
+    nv = model.nv
+    armature = []  # (velocity, armature) of each pad slide
+    for pad in pads:  # its slides are further velocities, after the model's
+        p = origin[pad.body] + np.asarray(pad.point, float)
+        chain = list(chains[pad.body])
+        if pad.level is not None:
+            chain.append(("hinge", np.array([0.0, 1.0, 0.0]), p, nv))
+            nv += 1
+        for _, direction in pad.slides:
+            chain.append(("slide", np.asarray(direction, float), p, nv))
+            armature.append((nv, pad.mass))
+            nv += 1
+        origin[pad.name] = p
+        chains[pad.name] = chain
+        inertials[pad.name] = (pad.mass, np.zeros(3), pad.inertia * np.eye(3))
 
-    mass = np.zeros((model.nv, model.nv))
+    mass = np.zeros((nv, nv))
+    for i, extra in armature:
+        mass[i, i] += extra
     jacobians = {}
-    for b in model.bodies:
-        jv = np.zeros((3, model.nv))
-        jw = np.zeros((3, model.nv))
-        x = origin[b.name] + np.asarray(b.com, float)
-        for kind, axis, at, i in chains[b.name]:
+    for name, (m, com, inertia) in inertials.items():
+        jv = np.zeros((3, nv))
+        jw = np.zeros((3, nv))
+        x = origin[name] + com
+        for kind, axis, at, i in chains[name]:
             if kind == "slide":
                 jv[:, i] += axis
             else:
                 jw[:, i] += axis
                 jv[:, i] += np.cross(axis, x - at)
-        mass += b.mass * jv.T @ jv + jw.T @ np.asarray(b.inertia, float) @ jw
-        jacobians[b.name] = (jv, jw)
+        mass += m * jv.T @ jv + jw.T @ inertia @ jw
+        jacobians[name] = (jv, jw)
     inverse = np.linalg.inv(mass)
     return {
         name: (
@@ -115,17 +145,22 @@ def _impedance(x: float, d0: float, dmax: float) -> float:
     return d0 + y * (dmax - d0)
 
 
-def contact_parameters(model: Model) -> dict[str, dict[str, str]]:
-    """Per contact name: the MJCF contact-pair attributes solref, solreffriction and solimp."""
+def contact_parameters(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, dict[str, str]]:
+    """Per contact name: the MJCF contact-pair attributes solref, solreffriction and solimp.
+
+    With anchor ``pads`` each contact sphere is on its pad's body, whose ``A0`` it takes,
+    and its friction is hard (``FRICTION_IMPRATIO``) so that the pad sticks.
+    """
     ground = model.ground
     if ground is None:
         return {}
-    weights = invweight0(model)
+    weights = invweight0(model, pads)
+    carrier = {pad.contact: pad.name for pad in pads}
     d = IMPEDANCE
     normal = ground.normal
     out = {}
     for c in model.contacts:
-        a0 = weights[c.body][0]
+        a0 = weights[carrier.get(c.name, c.body)][0]
         scale = (1.0 - d) * a0
         if isinstance(normal, Pad):
             t = normal.thickness
@@ -137,11 +172,17 @@ def contact_parameters(model: Model) -> dict[str, dict[str, str]]:
         else:
             solref = (-normal.k * scale, -normal.b * scale)
             solimp = (d, d, 0.001, 0.5, 2.0)
-        out[c.name] = {
-            "solref": nums(solref),
+        if c.name in carrier:
+            # a hard friction row brings the pad's sliding velocity to zero at FRICTION_RATE
+            # (its reference acceleration is -FRICTION_RATE v; direct solref divides by dmax)
+            friction = (-FRICTION_RATE * d, -FRICTION_RATE * d)
+        else:
             # friction rows have no position error: only the tangent damper carries over
             # (their regulariser is the normal row's, MuJoCo's impratio being 1)
-            "solreffriction": nums((-ground.tangent.k * scale, -ground.tangent.b * scale)),
+            friction = (-ground.tangent.k * scale, -ground.tangent.b * scale)
+        out[c.name] = {
+            "solref": nums(solref),
+            "solreffriction": nums(friction),
             "solimp": nums(solimp),
         }
     return out
