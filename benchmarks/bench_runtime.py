@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from report import DOC, replace_section  # noqa: E402
 
 from legdsl.check.source import check_model  # noqa: E402
-from legdsl.export.formats import export_text  # noqa: E402
+from legdsl.export.mjcf import model_to_mjcf  # noqa: E402
 from legdsl.pipeline.session import RunSession  # noqa: E402
 from legdsl.sim.simulate import RunOptions  # noqa: E402
 
@@ -50,7 +50,9 @@ def mujoco_drop(name: str, start_q: list[float]) -> tuple[float, float]:
     import mujoco
 
     model = check_model(ROOT / "creatures" / f"{name}.leg")
-    mj = mujoco.MjModel.from_xml_string(export_text(model, "mjcf"))
+    # MuJoCo's own contacts on the bare tree (no anchor pads: their extra joints and
+    # constraints would slow MuJoCo down and flatter legdsl in the comparison)
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=False))
     mj.opt.timestep = STEP
     mj.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
     data = mujoco.MjData(mj)
