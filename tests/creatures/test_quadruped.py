@@ -220,3 +220,28 @@ def test_the_bound_at_the_papers_speed(generated: Path) -> None:
     times, x = run.samples["t"], run.samples["q.x"]
     i = int(np.searchsorted(times, 3.0))
     assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(2.8, rel=0.25)
+
+
+def test_the_pace_takes_over_from_the_trot(generated: Path) -> None:
+    """A switched run at 1.5 m/s, on the default backend: the trot 4 s, then the pace, which
+    takes over as the trot's last pair lifts off (all feet up) and holds the speed from 3 s
+    after its switch to the end within 5% (docs/quadruped.md, "Changing gait")."""
+    import legdsl
+    from legdsl.sim.switching import HANDOVER_WAIT
+
+    run = legdsl.load(QUADRUPED, generated=generated).run(
+        controller="trot", set={"speed": "1.5 m/s"}, switch={"4 s": "pace"}, time=10
+    )
+    assert run.status == "ok", run.info.get("message")
+    _, seg = run.info["segments"]
+    assert seg["controller"] == "pace" and seg["state"] == "FLIGHT"
+    assert 4.0 < seg["from"] < 4.0 + HANDOVER_WAIT
+    times, x = run.samples["t"], run.samples["q.x"]
+    k = int(np.searchsorted(times, seg["from"]))
+    assert not any(run.samples[f"contact.{foot}"][k] for foot in FEET)
+    assert {tuple(seg["roles"]["active"]), tuple(seg["roles"]["idle"])} == {
+        ("fl", "rl"),
+        ("fr", "rr"),
+    }
+    i = int(np.searchsorted(times, seg["from"] + 3.0))
+    assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(1.5, rel=0.05)

@@ -1,7 +1,7 @@
 """Controllers said once: ``shared NAME { ... }`` parts that controllers ``include``, and
 controllers that ``extends`` another.
 
-A part holds inputs, parameters, signals and actions. ``include gains`` puts the part's
+A part holds inputs, parameters, signals, actions and ``own`` records. ``include gains`` puts the part's
 declarations where the ``include`` stands, in the part's order; a controller's own
 declaration of a name the part declares (of the same kind) gives it another value in the
 part's place, so several controllers share their common gains and state only what differs.
@@ -45,6 +45,8 @@ def shared_parts(parts: Iterable[ast.SharedDecl], diag: Diagnostics) -> dict[str
             continue
         seen: dict[str, Span] = {}
         for item in part.items:
+            if isinstance(item, ast.OwnDecl):
+                continue  # names records, which the controller checks
             name = item.name
             if name.name in seen:
                 diag.error(
@@ -79,7 +81,7 @@ def expand_includes(
                 )
                 continue
             for shared in part.items:
-                if isinstance(shared, ast.ActionDef):
+                if isinstance(shared, ast.ActionDef | ast.OwnDecl):
                     items.append(shared)
                     continue
                 other = included.get(shared.name.name)
@@ -128,6 +130,8 @@ def _key(item: ast.ControllerItem) -> tuple[str, ...]:
         return (type(item).__name__, item.name.name)
     if isinstance(item, ast.IncludeDecl):
         return ("include", *(n.name for n in item.names))
+    if isinstance(item, ast.OwnDecl):
+        return ("own", *(n.name for n in item.names))
     return (type(item).__name__,)  # roles, start, table: one each
 
 

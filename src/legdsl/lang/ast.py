@@ -409,7 +409,16 @@ class IncludeDecl:
     span: Span
 
 
-SharedItem = InputDecl | ParamDecl | SignalDecl | ActionDef
+@dataclass(frozen=True)
+class OwnDecl:
+    """``own pitch_trim, speed_trim``: records a controller taking over from another starts at
+    0, not at the other's values (``legdsl.sim.switching``)."""
+
+    names: tuple[Ident, ...]
+    span: Span
+
+
+SharedItem = InputDecl | ParamDecl | SignalDecl | ActionDef | OwnDecl
 
 
 @dataclass(frozen=True)
@@ -431,6 +440,7 @@ ControllerItem = (
     | TableDecl
     | PathDecl
     | IncludeDecl
+    | OwnDecl
 )
 
 

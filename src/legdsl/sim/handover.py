@@ -133,6 +133,19 @@ def _score(facts: Sequence[Fact], feet: Mapping[str, Clock]) -> tuple[int, float
     return len(facts) - len(held), recent
 
 
+def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bool:
+    """Whether a controller whose table runs through ``pairs`` can take over at ``t`` as a
+    foot leaves the ground: a pair of it contradicts no contact fact, and the most recent of
+    them is a liftoff made true at ``t`` (``take_over`` then chooses that pair)."""
+    return any(p.facts and not p.facts[0].down and _score(p.facts, feet) == (0, t) for p in pairs)
+
+
+def lifts_off(pairs: Sequence[Pair]) -> bool:
+    """Whether any state of the table is entered on a liftoff (else there is no such moment
+    to wait for)."""
+    return any(p.facts and not p.facts[0].down for p in pairs)
+
+
 def take_over(
     pairs: Sequence[Pair], feet: Mapping[str, Clock], holds: Callable[[Pair], bool]
 ) -> Pair:
