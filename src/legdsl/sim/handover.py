@@ -137,13 +137,16 @@ def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bo
     """Whether a controller whose table runs through ``pairs`` can take over at ``t`` as a
     foot leaves the ground: a pair of it contradicts no contact fact, and the most recent of
     them is a liftoff made true at ``t`` (``take_over`` then chooses that pair)."""
-    return any(p.facts and not p.facts[0].down and _score(p.facts, feet) == (0, t) for p in pairs)
+
+    def lifted_now(f: Fact) -> bool:
+        return not f.down and any(feet[c].liftoff == t for c in f.feet if c in feet)
+
+    return any(_score(p.facts, feet)[0] == 0 and any(map(lifted_now, p.facts)) for p in pairs)
 
 
 def lifts_off(pairs: Sequence[Pair]) -> bool:
-    """Whether any state of the table is entered on a liftoff (else there is no such moment
-    to wait for)."""
-    return any(p.facts and not p.facts[0].down for p in pairs)
+    """Whether the table has a liftoff event (else there is no moment to wait for)."""
+    return any(not f.down for p in pairs for f in p.facts)
 
 
 def take_over(

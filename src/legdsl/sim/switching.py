@@ -1,13 +1,13 @@
 """A run whose controller changes at given times (``legdsl run --switch 6s=gallop``).
 
 ``SwitchingMachine`` holds one ``StateMachine`` at a time. At each switch the next
-controller's machine is made and takes over in the same control tick:
+controller's machine is made and takes over:
 
-* it takes over at the first control tick at or after the switch's time at which a foot has
-  just lifted off and one of its states is entered on that liftoff with every other foot as
-  it is (``legdsl.sim.handover.on_liftoff``: the start of a flight or a swing), or
-  ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if no state of its table
-  is entered on a liftoff;
+* at the first control tick at or after the switch's time at which a foot has just lifted
+  off and one of its states knows that foot up and every other foot as it is
+  (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
+  ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
+  liftoff event;
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
