@@ -84,7 +84,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:190:5
+        event  creatures/quadruped.leg:193:5
     """
     leg_fl_touching = s[21]
     leg_rl_touching = s[33]
@@ -95,7 +95,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:206:5
+        event  creatures/quadruped.leg:209:5
     """
     leg_fl_touching = s[21]
     leg_rl_touching = s[33]
@@ -106,7 +106,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:213:5
+        event  creatures/quadruped.leg:216:5
     """
     leg_fl_rate = s[20]
     leg_rl_rate = s[32]
@@ -117,7 +117,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:216:5
+        event  creatures/quadruped.leg:219:5
     """
     leg_fl_rate = s[20]
     leg_rl_rate = s[32]
@@ -129,7 +129,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:220:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fl_length = s[19]
     leg_fl_touching = s[21]
@@ -145,7 +145,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:190:5
+        event  creatures/quadruped.leg:193:5
     """
     leg_fr_touching = s[27]
     leg_rr_touching = s[39]
@@ -156,7 +156,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:206:5
+        event  creatures/quadruped.leg:209:5
     """
     leg_fr_touching = s[27]
     leg_rr_touching = s[39]
@@ -167,7 +167,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:213:5
+        event  creatures/quadruped.leg:216:5
     """
     leg_fr_rate = s[26]
     leg_rr_rate = s[38]
@@ -178,7 +178,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:216:5
+        event  creatures/quadruped.leg:219:5
     """
     leg_fr_rate = s[26]
     leg_rr_rate = s[38]
@@ -190,7 +190,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:220:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fr_length = s[25]
     leg_fr_touching = s[27]
@@ -206,20 +206,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:192:7
-        record ramped_speed  creatures/quadruped.leg:199:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:199:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:200:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:200:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:201:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:201:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:201:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:202:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:202:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:202:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:202:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:202:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:203:7
+        record steps         creatures/quadruped.leg:195:7
+        record ramped_speed  creatures/quadruped.leg:202:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:202:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:203:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:203:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:204:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:204:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:204:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:205:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:205:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:205:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:205:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:205:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:206:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -294,48 +294,48 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:193:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.rest       creatures/quadruped.leg:193:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:194:7
-        leg_rl_spring.k          creatures/quadruped.leg:194:7
-        leg_fr_spring.k          creatures/quadruped.leg:195:7
-        leg_rr_spring.k          creatures/quadruped.leg:195:7
-        leg_fl_spring.b          creatures/quadruped.leg:196:7
-        leg_rl_spring.b          creatures/quadruped.leg:196:7
-        leg_fr_spring.b          creatures/quadruped.leg:197:7
-        leg_rr_spring.b          creatures/quadruped.leg:197:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:198:7 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:198:7 > stdlib/raibert.leg:155:3
-        leg_fr_spring.rest       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:205:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:205:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:205:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:205:7 > creatures/quadruped.leg:124:5
-        place fl (x, y)          creatures/quadruped.leg:204:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:204:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.rest       creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:197:7
+        leg_rl_spring.k          creatures/quadruped.leg:197:7
+        leg_fr_spring.k          creatures/quadruped.leg:198:7
+        leg_rr_spring.k          creatures/quadruped.leg:198:7
+        leg_fl_spring.b          creatures/quadruped.leg:199:7
+        leg_rl_spring.b          creatures/quadruped.leg:199:7
+        leg_fr_spring.b          creatures/quadruped.leg:200:7
+        leg_rr_spring.b          creatures/quadruped.leg:200:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3
+        leg_fr_spring.rest       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5
+        place fl (x, y)          creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -443,10 +443,10 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:207:7
-        record flight_apex    creatures/quadruped.leg:208:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:208:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:210:7
+        record flight_apex    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:312:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -502,50 +502,50 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:209:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:209:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:212:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:212:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:212:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:212:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -697,36 +697,36 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -863,38 +863,38 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:217:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:217:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:219:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:219:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:219:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:219:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1036,38 +1036,38 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:221:29 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:221:29 > stdlib/raibert.leg:169:3
-        leg_fr_spring.rest       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:221:50 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:221:50 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:221:50 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:221:50 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3
+        leg_fr_spring.rest       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5
     """
     coord_hip_fl_y_value = s[12]
     coord_hip_rl_y_value = s[14]
@@ -1116,20 +1116,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:192:7
-        record ramped_speed  creatures/quadruped.leg:199:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:199:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:200:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:200:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:201:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:201:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:201:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:202:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:202:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:202:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:202:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:202:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:203:7
+        record steps         creatures/quadruped.leg:195:7
+        record ramped_speed  creatures/quadruped.leg:202:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:202:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:203:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:203:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:204:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:204:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:204:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:205:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:205:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:205:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:205:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:205:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:206:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1204,48 +1204,48 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:193:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:193:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.k          creatures/quadruped.leg:194:7
-        leg_rr_spring.k          creatures/quadruped.leg:194:7
-        leg_fl_spring.k          creatures/quadruped.leg:195:7
-        leg_rl_spring.k          creatures/quadruped.leg:195:7
-        leg_fr_spring.b          creatures/quadruped.leg:196:7
-        leg_rr_spring.b          creatures/quadruped.leg:196:7
-        leg_fl_spring.b          creatures/quadruped.leg:197:7
-        leg_rl_spring.b          creatures/quadruped.leg:197:7
-        hip_fr_pitch.kp          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:198:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:198:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:198:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:198:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:205:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:205:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:205:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:205:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:205:7 > creatures/quadruped.leg:124:5
-        place fr (x, y)          creatures/quadruped.leg:204:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:204:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fr_spring.rest       creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.k          creatures/quadruped.leg:197:7
+        leg_rr_spring.k          creatures/quadruped.leg:197:7
+        leg_fl_spring.k          creatures/quadruped.leg:198:7
+        leg_rl_spring.k          creatures/quadruped.leg:198:7
+        leg_fr_spring.b          creatures/quadruped.leg:199:7
+        leg_rr_spring.b          creatures/quadruped.leg:199:7
+        leg_fl_spring.b          creatures/quadruped.leg:200:7
+        leg_rl_spring.b          creatures/quadruped.leg:200:7
+        hip_fr_pitch.kp          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5
+        place fr (x, y)          creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1353,10 +1353,10 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:207:7
-        record flight_apex    creatures/quadruped.leg:208:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:208:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:210:7
+        record flight_apex    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:312:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -1412,50 +1412,50 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:209:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:209:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:169:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:211:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:212:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:212:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:212:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:212:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:212:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1607,36 +1607,36 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        hip_fr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1773,38 +1773,38 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:217:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:217:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:219:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:219:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:219:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:219:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:219:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1946,38 +1946,38 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:221:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:221:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:221:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:221:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:221:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:221:50 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:221:50 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:221:50 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:221:50 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5
     """
     coord_hip_fr_y_value = s[13]
     coord_hip_rr_y_value = s[15]

@@ -220,3 +220,37 @@ def test_the_bound_at_the_papers_speed(generated: Path) -> None:
     times, x = run.samples["t"], run.samples["q.x"]
     i = int(np.searchsorted(times, 3.0))
     assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(2.8, rel=0.25)
+
+
+def test_the_pace_takes_over_from_the_trot(generated: Path) -> None:
+    """A switched run at 1.5 m/s, on the default backend: the trot 4 s, then the pace, which
+    takes over as one of the trot's feet lifts off and holds the speed from 3 s after it took
+    over to the end within 5% (docs/quadruped.md, "Changing gait")."""
+    import legdsl
+    from legdsl.sim.switching import HANDOVER_WAIT
+
+    run = legdsl.load(QUADRUPED, generated=generated).run(
+        controller="trot", set={"speed": "1.5 m/s"}, switch={"4 s": "pace"}, time=10
+    )
+    assert run.status == "ok", run.info.get("message")
+    _, seg = run.info["segments"]
+    assert seg["controller"] == "pace" and 4.0 < seg["from"] < 4.0 + HANDOVER_WAIT
+    tick = run.info["options"]["control_dt"]
+    lifted = [e for e in run.info["events"]
+              if e["kind"] == "liftoff" and seg["from"] - tick < e["t"] <= seg["from"]]  # fmt: skip
+    assert lifted  # a foot left the ground since the last control tick
+    assert {tuple(seg["roles"]["active"]), tuple(seg["roles"]["idle"])} == {
+        ("fl", "rl"),
+        ("fr", "rr"),
+    }
+    times, x = run.samples["t"], run.samples["q.x"]
+    i = int(np.searchsorted(times, seg["from"] + 3.0))
+    assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(1.5, rel=0.05)
+
+
+def test_the_gaits_own_their_trims() -> None:
+    """What a gait taking over does not carry from the one before (``own``)."""
+    model = check_model(QUADRUPED)
+    own = {name: model.controller(name).own for name in ("trot", "pace", "bound", "gallop")}
+    assert own == {"trot": ("speed_trim",), "pace": ("speed_trim",),
+                   "bound": ("pitch_trim",), "gallop": ("pitch_trim",)}  # fmt: skip

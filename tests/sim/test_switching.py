@@ -13,10 +13,11 @@ from conftest import CREATURES
 
 from legdsl.check.source import check_model
 from legdsl.cli import main
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.handover import Clock, Fact, cycle, take_over
+from legdsl.sim.handover import Clock, Fact, cycle, on_liftoff, take_over
 from legdsl.sim.simulate import RunOptions
+from legdsl.sim.switching import HANDOVER_WAIT
 
 BIPED = CREATURES / "biped.leg"
 NAN = math.nan
@@ -77,6 +78,24 @@ def test_the_state_that_matches_the_feet_down(biped) -> None:
     assert gallop.state_names[take_over(g, only_right, lambda p: False).state] == "SINGLE_2"
 
 
+def test_a_controller_takes_over_as_a_foot_lifts_off(biped) -> None:
+    gallop, run = cycle(biped, biped.controller("gallop")), cycle(biped, biped.controller("run"))
+    t = 2.0
+    # both up, either foot just lifted: the gallop's FLIGHT (both up) begins
+    assert on_liftoff(gallop, _feet((False, 1.5, 1.7), (False, 1.8, t)), t)
+    assert on_liftoff(gallop, _feet((False, 1.8, t), (False, 1.5, 1.7)), t)
+    # the right just lifted with the left down: SINGLE_1 (left down, right up), its swing
+    assert on_liftoff(gallop, _feet((True, 1.95, 1.7), (False, 1.8, t)), t)
+    # no foot lifted off at this tick: not yet, whatever matches
+    assert not on_liftoff(gallop, _feet((False, 1.5, 1.7), (False, 1.8, 1.9)), t)
+    assert not on_liftoff(run, _feet((True, t, 1.7), (False, 1.5, 1.8)), t)
+    # the run: the left lifted off with the right down is the right's stance, the left's swing
+    assert on_liftoff(run, _feet((False, 1.8, t), (True, 1.9, 1.7)), t)
+    # both down after a liftoff (the other landed in the same tick): its stance knows the
+    # lifted leg is up, which no longer holds
+    assert not on_liftoff(run, _feet((True, 1.9, t), (True, t, 1.7)), t)
+
+
 @pytest.fixture(scope="module")
 def session() -> RunSession:
     return RunSession.from_file(BIPED)
@@ -97,12 +116,22 @@ def test_a_switched_run_changes_controller_in_a_consistent_state(session, tmp_pa
     info = json.loads((out / "run.json").read_text())
     assert info["switches"] == [{"t": 1.5, "controller": "gallop"}, {"t": 3.0, "controller": "run"}]
     segs = info["segments"]
-    assert [(s["controller"], s["from"], s["to"]) for s in segs] == [
-        ("run", 0.0, 1.5), ("gallop", 1.5, 3.0), ("run", 3.0, 4.0),
-    ]  # fmt: skip
-    assert segs[1]["inputs"]["speed"] == 1.2  # the schedule at the switch applies
+    assert [s["controller"] for s in segs] == ["run", "gallop", "run"]
+    # each takes over at the first liftoff after its switch's time at which one of its states
+    # matches the feet (the facts are checked below)
+    assert [s.get("asked") for s in segs[1:]] == [1.5, 3.0]
+    for k, seg in enumerate(segs[1:], 1):
+        assert seg["asked"] < seg["from"] < seg["asked"] + HANDOVER_WAIT
+        assert segs[k - 1]["to"] == seg["from"]
+        tick = info["options"]["control_dt"]
+        lifted = [e for e in info["events"]
+                  if e["kind"] == "liftoff" and seg["from"] - tick < e["t"] <= seg["from"]]  # fmt: skip
+        assert lifted, seg  # a foot left the ground since the last control tick
+    assert segs[1]["inputs"]["speed"] == 1.2  # the command given with the switch applies
     assert segs[2]["inputs"]["speed"] == 1.2  # and is kept by the next controller
     tr = run.result.trajectory
+    k = int(np.searchsorted(tr.t, 1.52))  # the command went with the switch: run kept 1.5 m/s
+    assert tr.speed_command[k] == pytest.approx(1.5 if tr.t[k] < segs[1]["from"] else 1.2)
     assert tr.state_names[0] == "run.FLIGHT" and "gallop.DOUBLE" in tr.state_names
     for seg in segs[1:]:
         k = int(np.searchsorted(tr.t, seg["from"] - 1e-9))
@@ -199,3 +228,39 @@ def test_a_role_bound_to_a_group_is_down_when_any_member_is(tmp_path: Path) -> N
               (("toe_fl", 1.2), ("toe_fr", 1.2), ("toe_rl", 1.6), ("toe_rr", 1.6))}  # fmt: skip
     chosen = take_over(cycle(model, bound), all_up, lambda p: False)
     assert bound.state_names[chosen.state] == "EXTENDED"  # the rear pair lifted off last
+
+
+def test_own_records_start_at_zero_when_a_controller_takes_over(tmp_path: Path) -> None:
+    path = tmp_path / "biped.leg"
+    text = BIPED.read_text()
+    gallop = "controller gallop {\n"
+    assert gallop in text
+    path.write_text(text.replace(gallop, gallop + "  own speed_trim, predicted_apex\n"))
+    model = check_model(path)
+    assert model.controller("gallop").own == ("speed_trim", "predicted_apex")
+    assert model.controller("run").own == ()
+    settings, switches = SWITCHED
+    run = RunSession.from_file(path).run(
+        "run", settings, options=RunOptions(duration=2.5), switches=switches
+    )
+    (seg,) = run.machine.segment_info(2.5)[1:]
+    assert set(seg["records_carried"]) == {"step_speed", "lifted", "lifted_x", "lifted_y"}
+    # the gallop's speed_trim started at 0 (not at the run's): each FLIGHT entry since
+    # integrated at most k_trim * trim_band into it
+    old = dict(zip(run.machine.first.module.RECORDS, run.machine.first.records, strict=True))
+    new = dict(zip(run.machine.current.module.RECORDS, run.machine.current.records, strict=True))
+    steps = [e for e in run.machine.current.events if e["state"] == "FLIGHT"]
+    most = len(steps) * seg["params"]["k_trim"] * seg["params"]["trim_band"]
+    assert abs(new["speed_trim"]) <= most + 1e-12 and old["speed_trim"] != 0
+
+
+def test_own_names_a_record_of_the_controller(tmp_path: Path) -> None:
+    path = tmp_path / "biped.leg"
+    gallop = "controller gallop {\n"
+    path.write_text(BIPED.read_text().replace(gallop, gallop + "  own speed_trm\n"))
+    with pytest.raises(LegError) as info:
+        check_model(path)
+    (d,) = info.value.diagnostics
+    assert d.span.line == BIPED.read_text().split(gallop)[0].count("\n") + 2
+    assert d.message.startswith("'own speed_trm': controller 'gallop' records no 'speed_trm'")
+    assert "did you mean 'speed_trim'" in d.message

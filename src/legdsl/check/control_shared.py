@@ -1,7 +1,8 @@
 """Controllers said once: ``shared NAME { ... }`` parts that controllers ``include``, and
 controllers that ``extends`` another.
 
-A part holds inputs, parameters, signals and actions. ``include gains`` puts the part's
+A part holds anything a controller holds (declarations, actions, roles, paths, a start, a
+table, ``own`` lines) and includes of other parts. ``include gains`` puts the part's
 declarations where the ``include`` stands, in the part's order; a controller's own
 declaration of a name the part declares (of the same kind) gives it another value in the
 part's place, so several controllers share their common gains and state only what differs.
@@ -108,7 +109,7 @@ def _expanded(
                 )
                 continue
             for shared in _expanded(part.items, parts, diag, (*chain, ident.name))[0]:
-                if isinstance(shared, ast.ActionDef):
+                if isinstance(shared, ast.ActionDef | ast.OwnDecl):
                     items.append(shared)  # two of one name: 'defined twice' later
                     continue
                 key = _key(shared)
@@ -174,6 +175,8 @@ def _key(item: ast.ControllerItem) -> tuple[str, ...]:
         return (type(item).__name__, item.name.name)
     if isinstance(item, ast.IncludeDecl):
         return ("include", *(n.name for n in item.names))
+    if isinstance(item, ast.OwnDecl):
+        return ("own", *(n.name for n in item.names))
     return (type(item).__name__,)  # roles, start, table: one each
 
 

@@ -107,6 +107,7 @@ class ControllerChecker:
         signals: dict[str, ast.SignalDecl] = {}
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
+        owned: list[ast.Ident] = []
         paths: list[PathSpec] = []
         shadowed: list[ast.ActionDef] = []  # defined twice: both bodies are checked
         for item in self.items:
@@ -147,6 +148,8 @@ class ControllerChecker:
                 tables.append(item)
             elif isinstance(item, ast.StartDecl):
                 starts.append(item)
+            elif isinstance(item, ast.OwnDecl):
+                owned += item.names
             elif isinstance(item, ast.PathDecl):
                 define(item.name, ir.Part("path", item.name.name))
                 spec = (
@@ -180,6 +183,13 @@ class ControllerChecker:
                 )
             else:
                 names[name] = ir.Named("record", name, None)
+        for ident in owned:
+            if ident.name not in records:
+                self.err(
+                    ident.span,
+                    f"'own {ident.name}': controller '{d.name.name}' records no '{ident.name}' "
+                    f"(its records: {', '.join(records) or 'none'}){did_you_mean(ident.name, records)}",
+                )
 
         if len(d.name.name) > MAX_NAME:
             self.err(d.name.span, too_long("controller", d.name.name))
@@ -233,6 +243,7 @@ class ControllerChecker:
             after_entry=tuple(sorted(after.items())),
             span=d.span,
             paths=tuple(paths),
+            own=tuple(dict.fromkeys(i.name for i in owned if i.name in records)),
         )
 
     def elaborate(

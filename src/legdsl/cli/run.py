@@ -185,8 +185,9 @@ def add_run_parser(sub: Any) -> Command:
         default=[],
         metavar="T=CONTROLLER",
         help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
-        "starts in the state that matches the feet down, keeps the records and inputs whose "
-        "names match, and --set NAME=V@T still applies; repeatable",
+        "takes over at the next liftoff (within 1 s), in the state that matches the feet down, "
+        "keeps the records (but those it declares 'own') and inputs whose names match, and "
+        "--set NAME=V@T still applies (a command at T goes with the switch); repeatable",
     )
     r.add_argument(
         "--path",

@@ -303,6 +303,9 @@ class Controller:
     # paths to follow (``path NAME = ...``); the runtime evaluates them, so they are not
     # part of the generated code (nor of its fingerprint)
     paths: tuple[PathSpec, ...] = ()
+    # records a controller taking over from another starts at 0 (``own``); the runtime's, like
+    # the paths, so not part of the generated code's fingerprint
+    own: tuple[str, ...] = ()
 
     @property
     def state_names(self) -> tuple[str, ...]:

@@ -409,6 +409,15 @@ class IncludeDecl:
     span: Span
 
 
+@dataclass(frozen=True)
+class OwnDecl:
+    """``own pitch_trim, speed_trim``: records a controller taking over from another starts at
+    0, not at the other's values (``legdsl.sim.switching``)."""
+
+    names: tuple[Ident, ...]
+    span: Span
+
+
 ControllerItem = (
     InputDecl
     | ParamDecl
@@ -419,6 +428,7 @@ ControllerItem = (
     | TableDecl
     | PathDecl
     | IncludeDecl
+    | OwnDecl
 )
 SharedItem = ControllerItem
 

@@ -233,6 +233,9 @@ class _ToAst(Transformer):
     def start_state(self, meta: Any, c: list[Any]) -> ast.StartDecl:
         return ast.StartDecl(self._id(c[0]), self._s(meta))
 
+    def own(self, meta: Any, c: list[Any]) -> ast.OwnDecl:
+        return ast.OwnDecl(tuple(self._id(t) for t in c), self._s(meta))
+
     def stmts(self, meta: Any, c: list[Any]) -> tuple[Any, ...]:
         return tuple(x for x in c if x is not None)
 

@@ -133,6 +133,22 @@ def _score(facts: Sequence[Fact], feet: Mapping[str, Clock]) -> tuple[int, float
     return len(facts) - len(held), recent
 
 
+def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bool:
+    """Whether a controller whose table runs through ``pairs`` can take over at ``t`` as a
+    foot leaves the ground: a pair of it contradicts no contact fact, and the most recent of
+    them is a liftoff made true at ``t`` (``take_over`` then chooses that pair)."""
+
+    def lifted_now(f: Fact) -> bool:
+        return not f.down and any(feet[c].liftoff == t for c in f.feet if c in feet)
+
+    return any(_score(p.facts, feet)[0] == 0 and any(map(lifted_now, p.facts)) for p in pairs)
+
+
+def lifts_off(pairs: Sequence[Pair]) -> bool:
+    """Whether the table has a liftoff event (else there is no moment to wait for)."""
+    return any(not f.down for p in pairs for f in p.facts)
+
+
 def take_over(
     pairs: Sequence[Pair], feet: Mapping[str, Clock], holds: Callable[[Pair], bool]
 ) -> Pair:

@@ -178,13 +178,16 @@ class StateMachine:
         self.records = list(self._call("entry", self.module.ENTRIES, key, args, t, state))
         self.events.append({"t": round(t, 9), "kind": "state", "state": self.state_names[state]})
 
+    def feet(self) -> dict[str, Clock]:
+        """Each foot now, as the handover reads it: down or not, its last touchdown and liftoff."""
+        return {
+            n: Clock(c.touching, c.touchdown, c.liftoff) for n, c in self.sensors.clocks.items()
+        }
+
     def _take_over(self, t: float, s: tuple[float, ...]) -> None:
         """Enter the (binding, state) that matches which feet are down now."""
         pairs = cycle(self.model, self.model.controller(self.module.CONTROLLER))
-        feet = {
-            name: Clock(c.touching, c.touchdown, c.liftoff)
-            for name, c in self.sensors.clocks.items()
-        }
+        feet = self.feet()
 
         def holds(pair: Pair) -> bool:
             key = (pair.waited, pair.state)

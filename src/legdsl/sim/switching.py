@@ -1,11 +1,17 @@
 """A run whose controller changes at given times (``legdsl run --switch 6s=gallop``).
 
 ``SwitchingMachine`` holds one ``StateMachine`` at a time. At each switch the next
-controller's machine is made and takes over in the same control tick:
+controller's machine is made and takes over:
 
+* at the first control tick at or after the switch's time at which a foot has just lifted
+  off and one of its states knows that foot up and every other foot as it is
+  (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
+  ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
+  liftoff event;
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
-* its records start from the old controller's where the names match (0 otherwise), its
+* its records start from the old controller's where the names match (0 otherwise, and 0 for
+  those it declares ``own``: a trim learned with its own gains), its
   inputs from the old controller's values where the names match, then from the latest
   command given for each (``--set NAME=V`` or ``NAME=V@T``, also one given while a controller
   without that input ran); parameters given with ``--set`` apply to every controller that has
@@ -26,7 +32,12 @@ from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
+from legdsl.sim.handover import Pair, cycle, lifts_off, on_liftoff
 from legdsl.sim.machine import InputChange, StateMachine, resolve_paths
+
+# How long a switch waits at most for a liftoff to take over at: a stride of the slowest
+# shipped gait (the quadruped's trot steps every 0.4 s, the biped's run every 0.45 s).
+HANDOVER_WAIT = 1.0  # s
 
 
 @dataclass(frozen=True)
@@ -84,6 +95,7 @@ class SwitchingMachine:
         self._pending = sorted(schedule, key=lambda c: c.t)
         self._paths = list(paths)  # as given; each controller takes those that concern it
         self._waiting = list(self.switches)
+        self._pairs: dict[str, list[Pair]] = {}  # each controller's cycle, for the handover
         self.finished: list[tuple[str, StateMachine]] = []
         self.name = first
         self.current = self._machine(first, 0.0)
@@ -96,7 +108,11 @@ class SwitchingMachine:
         inputs = {k: v for k, v in self.commanded.items() if k in own}
         params = {k: v for k, v in self.params_given.items() if k in module.PARAMS}
         # the first machine applies the whole schedule itself; a later one what is still to come
-        later = [c for c in self._pending if c.name in own and (t == 0.0 or c.t > t + 1e-12)]
+        later = [
+            c
+            for c in self._pending
+            if c.name in own and (t == 0.0 or c.t > t + 1e-12) and not self._with_switch(c)
+        ]
         paths = paths_for(self.model, name, self._paths)
         return StateMachine(self.model, module, inputs, params, later, paths)
 
@@ -109,6 +125,23 @@ class SwitchingMachine:
             "params": dict(zip(m.param_names, m.params, strict=True)),
         }
 
+    def _ready(self, switch: Switch, sim: Any) -> bool:
+        """Whether the controller of a due ``switch`` takes over now (``HANDOVER_WAIT``)."""
+        t = sim.t
+        if t >= switch.t + HANDOVER_WAIT - 1e-12 or sim.ground is None:
+            return True
+        if switch.controller not in self._pairs:
+            self._pairs[switch.controller] = cycle(
+                self.model, self.model.controller(switch.controller)
+            )
+        pairs = self._pairs[switch.controller]
+        if not lifts_off(pairs):
+            return True
+        self.current.sensors.observe(
+            t, sim.ground.touching
+        )  # this tick's contacts (it is idempotent)
+        return on_liftoff(pairs, self.current.feet(), t)
+
     def _switch(self, to: str, t: float) -> None:
         old = self.current
         new = self._machine(to, t)
@@ -116,7 +149,10 @@ class SwitchingMachine:
         kept |= {k: v for k, v in self.commanded.items()}
         values = [float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)]
         new.start_inputs(values, t)
-        records = dict(zip(old.module.RECORDS, old.records, strict=True))
+        own = set(self.model.controller(to).own)  # learned with its own gains: from 0
+        records = {
+            n: r for n, r in zip(old.module.RECORDS, old.records, strict=True) if n not in own
+        }
         new.records = [float(records.get(n, 0.0)) for n in new.module.RECORDS]
         carried = {n: records[n] for n in new.module.RECORDS if n in records}
         new.sensors.clocks = old.sensors.clocks
@@ -130,13 +166,30 @@ class SwitchingMachine:
         self.current, self.name = new, to
         self.segments.append(self._segment(t) | {"records_carried": carried})
 
+    def _with_switch(self, change: InputChange) -> bool:
+        """Whether a command is given at the time of a switch still to come: it goes with the
+        new controller, when that takes over (``--switch 6s=bound --set speed=2.8m/s@6s``)."""
+        return any(abs(w.t - change.t) < 1e-9 for w in self._waiting)
+
+    def _command(self, t: float, switch: Switch | None = None) -> None:
+        """The commands due at ``t`` (those of ``switch`` too) into ``commanded``."""
+        for change in [c for c in self._pending if c.t <= t + 1e-12]:
+            if not self._with_switch(change) or (switch is not None and change.t == switch.t):
+                self._pending.remove(change)
+                self.commanded[change.name] = change.value
+
     def __call__(self, sim: Any) -> None:
         t = sim.t
-        while self._pending and self._pending[0].t <= t + 1e-12:
-            change = self._pending.pop(0)
-            self.commanded[change.name] = change.value
-        while self._waiting and self._waiting[0].t <= t + 1e-12:
-            self._switch(self._waiting.pop(0).controller, t)
+        self._command(t)
+        while (
+            self._waiting and self._waiting[0].t <= t + 1e-12 and self._ready(self._waiting[0], sim)
+        ):
+            switch = self._waiting[0]
+            self._command(t, switch)
+            self._waiting.pop(0)
+            self._switch(switch.controller, t)
+            if abs(t - switch.t) > 1e-9:
+                self.segments[-1]["asked"] = switch.t
         self.current(sim)
 
     def segment_info(self, end: float) -> list[dict[str, Any]]:

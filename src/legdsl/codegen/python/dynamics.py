@@ -123,7 +123,9 @@ def controller_fingerprint(model: Model, controller: Controller) -> str:
             "model": model_fingerprint(model),
             "legs": _clean(model.legs),
             "actuators": _clean(model.actuators),
-            "controller": {k: v for k, v in _clean(controller).items() if k != "paths"},
+            "controller": {
+                k: v for k, v in _clean(controller).items() if k not in ("paths", "own")
+            },
         }
     )
 
