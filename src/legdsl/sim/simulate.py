@@ -234,7 +234,7 @@ class Simulation:
         there and the forces at the start of the next step (the same q and v). While every
         foot is in the air and above the ground, velocities and yaws serve no one (the
         forces, slip and touchdowns read them only for a foot at or under the ground), so
-        they are zeros then, not computed: a third of a step's work in flight.
+        they are zeros then, not computed (about a quarter of a 3D step's work).
         """
         key = (tuple(q), tuple(v))
         cached = self._kinematics
@@ -242,11 +242,11 @@ class Simulation:
             return cached[1]
         assert self.ground is not None
         positions = self.dyn.contact_positions(q)
-        yaws = None
         if not self.ground.near(positions):
             n = len(positions)
             found = (positions, [(0.0, 0.0, 0.0)] * n, [0.0] * n if self._torsion else None)
         else:
+            yaws = None
             if self._torsion:
                 poses = self.dyn.body_poses(q)
                 yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
