@@ -46,13 +46,15 @@ def legdsl_drop(name: str) -> tuple[float, float, list[float]]:
     return DURATION / result.wall_time, float(q[-1][z]), [float(x) for x in q[0]]
 
 
-def mujoco_drop(name: str, start_q: list[float]) -> tuple[float, float]:
+def mujoco_drop(name: str, start_q: list[float], pads: bool = False) -> tuple[float, float]:
+    """MuJoCo's real-time factor and final root height for a drop from ``start_q``: by
+    default on the bare tree with MuJoCo's own contacts (no anchor pads: their extra joints
+    and constraints slow MuJoCo down); ``pads``: on the export as ``legdsl export`` writes
+    it, whose anchor pads reproduce legdsl's ground (docs/export.md)."""
     import mujoco
 
     model = check_model(ROOT / "creatures" / f"{name}.leg")
-    # MuJoCo's own contacts on the bare tree (no anchor pads: their extra joints and
-    # constraints would slow MuJoCo down and flatter legdsl in the comparison)
-    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=False))
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=pads))
     mj.opt.timestep = STEP
     mj.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
     data = mujoco.MjData(mj)
