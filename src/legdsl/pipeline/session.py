@@ -71,6 +71,8 @@ class RunSession:
         self.syntax = syntax
         self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
         self._controls: dict[str, ModuleType] = {}
+        # diag(M^-1) at a start state: a batch's runs mostly share theirs (RunSession.run)
+        self._inverse_inertia: dict[tuple[ModuleType, tuple[float, ...]], list[float]] = {}
 
     @classmethod
     def from_file(
@@ -207,7 +209,12 @@ class RunSession:
         a warning."""
         written = {t for control in controls
                    for targets in getattr(control, "SETTINGS", {}).values() for t in targets}  # fmt: skip
-        inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
+        key = (sim.dyn, tuple(sim.q))
+        inverse = self._inverse_inertia.get(key)
+        if inverse is None:
+            inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
+            if len(self._inverse_inertia) < 256:
+                self._inverse_inertia[key] = inverse
         opts = sim.options
         rotary = {a.name: a.rotary for a in self.model.actuators}
 

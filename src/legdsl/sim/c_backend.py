@@ -43,7 +43,7 @@ from legdsl.sim.trajectory import ARRAYS
 __all__ = ["CLibrary", "CSimulation", "available", "load_library", "python_version_note"]
 
 STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
-EVENT_CAP = 4096
+EVENT_CAP = 512  # contact events C keeps before Python drains them (LEG_YIELD)
 
 DONE, CONTROL, FULL, YIELD, CHECK, NONFINITE, RAISED = range(7)
 
@@ -164,7 +164,7 @@ class CSimulation(Simulation):
         self._point_recording(loop)
         c.kin_valid = 0
         self._array("kin", [], size=7 * nc)
-        self._setup_machine()
+        self._setup_machine(loop)
         self._commit()
 
     def _setup_ground(self) -> None:
@@ -222,7 +222,7 @@ class CSimulation(Simulation):
         for name in ARRAYS:
             self._point(f"rec_{name}", getattr(traj, name))
 
-    def _setup_machine(self) -> None:
+    def _setup_machine(self, loop: RunLoop) -> None:
         """The state machine in C, when the library has the controller's (else c_control = 0)."""
         c, m = self.c, self.controller
         use = type(m) is StateMachine and self.library.c_controller and machine_matches()
@@ -245,8 +245,10 @@ class CSimulation(Simulation):
         self._array("hist_inputs", [], size=(len(self._schedule) + 1) * ni)
         c.speed_input = m.input_names.index("speed") if "speed" in m.input_names else -1
         self._array("clocks", [], size=5 * nc)
-        self._array("ctl_event_t", [], size=STEP_BUDGET + 16)
-        self._array("ctl_event_state", [], np.int64, STEP_BUDGET + 16)
+        # a tick enters at most one state, and Python drains them after every leg_run call
+        ticks = min(STEP_BUDGET, loop.n_steps) // loop.control_every + 16
+        self._array("ctl_event_t", [], size=ticks)
+        self._array("ctl_event_state", [], np.int64, ticks)
         outputs = [
             len(targets) + sum(len(axes) for _, axes, _ in mod.PLACES.get(key, ()))
             for key, targets in mod.SETTINGS.items()
