@@ -252,5 +252,6 @@ def test_the_gaits_own_their_trims() -> None:
     """What a gait taking over does not carry from the one before (``own``)."""
     model = check_model(QUADRUPED)
     own = {name: model.controller(name).own for name in ("trot", "pace", "bound", "gallop")}
-    assert own == {"trot": ("speed_trim",), "pace": ("speed_trim",),
+    trot = ("speed_trim", "landed", "stance")  # its first step placed for its own stance
+    assert own == {"trot": trot, "pace": trot,
                    "bound": ("pitch_trim",), "gallop": ("pitch_trim",)}  # fmt: skip

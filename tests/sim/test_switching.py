@@ -17,7 +17,7 @@ from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.handover import Clock, Fact, cycle, on_liftoff, take_over
 from legdsl.sim.simulate import RunOptions
-from legdsl.sim.switching import HANDOVER_WAIT
+from legdsl.sim.switching import FLIGHT_WAIT, HANDOVER_WAIT
 
 BIPED = CREATURES / "biped.leg"
 NAN = math.nan
@@ -157,6 +157,31 @@ def test_a_switched_run_changes_controller_in_a_consistent_state(session, tmp_pa
     assert carried["lifted"] > 0.5  # a time in the run, not a fresh record's 0
     switches = [e for e in info["events"] if e["kind"] == "switch"]
     assert [e["controller"] for e in switches] == ["gallop", "run"]
+
+
+def _down_at(events: list[dict], t: float) -> set[str]:
+    """The feet down at time ``t``, from a run's touchdown and liftoff events."""
+    down: set[str] = set()
+    for e in sorted(
+        (e for e in events if e["kind"] in ("touchdown", "liftoff")), key=lambda e: e["t"]
+    ):
+        if e["t"] > t + 1e-9:
+            break
+        (down.add if e["kind"] == "touchdown" else down.discard)(e["contact"])
+    return down
+
+
+def test_a_switch_waits_for_a_flight_with_the_mass_rising(session) -> None:
+    """Within ``FLIGHT_WAIT`` of its time a switch takes over only as a flight begins, every foot
+    up and the centre of mass rising (the new controller places its own feet first); the
+    biped's run and gallop both have such flights."""
+    run = _switched(session)
+    info, tr = run.info(), run.result.trajectory
+    for seg in info["segments"][1:]:
+        assert seg["from"] < seg["asked"] + FLIGHT_WAIT, seg
+        assert _down_at(info["events"], seg["from"]) == set(), seg
+        k = int(np.searchsorted(tr.t, seg["from"] - 1e-9))
+        assert tr.com_vel[k, 2] > 0, seg  # the sample at the takeover: rising
 
 
 def test_a_switched_run_is_deterministic(session) -> None:

@@ -7,7 +7,11 @@ controller's machine is made and takes over:
   off and one of its states knows that foot up and every other foot as it is
   (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
   ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
-  liftoff event;
+  liftoff event. For ``FLIGHT_WAIT`` after the switch's time only a liftoff that starts a
+  flight with the centre of mass rising will do: the new controller then places its own
+  feet before any lands, instead of taking over a stance the old gait began (the
+  quadruped's trot taking over from the gallop in the gallop's rear stance fell within
+  0.4 s: docs/quadruped.md, "Changing gait");
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
@@ -32,12 +36,15 @@ from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
-from legdsl.sim.handover import Pair, cycle, lifts_off, on_liftoff
+from legdsl.sim.handover import Clock, Pair, cycle, lifts_off, on_liftoff
 from legdsl.sim.machine import InputChange, StateMachine, resolve_paths
 
 # How long a switch waits at most for a liftoff to take over at: a stride of the slowest
 # shipped gait (the quadruped's trot steps every 0.4 s, the biped's run every 0.45 s).
 HANDOVER_WAIT = 1.0  # s
+# How long it waits at first for a liftoff into a flight, the centre of mass rising: more
+# than a stride of the shipped running gaits, less than HANDOVER_WAIT.
+FLIGHT_WAIT = 0.5  # s
 
 
 @dataclass(frozen=True)
@@ -64,6 +71,13 @@ def check_switch_paths(model: Model, controllers: Sequence[str], given: Sequence
 def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     declared = [p.name for p in model.controller(controller).paths]
     return spec.name in declared or (not spec.name and len(declared) == 1)
+
+
+def _rising_flight(sim: Any, feet: Mapping[str, Clock]) -> bool:
+    """Whether every foot is up and the centre of mass moves up."""
+    if any(clock.down for clock in feet.values()):
+        return False
+    return float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) > 0.0
 
 
 class SwitchingMachine:
@@ -140,7 +154,10 @@ class SwitchingMachine:
         self.current.sensors.observe(
             t, sim.ground.touching
         )  # this tick's contacts (it is idempotent)
-        return on_liftoff(pairs, self.current.feet(), t)
+        feet = self.current.feet()
+        if t < switch.t + FLIGHT_WAIT - 1e-12 and not _rising_flight(sim, feet):
+            return False
+        return on_liftoff(pairs, feet, t)
 
     def _switch(self, to: str, t: float) -> None:
         old = self.current
