@@ -187,7 +187,7 @@ def add_run_parser(sub: Any) -> Command:
         help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
         "takes over at the next liftoff (into a flight, the body rising, within 0.5 s if one comes; "
         "else any, within 1 s), in the state that matches the feet down, "
-        "keeps the records (but those it declares 'own') and inputs whose names match, and "
+        "keeps the records whose names match (but those it declares 'own') and the commanded inputs, and "
         "--set NAME=V@T still applies (a command at T goes with the switch); repeatable",
     )
     r.add_argument(

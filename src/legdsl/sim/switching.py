@@ -16,10 +16,9 @@ controller's machine is made and takes over:
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
   those it declares ``own``: a trim learned with its own gains), its
-  inputs from the old controller's values where the names match, then from the latest
-  command given for each (``--set NAME=V`` or ``NAME=V@T``, also one given while a controller
-  without that input ran); parameters given with ``--set`` apply to every controller that has
-  them;
+  inputs from the latest command given for each (``--set NAME=V`` or ``NAME=V@T``, also one
+  given while a controller without that input ran), else from its own defaults;
+  parameters given with ``--set`` apply to every controller that has them;
 * the sensors' contact clocks (last stance and flight times) carry on, and so does the
   tracker of a path that both controllers follow.
 
@@ -162,9 +161,12 @@ class SwitchingMachine:
     def _switch(self, to: str, t: float) -> None:
         old = self.current
         new = self._machine(to, t)
-        kept = dict(zip(old.input_names, old.inputs, strict=True))
-        kept |= {k: v for k, v in self.commanded.items()}
-        values = [float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)]
+        # an input nobody commanded keeps the new controller's own default: the gallop's
+        # apex `height` is its 0.681 m, not the 0.64 m the trot's default was
+        values = [
+            float(self.commanded.get(n, v))
+            for n, v in zip(new.input_names, new.inputs, strict=True)
+        ]
         new.start_inputs(values, t)
         own = set(self.model.controller(to).own)  # learned with its own gains: from 0
         records = {
