@@ -8,10 +8,11 @@ controller's machine is made and takes over:
   (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
   ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
   liftoff event. For ``FLIGHT_WAIT`` after the switch's time only a liftoff that starts a
-  flight with the centre of mass rising will do: the new controller then places its own
-  feet before any lands, instead of taking over a stance the old gait began (the
-  quadruped's trot taking over from the gallop in the gallop's rear stance fell within
-  0.4 s: docs/quadruped.md, "Changing gait");
+  flight will do, the centre of mass rising and the trunk turning slower than
+  ``FLIGHT_TURN_MOST``: the new controller then places its own feet before any lands,
+  instead of taking over a stance the old gait began (the quadruped's trot taking over from
+  the gallop in the gallop's rear stance fell within 0.4 s: docs/quadruped.md, "Changing
+  gait");
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
@@ -28,6 +29,7 @@ A run without switches uses a bare ``StateMachine``: nothing here touches it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import ModuleType
@@ -44,6 +46,10 @@ HANDOVER_WAIT = 1.0  # s
 # How long it waits at first for a liftoff into a flight, the centre of mass rising: more
 # than a stride of the shipped running gaits, less than HANDOVER_WAIT.
 FLIGHT_WAIT = 0.5  # s
+# ...and the trunk turning slower than this about the horizontal: no controller can change
+# that turning before a foot lands (the quadruped's gallop leaves its rear pair pitching
+# nose down at about 3.5 rad/s, for its own front pair to catch; the trot fell on it).
+FLIGHT_TURN_MOST = 2.5  # rad/s
 
 
 @dataclass(frozen=True)
@@ -72,9 +78,13 @@ def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     return spec.name in declared or (not spec.name and len(declared) == 1)
 
 
-def _rising_flight(sim: Any, feet: Mapping[str, Clock]) -> bool:
-    """Whether every foot is up and the centre of mass moves up."""
+def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> bool:
+    """Whether every foot is up, the centre of mass moves up and the root body turns about
+    the horizontal slower than ``FLIGHT_TURN_MOST``."""
     if any(clock.down for clock in feet.values()):
+        return False
+    w = sim.dyn.body_velocities(sim.q, sim.v)[0][1]  # the root's world angular velocity
+    if math.hypot(float(w[0]), float(w[1])) > FLIGHT_TURN_MOST:
         return False
     return float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) > 0.0
 
@@ -154,7 +164,7 @@ class SwitchingMachine:
             t, sim.ground.touching
         )  # this tick's contacts (it is idempotent)
         feet = self.current.feet()
-        if t < switch.t + FLIGHT_WAIT - 1e-12 and not _rising_flight(sim, feet):
+        if t < switch.t + FLIGHT_WAIT - 1e-12 and not _calm_flight(sim, feet):
             return False
         return on_liftoff(pairs, feet, t)
 
