@@ -171,7 +171,8 @@ def add_run_parser(sub: Any) -> Command:
         default=[],
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
-        "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+        "(speed=5m/s@4s), set one controller's own (bound.k_speed=50ms, with --switch), or set "
+        "an actuator input (hip_servo.setpoint=10deg); repeatable",
     )
     r.add_argument(
         "--scene",

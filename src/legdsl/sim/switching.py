@@ -18,8 +18,9 @@ controller's machine is made and takes over:
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
   those it declares ``own``: a trim learned with its own gains), its
   inputs from the latest command given for each (``--set NAME=V`` or ``NAME=V@T``, also one
-  given while a controller without that input ran), else from its own defaults;
-  parameters given with ``--set`` apply to every controller that has them;
+  given while a controller without that input ran), else from its own defaults (or those
+  given as ``--set CONTROLLER.NAME=V``); parameters given with ``--set NAME=V`` apply to
+  every controller that has them, ``--set CONTROLLER.NAME=V`` to that one only;
 * the sensors' contact clocks (last stance and flight times) carry on, and so does the
   tracker of a path that both controllers follow.
 
@@ -102,6 +103,7 @@ class SwitchingMachine:
         params: Mapping[str, float],
         schedule: Sequence[InputChange],
         paths: Sequence[PathSpec] = (),
+        by_controller: Mapping[str, Mapping[str, float]] | None = None,
     ):
         self.model = model
         self.modules = dict(modules)
@@ -114,6 +116,7 @@ class SwitchingMachine:
             names += [f"{name}.{state}" for state in self.modules[name].STATE_NAMES]
         self.state_names = tuple(names)
         self.params_given = dict(params)
+        self.by_controller = {k: dict(v) for k, v in (by_controller or {}).items()}
         self.commanded = dict(inputs)  # the latest command of every input, by name
         self._pending = sorted(schedule, key=lambda c: c.t)
         self._paths = list(paths)  # as given; each controller takes those that concern it
@@ -128,8 +131,11 @@ class SwitchingMachine:
     def _machine(self, name: str, t: float) -> StateMachine:
         module = self.modules[name]
         own = module.INPUTS
-        inputs = {k: v for k, v in self.commanded.items() if k in own}
+        mine = self.by_controller.get(name, {})  # --set NAME.KEY=V: this controller's own values
+        inputs = {k: v for k, v in mine.items() if k in own}
+        inputs |= {k: v for k, v in self.commanded.items() if k in own}
         params = {k: v for k, v in self.params_given.items() if k in module.PARAMS}
+        params |= {k: v for k, v in mine.items() if k in module.PARAMS}
         # the first machine applies the whole schedule itself; a later one what is still to come
         later = [
             c
