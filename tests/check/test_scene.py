@@ -104,3 +104,35 @@ def test_a_speed_no_band_holds_is_an_error(tmp_path: Path) -> None:
     text = err.value.render()
     assert "no band of 'gait by speed' holds speed = 1.8 m/s" in text
     assert "at 4 s set speed = 1.8 m/s\n" in text and "^" in text
+
+
+def test_a_scene_sets_one_controllers_own_values(tmp_path: Path) -> None:
+    """``set CONTROLLER.NAME = V``: that controller's parameter or input default only, checked
+    like every ``set``; a controller that does not run, a name it lacks, a time: errors at
+    the word."""
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text()
+        + "scene own { controller run; at 1 s switch gallop; set gallop.k_speed = 50 ms;"
+        " set gallop.height = 90 cm; time 2 s }\n"
+    )
+    scene = check_model(path).scene("own")
+    assert [(v.name, v.value) for v in scene.values] == [
+        ("gallop.k_speed", pytest.approx(0.05)), ("gallop.height", pytest.approx(0.9)),
+    ]  # fmt: skip
+    assert scene_texts(scene)[0] == ["gallop.k_speed=0.05s", "gallop.height=0.9m"]
+    for bad, words in (
+        ("set gallop_human.k_speed = 50 ms", "controller 'gallop_human' does not run in this"),
+        ("set walk.k_speed = 50 ms", "no controller or actuator 'walk'"),
+        ("set gallop.k_sped = 50 ms", "controller gallop has no input or parameter 'k_sped'"),
+        ("set gallop.k_speed = 5 cm", "k_speed"),
+        ("at 1.5 s set gallop.height = 1 m", "gallop.height is controller gallop's own value"),
+    ):
+        path.write_text(
+            BIPED.read_text() + f"scene own {{ controller run; at 1 s switch gallop; {bad} }}\n"
+        )
+        with pytest.raises(LegError) as err:
+            check_model(path)
+        assert words in str(err.value) and "^" in str(err.value), str(err.value)

@@ -252,5 +252,27 @@ def test_the_gaits_own_their_trims() -> None:
     """What a gait taking over does not carry from the one before (``own``)."""
     model = check_model(QUADRUPED)
     own = {name: model.controller(name).own for name in ("trot", "pace", "bound", "gallop")}
-    assert own == {"trot": ("speed_trim",), "pace": ("speed_trim",),
+    trot = ("speed_trim", "landed", "stance")  # its first step placed for its own stance
+    assert own == {"trot": trot, "pace": trot,
                    "bound": ("pitch_trim",), "gallop": ("pitch_trim",)}  # fmt: skip
+
+
+def test_a_controller_taking_over_keeps_its_own_input_defaults(generated: Path) -> None:
+    """An input nobody commanded starts at the new controller's own default (the gallop's apex
+    `height` of 0.681 m, not the trot's 0.64 m: with the trot's, the gallop after the bound in
+    the transition run was 11% slow); a commanded one goes on as commanded."""
+    import legdsl
+
+    quadruped = legdsl.load(QUADRUPED, generated=generated)
+    assert quadruped.controllers["trot"].inputs["height"].value == pytest.approx(0.64)
+    for given, height in (({}, 0.681), ({"height": "0.66 m"}, 0.66)):
+        run = quadruped.run(
+            controller="trot",
+            set={"speed": "1 m/s", **given},
+            switch={"1 s": "gallop"},
+            time=2,
+        )
+        _, seg = run.info["segments"]
+        assert seg["controller"] == "gallop"
+        assert seg["inputs"]["height"] == pytest.approx(height)
+        assert seg["inputs"]["speed"] == pytest.approx(1.0)

@@ -17,7 +17,7 @@ from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.handover import Clock, Fact, cycle, on_liftoff, take_over
 from legdsl.sim.simulate import RunOptions
-from legdsl.sim.switching import HANDOVER_WAIT
+from legdsl.sim.switching import FLIGHT_WAIT, HANDOVER_WAIT
 
 BIPED = CREATURES / "biped.leg"
 NAN = math.nan
@@ -159,6 +159,31 @@ def test_a_switched_run_changes_controller_in_a_consistent_state(session, tmp_pa
     assert [e["controller"] for e in switches] == ["gallop", "run"]
 
 
+def _down_at(events: list[dict], t: float) -> set[str]:
+    """The feet down at time ``t``, from a run's touchdown and liftoff events."""
+    down: set[str] = set()
+    for e in sorted(
+        (e for e in events if e["kind"] in ("touchdown", "liftoff")), key=lambda e: e["t"]
+    ):
+        if e["t"] > t + 1e-9:
+            break
+        (down.add if e["kind"] == "touchdown" else down.discard)(e["contact"])
+    return down
+
+
+def test_a_switch_waits_for_a_flight_with_the_mass_rising(session) -> None:
+    """Within ``FLIGHT_WAIT`` of its time a switch takes over only as a flight begins, every foot
+    up and the centre of mass rising (the new controller places its own feet first); the
+    biped's run and gallop both have such flights."""
+    run = _switched(session)
+    info, tr = run.info(), run.result.trajectory
+    for seg in info["segments"][1:]:
+        assert seg["from"] < seg["asked"] + FLIGHT_WAIT, seg
+        assert _down_at(info["events"], seg["from"]) == set(), seg
+        k = int(np.searchsorted(tr.t, seg["from"] - 1e-9))
+        assert tr.com_vel[k, 2] > 0, seg  # the sample at the takeover: rising
+
+
 def test_a_switched_run_is_deterministic(session) -> None:
     a = _switched(session, 2.5).result.trajectory
     b = _switched(session, 2.5).result.trajectory
@@ -264,3 +289,34 @@ def test_own_names_a_record_of_the_controller(tmp_path: Path) -> None:
     assert d.span.line == BIPED.read_text().split(gallop)[0].count("\n") + 2
     assert d.message.startswith("'own speed_trm': controller 'gallop' records no 'speed_trm'")
     assert "did you mean 'speed_trim'" in d.message
+
+
+def test_a_setting_for_one_controller(session) -> None:
+    """``--set CONTROLLER.NAME=V`` gives that controller alone a parameter (over a plain
+    ``--set NAME=V``) or an input default (under a command); mistakes point at the word."""
+    settings = ["k_speed=70ms", "gallop.k_speed=50ms", "gallop.height=0.9m", "run.height=0.8m"]
+    run = session.run("run", settings, options=RunOptions(duration=1.2), switches=["0.5s=gallop"])
+    first, second = run.info()["segments"]
+    assert first["params"]["k_speed"] == pytest.approx(0.07)
+    assert second["params"]["k_speed"] == pytest.approx(0.05)
+    assert (first["inputs"]["height"], second["inputs"]["height"]) == pytest.approx((0.8, 0.9))
+    assert run.info()["settings"]["by_controller"]["gallop"] == pytest.approx(
+        {"k_speed": 0.05, "height": 0.9}
+    )
+    commanded = session.run(
+        "run", ["gallop.height=0.9m", "height=0.8m"], options=RunOptions(duration=1.2),
+        switches=["0.5s=gallop"],
+    )  # fmt: skip
+    assert commanded.info()["segments"][1]["inputs"]["height"] == pytest.approx(0.8)
+    alone = session.run("run", ["run.k_speed=60ms"], options=RunOptions(duration=0.1))
+    assert alone.info()["params"]["k_speed"] == pytest.approx(0.06)
+    for text, words, caret in (
+        ("galop.k_speed=50ms", "no controller or actuator 'galop'; did you mean 'gallop'", "^^^^^"),
+        ("gallop.k_sped=50ms", "controller gallop has no input or parameter 'k_sped'", "^^^^^^"),
+        ("gallop_human.k_speed=50ms", "controller 'gallop_human' does not run here", "^" * 12),
+        ("gallop.height=1m@1s", "gallop.height is controller gallop's own value", "^^^"),
+        ("gallop.k_speed=5cm", "gallop.k_speed is a time (s), but 5cm is a length", ""),
+    ):
+        with pytest.raises(UsageError) as err:
+            session.run("run", [text], options=RunOptions(duration=0.1), switches=["0.5s=gallop"])
+        assert words in str(err.value) and caret in str(err.value), str(err.value)

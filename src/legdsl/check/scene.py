@@ -249,6 +249,8 @@ class _SceneChecker:
                 return None
         name = ".".join(i.name for i in item.target)
         where = item.target[0].span
+        if len(item.target) == 2 and item.target[0].name in self.controllers:
+            return self._own_value(item, name, at, used)
         if len(item.target) > 1:
             return self._actuator(item, name, at)
         inputs = {c.name: c for ctl in reversed(used) for c in ctl.inputs}
@@ -271,6 +273,34 @@ class _SceneChecker:
         value = _number(item.value, dim, name, diag)
         return None if value is None else SceneValue(name, value, dim, at, item.span)
 
+    def _own_value(
+        self, item: ast.SceneSet, name: str, at: float | None, used: list
+    ) -> SceneValue | None:
+        """``set CONTROLLER.NAME = VALUE``: one controller's own parameter or input default."""
+        diag = self.diag
+        owner, key = item.target
+        if owner.name not in [c.name for c in used]:
+            runs = ", ".join(c.name for c in used) or "none"
+            diag.error(
+                owner.span, f"controller '{owner.name}' does not run in this scene (it runs {runs})"
+            )
+            return None
+        if at is not None:
+            diag.error(
+                item.at.span if item.at is not None else owner.span,
+                f"{name} is controller {owner.name}'s own value, set before the run; "
+                f"to change an input during the run write 'at T set {key.name} = ...'",
+            )
+            return None
+        ctl = self.controllers[owner.name]
+        dims = {c.name: c.dim for c in (*ctl.inputs, *ctl.params)}
+        if key.name not in dims:
+            diag.error(key.span, f"controller {owner.name} has no input or parameter '{key.name}'"
+                                 f"{did_you_mean(key.name, dims)}")  # fmt: skip
+            return None
+        value = _number(item.value, dims[key.name], name, diag)
+        return None if value is None else SceneValue(name, value, dims[key.name], None, item.span)
+
     def _actuator(self, item: ast.SceneSet, name: str, at: float | None) -> SceneValue | None:
         diag = self.diag
         by_name = {a.name: a for a in self.model.actuators}
@@ -284,7 +314,8 @@ class _SceneChecker:
         if actuator.name not in by_name or len(item.target) != 2:
             diag.error(
                 actuator.span,
-                f"no actuator '{actuator.name}'{did_you_mean(actuator.name, by_name)}",
+                f"no controller or actuator '{actuator.name}'"
+                f"{did_you_mean(actuator.name, [*self.controllers, *by_name])}",
             )
             return None
         a = by_name[actuator.name]

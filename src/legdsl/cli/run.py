@@ -171,7 +171,8 @@ def add_run_parser(sub: Any) -> Command:
         default=[],
         metavar="NAME=VALUE",
         help="set a controller input or parameter (speed=2.5m/s), change an input during the run "
-        "(speed=5m/s@4s), or set an actuator input (hip_servo.setpoint=10deg); repeatable",
+        "(speed=5m/s@4s), set one controller's own (bound.k_speed=50ms, with --switch), or set "
+        "an actuator input (hip_servo.setpoint=10deg); repeatable",
     )
     r.add_argument(
         "--scene",
@@ -185,8 +186,10 @@ def add_run_parser(sub: Any) -> Command:
         default=[],
         metavar="T=CONTROLLER",
         help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
-        "takes over at the next liftoff (within 1 s), in the state that matches the feet down, "
-        "keeps the records (but those it declares 'own') and inputs whose names match, and "
+        "takes over at the next liftoff (into a flight, the body rising and turning slowly, within "
+        "0.5 s if one comes; "
+        "else any, within 1 s), in the state that matches the feet down, "
+        "keeps the records whose names match (but those it declares 'own') and the commanded inputs, and "
         "--set NAME=V@T still applies (a command at T goes with the switch); repeatable",
     )
     r.add_argument(

@@ -139,6 +139,9 @@ class RunSession:
             )
         later = [w.controller for w in changes]
         sorted_settings = sort_settings(settings, self.model, controller, later)
+        if controller is not None and not changes:  # one controller: its own values are the run's
+            s = sorted_settings
+            s.inputs, s.params = s.for_controller(self.model.controller(controller))
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if scale is not None:
             options = scaled.scale_options(asked, scale)
@@ -154,8 +157,9 @@ class RunSession:
             check_switch_paths(self.model, [controller, *later], specs)
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             machine = SwitchingMachine(
-                self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs
-            )
+                self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs,
+                s.by_controller,
+            )  # fmt: skip
         elif control is not None:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)

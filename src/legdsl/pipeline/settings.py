@@ -1,7 +1,10 @@
 """``--set`` and ``--path``: values given to a run, checked against what the ``.leg`` file declared.
 
 ``--set NAME=VALUE`` sets a controller input or parameter, ``NAME=VALUE@T`` changes an input at
-time ``T`` of the run, ``ACTUATOR.KEY=VALUE`` sets an actuator before it starts. Every value is
+time ``T`` of the run, ``CONTROLLER.NAME=VALUE`` sets one controller's parameter or input
+default only (in a run that switches controllers; it wins over ``NAME=VALUE`` there, and a
+command ``NAME=VALUE`` wins over an input default), ``ACTUATOR.KEY=VALUE`` sets an actuator
+before it starts. Every value is
 checked against the dimension declared for it (``legdsl.ir.controller.Constant.dim``, or the
 actuator setting's kind): a dimensioned value needs a unit of that dimension, a dimensionless
 one a bare number. A bare 0 is taken for any dimension (zero is zero in every unit), as it
@@ -13,7 +16,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -153,14 +156,26 @@ class Settings:
     inputs: dict[str, float]  # controller inputs at t = 0
     params: dict[str, float]  # controller parameters
     schedule: list[InputChange]  # NAME=VALUE@T: an input changed during the run
+    # CONTROLLER.NAME=V: one controller's own parameters and input defaults, by controller
+    by_controller: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def as_json(self) -> dict[str, Any]:
-        return {
+        out: dict[str, Any] = {
             "actuators": self.actuators,
             "inputs": self.inputs,
             "params": self.params,
             "schedule": [{"t": c.t, "input": c.name, "value": c.value} for c in self.schedule],
         }
+        return out | ({"by_controller": self.by_controller} if self.by_controller else {})
+
+    def for_controller(self, ir: Any) -> tuple[dict[str, float], dict[str, float]]:
+        """The inputs and parameters one controller starts with: its ``CONTROLLER.NAME``
+        values over the run's (parameters), under the run's commands (inputs)."""
+        own = self.by_controller.get(ir.name, {})
+        names = {c.name for c in ir.inputs}
+        inputs = {k: v for k, v in own.items() if k in names} | self.inputs
+        params = self.params | {k: v for k, v in own.items() if k not in names}
+        return inputs, params
 
 
 def sort_settings(
@@ -187,6 +202,13 @@ def sort_settings(
             check_dimension(where, "the time after '@' is in seconds", given, _TIME, "@{}")
             at = given.value
         name, given = _split(text, original)
+        owner, dot, own_name = name.partition(".")
+        if dot and owner in {c.name for c in model.controllers}:
+            _controller_setting(model, [controller, *later], name, given, at, where)
+            out.by_controller.setdefault(owner, {})[own_name] = given.value
+            continue
+        if dot and owner not in {a.name for a in model.actuators}:
+            _unknown_owner(model, owner, where)
         if "." in name:
             if at is not None:
                 raise UsageError(f"--set {text}@...: only controller inputs change during a run")
@@ -220,6 +242,61 @@ def sort_settings(
                 else f"--set {name}: {which} has an input or parameter {name!r} (they have {known})"
             )
     return out
+
+
+def _caret(text: str, start: int, length: int) -> str:
+    """The option's text with a caret under the part that is wrong."""
+    return f"\n    {text}\n    {' ' * start}{'^' * max(length, 1)}"
+
+
+def _unknown_owner(model: Model, owner: str, where: str) -> None:
+    """``--set X.NAME=V`` where X is neither a controller nor an actuator of the creature."""
+    from legdsl.check.values import did_you_mean
+
+    controllers = [c.name for c in model.controllers]
+    actuators = [a.name for a in model.actuators]
+    raise UsageError(
+        f"{where}: the creature has no controller or actuator {owner!r}"
+        f"{did_you_mean(owner, [*controllers, *actuators])} (controllers: "
+        f"{', '.join(controllers) or 'none'}; actuators: {', '.join(actuators) or 'none'})"
+        + _caret(where.removeprefix("--set "), 0, len(owner))
+    )
+
+
+def _controller_setting(
+    model: Model,
+    running: Sequence[str | None],
+    name: str,
+    given: Given,
+    at: float | None,
+    where: str,
+) -> None:
+    """Check ``CONTROLLER.NAME=VALUE``: a controller of the run and one of its inputs or
+    parameters, in its dimension; no ``@T`` (it is that controller's own value)."""
+    owner, _, key = name.partition(".")
+    text = where.removeprefix("--set ")
+    if owner not in running:
+        runs = ", ".join(c for c in dict.fromkeys(running) if c) or "none"
+        raise UsageError(
+            f"{where}: controller {owner!r} does not run here (the run's: {runs}); "
+            f"add --switch T={owner} or set it for a controller that runs"
+            + _caret(text, 0, len(owner))
+        )
+    ctl = model.controller(owner)
+    dims = {c.name: c.dim for c in (*ctl.inputs, *ctl.params)}
+    if key not in dims:
+        known = ", ".join(dims) or "none"
+        raise UsageError(
+            f"{where}: controller {owner} has no input or parameter {key!r} (it has {known})"
+            + _caret(text, len(owner) + 1, len(key))
+        )
+    if at is not None:
+        raise UsageError(
+            f"{where}: {name} is controller {owner}'s own value, set before the run; to change "
+            f"an input during the run write --set {key}=...@T"
+            + _caret(text, text.rfind("@"), len(text) - text.rfind("@"))
+        )
+    _check_named(where, name, given, dims[key])
 
 
 def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -> None:

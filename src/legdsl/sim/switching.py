@@ -7,15 +7,20 @@ controller's machine is made and takes over:
   off and one of its states knows that foot up and every other foot as it is
   (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
   ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
-  liftoff event;
+  liftoff event. For ``FLIGHT_WAIT`` after the switch's time only a liftoff that starts a
+  flight will do, the centre of mass rising and the trunk turning slower than
+  ``FLIGHT_TURN_MOST``: the new controller then places its own feet before any lands,
+  instead of taking over a stance the old gait began (the quadruped's trot taking over from
+  the gallop in the gallop's rear stance fell within 0.4 s: docs/quadruped.md, "Changing
+  gait");
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
   those it declares ``own``: a trim learned with its own gains), its
-  inputs from the old controller's values where the names match, then from the latest
-  command given for each (``--set NAME=V`` or ``NAME=V@T``, also one given while a controller
-  without that input ran); parameters given with ``--set`` apply to every controller that has
-  them;
+  inputs from the latest command given for each (``--set NAME=V`` or ``NAME=V@T``, also one
+  given while a controller without that input ran), else from its own defaults (or those
+  given as ``--set CONTROLLER.NAME=V``); parameters given with ``--set NAME=V`` apply to
+  every controller that has them, ``--set CONTROLLER.NAME=V`` to that one only;
 * the sensors' contact clocks (last stance and flight times) carry on, and so does the
   tracker of a path that both controllers follow.
 
@@ -25,6 +30,7 @@ A run without switches uses a bare ``StateMachine``: nothing here touches it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import ModuleType
@@ -32,12 +38,19 @@ from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
-from legdsl.sim.handover import Pair, cycle, lifts_off, on_liftoff
+from legdsl.sim.handover import Clock, Pair, cycle, lifts_off, on_liftoff
 from legdsl.sim.machine import InputChange, StateMachine, resolve_paths
 
 # How long a switch waits at most for a liftoff to take over at: a stride of the slowest
 # shipped gait (the quadruped's trot steps every 0.4 s, the biped's run every 0.45 s).
 HANDOVER_WAIT = 1.0  # s
+# How long it waits at first for a liftoff into a flight, the centre of mass rising: more
+# than a stride of the shipped running gaits, less than HANDOVER_WAIT.
+FLIGHT_WAIT = 0.5  # s
+# ...and the trunk turning slower than this about the horizontal: no controller can change
+# that turning before a foot lands (the quadruped's gallop leaves its rear pair pitching
+# nose down at about 3.5 rad/s, for its own front pair to catch; the trot fell on it).
+FLIGHT_TURN_MOST = 2.5  # rad/s
 
 
 @dataclass(frozen=True)
@@ -66,6 +79,17 @@ def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     return spec.name in declared or (not spec.name and len(declared) == 1)
 
 
+def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> bool:
+    """Whether every foot is up, the centre of mass moves up and the root body turns about
+    the horizontal slower than ``FLIGHT_TURN_MOST``."""
+    if any(clock.down for clock in feet.values()):
+        return False
+    w = sim.dyn.body_velocities(sim.q, sim.v)[0][1]  # the root's world angular velocity
+    if math.hypot(float(w[0]), float(w[1])) > FLIGHT_TURN_MOST:
+        return False
+    return float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) > 0.0
+
+
 class SwitchingMachine:
     """The controller of a run with switches: the simulation sees one controller."""
 
@@ -79,6 +103,7 @@ class SwitchingMachine:
         params: Mapping[str, float],
         schedule: Sequence[InputChange],
         paths: Sequence[PathSpec] = (),
+        by_controller: Mapping[str, Mapping[str, float]] | None = None,
     ):
         self.model = model
         self.modules = dict(modules)
@@ -91,6 +116,7 @@ class SwitchingMachine:
             names += [f"{name}.{state}" for state in self.modules[name].STATE_NAMES]
         self.state_names = tuple(names)
         self.params_given = dict(params)
+        self.by_controller = {k: dict(v) for k, v in (by_controller or {}).items()}
         self.commanded = dict(inputs)  # the latest command of every input, by name
         self._pending = sorted(schedule, key=lambda c: c.t)
         self._paths = list(paths)  # as given; each controller takes those that concern it
@@ -105,8 +131,11 @@ class SwitchingMachine:
     def _machine(self, name: str, t: float) -> StateMachine:
         module = self.modules[name]
         own = module.INPUTS
-        inputs = {k: v for k, v in self.commanded.items() if k in own}
+        mine = self.by_controller.get(name, {})  # --set NAME.KEY=V: this controller's own values
+        inputs = {k: v for k, v in mine.items() if k in own}
+        inputs |= {k: v for k, v in self.commanded.items() if k in own}
         params = {k: v for k, v in self.params_given.items() if k in module.PARAMS}
+        params |= {k: v for k, v in mine.items() if k in module.PARAMS}
         # the first machine applies the whole schedule itself; a later one what is still to come
         later = [
             c
@@ -140,14 +169,20 @@ class SwitchingMachine:
         self.current.sensors.observe(
             t, sim.ground.touching
         )  # this tick's contacts (it is idempotent)
-        return on_liftoff(pairs, self.current.feet(), t)
+        feet = self.current.feet()
+        if t < switch.t + FLIGHT_WAIT - 1e-12 and not _calm_flight(sim, feet):
+            return False
+        return on_liftoff(pairs, feet, t)
 
     def _switch(self, to: str, t: float) -> None:
         old = self.current
         new = self._machine(to, t)
-        kept = dict(zip(old.input_names, old.inputs, strict=True))
-        kept |= {k: v for k, v in self.commanded.items()}
-        values = [float(kept.get(n, v)) for n, v in zip(new.input_names, new.inputs, strict=True)]
+        # an input nobody commanded keeps the new controller's own default: the gallop's
+        # apex `height` is its 0.681 m, not the 0.64 m the trot's default was
+        values = [
+            float(self.commanded.get(n, v))
+            for n, v in zip(new.input_names, new.inputs, strict=True)
+        ]
         new.start_inputs(values, t)
         own = set(self.model.controller(to).own)  # learned with its own gains: from 0
         records = {
