@@ -1462,6 +1462,105 @@ void contact_positions(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_positions_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, toe_l_x, toe_l_y, toe_l_z, t30, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, t42, toe_r_x, toe_r_y, toe_r_z;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double leg_l = q[10];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    const double leg_r = q[14];
+    /* toe_l */
+    if (want[0]) {
+        t1 = -leg_l - 0.2;
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0]) {
+        t18 = 0.072*t8 + x;
+        t19 = 0.072*t12 + y;
+        t20 = 0.072*t16 + z;
+        t21 = c_hip_l_x*t10 - s_hip_l_x*t8;
+        t22 = c_hip_l_x*t14 - s_hip_l_x*t12;
+        t23 = c_hip_l_x*t17 - s_hip_l_x*t16;
+        t24 = c_hip_l_y*t21 + s_hip_l_y*t6;
+        t25 = c_hip_l_y*t22 + s_hip_l_y*t11;
+        t26 = c_hip_l_y*t23 + s_hip_l_y*t15;
+        t27 = t1*t24 + t18;
+        t28 = t1*t25 + t19;
+        t29 = t1*t26 + t20;
+        toe_l_x = -0.63*t24 + t27;
+        toe_l_y = -0.63*t25 + t28;
+        toe_l_z = -0.63*t26 + t29;
+    }
+    /* toe_r */
+    if (want[1]) {
+        t30 = -leg_r - 0.2;
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+        t31 = -0.072*t8 + x;
+        t32 = -0.072*t12 + y;
+        t33 = -0.072*t16 + z;
+        t34 = c_hip_r_x*t10 - s_hip_r_x*t8;
+        t35 = c_hip_r_x*t14 - s_hip_r_x*t12;
+        t36 = c_hip_r_x*t17 - s_hip_r_x*t16;
+        t37 = c_hip_r_y*t34 + s_hip_r_y*t6;
+        t38 = c_hip_r_y*t35 + s_hip_r_y*t11;
+        t39 = c_hip_r_y*t36 + s_hip_r_y*t15;
+        t40 = t30*t37 + t31;
+        t41 = t30*t38 + t32;
+        t42 = t30*t39 + t33;
+        toe_r_x = -0.63*t37 + t40;
+        toe_r_y = -0.63*t38 + t41;
+        toe_r_z = -0.63*t39 + t42;
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_l_x;
+        out[1] = toe_l_y;
+        out[2] = toe_l_z;
+    }
+    if (want[1]) {
+        out[3] = toe_r_x;
+        out[4] = toe_r_y;
+        out[5] = toe_r_z;
+    }
+    (void)err;
+}
+
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -1617,6 +1716,179 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
     out[3] = toe_r_vx;
     out[4] = toe_r_vy;
     out[5] = toe_r_vz;
+    (void)err;
+}
+
+void contact_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, t42, t43, t44, t45, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, toe_l_vx, toe_l_vy, toe_l_vz, t60, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, t61, t62, t63, t64, t65, t66, t67, t68, t69, t70, t71, t72, t73, t74, t75, t76, t77, t78, t79, t80, t81, t82, t83, t84, t85, t86, t87, t88, t89, t90, t91, t92, t93, t94, t95, t96, t97, t98, t99, t100, t101, t102, toe_r_vx, toe_r_vy, toe_r_vz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double leg_l = q[10];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    const double leg_r = q[14];
+    const double vx = v[0];
+    const double vy = v[1];
+    const double vz = v[2];
+    const double wx = v[3];
+    const double wy = v[4];
+    const double wz = v[5];
+    const double qd_hip_l_x = v[6];
+    const double qd_hip_l_y = v[7];
+    const double qd_hip_l_z = v[8];
+    const double qd_leg_l = v[9];
+    const double qd_hip_r_x = v[10];
+    const double qd_hip_r_y = v[11];
+    const double qd_hip_r_z = v[12];
+    const double qd_leg_r = v[13];
+    /* toe_l */
+    if (want[0]) {
+        t1 = -leg_l - 0.2;
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0]) {
+        t18 = 0.072*t8 + x;
+        t19 = 0.072*t12 + y;
+        t20 = 0.072*t16 + z;
+        t21 = c_hip_l_x*t8 + s_hip_l_x*t10;
+        t22 = c_hip_l_x*t10 - s_hip_l_x*t8;
+        t23 = c_hip_l_x*t12 + s_hip_l_x*t14;
+        t24 = c_hip_l_x*t14 - s_hip_l_x*t12;
+        t25 = c_hip_l_x*t16 + s_hip_l_x*t17;
+        t26 = c_hip_l_x*t17 - s_hip_l_x*t16;
+        t27 = c_hip_l_y*t22 + s_hip_l_y*t6;
+        t28 = c_hip_l_y*t24 + s_hip_l_y*t11;
+        t29 = c_hip_l_y*t26 + s_hip_l_y*t15;
+        t30 = t1*t27 + t18;
+        t31 = t1*t28 + t19;
+        t32 = t1*t29 + t20;
+        t33 = -0.63*t27 + t30;
+        t34 = -0.63*t28 + t31;
+        t35 = -0.63*t29 + t32;
+        t36 = -t18 + t33;
+        t37 = -t19 + t34;
+        t38 = -t20 + t35;
+        t39 = t28*t38 - t29*t37;
+        t40 = -t27*t38 + t29*t36;
+        t41 = t27*t37 - t28*t36;
+        t42 = t23*t38 - t25*t37;
+        t43 = -t21*t38 + t25*t36;
+        t44 = t21*t37 - t23*t36;
+        t45 = t11*t38 - t15*t37;
+        t46 = t15*t36 - t38*t6;
+        t47 = -t11*t36 + t37*t6;
+        t48 = t33 - x;
+        t49 = t34 - y;
+        t50 = t35 - z;
+        t51 = t11*t50 - t15*t49;
+        t52 = t15*t48 - t50*t6;
+        t53 = -t11*t48 + t49*t6;
+        t54 = t12*t50 - t16*t49;
+        t55 = t16*t48 - t50*t8;
+        t56 = -t12*t48 + t49*t8;
+        t57 = t14*t50 - t17*t49;
+        t58 = -t10*t50 + t17*t48;
+        t59 = t10*t49 - t14*t48;
+        toe_l_vx = qd_hip_l_x*t45 + qd_hip_l_y*t42 + qd_hip_l_z*t39 - qd_leg_l*t27 + t51*wx + t54*wy + t57*wz + vx;
+        toe_l_vy = qd_hip_l_x*t46 + qd_hip_l_y*t43 + qd_hip_l_z*t40 - qd_leg_l*t28 + t52*wx + t55*wy + t58*wz + vy;
+        toe_l_vz = qd_hip_l_x*t47 + qd_hip_l_y*t44 + qd_hip_l_z*t41 - qd_leg_l*t29 + t53*wx + t56*wy + t59*wz + vz;
+    }
+    /* toe_r */
+    if (want[1]) {
+        t60 = -leg_r - 0.2;
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+        t61 = -0.072*t8 + x;
+        t62 = -0.072*t12 + y;
+        t63 = -0.072*t16 + z;
+        t64 = c_hip_r_x*t8 + s_hip_r_x*t10;
+        t65 = c_hip_r_x*t10 - s_hip_r_x*t8;
+        t66 = c_hip_r_x*t12 + s_hip_r_x*t14;
+        t67 = c_hip_r_x*t14 - s_hip_r_x*t12;
+        t68 = c_hip_r_x*t16 + s_hip_r_x*t17;
+        t69 = c_hip_r_x*t17 - s_hip_r_x*t16;
+        t70 = c_hip_r_y*t65 + s_hip_r_y*t6;
+        t71 = c_hip_r_y*t67 + s_hip_r_y*t11;
+        t72 = c_hip_r_y*t69 + s_hip_r_y*t15;
+        t73 = t60*t70 + t61;
+        t74 = t60*t71 + t62;
+        t75 = t60*t72 + t63;
+        t76 = -0.63*t70 + t73;
+        t77 = -0.63*t71 + t74;
+        t78 = -0.63*t72 + t75;
+        t79 = -t61 + t76;
+        t80 = -t62 + t77;
+        t81 = -t63 + t78;
+        t82 = t71*t81 - t72*t80;
+        t83 = -t70*t81 + t72*t79;
+        t84 = t70*t80 - t71*t79;
+        t85 = t66*t81 - t68*t80;
+        t86 = -t64*t81 + t68*t79;
+        t87 = t64*t80 - t66*t79;
+        t88 = t11*t81 - t15*t80;
+        t89 = t15*t79 - t6*t81;
+        t90 = -t11*t79 + t6*t80;
+        t91 = t76 - x;
+        t92 = t77 - y;
+        t93 = t78 - z;
+        t94 = t11*t93 - t15*t92;
+        t95 = t15*t91 - t6*t93;
+        t96 = -t11*t91 + t6*t92;
+        t97 = t12*t93 - t16*t92;
+        t98 = t16*t91 - t8*t93;
+        t99 = -t12*t91 + t8*t92;
+        t100 = t14*t93 - t17*t92;
+        t101 = -t10*t93 + t17*t91;
+        t102 = t10*t92 - t14*t91;
+        toe_r_vx = qd_hip_r_x*t88 + qd_hip_r_y*t85 + qd_hip_r_z*t82 - qd_leg_r*t70 + t97*wy + t100*wz + t94*wx + vx;
+        toe_r_vy = qd_hip_r_x*t89 + qd_hip_r_y*t86 + qd_hip_r_z*t83 - qd_leg_r*t71 + t98*wy + t101*wz + t95*wx + vy;
+        toe_r_vz = qd_hip_r_x*t90 + qd_hip_r_y*t87 + qd_hip_r_z*t84 - qd_leg_r*t72 + t99*wy + t102*wz + t96*wx + vz;
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_l_vx;
+        out[1] = toe_l_vy;
+        out[2] = toe_l_vz;
+    }
+    if (want[1]) {
+        out[3] = toe_r_vx;
+        out[4] = toe_r_vy;
+        out[5] = toe_r_vz;
+    }
     (void)err;
 }
 
@@ -1836,6 +2108,237 @@ void contact_jacobians(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, toe_l_jx_hip_l_z, toe_l_jy_hip_l_z, toe_l_jz_hip_l_z, toe_l_jx_hip_l_y, toe_l_jy_hip_l_y, toe_l_jz_hip_l_y, toe_l_jx_hip_l_x, toe_l_jy_hip_l_x, toe_l_jz_hip_l_x, t39, t40, t41, toe_l_jx_wx, toe_l_jy_wx, toe_l_jz_wx, toe_l_jx_wy, toe_l_jy_wy, toe_l_jz_wy, toe_l_jx_wz, toe_l_jy_wz, toe_l_jz_wz, t42, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, t43, t44, t45, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, t60, t61, t62, t63, toe_r_jx_hip_r_z, toe_r_jy_hip_r_z, toe_r_jz_hip_r_z, toe_r_jx_hip_r_y, toe_r_jy_hip_r_y, toe_r_jz_hip_r_y, toe_r_jx_hip_r_x, toe_r_jy_hip_r_x, toe_r_jz_hip_r_x, t64, t65, t66, toe_r_jx_wx, toe_r_jy_wx, toe_r_jz_wx, toe_r_jx_wy, toe_r_jy_wy, toe_r_jz_wy, toe_r_jx_wz, toe_r_jy_wz, toe_r_jz_wz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double leg_l = q[10];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    const double leg_r = q[14];
+    /* toe_l */
+    if (want[0]) {
+        t1 = -leg_l - 0.2;
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0]) {
+        t18 = 0.072*t8 + x;
+        t19 = 0.072*t12 + y;
+        t20 = 0.072*t16 + z;
+        t21 = c_hip_l_x*t8 + s_hip_l_x*t10;
+        t22 = c_hip_l_x*t10 - s_hip_l_x*t8;
+        t23 = c_hip_l_x*t12 + s_hip_l_x*t14;
+        t24 = c_hip_l_x*t14 - s_hip_l_x*t12;
+        t25 = c_hip_l_x*t16 + s_hip_l_x*t17;
+        t26 = c_hip_l_x*t17 - s_hip_l_x*t16;
+        t27 = c_hip_l_y*t22 + s_hip_l_y*t6;
+        t28 = c_hip_l_y*t24 + s_hip_l_y*t11;
+        t29 = c_hip_l_y*t26 + s_hip_l_y*t15;
+        t30 = t1*t27 + t18;
+        t31 = t1*t28 + t19;
+        t32 = t1*t29 + t20;
+        t33 = -0.63*t27 + t30;
+        t34 = -0.63*t28 + t31;
+        t35 = -0.63*t29 + t32;
+        t36 = -t18 + t33;
+        t37 = -t19 + t34;
+        t38 = -t20 + t35;
+        toe_l_jx_hip_l_z = t28*t38 - t29*t37;
+        toe_l_jy_hip_l_z = -t27*t38 + t29*t36;
+        toe_l_jz_hip_l_z = t27*t37 - t28*t36;
+        toe_l_jx_hip_l_y = t23*t38 - t25*t37;
+        toe_l_jy_hip_l_y = -t21*t38 + t25*t36;
+        toe_l_jz_hip_l_y = t21*t37 - t23*t36;
+        toe_l_jx_hip_l_x = t11*t38 - t15*t37;
+        toe_l_jy_hip_l_x = t15*t36 - t38*t6;
+        toe_l_jz_hip_l_x = -t11*t36 + t37*t6;
+        t39 = t33 - x;
+        t40 = t34 - y;
+        t41 = t35 - z;
+        toe_l_jx_wx = t11*t41 - t15*t40;
+        toe_l_jy_wx = t15*t39 - t41*t6;
+        toe_l_jz_wx = -t11*t39 + t40*t6;
+        toe_l_jx_wy = t12*t41 - t16*t40;
+        toe_l_jy_wy = t16*t39 - t41*t8;
+        toe_l_jz_wy = -t12*t39 + t40*t8;
+        toe_l_jx_wz = t14*t41 - t17*t40;
+        toe_l_jy_wz = -t10*t41 + t17*t39;
+        toe_l_jz_wz = t10*t40 - t14*t39;
+    }
+    /* toe_r */
+    if (want[1]) {
+        t42 = -leg_r - 0.2;
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+        t43 = -0.072*t8 + x;
+        t44 = -0.072*t12 + y;
+        t45 = -0.072*t16 + z;
+        t46 = c_hip_r_x*t8 + s_hip_r_x*t10;
+        t47 = c_hip_r_x*t10 - s_hip_r_x*t8;
+        t48 = c_hip_r_x*t12 + s_hip_r_x*t14;
+        t49 = c_hip_r_x*t14 - s_hip_r_x*t12;
+        t50 = c_hip_r_x*t16 + s_hip_r_x*t17;
+        t51 = c_hip_r_x*t17 - s_hip_r_x*t16;
+        t52 = c_hip_r_y*t47 + s_hip_r_y*t6;
+        t53 = c_hip_r_y*t49 + s_hip_r_y*t11;
+        t54 = c_hip_r_y*t51 + s_hip_r_y*t15;
+        t55 = t42*t52 + t43;
+        t56 = t42*t53 + t44;
+        t57 = t42*t54 + t45;
+        t58 = -0.63*t52 + t55;
+        t59 = -0.63*t53 + t56;
+        t60 = -0.63*t54 + t57;
+        t61 = -t43 + t58;
+        t62 = -t44 + t59;
+        t63 = -t45 + t60;
+        toe_r_jx_hip_r_z = t53*t63 - t54*t62;
+        toe_r_jy_hip_r_z = -t52*t63 + t54*t61;
+        toe_r_jz_hip_r_z = t52*t62 - t53*t61;
+        toe_r_jx_hip_r_y = t48*t63 - t50*t62;
+        toe_r_jy_hip_r_y = -t46*t63 + t50*t61;
+        toe_r_jz_hip_r_y = t46*t62 - t48*t61;
+        toe_r_jx_hip_r_x = t11*t63 - t15*t62;
+        toe_r_jy_hip_r_x = t15*t61 - t6*t63;
+        toe_r_jz_hip_r_x = -t11*t61 + t6*t62;
+        t64 = t58 - x;
+        t65 = t59 - y;
+        t66 = t60 - z;
+        toe_r_jx_wx = t11*t66 - t15*t65;
+        toe_r_jy_wx = t15*t64 - t6*t66;
+        toe_r_jz_wx = -t11*t64 + t6*t65;
+        toe_r_jx_wy = t12*t66 - t16*t65;
+        toe_r_jy_wy = t16*t64 - t8*t66;
+        toe_r_jz_wy = -t12*t64 + t8*t65;
+        toe_r_jx_wz = t14*t66 - t17*t65;
+        toe_r_jy_wz = -t10*t66 + t17*t64;
+        toe_r_jz_wz = t10*t65 - t14*t64;
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = 1.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        out[3] = toe_l_jx_wx;
+        out[4] = toe_l_jx_wy;
+        out[5] = toe_l_jx_wz;
+        out[6] = toe_l_jx_hip_l_x;
+        out[7] = toe_l_jx_hip_l_y;
+        out[8] = toe_l_jx_hip_l_z;
+        out[9] = -t27;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 0.0;
+        out[13] = 0.0;
+        out[14] = 0.0;
+        out[15] = 1.0;
+        out[16] = 0.0;
+        out[17] = toe_l_jy_wx;
+        out[18] = toe_l_jy_wy;
+        out[19] = toe_l_jy_wz;
+        out[20] = toe_l_jy_hip_l_x;
+        out[21] = toe_l_jy_hip_l_y;
+        out[22] = toe_l_jy_hip_l_z;
+        out[23] = -t28;
+        out[24] = 0.0;
+        out[25] = 0.0;
+        out[26] = 0.0;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+        out[30] = 1.0;
+        out[31] = toe_l_jz_wx;
+        out[32] = toe_l_jz_wy;
+        out[33] = toe_l_jz_wz;
+        out[34] = toe_l_jz_hip_l_x;
+        out[35] = toe_l_jz_hip_l_y;
+        out[36] = toe_l_jz_hip_l_z;
+        out[37] = -t29;
+        out[38] = 0.0;
+        out[39] = 0.0;
+        out[40] = 0.0;
+        out[41] = 0.0;
+    }
+    if (want[1]) {
+        out[42] = 1.0;
+        out[43] = 0.0;
+        out[44] = 0.0;
+        out[45] = toe_r_jx_wx;
+        out[46] = toe_r_jx_wy;
+        out[47] = toe_r_jx_wz;
+        out[48] = 0.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 0.0;
+        out[52] = toe_r_jx_hip_r_x;
+        out[53] = toe_r_jx_hip_r_y;
+        out[54] = toe_r_jx_hip_r_z;
+        out[55] = -t52;
+        out[56] = 0.0;
+        out[57] = 1.0;
+        out[58] = 0.0;
+        out[59] = toe_r_jy_wx;
+        out[60] = toe_r_jy_wy;
+        out[61] = toe_r_jy_wz;
+        out[62] = 0.0;
+        out[63] = 0.0;
+        out[64] = 0.0;
+        out[65] = 0.0;
+        out[66] = toe_r_jy_hip_r_x;
+        out[67] = toe_r_jy_hip_r_y;
+        out[68] = toe_r_jy_hip_r_z;
+        out[69] = -t53;
+        out[70] = 0.0;
+        out[71] = 0.0;
+        out[72] = 1.0;
+        out[73] = toe_r_jz_wx;
+        out[74] = toe_r_jz_wy;
+        out[75] = toe_r_jz_wz;
+        out[76] = 0.0;
+        out[77] = 0.0;
+        out[78] = 0.0;
+        out[79] = 0.0;
+        out[80] = toe_r_jz_hip_r_x;
+        out[81] = toe_r_jz_hip_r_y;
+        out[82] = toe_r_jz_hip_r_z;
+        out[83] = -t54;
+    }
+    (void)err;
+}
+
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -1976,6 +2479,164 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
     out[81] = toe_r_jwz_hip_r_y;
     out[82] = toe_r_jwz_hip_r_z;
     out[83] = 0.0;
+    (void)err;
+}
+
+void contact_angular_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, toe_l_jwx_hip_l_y, t8, toe_l_jwy_hip_l_y, t9, toe_l_jwz_hip_l_y, t10, toe_l_jwx_hip_l_z, toe_l_jwy_hip_l_z, toe_l_jwz_hip_l_z, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, toe_r_jwx_hip_r_y, t11, toe_r_jwy_hip_r_y, t12, toe_r_jwz_hip_r_y, t13, toe_r_jwx_hip_r_z, toe_r_jwy_hip_r_z, toe_r_jwz_hip_r_z;
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    /* toe_l */
+    if (want[0]) {
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    const double toe_l_jwx_wx = -qscale*t4 + 1.0;
+    const double t5 = qw*qz;
+    const double toe_l_jwx_wy = qscale*(qx*qy - t5);
+    const double t6 = qw*qy;
+    const double toe_l_jwx_wz = qscale*(qx*qz + t6);
+    const double toe_l_jwy_wx = qscale*(qx*qy + t5);
+    const double toe_l_jwy_wy = -qscale*(t1 + t3) + 1.0;
+    const double t7 = qw*qx;
+    const double toe_l_jwy_wz = qscale*(qy*qz - t7);
+    const double toe_l_jwz_wx = qscale*(qx*qz - t6);
+    const double toe_l_jwz_wy = qscale*(qy*qz + t7);
+    const double toe_l_jwz_wz = -qscale*(t1 + t2) + 1.0;
+    if (want[0]) {
+        toe_l_jwx_hip_l_y = c_hip_l_x*toe_l_jwx_wy + s_hip_l_x*toe_l_jwx_wz;
+        t8 = c_hip_l_x*toe_l_jwx_wz - s_hip_l_x*toe_l_jwx_wy;
+        toe_l_jwy_hip_l_y = c_hip_l_x*toe_l_jwy_wy + s_hip_l_x*toe_l_jwy_wz;
+        t9 = c_hip_l_x*toe_l_jwy_wz - s_hip_l_x*toe_l_jwy_wy;
+        toe_l_jwz_hip_l_y = c_hip_l_x*toe_l_jwz_wy + s_hip_l_x*toe_l_jwz_wz;
+        t10 = c_hip_l_x*toe_l_jwz_wz - s_hip_l_x*toe_l_jwz_wy;
+        toe_l_jwx_hip_l_z = c_hip_l_y*t8 + s_hip_l_y*toe_l_jwx_wx;
+        toe_l_jwy_hip_l_z = c_hip_l_y*t9 + s_hip_l_y*toe_l_jwy_wx;
+        toe_l_jwz_hip_l_z = c_hip_l_y*t10 + s_hip_l_y*toe_l_jwz_wx;
+    }
+    /* toe_r */
+    if (want[1]) {
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+        toe_r_jwx_hip_r_y = c_hip_r_x*toe_l_jwx_wy + s_hip_r_x*toe_l_jwx_wz;
+        t11 = c_hip_r_x*toe_l_jwx_wz - s_hip_r_x*toe_l_jwx_wy;
+        toe_r_jwy_hip_r_y = c_hip_r_x*toe_l_jwy_wy + s_hip_r_x*toe_l_jwy_wz;
+        t12 = c_hip_r_x*toe_l_jwy_wz - s_hip_r_x*toe_l_jwy_wy;
+        toe_r_jwz_hip_r_y = c_hip_r_x*toe_l_jwz_wy + s_hip_r_x*toe_l_jwz_wz;
+        t13 = c_hip_r_x*toe_l_jwz_wz - s_hip_r_x*toe_l_jwz_wy;
+        toe_r_jwx_hip_r_z = c_hip_r_y*t11 + s_hip_r_y*toe_l_jwx_wx;
+        toe_r_jwy_hip_r_z = c_hip_r_y*t12 + s_hip_r_y*toe_l_jwy_wx;
+        toe_r_jwz_hip_r_z = c_hip_r_y*t13 + s_hip_r_y*toe_l_jwz_wx;
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = 0.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        out[3] = toe_l_jwx_wx;
+        out[4] = toe_l_jwx_wy;
+        out[5] = toe_l_jwx_wz;
+        out[6] = toe_l_jwx_wx;
+        out[7] = toe_l_jwx_hip_l_y;
+        out[8] = toe_l_jwx_hip_l_z;
+        out[9] = 0.0;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 0.0;
+        out[13] = 0.0;
+        out[14] = 0.0;
+        out[15] = 0.0;
+        out[16] = 0.0;
+        out[17] = toe_l_jwy_wx;
+        out[18] = toe_l_jwy_wy;
+        out[19] = toe_l_jwy_wz;
+        out[20] = toe_l_jwy_wx;
+        out[21] = toe_l_jwy_hip_l_y;
+        out[22] = toe_l_jwy_hip_l_z;
+        out[23] = 0.0;
+        out[24] = 0.0;
+        out[25] = 0.0;
+        out[26] = 0.0;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+        out[30] = 0.0;
+        out[31] = toe_l_jwz_wx;
+        out[32] = toe_l_jwz_wy;
+        out[33] = toe_l_jwz_wz;
+        out[34] = toe_l_jwz_wx;
+        out[35] = toe_l_jwz_hip_l_y;
+        out[36] = toe_l_jwz_hip_l_z;
+        out[37] = 0.0;
+        out[38] = 0.0;
+        out[39] = 0.0;
+        out[40] = 0.0;
+        out[41] = 0.0;
+    }
+    if (want[1]) {
+        out[42] = 0.0;
+        out[43] = 0.0;
+        out[44] = 0.0;
+        out[45] = toe_l_jwx_wx;
+        out[46] = toe_l_jwx_wy;
+        out[47] = toe_l_jwx_wz;
+        out[48] = 0.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 0.0;
+        out[52] = toe_l_jwx_wx;
+        out[53] = toe_r_jwx_hip_r_y;
+        out[54] = toe_r_jwx_hip_r_z;
+        out[55] = 0.0;
+        out[56] = 0.0;
+        out[57] = 0.0;
+        out[58] = 0.0;
+        out[59] = toe_l_jwy_wx;
+        out[60] = toe_l_jwy_wy;
+        out[61] = toe_l_jwy_wz;
+        out[62] = 0.0;
+        out[63] = 0.0;
+        out[64] = 0.0;
+        out[65] = 0.0;
+        out[66] = toe_l_jwy_wx;
+        out[67] = toe_r_jwy_hip_r_y;
+        out[68] = toe_r_jwy_hip_r_z;
+        out[69] = 0.0;
+        out[70] = 0.0;
+        out[71] = 0.0;
+        out[72] = 0.0;
+        out[73] = toe_l_jwz_wx;
+        out[74] = toe_l_jwz_wy;
+        out[75] = toe_l_jwz_wz;
+        out[76] = 0.0;
+        out[77] = 0.0;
+        out[78] = 0.0;
+        out[79] = 0.0;
+        out[80] = toe_l_jwz_wx;
+        out[81] = toe_r_jwz_hip_r_y;
+        out[82] = toe_r_jwz_hip_r_z;
+        out[83] = 0.0;
+    }
     (void)err;
 }
 
@@ -2141,6 +2802,282 @@ void body_poses(const double *q, double *out, int *err)
     out[57] = thigh_r_r31;
     out[58] = thigh_r_r32;
     out[59] = thigh_r_r33;
+    (void)err;
+}
+
+void body_poses_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double trunk_r11, t5, trunk_r12, t6, trunk_r13, trunk_r21, trunk_r22, t7, trunk_r23, trunk_r31, trunk_r32, trunk_r33, c_hip_l_z, s_hip_l_z, c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, thigh_l_x, thigh_l_y, thigh_l_z, t8, t9, t10, t11, t12, t13, t14, thigh_l_r13, t15, thigh_l_r23, t16, thigh_l_r33, thigh_l_r11, thigh_l_r12, thigh_l_r21, thigh_l_r22, thigh_l_r31, thigh_l_r32, t17, shank_l_x, shank_l_y, shank_l_z, c_hip_r_z, s_hip_r_z, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, thigh_r_x, thigh_r_y, thigh_r_z, t18, t19, t20, t21, t22, t23, t24, thigh_r_r13, t25, thigh_r_r23, t26, thigh_r_r33, thigh_r_r11, thigh_r_r12, thigh_r_r21, thigh_r_r22, thigh_r_r31, thigh_r_r32, t27, shank_r_x, shank_r_y, shank_r_z;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double hip_l_z = q[9];
+    const double leg_l = q[10];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    const double hip_r_z = q[13];
+    const double leg_r = q[14];
+    /* trunk */
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9]) {
+        trunk_r11 = -qscale*t4 + 1.0;
+    }
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9]) {
+        t5 = qw*qz;
+        trunk_r12 = qscale*(qx*qy - t5);
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9]) {
+        t6 = qw*qy;
+        trunk_r13 = qscale*(qx*qz + t6);
+        trunk_r21 = qscale*(qx*qy + t5);
+    }
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9]) {
+        trunk_r22 = -qscale*(t1 + t3) + 1.0;
+        t7 = qw*qx;
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9]) {
+        trunk_r23 = qscale*(qy*qz - t7);
+        trunk_r31 = qscale*(qx*qz - t6);
+    }
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9]) {
+        trunk_r32 = qscale*(qy*qz + t7);
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9]) {
+        trunk_r33 = -qscale*(t1 + t2) + 1.0;
+    }
+    /* thigh_l */
+    if (want[3] || want[5]) {
+        c_hip_l_z = leg_cos(hip_l_z);
+        s_hip_l_z = leg_sin(hip_l_z);
+    } else if (isinf(hip_l_z)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[3] || want[4] || want[5]) {
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4]) {
+        thigh_l_x = 0.072*trunk_r12 + x;
+        thigh_l_y = 0.072*trunk_r22 + y;
+        thigh_l_z = 0.072*trunk_r32 + z;
+    }
+    if (want[3] || want[5]) {
+        t8 = c_hip_l_x*trunk_r12 + s_hip_l_x*trunk_r13;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t9 = c_hip_l_x*trunk_r13 - s_hip_l_x*trunk_r12;
+    }
+    if (want[3] || want[5]) {
+        t10 = c_hip_l_x*trunk_r22 + s_hip_l_x*trunk_r23;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t11 = c_hip_l_x*trunk_r23 - s_hip_l_x*trunk_r22;
+    }
+    if (want[3] || want[5]) {
+        t12 = c_hip_l_x*trunk_r32 + s_hip_l_x*trunk_r33;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t13 = c_hip_l_x*trunk_r33 - s_hip_l_x*trunk_r32;
+    }
+    if (want[3] || want[5]) {
+        t14 = c_hip_l_y*trunk_r11 - s_hip_l_y*t9;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_l_r13 = c_hip_l_y*t9 + s_hip_l_y*trunk_r11;
+    }
+    if (want[3] || want[5]) {
+        t15 = c_hip_l_y*trunk_r21 - s_hip_l_y*t11;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_l_r23 = c_hip_l_y*t11 + s_hip_l_y*trunk_r21;
+    }
+    if (want[3] || want[5]) {
+        t16 = c_hip_l_y*trunk_r31 - s_hip_l_y*t13;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_l_r33 = c_hip_l_y*t13 + s_hip_l_y*trunk_r31;
+    }
+    if (want[3] || want[5]) {
+        thigh_l_r11 = c_hip_l_z*t14 + s_hip_l_z*t8;
+        thigh_l_r12 = c_hip_l_z*t8 - s_hip_l_z*t14;
+        thigh_l_r21 = c_hip_l_z*t15 + s_hip_l_z*t10;
+        thigh_l_r22 = c_hip_l_z*t10 - s_hip_l_z*t15;
+        thigh_l_r31 = c_hip_l_z*t16 + s_hip_l_z*t12;
+        thigh_l_r32 = c_hip_l_z*t12 - s_hip_l_z*t16;
+    }
+    /* shank_l */
+    if (want[4]) {
+        t17 = -leg_l - 0.2;
+        shank_l_x = thigh_l_x + thigh_l_r13*t17;
+        shank_l_y = thigh_l_y + thigh_l_r23*t17;
+        shank_l_z = thigh_l_z + thigh_l_r33*t17;
+    }
+    /* thigh_r */
+    if (want[7] || want[9]) {
+        c_hip_r_z = leg_cos(hip_r_z);
+        s_hip_r_z = leg_sin(hip_r_z);
+    } else if (isinf(hip_r_z)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[7] || want[8] || want[9]) {
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[6] || want[8]) {
+        thigh_r_x = -0.072*trunk_r12 + x;
+        thigh_r_y = -0.072*trunk_r22 + y;
+        thigh_r_z = -0.072*trunk_r32 + z;
+    }
+    if (want[7] || want[9]) {
+        t18 = c_hip_r_x*trunk_r12 + s_hip_r_x*trunk_r13;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t19 = c_hip_r_x*trunk_r13 - s_hip_r_x*trunk_r12;
+    }
+    if (want[7] || want[9]) {
+        t20 = c_hip_r_x*trunk_r22 + s_hip_r_x*trunk_r23;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t21 = c_hip_r_x*trunk_r23 - s_hip_r_x*trunk_r22;
+    }
+    if (want[7] || want[9]) {
+        t22 = c_hip_r_x*trunk_r32 + s_hip_r_x*trunk_r33;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t23 = c_hip_r_x*trunk_r33 - s_hip_r_x*trunk_r32;
+    }
+    if (want[7] || want[9]) {
+        t24 = c_hip_r_y*trunk_r11 - s_hip_r_y*t19;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_r_r13 = c_hip_r_y*t19 + s_hip_r_y*trunk_r11;
+    }
+    if (want[7] || want[9]) {
+        t25 = c_hip_r_y*trunk_r21 - s_hip_r_y*t21;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_r_r23 = c_hip_r_y*t21 + s_hip_r_y*trunk_r21;
+    }
+    if (want[7] || want[9]) {
+        t26 = c_hip_r_y*trunk_r31 - s_hip_r_y*t23;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_r_r33 = c_hip_r_y*t23 + s_hip_r_y*trunk_r31;
+    }
+    if (want[7] || want[9]) {
+        thigh_r_r11 = c_hip_r_z*t24 + s_hip_r_z*t18;
+        thigh_r_r12 = c_hip_r_z*t18 - s_hip_r_z*t24;
+        thigh_r_r21 = c_hip_r_z*t25 + s_hip_r_z*t20;
+        thigh_r_r22 = c_hip_r_z*t20 - s_hip_r_z*t25;
+        thigh_r_r31 = c_hip_r_z*t26 + s_hip_r_z*t22;
+        thigh_r_r32 = c_hip_r_z*t22 - s_hip_r_z*t26;
+    }
+    /* shank_r */
+    if (want[8]) {
+        t27 = -leg_r - 0.2;
+        shank_r_x = thigh_r_x + thigh_r_r13*t27;
+        shank_r_y = thigh_r_y + thigh_r_r23*t27;
+        shank_r_z = thigh_r_z + thigh_r_r33*t27;
+    }
+    if (want[0]) {
+        out[0] = x;
+        out[1] = y;
+        out[2] = z;
+    }
+    if (want[1]) {
+        out[3] = trunk_r11;
+        out[4] = trunk_r12;
+        out[5] = trunk_r13;
+        out[6] = trunk_r21;
+        out[7] = trunk_r22;
+        out[8] = trunk_r23;
+        out[9] = trunk_r31;
+        out[10] = trunk_r32;
+        out[11] = trunk_r33;
+    }
+    if (want[2]) {
+        out[12] = thigh_l_x;
+        out[13] = thigh_l_y;
+        out[14] = thigh_l_z;
+    }
+    if (want[3]) {
+        out[15] = thigh_l_r11;
+        out[16] = thigh_l_r12;
+        out[17] = thigh_l_r13;
+        out[18] = thigh_l_r21;
+        out[19] = thigh_l_r22;
+        out[20] = thigh_l_r23;
+        out[21] = thigh_l_r31;
+        out[22] = thigh_l_r32;
+        out[23] = thigh_l_r33;
+    }
+    if (want[4]) {
+        out[24] = shank_l_x;
+        out[25] = shank_l_y;
+        out[26] = shank_l_z;
+    }
+    if (want[5]) {
+        out[27] = thigh_l_r11;
+        out[28] = thigh_l_r12;
+        out[29] = thigh_l_r13;
+        out[30] = thigh_l_r21;
+        out[31] = thigh_l_r22;
+        out[32] = thigh_l_r23;
+        out[33] = thigh_l_r31;
+        out[34] = thigh_l_r32;
+        out[35] = thigh_l_r33;
+    }
+    if (want[6]) {
+        out[36] = thigh_r_x;
+        out[37] = thigh_r_y;
+        out[38] = thigh_r_z;
+    }
+    if (want[7]) {
+        out[39] = thigh_r_r11;
+        out[40] = thigh_r_r12;
+        out[41] = thigh_r_r13;
+        out[42] = thigh_r_r21;
+        out[43] = thigh_r_r22;
+        out[44] = thigh_r_r23;
+        out[45] = thigh_r_r31;
+        out[46] = thigh_r_r32;
+        out[47] = thigh_r_r33;
+    }
+    if (want[8]) {
+        out[48] = shank_r_x;
+        out[49] = shank_r_y;
+        out[50] = shank_r_z;
+    }
+    if (want[9]) {
+        out[51] = thigh_r_r11;
+        out[52] = thigh_r_r12;
+        out[53] = thigh_r_r13;
+        out[54] = thigh_r_r21;
+        out[55] = thigh_r_r22;
+        out[56] = thigh_r_r23;
+        out[57] = thigh_r_r31;
+        out[58] = thigh_r_r32;
+        out[59] = thigh_r_r33;
+    }
     (void)err;
 }
 
@@ -2359,6 +3296,277 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
     out[27] = thigh_r_wx;
     out[28] = thigh_r_wy;
     out[29] = thigh_r_wz;
+    (void)err;
+}
+
+void body_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t5, t6, t7, t8, t9, t10, t11, t12, t13, t14, t15, t16, trunk_wx, trunk_wy, trunk_wz, c_hip_l_y, s_hip_l_y, c_hip_l_x, s_hip_l_x, t17, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, thigh_l_vx, thigh_l_vy, thigh_l_vz, thigh_l_wx, thigh_l_wy, thigh_l_wz, t41, t42, t43, t44, t45, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, t60, t61, t62, t63, t64, t65, t66, t67, t68, shank_l_vx, shank_l_vy, shank_l_vz, c_hip_r_y, s_hip_r_y, c_hip_r_x, s_hip_r_x, t69, t70, t71, t72, t73, t74, t75, t76, t77, t78, t79, t80, t81, t82, t83, t84, t85, t86, t87, t88, t89, t90, t91, t92, thigh_r_vx, thigh_r_vy, thigh_r_vz, thigh_r_wx, thigh_r_wy, thigh_r_wz, t93, t94, t95, t96, t97, t98, t99, t100, t101, t102, t103, t104, t105, t106, t107, t108, t109, t110, t111, t112, t113, t114, t115, t116, t117, t118, t119, t120, shank_r_vx, shank_r_vy, shank_r_vz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_l_x = q[7];
+    const double hip_l_y = q[8];
+    const double leg_l = q[10];
+    const double hip_r_x = q[11];
+    const double hip_r_y = q[12];
+    const double leg_r = q[14];
+    const double vx = v[0];
+    const double vy = v[1];
+    const double vz = v[2];
+    const double wx = v[3];
+    const double wy = v[4];
+    const double wz = v[5];
+    const double qd_hip_l_x = v[6];
+    const double qd_hip_l_y = v[7];
+    const double qd_hip_l_z = v[8];
+    const double qd_leg_l = v[9];
+    const double qd_hip_r_x = v[10];
+    const double qd_hip_r_y = v[11];
+    const double qd_hip_r_z = v[12];
+    const double qd_leg_r = v[13];
+    /* trunk */
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9]) {
+        t5 = -qscale*t4 + 1.0;
+        t6 = qw*qz;
+        t7 = qscale*(qx*qy - t6);
+        t8 = qw*qy;
+        t9 = qscale*(qx*qz + t8);
+        t10 = qscale*(qx*qy + t6);
+        t11 = -qscale*(t1 + t3) + 1.0;
+        t12 = qw*qx;
+        t13 = qscale*(qy*qz - t12);
+        t14 = qscale*(qx*qz - t8);
+        t15 = qscale*(qy*qz + t12);
+        t16 = -qscale*(t1 + t2) + 1.0;
+    }
+    if (want[1] || want[3] || want[5] || want[7] || want[9]) {
+        trunk_wx = t5*wx + t7*wy + t9*wz;
+        trunk_wy = t10*wx + t11*wy + t13*wz;
+        trunk_wz = t14*wx + t15*wy + t16*wz;
+    }
+    /* thigh_l */
+    if (want[3] || want[4] || want[5]) {
+        c_hip_l_y = leg_cos(hip_l_y);
+        s_hip_l_y = leg_sin(hip_l_y);
+        c_hip_l_x = leg_cos(hip_l_x);
+        s_hip_l_x = leg_sin(hip_l_x);
+    } else if (isinf(hip_l_y) || isinf(hip_l_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4]) {
+        t17 = 0.072*t7 + x;
+        t18 = 0.072*t11 + y;
+        t19 = 0.072*t15 + z;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t20 = c_hip_l_x*t7 + s_hip_l_x*t9;
+        t21 = c_hip_l_x*t9 - s_hip_l_x*t7;
+        t22 = c_hip_l_x*t11 + s_hip_l_x*t13;
+        t23 = c_hip_l_x*t13 - s_hip_l_x*t11;
+        t24 = c_hip_l_x*t15 + s_hip_l_x*t16;
+        t25 = c_hip_l_x*t16 - s_hip_l_x*t15;
+        t26 = c_hip_l_y*t21 + s_hip_l_y*t5;
+        t27 = c_hip_l_y*t23 + s_hip_l_y*t10;
+        t28 = c_hip_l_y*t25 + s_hip_l_y*t14;
+    }
+    if (want[2]) {
+        t29 = t17 - x;
+        t30 = t18 - y;
+        t31 = t19 - z;
+        t32 = t10*t31 - t14*t30;
+        t33 = t14*t29 - t31*t5;
+        t34 = -t10*t29 + t30*t5;
+        t35 = t11*t31 - t15*t30;
+        t36 = t15*t29 - t31*t7;
+        t37 = -t11*t29 + t30*t7;
+        t38 = t13*t31 - t16*t30;
+        t39 = t16*t29 - t31*t9;
+        t40 = -t13*t29 + t30*t9;
+        thigh_l_vx = t32*wx + t35*wy + t38*wz + vx;
+        thigh_l_vy = t33*wx + t36*wy + t39*wz + vy;
+        thigh_l_vz = t34*wx + t37*wy + t40*wz + vz;
+    }
+    if (want[3] || want[5]) {
+        thigh_l_wx = qd_hip_l_x*t5 + qd_hip_l_y*t20 + qd_hip_l_z*t26 + trunk_wx;
+        thigh_l_wy = qd_hip_l_x*t10 + qd_hip_l_y*t22 + qd_hip_l_z*t27 + trunk_wy;
+        thigh_l_wz = qd_hip_l_x*t14 + qd_hip_l_y*t24 + qd_hip_l_z*t28 + trunk_wz;
+    }
+    /* shank_l */
+    if (want[4]) {
+        t41 = -leg_l - 0.2;
+        t42 = t17 + t26*t41;
+        t43 = t18 + t27*t41;
+        t44 = t19 + t28*t41;
+        t45 = -t17 + t42;
+        t46 = -t18 + t43;
+        t47 = -t19 + t44;
+        t48 = t27*t47 - t28*t46;
+        t49 = -t26*t47 + t28*t45;
+        t50 = t26*t46 - t27*t45;
+        t51 = t22*t47 - t24*t46;
+        t52 = -t20*t47 + t24*t45;
+        t53 = t20*t46 - t22*t45;
+        t54 = t10*t47 - t14*t46;
+        t55 = t14*t45 - t5*t47;
+        t56 = -t10*t45 + t5*t46;
+        t57 = t42 - x;
+        t58 = t43 - y;
+        t59 = t44 - z;
+        t60 = t10*t59 - t14*t58;
+        t61 = t14*t57 - t5*t59;
+        t62 = -t10*t57 + t5*t58;
+        t63 = t11*t59 - t15*t58;
+        t64 = t15*t57 - t59*t7;
+        t65 = -t11*t57 + t58*t7;
+        t66 = t13*t59 - t16*t58;
+        t67 = t16*t57 - t59*t9;
+        t68 = -t13*t57 + t58*t9;
+        shank_l_vx = qd_hip_l_x*t54 + qd_hip_l_y*t51 + qd_hip_l_z*t48 - qd_leg_l*t26 + t60*wx + t63*wy + t66*wz + vx;
+        shank_l_vy = qd_hip_l_x*t55 + qd_hip_l_y*t52 + qd_hip_l_z*t49 - qd_leg_l*t27 + t61*wx + t64*wy + t67*wz + vy;
+        shank_l_vz = qd_hip_l_x*t56 + qd_hip_l_y*t53 + qd_hip_l_z*t50 - qd_leg_l*t28 + t62*wx + t65*wy + t68*wz + vz;
+    }
+    /* thigh_r */
+    if (want[7] || want[8] || want[9]) {
+        c_hip_r_y = leg_cos(hip_r_y);
+        s_hip_r_y = leg_sin(hip_r_y);
+        c_hip_r_x = leg_cos(hip_r_x);
+        s_hip_r_x = leg_sin(hip_r_x);
+    } else if (isinf(hip_r_y) || isinf(hip_r_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[6] || want[8]) {
+        t69 = -0.072*t7 + x;
+        t70 = -0.072*t11 + y;
+        t71 = -0.072*t15 + z;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t72 = c_hip_r_x*t7 + s_hip_r_x*t9;
+        t73 = c_hip_r_x*t9 - s_hip_r_x*t7;
+        t74 = c_hip_r_x*t11 + s_hip_r_x*t13;
+        t75 = c_hip_r_x*t13 - s_hip_r_x*t11;
+        t76 = c_hip_r_x*t15 + s_hip_r_x*t16;
+        t77 = c_hip_r_x*t16 - s_hip_r_x*t15;
+        t78 = c_hip_r_y*t73 + s_hip_r_y*t5;
+        t79 = c_hip_r_y*t75 + s_hip_r_y*t10;
+        t80 = c_hip_r_y*t77 + s_hip_r_y*t14;
+    }
+    if (want[6]) {
+        t81 = t69 - x;
+        t82 = t70 - y;
+        t83 = t71 - z;
+        t84 = t10*t83 - t14*t82;
+        t85 = t14*t81 - t5*t83;
+        t86 = -t10*t81 + t5*t82;
+        t87 = t11*t83 - t15*t82;
+        t88 = t15*t81 - t7*t83;
+        t89 = -t11*t81 + t7*t82;
+        t90 = t13*t83 - t16*t82;
+        t91 = t16*t81 - t9*t83;
+        t92 = -t13*t81 + t9*t82;
+        thigh_r_vx = t90*wz + t84*wx + t87*wy + vx;
+        thigh_r_vy = t88*wy + t91*wz + t85*wx + vy;
+        thigh_r_vz = t89*wy + t92*wz + t86*wx + vz;
+    }
+    if (want[7] || want[9]) {
+        thigh_r_wx = qd_hip_r_x*t5 + qd_hip_r_y*t72 + qd_hip_r_z*t78 + trunk_wx;
+        thigh_r_wy = qd_hip_r_x*t10 + qd_hip_r_y*t74 + qd_hip_r_z*t79 + trunk_wy;
+        thigh_r_wz = qd_hip_r_x*t14 + qd_hip_r_y*t76 + qd_hip_r_z*t80 + trunk_wz;
+    }
+    /* shank_r */
+    if (want[8]) {
+        t93 = -leg_r - 0.2;
+        t94 = t93*t78 + t69;
+        t95 = t93*t79 + t70;
+        t96 = t93*t80 + t71;
+        t97 = t94 - t69;
+        t98 = t95 - t70;
+        t99 = t96 - t71;
+        t100 = -t98*t80 + t99*t79;
+        t101 = t97*t80 - t99*t78;
+        t102 = -t97*t79 + t98*t78;
+        t103 = -t98*t76 + t99*t74;
+        t104 = t97*t76 - t99*t72;
+        t105 = -t97*t74 + t98*t72;
+        t106 = t10*t99 - t98*t14;
+        t107 = t97*t14 - t99*t5;
+        t108 = -t10*t97 + t98*t5;
+        t109 = t94 - x;
+        t110 = t95 - y;
+        t111 = t96 - z;
+        t112 = t10*t111 - t110*t14;
+        t113 = t109*t14 - t111*t5;
+        t114 = -t10*t109 + t110*t5;
+        t115 = t11*t111 - t110*t15;
+        t116 = t109*t15 - t111*t7;
+        t117 = -t11*t109 + t110*t7;
+        t118 = -t110*t16 + t111*t13;
+        t119 = t109*t16 - t111*t9;
+        t120 = -t109*t13 + t110*t9;
+        shank_r_vx = qd_hip_r_x*t106 + qd_hip_r_y*t103 + qd_hip_r_z*t100 - qd_leg_r*t78 + t112*wx + t115*wy + t118*wz + vx;
+        shank_r_vy = qd_hip_r_x*t107 + qd_hip_r_y*t104 + qd_hip_r_z*t101 - qd_leg_r*t79 + t113*wx + t116*wy + t119*wz + vy;
+        shank_r_vz = qd_hip_r_x*t108 + qd_hip_r_y*t105 + qd_hip_r_z*t102 - qd_leg_r*t80 + t114*wx + t117*wy + t120*wz + vz;
+    }
+    if (want[0]) {
+        out[0] = vx;
+        out[1] = vy;
+        out[2] = vz;
+    }
+    if (want[1]) {
+        out[3] = trunk_wx;
+        out[4] = trunk_wy;
+        out[5] = trunk_wz;
+    }
+    if (want[2]) {
+        out[6] = thigh_l_vx;
+        out[7] = thigh_l_vy;
+        out[8] = thigh_l_vz;
+    }
+    if (want[3]) {
+        out[9] = thigh_l_wx;
+        out[10] = thigh_l_wy;
+        out[11] = thigh_l_wz;
+    }
+    if (want[4]) {
+        out[12] = shank_l_vx;
+        out[13] = shank_l_vy;
+        out[14] = shank_l_vz;
+    }
+    if (want[5]) {
+        out[15] = thigh_l_wx;
+        out[16] = thigh_l_wy;
+        out[17] = thigh_l_wz;
+    }
+    if (want[6]) {
+        out[18] = thigh_r_vx;
+        out[19] = thigh_r_vy;
+        out[20] = thigh_r_vz;
+    }
+    if (want[7]) {
+        out[21] = thigh_r_wx;
+        out[22] = thigh_r_wy;
+        out[23] = thigh_r_wz;
+    }
+    if (want[8]) {
+        out[24] = shank_r_vx;
+        out[25] = shank_r_vy;
+        out[26] = shank_r_vz;
+    }
+    if (want[9]) {
+        out[27] = thigh_r_wx;
+        out[28] = thigh_r_wy;
+        out[29] = thigh_r_wz;
+    }
     (void)err;
 }
 

@@ -25,16 +25,28 @@ void bias_forces(const double *q, const double *v, double *out, int *err);
 void forward_dynamics(const double *q, const double *v, const double *tau, double *out, int *err);
 #define LEG_OUT_CONTACT_POSITIONS 3
 void contact_positions(const double *q, double *out, int *err);
+#define LEG_PARTS_CONTACT_POSITIONS 1
+void contact_positions_some(const double *q, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_CONTACT_VELOCITIES 3
 void contact_velocities(const double *q, const double *v, double *out, int *err);
+#define LEG_PARTS_CONTACT_VELOCITIES 1
+void contact_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_CONTACT_JACOBIANS 15
 void contact_jacobians(const double *q, double *out, int *err);
+#define LEG_PARTS_CONTACT_JACOBIANS 1
+void contact_jacobians_some(const double *q, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_CONTACT_ANGULAR_JACOBIANS 15
 void contact_angular_jacobians(const double *q, double *out, int *err);
+#define LEG_PARTS_CONTACT_ANGULAR_JACOBIANS 1
+void contact_angular_jacobians_some(const double *q, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_BODY_POSES 36
 void body_poses(const double *q, double *out, int *err);
+#define LEG_PARTS_BODY_POSES 6
+void body_poses_some(const double *q, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_BODY_VELOCITIES 18
 void body_velocities(const double *q, const double *v, double *out, int *err);
+#define LEG_PARTS_BODY_VELOCITIES 6
+void body_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err);
 #define LEG_OUT_CENTER_OF_MASS 3
 void center_of_mass(const double *q, double *out, int *err);
 #define LEG_OUT_CENTER_OF_MASS_VELOCITY 3

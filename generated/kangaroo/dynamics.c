@@ -908,6 +908,92 @@ void contact_positions(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_positions_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_ankle, s_ankle, c_knee, s_knee, c_hip, s_hip, t1, t2, t3, t4, t5, t6, t7, t8, t9, t10, t11, t12, t13, t14, t15, toe_x, toe_z, c_tail_tip, s_tail_tip, c_tail_mid, s_tail_mid, c_tail_base, s_tail_base, t16, t17, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, tail_end_x, tail_end_z;
+    const double x = q[0];
+    const double z = q[1];
+    const double pitch = q[2];
+    const double hip = q[3];
+    const double knee = q[4];
+    const double ankle = q[5];
+    const double tail_base = q[6];
+    const double tail_mid = q[7];
+    const double tail_tip = q[8];
+    /* toe */
+    if (want[0]) {
+        c_ankle = leg_cos(ankle);
+        s_ankle = leg_sin(ankle);
+        c_knee = leg_cos(knee);
+        s_knee = leg_sin(knee);
+        c_hip = leg_cos(hip);
+        s_hip = leg_sin(hip);
+    } else if (isinf(ankle) || isinf(knee) || isinf(hip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double c_pitch = leg_cos(pitch);
+    const double s_pitch = leg_sin(pitch);
+    if (want[0]) {
+        t1 = -0.11*c_pitch + x;
+        t2 = 0.11*s_pitch + z;
+        t3 = c_hip*c_pitch - s_hip*s_pitch;
+        t4 = c_hip*s_pitch + c_pitch*s_hip;
+        t5 = t1 - 0.13*t4;
+        t6 = t2 - 0.13*t3;
+        t7 = c_knee*t3;
+        t8 = -s_knee*t4 + t7;
+        t9 = s_knee*t3;
+        t10 = c_knee*t4 + t9;
+        t11 = -c_knee*t4 - t9;
+        t12 = -0.26*t10 + t5;
+        t13 = -0.26*t8 + t6;
+        t14 = c_ankle*t10 + s_ankle*t8;
+        t15 = c_ankle*t8 + s_ankle*t11;
+        toe_x = t12 - 0.174*t14;
+        toe_z = t13 - 0.174*t15;
+    }
+    /* tail_end */
+    if (want[1]) {
+        c_tail_tip = leg_cos(tail_tip);
+        s_tail_tip = leg_sin(tail_tip);
+        c_tail_mid = leg_cos(tail_mid);
+        s_tail_mid = leg_sin(tail_mid);
+        c_tail_base = leg_cos(tail_base);
+        s_tail_base = leg_sin(tail_base);
+        t16 = -0.2*c_pitch + x;
+        t17 = 0.2*s_pitch + z;
+        t18 = c_pitch*c_tail_base - s_pitch*s_tail_base;
+        t19 = c_pitch*s_tail_base + c_tail_base*s_pitch;
+        t20 = t16 - 0.166*t18;
+        t21 = t17 + 0.166*t19;
+        t22 = c_tail_mid*t18;
+        t23 = -s_tail_mid*t19 + t22;
+        t24 = s_tail_mid*t18;
+        t25 = c_tail_mid*t19 + t24;
+        t26 = -c_tail_mid*t19 - t24;
+        t27 = t20 - 0.166*t23;
+        t28 = t21 - 0.166*t26;
+        t29 = c_tail_tip*t23 - s_tail_tip*t25;
+        t30 = c_tail_tip*t26 - s_tail_tip*t23;
+        tail_end_x = t27 - 0.166*t29;
+        tail_end_z = t28 - 0.166*t30;
+    } else if (isinf(tail_tip) || isinf(tail_mid) || isinf(tail_base)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_x;
+        out[1] = 0.0;
+        out[2] = toe_z;
+    }
+    if (want[1]) {
+        out[3] = tail_end_x;
+        out[4] = 0.0;
+        out[5] = tail_end_z;
+    }
+    (void)err;
+}
+
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -1005,6 +1091,121 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
     out[3] = tail_end_vx;
     out[4] = 0.0;
     out[5] = tail_end_vz;
+    (void)err;
+}
+
+void contact_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_ankle, s_ankle, c_knee, s_knee, c_hip, s_hip, t1, t2, t3, t4, t5, t6, t7, t8, t9, t10, t11, t12, t13, t14, t15, t16, t17, t18, t19, t20, t21, t22, t23, t24, t25, toe_vx, toe_vz, c_tail_tip, s_tail_tip, c_tail_mid, s_tail_mid, c_tail_base, s_tail_base, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, t42, t43, t44, t45, t46, t47, t48, t49, t50, tail_end_vx, tail_end_vz;
+    const double x = q[0];
+    const double z = q[1];
+    const double pitch = q[2];
+    const double hip = q[3];
+    const double knee = q[4];
+    const double ankle = q[5];
+    const double tail_base = q[6];
+    const double tail_mid = q[7];
+    const double tail_tip = q[8];
+    const double qd_x = v[0];
+    const double qd_z = v[1];
+    const double qd_pitch = v[2];
+    const double qd_hip = v[3];
+    const double qd_knee = v[4];
+    const double qd_ankle = v[5];
+    const double qd_tail_base = v[6];
+    const double qd_tail_mid = v[7];
+    const double qd_tail_tip = v[8];
+    /* toe */
+    if (want[0]) {
+        c_ankle = leg_cos(ankle);
+        s_ankle = leg_sin(ankle);
+        c_knee = leg_cos(knee);
+        s_knee = leg_sin(knee);
+        c_hip = leg_cos(hip);
+        s_hip = leg_sin(hip);
+    } else if (isinf(ankle) || isinf(knee) || isinf(hip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double c_pitch = leg_cos(pitch);
+    const double s_pitch = leg_sin(pitch);
+    if (want[0]) {
+        t1 = -0.11*c_pitch + x;
+        t2 = 0.11*s_pitch + z;
+        t3 = c_hip*c_pitch - s_hip*s_pitch;
+        t4 = c_hip*s_pitch + c_pitch*s_hip;
+        t5 = t1 - 0.13*t4;
+        t6 = t2 - 0.13*t3;
+        t7 = c_knee*t3;
+        t8 = -s_knee*t4 + t7;
+        t9 = s_knee*t3;
+        t10 = c_knee*t4 + t9;
+        t11 = -c_knee*t4 - t9;
+        t12 = -0.26*t10 + t5;
+        t13 = -0.26*t8 + t6;
+        t14 = c_ankle*t10 + s_ankle*t8;
+        t15 = c_ankle*t8 + s_ankle*t11;
+        t16 = t12 - 0.174*t14;
+        t17 = t13 - 0.174*t15;
+        t18 = -t12 + t16;
+        t19 = -t13 + t17;
+        t20 = t16 - t5;
+        t21 = t17 - t6;
+        t22 = -t1 + t16;
+        t23 = t17 - t2;
+        t24 = t16 - x;
+        t25 = t17 - z;
+        toe_vx = qd_ankle*t19 + qd_hip*t23 + qd_knee*t21 + qd_pitch*t25 + qd_x;
+        toe_vz = -qd_ankle*t18 - qd_hip*t22 - qd_knee*t20 - qd_pitch*t24 + qd_z;
+    }
+    /* tail_end */
+    if (want[1]) {
+        c_tail_tip = leg_cos(tail_tip);
+        s_tail_tip = leg_sin(tail_tip);
+        c_tail_mid = leg_cos(tail_mid);
+        s_tail_mid = leg_sin(tail_mid);
+        c_tail_base = leg_cos(tail_base);
+        s_tail_base = leg_sin(tail_base);
+        t26 = -0.2*c_pitch + x;
+        t27 = 0.2*s_pitch + z;
+        t28 = c_pitch*c_tail_base - s_pitch*s_tail_base;
+        t29 = c_pitch*s_tail_base + c_tail_base*s_pitch;
+        t30 = t26 - 0.166*t28;
+        t31 = t27 + 0.166*t29;
+        t32 = c_tail_mid*t28;
+        t33 = -s_tail_mid*t29 + t32;
+        t34 = s_tail_mid*t28;
+        t35 = c_tail_mid*t29 + t34;
+        t36 = -c_tail_mid*t29 - t34;
+        t37 = t30 - 0.166*t33;
+        t38 = t31 - 0.166*t36;
+        t39 = c_tail_tip*t33 - s_tail_tip*t35;
+        t40 = c_tail_tip*t36 - s_tail_tip*t33;
+        t41 = t37 - 0.166*t39;
+        t42 = t38 - 0.166*t40;
+        t43 = -t37 + t41;
+        t44 = -t38 + t42;
+        t45 = -t30 + t41;
+        t46 = -t31 + t42;
+        t47 = -t26 + t41;
+        t48 = -t27 + t42;
+        t49 = t41 - x;
+        t50 = t42 - z;
+        tail_end_vx = qd_pitch*t50 + qd_tail_base*t48 + qd_tail_mid*t46 + qd_tail_tip*t44 + qd_x;
+        tail_end_vz = -qd_pitch*t49 - qd_tail_base*t47 - qd_tail_mid*t45 - qd_tail_tip*t43 + qd_z;
+    } else if (isinf(tail_tip) || isinf(tail_mid) || isinf(tail_base)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_vx;
+        out[1] = 0.0;
+        out[2] = toe_vz;
+    }
+    if (want[1]) {
+        out[3] = tail_end_vx;
+        out[4] = 0.0;
+        out[5] = tail_end_vz;
+    }
     (void)err;
 }
 
@@ -1149,6 +1350,162 @@ void contact_jacobians(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_ankle, s_ankle, c_knee, s_knee, c_hip, s_hip, t1, t2, t3, t4, t5, t6, t7, t8, t9, t10, t11, t12, t13, t14, t15, t16, t17, t18, toe_jx_ankle, t19, toe_jx_knee, t20, toe_jx_hip, t21, toe_jx_pitch, c_tail_tip, s_tail_tip, c_tail_mid, s_tail_mid, c_tail_base, s_tail_base, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, tail_end_jx_tail_tip, t40, tail_end_jx_tail_mid, t41, tail_end_jx_tail_base, t42, tail_end_jx_pitch;
+    const double x = q[0];
+    const double z = q[1];
+    const double pitch = q[2];
+    const double hip = q[3];
+    const double knee = q[4];
+    const double ankle = q[5];
+    const double tail_base = q[6];
+    const double tail_mid = q[7];
+    const double tail_tip = q[8];
+    /* toe */
+    if (want[0]) {
+        c_ankle = leg_cos(ankle);
+        s_ankle = leg_sin(ankle);
+        c_knee = leg_cos(knee);
+        s_knee = leg_sin(knee);
+        c_hip = leg_cos(hip);
+        s_hip = leg_sin(hip);
+    } else if (isinf(ankle) || isinf(knee) || isinf(hip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double c_pitch = leg_cos(pitch);
+    const double s_pitch = leg_sin(pitch);
+    if (want[0]) {
+        t1 = -0.11*c_pitch + x;
+        t2 = 0.11*s_pitch + z;
+        t3 = c_hip*c_pitch - s_hip*s_pitch;
+        t4 = c_hip*s_pitch + c_pitch*s_hip;
+        t5 = t1 - 0.13*t4;
+        t6 = t2 - 0.13*t3;
+        t7 = c_knee*t3;
+        t8 = -s_knee*t4 + t7;
+        t9 = s_knee*t3;
+        t10 = c_knee*t4 + t9;
+        t11 = -c_knee*t4 - t9;
+        t12 = -0.26*t10 + t5;
+        t13 = -0.26*t8 + t6;
+        t14 = c_ankle*t10 + s_ankle*t8;
+        t15 = c_ankle*t8 + s_ankle*t11;
+        t16 = t12 - 0.174*t14;
+        t17 = t13 - 0.174*t15;
+        t18 = -t12 + t16;
+        toe_jx_ankle = -t13 + t17;
+        t19 = t16 - t5;
+        toe_jx_knee = t17 - t6;
+        t20 = -t1 + t16;
+        toe_jx_hip = t17 - t2;
+        t21 = t16 - x;
+        toe_jx_pitch = t17 - z;
+    }
+    /* tail_end */
+    if (want[1]) {
+        c_tail_tip = leg_cos(tail_tip);
+        s_tail_tip = leg_sin(tail_tip);
+        c_tail_mid = leg_cos(tail_mid);
+        s_tail_mid = leg_sin(tail_mid);
+        c_tail_base = leg_cos(tail_base);
+        s_tail_base = leg_sin(tail_base);
+        t22 = -0.2*c_pitch + x;
+        t23 = 0.2*s_pitch + z;
+        t24 = c_pitch*c_tail_base - s_pitch*s_tail_base;
+        t25 = c_pitch*s_tail_base + c_tail_base*s_pitch;
+        t26 = t22 - 0.166*t24;
+        t27 = t23 + 0.166*t25;
+        t28 = c_tail_mid*t24;
+        t29 = -s_tail_mid*t25 + t28;
+        t30 = s_tail_mid*t24;
+        t31 = c_tail_mid*t25 + t30;
+        t32 = -c_tail_mid*t25 - t30;
+        t33 = t26 - 0.166*t29;
+        t34 = t27 - 0.166*t32;
+        t35 = c_tail_tip*t29 - s_tail_tip*t31;
+        t36 = c_tail_tip*t32 - s_tail_tip*t29;
+        t37 = t33 - 0.166*t35;
+        t38 = t34 - 0.166*t36;
+        t39 = -t33 + t37;
+        tail_end_jx_tail_tip = -t34 + t38;
+        t40 = -t26 + t37;
+        tail_end_jx_tail_mid = -t27 + t38;
+        t41 = -t22 + t37;
+        tail_end_jx_tail_base = -t23 + t38;
+        t42 = t37 - x;
+        tail_end_jx_pitch = t38 - z;
+    } else if (isinf(tail_tip) || isinf(tail_mid) || isinf(tail_base)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = 1.0;
+        out[1] = 0.0;
+        out[2] = toe_jx_pitch;
+        out[3] = toe_jx_hip;
+        out[4] = toe_jx_knee;
+        out[5] = toe_jx_ankle;
+        out[6] = 0.0;
+        out[7] = 0.0;
+        out[8] = 0.0;
+        out[9] = 0.0;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 0.0;
+        out[13] = 0.0;
+        out[14] = 0.0;
+        out[15] = 0.0;
+        out[16] = 0.0;
+        out[17] = 0.0;
+        out[18] = 0.0;
+        out[19] = 0.0;
+        out[20] = 0.0;
+        out[21] = 1.0;
+        out[22] = -t21;
+        out[23] = -t20;
+        out[24] = -t19;
+        out[25] = -t18;
+        out[26] = 0.0;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+    }
+    if (want[1]) {
+        out[30] = 1.0;
+        out[31] = 0.0;
+        out[32] = tail_end_jx_pitch;
+        out[33] = 0.0;
+        out[34] = 0.0;
+        out[35] = 0.0;
+        out[36] = tail_end_jx_tail_base;
+        out[37] = tail_end_jx_tail_mid;
+        out[38] = tail_end_jx_tail_tip;
+        out[39] = 0.0;
+        out[40] = 0.0;
+        out[41] = 0.0;
+        out[42] = 0.0;
+        out[43] = 0.0;
+        out[44] = 0.0;
+        out[45] = 0.0;
+        out[46] = 0.0;
+        out[47] = 0.0;
+        out[48] = 0.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 1.0;
+        out[52] = -t42;
+        out[53] = 0.0;
+        out[54] = 0.0;
+        out[55] = 0.0;
+        out[56] = -t41;
+        out[57] = -t40;
+        out[58] = -t39;
+        out[59] = 0.0;
+    }
+    (void)err;
+}
+
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
     out[0] = 0.0;
@@ -1211,6 +1568,75 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
     out[57] = 0.0;
     out[58] = 0.0;
     out[59] = 0.0;
+    (void)err;
+}
+
+void contact_angular_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    if (want[0]) {
+        out[0] = 0.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        out[3] = 0.0;
+        out[4] = 0.0;
+        out[5] = 0.0;
+        out[6] = 0.0;
+        out[7] = 0.0;
+        out[8] = 0.0;
+        out[9] = 0.0;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 1.0;
+        out[13] = 1.0;
+        out[14] = 1.0;
+        out[15] = 1.0;
+        out[16] = 0.0;
+        out[17] = 0.0;
+        out[18] = 0.0;
+        out[19] = 0.0;
+        out[20] = 0.0;
+        out[21] = 0.0;
+        out[22] = 0.0;
+        out[23] = 0.0;
+        out[24] = 0.0;
+        out[25] = 0.0;
+        out[26] = 0.0;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+    }
+    if (want[1]) {
+        out[30] = 0.0;
+        out[31] = 0.0;
+        out[32] = 0.0;
+        out[33] = 0.0;
+        out[34] = 0.0;
+        out[35] = 0.0;
+        out[36] = 0.0;
+        out[37] = 0.0;
+        out[38] = 0.0;
+        out[39] = 0.0;
+        out[40] = 0.0;
+        out[41] = 0.0;
+        out[42] = 1.0;
+        out[43] = 0.0;
+        out[44] = 0.0;
+        out[45] = 0.0;
+        out[46] = 1.0;
+        out[47] = 1.0;
+        out[48] = 1.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 0.0;
+        out[52] = 0.0;
+        out[53] = 0.0;
+        out[54] = 0.0;
+        out[55] = 0.0;
+        out[56] = 0.0;
+        out[57] = 0.0;
+        out[58] = 0.0;
+        out[59] = 0.0;
+    }
     (void)err;
 }
 
@@ -1388,6 +1814,279 @@ void body_poses(const double *q, double *out, int *err)
     (void)err;
 }
 
+void body_poses_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_pitch, s_pitch, c_hip, s_hip, thigh_x, thigh_z, thigh_r11, thigh_r13, c_knee, s_knee, shin_x, shin_z, t1, shin_r11, t2, shin_r13, shin_r31, c_ankle, s_ankle, foot_x, foot_z, foot_r11, foot_r13, foot_r31, foot_r33, c_tail_base, s_tail_base, tail1_x, tail1_z, tail1_r11, tail1_r13, c_tail_mid, s_tail_mid, tail2_x, tail2_z, t3, tail2_r11, t4, tail2_r13, tail2_r31, c_tail_tip, s_tail_tip, tail3_x, tail3_z, tail3_r11, tail3_r13, tail3_r31, tail3_r33, c_neck, s_neck, head_x, head_z, head_r11, head_r13;
+    const double x = q[0];
+    const double z = q[1];
+    const double pitch = q[2];
+    const double hip = q[3];
+    const double knee = q[4];
+    const double ankle = q[5];
+    const double tail_base = q[6];
+    const double tail_mid = q[7];
+    const double tail_tip = q[8];
+    const double neck = q[9];
+    /* trunk */
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9] || want[10] || want[11] || want[12] || want[13] || want[14] || want[15]) {
+        c_pitch = leg_cos(pitch);
+        s_pitch = leg_sin(pitch);
+    } else if (isinf(pitch)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* thigh */
+    if (want[3] || want[4] || want[5] || want[6] || want[7]) {
+        c_hip = leg_cos(hip);
+        s_hip = leg_sin(hip);
+    } else if (isinf(hip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4] || want[6]) {
+        thigh_x = -0.11*c_pitch + x;
+        thigh_z = 0.11*s_pitch + z;
+    }
+    if (want[3] || want[4] || want[5] || want[6] || want[7]) {
+        thigh_r11 = c_hip*c_pitch - s_hip*s_pitch;
+        thigh_r13 = c_hip*s_pitch + c_pitch*s_hip;
+    }
+    /* shin */
+    if (want[5] || want[6] || want[7]) {
+        c_knee = leg_cos(knee);
+        s_knee = leg_sin(knee);
+    } else if (isinf(knee)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[4] || want[6]) {
+        shin_x = thigh_x - 0.13*thigh_r13;
+        shin_z = thigh_z - 0.13*thigh_r11;
+    }
+    if (want[5] || want[6] || want[7]) {
+        t1 = c_knee*thigh_r11;
+        shin_r11 = -s_knee*thigh_r13 + t1;
+        t2 = s_knee*thigh_r11;
+        shin_r13 = c_knee*thigh_r13 + t2;
+    }
+    if (want[5] || want[7]) {
+        shin_r31 = -c_knee*thigh_r13 - t2;
+    }
+    /* foot */
+    if (want[7]) {
+        c_ankle = leg_cos(ankle);
+        s_ankle = leg_sin(ankle);
+    } else if (isinf(ankle)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[6]) {
+        foot_x = -0.26*shin_r13 + shin_x;
+        foot_z = -0.26*shin_r11 + shin_z;
+    }
+    if (want[7]) {
+        foot_r11 = c_ankle*shin_r11 - s_ankle*shin_r13;
+        foot_r13 = c_ankle*shin_r13 + s_ankle*shin_r11;
+        foot_r31 = c_ankle*shin_r31 - s_ankle*shin_r11;
+        foot_r33 = c_ankle*shin_r11 + s_ankle*shin_r31;
+    }
+    /* tail1 */
+    if (want[9] || want[10] || want[11] || want[12] || want[13]) {
+        c_tail_base = leg_cos(tail_base);
+        s_tail_base = leg_sin(tail_base);
+    } else if (isinf(tail_base)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[8] || want[10] || want[12]) {
+        tail1_x = -0.2*c_pitch + x;
+        tail1_z = 0.2*s_pitch + z;
+    }
+    if (want[9] || want[10] || want[11] || want[12] || want[13]) {
+        tail1_r11 = c_pitch*c_tail_base - s_pitch*s_tail_base;
+        tail1_r13 = c_pitch*s_tail_base + c_tail_base*s_pitch;
+    }
+    /* tail2 */
+    if (want[11] || want[12] || want[13]) {
+        c_tail_mid = leg_cos(tail_mid);
+        s_tail_mid = leg_sin(tail_mid);
+    } else if (isinf(tail_mid)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[10] || want[12]) {
+        tail2_x = tail1_x - 0.166*tail1_r11;
+        tail2_z = tail1_z + 0.166*tail1_r13;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t3 = c_tail_mid*tail1_r11;
+        tail2_r11 = -s_tail_mid*tail1_r13 + t3;
+        t4 = s_tail_mid*tail1_r11;
+    }
+    if (want[11] || want[13]) {
+        tail2_r13 = c_tail_mid*tail1_r13 + t4;
+    }
+    if (want[11] || want[12] || want[13]) {
+        tail2_r31 = -c_tail_mid*tail1_r13 - t4;
+    }
+    /* tail3 */
+    if (want[13]) {
+        c_tail_tip = leg_cos(tail_tip);
+        s_tail_tip = leg_sin(tail_tip);
+    } else if (isinf(tail_tip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[12]) {
+        tail3_x = tail2_x - 0.166*tail2_r11;
+        tail3_z = tail2_z - 0.166*tail2_r31;
+    }
+    if (want[13]) {
+        tail3_r11 = c_tail_tip*tail2_r11 - s_tail_tip*tail2_r13;
+        tail3_r13 = c_tail_tip*tail2_r13 + s_tail_tip*tail2_r11;
+        tail3_r31 = c_tail_tip*tail2_r31 - s_tail_tip*tail2_r11;
+        tail3_r33 = c_tail_tip*tail2_r11 + s_tail_tip*tail2_r31;
+    }
+    /* head */
+    if (want[15]) {
+        c_neck = leg_cos(neck);
+        s_neck = leg_sin(neck);
+    } else if (isinf(neck)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[14]) {
+        head_x = 0.21*c_pitch + x;
+        head_z = -0.21*s_pitch + z;
+    }
+    if (want[15]) {
+        head_r11 = c_neck*c_pitch - s_neck*s_pitch;
+        head_r13 = c_neck*s_pitch + c_pitch*s_neck;
+    }
+    if (want[0]) {
+        out[0] = x;
+        out[1] = 0.0;
+        out[2] = z;
+    }
+    if (want[1]) {
+        out[3] = c_pitch;
+        out[4] = 0.0;
+        out[5] = s_pitch;
+        out[6] = 0.0;
+        out[7] = 1.0;
+        out[8] = 0.0;
+        out[9] = -s_pitch;
+        out[10] = 0.0;
+        out[11] = c_pitch;
+    }
+    if (want[2]) {
+        out[12] = thigh_x;
+        out[13] = 0.0;
+        out[14] = thigh_z;
+    }
+    if (want[3]) {
+        out[15] = thigh_r11;
+        out[16] = 0.0;
+        out[17] = thigh_r13;
+        out[18] = 0.0;
+        out[19] = 1.0;
+        out[20] = 0.0;
+        out[21] = -thigh_r13;
+        out[22] = 0.0;
+        out[23] = thigh_r11;
+    }
+    if (want[4]) {
+        out[24] = shin_x;
+        out[25] = 0.0;
+        out[26] = shin_z;
+    }
+    if (want[5]) {
+        out[27] = shin_r11;
+        out[28] = 0.0;
+        out[29] = shin_r13;
+        out[30] = 0.0;
+        out[31] = 1.0;
+        out[32] = 0.0;
+        out[33] = shin_r31;
+        out[34] = 0.0;
+        out[35] = shin_r11;
+    }
+    if (want[6]) {
+        out[36] = foot_x;
+        out[37] = 0.0;
+        out[38] = foot_z;
+    }
+    if (want[7]) {
+        out[39] = foot_r11;
+        out[40] = 0.0;
+        out[41] = foot_r13;
+        out[42] = 0.0;
+        out[43] = 1.0;
+        out[44] = 0.0;
+        out[45] = foot_r31;
+        out[46] = 0.0;
+        out[47] = foot_r33;
+    }
+    if (want[8]) {
+        out[48] = tail1_x;
+        out[49] = 0.0;
+        out[50] = tail1_z;
+    }
+    if (want[9]) {
+        out[51] = tail1_r11;
+        out[52] = 0.0;
+        out[53] = tail1_r13;
+        out[54] = 0.0;
+        out[55] = 1.0;
+        out[56] = 0.0;
+        out[57] = -tail1_r13;
+        out[58] = 0.0;
+        out[59] = tail1_r11;
+    }
+    if (want[10]) {
+        out[60] = tail2_x;
+        out[61] = 0.0;
+        out[62] = tail2_z;
+    }
+    if (want[11]) {
+        out[63] = tail2_r11;
+        out[64] = 0.0;
+        out[65] = tail2_r13;
+        out[66] = 0.0;
+        out[67] = 1.0;
+        out[68] = 0.0;
+        out[69] = tail2_r31;
+        out[70] = 0.0;
+        out[71] = tail2_r11;
+    }
+    if (want[12]) {
+        out[72] = tail3_x;
+        out[73] = 0.0;
+        out[74] = tail3_z;
+    }
+    if (want[13]) {
+        out[75] = tail3_r11;
+        out[76] = 0.0;
+        out[77] = tail3_r13;
+        out[78] = 0.0;
+        out[79] = 1.0;
+        out[80] = 0.0;
+        out[81] = tail3_r31;
+        out[82] = 0.0;
+        out[83] = tail3_r33;
+    }
+    if (want[14]) {
+        out[84] = head_x;
+        out[85] = 0.0;
+        out[86] = head_z;
+    }
+    if (want[15]) {
+        out[87] = head_r11;
+        out[88] = 0.0;
+        out[89] = head_r13;
+        out[90] = 0.0;
+        out[91] = 1.0;
+        out[92] = 0.0;
+        out[93] = -head_r13;
+        out[94] = 0.0;
+        out[95] = head_r11;
+    }
+    (void)err;
+}
+
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -1543,6 +2242,261 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
     out[45] = 0.0;
     out[46] = head_wy;
     out[47] = 0.0;
+    (void)err;
+}
+
+void body_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_pitch, s_pitch, c_hip, s_hip, t1, t2, t3, t4, t5, t6, thigh_vx, thigh_vz, thigh_wy, c_knee, s_knee, t7, t8, t9, t10, t11, t12, t13, t14, shin_vx, shin_vz, shin_wy, t15, t16, t17, t18, t19, t20, t21, t22, foot_vx, foot_vz, foot_wy, c_tail_base, s_tail_base, t23, t24, t25, t26, t27, t28, tail1_vx, tail1_vz, tail1_wy, c_tail_mid, s_tail_mid, t29, t30, t31, t32, t33, t34, t35, t36, tail2_vx, tail2_vz, tail2_wy, t37, t38, t39, t40, t41, t42, t43, t44, tail3_vx, tail3_vz, tail3_wy, t45, t46, t47, t48, head_vx, head_vz, head_wy;
+    const double x = q[0];
+    const double z = q[1];
+    const double pitch = q[2];
+    const double hip = q[3];
+    const double knee = q[4];
+    const double tail_base = q[6];
+    const double tail_mid = q[7];
+    const double qd_x = v[0];
+    const double qd_z = v[1];
+    const double qd_pitch = v[2];
+    const double qd_hip = v[3];
+    const double qd_knee = v[4];
+    const double qd_ankle = v[5];
+    const double qd_tail_base = v[6];
+    const double qd_tail_mid = v[7];
+    const double qd_tail_tip = v[8];
+    const double qd_neck = v[9];
+    /* trunk */
+    if (want[2] || want[4] || want[6] || want[8] || want[10] || want[12] || want[14]) {
+        c_pitch = leg_cos(pitch);
+        s_pitch = leg_sin(pitch);
+    } else if (isinf(pitch)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* thigh */
+    if (want[4] || want[6]) {
+        c_hip = leg_cos(hip);
+        s_hip = leg_sin(hip);
+    } else if (isinf(hip)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4] || want[6]) {
+        t1 = -0.11*c_pitch + x;
+        t2 = 0.11*s_pitch + z;
+    }
+    if (want[4] || want[6]) {
+        t3 = c_hip*c_pitch - s_hip*s_pitch;
+        t4 = c_hip*s_pitch + c_pitch*s_hip;
+    }
+    if (want[2]) {
+        t5 = t1 - x;
+        t6 = t2 - z;
+        thigh_vx = qd_pitch*t6 + qd_x;
+        thigh_vz = -qd_pitch*t5 + qd_z;
+    }
+    if (want[3] || want[5] || want[7]) {
+        thigh_wy = qd_hip + qd_pitch;
+    }
+    /* shin */
+    if (want[6]) {
+        c_knee = leg_cos(knee);
+        s_knee = leg_sin(knee);
+    } else if (isinf(knee)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[4] || want[6]) {
+        t7 = t1 - 0.13*t4;
+        t8 = t2 - 0.13*t3;
+    }
+    if (want[6]) {
+        t9 = c_knee*t4 + s_knee*t3;
+        t10 = c_knee*t3 - s_knee*t4;
+    }
+    if (want[4]) {
+        t11 = -t1 + t7;
+        t12 = t8 - t2;
+        t13 = t7 - x;
+        t14 = t8 - z;
+        shin_vx = qd_hip*t12 + qd_pitch*t14 + qd_x;
+        shin_vz = -qd_hip*t11 - qd_pitch*t13 + qd_z;
+    }
+    if (want[5] || want[7]) {
+        shin_wy = qd_knee + thigh_wy;
+    }
+    /* foot */
+    if (want[6]) {
+        t15 = t7 - 0.26*t9;
+        t16 = t8 - 0.26*t10;
+        t17 = -t7 + t15;
+        t18 = -t8 + t16;
+        t19 = -t1 + t15;
+        t20 = -t2 + t16;
+        t21 = t15 - x;
+        t22 = t16 - z;
+        foot_vx = qd_hip*t20 + qd_knee*t18 + qd_pitch*t22 + qd_x;
+        foot_vz = -qd_hip*t19 - qd_knee*t17 - qd_pitch*t21 + qd_z;
+    }
+    if (want[7]) {
+        foot_wy = qd_ankle + shin_wy;
+    }
+    /* tail1 */
+    if (want[10] || want[12]) {
+        c_tail_base = leg_cos(tail_base);
+        s_tail_base = leg_sin(tail_base);
+    } else if (isinf(tail_base)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[8] || want[10] || want[12]) {
+        t23 = -0.2*c_pitch + x;
+        t24 = 0.2*s_pitch + z;
+    }
+    if (want[10] || want[12]) {
+        t25 = c_pitch*c_tail_base - s_pitch*s_tail_base;
+        t26 = c_pitch*s_tail_base + c_tail_base*s_pitch;
+    }
+    if (want[8]) {
+        t27 = t23 - x;
+        t28 = t24 - z;
+        tail1_vx = qd_pitch*t28 + qd_x;
+        tail1_vz = -qd_pitch*t27 + qd_z;
+    }
+    if (want[9] || want[11] || want[13]) {
+        tail1_wy = qd_pitch + qd_tail_base;
+    }
+    /* tail2 */
+    if (want[12]) {
+        c_tail_mid = leg_cos(tail_mid);
+        s_tail_mid = leg_sin(tail_mid);
+    } else if (isinf(tail_mid)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[10] || want[12]) {
+        t29 = t23 - 0.166*t25;
+        t30 = t24 + 0.166*t26;
+    }
+    if (want[12]) {
+        t31 = c_tail_mid*t25 - s_tail_mid*t26;
+        t32 = -c_tail_mid*t26 - s_tail_mid*t25;
+    }
+    if (want[10]) {
+        t33 = -t23 + t29;
+        t34 = -t24 + t30;
+        t35 = t29 - x;
+        t36 = t30 - z;
+        tail2_vx = qd_pitch*t36 + qd_tail_base*t34 + qd_x;
+        tail2_vz = -qd_pitch*t35 - qd_tail_base*t33 + qd_z;
+    }
+    if (want[11] || want[13]) {
+        tail2_wy = qd_tail_mid + tail1_wy;
+    }
+    /* tail3 */
+    if (want[12]) {
+        t37 = t29 - 0.166*t31;
+        t38 = t30 - 0.166*t32;
+        t39 = -t29 + t37;
+        t40 = -t30 + t38;
+        t41 = -t23 + t37;
+        t42 = -t24 + t38;
+        t43 = t37 - x;
+        t44 = t38 - z;
+        tail3_vx = qd_pitch*t44 + qd_tail_base*t42 + qd_tail_mid*t40 + qd_x;
+        tail3_vz = -qd_pitch*t43 - qd_tail_base*t41 - qd_tail_mid*t39 + qd_z;
+    }
+    if (want[13]) {
+        tail3_wy = qd_tail_tip + tail2_wy;
+    }
+    /* head */
+    if (want[14]) {
+        t45 = 0.21*c_pitch + x;
+        t46 = -0.21*s_pitch + z;
+        t47 = t45 - x;
+        t48 = t46 - z;
+        head_vx = qd_pitch*t48 + qd_x;
+        head_vz = -qd_pitch*t47 + qd_z;
+    }
+    if (want[15]) {
+        head_wy = qd_neck + qd_pitch;
+    }
+    if (want[0]) {
+        out[0] = qd_x;
+        out[1] = 0.0;
+        out[2] = qd_z;
+    }
+    if (want[1]) {
+        out[3] = 0.0;
+        out[4] = qd_pitch;
+        out[5] = 0.0;
+    }
+    if (want[2]) {
+        out[6] = thigh_vx;
+        out[7] = 0.0;
+        out[8] = thigh_vz;
+    }
+    if (want[3]) {
+        out[9] = 0.0;
+        out[10] = thigh_wy;
+        out[11] = 0.0;
+    }
+    if (want[4]) {
+        out[12] = shin_vx;
+        out[13] = 0.0;
+        out[14] = shin_vz;
+    }
+    if (want[5]) {
+        out[15] = 0.0;
+        out[16] = shin_wy;
+        out[17] = 0.0;
+    }
+    if (want[6]) {
+        out[18] = foot_vx;
+        out[19] = 0.0;
+        out[20] = foot_vz;
+    }
+    if (want[7]) {
+        out[21] = 0.0;
+        out[22] = foot_wy;
+        out[23] = 0.0;
+    }
+    if (want[8]) {
+        out[24] = tail1_vx;
+        out[25] = 0.0;
+        out[26] = tail1_vz;
+    }
+    if (want[9]) {
+        out[27] = 0.0;
+        out[28] = tail1_wy;
+        out[29] = 0.0;
+    }
+    if (want[10]) {
+        out[30] = tail2_vx;
+        out[31] = 0.0;
+        out[32] = tail2_vz;
+    }
+    if (want[11]) {
+        out[33] = 0.0;
+        out[34] = tail2_wy;
+        out[35] = 0.0;
+    }
+    if (want[12]) {
+        out[36] = tail3_vx;
+        out[37] = 0.0;
+        out[38] = tail3_vz;
+    }
+    if (want[13]) {
+        out[39] = 0.0;
+        out[40] = tail3_wy;
+        out[41] = 0.0;
+    }
+    if (want[14]) {
+        out[42] = head_vx;
+        out[43] = 0.0;
+        out[44] = head_vz;
+    }
+    if (want[15]) {
+        out[45] = 0.0;
+        out[46] = head_wy;
+        out[47] = 0.0;
+    }
     (void)err;
 }
 

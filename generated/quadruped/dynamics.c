@@ -2136,6 +2136,184 @@ void contact_positions(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_positions_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_fl_y, s_hip_fl_y, c_hip_fl_x, s_hip_fl_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, toe_fl_x, toe_fl_y, toe_fl_z, t33, c_hip_fr_y, s_hip_fr_y, c_hip_fr_x, s_hip_fr_x, t34, t35, t36, t37, t38, t39, t40, t41, t42, t43, t44, t45, toe_fr_x, toe_fr_y, toe_fr_z, t46, c_hip_rl_y, s_hip_rl_y, c_hip_rl_x, s_hip_rl_x, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, toe_rl_x, toe_rl_y, toe_rl_z, t59, c_hip_rr_y, s_hip_rr_y, c_hip_rr_x, s_hip_rr_x, t60, t61, t62, t63, t64, t65, t66, t67, t68, t69, t70, t71, toe_rr_x, toe_rr_y, toe_rr_z;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fl_y = q[8];
+    const double leg_fl = q[9];
+    const double hip_fr_x = q[10];
+    const double hip_fr_y = q[11];
+    const double leg_fr = q[12];
+    const double hip_rl_x = q[13];
+    const double hip_rl_y = q[14];
+    const double leg_rl = q[15];
+    const double hip_rr_x = q[16];
+    const double hip_rr_y = q[17];
+    const double leg_rr = q[18];
+    /* toe_fl */
+    if (want[0]) {
+        t1 = -leg_fl - 0.41;
+        c_hip_fl_y = leg_cos(hip_fl_y);
+        s_hip_fl_y = leg_sin(hip_fl_y);
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_y) || isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0] || want[1]) {
+        t18 = 0.39*t6 + x;
+    }
+    if (want[0]) {
+        t19 = t18 + 0.12*t8;
+    }
+    if (want[0] || want[1]) {
+        t20 = 0.39*t11 + y;
+    }
+    if (want[0]) {
+        t21 = 0.12*t12 + t20;
+    }
+    if (want[0] || want[1]) {
+        t22 = 0.39*t15 + z;
+    }
+    if (want[0]) {
+        t23 = 0.12*t16 + t22;
+        t24 = c_hip_fl_x*t10 - s_hip_fl_x*t8;
+        t25 = c_hip_fl_x*t14 - s_hip_fl_x*t12;
+        t26 = c_hip_fl_x*t17 - s_hip_fl_x*t16;
+        t27 = c_hip_fl_y*t24 + s_hip_fl_y*t6;
+        t28 = c_hip_fl_y*t25 + s_hip_fl_y*t11;
+        t29 = c_hip_fl_y*t26 + s_hip_fl_y*t15;
+        t30 = t1*t27 + t19;
+        t31 = t1*t28 + t21;
+        t32 = t1*t29 + t23;
+        toe_fl_x = -0.4*t27 + t30;
+        toe_fl_y = -0.4*t28 + t31;
+        toe_fl_z = -0.4*t29 + t32;
+    }
+    /* toe_fr */
+    if (want[1]) {
+        t33 = -leg_fr - 0.41;
+        c_hip_fr_y = leg_cos(hip_fr_y);
+        s_hip_fr_y = leg_sin(hip_fr_y);
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+        t34 = t18 - 0.12*t8;
+        t35 = -0.12*t12 + t20;
+        t36 = -0.12*t16 + t22;
+        t37 = c_hip_fr_x*t10 - s_hip_fr_x*t8;
+        t38 = c_hip_fr_x*t14 - s_hip_fr_x*t12;
+        t39 = c_hip_fr_x*t17 - s_hip_fr_x*t16;
+        t40 = c_hip_fr_y*t37 + s_hip_fr_y*t6;
+        t41 = c_hip_fr_y*t38 + s_hip_fr_y*t11;
+        t42 = c_hip_fr_y*t39 + s_hip_fr_y*t15;
+        t43 = t33*t40 + t34;
+        t44 = t33*t41 + t35;
+        t45 = t33*t42 + t36;
+        toe_fr_x = -0.4*t40 + t43;
+        toe_fr_y = -0.4*t41 + t44;
+        toe_fr_z = -0.4*t42 + t45;
+    } else if (isinf(hip_fr_y) || isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rl */
+    if (want[2]) {
+        t46 = -leg_rl - 0.41;
+        c_hip_rl_y = leg_cos(hip_rl_y);
+        s_hip_rl_y = leg_sin(hip_rl_y);
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+        t47 = -0.39*t6 + 0.12*t8 + x;
+        t48 = -0.39*t11 + 0.12*t12 + y;
+        t49 = -0.39*t15 + 0.12*t16 + z;
+        t50 = c_hip_rl_x*t10 - s_hip_rl_x*t8;
+        t51 = c_hip_rl_x*t14 - s_hip_rl_x*t12;
+        t52 = c_hip_rl_x*t17 - s_hip_rl_x*t16;
+        t53 = c_hip_rl_y*t50 + s_hip_rl_y*t6;
+        t54 = c_hip_rl_y*t51 + s_hip_rl_y*t11;
+        t55 = c_hip_rl_y*t52 + s_hip_rl_y*t15;
+        t56 = t46*t53 + t47;
+        t57 = t46*t54 + t48;
+        t58 = t46*t55 + t49;
+        toe_rl_x = -0.4*t53 + t56;
+        toe_rl_y = -0.4*t54 + t57;
+        toe_rl_z = -0.4*t55 + t58;
+    } else if (isinf(hip_rl_y) || isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rr */
+    if (want[3]) {
+        t59 = -leg_rr - 0.41;
+        c_hip_rr_y = leg_cos(hip_rr_y);
+        s_hip_rr_y = leg_sin(hip_rr_y);
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+        t60 = -0.39*t6 - 0.12*t8 + x;
+        t61 = -0.39*t11 - 0.12*t12 + y;
+        t62 = -0.39*t15 - 0.12*t16 + z;
+        t63 = c_hip_rr_x*t10 - s_hip_rr_x*t8;
+        t64 = c_hip_rr_x*t14 - s_hip_rr_x*t12;
+        t65 = c_hip_rr_x*t17 - s_hip_rr_x*t16;
+        t66 = c_hip_rr_y*t63 + s_hip_rr_y*t6;
+        t67 = c_hip_rr_y*t64 + s_hip_rr_y*t11;
+        t68 = c_hip_rr_y*t65 + s_hip_rr_y*t15;
+        t69 = t59*t66 + t60;
+        t70 = t59*t67 + t61;
+        t71 = t59*t68 + t62;
+        toe_rr_x = -0.4*t66 + t69;
+        toe_rr_y = -0.4*t67 + t70;
+        toe_rr_z = -0.4*t68 + t71;
+    } else if (isinf(hip_rr_y) || isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_fl_x;
+        out[1] = toe_fl_y;
+        out[2] = toe_fl_z;
+    }
+    if (want[1]) {
+        out[3] = toe_fr_x;
+        out[4] = toe_fr_y;
+        out[5] = toe_fr_z;
+    }
+    if (want[2]) {
+        out[6] = toe_rl_x;
+        out[7] = toe_rl_y;
+        out[8] = toe_rl_z;
+    }
+    if (want[3]) {
+        out[9] = toe_rr_x;
+        out[10] = toe_rr_y;
+        out[11] = toe_rr_z;
+    }
+    (void)err;
+}
+
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -2400,6 +2578,310 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
     out[9] = toe_rr_vx;
     out[10] = toe_rr_vy;
     out[11] = toe_rr_vz;
+    (void)err;
+}
+
+void contact_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_fl_y, s_hip_fl_y, c_hip_fl_x, s_hip_fl_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, t42, t43, t44, t45, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, toe_fl_vx, toe_fl_vy, toe_fl_vz, t60, c_hip_fr_y, s_hip_fr_y, c_hip_fr_x, s_hip_fr_x, t61, t62, t63, t64, t65, t66, t67, t68, t69, t70, t71, t72, t73, t74, t75, t76, t77, t78, t79, t80, t81, t82, t83, t84, t85, t86, t87, t88, t89, t90, t91, t92, t93, t94, t95, t96, t97, t98, t99, toe_fr_vx, toe_fr_vy, toe_fr_vz, t100, c_hip_rl_y, s_hip_rl_y, c_hip_rl_x, s_hip_rl_x, t101, t102, t103, t104, t105, t106, t107, t108, t109, t110, t111, t112, t113, t114, t115, t116, t117, t118, t119, t120, t121, t122, t123, t124, t125, t126, t127, t128, t129, t130, t131, t132, t133, t134, t135, t136, t137, t138, t139, toe_rl_vx, toe_rl_vy, toe_rl_vz, t140, c_hip_rr_y, s_hip_rr_y, c_hip_rr_x, s_hip_rr_x, t141, t142, t143, t144, t145, t146, t147, t148, t149, t150, t151, t152, t153, t154, t155, t156, t157, t158, t159, t160, t161, t162, t163, t164, t165, t166, t167, t168, t169, t170, t171, t172, t173, t174, t175, t176, t177, t178, t179, toe_rr_vx, toe_rr_vy, toe_rr_vz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fl_y = q[8];
+    const double leg_fl = q[9];
+    const double hip_fr_x = q[10];
+    const double hip_fr_y = q[11];
+    const double leg_fr = q[12];
+    const double hip_rl_x = q[13];
+    const double hip_rl_y = q[14];
+    const double leg_rl = q[15];
+    const double hip_rr_x = q[16];
+    const double hip_rr_y = q[17];
+    const double leg_rr = q[18];
+    const double vx = v[0];
+    const double vy = v[1];
+    const double vz = v[2];
+    const double wx = v[3];
+    const double wy = v[4];
+    const double wz = v[5];
+    const double qd_hip_fl_x = v[6];
+    const double qd_hip_fl_y = v[7];
+    const double qd_leg_fl = v[8];
+    const double qd_hip_fr_x = v[9];
+    const double qd_hip_fr_y = v[10];
+    const double qd_leg_fr = v[11];
+    const double qd_hip_rl_x = v[12];
+    const double qd_hip_rl_y = v[13];
+    const double qd_leg_rl = v[14];
+    const double qd_hip_rr_x = v[15];
+    const double qd_hip_rr_y = v[16];
+    const double qd_leg_rr = v[17];
+    /* toe_fl */
+    if (want[0]) {
+        t1 = -leg_fl - 0.41;
+        c_hip_fl_y = leg_cos(hip_fl_y);
+        s_hip_fl_y = leg_sin(hip_fl_y);
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_y) || isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0] || want[1]) {
+        t18 = 0.39*t6 + x;
+    }
+    if (want[0]) {
+        t19 = t18 + 0.12*t8;
+    }
+    if (want[0] || want[1]) {
+        t20 = 0.39*t11 + y;
+    }
+    if (want[0]) {
+        t21 = 0.12*t12 + t20;
+    }
+    if (want[0] || want[1]) {
+        t22 = 0.39*t15 + z;
+    }
+    if (want[0]) {
+        t23 = 0.12*t16 + t22;
+        t24 = c_hip_fl_x*t8 + s_hip_fl_x*t10;
+        t25 = c_hip_fl_x*t10 - s_hip_fl_x*t8;
+        t26 = c_hip_fl_x*t12 + s_hip_fl_x*t14;
+        t27 = c_hip_fl_x*t14 - s_hip_fl_x*t12;
+        t28 = c_hip_fl_x*t16 + s_hip_fl_x*t17;
+        t29 = c_hip_fl_x*t17 - s_hip_fl_x*t16;
+        t30 = c_hip_fl_y*t25 + s_hip_fl_y*t6;
+        t31 = c_hip_fl_y*t27 + s_hip_fl_y*t11;
+        t32 = c_hip_fl_y*t29 + s_hip_fl_y*t15;
+        t33 = t1*t30 + t19;
+        t34 = t1*t31 + t21;
+        t35 = t1*t32 + t23;
+        t36 = -0.4*t30 + t33;
+        t37 = -0.4*t31 + t34;
+        t38 = -0.4*t32 + t35;
+        t39 = -t19 + t36;
+        t40 = -t21 + t37;
+        t41 = -t23 + t38;
+        t42 = t26*t41 - t28*t40;
+        t43 = -t24*t41 + t28*t39;
+        t44 = t24*t40 - t26*t39;
+        t45 = t11*t41 - t15*t40;
+        t46 = t15*t39 - t41*t6;
+        t47 = -t11*t39 + t40*t6;
+        t48 = t36 - x;
+        t49 = t37 - y;
+        t50 = t38 - z;
+        t51 = t11*t50 - t15*t49;
+        t52 = t15*t48 - t50*t6;
+        t53 = -t11*t48 + t49*t6;
+        t54 = t12*t50 - t16*t49;
+        t55 = t16*t48 - t50*t8;
+        t56 = -t12*t48 + t49*t8;
+        t57 = t14*t50 - t17*t49;
+        t58 = -t10*t50 + t17*t48;
+        t59 = t10*t49 - t14*t48;
+        toe_fl_vx = qd_hip_fl_x*t45 + qd_hip_fl_y*t42 - qd_leg_fl*t30 + t51*wx + t54*wy + t57*wz + vx;
+        toe_fl_vy = qd_hip_fl_x*t46 + qd_hip_fl_y*t43 - qd_leg_fl*t31 + t52*wx + t55*wy + t58*wz + vy;
+        toe_fl_vz = qd_hip_fl_x*t47 + qd_hip_fl_y*t44 - qd_leg_fl*t32 + t53*wx + t56*wy + t59*wz + vz;
+    }
+    /* toe_fr */
+    if (want[1]) {
+        t60 = -leg_fr - 0.41;
+        c_hip_fr_y = leg_cos(hip_fr_y);
+        s_hip_fr_y = leg_sin(hip_fr_y);
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+        t61 = t18 - 0.12*t8;
+        t62 = -0.12*t12 + t20;
+        t63 = -0.12*t16 + t22;
+        t64 = c_hip_fr_x*t8 + s_hip_fr_x*t10;
+        t65 = c_hip_fr_x*t10 - s_hip_fr_x*t8;
+        t66 = c_hip_fr_x*t12 + s_hip_fr_x*t14;
+        t67 = c_hip_fr_x*t14 - s_hip_fr_x*t12;
+        t68 = c_hip_fr_x*t16 + s_hip_fr_x*t17;
+        t69 = c_hip_fr_x*t17 - s_hip_fr_x*t16;
+        t70 = c_hip_fr_y*t65 + s_hip_fr_y*t6;
+        t71 = c_hip_fr_y*t67 + s_hip_fr_y*t11;
+        t72 = c_hip_fr_y*t69 + s_hip_fr_y*t15;
+        t73 = t60*t70 + t61;
+        t74 = t60*t71 + t62;
+        t75 = t60*t72 + t63;
+        t76 = -0.4*t70 + t73;
+        t77 = -0.4*t71 + t74;
+        t78 = -0.4*t72 + t75;
+        t79 = -t61 + t76;
+        t80 = -t62 + t77;
+        t81 = -t63 + t78;
+        t82 = t66*t81 - t68*t80;
+        t83 = -t64*t81 + t68*t79;
+        t84 = t64*t80 - t66*t79;
+        t85 = t11*t81 - t15*t80;
+        t86 = t15*t79 - t6*t81;
+        t87 = -t11*t79 + t6*t80;
+        t88 = t76 - x;
+        t89 = t77 - y;
+        t90 = t78 - z;
+        t91 = t11*t90 - t15*t89;
+        t92 = t15*t88 - t6*t90;
+        t93 = -t11*t88 + t6*t89;
+        t94 = t12*t90 - t16*t89;
+        t95 = t16*t88 - t8*t90;
+        t96 = -t12*t88 + t8*t89;
+        t97 = t14*t90 - t17*t89;
+        t98 = -t10*t90 + t17*t88;
+        t99 = t10*t89 - t14*t88;
+        toe_fr_vx = qd_hip_fr_x*t85 + qd_hip_fr_y*t82 - qd_leg_fr*t70 + t97*wz + t91*wx + t94*wy + vx;
+        toe_fr_vy = qd_hip_fr_x*t86 + qd_hip_fr_y*t83 - qd_leg_fr*t71 + t98*wz + t92*wx + t95*wy + vy;
+        toe_fr_vz = qd_hip_fr_x*t87 + qd_hip_fr_y*t84 - qd_leg_fr*t72 + t99*wz + t93*wx + t96*wy + vz;
+    } else if (isinf(hip_fr_y) || isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rl */
+    if (want[2]) {
+        t100 = -leg_rl - 0.41;
+        c_hip_rl_y = leg_cos(hip_rl_y);
+        s_hip_rl_y = leg_sin(hip_rl_y);
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+        t101 = -0.39*t6 + 0.12*t8 + x;
+        t102 = -0.39*t11 + 0.12*t12 + y;
+        t103 = -0.39*t15 + 0.12*t16 + z;
+        t104 = c_hip_rl_x*t8 + s_hip_rl_x*t10;
+        t105 = c_hip_rl_x*t10 - s_hip_rl_x*t8;
+        t106 = c_hip_rl_x*t12 + s_hip_rl_x*t14;
+        t107 = c_hip_rl_x*t14 - s_hip_rl_x*t12;
+        t108 = c_hip_rl_x*t16 + s_hip_rl_x*t17;
+        t109 = c_hip_rl_x*t17 - s_hip_rl_x*t16;
+        t110 = c_hip_rl_y*t105 + s_hip_rl_y*t6;
+        t111 = c_hip_rl_y*t107 + s_hip_rl_y*t11;
+        t112 = c_hip_rl_y*t109 + s_hip_rl_y*t15;
+        t113 = t100*t110 + t101;
+        t114 = t100*t111 + t102;
+        t115 = t100*t112 + t103;
+        t116 = -0.4*t110 + t113;
+        t117 = -0.4*t111 + t114;
+        t118 = -0.4*t112 + t115;
+        t119 = -t101 + t116;
+        t120 = -t102 + t117;
+        t121 = -t103 + t118;
+        t122 = t106*t121 - t108*t120;
+        t123 = -t104*t121 + t108*t119;
+        t124 = t104*t120 - t106*t119;
+        t125 = t11*t121 - t120*t15;
+        t126 = t119*t15 - t121*t6;
+        t127 = -t11*t119 + t120*t6;
+        t128 = t116 - x;
+        t129 = t117 - y;
+        t130 = t118 - z;
+        t131 = t11*t130 - t129*t15;
+        t132 = t128*t15 - t130*t6;
+        t133 = -t11*t128 + t129*t6;
+        t134 = t12*t130 - t129*t16;
+        t135 = t128*t16 - t130*t8;
+        t136 = -t12*t128 + t129*t8;
+        t137 = -t129*t17 + t130*t14;
+        t138 = -t10*t130 + t128*t17;
+        t139 = t10*t129 - t128*t14;
+        toe_rl_vx = qd_hip_rl_x*t125 + qd_hip_rl_y*t122 - qd_leg_rl*t110 + t131*wx + t134*wy + t137*wz + vx;
+        toe_rl_vy = qd_hip_rl_x*t126 + qd_hip_rl_y*t123 - qd_leg_rl*t111 + t132*wx + t135*wy + t138*wz + vy;
+        toe_rl_vz = qd_hip_rl_x*t127 + qd_hip_rl_y*t124 - qd_leg_rl*t112 + t133*wx + t136*wy + t139*wz + vz;
+    } else if (isinf(hip_rl_y) || isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rr */
+    if (want[3]) {
+        t140 = -leg_rr - 0.41;
+        c_hip_rr_y = leg_cos(hip_rr_y);
+        s_hip_rr_y = leg_sin(hip_rr_y);
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+        t141 = -0.39*t6 - 0.12*t8 + x;
+        t142 = -0.39*t11 - 0.12*t12 + y;
+        t143 = -0.39*t15 - 0.12*t16 + z;
+        t144 = c_hip_rr_x*t8 + s_hip_rr_x*t10;
+        t145 = c_hip_rr_x*t10 - s_hip_rr_x*t8;
+        t146 = c_hip_rr_x*t12 + s_hip_rr_x*t14;
+        t147 = c_hip_rr_x*t14 - s_hip_rr_x*t12;
+        t148 = c_hip_rr_x*t16 + s_hip_rr_x*t17;
+        t149 = c_hip_rr_x*t17 - s_hip_rr_x*t16;
+        t150 = c_hip_rr_y*t145 + s_hip_rr_y*t6;
+        t151 = c_hip_rr_y*t147 + s_hip_rr_y*t11;
+        t152 = c_hip_rr_y*t149 + s_hip_rr_y*t15;
+        t153 = t140*t150 + t141;
+        t154 = t140*t151 + t142;
+        t155 = t140*t152 + t143;
+        t156 = -0.4*t150 + t153;
+        t157 = -0.4*t151 + t154;
+        t158 = -0.4*t152 + t155;
+        t159 = -t141 + t156;
+        t160 = -t142 + t157;
+        t161 = -t143 + t158;
+        t162 = t146*t161 - t148*t160;
+        t163 = -t144*t161 + t148*t159;
+        t164 = t144*t160 - t146*t159;
+        t165 = t11*t161 - t15*t160;
+        t166 = t15*t159 - t161*t6;
+        t167 = -t11*t159 + t160*t6;
+        t168 = t156 - x;
+        t169 = t157 - y;
+        t170 = t158 - z;
+        t171 = t11*t170 - t15*t169;
+        t172 = t15*t168 - t170*t6;
+        t173 = -t11*t168 + t169*t6;
+        t174 = t12*t170 - t16*t169;
+        t175 = t16*t168 - t170*t8;
+        t176 = -t12*t168 + t169*t8;
+        t177 = t14*t170 - t17*t169;
+        t178 = -t10*t170 + t17*t168;
+        t179 = t10*t169 - t14*t168;
+        toe_rr_vx = qd_hip_rr_x*t165 + qd_hip_rr_y*t162 - qd_leg_rr*t150 + t171*wx + t174*wy + t177*wz + vx;
+        toe_rr_vy = qd_hip_rr_x*t166 + qd_hip_rr_y*t163 - qd_leg_rr*t151 + t172*wx + t175*wy + t178*wz + vy;
+        toe_rr_vz = qd_hip_rr_x*t167 + qd_hip_rr_y*t164 - qd_leg_rr*t152 + t173*wx + t176*wy + t179*wz + vz;
+    } else if (isinf(hip_rr_y) || isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = toe_fl_vx;
+        out[1] = toe_fl_vy;
+        out[2] = toe_fl_vz;
+    }
+    if (want[1]) {
+        out[3] = toe_fr_vx;
+        out[4] = toe_fr_vy;
+        out[5] = toe_fr_vz;
+    }
+    if (want[2]) {
+        out[6] = toe_rl_vx;
+        out[7] = toe_rl_vy;
+        out[8] = toe_rl_vz;
+    }
+    if (want[3]) {
+        out[9] = toe_rr_vx;
+        out[10] = toe_rr_vy;
+        out[11] = toe_rr_vz;
+    }
     (void)err;
 }
 
@@ -2844,6 +3326,484 @@ void contact_jacobians(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t1, c_hip_fl_y, s_hip_fl_y, c_hip_fl_x, s_hip_fl_x, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, toe_fl_jx_hip_fl_y, toe_fl_jy_hip_fl_y, toe_fl_jz_hip_fl_y, toe_fl_jx_hip_fl_x, toe_fl_jy_hip_fl_x, toe_fl_jz_hip_fl_x, t42, t43, t44, toe_fl_jx_wx, toe_fl_jy_wx, toe_fl_jz_wx, toe_fl_jx_wy, toe_fl_jy_wy, toe_fl_jz_wy, toe_fl_jx_wz, toe_fl_jy_wz, toe_fl_jz_wz, t45, c_hip_fr_y, s_hip_fr_y, c_hip_fr_x, s_hip_fr_x, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, t60, t61, t62, t63, t64, t65, t66, toe_fr_jx_hip_fr_y, toe_fr_jy_hip_fr_y, toe_fr_jz_hip_fr_y, toe_fr_jx_hip_fr_x, toe_fr_jy_hip_fr_x, toe_fr_jz_hip_fr_x, t67, t68, t69, toe_fr_jx_wx, toe_fr_jy_wx, toe_fr_jz_wx, toe_fr_jx_wy, toe_fr_jy_wy, toe_fr_jz_wy, toe_fr_jx_wz, toe_fr_jy_wz, toe_fr_jz_wz, t70, c_hip_rl_y, s_hip_rl_y, c_hip_rl_x, s_hip_rl_x, t71, t72, t73, t74, t75, t76, t77, t78, t79, t80, t81, t82, t83, t84, t85, t86, t87, t88, t89, t90, t91, toe_rl_jx_hip_rl_y, toe_rl_jy_hip_rl_y, toe_rl_jz_hip_rl_y, toe_rl_jx_hip_rl_x, toe_rl_jy_hip_rl_x, toe_rl_jz_hip_rl_x, t92, t93, t94, toe_rl_jx_wx, toe_rl_jy_wx, toe_rl_jz_wx, toe_rl_jx_wy, toe_rl_jy_wy, toe_rl_jz_wy, toe_rl_jx_wz, toe_rl_jy_wz, toe_rl_jz_wz, t95, c_hip_rr_y, s_hip_rr_y, c_hip_rr_x, s_hip_rr_x, t96, t97, t98, t99, t100, t101, t102, t103, t104, t105, t106, t107, t108, t109, t110, t111, t112, t113, t114, t115, t116, toe_rr_jx_hip_rr_y, toe_rr_jy_hip_rr_y, toe_rr_jz_hip_rr_y, toe_rr_jx_hip_rr_x, toe_rr_jy_hip_rr_x, toe_rr_jz_hip_rr_x, t117, t118, t119, toe_rr_jx_wx, toe_rr_jy_wx, toe_rr_jz_wx, toe_rr_jx_wy, toe_rr_jy_wy, toe_rr_jz_wy, toe_rr_jx_wz, toe_rr_jy_wz, toe_rr_jz_wz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fl_y = q[8];
+    const double leg_fl = q[9];
+    const double hip_fr_x = q[10];
+    const double hip_fr_y = q[11];
+    const double leg_fr = q[12];
+    const double hip_rl_x = q[13];
+    const double hip_rl_y = q[14];
+    const double leg_rl = q[15];
+    const double hip_rr_x = q[16];
+    const double hip_rr_y = q[17];
+    const double leg_rr = q[18];
+    /* toe_fl */
+    if (want[0]) {
+        t1 = -leg_fl - 0.41;
+        c_hip_fl_y = leg_cos(hip_fl_y);
+        s_hip_fl_y = leg_sin(hip_fl_y);
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_y) || isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t2 = qx*qx;
+    const double t3 = qy*qy;
+    const double t4 = qz*qz;
+    const double t5 = t3 + t4;
+    const double qscale = leg_div(2.0, (qw*qw + t2 + t5));
+    const double t6 = -qscale*t5 + 1.0;
+    const double t7 = qw*qz;
+    const double t8 = qscale*(qx*qy - t7);
+    const double t9 = qw*qy;
+    const double t10 = qscale*(qx*qz + t9);
+    const double t11 = qscale*(qx*qy + t7);
+    const double t12 = -qscale*(t2 + t4) + 1.0;
+    const double t13 = qw*qx;
+    const double t14 = qscale*(qy*qz - t13);
+    const double t15 = qscale*(qx*qz - t9);
+    const double t16 = qscale*(qy*qz + t13);
+    const double t17 = -qscale*(t2 + t3) + 1.0;
+    if (want[0] || want[1]) {
+        t18 = 0.39*t6 + x;
+    }
+    if (want[0]) {
+        t19 = t18 + 0.12*t8;
+    }
+    if (want[0] || want[1]) {
+        t20 = 0.39*t11 + y;
+    }
+    if (want[0]) {
+        t21 = 0.12*t12 + t20;
+    }
+    if (want[0] || want[1]) {
+        t22 = 0.39*t15 + z;
+    }
+    if (want[0]) {
+        t23 = 0.12*t16 + t22;
+        t24 = c_hip_fl_x*t8 + s_hip_fl_x*t10;
+        t25 = c_hip_fl_x*t10 - s_hip_fl_x*t8;
+        t26 = c_hip_fl_x*t12 + s_hip_fl_x*t14;
+        t27 = c_hip_fl_x*t14 - s_hip_fl_x*t12;
+        t28 = c_hip_fl_x*t16 + s_hip_fl_x*t17;
+        t29 = c_hip_fl_x*t17 - s_hip_fl_x*t16;
+        t30 = c_hip_fl_y*t25 + s_hip_fl_y*t6;
+        t31 = c_hip_fl_y*t27 + s_hip_fl_y*t11;
+        t32 = c_hip_fl_y*t29 + s_hip_fl_y*t15;
+        t33 = t1*t30 + t19;
+        t34 = t1*t31 + t21;
+        t35 = t1*t32 + t23;
+        t36 = -0.4*t30 + t33;
+        t37 = -0.4*t31 + t34;
+        t38 = -0.4*t32 + t35;
+        t39 = -t19 + t36;
+        t40 = -t21 + t37;
+        t41 = -t23 + t38;
+        toe_fl_jx_hip_fl_y = t26*t41 - t28*t40;
+        toe_fl_jy_hip_fl_y = -t24*t41 + t28*t39;
+        toe_fl_jz_hip_fl_y = t24*t40 - t26*t39;
+        toe_fl_jx_hip_fl_x = t11*t41 - t15*t40;
+        toe_fl_jy_hip_fl_x = t15*t39 - t41*t6;
+        toe_fl_jz_hip_fl_x = -t11*t39 + t40*t6;
+        t42 = t36 - x;
+        t43 = t37 - y;
+        t44 = t38 - z;
+        toe_fl_jx_wx = t11*t44 - t15*t43;
+        toe_fl_jy_wx = t15*t42 - t44*t6;
+        toe_fl_jz_wx = -t11*t42 + t43*t6;
+        toe_fl_jx_wy = t12*t44 - t16*t43;
+        toe_fl_jy_wy = t16*t42 - t44*t8;
+        toe_fl_jz_wy = -t12*t42 + t43*t8;
+        toe_fl_jx_wz = t14*t44 - t17*t43;
+        toe_fl_jy_wz = -t10*t44 + t17*t42;
+        toe_fl_jz_wz = t10*t43 - t14*t42;
+    }
+    /* toe_fr */
+    if (want[1]) {
+        t45 = -leg_fr - 0.41;
+        c_hip_fr_y = leg_cos(hip_fr_y);
+        s_hip_fr_y = leg_sin(hip_fr_y);
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+        t46 = t18 - 0.12*t8;
+        t47 = -0.12*t12 + t20;
+        t48 = -0.12*t16 + t22;
+        t49 = c_hip_fr_x*t8 + s_hip_fr_x*t10;
+        t50 = c_hip_fr_x*t10 - s_hip_fr_x*t8;
+        t51 = c_hip_fr_x*t12 + s_hip_fr_x*t14;
+        t52 = c_hip_fr_x*t14 - s_hip_fr_x*t12;
+        t53 = c_hip_fr_x*t16 + s_hip_fr_x*t17;
+        t54 = c_hip_fr_x*t17 - s_hip_fr_x*t16;
+        t55 = c_hip_fr_y*t50 + s_hip_fr_y*t6;
+        t56 = c_hip_fr_y*t52 + s_hip_fr_y*t11;
+        t57 = c_hip_fr_y*t54 + s_hip_fr_y*t15;
+        t58 = t45*t55 + t46;
+        t59 = t45*t56 + t47;
+        t60 = t45*t57 + t48;
+        t61 = -0.4*t55 + t58;
+        t62 = -0.4*t56 + t59;
+        t63 = -0.4*t57 + t60;
+        t64 = -t46 + t61;
+        t65 = -t47 + t62;
+        t66 = -t48 + t63;
+        toe_fr_jx_hip_fr_y = t51*t66 - t53*t65;
+        toe_fr_jy_hip_fr_y = -t49*t66 + t53*t64;
+        toe_fr_jz_hip_fr_y = t49*t65 - t51*t64;
+        toe_fr_jx_hip_fr_x = t11*t66 - t15*t65;
+        toe_fr_jy_hip_fr_x = t15*t64 - t6*t66;
+        toe_fr_jz_hip_fr_x = -t11*t64 + t6*t65;
+        t67 = t61 - x;
+        t68 = t62 - y;
+        t69 = t63 - z;
+        toe_fr_jx_wx = t11*t69 - t15*t68;
+        toe_fr_jy_wx = t15*t67 - t6*t69;
+        toe_fr_jz_wx = -t11*t67 + t6*t68;
+        toe_fr_jx_wy = t12*t69 - t16*t68;
+        toe_fr_jy_wy = t16*t67 - t8*t69;
+        toe_fr_jz_wy = -t12*t67 + t8*t68;
+        toe_fr_jx_wz = t14*t69 - t17*t68;
+        toe_fr_jy_wz = -t10*t69 + t17*t67;
+        toe_fr_jz_wz = t10*t68 - t14*t67;
+    } else if (isinf(hip_fr_y) || isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rl */
+    if (want[2]) {
+        t70 = -leg_rl - 0.41;
+        c_hip_rl_y = leg_cos(hip_rl_y);
+        s_hip_rl_y = leg_sin(hip_rl_y);
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+        t71 = -0.39*t6 + 0.12*t8 + x;
+        t72 = -0.39*t11 + 0.12*t12 + y;
+        t73 = -0.39*t15 + 0.12*t16 + z;
+        t74 = c_hip_rl_x*t8 + s_hip_rl_x*t10;
+        t75 = c_hip_rl_x*t10 - s_hip_rl_x*t8;
+        t76 = c_hip_rl_x*t12 + s_hip_rl_x*t14;
+        t77 = c_hip_rl_x*t14 - s_hip_rl_x*t12;
+        t78 = c_hip_rl_x*t16 + s_hip_rl_x*t17;
+        t79 = c_hip_rl_x*t17 - s_hip_rl_x*t16;
+        t80 = c_hip_rl_y*t75 + s_hip_rl_y*t6;
+        t81 = c_hip_rl_y*t77 + s_hip_rl_y*t11;
+        t82 = c_hip_rl_y*t79 + s_hip_rl_y*t15;
+        t83 = t70*t80 + t71;
+        t84 = t70*t81 + t72;
+        t85 = t70*t82 + t73;
+        t86 = -0.4*t80 + t83;
+        t87 = -0.4*t81 + t84;
+        t88 = -0.4*t82 + t85;
+        t89 = -t71 + t86;
+        t90 = -t72 + t87;
+        t91 = -t73 + t88;
+        toe_rl_jx_hip_rl_y = t76*t91 - t78*t90;
+        toe_rl_jy_hip_rl_y = -t74*t91 + t78*t89;
+        toe_rl_jz_hip_rl_y = t74*t90 - t76*t89;
+        toe_rl_jx_hip_rl_x = t11*t91 - t90*t15;
+        toe_rl_jy_hip_rl_x = t89*t15 - t91*t6;
+        toe_rl_jz_hip_rl_x = -t11*t89 + t90*t6;
+        t92 = t86 - x;
+        t93 = t87 - y;
+        t94 = t88 - z;
+        toe_rl_jx_wx = t11*t94 - t93*t15;
+        toe_rl_jy_wx = t92*t15 - t94*t6;
+        toe_rl_jz_wx = -t11*t92 + t93*t6;
+        toe_rl_jx_wy = t12*t94 - t93*t16;
+        toe_rl_jy_wy = t92*t16 - t94*t8;
+        toe_rl_jz_wy = -t12*t92 + t93*t8;
+        toe_rl_jx_wz = -t93*t17 + t94*t14;
+        toe_rl_jy_wz = -t10*t94 + t92*t17;
+        toe_rl_jz_wz = t10*t93 - t92*t14;
+    } else if (isinf(hip_rl_y) || isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rr */
+    if (want[3]) {
+        t95 = -leg_rr - 0.41;
+        c_hip_rr_y = leg_cos(hip_rr_y);
+        s_hip_rr_y = leg_sin(hip_rr_y);
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+        t96 = -0.39*t6 - 0.12*t8 + x;
+        t97 = -0.39*t11 - 0.12*t12 + y;
+        t98 = -0.39*t15 - 0.12*t16 + z;
+        t99 = c_hip_rr_x*t8 + s_hip_rr_x*t10;
+        t100 = c_hip_rr_x*t10 - s_hip_rr_x*t8;
+        t101 = c_hip_rr_x*t12 + s_hip_rr_x*t14;
+        t102 = c_hip_rr_x*t14 - s_hip_rr_x*t12;
+        t103 = c_hip_rr_x*t16 + s_hip_rr_x*t17;
+        t104 = c_hip_rr_x*t17 - s_hip_rr_x*t16;
+        t105 = c_hip_rr_y*t100 + s_hip_rr_y*t6;
+        t106 = c_hip_rr_y*t102 + s_hip_rr_y*t11;
+        t107 = c_hip_rr_y*t104 + s_hip_rr_y*t15;
+        t108 = t95*t105 + t96;
+        t109 = t95*t106 + t97;
+        t110 = t95*t107 + t98;
+        t111 = -0.4*t105 + t108;
+        t112 = -0.4*t106 + t109;
+        t113 = -0.4*t107 + t110;
+        t114 = -t96 + t111;
+        t115 = -t97 + t112;
+        t116 = -t98 + t113;
+        toe_rr_jx_hip_rr_y = t101*t116 - t103*t115;
+        toe_rr_jy_hip_rr_y = -t99*t116 + t103*t114;
+        toe_rr_jz_hip_rr_y = t99*t115 - t101*t114;
+        toe_rr_jx_hip_rr_x = t11*t116 - t15*t115;
+        toe_rr_jy_hip_rr_x = t15*t114 - t116*t6;
+        toe_rr_jz_hip_rr_x = -t11*t114 + t115*t6;
+        t117 = t111 - x;
+        t118 = t112 - y;
+        t119 = t113 - z;
+        toe_rr_jx_wx = t11*t119 - t15*t118;
+        toe_rr_jy_wx = t15*t117 - t119*t6;
+        toe_rr_jz_wx = -t11*t117 + t118*t6;
+        toe_rr_jx_wy = t12*t119 - t16*t118;
+        toe_rr_jy_wy = t16*t117 - t119*t8;
+        toe_rr_jz_wy = -t12*t117 + t118*t8;
+        toe_rr_jx_wz = t14*t119 - t118*t17;
+        toe_rr_jy_wz = -t10*t119 + t117*t17;
+        toe_rr_jz_wz = t10*t118 - t14*t117;
+    } else if (isinf(hip_rr_y) || isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = 1.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        out[3] = toe_fl_jx_wx;
+        out[4] = toe_fl_jx_wy;
+        out[5] = toe_fl_jx_wz;
+        out[6] = toe_fl_jx_hip_fl_x;
+        out[7] = toe_fl_jx_hip_fl_y;
+        out[8] = -t30;
+        out[9] = 0.0;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 0.0;
+        out[13] = 0.0;
+        out[14] = 0.0;
+        out[15] = 0.0;
+        out[16] = 0.0;
+        out[17] = 0.0;
+        out[18] = 0.0;
+        out[19] = 1.0;
+        out[20] = 0.0;
+        out[21] = toe_fl_jy_wx;
+        out[22] = toe_fl_jy_wy;
+        out[23] = toe_fl_jy_wz;
+        out[24] = toe_fl_jy_hip_fl_x;
+        out[25] = toe_fl_jy_hip_fl_y;
+        out[26] = -t31;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+        out[30] = 0.0;
+        out[31] = 0.0;
+        out[32] = 0.0;
+        out[33] = 0.0;
+        out[34] = 0.0;
+        out[35] = 0.0;
+        out[36] = 0.0;
+        out[37] = 0.0;
+        out[38] = 1.0;
+        out[39] = toe_fl_jz_wx;
+        out[40] = toe_fl_jz_wy;
+        out[41] = toe_fl_jz_wz;
+        out[42] = toe_fl_jz_hip_fl_x;
+        out[43] = toe_fl_jz_hip_fl_y;
+        out[44] = -t32;
+        out[45] = 0.0;
+        out[46] = 0.0;
+        out[47] = 0.0;
+        out[48] = 0.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 0.0;
+        out[52] = 0.0;
+        out[53] = 0.0;
+    }
+    if (want[1]) {
+        out[54] = 1.0;
+        out[55] = 0.0;
+        out[56] = 0.0;
+        out[57] = toe_fr_jx_wx;
+        out[58] = toe_fr_jx_wy;
+        out[59] = toe_fr_jx_wz;
+        out[60] = 0.0;
+        out[61] = 0.0;
+        out[62] = 0.0;
+        out[63] = toe_fr_jx_hip_fr_x;
+        out[64] = toe_fr_jx_hip_fr_y;
+        out[65] = -t55;
+        out[66] = 0.0;
+        out[67] = 0.0;
+        out[68] = 0.0;
+        out[69] = 0.0;
+        out[70] = 0.0;
+        out[71] = 0.0;
+        out[72] = 0.0;
+        out[73] = 1.0;
+        out[74] = 0.0;
+        out[75] = toe_fr_jy_wx;
+        out[76] = toe_fr_jy_wy;
+        out[77] = toe_fr_jy_wz;
+        out[78] = 0.0;
+        out[79] = 0.0;
+        out[80] = 0.0;
+        out[81] = toe_fr_jy_hip_fr_x;
+        out[82] = toe_fr_jy_hip_fr_y;
+        out[83] = -t56;
+        out[84] = 0.0;
+        out[85] = 0.0;
+        out[86] = 0.0;
+        out[87] = 0.0;
+        out[88] = 0.0;
+        out[89] = 0.0;
+        out[90] = 0.0;
+        out[91] = 0.0;
+        out[92] = 1.0;
+        out[93] = toe_fr_jz_wx;
+        out[94] = toe_fr_jz_wy;
+        out[95] = toe_fr_jz_wz;
+        out[96] = 0.0;
+        out[97] = 0.0;
+        out[98] = 0.0;
+        out[99] = toe_fr_jz_hip_fr_x;
+        out[100] = toe_fr_jz_hip_fr_y;
+        out[101] = -t57;
+        out[102] = 0.0;
+        out[103] = 0.0;
+        out[104] = 0.0;
+        out[105] = 0.0;
+        out[106] = 0.0;
+        out[107] = 0.0;
+    }
+    if (want[2]) {
+        out[108] = 1.0;
+        out[109] = 0.0;
+        out[110] = 0.0;
+        out[111] = toe_rl_jx_wx;
+        out[112] = toe_rl_jx_wy;
+        out[113] = toe_rl_jx_wz;
+        out[114] = 0.0;
+        out[115] = 0.0;
+        out[116] = 0.0;
+        out[117] = 0.0;
+        out[118] = 0.0;
+        out[119] = 0.0;
+        out[120] = toe_rl_jx_hip_rl_x;
+        out[121] = toe_rl_jx_hip_rl_y;
+        out[122] = -t80;
+        out[123] = 0.0;
+        out[124] = 0.0;
+        out[125] = 0.0;
+        out[126] = 0.0;
+        out[127] = 1.0;
+        out[128] = 0.0;
+        out[129] = toe_rl_jy_wx;
+        out[130] = toe_rl_jy_wy;
+        out[131] = toe_rl_jy_wz;
+        out[132] = 0.0;
+        out[133] = 0.0;
+        out[134] = 0.0;
+        out[135] = 0.0;
+        out[136] = 0.0;
+        out[137] = 0.0;
+        out[138] = toe_rl_jy_hip_rl_x;
+        out[139] = toe_rl_jy_hip_rl_y;
+        out[140] = -t81;
+        out[141] = 0.0;
+        out[142] = 0.0;
+        out[143] = 0.0;
+        out[144] = 0.0;
+        out[145] = 0.0;
+        out[146] = 1.0;
+        out[147] = toe_rl_jz_wx;
+        out[148] = toe_rl_jz_wy;
+        out[149] = toe_rl_jz_wz;
+        out[150] = 0.0;
+        out[151] = 0.0;
+        out[152] = 0.0;
+        out[153] = 0.0;
+        out[154] = 0.0;
+        out[155] = 0.0;
+        out[156] = toe_rl_jz_hip_rl_x;
+        out[157] = toe_rl_jz_hip_rl_y;
+        out[158] = -t82;
+        out[159] = 0.0;
+        out[160] = 0.0;
+        out[161] = 0.0;
+    }
+    if (want[3]) {
+        out[162] = 1.0;
+        out[163] = 0.0;
+        out[164] = 0.0;
+        out[165] = toe_rr_jx_wx;
+        out[166] = toe_rr_jx_wy;
+        out[167] = toe_rr_jx_wz;
+        out[168] = 0.0;
+        out[169] = 0.0;
+        out[170] = 0.0;
+        out[171] = 0.0;
+        out[172] = 0.0;
+        out[173] = 0.0;
+        out[174] = 0.0;
+        out[175] = 0.0;
+        out[176] = 0.0;
+        out[177] = toe_rr_jx_hip_rr_x;
+        out[178] = toe_rr_jx_hip_rr_y;
+        out[179] = -t105;
+        out[180] = 0.0;
+        out[181] = 1.0;
+        out[182] = 0.0;
+        out[183] = toe_rr_jy_wx;
+        out[184] = toe_rr_jy_wy;
+        out[185] = toe_rr_jy_wz;
+        out[186] = 0.0;
+        out[187] = 0.0;
+        out[188] = 0.0;
+        out[189] = 0.0;
+        out[190] = 0.0;
+        out[191] = 0.0;
+        out[192] = 0.0;
+        out[193] = 0.0;
+        out[194] = 0.0;
+        out[195] = toe_rr_jy_hip_rr_x;
+        out[196] = toe_rr_jy_hip_rr_y;
+        out[197] = -t106;
+        out[198] = 0.0;
+        out[199] = 0.0;
+        out[200] = 1.0;
+        out[201] = toe_rr_jz_wx;
+        out[202] = toe_rr_jz_wy;
+        out[203] = toe_rr_jz_wz;
+        out[204] = 0.0;
+        out[205] = 0.0;
+        out[206] = 0.0;
+        out[207] = 0.0;
+        out[208] = 0.0;
+        out[209] = 0.0;
+        out[210] = 0.0;
+        out[211] = 0.0;
+        out[212] = 0.0;
+        out[213] = toe_rr_jz_hip_rr_x;
+        out[214] = toe_rr_jz_hip_rr_y;
+        out[215] = -t107;
+    }
+    (void)err;
+}
+
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -3115,6 +4075,304 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
     (void)err;
 }
 
+void contact_angular_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double c_hip_fl_x, s_hip_fl_x, toe_fl_jwx_hip_fl_y, toe_fl_jwy_hip_fl_y, toe_fl_jwz_hip_fl_y, c_hip_fr_x, s_hip_fr_x, toe_fr_jwx_hip_fr_y, toe_fr_jwy_hip_fr_y, toe_fr_jwz_hip_fr_y, c_hip_rl_x, s_hip_rl_x, toe_rl_jwx_hip_rl_y, toe_rl_jwy_hip_rl_y, toe_rl_jwz_hip_rl_y, c_hip_rr_x, s_hip_rr_x, toe_rr_jwx_hip_rr_y, toe_rr_jwy_hip_rr_y, toe_rr_jwz_hip_rr_y;
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fr_x = q[10];
+    const double hip_rl_x = q[13];
+    const double hip_rr_x = q[16];
+    /* toe_fl */
+    if (want[0]) {
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    const double toe_fl_jwx_wx = -qscale*t4 + 1.0;
+    const double t5 = qw*qz;
+    const double toe_fl_jwx_wy = qscale*(qx*qy - t5);
+    const double t6 = qw*qy;
+    const double toe_fl_jwx_wz = qscale*(qx*qz + t6);
+    const double toe_fl_jwy_wx = qscale*(qx*qy + t5);
+    const double toe_fl_jwy_wy = -qscale*(t1 + t3) + 1.0;
+    const double t7 = qw*qx;
+    const double toe_fl_jwy_wz = qscale*(qy*qz - t7);
+    const double toe_fl_jwz_wx = qscale*(qx*qz - t6);
+    const double toe_fl_jwz_wy = qscale*(qy*qz + t7);
+    const double toe_fl_jwz_wz = -qscale*(t1 + t2) + 1.0;
+    if (want[0]) {
+        toe_fl_jwx_hip_fl_y = c_hip_fl_x*toe_fl_jwx_wy + s_hip_fl_x*toe_fl_jwx_wz;
+        toe_fl_jwy_hip_fl_y = c_hip_fl_x*toe_fl_jwy_wy + s_hip_fl_x*toe_fl_jwy_wz;
+        toe_fl_jwz_hip_fl_y = c_hip_fl_x*toe_fl_jwz_wy + s_hip_fl_x*toe_fl_jwz_wz;
+    }
+    /* toe_fr */
+    if (want[1]) {
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+        toe_fr_jwx_hip_fr_y = c_hip_fr_x*toe_fl_jwx_wy + s_hip_fr_x*toe_fl_jwx_wz;
+        toe_fr_jwy_hip_fr_y = c_hip_fr_x*toe_fl_jwy_wy + s_hip_fr_x*toe_fl_jwy_wz;
+        toe_fr_jwz_hip_fr_y = c_hip_fr_x*toe_fl_jwz_wy + s_hip_fr_x*toe_fl_jwz_wz;
+    } else if (isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rl */
+    if (want[2]) {
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+        toe_rl_jwx_hip_rl_y = c_hip_rl_x*toe_fl_jwx_wy + s_hip_rl_x*toe_fl_jwx_wz;
+        toe_rl_jwy_hip_rl_y = c_hip_rl_x*toe_fl_jwy_wy + s_hip_rl_x*toe_fl_jwy_wz;
+        toe_rl_jwz_hip_rl_y = c_hip_rl_x*toe_fl_jwz_wy + s_hip_rl_x*toe_fl_jwz_wz;
+    } else if (isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    /* toe_rr */
+    if (want[3]) {
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+        toe_rr_jwx_hip_rr_y = c_hip_rr_x*toe_fl_jwx_wy + s_hip_rr_x*toe_fl_jwx_wz;
+        toe_rr_jwy_hip_rr_y = c_hip_rr_x*toe_fl_jwy_wy + s_hip_rr_x*toe_fl_jwy_wz;
+        toe_rr_jwz_hip_rr_y = c_hip_rr_x*toe_fl_jwz_wy + s_hip_rr_x*toe_fl_jwz_wz;
+    } else if (isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[0]) {
+        out[0] = 0.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        out[3] = toe_fl_jwx_wx;
+        out[4] = toe_fl_jwx_wy;
+        out[5] = toe_fl_jwx_wz;
+        out[6] = toe_fl_jwx_wx;
+        out[7] = toe_fl_jwx_hip_fl_y;
+        out[8] = 0.0;
+        out[9] = 0.0;
+        out[10] = 0.0;
+        out[11] = 0.0;
+        out[12] = 0.0;
+        out[13] = 0.0;
+        out[14] = 0.0;
+        out[15] = 0.0;
+        out[16] = 0.0;
+        out[17] = 0.0;
+        out[18] = 0.0;
+        out[19] = 0.0;
+        out[20] = 0.0;
+        out[21] = toe_fl_jwy_wx;
+        out[22] = toe_fl_jwy_wy;
+        out[23] = toe_fl_jwy_wz;
+        out[24] = toe_fl_jwy_wx;
+        out[25] = toe_fl_jwy_hip_fl_y;
+        out[26] = 0.0;
+        out[27] = 0.0;
+        out[28] = 0.0;
+        out[29] = 0.0;
+        out[30] = 0.0;
+        out[31] = 0.0;
+        out[32] = 0.0;
+        out[33] = 0.0;
+        out[34] = 0.0;
+        out[35] = 0.0;
+        out[36] = 0.0;
+        out[37] = 0.0;
+        out[38] = 0.0;
+        out[39] = toe_fl_jwz_wx;
+        out[40] = toe_fl_jwz_wy;
+        out[41] = toe_fl_jwz_wz;
+        out[42] = toe_fl_jwz_wx;
+        out[43] = toe_fl_jwz_hip_fl_y;
+        out[44] = 0.0;
+        out[45] = 0.0;
+        out[46] = 0.0;
+        out[47] = 0.0;
+        out[48] = 0.0;
+        out[49] = 0.0;
+        out[50] = 0.0;
+        out[51] = 0.0;
+        out[52] = 0.0;
+        out[53] = 0.0;
+    }
+    if (want[1]) {
+        out[54] = 0.0;
+        out[55] = 0.0;
+        out[56] = 0.0;
+        out[57] = toe_fl_jwx_wx;
+        out[58] = toe_fl_jwx_wy;
+        out[59] = toe_fl_jwx_wz;
+        out[60] = 0.0;
+        out[61] = 0.0;
+        out[62] = 0.0;
+        out[63] = toe_fl_jwx_wx;
+        out[64] = toe_fr_jwx_hip_fr_y;
+        out[65] = 0.0;
+        out[66] = 0.0;
+        out[67] = 0.0;
+        out[68] = 0.0;
+        out[69] = 0.0;
+        out[70] = 0.0;
+        out[71] = 0.0;
+        out[72] = 0.0;
+        out[73] = 0.0;
+        out[74] = 0.0;
+        out[75] = toe_fl_jwy_wx;
+        out[76] = toe_fl_jwy_wy;
+        out[77] = toe_fl_jwy_wz;
+        out[78] = 0.0;
+        out[79] = 0.0;
+        out[80] = 0.0;
+        out[81] = toe_fl_jwy_wx;
+        out[82] = toe_fr_jwy_hip_fr_y;
+        out[83] = 0.0;
+        out[84] = 0.0;
+        out[85] = 0.0;
+        out[86] = 0.0;
+        out[87] = 0.0;
+        out[88] = 0.0;
+        out[89] = 0.0;
+        out[90] = 0.0;
+        out[91] = 0.0;
+        out[92] = 0.0;
+        out[93] = toe_fl_jwz_wx;
+        out[94] = toe_fl_jwz_wy;
+        out[95] = toe_fl_jwz_wz;
+        out[96] = 0.0;
+        out[97] = 0.0;
+        out[98] = 0.0;
+        out[99] = toe_fl_jwz_wx;
+        out[100] = toe_fr_jwz_hip_fr_y;
+        out[101] = 0.0;
+        out[102] = 0.0;
+        out[103] = 0.0;
+        out[104] = 0.0;
+        out[105] = 0.0;
+        out[106] = 0.0;
+        out[107] = 0.0;
+    }
+    if (want[2]) {
+        out[108] = 0.0;
+        out[109] = 0.0;
+        out[110] = 0.0;
+        out[111] = toe_fl_jwx_wx;
+        out[112] = toe_fl_jwx_wy;
+        out[113] = toe_fl_jwx_wz;
+        out[114] = 0.0;
+        out[115] = 0.0;
+        out[116] = 0.0;
+        out[117] = 0.0;
+        out[118] = 0.0;
+        out[119] = 0.0;
+        out[120] = toe_fl_jwx_wx;
+        out[121] = toe_rl_jwx_hip_rl_y;
+        out[122] = 0.0;
+        out[123] = 0.0;
+        out[124] = 0.0;
+        out[125] = 0.0;
+        out[126] = 0.0;
+        out[127] = 0.0;
+        out[128] = 0.0;
+        out[129] = toe_fl_jwy_wx;
+        out[130] = toe_fl_jwy_wy;
+        out[131] = toe_fl_jwy_wz;
+        out[132] = 0.0;
+        out[133] = 0.0;
+        out[134] = 0.0;
+        out[135] = 0.0;
+        out[136] = 0.0;
+        out[137] = 0.0;
+        out[138] = toe_fl_jwy_wx;
+        out[139] = toe_rl_jwy_hip_rl_y;
+        out[140] = 0.0;
+        out[141] = 0.0;
+        out[142] = 0.0;
+        out[143] = 0.0;
+        out[144] = 0.0;
+        out[145] = 0.0;
+        out[146] = 0.0;
+        out[147] = toe_fl_jwz_wx;
+        out[148] = toe_fl_jwz_wy;
+        out[149] = toe_fl_jwz_wz;
+        out[150] = 0.0;
+        out[151] = 0.0;
+        out[152] = 0.0;
+        out[153] = 0.0;
+        out[154] = 0.0;
+        out[155] = 0.0;
+        out[156] = toe_fl_jwz_wx;
+        out[157] = toe_rl_jwz_hip_rl_y;
+        out[158] = 0.0;
+        out[159] = 0.0;
+        out[160] = 0.0;
+        out[161] = 0.0;
+    }
+    if (want[3]) {
+        out[162] = 0.0;
+        out[163] = 0.0;
+        out[164] = 0.0;
+        out[165] = toe_fl_jwx_wx;
+        out[166] = toe_fl_jwx_wy;
+        out[167] = toe_fl_jwx_wz;
+        out[168] = 0.0;
+        out[169] = 0.0;
+        out[170] = 0.0;
+        out[171] = 0.0;
+        out[172] = 0.0;
+        out[173] = 0.0;
+        out[174] = 0.0;
+        out[175] = 0.0;
+        out[176] = 0.0;
+        out[177] = toe_fl_jwx_wx;
+        out[178] = toe_rr_jwx_hip_rr_y;
+        out[179] = 0.0;
+        out[180] = 0.0;
+        out[181] = 0.0;
+        out[182] = 0.0;
+        out[183] = toe_fl_jwy_wx;
+        out[184] = toe_fl_jwy_wy;
+        out[185] = toe_fl_jwy_wz;
+        out[186] = 0.0;
+        out[187] = 0.0;
+        out[188] = 0.0;
+        out[189] = 0.0;
+        out[190] = 0.0;
+        out[191] = 0.0;
+        out[192] = 0.0;
+        out[193] = 0.0;
+        out[194] = 0.0;
+        out[195] = toe_fl_jwy_wx;
+        out[196] = toe_rr_jwy_hip_rr_y;
+        out[197] = 0.0;
+        out[198] = 0.0;
+        out[199] = 0.0;
+        out[200] = 0.0;
+        out[201] = toe_fl_jwz_wx;
+        out[202] = toe_fl_jwz_wy;
+        out[203] = toe_fl_jwz_wz;
+        out[204] = 0.0;
+        out[205] = 0.0;
+        out[206] = 0.0;
+        out[207] = 0.0;
+        out[208] = 0.0;
+        out[209] = 0.0;
+        out[210] = 0.0;
+        out[211] = 0.0;
+        out[212] = 0.0;
+        out[213] = toe_fl_jwz_wx;
+        out[214] = toe_rr_jwz_hip_rr_y;
+        out[215] = 0.0;
+    }
+    (void)err;
+}
+
 void body_poses(const double *q, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -3366,6 +4624,447 @@ void body_poses(const double *q, double *out, int *err)
     out[105] = thigh_rr_r31;
     out[106] = thigh_rr_r32;
     out[107] = thigh_rr_r33;
+    (void)err;
+}
+
+void body_poses_some(const double *q, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double trunk_r11, t5, trunk_r12, t6, trunk_r13, trunk_r21, trunk_r22, t7, trunk_r23, trunk_r31, trunk_r32, trunk_r33, c_hip_fl_y, s_hip_fl_y, c_hip_fl_x, s_hip_fl_x, t8, thigh_fl_x, t9, thigh_fl_y, t10, thigh_fl_z, thigh_fl_r12, t11, thigh_fl_r22, t12, thigh_fl_r32, t13, thigh_fl_r11, thigh_fl_r13, thigh_fl_r21, thigh_fl_r23, thigh_fl_r31, thigh_fl_r33, t14, shank_fl_x, shank_fl_y, shank_fl_z, c_hip_fr_y, s_hip_fr_y, c_hip_fr_x, s_hip_fr_x, thigh_fr_x, thigh_fr_y, thigh_fr_z, thigh_fr_r12, t15, thigh_fr_r22, t16, thigh_fr_r32, t17, thigh_fr_r11, thigh_fr_r13, thigh_fr_r21, thigh_fr_r23, thigh_fr_r31, thigh_fr_r33, t18, shank_fr_x, shank_fr_y, shank_fr_z, c_hip_rl_y, s_hip_rl_y, c_hip_rl_x, s_hip_rl_x, thigh_rl_x, thigh_rl_y, thigh_rl_z, thigh_rl_r12, t19, thigh_rl_r22, t20, thigh_rl_r32, t21, thigh_rl_r11, thigh_rl_r13, thigh_rl_r21, thigh_rl_r23, thigh_rl_r31, thigh_rl_r33, t22, shank_rl_x, shank_rl_y, shank_rl_z, c_hip_rr_y, s_hip_rr_y, c_hip_rr_x, s_hip_rr_x, thigh_rr_x, thigh_rr_y, thigh_rr_z, thigh_rr_r12, t23, thigh_rr_r22, t24, thigh_rr_r32, t25, thigh_rr_r11, thigh_rr_r13, thigh_rr_r21, thigh_rr_r23, thigh_rr_r31, thigh_rr_r33, t26, shank_rr_x, shank_rr_y, shank_rr_z;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fl_y = q[8];
+    const double leg_fl = q[9];
+    const double hip_fr_x = q[10];
+    const double hip_fr_y = q[11];
+    const double leg_fr = q[12];
+    const double hip_rl_x = q[13];
+    const double hip_rl_y = q[14];
+    const double leg_rl = q[15];
+    const double hip_rr_x = q[16];
+    const double hip_rr_y = q[17];
+    const double leg_rr = q[18];
+    /* trunk */
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9] || want[10] || want[11] || want[12] || want[13] || want[14] || want[15] || want[16] || want[17]) {
+        trunk_r11 = -qscale*t4 + 1.0;
+        t5 = qw*qz;
+        trunk_r12 = qscale*(qx*qy - t5);
+        t6 = qw*qy;
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9] || want[11] || want[12] || want[13] || want[15] || want[16] || want[17]) {
+        trunk_r13 = qscale*(qx*qz + t6);
+    }
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9] || want[10] || want[11] || want[12] || want[13] || want[14] || want[15] || want[16] || want[17]) {
+        trunk_r21 = qscale*(qx*qy + t5);
+        trunk_r22 = -qscale*(t1 + t3) + 1.0;
+        t7 = qw*qx;
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9] || want[11] || want[12] || want[13] || want[15] || want[16] || want[17]) {
+        trunk_r23 = qscale*(qy*qz - t7);
+    }
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9] || want[10] || want[11] || want[12] || want[13] || want[14] || want[15] || want[16] || want[17]) {
+        trunk_r31 = qscale*(qx*qz - t6);
+        trunk_r32 = qscale*(qy*qz + t7);
+    }
+    if (want[1] || want[3] || want[4] || want[5] || want[7] || want[8] || want[9] || want[11] || want[12] || want[13] || want[15] || want[16] || want[17]) {
+        trunk_r33 = -qscale*(t1 + t2) + 1.0;
+    }
+    /* thigh_fl */
+    if (want[3] || want[4] || want[5]) {
+        c_hip_fl_y = leg_cos(hip_fl_y);
+        s_hip_fl_y = leg_sin(hip_fl_y);
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_y) || isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t8 = 0.39*trunk_r11 + x;
+    }
+    if (want[2] || want[4]) {
+        thigh_fl_x = t8 + 0.12*trunk_r12;
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t9 = 0.39*trunk_r21 + y;
+    }
+    if (want[2] || want[4]) {
+        thigh_fl_y = 0.12*trunk_r22 + t9;
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t10 = 0.39*trunk_r31 + z;
+    }
+    if (want[2] || want[4]) {
+        thigh_fl_z = 0.12*trunk_r32 + t10;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r12 = c_hip_fl_x*trunk_r12 + s_hip_fl_x*trunk_r13;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t11 = c_hip_fl_x*trunk_r13 - s_hip_fl_x*trunk_r12;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r22 = c_hip_fl_x*trunk_r22 + s_hip_fl_x*trunk_r23;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t12 = c_hip_fl_x*trunk_r23 - s_hip_fl_x*trunk_r22;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r32 = c_hip_fl_x*trunk_r32 + s_hip_fl_x*trunk_r33;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t13 = c_hip_fl_x*trunk_r33 - s_hip_fl_x*trunk_r32;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r11 = c_hip_fl_y*trunk_r11 - s_hip_fl_y*t11;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_fl_r13 = c_hip_fl_y*t11 + s_hip_fl_y*trunk_r11;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r21 = c_hip_fl_y*trunk_r21 - s_hip_fl_y*t12;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_fl_r23 = c_hip_fl_y*t12 + s_hip_fl_y*trunk_r21;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_r31 = c_hip_fl_y*trunk_r31 - s_hip_fl_y*t13;
+    }
+    if (want[3] || want[4] || want[5]) {
+        thigh_fl_r33 = c_hip_fl_y*t13 + s_hip_fl_y*trunk_r31;
+    }
+    /* shank_fl */
+    if (want[4]) {
+        t14 = -leg_fl - 0.41;
+        shank_fl_x = thigh_fl_x + thigh_fl_r13*t14;
+        shank_fl_y = thigh_fl_y + thigh_fl_r23*t14;
+        shank_fl_z = thigh_fl_z + thigh_fl_r33*t14;
+    }
+    /* thigh_fr */
+    if (want[7] || want[8] || want[9]) {
+        c_hip_fr_y = leg_cos(hip_fr_y);
+        s_hip_fr_y = leg_sin(hip_fr_y);
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+    } else if (isinf(hip_fr_y) || isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[6] || want[8]) {
+        thigh_fr_x = t8 - 0.12*trunk_r12;
+        thigh_fr_y = -0.12*trunk_r22 + t9;
+        thigh_fr_z = -0.12*trunk_r32 + t10;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r12 = c_hip_fr_x*trunk_r12 + s_hip_fr_x*trunk_r13;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t15 = c_hip_fr_x*trunk_r13 - s_hip_fr_x*trunk_r12;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r22 = c_hip_fr_x*trunk_r22 + s_hip_fr_x*trunk_r23;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t16 = c_hip_fr_x*trunk_r23 - s_hip_fr_x*trunk_r22;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r32 = c_hip_fr_x*trunk_r32 + s_hip_fr_x*trunk_r33;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t17 = c_hip_fr_x*trunk_r33 - s_hip_fr_x*trunk_r32;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r11 = c_hip_fr_y*trunk_r11 - s_hip_fr_y*t15;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_fr_r13 = c_hip_fr_y*t15 + s_hip_fr_y*trunk_r11;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r21 = c_hip_fr_y*trunk_r21 - s_hip_fr_y*t16;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_fr_r23 = c_hip_fr_y*t16 + s_hip_fr_y*trunk_r21;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_r31 = c_hip_fr_y*trunk_r31 - s_hip_fr_y*t17;
+    }
+    if (want[7] || want[8] || want[9]) {
+        thigh_fr_r33 = c_hip_fr_y*t17 + s_hip_fr_y*trunk_r31;
+    }
+    /* shank_fr */
+    if (want[8]) {
+        t18 = -leg_fr - 0.41;
+        shank_fr_x = thigh_fr_x + thigh_fr_r13*t18;
+        shank_fr_y = thigh_fr_y + thigh_fr_r23*t18;
+        shank_fr_z = thigh_fr_z + thigh_fr_r33*t18;
+    }
+    /* thigh_rl */
+    if (want[11] || want[12] || want[13]) {
+        c_hip_rl_y = leg_cos(hip_rl_y);
+        s_hip_rl_y = leg_sin(hip_rl_y);
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+    } else if (isinf(hip_rl_y) || isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[10] || want[12]) {
+        thigh_rl_x = -0.39*trunk_r11 + 0.12*trunk_r12 + x;
+        thigh_rl_y = -0.39*trunk_r21 + 0.12*trunk_r22 + y;
+        thigh_rl_z = -0.39*trunk_r31 + 0.12*trunk_r32 + z;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r12 = c_hip_rl_x*trunk_r12 + s_hip_rl_x*trunk_r13;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t19 = c_hip_rl_x*trunk_r13 - s_hip_rl_x*trunk_r12;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r22 = c_hip_rl_x*trunk_r22 + s_hip_rl_x*trunk_r23;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t20 = c_hip_rl_x*trunk_r23 - s_hip_rl_x*trunk_r22;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r32 = c_hip_rl_x*trunk_r32 + s_hip_rl_x*trunk_r33;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t21 = c_hip_rl_x*trunk_r33 - s_hip_rl_x*trunk_r32;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r11 = c_hip_rl_y*trunk_r11 - s_hip_rl_y*t19;
+    }
+    if (want[11] || want[12] || want[13]) {
+        thigh_rl_r13 = c_hip_rl_y*t19 + s_hip_rl_y*trunk_r11;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r21 = c_hip_rl_y*trunk_r21 - s_hip_rl_y*t20;
+    }
+    if (want[11] || want[12] || want[13]) {
+        thigh_rl_r23 = c_hip_rl_y*t20 + s_hip_rl_y*trunk_r21;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_r31 = c_hip_rl_y*trunk_r31 - s_hip_rl_y*t21;
+    }
+    if (want[11] || want[12] || want[13]) {
+        thigh_rl_r33 = c_hip_rl_y*t21 + s_hip_rl_y*trunk_r31;
+    }
+    /* shank_rl */
+    if (want[12]) {
+        t22 = -leg_rl - 0.41;
+        shank_rl_x = thigh_rl_x + thigh_rl_r13*t22;
+        shank_rl_y = thigh_rl_y + thigh_rl_r23*t22;
+        shank_rl_z = thigh_rl_z + thigh_rl_r33*t22;
+    }
+    /* thigh_rr */
+    if (want[15] || want[16] || want[17]) {
+        c_hip_rr_y = leg_cos(hip_rr_y);
+        s_hip_rr_y = leg_sin(hip_rr_y);
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+    } else if (isinf(hip_rr_y) || isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[14] || want[16]) {
+        thigh_rr_x = -0.39*trunk_r11 - 0.12*trunk_r12 + x;
+        thigh_rr_y = -0.39*trunk_r21 - 0.12*trunk_r22 + y;
+        thigh_rr_z = -0.39*trunk_r31 - 0.12*trunk_r32 + z;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r12 = c_hip_rr_x*trunk_r12 + s_hip_rr_x*trunk_r13;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t23 = c_hip_rr_x*trunk_r13 - s_hip_rr_x*trunk_r12;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r22 = c_hip_rr_x*trunk_r22 + s_hip_rr_x*trunk_r23;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t24 = c_hip_rr_x*trunk_r23 - s_hip_rr_x*trunk_r22;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r32 = c_hip_rr_x*trunk_r32 + s_hip_rr_x*trunk_r33;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t25 = c_hip_rr_x*trunk_r33 - s_hip_rr_x*trunk_r32;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r11 = c_hip_rr_y*trunk_r11 - s_hip_rr_y*t23;
+    }
+    if (want[15] || want[16] || want[17]) {
+        thigh_rr_r13 = c_hip_rr_y*t23 + s_hip_rr_y*trunk_r11;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r21 = c_hip_rr_y*trunk_r21 - s_hip_rr_y*t24;
+    }
+    if (want[15] || want[16] || want[17]) {
+        thigh_rr_r23 = c_hip_rr_y*t24 + s_hip_rr_y*trunk_r21;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_r31 = c_hip_rr_y*trunk_r31 - s_hip_rr_y*t25;
+    }
+    if (want[15] || want[16] || want[17]) {
+        thigh_rr_r33 = c_hip_rr_y*t25 + s_hip_rr_y*trunk_r31;
+    }
+    /* shank_rr */
+    if (want[16]) {
+        t26 = -leg_rr - 0.41;
+        shank_rr_x = thigh_rr_x + thigh_rr_r13*t26;
+        shank_rr_y = thigh_rr_y + thigh_rr_r23*t26;
+        shank_rr_z = thigh_rr_z + thigh_rr_r33*t26;
+    }
+    if (want[0]) {
+        out[0] = x;
+        out[1] = y;
+        out[2] = z;
+    }
+    if (want[1]) {
+        out[3] = trunk_r11;
+        out[4] = trunk_r12;
+        out[5] = trunk_r13;
+        out[6] = trunk_r21;
+        out[7] = trunk_r22;
+        out[8] = trunk_r23;
+        out[9] = trunk_r31;
+        out[10] = trunk_r32;
+        out[11] = trunk_r33;
+    }
+    if (want[2]) {
+        out[12] = thigh_fl_x;
+        out[13] = thigh_fl_y;
+        out[14] = thigh_fl_z;
+    }
+    if (want[3]) {
+        out[15] = thigh_fl_r11;
+        out[16] = thigh_fl_r12;
+        out[17] = thigh_fl_r13;
+        out[18] = thigh_fl_r21;
+        out[19] = thigh_fl_r22;
+        out[20] = thigh_fl_r23;
+        out[21] = thigh_fl_r31;
+        out[22] = thigh_fl_r32;
+        out[23] = thigh_fl_r33;
+    }
+    if (want[4]) {
+        out[24] = shank_fl_x;
+        out[25] = shank_fl_y;
+        out[26] = shank_fl_z;
+    }
+    if (want[5]) {
+        out[27] = thigh_fl_r11;
+        out[28] = thigh_fl_r12;
+        out[29] = thigh_fl_r13;
+        out[30] = thigh_fl_r21;
+        out[31] = thigh_fl_r22;
+        out[32] = thigh_fl_r23;
+        out[33] = thigh_fl_r31;
+        out[34] = thigh_fl_r32;
+        out[35] = thigh_fl_r33;
+    }
+    if (want[6]) {
+        out[36] = thigh_fr_x;
+        out[37] = thigh_fr_y;
+        out[38] = thigh_fr_z;
+    }
+    if (want[7]) {
+        out[39] = thigh_fr_r11;
+        out[40] = thigh_fr_r12;
+        out[41] = thigh_fr_r13;
+        out[42] = thigh_fr_r21;
+        out[43] = thigh_fr_r22;
+        out[44] = thigh_fr_r23;
+        out[45] = thigh_fr_r31;
+        out[46] = thigh_fr_r32;
+        out[47] = thigh_fr_r33;
+    }
+    if (want[8]) {
+        out[48] = shank_fr_x;
+        out[49] = shank_fr_y;
+        out[50] = shank_fr_z;
+    }
+    if (want[9]) {
+        out[51] = thigh_fr_r11;
+        out[52] = thigh_fr_r12;
+        out[53] = thigh_fr_r13;
+        out[54] = thigh_fr_r21;
+        out[55] = thigh_fr_r22;
+        out[56] = thigh_fr_r23;
+        out[57] = thigh_fr_r31;
+        out[58] = thigh_fr_r32;
+        out[59] = thigh_fr_r33;
+    }
+    if (want[10]) {
+        out[60] = thigh_rl_x;
+        out[61] = thigh_rl_y;
+        out[62] = thigh_rl_z;
+    }
+    if (want[11]) {
+        out[63] = thigh_rl_r11;
+        out[64] = thigh_rl_r12;
+        out[65] = thigh_rl_r13;
+        out[66] = thigh_rl_r21;
+        out[67] = thigh_rl_r22;
+        out[68] = thigh_rl_r23;
+        out[69] = thigh_rl_r31;
+        out[70] = thigh_rl_r32;
+        out[71] = thigh_rl_r33;
+    }
+    if (want[12]) {
+        out[72] = shank_rl_x;
+        out[73] = shank_rl_y;
+        out[74] = shank_rl_z;
+    }
+    if (want[13]) {
+        out[75] = thigh_rl_r11;
+        out[76] = thigh_rl_r12;
+        out[77] = thigh_rl_r13;
+        out[78] = thigh_rl_r21;
+        out[79] = thigh_rl_r22;
+        out[80] = thigh_rl_r23;
+        out[81] = thigh_rl_r31;
+        out[82] = thigh_rl_r32;
+        out[83] = thigh_rl_r33;
+    }
+    if (want[14]) {
+        out[84] = thigh_rr_x;
+        out[85] = thigh_rr_y;
+        out[86] = thigh_rr_z;
+    }
+    if (want[15]) {
+        out[87] = thigh_rr_r11;
+        out[88] = thigh_rr_r12;
+        out[89] = thigh_rr_r13;
+        out[90] = thigh_rr_r21;
+        out[91] = thigh_rr_r22;
+        out[92] = thigh_rr_r23;
+        out[93] = thigh_rr_r31;
+        out[94] = thigh_rr_r32;
+        out[95] = thigh_rr_r33;
+    }
+    if (want[16]) {
+        out[96] = shank_rr_x;
+        out[97] = shank_rr_y;
+        out[98] = shank_rr_z;
+    }
+    if (want[17]) {
+        out[99] = thigh_rr_r11;
+        out[100] = thigh_rr_r12;
+        out[101] = thigh_rr_r13;
+        out[102] = thigh_rr_r21;
+        out[103] = thigh_rr_r22;
+        out[104] = thigh_rr_r23;
+        out[105] = thigh_rr_r31;
+        out[106] = thigh_rr_r32;
+        out[107] = thigh_rr_r33;
+    }
     (void)err;
 }
 
@@ -3743,6 +5442,546 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
     out[51] = thigh_rr_wx;
     out[52] = thigh_rr_wy;
     out[53] = thigh_rr_wz;
+    (void)err;
+}
+
+void body_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
+{
+    leg_trig_entry *const leg_trig_here = leg_trig_table();
+    double t5, t6, t7, t8, t9, t10, t11, t12, t13, t14, t15, t16, trunk_wx, trunk_wy, trunk_wz, c_hip_fl_y, s_hip_fl_y, c_hip_fl_x, s_hip_fl_x, t17, t18, t19, t20, t21, t22, t23, t24, t25, t26, t27, t28, t29, t30, t31, t32, t33, t34, t35, t36, t37, t38, t39, t40, t41, t42, t43, thigh_fl_vx, thigh_fl_vy, thigh_fl_vz, thigh_fl_wx, thigh_fl_wy, thigh_fl_wz, t44, t45, t46, t47, t48, t49, t50, t51, t52, t53, t54, t55, t56, t57, t58, t59, t60, t61, t62, t63, t64, t65, t66, t67, t68, shank_fl_vx, shank_fl_vy, shank_fl_vz, c_hip_fr_y, s_hip_fr_y, c_hip_fr_x, s_hip_fr_x, t69, t70, t71, t72, t73, t74, t75, t76, t77, t78, t79, t80, t81, t82, t83, t84, t85, t86, t87, t88, t89, t90, t91, t92, thigh_fr_vx, thigh_fr_vy, thigh_fr_vz, thigh_fr_wx, thigh_fr_wy, thigh_fr_wz, t93, t94, t95, t96, t97, t98, t99, t100, t101, t102, t103, t104, t105, t106, t107, t108, t109, t110, t111, t112, t113, t114, t115, t116, t117, shank_fr_vx, shank_fr_vy, shank_fr_vz, c_hip_rl_y, s_hip_rl_y, c_hip_rl_x, s_hip_rl_x, t118, t119, t120, t121, t122, t123, t124, t125, t126, t127, t128, t129, t130, t131, t132, t133, t134, t135, t136, t137, t138, t139, t140, t141, thigh_rl_vx, thigh_rl_vy, thigh_rl_vz, thigh_rl_wx, thigh_rl_wy, thigh_rl_wz, t142, t143, t144, t145, t146, t147, t148, t149, t150, t151, t152, t153, t154, t155, t156, t157, t158, t159, t160, t161, t162, t163, t164, t165, t166, shank_rl_vx, shank_rl_vy, shank_rl_vz, c_hip_rr_y, s_hip_rr_y, c_hip_rr_x, s_hip_rr_x, t167, t168, t169, t170, t171, t172, t173, t174, t175, t176, t177, t178, t179, t180, t181, t182, t183, t184, t185, t186, t187, t188, t189, t190, thigh_rr_vx, thigh_rr_vy, thigh_rr_vz, thigh_rr_wx, thigh_rr_wy, thigh_rr_wz, t191, t192, t193, t194, t195, t196, t197, t198, t199, t200, t201, t202, t203, t204, t205, t206, t207, t208, t209, t210, t211, t212, t213, t214, t215, shank_rr_vx, shank_rr_vy, shank_rr_vz;
+    const double x = q[0];
+    const double y = q[1];
+    const double z = q[2];
+    const double qw = q[3];
+    const double qx = q[4];
+    const double qy = q[5];
+    const double qz = q[6];
+    const double hip_fl_x = q[7];
+    const double hip_fl_y = q[8];
+    const double leg_fl = q[9];
+    const double hip_fr_x = q[10];
+    const double hip_fr_y = q[11];
+    const double leg_fr = q[12];
+    const double hip_rl_x = q[13];
+    const double hip_rl_y = q[14];
+    const double leg_rl = q[15];
+    const double hip_rr_x = q[16];
+    const double hip_rr_y = q[17];
+    const double leg_rr = q[18];
+    const double vx = v[0];
+    const double vy = v[1];
+    const double vz = v[2];
+    const double wx = v[3];
+    const double wy = v[4];
+    const double wz = v[5];
+    const double qd_hip_fl_x = v[6];
+    const double qd_hip_fl_y = v[7];
+    const double qd_leg_fl = v[8];
+    const double qd_hip_fr_x = v[9];
+    const double qd_hip_fr_y = v[10];
+    const double qd_leg_fr = v[11];
+    const double qd_hip_rl_x = v[12];
+    const double qd_hip_rl_y = v[13];
+    const double qd_leg_rl = v[14];
+    const double qd_hip_rr_x = v[15];
+    const double qd_hip_rr_y = v[16];
+    const double qd_leg_rr = v[17];
+    /* trunk */
+    const double t1 = qx*qx;
+    const double t2 = qy*qy;
+    const double t3 = qz*qz;
+    const double t4 = t2 + t3;
+    const double qscale = leg_div(2.0, (qw*qw + t1 + t4));
+    if (want[1] || want[2] || want[3] || want[4] || want[5] || want[6] || want[7] || want[8] || want[9] || want[10] || want[11] || want[12] || want[13] || want[14] || want[15] || want[16] || want[17]) {
+        t5 = -qscale*t4 + 1.0;
+        t6 = qw*qz;
+        t7 = qscale*(qx*qy - t6);
+        t8 = qw*qy;
+        t9 = qscale*(qx*qz + t8);
+        t10 = qscale*(qx*qy + t6);
+        t11 = -qscale*(t1 + t3) + 1.0;
+        t12 = qw*qx;
+        t13 = qscale*(qy*qz - t12);
+        t14 = qscale*(qx*qz - t8);
+        t15 = qscale*(qy*qz + t12);
+        t16 = -qscale*(t1 + t2) + 1.0;
+    }
+    if (want[1] || want[3] || want[5] || want[7] || want[9] || want[11] || want[13] || want[15] || want[17]) {
+        trunk_wx = t5*wx + t7*wy + t9*wz;
+        trunk_wy = t10*wx + t11*wy + t13*wz;
+        trunk_wz = t14*wx + t15*wy + t16*wz;
+    }
+    /* thigh_fl */
+    if (want[4]) {
+        c_hip_fl_y = leg_cos(hip_fl_y);
+        s_hip_fl_y = leg_sin(hip_fl_y);
+    } else if (isinf(hip_fl_y)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[3] || want[4] || want[5]) {
+        c_hip_fl_x = leg_cos(hip_fl_x);
+        s_hip_fl_x = leg_sin(hip_fl_x);
+    } else if (isinf(hip_fl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t17 = 0.39*t5 + x;
+    }
+    if (want[2] || want[4]) {
+        t18 = t17 + 0.12*t7;
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t19 = 0.39*t10 + y;
+    }
+    if (want[2] || want[4]) {
+        t20 = 0.12*t11 + t19;
+    }
+    if (want[2] || want[4] || want[6] || want[8]) {
+        t21 = 0.39*t14 + z;
+    }
+    if (want[2] || want[4]) {
+        t22 = 0.12*t15 + t21;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t23 = c_hip_fl_x*t7 + s_hip_fl_x*t9;
+    }
+    if (want[4]) {
+        t24 = c_hip_fl_x*t9 - s_hip_fl_x*t7;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t25 = c_hip_fl_x*t11 + s_hip_fl_x*t13;
+    }
+    if (want[4]) {
+        t26 = c_hip_fl_x*t13 - s_hip_fl_x*t11;
+    }
+    if (want[3] || want[4] || want[5]) {
+        t27 = c_hip_fl_x*t15 + s_hip_fl_x*t16;
+    }
+    if (want[4]) {
+        t28 = c_hip_fl_x*t16 - s_hip_fl_x*t15;
+        t29 = c_hip_fl_y*t24 + s_hip_fl_y*t5;
+        t30 = c_hip_fl_y*t26 + s_hip_fl_y*t10;
+        t31 = c_hip_fl_y*t28 + s_hip_fl_y*t14;
+    }
+    if (want[2]) {
+        t32 = t18 - x;
+        t33 = t20 - y;
+        t34 = t22 - z;
+        t35 = t10*t34 - t14*t33;
+        t36 = t14*t32 - t34*t5;
+        t37 = -t10*t32 + t33*t5;
+        t38 = t11*t34 - t15*t33;
+        t39 = t15*t32 - t34*t7;
+        t40 = -t11*t32 + t33*t7;
+        t41 = t13*t34 - t16*t33;
+        t42 = t16*t32 - t34*t9;
+        t43 = -t13*t32 + t33*t9;
+        thigh_fl_vx = t35*wx + t38*wy + t41*wz + vx;
+        thigh_fl_vy = t36*wx + t39*wy + t42*wz + vy;
+        thigh_fl_vz = t37*wx + t40*wy + t43*wz + vz;
+    }
+    if (want[3] || want[5]) {
+        thigh_fl_wx = qd_hip_fl_x*t5 + qd_hip_fl_y*t23 + trunk_wx;
+        thigh_fl_wy = qd_hip_fl_x*t10 + qd_hip_fl_y*t25 + trunk_wy;
+        thigh_fl_wz = qd_hip_fl_x*t14 + qd_hip_fl_y*t27 + trunk_wz;
+    }
+    /* shank_fl */
+    if (want[4]) {
+        t44 = -leg_fl - 0.41;
+        t45 = t18 + t29*t44;
+        t46 = t20 + t30*t44;
+        t47 = t22 + t31*t44;
+        t48 = -t18 + t45;
+        t49 = -t20 + t46;
+        t50 = -t22 + t47;
+        t51 = t25*t50 - t27*t49;
+        t52 = -t23*t50 + t27*t48;
+        t53 = t23*t49 - t25*t48;
+        t54 = t10*t50 - t14*t49;
+        t55 = t14*t48 - t5*t50;
+        t56 = -t10*t48 + t5*t49;
+        t57 = t45 - x;
+        t58 = t46 - y;
+        t59 = t47 - z;
+        t60 = t10*t59 - t14*t58;
+        t61 = t14*t57 - t5*t59;
+        t62 = -t10*t57 + t5*t58;
+        t63 = t11*t59 - t15*t58;
+        t64 = t15*t57 - t59*t7;
+        t65 = -t11*t57 + t58*t7;
+        t66 = t13*t59 - t16*t58;
+        t67 = t16*t57 - t59*t9;
+        t68 = -t13*t57 + t58*t9;
+        shank_fl_vx = qd_hip_fl_x*t54 + qd_hip_fl_y*t51 - qd_leg_fl*t29 + t60*wx + t63*wy + t66*wz + vx;
+        shank_fl_vy = qd_hip_fl_x*t55 + qd_hip_fl_y*t52 - qd_leg_fl*t30 + t61*wx + t64*wy + t67*wz + vy;
+        shank_fl_vz = qd_hip_fl_x*t56 + qd_hip_fl_y*t53 - qd_leg_fl*t31 + t62*wx + t65*wy + t68*wz + vz;
+    }
+    /* thigh_fr */
+    if (want[8]) {
+        c_hip_fr_y = leg_cos(hip_fr_y);
+        s_hip_fr_y = leg_sin(hip_fr_y);
+    } else if (isinf(hip_fr_y)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[7] || want[8] || want[9]) {
+        c_hip_fr_x = leg_cos(hip_fr_x);
+        s_hip_fr_x = leg_sin(hip_fr_x);
+    } else if (isinf(hip_fr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[6] || want[8]) {
+        t69 = t17 - 0.12*t7;
+        t70 = -0.12*t11 + t19;
+        t71 = -0.12*t15 + t21;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t72 = c_hip_fr_x*t7 + s_hip_fr_x*t9;
+    }
+    if (want[8]) {
+        t73 = c_hip_fr_x*t9 - s_hip_fr_x*t7;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t74 = c_hip_fr_x*t11 + s_hip_fr_x*t13;
+    }
+    if (want[8]) {
+        t75 = c_hip_fr_x*t13 - s_hip_fr_x*t11;
+    }
+    if (want[7] || want[8] || want[9]) {
+        t76 = c_hip_fr_x*t15 + s_hip_fr_x*t16;
+    }
+    if (want[8]) {
+        t77 = c_hip_fr_x*t16 - s_hip_fr_x*t15;
+        t78 = c_hip_fr_y*t73 + s_hip_fr_y*t5;
+        t79 = c_hip_fr_y*t75 + s_hip_fr_y*t10;
+        t80 = c_hip_fr_y*t77 + s_hip_fr_y*t14;
+    }
+    if (want[6]) {
+        t81 = t69 - x;
+        t82 = t70 - y;
+        t83 = t71 - z;
+        t84 = t10*t83 - t14*t82;
+        t85 = t14*t81 - t5*t83;
+        t86 = -t10*t81 + t5*t82;
+        t87 = t11*t83 - t15*t82;
+        t88 = t15*t81 - t7*t83;
+        t89 = -t11*t81 + t7*t82;
+        t90 = t13*t83 - t16*t82;
+        t91 = t16*t81 - t9*t83;
+        t92 = -t13*t81 + t9*t82;
+        thigh_fr_vx = t90*wz + t84*wx + t87*wy + vx;
+        thigh_fr_vy = t88*wy + t91*wz + t85*wx + vy;
+        thigh_fr_vz = t89*wy + t92*wz + t86*wx + vz;
+    }
+    if (want[7] || want[9]) {
+        thigh_fr_wx = qd_hip_fr_x*t5 + qd_hip_fr_y*t72 + trunk_wx;
+        thigh_fr_wy = qd_hip_fr_x*t10 + qd_hip_fr_y*t74 + trunk_wy;
+        thigh_fr_wz = qd_hip_fr_x*t14 + qd_hip_fr_y*t76 + trunk_wz;
+    }
+    /* shank_fr */
+    if (want[8]) {
+        t93 = -leg_fr - 0.41;
+        t94 = t93*t78 + t69;
+        t95 = t93*t79 + t70;
+        t96 = t93*t80 + t71;
+        t97 = t94 - t69;
+        t98 = t95 - t70;
+        t99 = t96 - t71;
+        t100 = -t98*t76 + t99*t74;
+        t101 = t97*t76 - t99*t72;
+        t102 = -t97*t74 + t98*t72;
+        t103 = t10*t99 - t98*t14;
+        t104 = t97*t14 - t99*t5;
+        t105 = -t10*t97 + t98*t5;
+        t106 = t94 - x;
+        t107 = t95 - y;
+        t108 = t96 - z;
+        t109 = t10*t108 - t107*t14;
+        t110 = t106*t14 - t108*t5;
+        t111 = -t10*t106 + t107*t5;
+        t112 = t11*t108 - t107*t15;
+        t113 = t106*t15 - t108*t7;
+        t114 = -t11*t106 + t107*t7;
+        t115 = -t107*t16 + t108*t13;
+        t116 = t106*t16 - t108*t9;
+        t117 = -t106*t13 + t107*t9;
+        shank_fr_vx = qd_hip_fr_x*t103 + qd_hip_fr_y*t100 - qd_leg_fr*t78 + t109*wx + t112*wy + t115*wz + vx;
+        shank_fr_vy = qd_hip_fr_x*t104 + qd_hip_fr_y*t101 - qd_leg_fr*t79 + t110*wx + t113*wy + t116*wz + vy;
+        shank_fr_vz = qd_hip_fr_x*t105 + qd_hip_fr_y*t102 - qd_leg_fr*t80 + t111*wx + t114*wy + t117*wz + vz;
+    }
+    /* thigh_rl */
+    if (want[12]) {
+        c_hip_rl_y = leg_cos(hip_rl_y);
+        s_hip_rl_y = leg_sin(hip_rl_y);
+    } else if (isinf(hip_rl_y)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[11] || want[12] || want[13]) {
+        c_hip_rl_x = leg_cos(hip_rl_x);
+        s_hip_rl_x = leg_sin(hip_rl_x);
+    } else if (isinf(hip_rl_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[10] || want[12]) {
+        t118 = -0.39*t5 + 0.12*t7 + x;
+        t119 = -0.39*t10 + 0.12*t11 + y;
+        t120 = -0.39*t14 + 0.12*t15 + z;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t121 = c_hip_rl_x*t7 + s_hip_rl_x*t9;
+    }
+    if (want[12]) {
+        t122 = c_hip_rl_x*t9 - s_hip_rl_x*t7;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t123 = c_hip_rl_x*t11 + s_hip_rl_x*t13;
+    }
+    if (want[12]) {
+        t124 = c_hip_rl_x*t13 - s_hip_rl_x*t11;
+    }
+    if (want[11] || want[12] || want[13]) {
+        t125 = c_hip_rl_x*t15 + s_hip_rl_x*t16;
+    }
+    if (want[12]) {
+        t126 = c_hip_rl_x*t16 - s_hip_rl_x*t15;
+        t127 = c_hip_rl_y*t122 + s_hip_rl_y*t5;
+        t128 = c_hip_rl_y*t124 + s_hip_rl_y*t10;
+        t129 = c_hip_rl_y*t126 + s_hip_rl_y*t14;
+    }
+    if (want[10]) {
+        t130 = t118 - x;
+        t131 = t119 - y;
+        t132 = t120 - z;
+        t133 = t10*t132 - t14*t131;
+        t134 = t14*t130 - t132*t5;
+        t135 = -t10*t130 + t131*t5;
+        t136 = t11*t132 - t15*t131;
+        t137 = t15*t130 - t132*t7;
+        t138 = -t11*t130 + t131*t7;
+        t139 = t13*t132 - t131*t16;
+        t140 = t130*t16 - t132*t9;
+        t141 = -t13*t130 + t131*t9;
+        thigh_rl_vx = t133*wx + t136*wy + t139*wz + vx;
+        thigh_rl_vy = t134*wx + t137*wy + t140*wz + vy;
+        thigh_rl_vz = t135*wx + t138*wy + t141*wz + vz;
+    }
+    if (want[11] || want[13]) {
+        thigh_rl_wx = qd_hip_rl_x*t5 + qd_hip_rl_y*t121 + trunk_wx;
+        thigh_rl_wy = qd_hip_rl_x*t10 + qd_hip_rl_y*t123 + trunk_wy;
+        thigh_rl_wz = qd_hip_rl_x*t14 + qd_hip_rl_y*t125 + trunk_wz;
+    }
+    /* shank_rl */
+    if (want[12]) {
+        t142 = -leg_rl - 0.41;
+        t143 = t118 + t127*t142;
+        t144 = t119 + t128*t142;
+        t145 = t120 + t129*t142;
+        t146 = -t118 + t143;
+        t147 = -t119 + t144;
+        t148 = -t120 + t145;
+        t149 = t123*t148 - t125*t147;
+        t150 = -t121*t148 + t125*t146;
+        t151 = t121*t147 - t123*t146;
+        t152 = t10*t148 - t14*t147;
+        t153 = t14*t146 - t148*t5;
+        t154 = -t10*t146 + t147*t5;
+        t155 = t143 - x;
+        t156 = t144 - y;
+        t157 = t145 - z;
+        t158 = t10*t157 - t14*t156;
+        t159 = t14*t155 - t157*t5;
+        t160 = -t10*t155 + t156*t5;
+        t161 = t11*t157 - t15*t156;
+        t162 = t15*t155 - t157*t7;
+        t163 = -t11*t155 + t156*t7;
+        t164 = t13*t157 - t16*t156;
+        t165 = t16*t155 - t157*t9;
+        t166 = -t13*t155 + t156*t9;
+        shank_rl_vx = qd_hip_rl_x*t152 + qd_hip_rl_y*t149 - qd_leg_rl*t127 + t158*wx + t161*wy + t164*wz + vx;
+        shank_rl_vy = qd_hip_rl_x*t153 + qd_hip_rl_y*t150 - qd_leg_rl*t128 + t159*wx + t162*wy + t165*wz + vy;
+        shank_rl_vz = qd_hip_rl_x*t154 + qd_hip_rl_y*t151 - qd_leg_rl*t129 + t160*wx + t163*wy + t166*wz + vz;
+    }
+    /* thigh_rr */
+    if (want[16]) {
+        c_hip_rr_y = leg_cos(hip_rr_y);
+        s_hip_rr_y = leg_sin(hip_rr_y);
+    } else if (isinf(hip_rr_y)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[15] || want[16] || want[17]) {
+        c_hip_rr_x = leg_cos(hip_rr_x);
+        s_hip_rr_x = leg_sin(hip_rr_x);
+    } else if (isinf(hip_rr_x)) {
+        leg_flag(err, LEG_EDOM);
+    }
+    if (want[14] || want[16]) {
+        t167 = -0.39*t5 - 0.12*t7 + x;
+        t168 = -0.39*t10 - 0.12*t11 + y;
+        t169 = -0.39*t14 - 0.12*t15 + z;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t170 = c_hip_rr_x*t7 + s_hip_rr_x*t9;
+    }
+    if (want[16]) {
+        t171 = c_hip_rr_x*t9 - s_hip_rr_x*t7;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t172 = c_hip_rr_x*t11 + s_hip_rr_x*t13;
+    }
+    if (want[16]) {
+        t173 = c_hip_rr_x*t13 - s_hip_rr_x*t11;
+    }
+    if (want[15] || want[16] || want[17]) {
+        t174 = c_hip_rr_x*t15 + s_hip_rr_x*t16;
+    }
+    if (want[16]) {
+        t175 = c_hip_rr_x*t16 - s_hip_rr_x*t15;
+        t176 = c_hip_rr_y*t171 + s_hip_rr_y*t5;
+        t177 = c_hip_rr_y*t173 + s_hip_rr_y*t10;
+        t178 = c_hip_rr_y*t175 + s_hip_rr_y*t14;
+    }
+    if (want[14]) {
+        t179 = t167 - x;
+        t180 = t168 - y;
+        t181 = t169 - z;
+        t182 = t10*t181 - t14*t180;
+        t183 = t14*t179 - t181*t5;
+        t184 = -t10*t179 + t180*t5;
+        t185 = t11*t181 - t15*t180;
+        t186 = t15*t179 - t181*t7;
+        t187 = -t11*t179 + t180*t7;
+        t188 = t13*t181 - t16*t180;
+        t189 = t16*t179 - t181*t9;
+        t190 = -t13*t179 + t180*t9;
+        thigh_rr_vx = t182*wx + t185*wy + t188*wz + vx;
+        thigh_rr_vy = t183*wx + t186*wy + t189*wz + vy;
+        thigh_rr_vz = t184*wx + t187*wy + t190*wz + vz;
+    }
+    if (want[15] || want[17]) {
+        thigh_rr_wx = qd_hip_rr_x*t5 + qd_hip_rr_y*t170 + trunk_wx;
+        thigh_rr_wy = qd_hip_rr_x*t10 + qd_hip_rr_y*t172 + trunk_wy;
+        thigh_rr_wz = qd_hip_rr_x*t14 + qd_hip_rr_y*t174 + trunk_wz;
+    }
+    /* shank_rr */
+    if (want[16]) {
+        t191 = -leg_rr - 0.41;
+        t192 = t167 + t176*t191;
+        t193 = t168 + t177*t191;
+        t194 = t169 + t178*t191;
+        t195 = -t167 + t192;
+        t196 = -t168 + t193;
+        t197 = -t169 + t194;
+        t198 = t172*t197 - t174*t196;
+        t199 = -t170*t197 + t174*t195;
+        t200 = t170*t196 - t172*t195;
+        t201 = t10*t197 - t14*t196;
+        t202 = t14*t195 - t197*t5;
+        t203 = -t10*t195 + t196*t5;
+        t204 = t192 - x;
+        t205 = t193 - y;
+        t206 = t194 - z;
+        t207 = t10*t206 - t14*t205;
+        t208 = t14*t204 - t206*t5;
+        t209 = -t10*t204 + t205*t5;
+        t210 = t11*t206 - t15*t205;
+        t211 = t15*t204 - t206*t7;
+        t212 = -t11*t204 + t205*t7;
+        t213 = t13*t206 - t16*t205;
+        t214 = t16*t204 - t206*t9;
+        t215 = -t13*t204 + t205*t9;
+        shank_rr_vx = qd_hip_rr_x*t201 + qd_hip_rr_y*t198 - qd_leg_rr*t176 + t207*wx + t210*wy + t213*wz + vx;
+        shank_rr_vy = qd_hip_rr_x*t202 + qd_hip_rr_y*t199 - qd_leg_rr*t177 + t208*wx + t211*wy + t214*wz + vy;
+        shank_rr_vz = qd_hip_rr_x*t203 + qd_hip_rr_y*t200 - qd_leg_rr*t178 + t209*wx + t212*wy + t215*wz + vz;
+    }
+    if (want[0]) {
+        out[0] = vx;
+        out[1] = vy;
+        out[2] = vz;
+    }
+    if (want[1]) {
+        out[3] = trunk_wx;
+        out[4] = trunk_wy;
+        out[5] = trunk_wz;
+    }
+    if (want[2]) {
+        out[6] = thigh_fl_vx;
+        out[7] = thigh_fl_vy;
+        out[8] = thigh_fl_vz;
+    }
+    if (want[3]) {
+        out[9] = thigh_fl_wx;
+        out[10] = thigh_fl_wy;
+        out[11] = thigh_fl_wz;
+    }
+    if (want[4]) {
+        out[12] = shank_fl_vx;
+        out[13] = shank_fl_vy;
+        out[14] = shank_fl_vz;
+    }
+    if (want[5]) {
+        out[15] = thigh_fl_wx;
+        out[16] = thigh_fl_wy;
+        out[17] = thigh_fl_wz;
+    }
+    if (want[6]) {
+        out[18] = thigh_fr_vx;
+        out[19] = thigh_fr_vy;
+        out[20] = thigh_fr_vz;
+    }
+    if (want[7]) {
+        out[21] = thigh_fr_wx;
+        out[22] = thigh_fr_wy;
+        out[23] = thigh_fr_wz;
+    }
+    if (want[8]) {
+        out[24] = shank_fr_vx;
+        out[25] = shank_fr_vy;
+        out[26] = shank_fr_vz;
+    }
+    if (want[9]) {
+        out[27] = thigh_fr_wx;
+        out[28] = thigh_fr_wy;
+        out[29] = thigh_fr_wz;
+    }
+    if (want[10]) {
+        out[30] = thigh_rl_vx;
+        out[31] = thigh_rl_vy;
+        out[32] = thigh_rl_vz;
+    }
+    if (want[11]) {
+        out[33] = thigh_rl_wx;
+        out[34] = thigh_rl_wy;
+        out[35] = thigh_rl_wz;
+    }
+    if (want[12]) {
+        out[36] = shank_rl_vx;
+        out[37] = shank_rl_vy;
+        out[38] = shank_rl_vz;
+    }
+    if (want[13]) {
+        out[39] = thigh_rl_wx;
+        out[40] = thigh_rl_wy;
+        out[41] = thigh_rl_wz;
+    }
+    if (want[14]) {
+        out[42] = thigh_rr_vx;
+        out[43] = thigh_rr_vy;
+        out[44] = thigh_rr_vz;
+    }
+    if (want[15]) {
+        out[45] = thigh_rr_wx;
+        out[46] = thigh_rr_wy;
+        out[47] = thigh_rr_wz;
+    }
+    if (want[16]) {
+        out[48] = shank_rr_vx;
+        out[49] = shank_rr_vy;
+        out[50] = shank_rr_vz;
+    }
+    if (want[17]) {
+        out[51] = thigh_rr_wx;
+        out[52] = thigh_rr_wy;
+        out[53] = thigh_rr_wz;
+    }
     (void)err;
 }
 

@@ -19,6 +19,7 @@ from conftest import GENERATED, SHIPPED, shipped_dynamics, shipped_model
 
 from legdsl.codegen.c.build import build, find_compiler, sources
 from legdsl.codegen.c.dynamics import C_FUNCTIONS, flatten
+from legdsl.codegen.c.slices import SLICED, parts_of
 
 pytestmark = pytest.mark.skipif(
     find_compiler() is None,
@@ -162,3 +163,51 @@ def test_a_controller_with_no_c_twin_is_printed_as_a_stub_for_python() -> None:
     normal = render_control_c(compiled.model, lc, "creatures/hopper.leg",
                               {s: "" for s in lc.states}, "x")  # fmt: skip
     assert "const int64_t leg_has_c_controller = 1;" in normal
+
+
+def _call_some(lib: ctypes.CDLL, name: str, params: tuple[str, ...],
+               state: dict[str, list[float]], want: list[int], size: int) -> tuple[list[float], int]:  # fmt: skip
+    args = [(ctypes.c_double * len(state[p]))(*state[p]) for p in params]
+    out = (ctypes.c_double * size)(*([12345.0] * size))
+    err = ctypes.c_int(0)
+    getattr(lib, f"{name}_some")(*args, (ctypes.c_ubyte * len(want))(*want), out, ctypes.byref(err))
+    return list(out), err.value
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_the_some_functions_write_the_wanted_parts_as_the_whole_functions_do(name: str) -> None:
+    """NAME_some writes the outputs of the wanted parts (a contact; a body's position or
+    rotation) bit for bit as NAME does, leaves the others as they were, and flags NAME's error:
+    an infinite angle of a part not wanted is still Python's domain error, and a zero
+    quaternion still divides by zero."""
+    lib, dyn = _library(name), shipped_dynamics(name)
+    model = shipped_model(name)
+    rng = random.Random(f"c-some-{name}")
+    hinges = [d.q_index for d in model.dofs if d.motion == "hinge"]
+    checked = 0
+    for trial in range(40):
+        state = _state(name, rng)
+        for fname in SLICED:
+            params = tuple(inspect.signature(getattr(dyn, fname)).parameters)
+            result = getattr(dyn, fname)(*(state[p] for p in params))
+            whole = [float(x) for x in flatten(result)]
+            by_part = parts_of(result, SLICED[fname])
+            want = [rng.random() < 0.4 for _ in by_part]
+            got, err = _call_some(lib, fname, params, state, want, len(whole))
+            assert err == 0
+            for p, ks in enumerate(by_part):
+                for k in ks:
+                    expected = whole[k] if want[p] else 12345.0
+                    assert got[k].hex() == expected.hex(), (fname, p, k)
+                    checked += 1
+            broken = dict(state, q=list(state["q"]))
+            if trial % 2 and hinges:
+                broken["q"][rng.choice(hinges)] = math.inf
+            elif model.joints[0].is_free_3d:
+                broken["q"][3:7] = [0.0] * 4
+            else:
+                continue
+            _, whole_err = _call_c(lib, fname, params, broken, len(whole))
+            _, some_err = _call_some(lib, fname, params, broken, [0] * len(by_part), len(whole))
+            assert some_err == whole_err, fname
+    assert checked > 1000

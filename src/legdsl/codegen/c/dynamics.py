@@ -100,6 +100,8 @@ def _header_comment(system: SymbolicSystem, source: str, file: str) -> str:
 
 def render_header(system: SymbolicSystem, source: str) -> str:
     """The text of ``generated/NAME/dynamics.h``."""
+    from legdsl.codegen.c import slices  # (it prints with this module's helpers)
+
     model = system.model
     free3d = any(j.is_free_3d for j in model.joints)
     lines = [
@@ -120,17 +122,25 @@ def render_header(system: SymbolicSystem, source: str) -> str:
         function = system.function(name)
         lines.append(f"#define LEG_OUT_{name.upper()} {out_size(function)}")
         lines.append(_signature(function) + ";")
+        if name in slices.SLICED:
+            lines.append(f"#define LEG_PARTS_{name.upper()} {len(slices.parts(function))}")
+            lines.append(slices.signature(function) + ";")
     lines += ["", "#endif", ""]
     return "\n".join(lines)
 
 
 def render_source(system: SymbolicSystem, source: str) -> str:
-    """The text of ``generated/NAME/dynamics.c``."""
+    """The text of ``generated/NAME/dynamics.c``: each function, then its ``_some`` twin."""
+    from legdsl.codegen.c import slices
+
     parts = [
         _header_comment(system, source, "dynamics.c"),
         "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
         '#include "legdsl_math.h"\n#include "dynamics.h"',
         f'const char legdsl_model_fingerprint[] = "{model_fingerprint(system.model)}";',
     ]
-    parts += [function_text(system.function(name)) for name in C_FUNCTIONS]
+    for name in C_FUNCTIONS:
+        parts.append(function_text(system.function(name)))
+        if name in slices.SLICED:
+            parts.append(slices.function_text(system.function(name)))
     return "\n\n".join(parts) + "\n"

@@ -21,52 +21,92 @@
 #define NCS (3 * LEG_NC + 1)
 
 /* ------------------------------------------------------------ the per-tick kinematics cache */
-/* one per thread: runs of a batch go on in parallel threads (legdsl.pipeline.backend.run_batch) */
-static __thread struct {
-    int poses, vel, feet, com, heading;
+/* One per thread: runs of a batch go on in parallel threads (legdsl.pipeline.backend.run_batch).
+ * Each sensor function finds it once (kc) and hands it on: in a shared library every reach
+ * for a thread's variable is a call (__tls_get_addr). */
+typedef struct {
+    int feet, com, heading, angles_of; /* angles_of: the body of angles, or -1 */
     double pose[12 * NB], velocity[6 * NB], foot[NCS], foot_v[NCS], c[3], cv[3], hc, hs;
-} K;
+    double angles[6]; /* euler_rates of one body: roll, pitch, yaw and their rates */
+    /* parts of body_poses and body_velocities (a body's position or linear velocity, its
+     * rotation or angular velocity): found this tick, and read by the sensors in any tick */
+    unsigned char pose_found[2 * NB], vel_found[2 * NB], pose_read[2 * NB], vel_read[2 * NB];
+} sense_cache;
+static __thread sense_cache K;
+#if defined(__GNUC__) && !defined(__clang__)
+#define LEG_OPAQUE __attribute__((noipa)) /* else gcc passes &K on as a constant, found again */
+#else
+#define LEG_OPAQUE __attribute__((noinline))
+#endif
+static LEG_OPAQUE sense_cache *this_thread(void) { return &K; }
 
 static __thread int path_fresh[64];
 void leg_sense_begin(void) {
-    K.poses = K.vel = K.feet = K.com = K.heading = 0;
+    sense_cache *const kc = this_thread();
+    kc->feet = kc->com = kc->heading = 0;
+    kc->angles_of = -1;
+    memset(kc->pose_found, 0, sizeof kc->pose_found);
+    memset(kc->vel_found, 0, sizeof kc->vel_found);
     for (int k = 0; k < 64; k++) path_fresh[k] = 0;
 }
 
-static const double *poses(leg_sim *s, int *err) {
-    if (!K.poses) { body_poses(s->q, K.pose, err); K.poses = 1; }
-    return K.pose;
+/* Body b's part (and, with both, its second part) of a body function's result. Python
+ * computes the whole function once a tick; the sensors read a few bodies, the same ones at
+ * every tick, so the first read of a tick computes every part read so far with the _some
+ * function (dynamics.c: the same doubles, and it fails where the whole function fails). */
+static int to_find(unsigned char *want, const unsigned char *found, unsigned char *read, int b,
+                   int both) {
+    read[2 * b] = 1;
+    if (both) read[2 * b + 1] = 1;
+    int any = 0;
+    for (int p = 0; p < 2 * NB; p++) any |= want[p] = read[p] && !found[p];
+    return any;
 }
-static const double *velocities(leg_sim *s, int *err) {
-    if (!K.vel) { body_velocities(s->q, s->v, K.velocity, err); K.vel = 1; }
-    return K.velocity;
+static const double *pose(sense_cache *kc, leg_sim *s, int b, int both, int *err) {
+    if (!kc->pose_found[2 * b] || (both && !kc->pose_found[2 * b + 1])) {
+        unsigned char want[2 * NB];
+        if (to_find(want, kc->pose_found, kc->pose_read, b, both))
+            body_poses_some(s->q, want, kc->pose, err);
+        for (int p = 0; p < 2 * NB; p++) kc->pose_found[p] |= want[p];
+    }
+    return kc->pose + 12 * b;
 }
-static void feet(leg_sim *s, int *err) {
-    if (!K.feet) {
-        contact_positions(s->q, K.foot, err);
-        contact_velocities(s->q, s->v, K.foot_v, err);
-        K.feet = 1;
+static const double *velocity(sense_cache *kc, leg_sim *s, int b, int both, int *err) {
+    if (!kc->vel_found[2 * b] || (both && !kc->vel_found[2 * b + 1])) {
+        unsigned char want[2 * NB];
+        if (to_find(want, kc->vel_found, kc->vel_read, b, both))
+            body_velocities_some(s->q, s->v, want, kc->velocity, err);
+        for (int p = 0; p < 2 * NB; p++) kc->vel_found[p] |= want[p];
+    }
+    return kc->velocity + 6 * b;
+}
+
+static void feet(sense_cache *kc, leg_sim *s, int *err) {
+    if (!kc->feet) {
+        contact_positions(s->q, kc->foot, err);
+        contact_velocities(s->q, s->v, kc->foot_v, err);
+        kc->feet = 1;
     }
 }
-static void com(leg_sim *s, int *err) {
-    if (!K.com) {
-        center_of_mass(s->q, K.c, err);
-        center_of_mass_velocity(s->q, s->v, K.cv, err);
-        K.com = 1;
+static void com(sense_cache *kc, leg_sim *s, int *err) {
+    if (!kc->com) {
+        center_of_mass(s->q, kc->c, err);
+        center_of_mass_velocity(s->q, s->v, kc->cv, err);
+        kc->com = 1;
     }
 }
-static void heading(leg_sim *s, int *err) {
-    if (!K.heading) {
-        const double *rot = poses(s, err) + 3;
+static void heading(sense_cache *kc, leg_sim *s, int *err) {
+    if (!kc->heading) {
+        const double *rot = pose(kc, s, 0, 1, err) + 3;
         double yaw = LEG_PLANAR ? 0.0 : atan2(rot[3], rot[0]);
-        K.hc = leg_cos(yaw);
-        K.hs = leg_sin(yaw);
-        K.heading = 1;
+        kc->hc = leg_cos(yaw);
+        kc->hs = leg_sin(yaw);
+        kc->heading = 1;
     }
 }
-static double to_heading(leg_sim *s, const double *vec, int axis, int *err) {
-    heading(s, err);
-    double c = K.hc, sn = K.hs;
+static double to_heading(sense_cache *kc, leg_sim *s, const double *vec, int axis, int *err) {
+    heading(kc, s, err);
+    double c = kc->hc, sn = kc->hs;
     if (axis == 0) return c * vec[0] + sn * vec[1];
     if (axis == 1) return -sn * vec[0] + c * vec[1];
     return vec[2];
@@ -74,14 +114,16 @@ static double to_heading(leg_sim *s, const double *vec, int axis, int *err) {
 
 /* ------------------------------------------------------------ sensor values (Sensors._value) */
 double leg_sense_com(leg_sim *s, int axis, int velocity, int *err) {
-    com(s, err);
-    return velocity ? K.cv[axis] : K.c[axis];
+    sense_cache *const kc = this_thread();
+    com(kc, s, err);
+    return velocity ? kc->cv[axis] : kc->c[axis];
 }
 
 double leg_sense_contact(leg_sim *s, int i, int member, int *err) {
     if (member == 0) return s->has_ground && s->touching[i] ? 1.0 : 0.0;
-    feet(s, err);
-    return member >= 4 ? K.foot_v[3 * i + member - 4] : K.foot[3 * i + member - 1];
+    sense_cache *const kc = this_thread();
+    feet(kc, s, err);
+    return member >= 4 ? kc->foot_v[3 * i + member - 4] : kc->foot[3 * i + member - 1];
 }
 
 double leg_sense_act(const leg_sim *s, int a, int member) {
@@ -92,28 +134,31 @@ double leg_sense_act(const leg_sim *s, int a, int member) {
 }
 
 double leg_sense_body(leg_sim *s, int b, int member, int *err) {
-    const double *pose = poses(s, err) + 12 * b;
-    if (member < 3) return pose[member];
-    const double *vel = velocities(s, err) + 6 * b;
+    sense_cache *const kc = this_thread();
+    const double *pose_b = pose(kc, s, b, member >= 6, err);
+    if (member < 3) return pose_b[member];
+    const double *vel = velocity(kc, s, b, member >= 6, err);
     if (member < 6) return vel[member - 3];
-    const double *rot = pose + 3, *omega = vel + 3; /* euler_rates */
-    double roll = atan2(rot[7], rot[8]);
-    double pitch = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
-    double yaw = atan2(rot[3], rot[0]);
-    double bx = rot[0] * omega[0] + rot[3] * omega[1] + rot[6] * omega[2];
-    double by = rot[1] * omega[0] + rot[4] * omega[1] + rot[7] * omega[2];
-    double bz = rot[2] * omega[0] + rot[5] * omega[1] + rot[8] * omega[2];
-    double sr = leg_sin(roll), cr = leg_cos(roll);
-    double cp = leg_cos(pitch);
-    cp = fabs(cp) > 1e-9 ? cp : copysign(1e-9, cp);
-    switch (member) {
-    case 6: return roll;
-    case 7: return pitch;
-    case 8: return yaw;
-    case 9: return bx + (by * sr + bz * cr) * leg_tan(pitch);
-    case 10: return by * cr - bz * sr;
-    default: return leg_div(by * sr + bz * cr, cp);
+    if (kc->angles_of != b) { /* euler_rates, once a tick for all six of a body's readings */
+        const double *rot = pose_b + 3, *omega = vel + 3;
+        double roll = atan2(rot[7], rot[8]);
+        double pitch = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
+        double yaw = atan2(rot[3], rot[0]);
+        double bx = rot[0] * omega[0] + rot[3] * omega[1] + rot[6] * omega[2];
+        double by = rot[1] * omega[0] + rot[4] * omega[1] + rot[7] * omega[2];
+        double bz = rot[2] * omega[0] + rot[5] * omega[1] + rot[8] * omega[2];
+        double sr = leg_sin(roll), cr = leg_cos(roll);
+        double cp = leg_cos(pitch);
+        cp = fabs(cp) > 1e-9 ? cp : copysign(1e-9, cp);
+        kc->angles[0] = roll;
+        kc->angles[1] = pitch;
+        kc->angles[2] = yaw;
+        kc->angles[3] = bx + (by * sr + bz * cr) * leg_tan(pitch);
+        kc->angles[4] = by * cr - bz * sr;
+        kc->angles[5] = leg_div(by * sr + bz * cr, cp);
+        kc->angles_of = b;
     }
+    return kc->angles[member - 6];
 }
 
 double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
@@ -121,29 +166,30 @@ double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
     if (member == 0) return clock[0] != 0.0 ? 1.0 : 0.0;
     if (member == 1) return clock[3];
     if (member == 2) return clock[4];
-    feet(s, err);
-    const double *f = K.foot + 3 * foot, *fv = K.foot_v + 3 * foot;
+    sense_cache *const kc = this_thread();
+    feet(kc, s, err);
+    const double *f = kc->foot + 3 * foot, *fv = kc->foot_v + 3 * foot;
     if (member == 3 || member == 4) {
-        const double *h = poses(s, err) + 12 * hip;
-        const double *hv = velocities(s, err) + 6 * hip;
+        const double *h = pose(kc, s, hip, 0, err);
+        const double *hv = velocity(kc, s, hip, 0, err);
         double d[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double length = leg_sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (member == 3) return length;
         double dv[3] = {fv[0] - hv[0], fv[1] - hv[1], fv[2] - hv[2]};
         return length > 0 ? leg_div(d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2], length) : 0.0;
     }
-    com(s, err);
+    com(kc, s, err);
     if (member <= 7) {
-        const double *h = poses(s, err) + 12 * hip;
-        double rel[3] = {h[0] - K.c[0], h[1] - K.c[1], h[2] - K.c[2]};
-        return to_heading(s, rel, member - 5, err);
+        const double *h = pose(kc, s, hip, 0, err);
+        double rel[3] = {h[0] - kc->c[0], h[1] - kc->c[1], h[2] - kc->c[2]};
+        return to_heading(kc, s, rel, member - 5, err);
     }
     if (member <= 10) {
-        double rel[3] = {f[0] - K.c[0], f[1] - K.c[1], f[2] - K.c[2]};
-        return to_heading(s, rel, member - 8, err);
+        double rel[3] = {f[0] - kc->c[0], f[1] - kc->c[1], f[2] - kc->c[2]};
+        return to_heading(kc, s, rel, member - 8, err);
     }
-    double rel_v[3] = {fv[0] - K.cv[0], fv[1] - K.cv[1], fv[2] - K.cv[2]};
-    return to_heading(s, rel_v, member - 11, err);
+    double rel_v[3] = {fv[0] - kc->cv[0], fv[1] - kc->cv[1], fv[2] - kc->cv[2]};
+    return to_heading(kc, s, rel_v, member - 11, err);
 }
 
 /* ------------------------------------------------------------ paths (path_tracking.py) */
@@ -240,9 +286,10 @@ double leg_sense_path(leg_sim *s, int k, int member, int *err) {
     double *st = s->path_state + 12 * k;
     if (g[0] != 0.0 && !path_fresh[k]) {
         path_fresh[k] = 1;
-        com(s, err);
+        sense_cache *const kc = this_thread();
+        com(kc, s, err);
         double p[5], ahead[3];
-        project(g, K.c[0], K.c[1], p, err);
+        project(g, kc->c[0], kc->c[1], p, err);
         double length = g[7];
         if (isnan(st[1])) {
             st[0] = p[0];
@@ -280,17 +327,24 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         if (!isfinite(guess[k])) guess[k] = q[qi[k]];
         q[qi[k]] = guess[k];
     }
+    /* Python computes every foot, body and Jacobian row; only this foot's position and rows,
+     * the hip's position and the root's rotation are read, and the _some functions (dynamics.c)
+     * compute those as the whole functions do, failing where they fail. */
+    unsigned char feet[NCS], root_and_hip[2 * NB], hip_only[2 * NB];
+    for (int i = 0; i < NC; i++) feet[i] = i == foot;
+    for (int b = 0; b < 2 * NB; b++) root_and_hip[b] = hip_only[b] = b == 2 * hip;
+    root_and_hip[1] = 1; /* the root body's rotation */
     double yaw = 0.0;
     int posed = 0; /* pose is of q as it is now (the first iteration's, which Python computes again) */
     if (!LEG_PLANAR) {
-        body_poses(q, pose, err);
+        body_poses_some(q, root_and_hip, pose, err);
         yaw = atan2(pose[3 + 3], pose[3 + 0]);
         posed = 1;
     }
     double c = leg_cos(yaw), sn = leg_sin(yaw);
     for (int it = 0; it < PLACE_ITERATIONS; it++) {
-        contact_positions(q, pos, err);
-        if (!posed) body_poses(q, pose, err);
+        contact_positions_some(q, feet, pos, err);
+        if (!posed) body_poses_some(q, hip_only, pose, err);
         posed = 0;
         const double *f = pos + 3 * foot, *h = pose + 12 * hip;
         double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
@@ -298,7 +352,7 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         double residual[3], a[9], b[3], world[3][3], heading[3][3];
         int64_t ipiv[3], info = 0, one = 1;
         for (int64_t k = 0; k < n; k++) residual[k] = rel[rows[k]] - goals[k];
-        contact_jacobians(q, jac, err);
+        contact_jacobians_some(q, feet, jac, err);
         const double *J = jac + 3 * LEG_NV * foot;
         for (int r = 0; r < 3; r++)
             for (int64_t k = 0; k < n; k++) world[r][k] = J[r * LEG_NV + vi[k]];
@@ -464,11 +518,12 @@ python: /* undo the tick: Python's state machine takes it from the same state */
  * 2 ahead_depth, 3 ahead_given, 4 height (under the centre of mass). Only steps and boxes
  * are features ahead (s->flats holds them in the terrain's order; a slope is never one). */
 double leg_sense_terrain(leg_sim *s, int member, int *err) {
-    com(s, err);
-    double x = K.c[0], y = K.c[1];
+    sense_cache *const kc = this_thread();
+    com(kc, s, err);
+    double x = kc->c[0], y = kc->c[1];
     if (member == 4) return s->has_ground ? leg_ground_height(s, x, y, err) : 0.0;
-    heading(s, err);
-    double yaw = atan2(K.hs, K.hc);
+    heading(kc, s, err);
+    double yaw = atan2(kc->hs, kc->hc);
     double c = leg_cos(yaw), sn = leg_sin(yaw);
     int found = 0;
     double best[3] = {0.0, 0.0, 0.0}; /* distance, depth, height */

@@ -13,6 +13,10 @@
  * (tests/sim/test_c_backend.py) runs every shipped creature and controller on both backends
  * and compares every recorded array bit for bit, so any drift between the two fails CI.
  *
+ * Where it reads part of a kinematic function's result (the rows of the feet that touch, the
+ * root's pose), it calls the function's _some twin (dynamics.c, codegen/c/slices.py), which
+ * writes those outputs as the whole function does and fails where the whole function fails.
+ *
  * The creature comes from dynamics.h (generated); everything that varies per run is in the
  * leg_sim struct (legdsl_sim.h).
  */
@@ -286,24 +290,32 @@ static int near_ground(const leg_sim *s, const double *pos, int *err) {
 }
 
 /* Contact positions, velocities and (3D with torsion) body yaws (_contact_kinematics); the
- * velocities and yaws are zeros while every foot is in the air and above the ground. */
+ * velocities and yaws are zeros while every foot is in the air and above the ground.
+ * Near it, only the feet that touch or are at or under the ground get theirs (the others'
+ * are zeros here, not Python's values): the forces, slip and touchdowns read no other
+ * foot's (the feet touching after this state's update are among them). The _some functions
+ * (dynamics.c) compute those outputs as the whole functions do, and fail where they fail. */
 static void contact_kinematics(const leg_sim *s, const double *q, const double *v, double *pos,
                                double *vel, double *yaws, int *err) {
     contact_positions(q, pos, err);
-    if (!near_ground(s, pos, err)) {
-        for (int k = 0; k < 3 * NC; k++) vel[k] = 0.0;
-        for (int i = 0; i < NC; i++) yaws[i] = 0.0;
-        return;
-    }
+    for (int k = 0; k < 3 * NC; k++) vel[k] = 0.0;
+    for (int i = 0; i < NC; i++) yaws[i] = 0.0;
+    if (!near_ground(s, pos, err)) return;
+    unsigned char feet[NC3];
+    double n[3];
+    for (int i = 0; i < NC; i++) feet[i] = s->touching[i] || depth(s, pos + 3 * i, n, err) > 0.0;
     if (s->torsion) {
         double poses[NBP];
-        body_poses(q, poses, err);
+        unsigned char rotations[2 * LEG_NB];
+        for (int b = 0; b < 2 * LEG_NB; b++) rotations[b] = 0;
+        for (int i = 0; i < NC; i++) rotations[2 * s->contact_body[i] + 1] |= feet[i];
+        body_poses_some(q, rotations, poses, err);
         for (int i = 0; i < NC; i++) {
             const double *rot = poses + 12 * s->contact_body[i] + 3;
-            yaws[i] = atan2(rot[3], rot[0]);
+            if (feet[i]) yaws[i] = atan2(rot[3], rot[0]);
         }
     }
-    contact_velocities(q, v, vel, err);
+    contact_velocities_some(q, v, feet, vel, err);
 }
 
 /* ------------------------------------------------------------ forces (Simulation.generalized_forces) */
@@ -342,7 +354,9 @@ static void generalized_forces(leg_sim *s, const double *q, const double *v, int
         } else {
             contact_kinematics(s, q, v, pos, vel, yaws, err);
         }
-        contact_jacobians(q, jac, err);
+        unsigned char touching[NC3];
+        for (int i = 0; i < NC; i++) touching[i] = (unsigned char)s->touching[i];
+        contact_jacobians_some(q, touching, jac, err); /* the rows of the feet that push */
         for (int i = 0; i < NC; i++) {
             if (!s->touching[i]) {
                 if (record) {
@@ -363,7 +377,7 @@ static void generalized_forces(leg_sim *s, const double *q, const double *v, int
         }
         if (s->torsion) { /* Simulation._add_torsion */
             double jw[NCJ];
-            contact_angular_jacobians(q, jw, err);
+            contact_angular_jacobians_some(q, touching, jw, err);
             for (int i = 0; i < NC; i++) {
                 if (!s->touching[i]) continue;
                 const double *jz = jw + 3 * NV * i + 2 * NV;
@@ -623,7 +637,10 @@ static int record_row(leg_sim *s, int64_t row) {
     center_of_mass(q, s->rec_com + 3 * row, err);
     center_of_mass_velocity(q, v, s->rec_com_vel + 3 * row, err);
     double poses[NBP];
-    body_poses(q, poses, err);
+    unsigned char read[2 * LEG_NB]; /* the root's pose and the hips' positions (record_row's) */
+    for (int b = 0; b < 2 * LEG_NB; b++) read[b] = b < 2;
+    for (int64_t i = 0; i < s->n_legs; i++) read[2 * s->leg_hip[i]] = 1;
+    body_poses_some(q, read, poses, err);
     const double *rot = poses + 3;
     for (int k = 0; k < 3; k++) s->rec_root_pos[3 * row + k] = poses[k];
     s->rec_root_rpy[3 * row] = atan2(rot[7], rot[8]);
@@ -673,7 +690,8 @@ static int check_fails(leg_sim *s) {
     }
     if (fastest > 1e3) return 1;
     double poses[NBP];
-    body_poses(s->q, poses, err);
+    const unsigned char root[2 * LEG_NB] = {1, 1}; /* its position and rotation: all _check reads */
+    body_poses_some(s->q, root, poses, err);
     if (e) return 1; /* Python raises here: it says so */
     const double *rot = poses + 3;
     double tilt = leg_acos(leg_max(-1.0, leg_min(1.0, rot[8])));
