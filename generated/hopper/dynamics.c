@@ -276,34 +276,6 @@ void contact_positions(const double *q, double *out, int *err)
     (void)err;
 }
 
-void contact_positions_some(const double *q, const unsigned char *want, double *out, int *err)
-{
-    leg_trig_entry *const leg_trig_here = leg_trig_table();
-    const double x = q[0];
-    const double z = q[1];
-    const double pitch = q[2];
-    const double hip = q[3];
-    const double leg = q[4];
-    /* toe */
-    const double t1 = -leg - 0.3;
-    const double c_hip = leg_cos(hip);
-    const double s_hip = leg_sin(hip);
-    const double c_pitch = leg_cos(pitch);
-    const double s_pitch = leg_sin(pitch);
-    const double t2 = c_hip*c_pitch - s_hip*s_pitch;
-    const double t3 = c_hip*s_pitch + c_pitch*s_hip;
-    const double t4 = t1*t3 + x;
-    const double t5 = t1*t2 + z;
-    const double toe_x = -0.5*t3 + t4;
-    const double toe_z = -0.5*t2 + t5;
-    if (want[0]) {
-        out[0] = toe_x;
-        out[1] = 0.0;
-        out[2] = toe_z;
-    }
-    (void)err;
-}
-
 void contact_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -336,43 +308,6 @@ void contact_velocities(const double *q, const double *v, double *out, int *err)
     out[0] = toe_vx;
     out[1] = 0.0;
     out[2] = toe_vz;
-    (void)err;
-}
-
-void contact_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
-{
-    leg_trig_entry *const leg_trig_here = leg_trig_table();
-    const double x = q[0];
-    const double z = q[1];
-    const double pitch = q[2];
-    const double hip = q[3];
-    const double leg = q[4];
-    const double qd_x = v[0];
-    const double qd_z = v[1];
-    const double qd_pitch = v[2];
-    const double qd_hip = v[3];
-    const double qd_leg = v[4];
-    /* toe */
-    const double t1 = -leg - 0.3;
-    const double c_hip = leg_cos(hip);
-    const double s_hip = leg_sin(hip);
-    const double c_pitch = leg_cos(pitch);
-    const double s_pitch = leg_sin(pitch);
-    const double t2 = c_hip*c_pitch - s_hip*s_pitch;
-    const double t3 = c_hip*s_pitch + c_pitch*s_hip;
-    const double t4 = t1*t3 + x;
-    const double t5 = t1*t2 + z;
-    const double t6 = -0.5*t3 + t4;
-    const double t7 = -0.5*t2 + t5;
-    const double t8 = t6 - x;
-    const double t9 = t7 - z;
-    const double toe_vx = qd_hip*t9 - qd_leg*t3 + qd_pitch*t9 + qd_x;
-    const double toe_vz = -qd_hip*t8 - qd_leg*t2 - qd_pitch*t8 + qd_z;
-    if (want[0]) {
-        out[0] = toe_vx;
-        out[1] = 0.0;
-        out[2] = toe_vz;
-    }
     (void)err;
 }
 
@@ -416,48 +351,6 @@ void contact_jacobians(const double *q, double *out, int *err)
     (void)err;
 }
 
-void contact_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
-{
-    leg_trig_entry *const leg_trig_here = leg_trig_table();
-    const double x = q[0];
-    const double z = q[1];
-    const double pitch = q[2];
-    const double hip = q[3];
-    const double leg = q[4];
-    /* toe */
-    const double t1 = -leg - 0.3;
-    const double c_hip = leg_cos(hip);
-    const double s_hip = leg_sin(hip);
-    const double c_pitch = leg_cos(pitch);
-    const double s_pitch = leg_sin(pitch);
-    const double t2 = c_hip*c_pitch - s_hip*s_pitch;
-    const double t3 = c_hip*s_pitch + c_pitch*s_hip;
-    const double t4 = t1*t3 + x;
-    const double t5 = t1*t2 + z;
-    const double t6 = -0.5*t3 + t4;
-    const double t7 = -0.5*t2 + t5;
-    const double t8 = t6 - x;
-    const double toe_jx_pitch = t7 - z;
-    if (want[0]) {
-        out[0] = 1.0;
-        out[1] = 0.0;
-        out[2] = toe_jx_pitch;
-        out[3] = toe_jx_pitch;
-        out[4] = -t3;
-        out[5] = 0.0;
-        out[6] = 0.0;
-        out[7] = 0.0;
-        out[8] = 0.0;
-        out[9] = 0.0;
-        out[10] = 0.0;
-        out[11] = 1.0;
-        out[12] = -t8;
-        out[13] = -t8;
-        out[14] = -t2;
-    }
-    (void)err;
-}
-
 void contact_angular_jacobians(const double *q, double *out, int *err)
 {
     out[0] = 0.0;
@@ -475,28 +368,6 @@ void contact_angular_jacobians(const double *q, double *out, int *err)
     out[12] = 0.0;
     out[13] = 0.0;
     out[14] = 0.0;
-    (void)err;
-}
-
-void contact_angular_jacobians_some(const double *q, const unsigned char *want, double *out, int *err)
-{
-    if (want[0]) {
-        out[0] = 0.0;
-        out[1] = 0.0;
-        out[2] = 0.0;
-        out[3] = 0.0;
-        out[4] = 0.0;
-        out[5] = 0.0;
-        out[6] = 0.0;
-        out[7] = 1.0;
-        out[8] = 1.0;
-        out[9] = 0.0;
-        out[10] = 0.0;
-        out[11] = 0.0;
-        out[12] = 0.0;
-        out[13] = 0.0;
-        out[14] = 0.0;
-    }
     (void)err;
 }
 
@@ -559,88 +430,6 @@ void body_poses(const double *q, double *out, int *err)
     (void)err;
 }
 
-void body_poses_some(const double *q, const unsigned char *want, double *out, int *err)
-{
-    leg_trig_entry *const leg_trig_here = leg_trig_table();
-    double c_pitch, s_pitch, c_hip, s_hip, thigh_r11, thigh_r13, t1, shank_x, shank_z;
-    const double x = q[0];
-    const double z = q[1];
-    const double pitch = q[2];
-    const double hip = q[3];
-    const double leg = q[4];
-    /* body */
-    if (want[1] || want[3] || want[4] || want[5]) {
-        c_pitch = leg_cos(pitch);
-        s_pitch = leg_sin(pitch);
-    } else if (isinf(pitch)) {
-        leg_flag(err, LEG_EDOM);
-    }
-    /* thigh */
-    if (want[3] || want[4] || want[5]) {
-        c_hip = leg_cos(hip);
-        s_hip = leg_sin(hip);
-        thigh_r11 = c_hip*c_pitch - s_hip*s_pitch;
-        thigh_r13 = c_hip*s_pitch + c_pitch*s_hip;
-    } else if (isinf(hip)) {
-        leg_flag(err, LEG_EDOM);
-    }
-    /* shank */
-    if (want[4]) {
-        t1 = -leg - 0.3;
-        shank_x = thigh_r13*t1 + x;
-        shank_z = thigh_r11*t1 + z;
-    }
-    if (want[0]) {
-        out[0] = x;
-        out[1] = 0.0;
-        out[2] = z;
-    }
-    if (want[1]) {
-        out[3] = c_pitch;
-        out[4] = 0.0;
-        out[5] = s_pitch;
-        out[6] = 0.0;
-        out[7] = 1.0;
-        out[8] = 0.0;
-        out[9] = -s_pitch;
-        out[10] = 0.0;
-        out[11] = c_pitch;
-    }
-    if (want[2]) {
-        out[12] = x;
-        out[13] = 0.0;
-        out[14] = z;
-    }
-    if (want[3]) {
-        out[15] = thigh_r11;
-        out[16] = 0.0;
-        out[17] = thigh_r13;
-        out[18] = 0.0;
-        out[19] = 1.0;
-        out[20] = 0.0;
-        out[21] = -thigh_r13;
-        out[22] = 0.0;
-        out[23] = thigh_r11;
-    }
-    if (want[4]) {
-        out[24] = shank_x;
-        out[25] = 0.0;
-        out[26] = shank_z;
-    }
-    if (want[5]) {
-        out[27] = thigh_r11;
-        out[28] = 0.0;
-        out[29] = thigh_r13;
-        out[30] = 0.0;
-        out[31] = 1.0;
-        out[32] = 0.0;
-        out[33] = -thigh_r13;
-        out[34] = 0.0;
-        out[35] = thigh_r11;
-    }
-    (void)err;
-}
-
 void body_velocities(const double *q, const double *v, double *out, int *err)
 {
     leg_trig_entry *const leg_trig_here = leg_trig_table();
@@ -689,82 +478,6 @@ void body_velocities(const double *q, const double *v, double *out, int *err)
     out[15] = 0.0;
     out[16] = thigh_wy;
     out[17] = 0.0;
-    (void)err;
-}
-
-void body_velocities_some(const double *q, const double *v, const unsigned char *want, double *out, int *err)
-{
-    leg_trig_entry *const leg_trig_here = leg_trig_table();
-    double c_pitch, s_pitch, c_hip, s_hip, t1, t2, thigh_wy, t3, t4, t5, t6, t7, shank_vx, shank_vz;
-    const double x = q[0];
-    const double z = q[1];
-    const double pitch = q[2];
-    const double hip = q[3];
-    const double leg = q[4];
-    const double qd_x = v[0];
-    const double qd_z = v[1];
-    const double qd_pitch = v[2];
-    const double qd_hip = v[3];
-    const double qd_leg = v[4];
-    /* body */
-    if (want[4]) {
-        c_pitch = leg_cos(pitch);
-        s_pitch = leg_sin(pitch);
-    } else if (isinf(pitch)) {
-        leg_flag(err, LEG_EDOM);
-    }
-    /* thigh */
-    if (want[4]) {
-        c_hip = leg_cos(hip);
-        s_hip = leg_sin(hip);
-        t1 = c_hip*c_pitch - s_hip*s_pitch;
-        t2 = c_hip*s_pitch + c_pitch*s_hip;
-    } else if (isinf(hip)) {
-        leg_flag(err, LEG_EDOM);
-    }
-    if (want[3] || want[5]) {
-        thigh_wy = qd_hip + qd_pitch;
-    }
-    /* shank */
-    if (want[4]) {
-        t3 = -leg - 0.3;
-        t4 = t2*t3 + x;
-        t5 = t1*t3 + z;
-        t6 = t4 - x;
-        t7 = t5 - z;
-        shank_vx = qd_hip*t7 - qd_leg*t2 + qd_pitch*t7 + qd_x;
-        shank_vz = -qd_hip*t6 - qd_leg*t1 - qd_pitch*t6 + qd_z;
-    }
-    if (want[0]) {
-        out[0] = qd_x;
-        out[1] = 0.0;
-        out[2] = qd_z;
-    }
-    if (want[1]) {
-        out[3] = 0.0;
-        out[4] = qd_pitch;
-        out[5] = 0.0;
-    }
-    if (want[2]) {
-        out[6] = qd_x;
-        out[7] = 0.0;
-        out[8] = qd_z;
-    }
-    if (want[3]) {
-        out[9] = 0.0;
-        out[10] = thigh_wy;
-        out[11] = 0.0;
-    }
-    if (want[4]) {
-        out[12] = shank_vx;
-        out[13] = 0.0;
-        out[14] = shank_vz;
-    }
-    if (want[5]) {
-        out[15] = 0.0;
-        out[16] = thigh_wy;
-        out[17] = 0.0;
-    }
     (void)err;
 }
 

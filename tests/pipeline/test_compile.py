@@ -43,6 +43,7 @@ def test_compile_model_shows_every_stage(tiny: Path) -> None:
         "__init__.py",
         "dynamics.py",
         "dynamics.c",
+        "dynamics_some.c",
         "dynamics.h",
     ]
     assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
@@ -59,6 +60,7 @@ def test_cli_compile_writes_the_modules(
         "dynamics.c",
         "dynamics.h",
         "dynamics.py",
+        "dynamics_some.c",
     ]
     assert (out / "tiny" / "dynamics.py").read_text(encoding="utf-8") == compile_model(tiny).text(
         "dynamics.py"
@@ -122,6 +124,7 @@ def test_write_replaces_the_whole_directory(tiny: Path, tmp_path: Path) -> None:
         "dynamics.c",
         "dynamics.h",
         "dynamics.py",
+        "dynamics_some.c",
     ]
     assert sorted(os.listdir(out)) == ["tiny"]
 

@@ -71,6 +71,7 @@ def test_the_driver_returns_every_stage_and_parses_each_file_once(
         "__init__.py",
         "dynamics.py",
         "dynamics.c",
+        "dynamics_some.c",
         "dynamics.h",
         "control_hop.py",
         "control_hop.c",
@@ -92,6 +93,7 @@ def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
         "dynamics.c",
         "dynamics.h",
         "dynamics.py",
+        "dynamics_some.c",
     ]
     session.control("hop")  # fresh now: no second compile
     again = RunSession.from_file(HOPPER, generated=tmp_path / "gen", log=log)

@@ -14,6 +14,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from legdsl.codegen.c.build import DYNAMICS_FILES
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -89,7 +90,7 @@ _BATCH = [0]  # run_batch calls under way: their runs trust the sources found fr
 
 
 def _stats(folder: Path, controller: str | None) -> tuple[Any, ...]:
-    names = ["dynamics.c", "dynamics.h"] + ([f"control_{controller}.c"] if controller else [])
+    names = [*DYNAMICS_FILES] + ([f"control_{controller}.c"] if controller else [])
     found = []
     for file in names:
         try:

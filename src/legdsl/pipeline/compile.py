@@ -24,7 +24,7 @@ from sympy.core.parameters import evaluate
 
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.c.control import render_control_c
-from legdsl.codegen.c.dynamics import render_header, render_source
+from legdsl.codegen.c.dynamics import render_header, render_some_source, render_source
 from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Controller, Model
@@ -123,6 +123,7 @@ def compile_checked(
             ("__init__.py", render_init(model)),
             ("dynamics.py", render_dynamics(system, source)),
             ("dynamics.c", render_source(system, source)),
+            ("dynamics_some.c", render_some_source(system, source)),
             ("dynamics.h", render_header(system, source)),
         )
         controllers: tuple[LoweredController, ...] = ()

@@ -17,7 +17,15 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.codegen.c.build import RUNTIME, RUNTIME_FILES, Built, build, find_compiler, sources
+from legdsl.codegen.c.build import (
+    DYNAMICS_FILES,
+    RUNTIME,
+    RUNTIME_FILES,
+    Built,
+    build,
+    find_compiler,
+    sources,
+)
 from legdsl.ir.model import Model
 
 # Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
@@ -94,7 +102,7 @@ def load_library(
         return _TRUSTED[trusted]
     # Hashing the sources takes milliseconds (a batch of short runs would feel it): within a
     # process, files whose size and modification time are unchanged give the library again.
-    files = [generated_dir / f for f in ("dynamics.c", "dynamics.h")]
+    files = [generated_dir / f for f in DYNAMICS_FILES]
     if controller is not None:
         files.append(generated_dir / f"control_{controller}.c")
     files += [RUNTIME / f for f in RUNTIME_FILES]

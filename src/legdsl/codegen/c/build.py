@@ -55,7 +55,14 @@ FLAGS = (
     "-shared",
 )
 LIBS = ("-lm",)
-UNITS = ("dynamics.c", "step.c", "machine.c", "control.c")  # a library's translation units
+DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
+UNITS = (
+    "dynamics.c",
+    "dynamics_some.c",
+    "step.c",
+    "machine.c",
+    "control.c",
+)  # a library's translation units
 
 
 class NoCompiler(Exception):
@@ -112,7 +119,7 @@ def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str
     """The files of a creature's library (with ``controller``'s C, if given): its generated C
     and the runtime, by file name; ``control.c`` is the controller's (or the runtime's none)."""
     files = {name: (RUNTIME / name).read_text() for name in RUNTIME_FILES}
-    for name in ("dynamics.c", "dynamics.h"):
+    for name in DYNAMICS_FILES:
         files[name] = (generated_dir / name).read_text()
     if controller is not None:
         files["control.c"] = (generated_dir / f"control_{controller}.c").read_text()

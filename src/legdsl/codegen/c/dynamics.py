@@ -10,12 +10,12 @@ in ``*err`` the first place where Python would have raised (``legdsl_math.h``).
 from __future__ import annotations
 
 from legdsl import __version__
-from legdsl.codegen.c.printer import CPrinter, c_name
+from legdsl.codegen.c import slices
+from legdsl.codegen.c.printer import INDENT, CPrinter, c_name, flatten
 from legdsl.codegen.python.dynamics import model_fingerprint
 from legdsl.lower.straightline import Assign, Comment, Unpack
-from legdsl.lower.symbolic import Call, Function, Nested, SymbolicSystem
+from legdsl.lower.symbolic import Call, Function, SymbolicSystem
 
-INDENT = "    "
 # The Python functions the C target prints (state_derivative only calls forward_dynamics).
 C_FUNCTIONS = (
     "mass_matrix",
@@ -32,13 +32,6 @@ C_FUNCTIONS = (
     "kinetic_energy",
     "potential_energy",
 )
-
-
-def flatten(value: Nested) -> list[Nested]:
-    """The leaves of a returned value, in the order the Python function nests them."""
-    if isinstance(value, list | tuple):
-        return [leaf for item in value for leaf in flatten(item)]
-    return [value]
 
 
 def out_size(function: Function) -> int:
@@ -100,8 +93,6 @@ def _header_comment(system: SymbolicSystem, source: str, file: str) -> str:
 
 def render_header(system: SymbolicSystem, source: str) -> str:
     """The text of ``generated/NAME/dynamics.h``."""
-    from legdsl.codegen.c import slices  # (it prints with this module's helpers)
-
     model = system.model
     free3d = any(j.is_free_3d for j in model.joints)
     lines = [
@@ -130,17 +121,26 @@ def render_header(system: SymbolicSystem, source: str) -> str:
 
 
 def render_source(system: SymbolicSystem, source: str) -> str:
-    """The text of ``generated/NAME/dynamics.c``: each function, then its ``_some`` twin."""
-    from legdsl.codegen.c import slices
-
+    """The text of ``generated/NAME/dynamics.c``: each function whole."""
     parts = [
         _header_comment(system, source, "dynamics.c"),
         "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
         '#include "legdsl_math.h"\n#include "dynamics.h"',
         f'const char legdsl_model_fingerprint[] = "{model_fingerprint(system.model)}";',
     ]
-    for name in C_FUNCTIONS:
-        parts.append(function_text(system.function(name)))
-        if name in slices.SLICED:
-            parts.append(slices.function_text(system.function(name)))
+    parts += [function_text(system.function(name)) for name in C_FUNCTIONS]
+    return "\n\n".join(parts) + "\n"
+
+
+def render_some_source(system: SymbolicSystem, source: str) -> str:
+    """The text of ``generated/NAME/dynamics_some.c``: the ``_some`` twins, a translation unit
+    of their own so that the compiler takes it beside ``dynamics.c``, not after it."""
+    parts = [
+        _header_comment(system, source, "dynamics_some.c"),
+        f"/* the _some twins of dynamics.c, model fingerprint {model_fingerprint(system.model)} */",
+        "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
+        '#include "legdsl_math.h"\n#include "dynamics.h"',
+    ]
+    parts += [slices.function_text(system.function(name))
+              for name in C_FUNCTIONS if name in slices.SLICED]  # fmt: skip
     return "\n\n".join(parts) + "\n"

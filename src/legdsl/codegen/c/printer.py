@@ -29,6 +29,7 @@ from sympy.printing.precedence import PRECEDENCE, precedence
 
 from legdsl.codegen.python.printer import LegPrinter, _is_half
 from legdsl.lower.straightline import is_unrolled_power
+from legdsl.lower.symbolic import Nested
 
 # The functions of Python's math module the C runtime has a checked twin of (legdsl_math.h).
 C_MATH = {
@@ -194,3 +195,14 @@ def _fold(name: str, args: list[str]) -> str:
 def c_name(name: str) -> str:
     """A Python name as a C identifier (a C keyword or a runtime name gets a trailing ``_``)."""
     return name + "_" if name in C_KEYWORDS else name
+
+
+INDENT = "    "  # one level of the generated C
+
+
+def flatten(value: Nested) -> list[Nested]:
+    """The leaves of a returned value, in the order the Python function nests them (the order
+    a C function writes them into ``out``)."""
+    if isinstance(value, list | tuple):
+        return [leaf for item in value for leaf in flatten(item)]
+    return [value]

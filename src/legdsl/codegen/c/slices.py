@@ -19,8 +19,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from legdsl.codegen.c.dynamics import INDENT, flatten
-from legdsl.codegen.c.printer import CPrinter, c_name
+from legdsl.codegen.c.printer import INDENT, CPrinter, c_name, flatten
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Function, Nested
 
