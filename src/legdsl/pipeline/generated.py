@@ -106,14 +106,14 @@ def c_sources(
     syntax: ast.SourceFile | None = None,
     controller: str | None = None,
 ) -> Path:
-    """``generated/NAME/``, with its ``dynamics.c``, ``dynamics_some.c`` and ``dynamics.h`` (and the controller's
-    ``control_CONTROLLER.c``) fresh, compiled first if missing or stale like the Python
-    modules: the directory the C backend builds from."""
+    """``generated/NAME/``, with its ``dynamics.c``, ``dynamics_some.c`` and ``dynamics.h``
+    (and the controller's ``control_CONTROLLER.c``) fresh, compiled first if missing or stale
+    like the Python modules: the directory the C backend builds from."""
     folder = generated / model.name
-    stamp = model_fingerprint(model)
+    model_stamp = model_fingerprint(model)
     wanted = {
-        "dynamics.c": f'legdsl_model_fingerprint[] = "{stamp}";',
-        "dynamics_some.c": f"model fingerprint {stamp} */",
+        "dynamics.c": f'legdsl_model_fingerprint[] = "{model_stamp}";',
+        "dynamics_some.c": f"model fingerprint {model_stamp} */",
     }
     if controller is not None:
         stamp = controller_fingerprint(model, model.controller(controller))

@@ -120,12 +120,17 @@ def render_header(system: SymbolicSystem, source: str) -> str:
     return "\n".join(lines)
 
 
+_INCLUDES = (
+    "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
+    '#include "legdsl_math.h"\n#include "dynamics.h"'
+)
+
+
 def render_source(system: SymbolicSystem, source: str) -> str:
     """The text of ``generated/NAME/dynamics.c``: each function whole."""
     parts = [
         _header_comment(system, source, "dynamics.c"),
-        "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
-        '#include "legdsl_math.h"\n#include "dynamics.h"',
+        _INCLUDES,
         f'const char legdsl_model_fingerprint[] = "{model_fingerprint(system.model)}";',
     ]
     parts += [function_text(system.function(name)) for name in C_FUNCTIONS]
@@ -138,8 +143,7 @@ def render_some_source(system: SymbolicSystem, source: str) -> str:
     parts = [
         _header_comment(system, source, "dynamics_some.c"),
         f"/* the _some twins of dynamics.c, model fingerprint {model_fingerprint(system.model)} */",
-        "#define LEG_TRIG_LOCAL /* sines and cosines from the thread's table */\n"
-        '#include "legdsl_math.h"\n#include "dynamics.h"',
+        _INCLUDES,
     ]
     parts += [slices.function_text(system.function(name))
               for name in C_FUNCTIONS if name in slices.SLICED]  # fmt: skip

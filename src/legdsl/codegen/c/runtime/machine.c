@@ -53,7 +53,7 @@ void leg_sense_begin(void) {
 /* Body b's part (and, with both, its second part) of a body function's result. Python
  * computes the whole function once a tick; the sensors read a few bodies, the same ones at
  * every tick, so the first read of a tick computes every part read so far with the _some
- * function (dynamics.c: the same doubles, and it fails where the whole function fails). */
+ * function (dynamics_some.c: the same doubles, and it fails where the whole function fails). */
 static int to_find(unsigned char *want, const unsigned char *found, unsigned char *read, int b,
                    int both) {
     read[2 * b] = 1;
@@ -328,7 +328,7 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         q[qi[k]] = guess[k];
     }
     /* Python computes every foot, body and Jacobian row; only this foot's position and rows,
-     * the hip's position and the root's rotation are read, and the _some functions (dynamics.c)
+     * the hip's position and the root's rotation are read, and the _some functions (dynamics_some.c)
      * compute those as the whole functions do, failing where they fail. */
     unsigned char feet[NCS], root_and_hip[2 * NB], hip_only[2 * NB];
     for (int i = 0; i < NC; i++) feet[i] = i == foot;

@@ -14,7 +14,7 @@
  * and compares every recorded array bit for bit, so any drift between the two fails CI.
  *
  * Where it reads part of a kinematic function's result (the rows of the feet that touch, the
- * root's pose), it calls the function's _some twin (dynamics.c, codegen/c/slices.py), which
+ * root's pose), it calls the function's _some twin (dynamics_some.c, codegen/c/slices.py), which
  * writes those outputs as the whole function does and fails where the whole function fails.
  *
  * The creature comes from dynamics.h (generated); everything that varies per run is in the
@@ -279,31 +279,26 @@ static int ground_update(leg_sim *s, double t, const double *pos, const double *
     return 0;
 }
 
-/* Whether a foot touches, or is at or under the ground (GroundContact.near). */
-static int near_ground(const leg_sim *s, const double *pos, int *err) {
-    double n[3];
-    for (int i = 0; i < NC; i++)
-        if (s->touching[i]) return 1;
-    for (int i = 0; i < NC; i++)
-        if (depth(s, pos + 3 * i, n, err) > 0.0) return 1;
-    return 0;
-}
-
 /* Contact positions, velocities and (3D with torsion) body yaws (_contact_kinematics); the
- * velocities and yaws are zeros while every foot is in the air and above the ground.
- * Near it, only the feet that touch or are at or under the ground get theirs (the others'
- * are zeros here, not Python's values): the forces, slip and touchdowns read no other
- * foot's (the feet touching after this state's update are among them). The _some functions
- * (dynamics.c) compute those outputs as the whole functions do, and fail where they fail. */
+ * velocities and yaws are zeros while every foot is in the air and above the ground
+ * (GroundContact.near: no foot touches or is at or under it). Near it, only the feet that
+ * touch or are at or under the ground get theirs (the others' are zeros here, not Python's
+ * values): the forces, slip and touchdowns read no other foot's (the feet touching after this
+ * state's update are among them). The _some functions (dynamics_some.c) compute those outputs as
+ * the whole functions do, and fail where they fail. */
 static void contact_kinematics(const leg_sim *s, const double *q, const double *v, double *pos,
                                double *vel, double *yaws, int *err) {
     contact_positions(q, pos, err);
     for (int k = 0; k < 3 * NC; k++) vel[k] = 0.0;
     for (int i = 0; i < NC; i++) yaws[i] = 0.0;
-    if (!near_ground(s, pos, err)) return;
     unsigned char feet[NC3];
     double n[3];
-    for (int i = 0; i < NC; i++) feet[i] = s->touching[i] || depth(s, pos + 3 * i, n, err) > 0.0;
+    int near = 0;
+    for (int i = 0; i < NC; i++) {
+        feet[i] = s->touching[i] || depth(s, pos + 3 * i, n, err) > 0.0;
+        near |= feet[i];
+    }
+    if (!near) return;
     if (s->torsion) {
         double poses[NBP];
         unsigned char rotations[2 * LEG_NB];
