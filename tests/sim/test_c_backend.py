@@ -403,3 +403,39 @@ def _stepped_aside(simulation: Any, sess: RunSession, opts: RunOptions, log: Any
     sim = simulation()
     assert type(sim) is Simulation
     assert "mirrors an older Python runtime" in log.getvalue()
+
+
+@pytest.mark.parametrize(
+    ("name", "first", "switches", "settings"),
+    [
+        (
+            "quadruped",
+            "trot",
+            ["1s=bound", "2s=gallop"],
+            ["speed=1.5m/s", "speed=2m/s@1s", "speed=1.8m/s@1.5s", "speed=2.5m/s@2s"],
+        ),
+        ("biped", "run", ["1s=gallop", "2s=run"], ["speed=1.5m/s", "speed=2m/s@2.5s"]),
+    ],
+)
+def test_a_switching_run_runs_the_same_its_machines_in_c(
+    name: str, first: str, switches: list[str], settings: list[str], monkeypatch: Any
+) -> None:
+    """A run that changes controller: each controller's machine runs in C between the ticks
+    its switches and commands are due at, which Python takes; the run is Python's."""
+    from legdsl.sim.switching import SwitchingMachine
+
+    sess = session(name)
+    opts = RunOptions(duration=3.0)
+    python = sess.run(first, settings, switches=switches, options=opts, backend="python")
+    in_python = []
+    tick = SwitchingMachine.__call__
+    monkeypatch.setattr(SwitchingMachine, "__call__", lambda m, sim: (in_python.append(sim.t),
+                                                                      tick(m, sim))[1])  # fmt: skip
+    c = sess.run(first, settings, switches=switches, options=opts, backend="c")
+    assert_same(python.result, c.result)
+    assert python.machine is not None and c.machine is not None
+    assert c.machine.segment_info(3.0) == python.machine.segment_info(3.0)
+    assert [s["controller"] for s in c.machine.segments] == [first, *(w[3:] for w in switches)]
+    # Python took the ticks of a command and of a liftoff while a switch waits for one
+    ticks = c.result.steps // 5 + 1
+    assert 0 < len(in_python) < ticks // 20

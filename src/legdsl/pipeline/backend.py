@@ -67,20 +67,26 @@ def make_simulation(
             )
         return Simulation(model, dynamics, options, controller)
     source, generated, syntax = where
-    name = getattr(getattr(controller, "module", None), "CONTROLLER", None)
-    folder = _fresh_sources(model, source, generated, log, syntax, name)
+    # a library per controller (a switching run's: one per controller it switches between)
+    modules = getattr(controller, "modules", None) or {
+        getattr(getattr(controller, "module", None), "CONTROLLER", None): None
+    }
     note = python_version_note()
     if note is not None and log is not None:
         print(f"legdsl: {note}", file=log)
-    try:
-        library = load_library(model, folder, name, trust=_BATCH[0] > 0)
-    except NoCompiler as e:  # the compiler went away between the check and the build
-        raise UsageError(f"--backend {backend}: {e}") from None
-    except BuildFailed as e:
-        raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
-    if log is not None and not library.built.cached:
-        print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
-    return CSimulation(model, dynamics, options, controller, library)
+    libraries = {}
+    for name in modules:
+        folder = _fresh_sources(model, source, generated, log, syntax, name)
+        try:
+            library = load_library(model, folder, name, trust=_BATCH[0] > 0)
+        except NoCompiler as e:  # the compiler went away between the check and the build
+            raise UsageError(f"--backend {backend}: {e}") from None
+        except BuildFailed as e:
+            raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
+        if log is not None and not library.built.cached:
+            print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
+        libraries[name] = library
+    return CSimulation(model, dynamics, options, controller, libraries)
 
 
 # (model, controller, generated/) -> (the model, the stats of its C files when found fresh):

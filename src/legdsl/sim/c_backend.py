@@ -8,9 +8,12 @@ samples straight into the trajectory's numpy arrays; it returns to Python only
 
 * when the recording arrays are full (they grow as on the Python backend);
 * every ``STEP_BUDGET`` steps, so that Ctrl-C and the progress line are served;
-* for a control tick the C state machine hands over (where Python would raise or fault, or
-  for a controller with no C twin, ``leg_has_c_controller`` 0): the state is copied into this
-  object and into the Python ``StateMachine``, which takes the tick, and back;
+* for a control tick the C state machine hands over (where Python would raise or fault, for
+  a controller with no C twin, ``leg_has_c_controller`` 0, or for a switching run's own
+  business, ``SwitchingMachine.own_ticks``): the state is copied into this object and into
+  the Python ``StateMachine``, which takes the tick, and back. A switching run has a library
+  per controller, all of one struct layout: once Python has switched, the new controller's
+  machine goes on in its library's C;
 * when the run stops: at its end, at a fall or divergence (found in C by the rules of
   ``Simulation._check``, whose message Python then writes by running that same check), or
   where Python would have raised (``legdsl_math.h``'s error codes become the same exceptions).
@@ -22,9 +25,10 @@ So every status, message, event and recorded array is the Python backend's
 from __future__ import annotations
 
 import ctypes
+import math
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from types import ModuleType
 from typing import Any
 
@@ -38,6 +42,7 @@ from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
+from legdsl.sim.switching import SwitchingMachine
 from legdsl.sim.trajectory import ARRAYS
 
 __all__ = ["CLibrary", "CSimulation", "available", "load_library", "python_version_note"]
@@ -69,13 +74,17 @@ class CSimulation(Simulation):
         dynamics: ModuleType,
         options: RunOptions,
         controller: Controller | None,
-        library: CLibrary,
+        libraries: Mapping[str | None, CLibrary],
     ):
+        """``libraries``: the creature's library with each controller of the run (by name;
+        None for a run without a controller)."""
         super().__init__(model, dynamics, options, controller)
-        self.library = library
+        self.libraries = dict(libraries)
+        self.library = next(iter(self.libraries.values()))
+        self._running: StateMachine | None = None  # the machine C runs (_setup_machine)
         self._keep: dict[str, np.ndarray] = {}  # the arrays the struct points into
         self._pending: list[str] = []  # arrays made, not yet pointed to (_commit)
-        self.c = library.Sim()
+        self.c = self.library.Sim()
 
     # ------------------------------------------------------------ the struct
     def _array(self, name: str, values: Any, dtype: Any = np.float64, size: int = 0) -> None:
@@ -222,14 +231,28 @@ class CSimulation(Simulation):
         for name in ARRAYS:
             self._point(f"rec_{name}", getattr(traj, name))
 
+    def _machine(self) -> StateMachine | None:
+        """The state machine that runs now: the run's, or a switching run's current one."""
+        m = self.controller
+        if isinstance(m, SwitchingMachine):
+            return m.current
+        return m if type(m) is StateMachine else None
+
     def _setup_machine(self, loop: RunLoop) -> None:
-        """The state machine in C, when the library has the controller's (else c_control = 0)."""
-        c, m = self.c, self.controller
-        use = type(m) is StateMachine and self.library.c_controller and machine_matches()
-        c.c_control = int(use)
+        """The state machine in C, when the library has the controller's (else c_control = 0);
+        again after a switching run's Python tick has switched."""
+        c, m, switching = self.c, self._machine(), self.controller
+        if isinstance(switching, SwitchingMachine):
+            self.library = self.libraries[switching.name]
+        self._running = m
+        use = m is not None and self.library.c_controller and machine_matches()
+        c.c_control, c.state_offset = int(use), 0
+        c.ctl_command_at = c.ctl_switch_at = c.ctl_switch_until = math.inf
         if not use:
             return
-        assert isinstance(m, StateMachine)
+        assert m is not None
+        if isinstance(switching, SwitchingMachine):
+            c.state_offset = switching.state_offset
         mod, nc, ni = m.module, len(self.contact_names), len(m.inputs)
         self._schedule = list(m.schedule)
         self._array("ctl_records", m.records)
@@ -280,8 +303,11 @@ class CSimulation(Simulation):
         self._array("path_state", [], size=12 * len(at))
 
     def _push_machine(self) -> None:
-        c, m, keep = self.c, self.controller, self._keep
-        assert isinstance(m, StateMachine)
+        c, m, keep = self.c, self._running, self._keep
+        assert m is not None
+        if isinstance(self.controller, SwitchingMachine):
+            ticks = self.controller.own_ticks(self.ground is not None)
+            c.ctl_command_at, c.ctl_switch_at, c.ctl_switch_until = ticks
         c.ctl_started, c.ctl_state, c.ctl_binding = int(m.started), m.state_index, m.binding
         c.ctl_entered_at = m.entered_at
         keep["ctl_records"][: len(m.records)] = m.records
@@ -295,8 +321,8 @@ class CSimulation(Simulation):
                                                  clock.liftoff, clock.stance, clock.flight]  # fmt: skip
 
     def _pull_machine(self) -> None:
-        c, m, keep = self.c, self.controller, self._keep
-        assert isinstance(m, StateMachine)
+        c, m, keep = self.c, self._running, self._keep
+        assert m is not None
         m.started, m.state_index = bool(c.ctl_started), int(c.ctl_state)
         m.binding = int(c.ctl_binding)
         m.entered_at = float(c.ctl_entered_at)
@@ -389,16 +415,16 @@ class CSimulation(Simulation):
             raise
 
     def _run_c(self, loop: RunLoop, progress: Callable[[float, float], None] | None) -> None:
-        lib, c = self.library.lib, self.c
+        c = self.c
         self._setup(loop)
         self._started = True
         pointer = ctypes.byref(c)
-        if lib.leg_begin(pointer) == RAISED:
+        if self.library.lib.leg_begin(pointer) == RAISED:
             self._pull()
             raise _InternalRaise(c.err)  # outside the run's handlers, as in Python
         last_report = time.perf_counter()
         while True:
-            code = lib.leg_run(pointer)
+            code = self.library.lib.leg_run(pointer)  # a switching run's current library
             loop.steps, loop.recorded = int(c.steps), c.recorded
             if c.c_control:
                 self._pull_machine()  # its events, and its state for a tick Python takes
@@ -408,7 +434,10 @@ class CSimulation(Simulation):
                 self.controller(self)  # the Python state machine: raises where C gave up
                 self._push_actuators()
                 self._sync_controller()
-                if c.c_control:
+                if self._machine() is not self._running:  # a switching run switched
+                    self._setup_machine(loop)
+                    self._commit()
+                elif c.c_control:
                     self._push_machine()
                 now = time.perf_counter()  # C gives way at every such tick: report here
                 if progress is not None and now - last_report > PROGRESS_EVERY:

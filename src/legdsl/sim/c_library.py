@@ -45,6 +45,9 @@ _DTYPES = {
 }  # fmt: skip
 
 
+_STRUCTS: dict[bytes, type[ctypes.Structure]] = {}  # leg_sim's ctypes class, by its layout
+
+
 class CLibrary:
     """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
 
@@ -62,7 +65,10 @@ class CLibrary:
             fields.append((match.group(2), _CTYPES[match.group(1)]))
             if match.group(1).endswith(" *") and match.group(1) != "void *":
                 self.pointee[match.group(2)] = _DTYPES[match.group(1)[:-2]]
-        self.Sim = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
+        # one class per layout: a switching run hands one struct to its controllers' libraries
+        if text not in _STRUCTS:
+            _STRUCTS[text] = type("leg_sim", (ctypes.Structure,), {"_fields_": fields})
+        self.Sim = _STRUCTS[text]
         self.lib.leg_sim_size.restype = ctypes.c_int64
         if ctypes.sizeof(self.Sim) != self.lib.leg_sim_size():
             raise RuntimeError("the C backend's struct layout does not match its description")

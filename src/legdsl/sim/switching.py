@@ -159,11 +159,7 @@ class SwitchingMachine:
         t = sim.t
         if t >= switch.t + HANDOVER_WAIT - 1e-12 or sim.ground is None:
             return True
-        if switch.controller not in self._pairs:
-            self._pairs[switch.controller] = cycle(
-                self.model, self.model.controller(switch.controller)
-            )
-        pairs = self._pairs[switch.controller]
+        pairs = self._cycle(switch.controller)
         if not lifts_off(pairs):
             return True
         self.current.sensors.observe(
@@ -173,6 +169,11 @@ class SwitchingMachine:
         if t < switch.t + FLIGHT_WAIT - 1e-12 and not _calm_flight(sim, feet):
             return False
         return on_liftoff(pairs, feet, t)
+
+    def _cycle(self, controller: str) -> list[Pair]:
+        if controller not in self._pairs:
+            self._pairs[controller] = cycle(self.model, self.model.controller(controller))
+        return self._pairs[controller]
 
     def _switch(self, to: str, t: float) -> None:
         old = self.current
@@ -243,6 +244,24 @@ class SwitchingMachine:
         return out
 
     @property
+    def state_offset(self) -> int:
+        """Where the current controller's states start in the run's numbering."""
+        return self._offset[self.name]
+
+    def own_ticks(self, has_ground: bool) -> tuple[float, float, float]:
+        """Which ticks this machine must take itself, the current controller's machine taking
+        the others alone (in C: ``switching_tick`` in step.c): those from the next command's
+        time on; from the next switch's time, those at a foot's liftoff until the third time
+        (``_ready`` waits for one), then all."""
+        commands = [c.t for c in self._pending if not self._with_switch(c)]
+        command_at = min(commands, default=math.inf)
+        if not self._waiting:
+            return command_at, math.inf, math.inf
+        switch = self._waiting[0]
+        waits = has_ground and lifts_off(self._cycle(switch.controller))
+        return command_at, switch.t, switch.t + HANDOVER_WAIT if waits else switch.t
+
+    @property
     def first(self) -> StateMachine:
         """The machine of the controller the run started with."""
         return self.finished[0][1] if self.finished else self.current
@@ -250,7 +269,7 @@ class SwitchingMachine:
     # ------------------------------------------------------------ what the simulation reads
     @property
     def state_index(self) -> int:
-        return self._offset[self.name] + self.current.state_index
+        return self.state_offset + self.current.state_index
 
     def speed_command(self, t: float) -> float:
         return self.current.speed_command(t)

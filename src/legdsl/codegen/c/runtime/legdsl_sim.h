@@ -32,15 +32,17 @@
     X(int64_t, n_events) X(int64_t, event_cap) X(double *, event_t) X(int64_t *, event_kind) \
     X(int64_t *, event_contact) \
     X(int64_t, n_legs) X(int64_t *, leg_hip) X(int64_t *, leg_foot) X(int64_t *, leg_spring) \
-    X(int64_t, state_index) X(double, speed_command) \
+    X(int64_t, state_index) X(int64_t, state_offset) X(double, speed_command) \
     X(double *, rec_t) X(double *, rec_q) X(double *, rec_v) X(int8_t *, rec_contact) \
     X(double *, rec_force) X(double *, rec_com) X(double *, rec_com_vel) \
     X(double *, rec_root_pos) X(double *, rec_root_rpy) X(double *, rec_leg_length) \
     X(double *, rec_leg_spring_energy) X(double *, rec_kinetic) X(double *, rec_potential) \
     X(double *, rec_elastic) X(int16_t *, rec_state) X(double *, rec_speed_command) \
     X(int64_t, err) \
-    X(int64_t, c_control) X(int64_t, ctl_started) X(int64_t, ctl_state) X(int64_t, ctl_binding) \
-    X(double, ctl_entered_at) X(double *, ctl_records) X(double *, ctl_inputs) \
+    X(int64_t, c_control) X(double, ctl_command_at) X(double, ctl_switch_at) \
+    X(double, ctl_switch_until) X(int64_t, ctl_started) X(int64_t, ctl_state) \
+    X(int64_t, ctl_binding) X(double, ctl_entered_at) X(double *, ctl_records) \
+    X(double *, ctl_inputs) \
     X(double *, ctl_params) X(int64_t, sched_n) X(int64_t, sched_pos) X(double *, sched_t) \
     X(int64_t *, sched_input) X(double *, sched_value) X(int64_t, n_hist) X(double *, hist_t) \
     X(double *, hist_inputs) X(int64_t, speed_input) X(double *, clocks) \

@@ -495,7 +495,7 @@ int64_t leg_control_tick(leg_sim *s) {
             goals += pi[2];
         }
     }
-    s->state_index = s->ctl_state;
+    s->state_index = s->state_offset + s->ctl_state; /* a switching run's numbering */
     s->speed_command = s->speed_input >= 0 ? s->ctl_inputs[s->speed_input] : NAN;
     s->ctl_ticks++;
     return 0;

@@ -719,6 +719,20 @@ int64_t leg_begin(leg_sim *s) {
     return e ? LEG_RAISED : 0;
 }
 
+/* Whether a switching run's Python (legdsl.sim.switching.SwitchingMachine) must take this
+ * tick: a command is due, or a switch is and its controller may take over now (at a foot's
+ * liftoff, the first this tick's Sensors.observe sees, until ctl_switch_until; then at
+ * once). The other ticks the current controller's machine takes in C. */
+static int switching_tick(const leg_sim *s) {
+    double t = s->t;
+    if (s->ctl_command_at <= t + 1e-12) return 1;
+    if (s->ctl_switch_at > t + 1e-12) return 0;
+    if (t >= s->ctl_switch_until - 1e-12) return 1;
+    for (int i = 0; i < NC; i++)
+        if (s->clocks[5 * i] != 0.0 && !(s->has_ground && s->touching[i])) return 1;
+    return 0;
+}
+
 /* Run from (s->steps, s->phase) until the run ends or Python is needed; see the enum above.
  * Phases of one pass: 0 the controller, 1 recording, 2 the check, 3 the step. */
 int64_t leg_run(leg_sim *s) {
@@ -729,8 +743,10 @@ int64_t leg_run(leg_sim *s) {
         if (s->phase == 0) {
             s->phase = 1;
             if (tick && s->has_controller) {
-                if (!s->c_control) return LEG_CONTROL;
-                if (leg_control_tick(s)) return LEG_CONTROL; /* Python takes this tick */
+                /* Python takes this tick: no C twin, a switching run's business, or C gave
+                 * up on it */
+                if (!s->c_control || switching_tick(s)) return LEG_CONTROL;
+                if (leg_control_tick(s)) return LEG_CONTROL;
             }
         }
         if (s->phase == 1) {
