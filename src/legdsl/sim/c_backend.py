@@ -83,34 +83,37 @@ class CSimulation(Simulation):
         self.library = next(iter(self.libraries.values()))
         self._running: StateMachine | None = None  # the machine C runs (_setup_machine)
         self._keep: dict[str, np.ndarray] = {}  # the arrays the struct points into
-        self._pending: list[str] = []  # arrays made, not yet pointed to (_commit)
+        self._pending: list[tuple[str, Any, list[Any], int]] = []  # arrays for _commit
         self.c = self.library.Sim()
 
     # ------------------------------------------------------------ the struct
     def _array(self, name: str, values: Any, dtype: Any = np.float64, size: int = 0) -> None:
         """An array of the struct, at least ``size`` long (and never empty), filled from
-        ``values``; pointed to when ``_commit`` lays them all out in one block per type."""
-        array = np.array(values, dtype=dtype).reshape(-1)
-        if array.size < max(size, 1):
-            array = np.concatenate([array, np.zeros(max(size, 1) - array.size, dtype=dtype)])
-        if array.dtype.type is not self.library.pointee[name]:
-            raise TypeError(
-                f"leg_sim.{name} points to {self.library.pointee[name]}, not {array.dtype}"
-            )
-        self._keep[name] = array
-        self._pending.append(name)
+        ``values`` (numbers, or rows of them), zeros after; made and pointed to by ``_commit``."""
+        if dtype is not self.library.pointee[name]:
+            raise TypeError(f"leg_sim.{name} points to {self.library.pointee[name]}, not {dtype}")
+        flat = list(values)
+        if flat and isinstance(flat[0], list | tuple):
+            flat = [x for row in flat for x in row]
+        n = max(size, len(flat), 1)
+        if flat:
+            flat += [0] * (n - len(flat))
+        self._pending.append((name, dtype, flat, n))
 
     def _commit(self) -> None:
-        """The arrays of ``_array`` copied into one block per dtype and pointed to there:
-        asking numpy for an array's address takes microseconds, and a run has some fifty."""
-        by_type: dict[Any, list[str]] = {}
-        for name in self._pending:
-            by_type.setdefault(self._keep[name].dtype.type, []).append(name)
-        for names in by_type.values():
-            block = np.concatenate([self._keep[name] for name in names])
+        """The arrays of ``_array`` made as one block of each dtype, those with values first,
+        and pointed to there: making some fifty small arrays one by one (and asking numpy for
+        each one's address) took a third of a short run's setup."""
+        by_type: dict[Any, list[tuple[str, list[Any], int]]] = {}
+        for name, dtype, flat, n in self._pending:
+            by_type.setdefault(dtype, []).append((name, flat, n))
+        for dtype, arrays in by_type.items():
+            arrays.sort(key=lambda a: not a[1])  # stable: the zero ones last
+            values = [x for _, flat, _ in arrays for x in flat]
+            block = np.zeros(sum(n for _, _, n in arrays), dtype=dtype)
+            block[: len(values)] = values
             base, size, at = address(block), block.itemsize, 0
-            for name in names:
-                n = self._keep[name].size
+            for name, _, n in arrays:
                 self._keep[name] = block[at : at + n]
                 setattr(self.c, name, base + at * size)
                 at += n
@@ -145,10 +148,11 @@ class CSimulation(Simulation):
         self._array("act_vi", [a.v_index for a in acts], np.int64)
         self._array("act_has_limit", [a.limit is not None for a in acts], np.int64)
         self._array("act_limit", [a.limit or 0.0 for a in acts])
-        for name in ("act_gain", "act_damping", "act_target", "act_force", "act_last"):
-            self._array(name, [0.0] * len(acts))
-        self._push_actuators()
-        self._keep["act_last"][: len(acts)] = [a.last_force for a in acts]
+        self._array("act_gain", [a.gain for a in acts])
+        self._array("act_damping", [a.damping for a in acts])
+        self._array("act_target", [a.target for a in acts])
+        self._array("act_force", [a.force for a in acts])
+        self._array("act_last", [a.last_force for a in acts])
         self._array("act_work", self.actuators.positive_work + self.actuators.negative_work)
         stops = self._stops
         c.n_stops = len(stops)
@@ -175,15 +179,17 @@ class CSimulation(Simulation):
         self._array("kin", [], size=7 * nc)
         self._setup_machine(loop)
         self._commit()
+        if c.c_control:
+            self._push_machine()
 
     def _setup_ground(self) -> None:
         c, ground = self.c, self.ground
         nc = len(self.contact_names)
         self._array("contact_body", self._contact_body, np.int64)
-        self._array("touching", [], np.int64, nc)
-        self._array("anchor", [], size=3 * nc)
-        self._array("yaw_anchor", [], size=nc)
-        self._array("slipping", [], np.int64, nc)
+        self._array("touching", ground.touching if ground else [], np.int64, nc)
+        self._array("anchor", ground.anchor if ground else [], size=3 * nc)
+        self._array("yaw_anchor", ground.yaw_anchor if ground else [], size=nc)
+        self._array("slipping", ground.slipping if ground else [], np.int64, nc)
         self._array("contact_force", self.contact_force)
         if ground is None:
             c.has_ground = 0
@@ -214,16 +220,6 @@ class CSimulation(Simulation):
             for t in flats
         ]
         self._array("flats", rows)
-        self._push_ground()
-
-    def _push_ground(self) -> None:
-        assert self.ground is not None
-        g = self.ground
-        self._keep["touching"][: len(g.touching)] = g.touching
-        self._keep["slipping"][: len(g.slipping)] = g.slipping
-        self._keep["yaw_anchor"][: len(g.yaw_anchor)] = g.yaw_anchor
-        for i, a in enumerate(g.anchor):
-            self._keep["anchor"][3 * i : 3 * i + 3] = a
 
     def _point_recording(self, loop: RunLoop) -> None:
         traj = loop.traj
@@ -239,8 +235,9 @@ class CSimulation(Simulation):
         return m if type(m) is StateMachine else None
 
     def _setup_machine(self, loop: RunLoop) -> None:
-        """The state machine in C, when the library has the controller's (else c_control = 0);
-        again after a switching run's Python tick has switched."""
+        """The state machine's arrays for C, when the library has the controller's (else
+        c_control = 0); again after a switching run's Python tick has switched. ``_commit``
+        makes them and ``_push_machine`` fills in the machine's state."""
         c, m, switching = self.c, self._machine(), self.controller
         if isinstance(switching, SwitchingMachine):
             self.library = self.libraries[switching.name]
@@ -281,7 +278,6 @@ class CSimulation(Simulation):
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
         c.dgesv = numpy_dgesv()
         self._setup_paths(m)
-        self._push_machine()
 
     def _setup_paths(self, m: StateMachine) -> None:
         """The paths' geometry (PathGeometry's vertices and arclengths) and trackers, for C."""
@@ -437,7 +433,7 @@ class CSimulation(Simulation):
                 if self._machine() is not self._running:  # a switching run switched
                     self._setup_machine(loop)
                     self._commit()
-                elif c.c_control:
+                if c.c_control:
                     self._push_machine()
                 now = time.perf_counter()  # C gives way at every such tick: report here
                 if progress is not None and now - last_report > PROGRESS_EVERY:

@@ -127,7 +127,7 @@ def load_library(
 def address(array: np.ndarray) -> int:
     """The address of a contiguous array, for a pointer of the struct."""
     assert array.flags.c_contiguous
-    return int(array.__array_interface__["data"][0])
+    return int(array.ctypes.data)
 
 
 @lru_cache(maxsize=1)
