@@ -136,3 +136,17 @@ def test_a_scene_sets_one_controllers_own_values(tmp_path: Path) -> None:
         with pytest.raises(LegError) as err:
             check_model(path)
         assert words in str(err.value) and "^" in str(err.value), str(err.value)
+
+
+def test_the_quadrupeds_scenes_are_the_issues_transition_run() -> None:
+    """Both scenes of creatures/quadruped.leg plan the command line of issue 13's run:
+    trot, bound at 6 s, gallop at 12 s, trot at 18 s, each with its speed."""
+    model = check_model(ROOT / "creatures" / "quadruped.leg")
+    written = model.scene("trot_bound_gallop_trot")
+    sets, switches = scene_texts(written)
+    assert written.controller == "trot" and written.duration == 24.0
+    assert switches == ["6.0s=bound", "12.0s=gallop", "18.0s=trot"]
+    assert sets == ["speed=2.0m/s", "speed=2.8m/s@6.0s", "speed=4.0m/s@12.0s", "speed=2.0m/s@18.0s"]
+    by_speed = model.scene("by_speed")
+    controller, _, planned = scene_plan(by_speed, model, [], [])
+    assert (controller, planned) == ("trot", switches)
