@@ -5,6 +5,8 @@
     nice python docs/scripts/quadruped_search.py --search pace --generations 20 --seed 1
     nice python docs/scripts/quadruped_search.py --search bound --generations 60 --popsize 16 \
         --step 0.05 --seed 7 --jobs 2
+    nice python docs/scripts/quadruped_search.py --search bound_steady --generations 40 \
+        --popsize 10 --step 0.08 --seed 13 --jobs 2
     nice python docs/scripts/quadruped_search.py --search gallop --generations 100 --popsize 16 \
         --start-from bound --step 0.15 --seed 3 --jobs 2
 
@@ -35,6 +37,11 @@ seconds):
   counted six times, plus half the windows' mean. Run from the shipped values
   (``--generations 40 --popsize 16 --step 0.05 --seed 11 --jobs 2``) it found nothing
   better than them (docs/quadruped.md).
+* ``bound_steady`` (the bound's rate servo, speed gains and per-stance speed correction):
+  straight runs of 20 s at 2, 2.4, 2.8, 3.2 and 3.5 m/s (or ``--speeds``), each scored as
+  ``bound_windows`` over every 3 s window from 3 to 17 s, stepped by 0.5 s. The shipped
+  values: ``--generations 40 --popsize 10 --step 0.08 --seed 13 --jobs 2`` from
+  ``k_stride_speed`` 3 rad/m (docs/quadruped.md).
 * ``gallop``: straight runs of 20 s at 3, 3.5 (half), 4, 4.5 and 5 m/s, each plus twice the
   shortfall below 0.6 of its pairs' stances that go single, double, then single support.
   The shipped values: the command above at 3 (twice), 3.5 and 4 m/s, then from its best

@@ -430,13 +430,13 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 /*   record pitch_mean: creatures/quadruped.leg:342:7 */
 /*   record pitch_last_td: creatures/quadruped.leg:343:7 */
 /*   record pitch_trim: creatures/quadruped.leg:344:7 */
-/*   record stride_speed: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:332:3 */
-/*   record stride_t1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:335:3 */
-/*   record stride_x1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:336:3 */
-/*   record stride_y1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:337:3 */
-/*   record stride_t0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:338:3 */
-/*   record stride_x0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:339:3 */
-/*   record stride_y0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:340:3 */
+/*   record stride_speed: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:426:3 */
+/*   record stride_t1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_x1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:430:3 */
+/*   record stride_y1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:431:3 */
+/*   record stride_t0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:434:3 */
 /*   record flight_apex: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:310:3 */
 /*   record stroke_trim: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:311:3 */
 /*   record thrust_stroke: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:312:3 */
@@ -544,18 +544,18 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 /*   hip_fr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3 */
 /*   hip_fl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3 */
 /*   hip_fr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_rl_spring.rest: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5 */
 /*   leg_rr_spring.rest: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
@@ -772,18 +772,18 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_rl_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5 */
 /*   leg_rr_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
@@ -988,18 +988,18 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
 /*   leg_fl_spring.rest: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3 */
 /*   leg_fr_spring.rest: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_rl_spring.rest: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5 */
 /*   leg_rr_spring.rest: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5 */
 /*   hip_rl_pitch.kp: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
@@ -1579,13 +1579,13 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 /*   record pitch_mean: creatures/quadruped.leg:342:7 */
 /*   record pitch_last_td: creatures/quadruped.leg:343:7 */
 /*   record pitch_trim: creatures/quadruped.leg:344:7 */
-/*   record stride_speed: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:332:3 */
-/*   record stride_t1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:335:3 */
-/*   record stride_x1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:336:3 */
-/*   record stride_y1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:337:3 */
-/*   record stride_t0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:338:3 */
-/*   record stride_x0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:339:3 */
-/*   record stride_y0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:340:3 */
+/*   record stride_speed: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:426:3 */
+/*   record stride_t1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_x1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:430:3 */
+/*   record stride_y1: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:431:3 */
+/*   record stride_t0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y0: creatures/quadruped.leg:345:7 > stdlib/raibert.leg:434:3 */
 /*   record flight_apex: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:310:3 */
 /*   record stroke_trim: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:311:3 */
 /*   record thrust_stroke: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:312:3 */
@@ -1693,18 +1693,18 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 /*   hip_rr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3 */
 /*   hip_rl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3 */
 /*   hip_rr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_fl_spring.rest: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5 */
 /*   leg_fr_spring.rest: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
@@ -1921,18 +1921,18 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_fl_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5 */
 /*   leg_fr_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
@@ -2137,18 +2137,18 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
 /*   leg_rl_spring.rest: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3 */
 /*   leg_rr_spring.rest: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
 /*   leg_fl_spring.rest: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5 */
 /*   leg_fr_spring.rest: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5 */
 /*   hip_fl_pitch.kp: creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */

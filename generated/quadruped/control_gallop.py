@@ -313,8 +313,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_fl_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         leg_fl_spring.k          creatures/quadruped.leg:419:7
         leg_fr_spring.k          creatures/quadruped.leg:419:7
         leg_rl_spring.k          creatures/quadruped.leg:420:7
@@ -335,8 +335,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:423:7 > stdlib/raibert.leg:154:3
         hip_fl_roll_motor.force  creatures/quadruped.leg:423:7 > stdlib/raibert.leg:155:3
         hip_fr_roll_motor.force  creatures/quadruped.leg:423:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_rl_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -548,8 +548,8 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_fl_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_fr_pitch.kp          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_fl_pitch.kv          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
@@ -562,20 +562,20 @@ def action_LOADING_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:438:7 > stdlib/raibert.leg:168:3
         hip_fl_roll_motor.force  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:169:3
         hip_fr_roll_motor.force  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fl_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fl_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fl_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fr_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fr_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fr_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_rl_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -788,20 +788,20 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fl_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fl_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fl_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fr_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fr_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fr_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_rl_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -994,22 +994,22 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_fr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_fr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_fr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_rl_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_fl_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1229,8 +1229,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
         hip_fr_roll.kv           creatures/quadruped.leg:449:29 > stdlib/raibert.leg:168:3
         hip_fl_roll_motor.force  creatures/quadruped.leg:449:29 > stdlib/raibert.leg:169:3
         hip_fr_roll_motor.force  creatures/quadruped.leg:449:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_rl_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rr_pitch.kp          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_rl_pitch.kv          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1427,8 +1427,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_rl_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:418:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         leg_rl_spring.k          creatures/quadruped.leg:419:7
         leg_rr_spring.k          creatures/quadruped.leg:419:7
         leg_fl_spring.k          creatures/quadruped.leg:420:7
@@ -1449,8 +1449,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:423:7 > stdlib/raibert.leg:154:3
         hip_rl_roll_motor.force  creatures/quadruped.leg:423:7 > stdlib/raibert.leg:155:3
         hip_rr_roll_motor.force  creatures/quadruped.leg:423:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_fl_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:430:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:430:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1662,8 +1662,8 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_rl_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_rl_pitch.kp          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_rr_pitch.kp          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
         hip_rl_pitch.kv          creatures/quadruped.leg:438:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
@@ -1676,20 +1676,20 @@ def action_LOADING_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:438:7 > stdlib/raibert.leg:168:3
         hip_rl_roll_motor.force  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:169:3
         hip_rr_roll_motor.force  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rl_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rl_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rl_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rr_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rr_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rr_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_fl_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:439:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:440:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:440:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -1902,20 +1902,20 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rl_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rl_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rl_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rr_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rr_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rr_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_fl_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:442:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:443:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -2108,22 +2108,22 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_rr_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:418:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:419:5
-        hip_rr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:420:5
-        hip_rr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:421:5
-        hip_rr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:422:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:415:3 > stdlib/raibert.leg:423:5
-        leg_fl_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_rl_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_rr_spring.rest       creatures/quadruped.leg:445:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:447:7 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:447:7 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
@@ -2343,8 +2343,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
         hip_rr_roll.kv           creatures/quadruped.leg:449:29 > stdlib/raibert.leg:168:3
         hip_rl_roll_motor.force  creatures/quadruped.leg:449:29 > stdlib/raibert.leg:169:3
         hip_rr_roll_motor.force  creatures/quadruped.leg:449:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
-        leg_fr_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:434:3 > stdlib/raibert.leg:434:20
+        leg_fl_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
+        leg_fr_spring.rest       creatures/quadruped.leg:449:50 > creatures/quadruped.leg:409:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
         hip_fl_pitch.kp          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fr_pitch.kp          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_fl_pitch.kv          creatures/quadruped.leg:449:50 > creatures/quadruped.leg:410:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
