@@ -5,6 +5,8 @@
     nice python docs/scripts/quadruped_search.py --search pace --generations 20 --seed 1
     nice python docs/scripts/quadruped_search.py --search bound --generations 60 --popsize 16 \
         --step 0.05 --seed 7 --jobs 2
+    nice python docs/scripts/quadruped_search.py --search bound_steady --generations 40 \
+        --popsize 10 --step 0.08 --seed 13 --jobs 2
     nice python docs/scripts/quadruped_search.py --search gallop --generations 100 --popsize 16 \
         --start-from bound --step 0.15 --seed 3 --jobs 2
 
@@ -35,6 +37,11 @@ seconds):
   counted six times, plus half the windows' mean. Run from the shipped values
   (``--generations 40 --popsize 16 --step 0.05 --seed 11 --jobs 2``) it found nothing
   better than them (docs/quadruped.md).
+* ``bound_steady`` (the bound's rate servo, speed gains and per-stance speed correction):
+  straight runs of 20 s at 2, 2.4, 2.8, 3.2 and 3.5 m/s (or ``--speeds``), each scored as
+  ``bound_windows`` over every 3 s window from 3 to 17 s, stepped by 0.5 s. The shipped
+  values: ``--generations 40 --popsize 10 --step 0.08 --seed 13 --jobs 2`` from
+  ``k_stride_speed`` 3 rad/m (docs/quadruped.md).
 * ``gallop``: straight runs of 20 s at 3, 3.5 (half), 4, 4.5 and 5 m/s, each plus twice the
   shortfall below 0.6 of its pairs' stances that go single, double, then single support.
   The shipped values: the command above at 3 (twice), 3.5 and 4 m/s, then from its best
@@ -107,7 +114,21 @@ SEARCHES: dict[str, tuple[str, Space]] = {
     }),
 }  # fmt: skip
 SEARCHES["bound_windows"] = SEARCHES["bound"]  # the bound's gains, scored by 3 s windows
+STEADY = (
+    "kv_rate",
+    "omega_f",
+    "omega_r",
+    "k_center",
+    "k_pitch_i",
+    "idle_delay",
+    "k_speed",
+    "k_trim",
+)
+STRIDE_SPEED: Space = {"k_stride_speed": (0, 8, "rad/m"), "stride_most": (0.2, 2, "rad/s")}
+# the bound's rate servo and speed gains with the per-stance speed correction, by every window
+SEARCHES["bound_steady"] = ("bound", {n: SEARCHES["bound"][1][n] for n in STEADY} | STRIDE_SPEED)
 WINDOWS = (3.0, 6.0, 9.0, 12.0, 15.0, 17.0)  # the 3 s windows' starts (20 s runs)
+STEADY_WINDOWS = tuple(3.0 + 0.5 * k for k in range(29))  # 3 to 17 s, every 0.5 s
 
 
 def fell(run: legdsl.Run, duration: float) -> float | None:
@@ -161,6 +182,7 @@ TRIALS: dict[str, list[Trial]] = {
     "bound": [(w, "", v, 20) for v, w in ((2.0, 1), (2.2, 1), (2.4, 1), (2.6, 1), (2.8, 2), (3.0, 1),
                                           (3.2, 1), (3.5, 1))],
     "bound_windows": [(1, "", v, 20) for v in (2.0, 2.2, 2.4, 2.6, 2.8, 3.0, 3.2, 3.5)],
+    "bound_steady": [(1, "", v, 20) for v in (2.0, 2.4, 2.8, 3.2, 3.5)],
     "gallop": [(w, "", v, 20) for v, w in ((3.0, 1), (3.5, 0.5), (4.0, 1), (4.5, 1), (5.0, 1))],
     "pace": [(1, "", v, 20) for v in (1.0, 1.5, 2.0)],
 }  # fmt: skip
@@ -193,6 +215,8 @@ class Search:
         times, x = run.samples["t"], run.samples["q.x"]
         if self.name == "bound_windows":  # every 3 s window within 5%: past 3.5% costs five times
             return window_score(times, x, speed)
+        if self.name == "bound_steady":  # the same over every window stepped by 0.5 s
+            return window_score(times, x, speed, STEADY_WINDOWS)
         i = int(np.searchsorted(times, 3.0))
         error = float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
         if self.name == "bound":  # every speed within 5%: an error past 3.5% costs five times
@@ -218,12 +242,14 @@ class Search:
                 for k in range(len(candidates))]  # fmt: skip
 
 
-def window_score(times: np.ndarray, x: np.ndarray, speed: float) -> float:
+def window_score(
+    times: np.ndarray, x: np.ndarray, speed: float, starts: tuple[float, ...] = WINDOWS
+) -> float:
     """The worst relative speed error of a run's 3 s windows (WINDOWS), an error past 3.5%
     counted six times, plus half their mean (so a search feels the windows it is not
     worst in)."""
     errors = []
-    for start in WINDOWS:
+    for start in starts:
         i, j = int(np.searchsorted(times, start)), int(np.searchsorted(times, start + 3.0)) - 1
         errors.append(abs((x[j] - x[i]) / (times[j] - times[i]) - speed) / speed)
     worst = max(errors)
@@ -256,7 +282,10 @@ def main() -> None:
     parser.add_argument("--popsize", type=int, default=10)
     parser.add_argument("--jobs", type=int, default=1, help="runs in this many processes")
     parser.add_argument("--start-from", help="start from another controller's values")
+    parser.add_argument("--speeds", help="straight 20 s runs at these speeds (m/s, 2,2.4)")
     args = parser.parse_args()
+    if args.speeds:  # in place of the search's own trials
+        TRIALS[args.search] = [(1, "", float(v), 20) for v in args.speeds.split(",")]
     # its own generated code: a search never writes generated/ (nor reads a later compile's)
     creature = legdsl.load(args.file, generated=tempfile.mkdtemp(prefix="quadruped-search-"))
     search = Search(creature, args.search)

@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "2bb8574836604989"
+FINGERPRINT = "06448f57c87803e9"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -32,8 +32,8 @@ INPUTS = {
     "height": 0.64,
 }
 PARAMS = {
-    "k_speed": 0.0454,
-    "k_trim": 0.0571,
+    "k_speed": 0.0302,
+    "k_trim": 0.0584,
     "trim_band": 0.3,
     "k_side_trim": 0.3,
     "k_aim_rate": 1.0,
@@ -63,17 +63,19 @@ PARAMS = {
     "settle": 0.02,
     "leg_b": 68.6,
     "leg_k": 4800.0,
-    "kv_rate": 27.8,
-    "omega_f": 3.62,
+    "k_stride_speed": 6.04,
+    "stride_most": 1.75,
+    "kv_rate": 25.4,
+    "omega_f": 2.77,
     "omega_r": 4.0,
-    "k_center": 3.13,
-    "k_pitch_i": 2.4,
+    "k_center": 2.14,
+    "k_pitch_i": 2.93,
     "trim_most": 2.0,
     "k_pitch_thrust": 0.0445,
-    "idle_delay": 0.034,
+    "idle_delay": 0.0684,
     "lift_slew": 5.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'stride_speed', 'stride_t1', 'stride_x1', 'stride_y1', 'stride_t0', 'stride_x0', 'stride_y0', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -93,7 +95,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:315:5
+        event  creatures/quadruped.leg:324:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -104,7 +106,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:331:5
+        event  creatures/quadruped.leg:340:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -115,7 +117,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:341:5
+        event  creatures/quadruped.leg:351:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -126,7 +128,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:344:5
+        event  creatures/quadruped.leg:354:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -138,7 +140,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:348:5
+        event  creatures/quadruped.leg:358:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
@@ -154,7 +156,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:315:5
+        event  creatures/quadruped.leg:324:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -165,7 +167,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:331:5
+        event  creatures/quadruped.leg:340:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -176,7 +178,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:341:5
+        event  creatures/quadruped.leg:351:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -187,7 +189,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:344:5
+        event  creatures/quadruped.leg:354:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -199,7 +201,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:348:5
+        event  creatures/quadruped.leg:358:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
@@ -215,20 +217,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:317:7
-        record ramped_speed  creatures/quadruped.leg:324:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:324:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:325:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:325:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:326:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:326:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:326:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:327:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:327:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:327:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:327:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:327:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:328:7
+        record steps         creatures/quadruped.leg:326:7
+        record ramped_speed  creatures/quadruped.leg:333:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:333:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:334:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:334:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:335:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:335:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:335:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:336:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:336:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:336:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:337:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -261,8 +263,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    ahead_then = r[26]
+    ahead_at = r[27]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -299,6 +308,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         thrust_stroke,
         new_step_side,
         new_side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         new_aim_rate,
         path_route_ahead_heading,
         time,
@@ -309,46 +325,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:318:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.rest       creatures/quadruped.leg:318:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:319:7
-        leg_fr_spring.k          creatures/quadruped.leg:319:7
-        leg_rl_spring.k          creatures/quadruped.leg:320:7
-        leg_rr_spring.k          creatures/quadruped.leg:320:7
-        leg_fl_spring.b          creatures/quadruped.leg:321:7
-        leg_fr_spring.b          creatures/quadruped.leg:321:7
-        leg_rl_spring.b          creatures/quadruped.leg:322:7
-        leg_rr_spring.b          creatures/quadruped.leg:322:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:323:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:323:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:270:5
-        leg_rr_spring.rest       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:270:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:329:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:329:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:327:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.rest       creatures/quadruped.leg:327:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:328:7
+        leg_fr_spring.k          creatures/quadruped.leg:328:7
+        leg_rl_spring.k          creatures/quadruped.leg:329:7
+        leg_rr_spring.k          creatures/quadruped.leg:329:7
+        leg_fl_spring.b          creatures/quadruped.leg:330:7
+        leg_fr_spring.b          creatures/quadruped.leg:330:7
+        leg_rl_spring.b          creatures/quadruped.leg:331:7
+        leg_rr_spring.b          creatures/quadruped.leg:331:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:332:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:332:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:270:5
+        leg_rr_spring.rest       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:270:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:338:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:338:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -383,13 +399,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     slew = p[26]
     leg_b = p[29]
     leg_k = p[30]
-    lift_slew = p[39]
+    lift_slew = p[41]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    aim_rate = r[25]
     t1 = (steps > 1.0)
     t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2
@@ -459,28 +475,40 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:332:7
-        record pitch_mean     creatures/quadruped.leg:333:7
-        record pitch_last_td  creatures/quadruped.leg:334:7
-        record pitch_trim     creatures/quadruped.leg:335:7
-        record flight_apex    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:336:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:341:7
+        record pitch_mean     creatures/quadruped.leg:342:7
+        record pitch_last_td  creatures/quadruped.leg:343:7
+        record pitch_trim     creatures/quadruped.leg:344:7
+        record stride_speed   creatures/quadruped.leg:345:7 > stdlib/raibert.leg:426:3
+        record stride_t1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:429:3
+        record stride_x1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:430:3
+        record stride_y1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:431:3
+        record stride_t0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:432:3
+        record stride_x0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:433:3
+        record stride_y0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:434:3
+        record flight_apex    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
+    body_trunk_yaw = s[4]
     com_vz = s[8]
+    com_x = s[9]
+    com_y = s[10]
     com_z = s[11]
+    leg_fl_hip_x = s[12]
+    leg_fr_hip_x = s[18]
     time = s[39]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
     k_height_trim = p[21]
     stroke_max = p[22]
-    k_pitch_i = p[35]
-    trim_most = p[36]
+    k_pitch_i = p[37]
+    trim_most = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -497,15 +525,29 @@ def entry_LOADING_0(s, u, p, r, tis):
     stroke_trim = r[14]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
+    new_stride_t1 = ((time) if t2 else (stride_t1))
+    new_stride_x1 = ((com_x) if t2 else (stride_x1))
+    new_stride_y1 = ((com_y) if t2 else (stride_y1))
+    new_stride_t0 = ((stride_t0) if t2 else (time))
+    new_stride_x0 = ((stride_x0) if t2 else (com_x))
+    new_stride_y0 = ((stride_y0) if t2 else (com_y))
     return [
         steps,
         stance,
@@ -525,6 +567,13 @@ def entry_LOADING_0(s, u, p, r, tis):
         new_thrust_stroke,
         step_side,
         side_trim,
+        new_stride_speed,
+        new_stride_t1,
+        new_stride_x1,
+        new_stride_y1,
+        new_stride_t0,
+        new_stride_x0,
+        new_stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -535,48 +584,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:270:5
-        leg_rr_spring.rest       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:270:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:347:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:347:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5
+        leg_rr_spring.rest       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -617,10 +666,12 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -628,11 +679,12 @@ def action_LOADING_0(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
@@ -729,9 +781,16 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -751,6 +810,13 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -761,34 +827,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:270:5
-        leg_rr_spring.rest       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:270:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5
+        leg_rr_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -829,10 +895,12 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -840,11 +908,12 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
@@ -927,9 +996,16 @@ def entry_THRUST_0(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -949,6 +1025,13 @@ def entry_THRUST_0(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -959,36 +1042,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:345:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:345:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:270:5
-        leg_rr_spring.rest       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:270:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fl_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fl_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fl_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_fr_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_fr_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_fr_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_rl_spring.rest       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5
+        leg_rr_spring.rest       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1030,12 +1113,14 @@ def action_THRUST_0(s, u, p, r, tis):
     stand = p[23]
     short = p[24]
     slew = p[26]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    k_pitch_thrust = p[37]
-    idle_delay = p[38]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    k_pitch_thrust = p[39]
+    idle_delay = p[40]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1044,13 +1129,14 @@ def action_THRUST_0(s, u, p, r, tis):
     ramped_speed = r[11]
     thrust_stroke = r[15]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t2
     hip_fl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
@@ -1135,9 +1221,16 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -1157,6 +1250,13 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1167,36 +1267,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:349:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:349:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:349:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:349:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:270:5
-        leg_rr_spring.rest       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:270:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:359:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:359:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:270:5
+        leg_rr_spring.rest       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:270:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1225,7 +1325,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    aim_rate = r[25]
     t1 = math.cos(body_trunk_yaw)
     t2 = math.sin(body_trunk_yaw)
     t3 = com_vx*t1 + com_vy*t2
@@ -1277,20 +1377,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:317:7
-        record ramped_speed  creatures/quadruped.leg:324:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:324:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:325:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:325:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:326:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:326:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:326:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:327:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:327:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:327:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:327:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:327:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:328:7
+        record steps         creatures/quadruped.leg:326:7
+        record ramped_speed  creatures/quadruped.leg:333:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:333:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:334:7 > stdlib/raibert.leg:322:3
+        record side_trim     creatures/quadruped.leg:334:7 > stdlib/raibert.leg:323:3
+        record aim_rate      creatures/quadruped.leg:335:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:335:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:335:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:336:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:336:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:336:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:337:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1323,8 +1423,15 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    ahead_then = r[26]
+    ahead_at = r[27]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1361,6 +1468,13 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         thrust_stroke,
         new_step_side,
         new_side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         new_aim_rate,
         path_route_ahead_heading,
         time,
@@ -1371,46 +1485,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:318:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:318:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.k          creatures/quadruped.leg:319:7
-        leg_rr_spring.k          creatures/quadruped.leg:319:7
-        leg_fl_spring.k          creatures/quadruped.leg:320:7
-        leg_fr_spring.k          creatures/quadruped.leg:320:7
-        leg_rl_spring.b          creatures/quadruped.leg:321:7
-        leg_rr_spring.b          creatures/quadruped.leg:321:7
-        leg_fl_spring.b          creatures/quadruped.leg:322:7
-        leg_fr_spring.b          creatures/quadruped.leg:322:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:323:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:323:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:323:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:323:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:270:5
-        leg_fr_spring.rest       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:270:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:330:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:329:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:329:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:330:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:327:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:327:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.k          creatures/quadruped.leg:328:7
+        leg_rr_spring.k          creatures/quadruped.leg:328:7
+        leg_fl_spring.k          creatures/quadruped.leg:329:7
+        leg_fr_spring.k          creatures/quadruped.leg:329:7
+        leg_rl_spring.b          creatures/quadruped.leg:330:7
+        leg_rr_spring.b          creatures/quadruped.leg:330:7
+        leg_fl_spring.b          creatures/quadruped.leg:331:7
+        leg_fr_spring.b          creatures/quadruped.leg:331:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:332:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:332:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:332:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:332:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:270:5
+        leg_fr_spring.rest       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:270:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:338:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:338:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1445,13 +1559,13 @@ def action_FLIGHT_1(s, u, p, r, tis):
     slew = p[26]
     leg_b = p[29]
     leg_k = p[30]
-    lift_slew = p[39]
+    lift_slew = p[41]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    aim_rate = r[25]
     t1 = (steps > 1.0)
     t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2
@@ -1521,28 +1635,40 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:332:7
-        record pitch_mean     creatures/quadruped.leg:333:7
-        record pitch_last_td  creatures/quadruped.leg:334:7
-        record pitch_trim     creatures/quadruped.leg:335:7
-        record flight_apex    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:336:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:336:7 > stdlib/raibert.leg:312:3
+        record landed         creatures/quadruped.leg:341:7
+        record pitch_mean     creatures/quadruped.leg:342:7
+        record pitch_last_td  creatures/quadruped.leg:343:7
+        record pitch_trim     creatures/quadruped.leg:344:7
+        record stride_speed   creatures/quadruped.leg:345:7 > stdlib/raibert.leg:426:3
+        record stride_t1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:429:3
+        record stride_x1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:430:3
+        record stride_y1      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:431:3
+        record stride_t0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:432:3
+        record stride_x0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:433:3
+        record stride_y0      creatures/quadruped.leg:345:7 > stdlib/raibert.leg:434:3
+        record flight_apex    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:310:3
+        record stroke_trim    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:311:3
+        record thrust_stroke  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:312:3
     """
     body_trunk_pitch = s[0]
+    body_trunk_yaw = s[4]
     com_vz = s[8]
+    com_x = s[9]
+    com_y = s[10]
     com_z = s[11]
+    leg_rl_hip_x = s[24]
+    leg_rr_hip_x = s[30]
     time = s[39]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
     k_height_trim = p[21]
     stroke_max = p[22]
-    k_pitch_i = p[35]
-    trim_most = p[36]
+    k_pitch_i = p[37]
+    trim_most = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1559,15 +1685,29 @@ def entry_LOADING_1(s, u, p, r, tis):
     stroke_trim = r[14]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
+    new_stride_t1 = ((time) if t2 else (stride_t1))
+    new_stride_x1 = ((com_x) if t2 else (stride_x1))
+    new_stride_y1 = ((com_y) if t2 else (stride_y1))
+    new_stride_t0 = ((stride_t0) if t2 else (time))
+    new_stride_x0 = ((stride_x0) if t2 else (com_x))
+    new_stride_y0 = ((stride_y0) if t2 else (com_y))
     return [
         steps,
         stance,
@@ -1587,6 +1727,13 @@ def entry_LOADING_1(s, u, p, r, tis):
         new_thrust_stroke,
         step_side,
         side_trim,
+        new_stride_speed,
+        new_stride_t1,
+        new_stride_x1,
+        new_stride_y1,
+        new_stride_t0,
+        new_stride_x0,
+        new_stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1597,48 +1744,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:339:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:270:5
-        leg_fr_spring.rest       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:270:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:340:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:340:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:347:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:347:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5
+        leg_fr_spring.rest       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:270:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:350:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:350:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1679,10 +1826,12 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1690,11 +1839,12 @@ def action_LOADING_1(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
@@ -1791,9 +1941,16 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -1813,6 +1970,13 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1823,34 +1987,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:342:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:270:5
-        leg_fr_spring.rest       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:270:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:343:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:343:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:352:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5
+        leg_fr_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:270:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1891,10 +2055,12 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1902,11 +2068,12 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
@@ -1989,9 +2156,16 @@ def entry_THRUST_1(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -2011,6 +2185,13 @@ def entry_THRUST_1(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -2021,36 +2202,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:345:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:345:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:346:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:270:5
-        leg_fr_spring.rest       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:270:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:347:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:347:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rl_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rl_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rl_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
+        hip_rr_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
+        hip_rr_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
+        hip_rr_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:264:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
+        leg_fl_spring.rest       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5
+        leg_fr_spring.rest       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:270:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:357:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:357:7 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2092,12 +2273,14 @@ def action_THRUST_1(s, u, p, r, tis):
     stand = p[23]
     short = p[24]
     slew = p[26]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    k_pitch_thrust = p[37]
-    idle_delay = p[38]
+    k_stride_speed = p[31]
+    stride_most = p[32]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    k_pitch_thrust = p[39]
+    idle_delay = p[40]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2106,13 +2289,14 @@ def action_THRUST_1(s, u, p, r, tis):
     ramped_speed = r[11]
     thrust_stroke = r[15]
     side_trim = r[17]
-    aim_rate = r[18]
+    stride_speed = r[18]
+    aim_rate = r[25]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t2
     hip_rl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
     t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
@@ -2197,9 +2381,16 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     thrust_stroke = r[15]
     step_side = r[16]
     side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    stride_speed = r[18]
+    stride_t1 = r[19]
+    stride_x1 = r[20]
+    stride_y1 = r[21]
+    stride_t0 = r[22]
+    stride_x0 = r[23]
+    stride_y0 = r[24]
+    aim_rate = r[25]
+    ahead_then = r[26]
+    ahead_at = r[27]
     return [
         steps,
         stance,
@@ -2219,6 +2410,13 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         thrust_stroke,
         step_side,
         side_trim,
+        stride_speed,
+        stride_t1,
+        stride_x1,
+        stride_y1,
+        stride_t0,
+        stride_x0,
+        stride_y0,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -2229,36 +2427,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:349:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:349:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:349:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:349:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:349:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:349:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:270:5
-        leg_fr_spring.rest       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:270:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:349:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:349:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:359:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:359:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:359:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:359:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:270:5
+        leg_fr_spring.rest       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:270:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:359:50 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:359:50 > creatures/quadruped.leg:272:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2287,7 +2485,7 @@ def action_UNLOADING_1(s, u, p, r, tis):
     speed_trim = r[7]
     ramped_speed = r[11]
     side_trim = r[17]
-    aim_rate = r[18]
+    aim_rate = r[25]
     t1 = math.cos(body_trunk_yaw)
     t2 = math.sin(body_trunk_yaw)
     t3 = com_vx*t1 + com_vy*t2
