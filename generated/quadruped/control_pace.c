@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "dae9e430cadf8cc5";
+const char legdsl_control_fingerprint[] = "7c82ad1402bae5b3";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -61,7 +61,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:193:5 */
+/*   event: creatures/quadruped.leg:199:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -71,7 +71,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:209:5 */
+/*   event: creatures/quadruped.leg:215:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -81,7 +81,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:216:5 */
+/*   event: creatures/quadruped.leg:222:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
@@ -91,7 +91,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:219:5 */
+/*   event: creatures/quadruped.leg:225:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
@@ -102,7 +102,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:223:5 */
+/*   event: creatures/quadruped.leg:229:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[19];
@@ -111,13 +111,13 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     const double leg_rl_touching = s[33];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[5];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_rl_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_rl_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:193:5 */
+/*   event: creatures/quadruped.leg:199:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -127,7 +127,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:209:5 */
+/*   event: creatures/quadruped.leg:215:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -137,7 +137,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:216:5 */
+/*   event: creatures/quadruped.leg:222:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
@@ -147,7 +147,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:219:5 */
+/*   event: creatures/quadruped.leg:225:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
@@ -158,7 +158,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:223:5 */
+/*   event: creatures/quadruped.leg:229:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_length = s[25];
@@ -167,29 +167,31 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     const double leg_rr_touching = s[39];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[5];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fr_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:195:7 */
-/*   record ramped_speed: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:206:7 */
+/*   record steps: creatures/quadruped.leg:201:7 */
+/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
+/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
+/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
+/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
+/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
+/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
+/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record stance: creatures/quadruped.leg:212:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[40];
@@ -203,54 +205,57 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_aim_rate = p[4];
     const double stance_guess = p[5];
     const double accel = p[25];
+    const double decel = p[31];
+    const double k_start = p[32];
     const double steps = r[0];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
     const double t2 = com_x - lifted_x;
-    const double t3 = leg_cos(body_trunk_yaw);
+    const double t3 = leg_sin(body_trunk_yaw);
     const double t4 = com_y - lifted_y;
-    const double t5 = leg_sin(body_trunk_yaw);
+    const double t5 = leg_cos(body_trunk_yaw);
     const double t6 = (lifted > 0.0);
-    const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(0.001, time);
-    const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
+    const double new_step_side = ((t6) ? (leg_div((-t2*t3 + t4*t5), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
-    const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t7 = -ramped_at + time;
+    const double t8 = com_vx*t5 + com_vy*t3;
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(accel*t7 + ramped_speed, leg_max(speed, -decel*t7 + ramped_speed))) : (t8));
+    const double new_ramped_at = leg_max(0.001, time);
+    const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
+    const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
+    const double t9 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
-    out[3] = new_step_speed;
-    out[4] = new_speed_trim;
-    out[5] = time;
-    out[6] = com_x;
-    out[7] = com_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = new_step_side;
+    out[7] = new_side_trim;
     out[8] = new_ramped_speed;
     out[9] = new_ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = new_step_side;
-    out[14] = new_side_trim;
+    out[10] = new_step_speed;
+    out[11] = new_speed_trim;
+    out[12] = time;
+    out[13] = com_x;
+    out[14] = com_y;
     out[15] = new_aim_rate;
     out[16] = path_route_ahead_heading;
     out[17] = time;
@@ -259,48 +264,48 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:197:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:197:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:198:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:198:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:199:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:199:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:200:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:200:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5 */
-/*   place fl (x, y): creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:203:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:203:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:205:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:205:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:206:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
+/*   place fl (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -336,9 +341,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double speed_trim = r[4];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
-    const double side_trim = r[14];
+    const double speed_trim = r[11];
     const double aim_rate = r[15];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
@@ -406,10 +411,10 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:210:7 */
-/*   record flight_apex: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:312:3 */
+/*   record landed: creatures/quadruped.leg:216:7 */
+/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -422,17 +427,17 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double stroke_max = p[22];
     const double steps = r[0];
     const double stance = r[1];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
@@ -443,18 +448,18 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = new_flight_apex;
+    out[4] = new_stroke_trim;
+    out[5] = new_thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = new_flight_apex;
-    out[11] = new_stroke_trim;
-    out[12] = new_thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -463,50 +468,50 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -619,36 +624,36 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -657,36 +662,36 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -784,36 +789,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -822,38 +827,38 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -890,7 +895,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[5];
     const double aim_rate = r[15];
     const double leg_fl_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fl_touching;
@@ -956,36 +961,36 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -994,38 +999,38 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fl_y_value = s[12];
@@ -1072,23 +1077,25 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:195:7 */
-/*   record ramped_speed: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:204:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:206:7 */
+/*   record steps: creatures/quadruped.leg:201:7 */
+/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
+/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
+/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
+/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
+/*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
+/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
+/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
+/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
+/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record stance: creatures/quadruped.leg:212:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[40];
@@ -1102,54 +1109,57 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double k_aim_rate = p[4];
     const double stance_guess = p[5];
     const double accel = p[25];
+    const double decel = p[31];
+    const double k_start = p[32];
     const double steps = r[0];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
     const double t2 = com_x - lifted_x;
-    const double t3 = leg_cos(body_trunk_yaw);
+    const double t3 = leg_sin(body_trunk_yaw);
     const double t4 = com_y - lifted_y;
-    const double t5 = leg_sin(body_trunk_yaw);
+    const double t5 = leg_cos(body_trunk_yaw);
     const double t6 = (lifted > 0.0);
-    const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(0.001, time);
-    const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
+    const double new_step_side = ((t6) ? (leg_div((-t2*t3 + t4*t5), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
-    const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t7 = -ramped_at + time;
+    const double t8 = com_vx*t5 + com_vy*t3;
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(accel*t7 + ramped_speed, leg_max(speed, -decel*t7 + ramped_speed))) : (t8));
+    const double new_ramped_at = leg_max(0.001, time);
+    const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
+    const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
+    const double t9 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
-    out[3] = new_step_speed;
-    out[4] = new_speed_trim;
-    out[5] = time;
-    out[6] = com_x;
-    out[7] = com_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = new_step_side;
+    out[7] = new_side_trim;
     out[8] = new_ramped_speed;
     out[9] = new_ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = new_step_side;
-    out[14] = new_side_trim;
+    out[10] = new_step_speed;
+    out[11] = new_speed_trim;
+    out[12] = time;
+    out[13] = com_x;
+    out[14] = com_y;
     out[15] = new_aim_rate;
     out[16] = path_route_ahead_heading;
     out[17] = time;
@@ -1158,48 +1168,48 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y). */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:196:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:197:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:197:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:198:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:198:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:199:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:199:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:200:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:200:7 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:201:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:208:7 > creatures/quadruped.leg:124:5 */
-/*   place fr (x, y): creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:207:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:203:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:203:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:205:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:205:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:206:7 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
+/*   place fr (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1235,9 +1245,9 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double speed_trim = r[4];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
-    const double side_trim = r[14];
+    const double speed_trim = r[11];
     const double aim_rate = r[15];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
@@ -1305,10 +1315,10 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:210:7 */
-/*   record flight_apex: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:312:3 */
+/*   record landed: creatures/quadruped.leg:216:7 */
+/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
+/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -1321,17 +1331,17 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double stroke_max = p[22];
     const double steps = r[0];
     const double stance = r[1];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
@@ -1342,18 +1352,18 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = new_flight_apex;
+    out[4] = new_stroke_trim;
+    out[5] = new_thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = new_flight_apex;
-    out[11] = new_stroke_trim;
-    out[12] = new_thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -1362,50 +1372,50 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:213:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1518,36 +1528,36 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -1556,36 +1566,36 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1683,36 +1693,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -1721,38 +1731,38 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1789,7 +1799,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[12];
+    const double thrust_stroke = r[5];
     const double aim_rate = r[15];
     const double leg_fr_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fr_touching;
@@ -1855,36 +1865,36 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double steps = r[0];
     const double stance = r[1];
     const double landed = r[2];
-    const double step_speed = r[3];
-    const double speed_trim = r[4];
-    const double lifted = r[5];
-    const double lifted_x = r[6];
-    const double lifted_y = r[7];
+    const double flight_apex = r[3];
+    const double stroke_trim = r[4];
+    const double thrust_stroke = r[5];
+    const double step_side = r[6];
+    const double side_trim = r[7];
     const double ramped_speed = r[8];
     const double ramped_at = r[9];
-    const double flight_apex = r[10];
-    const double stroke_trim = r[11];
-    const double thrust_stroke = r[12];
-    const double step_side = r[13];
-    const double side_trim = r[14];
+    const double step_speed = r[10];
+    const double speed_trim = r[11];
+    const double lifted = r[12];
+    const double lifted_x = r[13];
+    const double lifted_y = r[14];
     const double aim_rate = r[15];
     const double ahead_then = r[16];
     const double ahead_at = r[17];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
-    out[3] = step_speed;
-    out[4] = speed_trim;
-    out[5] = lifted;
-    out[6] = lifted_x;
-    out[7] = lifted_y;
+    out[3] = flight_apex;
+    out[4] = stroke_trim;
+    out[5] = thrust_stroke;
+    out[6] = step_side;
+    out[7] = side_trim;
     out[8] = ramped_speed;
     out[9] = ramped_at;
-    out[10] = flight_apex;
-    out[11] = stroke_trim;
-    out[12] = thrust_stroke;
-    out[13] = step_side;
-    out[14] = side_trim;
+    out[10] = step_speed;
+    out[11] = speed_trim;
+    out[12] = lifted;
+    out[13] = lifted_x;
+    out[14] = lifted_y;
     out[15] = aim_rate;
     out[16] = ahead_then;
     out[17] = ahead_at;
@@ -1893,38 +1903,38 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:224:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:224:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fr_y_value = s[13];

@@ -5,6 +5,7 @@ each) is shared by the tests."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -277,11 +278,44 @@ def test_the_pace_takes_over_from_the_trot(generated: Path) -> None:
     assert (x[-1] - x[i]) / (times[-1] - times[i]) == pytest.approx(1.5, rel=0.05)
 
 
+def test_a_trot_taking_over_starts_from_the_speed_it_finds(generated: Path, monkeypatch) -> None:
+    """The pace (the trot's table) taking over from the trot at 1.5 m/s: its command's ramp
+    starts from the forward speed of the centre of mass (``ramp_speed_from``), its trim at
+    ``k_start`` times it (``trim_step_speed_from``), not from what the trot had."""
+    import legdsl
+    from legdsl.sim import machine
+
+    monkeypatch.setenv("LEGDSL_BACKEND", "python")  # the records at the takeover, in Python
+    seen: list[tuple[dict[str, float], float]] = []
+    take_over = machine.StateMachine._take_over
+
+    def watched(self: machine.StateMachine, t: float, s: tuple[float, ...]) -> None:
+        take_over(self, t, s)
+        read = dict(zip(self.module.SENSORS, s, strict=True))
+        yaw = read["body.trunk.yaw"]
+        forward = math.cos(yaw) * read["com.vx"] + math.sin(yaw) * read["com.vy"]
+        seen.append((dict(zip(self.module.RECORDS, self.records, strict=True)), forward))
+
+    monkeypatch.setattr(machine.StateMachine, "_take_over", watched)
+    creature = legdsl.load(QUADRUPED, generated=generated)
+    run = creature.run(
+        controller="trot", set={"speed": "1.5 m/s"}, switch={"3 s": "pace"}, time=3.6
+    )
+    assert run.status == "ok" and len(seen) == 1
+    records, forward = seen[0]
+    assert forward > 1.0  # it took over a moving creature
+    k_start = creature.controllers["pace"].params["k_start"].value
+    assert records["ramped_speed"] == pytest.approx(forward)
+    assert records["speed_trim"] == pytest.approx(k_start * forward)
+    assert records["lifted"] > 3.0  # its own first step, not the trot's last
+
+
 def test_the_gaits_own_their_trims() -> None:
     """What a gait taking over does not carry from the one before (``own``)."""
     model = check_model(QUADRUPED)
     own = {name: model.controller(name).own for name in ("trot", "pace", "bound", "gallop")}
-    trot = ("speed_trim", "landed", "stance")  # its first step placed for its own stance
+    # its first step placed for its own stance; its command and trim started afresh
+    trot = ("speed_trim", "landed", "stance", "ramped_at", "lifted")
     assert own == {"trot": trot, "pace": trot,
                    "bound": ("pitch_trim",), "gallop": ("pitch_trim",)}  # fmt: skip
 
