@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "7c82ad1402bae5b3";
+const char legdsl_control_fingerprint[] = "1e104ce5f6385950";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -111,7 +111,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     const double leg_rl_touching = s[33];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[5];
+    const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_rl_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_rl_length > full + stand + thrust_stroke)));
 }
@@ -167,25 +167,25 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     const double leg_rr_touching = s[39];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[5];
+    const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fr_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
 /*   record steps: creatures/quadruped.leg:201:7 */
-/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
-/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
-/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
+/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:326:3 */
 /*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
 /*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
 /*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
-/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
-/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
-/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
-/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:458:3 */
 /*   record stance: creatures/quadruped.leg:212:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
@@ -211,18 +211,19 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -246,19 +247,20 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = new_step_side;
-    out[7] = new_side_trim;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = new_step_speed;
-    out[11] = new_speed_trim;
-    out[12] = time;
-    out[13] = com_x;
-    out[14] = com_y;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = new_step_side;
+    out[8] = new_side_trim;
+    out[9] = new_ramped_speed;
+    out[10] = new_ramped_at;
+    out[11] = new_step_speed;
+    out[12] = new_speed_trim;
+    out[13] = time;
+    out[14] = com_x;
+    out[15] = com_y;
+    out[16] = new_aim_rate;
+    out[17] = path_route_ahead_heading;
+    out[18] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -341,10 +343,10 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double speed_trim = r[11];
-    const double aim_rate = r[15];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double speed_trim = r[12];
+    const double aim_rate = r[16];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rl_hip_z + t2;
@@ -410,11 +412,12 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
+/* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
 /*   record landed: creatures/quadruped.leg:216:7 */
-/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -429,40 +432,42 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
     out[3] = new_flight_apex;
     out[4] = new_stroke_trim;
-    out[5] = new_thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke;
+    out[6] = new_thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -548,7 +553,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -626,37 +631,39 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -727,7 +734,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -791,37 +798,39 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -895,8 +904,8 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[5];
-    const double aim_rate = r[15];
+    const double thrust_stroke = r[6];
+    const double aim_rate = r[16];
     const double leg_fl_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
@@ -963,37 +972,39 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1078,18 +1089,18 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
 /*   record steps: creatures/quadruped.leg:201:7 */
-/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
-/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
-/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
+/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:326:3 */
 /*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
 /*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
 /*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
-/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
-/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
-/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
-/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:458:3 */
 /*   record stance: creatures/quadruped.leg:212:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
@@ -1115,18 +1126,19 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1150,19 +1162,20 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = new_step_side;
-    out[7] = new_side_trim;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = new_step_speed;
-    out[11] = new_speed_trim;
-    out[12] = time;
-    out[13] = com_x;
-    out[14] = com_y;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = new_step_side;
+    out[8] = new_side_trim;
+    out[9] = new_ramped_speed;
+    out[10] = new_ramped_at;
+    out[11] = new_step_speed;
+    out[12] = new_speed_trim;
+    out[13] = time;
+    out[14] = com_x;
+    out[15] = com_y;
+    out[16] = new_aim_rate;
+    out[17] = path_route_ahead_heading;
+    out[18] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1245,10 +1258,10 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double speed_trim = r[11];
-    const double aim_rate = r[15];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double speed_trim = r[12];
+    const double aim_rate = r[16];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
     const double leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rr_hip_z + t2;
@@ -1314,11 +1327,12 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
+/* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
 /*   record landed: creatures/quadruped.leg:216:7 */
-/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -1333,40 +1347,42 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
     out[3] = new_flight_apex;
     out[4] = new_stroke_trim;
-    out[5] = new_thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke;
+    out[6] = new_thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1452,7 +1468,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
@@ -1530,37 +1546,39 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1631,7 +1649,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
@@ -1695,37 +1713,39 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -1799,8 +1819,8 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[5];
-    const double aim_rate = r[15];
+    const double thrust_stroke = r[6];
+    const double aim_rate = r[16];
     const double leg_fr_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
@@ -1867,37 +1887,39 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -2020,7 +2042,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 44, 4, 18, 44,
+    5, 2, 44, 4, 19, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

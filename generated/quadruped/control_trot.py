@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "57eb8f0181e86501"
+FINGERPRINT = "c56215ba9ea3bf89"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -66,7 +66,7 @@ PARAMS = {
     "decel": 1.7,
     "k_start": 0.05,
 }
-RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -139,7 +139,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     leg_rr_touching = s[39]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[5]
+    thrust_stroke = r[6]
     return (leg_fl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
@@ -200,7 +200,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     leg_rl_touching = s[33]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[5]
+    thrust_stroke = r[6]
     return (leg_fr_touching < 0.5) and (leg_rl_touching < 0.5) or (0.5*leg_fr_length + 0.5*leg_rl_length > full + stand + thrust_stroke)
 
 
@@ -209,18 +209,18 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
     From the .leg file:
         record steps         creatures/quadruped.leg:201:7
-        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3
-        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3
-        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3
+        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:326:3
         record aim_rate      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5
         record ahead_then    creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5
         record ahead_at      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3
-        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3
-        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3
-        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
-        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
+        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:458:3
         record stance        creatures/quadruped.leg:212:7
     """
     body_trunk_yaw = s[4]
@@ -245,18 +245,19 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -281,6 +282,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -377,10 +379,10 @@ def action_FLIGHT_0(s, u, p, r, tis):
     leg_k = p[30]
     steps = r[0]
     stance = r[1]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    speed_trim = r[11]
-    aim_rate = r[15]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    speed_trim = r[12]
+    aim_rate = r[16]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rr_hip_z + t2
@@ -447,13 +449,14 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:216:7
-        record flight_apex    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:216:7
+        record flight_apex     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:217:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -467,21 +470,22 @@ def entry_LOADING_0(s, u, p, r, tis):
     stance = r[1]
     flight_apex = r[3]
     stroke_trim = r[4]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -489,6 +493,7 @@ def entry_LOADING_0(s, u, p, r, tis):
         time,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -588,7 +593,7 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -665,25 +670,27 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -768,7 +775,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kp = p[17]
     swing_kv = p[18]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -831,25 +838,27 @@ def entry_THRUST_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -937,8 +946,8 @@ def action_THRUST_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    thrust_stroke = r[5]
-    aim_rate = r[15]
+    thrust_stroke = r[6]
+    aim_rate = r[16]
     leg_fl_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -1004,25 +1013,27 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1124,18 +1135,18 @@ def entry_FLIGHT_1(s, u, p, r, tis):
 
     From the .leg file:
         record steps         creatures/quadruped.leg:201:7
-        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3
-        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3
-        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3
+        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:326:3
         record aim_rate      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5
         record ahead_then    creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5
         record ahead_at      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3
-        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3
-        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3
-        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
-        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
+        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:458:3
         record stance        creatures/quadruped.leg:212:7
     """
     body_trunk_yaw = s[4]
@@ -1160,18 +1171,19 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1196,6 +1208,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -1292,10 +1305,10 @@ def action_FLIGHT_1(s, u, p, r, tis):
     leg_k = p[30]
     steps = r[0]
     stance = r[1]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    speed_trim = r[11]
-    aim_rate = r[15]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    speed_trim = r[12]
+    aim_rate = r[16]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rl_hip_z + t2
@@ -1362,13 +1375,14 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:216:7
-        record flight_apex    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:216:7
+        record flight_apex     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:217:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -1382,21 +1396,22 @@ def entry_LOADING_1(s, u, p, r, tis):
     stance = r[1]
     flight_apex = r[3]
     stroke_trim = r[4]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -1404,6 +1419,7 @@ def entry_LOADING_1(s, u, p, r, tis):
         time,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -1503,7 +1519,7 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
@@ -1580,25 +1596,27 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1683,7 +1701,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kp = p[17]
     swing_kv = p[18]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
@@ -1746,25 +1764,27 @@ def entry_THRUST_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1852,8 +1872,8 @@ def action_THRUST_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    thrust_stroke = r[5]
-    aim_rate = r[15]
+    thrust_stroke = r[6]
+    aim_rate = r[16]
     leg_fr_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
@@ -1919,25 +1939,27 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
