@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "1e104ce5f6385950";
+const char legdsl_control_fingerprint[] = "d4b363fc1e83f7e3";
 
 const int64_t leg_has_c_controller = 1;
 

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "c56215ba9ea3bf89";
+const char legdsl_control_fingerprint[] = "b624f007db6a1a1e";
 
 const int64_t leg_has_c_controller = 1;
 
