@@ -76,8 +76,8 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 
 /* The records on entering FLIGHT under binding 0 (changed: speed_trim, apex_seen, apex_trim). */
 /*   record speed_trim: creatures/hopper.leg:68:104 > stdlib/raibert.leg:44:3 */
-/*   record apex_seen: creatures/hopper.leg:68:131 > stdlib/raibert.leg:356:3 */
-/*   record apex_trim: creatures/hopper.leg:68:131 > stdlib/raibert.leg:357:3 */
+/*   record apex_seen: creatures/hopper.leg:68:131 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/hopper.leg:68:131 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -196,8 +196,8 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke). */
-/*   record predicted_apex: creatures/hopper.leg:71:49 > stdlib/raibert.leg:340:3 */
-/*   record thrust_stroke: creatures/hopper.leg:71:49 > stdlib/raibert.leg:341:3 */
+/*   record predicted_apex: creatures/hopper.leg:71:49 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/hopper.leg:71:49 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_spring_force = s[0];
@@ -225,7 +225,7 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:71:49 > stdlib/raibert.leg:342:3 */
+/*   leg_spring.rest: creatures/hopper.leg:71:49 > stdlib/raibert.leg:345:3 */
 /*   hip_servo.kp: creatures/hopper.leg:71:112 > stdlib/raibert.leg:84:3 */
 /*   hip_servo.kv: creatures/hopper.leg:71:112 > stdlib/raibert.leg:85:3 */
 /*   hip_motor.force: creatures/hopper.leg:71:112 > stdlib/raibert.leg:86:3 */

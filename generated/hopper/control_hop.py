@@ -108,8 +108,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
 
     From the .leg file:
         record speed_trim  creatures/hopper.leg:68:104 > stdlib/raibert.leg:44:3
-        record apex_seen   creatures/hopper.leg:68:131 > stdlib/raibert.leg:356:3
-        record apex_trim   creatures/hopper.leg:68:131 > stdlib/raibert.leg:357:3
+        record apex_seen   creatures/hopper.leg:68:131 > stdlib/raibert.leg:359:3
+        record apex_trim   creatures/hopper.leg:68:131 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -202,8 +202,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record predicted_apex  creatures/hopper.leg:71:49 > stdlib/raibert.leg:340:3
-        record thrust_stroke   creatures/hopper.leg:71:49 > stdlib/raibert.leg:341:3
+        record predicted_apex  creatures/hopper.leg:71:49 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/hopper.leg:71:49 > stdlib/raibert.leg:344:3
     """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
@@ -227,7 +227,7 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:342:3
+        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:345:3
         hip_servo.kp     creatures/hopper.leg:71:112 > stdlib/raibert.leg:84:3
         hip_servo.kv     creatures/hopper.leg:71:112 > stdlib/raibert.leg:85:3
         hip_motor.force  creatures/hopper.leg:71:112 > stdlib/raibert.leg:86:3

@@ -138,8 +138,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         record desired_now  creatures/kangaroo.leg:266:65 > creatures/kangaroo.leg:227:5
         record speed_trim   creatures/kangaroo.leg:266:92 > creatures/kangaroo.leg:232:5
-        record apex_seen    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:356:3
-        record apex_trim    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:357:3
+        record apex_seen    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -175,8 +175,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         knee_servo.kp        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:245:5
         knee_servo.kv        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:246:5
         knee_motor.force     creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:247:5
-        hip_servo.setpoint   creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:36:3
+        hip_servo.setpoint   creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
         tail_spring.k        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:196:5
         tail_spring.b        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:197:5
         tail_spring.rest     creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:198:5

@@ -173,8 +173,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         record clear_x      creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:355:5
         record desired_now  creatures/kangaroo.leg:386:81 > creatures/kangaroo.leg:227:5
         record speed_trim   creatures/kangaroo.leg:386:108 > creatures/kangaroo.leg:232:5
-        record apex_seen    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:356:3
-        record apex_trim    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:357:3
+        record apex_seen    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -235,8 +235,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
         knee_servo.kp        creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:245:5
         knee_servo.kv        creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:246:5
         knee_motor.force     creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:247:5
-        hip_servo.setpoint   creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:375:3 > stdlib/raibert.leg:36:3
+        hip_servo.setpoint   creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
         tail_spring.k        creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:196:5
         tail_spring.b        creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:197:5
         tail_spring.rest     creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:198:5
@@ -585,8 +585,8 @@ def entry_THRUST_0(s, u, p, r, tis):
 
     From the .leg file:
         record hop_predicted   creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:364:5
-        record predicted_apex  creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:340:3
-        record thrust_stroke   creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:341:3
+        record predicted_apex  creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:344:3
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
@@ -637,7 +637,7 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:342:3
+        ankle_spring.rest    creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:345:3
         ankle_spring.rest    creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:366:5
         hip_servo.kp         creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:207:5
         hip_servo.kv         creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:208:5

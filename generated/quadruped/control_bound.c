@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "06448f57c87803e9";
+const char legdsl_control_fingerprint[] = "8476cc71f9ea4fe2";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:330:5 */
+/*   event: creatures/quadruped.leg:334:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -67,7 +67,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:346:5 */
+/*   event: creatures/quadruped.leg:350:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -77,7 +77,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:357:5 */
+/*   event: creatures/quadruped.leg:361:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -87,7 +87,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:360:5 */
+/*   event: creatures/quadruped.leg:364:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -98,7 +98,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:364:5 */
+/*   event: creatures/quadruped.leg:368:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[15];
@@ -107,13 +107,13 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     const double leg_fr_touching = s[23];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[16];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:330:5 */
+/*   event: creatures/quadruped.leg:334:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -123,7 +123,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:346:5 */
+/*   event: creatures/quadruped.leg:350:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -133,7 +133,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:357:5 */
+/*   event: creatures/quadruped.leg:361:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -143,7 +143,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:360:5 */
+/*   event: creatures/quadruped.leg:364:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -154,7 +154,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:364:5 */
+/*   event: creatures/quadruped.leg:368:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[27];
@@ -163,26 +163,26 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     const double leg_rr_touching = s[35];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[16];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:332:7 */
-/*   record ramped_speed: creatures/quadruped.leg:339:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:339:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:340:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:340:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:343:7 */
+/*   record steps: creatures/quadruped.leg:336:7 */
+/*   record ramped_speed: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:344:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:344:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:347:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -213,18 +213,19 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -257,64 +258,65 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[12] = new_ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = new_step_side;
-    out[17] = new_side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = new_aim_rate;
-    out[26] = path_route_ahead_heading;
-    out[27] = time;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = new_step_side;
+    out[18] = new_side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = new_aim_rate;
+    out[27] = path_route_ahead_heading;
+    out[28] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:334:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:334:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:335:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:335:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:336:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:336:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:337:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:337:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:338:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:338:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:339:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:339:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:340:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:340:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:341:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:341:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -355,8 +357,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double aim_rate = r[26];
     const double t1 = (steps > 1.0);
     const double t2 = ((t1) ? (stand) : (leg_min(stand, short_ + slew*tis)));
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2;
@@ -425,21 +427,22 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:347:7 */
-/*   record pitch_mean: creatures/quadruped.leg:348:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:349:7 */
-/*   record pitch_trim: creatures/quadruped.leg:350:7 */
-/*   record stride_speed: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:426:3 */
-/*   record stride_t1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_x1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:430:3 */
-/*   record stride_y1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:431:3 */
-/*   record stride_t0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:434:3 */
-/*   record flight_apex: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:351:7 */
+/*   record pitch_mean: creatures/quadruped.leg:352:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:353:7 */
+/*   record pitch_trim: creatures/quadruped.leg:354:7 */
+/*   record stride_speed: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -472,22 +475,23 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     const double t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double new_stride_speed = ((((t2) ? ((stride_t1 > 0.0)) : ((stride_t0 > 0.0)))) ? (leg_div(((com_x - ((t2) ? (stride_x1) : (stride_x0)))*leg_cos(body_trunk_yaw) + (com_y - ((t2) ? (stride_y1) : (stride_y0)))*leg_sin(body_trunk_yaw)), leg_max(0.001, time - ((t2) ? (stride_t1) : (stride_t0))))) : (ramped_speed));
@@ -512,66 +516,67 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[12] = ramped_at;
     out[13] = new_flight_apex;
     out[14] = new_stroke_trim;
-    out[15] = new_thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = new_stride_speed;
-    out[19] = new_stride_t1;
-    out[20] = new_stride_x1;
-    out[21] = new_stride_y1;
-    out[22] = new_stride_t0;
-    out[23] = new_stride_x0;
-    out[24] = new_stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke;
+    out[16] = new_thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = new_stride_speed;
+    out[20] = new_stride_t1;
+    out[21] = new_stride_x1;
+    out[22] = new_stride_y1;
+    out[23] = new_stride_t0;
+    out[24] = new_stride_x0;
+    out[25] = new_stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -625,9 +630,9 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -726,19 +731,20 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -754,52 +760,53 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -853,9 +860,9 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -940,19 +947,20 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -968,54 +976,55 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1072,10 +1081,10 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double thrust_stroke = r[15];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double thrust_stroke = r[16];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double t2 = 1.0 - leg_fl_touching;
@@ -1164,19 +1173,20 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1192,54 +1202,55 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1268,8 +1279,8 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double aim_rate = r[26];
     const double t1 = leg_cos(body_trunk_yaw);
     const double t2 = leg_sin(body_trunk_yaw);
     const double t3 = com_vx*t1 + com_vy*t2;
@@ -1318,20 +1329,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:332:7 */
-/*   record ramped_speed: creatures/quadruped.leg:339:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:339:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:340:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:340:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:341:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:343:7 */
+/*   record steps: creatures/quadruped.leg:336:7 */
+/*   record ramped_speed: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:344:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:344:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:347:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1362,18 +1373,19 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1406,64 +1418,65 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[12] = new_ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = new_step_side;
-    out[17] = new_side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = new_aim_rate;
-    out[26] = path_route_ahead_heading;
-    out[27] = time;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = new_step_side;
+    out[18] = new_side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = new_aim_rate;
+    out[27] = path_route_ahead_heading;
+    out[28] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:334:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:334:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:335:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:335:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:336:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:336:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:337:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:337:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:338:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:338:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:339:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:339:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:340:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:340:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:341:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:341:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1504,8 +1517,8 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double aim_rate = r[26];
     const double t1 = (steps > 1.0);
     const double t2 = ((t1) ? (stand) : (leg_min(stand, short_ + slew*tis)));
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2;
@@ -1574,21 +1587,22 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:347:7 */
-/*   record pitch_mean: creatures/quadruped.leg:348:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:349:7 */
-/*   record pitch_trim: creatures/quadruped.leg:350:7 */
-/*   record stride_speed: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:426:3 */
-/*   record stride_t1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_x1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:430:3 */
-/*   record stride_y1: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:431:3 */
-/*   record stride_t0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y0: creatures/quadruped.leg:351:7 > stdlib/raibert.leg:434:3 */
-/*   record flight_apex: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:351:7 */
+/*   record pitch_mean: creatures/quadruped.leg:352:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:353:7 */
+/*   record pitch_trim: creatures/quadruped.leg:354:7 */
+/*   record stride_speed: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:355:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1621,22 +1635,23 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     const double t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double new_stride_speed = ((((t2) ? ((stride_t1 > 0.0)) : ((stride_t0 > 0.0)))) ? (leg_div(((com_x - ((t2) ? (stride_x1) : (stride_x0)))*leg_cos(body_trunk_yaw) + (com_y - ((t2) ? (stride_y1) : (stride_y0)))*leg_sin(body_trunk_yaw)), leg_max(0.001, time - ((t2) ? (stride_t1) : (stride_t0))))) : (ramped_speed));
@@ -1661,66 +1676,67 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[12] = ramped_at;
     out[13] = new_flight_apex;
     out[14] = new_stroke_trim;
-    out[15] = new_thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = new_stride_speed;
-    out[19] = new_stride_t1;
-    out[20] = new_stride_x1;
-    out[21] = new_stride_y1;
-    out[22] = new_stride_t0;
-    out[23] = new_stride_x0;
-    out[24] = new_stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke;
+    out[16] = new_thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = new_stride_speed;
+    out[20] = new_stride_t1;
+    out[21] = new_stride_x1;
+    out[22] = new_stride_y1;
+    out[23] = new_stride_t0;
+    out[24] = new_stride_x0;
+    out[25] = new_stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1774,9 +1790,9 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -1875,19 +1891,20 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1903,52 +1920,53 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2002,9 +2020,9 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -2089,19 +2107,20 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2117,54 +2136,55 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2221,10 +2241,10 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double thrust_stroke = r[15];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double aim_rate = r[25];
+    const double thrust_stroke = r[16];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double aim_rate = r[26];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double t2 = 1.0 - leg_rl_touching;
@@ -2313,19 +2333,20 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double ramped_at = r[12];
     const double flight_apex = r[13];
     const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double stride_speed = r[18];
-    const double stride_t1 = r[19];
-    const double stride_x1 = r[20];
-    const double stride_y1 = r[21];
-    const double stride_t0 = r[22];
-    const double stride_x0 = r[23];
-    const double stride_y0 = r[24];
-    const double aim_rate = r[25];
-    const double ahead_then = r[26];
-    const double ahead_at = r[27];
+    const double stroke_nominal = r[15];
+    const double thrust_stroke = r[16];
+    const double step_side = r[17];
+    const double side_trim = r[18];
+    const double stride_speed = r[19];
+    const double stride_t1 = r[20];
+    const double stride_x1 = r[21];
+    const double stride_y1 = r[22];
+    const double stride_t0 = r[23];
+    const double stride_x0 = r[24];
+    const double stride_y0 = r[25];
+    const double aim_rate = r[26];
+    const double ahead_then = r[27];
+    const double ahead_at = r[28];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2341,54 +2362,55 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     out[12] = ramped_at;
     out[13] = flight_apex;
     out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = stride_speed;
-    out[19] = stride_t1;
-    out[20] = stride_x1;
-    out[21] = stride_y1;
-    out[22] = stride_t0;
-    out[23] = stride_x0;
-    out[24] = stride_y0;
-    out[25] = aim_rate;
-    out[26] = ahead_then;
-    out[27] = ahead_at;
+    out[15] = stroke_nominal;
+    out[16] = thrust_stroke;
+    out[17] = step_side;
+    out[18] = side_trim;
+    out[19] = stride_speed;
+    out[20] = stride_t1;
+    out[21] = stride_x1;
+    out[22] = stride_y1;
+    out[23] = stride_t0;
+    out[24] = stride_x0;
+    out[25] = stride_y0;
+    out[26] = aim_rate;
+    out[27] = ahead_then;
+    out[28] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2417,8 +2439,8 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[25];
+    const double side_trim = r[18];
+    const double aim_rate = r[26];
     const double t1 = leg_cos(body_trunk_yaw);
     const double t2 = leg_sin(body_trunk_yaw);
     const double t3 = com_vx*t1 + com_vy*t2;
@@ -2538,7 +2560,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 40, 4, 28, 44,
+    5, 2, 40, 4, 29, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "06448f57c87803e9"
+FINGERPRINT = "8476cc71f9ea4fe2"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -75,7 +75,7 @@ PARAMS = {
     "idle_delay": 0.0684,
     "lift_slew": 5.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'stride_speed', 'stride_t1', 'stride_x1', 'stride_y1', 'stride_t0', 'stride_x0', 'stride_y0', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'stride_speed', 'stride_t1', 'stride_x1', 'stride_y1', 'stride_t0', 'stride_x0', 'stride_y0', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -95,7 +95,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:330:5
+        event  creatures/quadruped.leg:334:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -106,7 +106,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:346:5
+        event  creatures/quadruped.leg:350:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -117,7 +117,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:357:5
+        event  creatures/quadruped.leg:361:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -128,7 +128,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:360:5
+        event  creatures/quadruped.leg:364:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -140,7 +140,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:364:5
+        event  creatures/quadruped.leg:368:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
@@ -148,7 +148,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     leg_fr_touching = s[23]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[15]
+    thrust_stroke = r[16]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)
 
 
@@ -156,7 +156,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:330:5
+        event  creatures/quadruped.leg:334:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -167,7 +167,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:346:5
+        event  creatures/quadruped.leg:350:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -178,7 +178,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:357:5
+        event  creatures/quadruped.leg:361:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -189,7 +189,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:360:5
+        event  creatures/quadruped.leg:364:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -201,7 +201,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:364:5
+        event  creatures/quadruped.leg:368:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
@@ -209,7 +209,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     leg_rr_touching = s[35]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[15]
+    thrust_stroke = r[16]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
@@ -217,20 +217,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:332:7
-        record ramped_speed  creatures/quadruped.leg:339:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:339:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:340:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:340:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:341:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:341:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:341:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:342:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:342:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:342:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:342:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:342:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:343:7
+        record steps         creatures/quadruped.leg:336:7
+        record ramped_speed  creatures/quadruped.leg:343:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:343:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:344:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:344:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:345:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:345:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:345:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:346:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:346:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:346:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:347:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -260,18 +260,19 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    ahead_then = r[27]
+    ahead_at = r[28]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -305,6 +306,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         new_ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -325,46 +327,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.rest       creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:334:7
-        leg_fr_spring.k          creatures/quadruped.leg:334:7
-        leg_rl_spring.k          creatures/quadruped.leg:335:7
-        leg_rr_spring.k          creatures/quadruped.leg:335:7
-        leg_fl_spring.b          creatures/quadruped.leg:336:7
-        leg_fr_spring.b          creatures/quadruped.leg:336:7
-        leg_rl_spring.b          creatures/quadruped.leg:337:7
-        leg_rr_spring.b          creatures/quadruped.leg:337:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5
-        leg_rr_spring.rest       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:338:7
+        leg_fr_spring.k          creatures/quadruped.leg:338:7
+        leg_rl_spring.k          creatures/quadruped.leg:339:7
+        leg_rr_spring.k          creatures/quadruped.leg:339:7
+        leg_fl_spring.b          creatures/quadruped.leg:340:7
+        leg_fr_spring.b          creatures/quadruped.leg:340:7
+        leg_rl_spring.b          creatures/quadruped.leg:341:7
+        leg_rr_spring.b          creatures/quadruped.leg:341:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5
+        leg_rr_spring.rest       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -404,8 +406,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[25]
+    side_trim = r[18]
+    aim_rate = r[26]
     t1 = (steps > 1.0)
     t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2
@@ -475,23 +477,24 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:347:7
-        record pitch_mean     creatures/quadruped.leg:348:7
-        record pitch_last_td  creatures/quadruped.leg:349:7
-        record pitch_trim     creatures/quadruped.leg:350:7
-        record stride_speed   creatures/quadruped.leg:351:7 > stdlib/raibert.leg:426:3
-        record stride_t1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:429:3
-        record stride_x1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:430:3
-        record stride_y1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:431:3
-        record stride_t0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:432:3
-        record stride_x0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:433:3
-        record stride_y0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:434:3
-        record flight_apex    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:352:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:351:7
+        record pitch_mean      creatures/quadruped.leg:352:7
+        record pitch_last_td   creatures/quadruped.leg:353:7
+        record pitch_trim      creatures/quadruped.leg:354:7
+        record stride_speed    creatures/quadruped.leg:355:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:356:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:356:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:356:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:356:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -523,22 +526,23 @@ def entry_LOADING_0(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
@@ -564,6 +568,7 @@ def entry_LOADING_0(s, u, p, r, tis):
         ramped_at,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -584,48 +589,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5
-        leg_rr_spring.rest       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5
+        leg_rr_spring.rest       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -678,9 +683,9 @@ def action_LOADING_0(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -778,19 +783,20 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -807,6 +813,7 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -827,34 +834,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5
-        leg_rr_spring.rest       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5
+        leg_rr_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -907,9 +914,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -993,19 +1000,20 @@ def entry_THRUST_0(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -1022,6 +1030,7 @@ def entry_THRUST_0(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1042,36 +1051,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5
-        leg_rr_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
+        leg_rr_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1127,10 +1136,10 @@ def action_THRUST_0(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    thrust_stroke = r[15]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    thrust_stroke = r[16]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_fl_touching
@@ -1218,19 +1227,20 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -1247,6 +1257,7 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1267,36 +1278,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5
-        leg_rr_spring.rest       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5
+        leg_rr_spring.rest       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1324,8 +1335,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[25]
+    side_trim = r[18]
+    aim_rate = r[26]
     t1 = math.cos(body_trunk_yaw)
     t2 = math.sin(body_trunk_yaw)
     t3 = com_vx*t1 + com_vy*t2
@@ -1377,20 +1388,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:332:7
-        record ramped_speed  creatures/quadruped.leg:339:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:339:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:340:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:340:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:341:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:341:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:341:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:342:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:342:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:342:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:342:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:342:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:343:7
+        record steps         creatures/quadruped.leg:336:7
+        record ramped_speed  creatures/quadruped.leg:343:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:343:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:344:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:344:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:345:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:345:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:345:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:346:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:346:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:346:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:346:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:347:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1420,18 +1431,19 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    ahead_then = r[27]
+    ahead_at = r[28]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1465,6 +1477,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         new_ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -1485,46 +1498,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:333:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.k          creatures/quadruped.leg:334:7
-        leg_rr_spring.k          creatures/quadruped.leg:334:7
-        leg_fl_spring.k          creatures/quadruped.leg:335:7
-        leg_fr_spring.k          creatures/quadruped.leg:335:7
-        leg_rl_spring.b          creatures/quadruped.leg:336:7
-        leg_rr_spring.b          creatures/quadruped.leg:336:7
-        leg_fl_spring.b          creatures/quadruped.leg:337:7
-        leg_fr_spring.b          creatures/quadruped.leg:337:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:338:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:338:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:338:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5
-        leg_fr_spring.rest       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:276:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:345:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:344:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:345:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:337:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.k          creatures/quadruped.leg:338:7
+        leg_rr_spring.k          creatures/quadruped.leg:338:7
+        leg_fl_spring.k          creatures/quadruped.leg:339:7
+        leg_fr_spring.k          creatures/quadruped.leg:339:7
+        leg_rl_spring.b          creatures/quadruped.leg:340:7
+        leg_rr_spring.b          creatures/quadruped.leg:340:7
+        leg_fl_spring.b          creatures/quadruped.leg:341:7
+        leg_fr_spring.b          creatures/quadruped.leg:341:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:342:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:342:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:342:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5
+        leg_fr_spring.rest       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:277:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:349:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:348:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:349:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1564,8 +1577,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[25]
+    side_trim = r[18]
+    aim_rate = r[26]
     t1 = (steps > 1.0)
     t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2
@@ -1635,23 +1648,24 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:347:7
-        record pitch_mean     creatures/quadruped.leg:348:7
-        record pitch_last_td  creatures/quadruped.leg:349:7
-        record pitch_trim     creatures/quadruped.leg:350:7
-        record stride_speed   creatures/quadruped.leg:351:7 > stdlib/raibert.leg:426:3
-        record stride_t1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:429:3
-        record stride_x1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:430:3
-        record stride_y1      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:431:3
-        record stride_t0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:432:3
-        record stride_x0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:433:3
-        record stride_y0      creatures/quadruped.leg:351:7 > stdlib/raibert.leg:434:3
-        record flight_apex    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:352:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:351:7
+        record pitch_mean      creatures/quadruped.leg:352:7
+        record pitch_last_td   creatures/quadruped.leg:353:7
+        record pitch_trim      creatures/quadruped.leg:354:7
+        record stride_speed    creatures/quadruped.leg:355:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:355:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:356:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:356:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:356:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:356:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -1683,22 +1697,23 @@ def entry_LOADING_1(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
@@ -1724,6 +1739,7 @@ def entry_LOADING_1(s, u, p, r, tis):
         ramped_at,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -1744,48 +1760,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:353:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:354:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:354:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:354:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5
-        leg_fr_spring.rest       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:276:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:356:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:356:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:357:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:358:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:358:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:358:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5
+        leg_fr_spring.rest       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:277:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:360:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:360:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1838,9 +1854,9 @@ def action_LOADING_1(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -1938,19 +1954,20 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -1967,6 +1984,7 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1987,34 +2005,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:358:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5
-        leg_fr_spring.rest       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:276:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:359:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:359:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5
+        leg_fr_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2067,9 +2085,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -2153,19 +2171,20 @@ def entry_THRUST_1(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -2182,6 +2201,7 @@ def entry_THRUST_1(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -2202,36 +2222,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:362:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5
-        leg_fr_spring.rest       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:276:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
+        leg_fr_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2287,10 +2307,10 @@ def action_THRUST_1(s, u, p, r, tis):
     pitch_trim = r[5]
     speed_trim = r[7]
     ramped_speed = r[11]
-    thrust_stroke = r[15]
-    side_trim = r[17]
-    stride_speed = r[18]
-    aim_rate = r[25]
+    thrust_stroke = r[16]
+    side_trim = r[18]
+    stride_speed = r[19]
+    aim_rate = r[26]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_rl_touching
@@ -2378,19 +2398,20 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     ramped_at = r[12]
     flight_apex = r[13]
     stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    stride_speed = r[18]
-    stride_t1 = r[19]
-    stride_x1 = r[20]
-    stride_y1 = r[21]
-    stride_t0 = r[22]
-    stride_x0 = r[23]
-    stride_y0 = r[24]
-    aim_rate = r[25]
-    ahead_then = r[26]
-    ahead_at = r[27]
+    stroke_nominal = r[15]
+    thrust_stroke = r[16]
+    step_side = r[17]
+    side_trim = r[18]
+    stride_speed = r[19]
+    stride_t1 = r[20]
+    stride_x1 = r[21]
+    stride_y1 = r[22]
+    stride_t0 = r[23]
+    stride_x0 = r[24]
+    stride_y0 = r[25]
+    aim_rate = r[26]
+    ahead_then = r[27]
+    ahead_at = r[28]
     return [
         steps,
         stance,
@@ -2407,6 +2428,7 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -2427,36 +2449,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:365:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:365:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:365:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:365:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5
-        leg_fr_spring.rest       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:276:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:365:50 > creatures/quadruped.leg:277:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:365:50 > creatures/quadruped.leg:278:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:369:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:369:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:369:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5
+        leg_fr_spring.rest       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:277:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:369:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:369:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2484,8 +2506,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[25]
+    side_trim = r[18]
+    aim_rate = r[26]
     t1 = math.cos(body_trunk_yaw)
     t2 = math.sin(body_trunk_yaw)
     t3 = com_vx*t1 + com_vy*t2

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "0e1057c9cd1cc22f";
+const char legdsl_control_fingerprint[] = "c6bc5b6696827136";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:421:5 */
+/*   event: creatures/quadruped.leg:429:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -67,7 +67,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:437:5 */
+/*   event: creatures/quadruped.leg:445:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -77,7 +77,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:447:5 */
+/*   event: creatures/quadruped.leg:455:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -87,7 +87,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:450:5 */
+/*   event: creatures/quadruped.leg:458:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -98,7 +98,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:454:5 */
+/*   event: creatures/quadruped.leg:462:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[15];
@@ -107,13 +107,13 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     const double leg_fr_touching = s[23];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[14];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:421:5 */
+/*   event: creatures/quadruped.leg:429:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -123,7 +123,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:437:5 */
+/*   event: creatures/quadruped.leg:445:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -133,7 +133,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:447:5 */
+/*   event: creatures/quadruped.leg:455:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -143,7 +143,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:450:5 */
+/*   event: creatures/quadruped.leg:458:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -154,7 +154,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:454:5 */
+/*   event: creatures/quadruped.leg:462:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[27];
@@ -163,29 +163,31 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     const double leg_rr_touching = s[35];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[15];
+    const double thrust_stroke = r[14];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:423:7 */
-/*   record ramped_speed: creatures/quadruped.leg:430:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:430:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:431:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:431:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:434:7 */
+/*   record steps: creatures/quadruped.leg:431:7 */
+/*   record ramped_speed: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:442:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[36];
@@ -209,15 +211,16 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -228,11 +231,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double t6 = (lifted > 0.0);
     const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
     const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
+    const double t7 = accel*(-ramped_at + time);
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (com_vx*t3 + com_vy*t5));
+    const double new_ramped_at = leg_max(0.001, time);
     const double t8 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
@@ -246,61 +249,62 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[8] = time;
     out[9] = com_x;
     out[10] = com_y;
-    out[11] = new_ramped_speed;
-    out[12] = new_ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = new_step_side;
-    out[17] = new_side_trim;
-    out[18] = new_aim_rate;
-    out[19] = path_route_ahead_heading;
-    out[20] = time;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = new_step_side;
+    out[16] = new_side_trim;
+    out[17] = new_ramped_speed;
+    out[18] = new_ramped_at;
+    out[19] = new_aim_rate;
+    out[20] = path_route_ahead_heading;
+    out[21] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:425:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:425:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:426:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:426:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:427:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:427:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:428:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:428:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:433:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:433:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:434:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:434:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:435:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:435:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:436:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:436:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -345,9 +349,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double t2 = (steps > 1.0);
     const double t3 = ((t2) ? (stand) : (leg_min(stand, short_ + slew*tis)));
@@ -420,14 +424,15 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:438:7 */
-/*   record pitch_mean: creatures/quadruped.leg:439:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:440:7 */
-/*   record pitch_trim: creatures/quadruped.leg:441:7 */
-/*   record flight_apex: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:446:7 */
+/*   record pitch_mean: creatures/quadruped.leg:447:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:448:7 */
+/*   record pitch_trim: creatures/quadruped.leg:449:7 */
+/*   record flight_apex: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -451,20 +456,21 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
@@ -477,63 +483,64 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = new_flight_apex;
-    out[14] = new_stroke_trim;
-    out[15] = new_thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = new_flight_apex;
+    out[12] = new_stroke_trim;
+    out[13] = stroke;
+    out[14] = new_thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -592,9 +599,9 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -695,16 +702,17 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -716,49 +724,50 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -814,9 +823,9 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -900,16 +909,17 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -921,51 +931,52 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1027,10 +1038,10 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double thrust_stroke = r[15];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double thrust_stroke = r[14];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -1120,16 +1131,17 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1141,51 +1153,52 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1218,9 +1231,9 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double lead_rear = p[42];
     const double stance = r[1];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
@@ -1272,23 +1285,25 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:423:7 */
-/*   record ramped_speed: creatures/quadruped.leg:430:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:430:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:431:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:431:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:432:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:433:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:434:7 */
+/*   record steps: creatures/quadruped.leg:431:7 */
+/*   record ramped_speed: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:442:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[36];
@@ -1312,15 +1327,16 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1331,11 +1347,11 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double t6 = (lifted > 0.0);
     const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
     const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
+    const double t7 = accel*(-ramped_at + time);
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (com_vx*t3 + com_vy*t5));
+    const double new_ramped_at = leg_max(0.001, time);
     const double t8 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
@@ -1349,61 +1365,62 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[8] = time;
     out[9] = com_x;
     out[10] = com_y;
-    out[11] = new_ramped_speed;
-    out[12] = new_ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = new_step_side;
-    out[17] = new_side_trim;
-    out[18] = new_aim_rate;
-    out[19] = path_route_ahead_heading;
-    out[20] = time;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = new_step_side;
+    out[16] = new_side_trim;
+    out[17] = new_ramped_speed;
+    out[18] = new_ramped_at;
+    out[19] = new_aim_rate;
+    out[20] = path_route_ahead_heading;
+    out[21] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:425:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:425:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:426:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:426:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:427:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:427:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:428:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:428:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:433:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:433:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:434:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:434:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:435:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:435:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:436:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:436:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1448,9 +1465,9 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double t2 = (steps > 1.0);
     const double t3 = ((t2) ? (stand) : (leg_min(stand, short_ + slew*tis)));
@@ -1523,14 +1540,15 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:438:7 */
-/*   record pitch_mean: creatures/quadruped.leg:439:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:440:7 */
-/*   record pitch_trim: creatures/quadruped.leg:441:7 */
-/*   record flight_apex: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:442:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:446:7 */
+/*   record pitch_mean: creatures/quadruped.leg:447:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:448:7 */
+/*   record pitch_trim: creatures/quadruped.leg:449:7 */
+/*   record flight_apex: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1554,20 +1572,21 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
@@ -1580,63 +1599,64 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = new_flight_apex;
-    out[14] = new_stroke_trim;
-    out[15] = new_thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = new_flight_apex;
+    out[12] = new_stroke_trim;
+    out[13] = stroke;
+    out[14] = new_thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1695,9 +1715,9 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -1798,16 +1818,17 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1819,49 +1840,50 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1917,9 +1939,9 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -2003,16 +2025,17 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2024,51 +2047,52 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2130,10 +2154,10 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double pitch_mean = r[3];
     const double pitch_trim = r[5];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double thrust_stroke = r[15];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double thrust_stroke = r[14];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -2223,16 +2247,17 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double lifted = r[8];
     const double lifted_x = r[9];
     const double lifted_y = r[10];
-    const double ramped_speed = r[11];
-    const double ramped_at = r[12];
-    const double flight_apex = r[13];
-    const double stroke_trim = r[14];
-    const double thrust_stroke = r[15];
-    const double step_side = r[16];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
-    const double ahead_then = r[19];
-    const double ahead_at = r[20];
+    const double flight_apex = r[11];
+    const double stroke_trim = r[12];
+    const double stroke_nominal = r[13];
+    const double thrust_stroke = r[14];
+    const double step_side = r[15];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double ramped_at = r[18];
+    const double aim_rate = r[19];
+    const double ahead_then = r[20];
+    const double ahead_at = r[21];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2244,51 +2269,52 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     out[8] = lifted;
     out[9] = lifted_x;
     out[10] = lifted_y;
-    out[11] = ramped_speed;
-    out[12] = ramped_at;
-    out[13] = flight_apex;
-    out[14] = stroke_trim;
-    out[15] = thrust_stroke;
-    out[16] = step_side;
-    out[17] = side_trim;
-    out[18] = aim_rate;
-    out[19] = ahead_then;
-    out[20] = ahead_at;
+    out[11] = flight_apex;
+    out[12] = stroke_trim;
+    out[13] = stroke_nominal;
+    out[14] = thrust_stroke;
+    out[15] = step_side;
+    out[16] = side_trim;
+    out[17] = ramped_speed;
+    out[18] = ramped_at;
+    out[19] = aim_rate;
+    out[20] = ahead_then;
+    out[21] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2321,9 +2347,9 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double lead_rear = p[42];
     const double stance = r[1];
     const double speed_trim = r[7];
-    const double ramped_speed = r[11];
-    const double side_trim = r[17];
-    const double aim_rate = r[18];
+    const double side_trim = r[16];
+    const double ramped_speed = r[17];
+    const double aim_rate = r[19];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
@@ -2446,7 +2472,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 40, 4, 21, 44,
+    5, 2, 40, 4, 22, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "0e1057c9cd1cc22f"
+FINGERPRINT = "c6bc5b6696827136"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -77,7 +77,7 @@ PARAMS = {
     "lead_rear": -1.0,
     "stance_lead": -0.0271,
 }
-RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -97,7 +97,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:421:5
+        event  creatures/quadruped.leg:429:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -108,7 +108,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:437:5
+        event  creatures/quadruped.leg:445:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -119,7 +119,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:447:5
+        event  creatures/quadruped.leg:455:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -130,7 +130,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:450:5
+        event  creatures/quadruped.leg:458:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -142,7 +142,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:454:5
+        event  creatures/quadruped.leg:462:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
@@ -150,7 +150,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     leg_fr_touching = s[23]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[15]
+    thrust_stroke = r[14]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)
 
 
@@ -158,7 +158,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:421:5
+        event  creatures/quadruped.leg:429:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -169,7 +169,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:437:5
+        event  creatures/quadruped.leg:445:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -180,7 +180,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:447:5
+        event  creatures/quadruped.leg:455:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -191,7 +191,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:450:5
+        event  creatures/quadruped.leg:458:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -203,7 +203,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:454:5
+        event  creatures/quadruped.leg:462:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
@@ -211,7 +211,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     leg_rr_touching = s[35]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[15]
+    thrust_stroke = r[14]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
@@ -219,22 +219,24 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:423:7
-        record ramped_speed  creatures/quadruped.leg:430:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:430:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:431:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:431:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:432:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:432:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:432:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:433:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:433:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:433:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:433:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:433:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:434:7
+        record steps         creatures/quadruped.leg:431:7
+        record ramped_speed  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:442:7
     """
     body_trunk_yaw = s[4]
+    com_vx = s[6]
+    com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
     path_route_ahead_heading = s[36]
@@ -258,15 +260,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    ahead_then = r[20]
+    ahead_at = r[21]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -277,11 +280,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
     new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
-    t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = max(0.001, time)
     new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    t7 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    new_ramped_at = max(0.001, time)
     t8 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
@@ -296,13 +299,14 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         time,
         com_x,
         com_y,
-        new_ramped_speed,
-        new_ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
+        new_ramped_speed,
+        new_ramped_at,
         new_aim_rate,
         path_route_ahead_heading,
         time,
@@ -313,46 +317,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fl_spring.k          creatures/quadruped.leg:425:7
-        leg_fr_spring.k          creatures/quadruped.leg:425:7
-        leg_rl_spring.k          creatures/quadruped.leg:426:7
-        leg_rr_spring.k          creatures/quadruped.leg:426:7
-        leg_fl_spring.b          creatures/quadruped.leg:427:7
-        leg_fr_spring.b          creatures/quadruped.leg:427:7
-        leg_rl_spring.b          creatures/quadruped.leg:428:7
-        leg_rr_spring.b          creatures/quadruped.leg:428:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fl_spring.k          creatures/quadruped.leg:433:7
+        leg_fr_spring.k          creatures/quadruped.leg:433:7
+        leg_rl_spring.k          creatures/quadruped.leg:434:7
+        leg_rr_spring.k          creatures/quadruped.leg:434:7
+        leg_fl_spring.b          creatures/quadruped.leg:435:7
+        leg_fr_spring.b          creatures/quadruped.leg:435:7
+        leg_rl_spring.b          creatures/quadruped.leg:436:7
+        leg_rr_spring.b          creatures/quadruped.leg:436:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -396,9 +400,9 @@ def action_FLIGHT_0(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     t2 = (steps > 1.0)
     t3 = ((stand) if t2 else (min(stand, short + slew*tis)))
@@ -472,16 +476,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:438:7
-        record pitch_mean     creatures/quadruped.leg:439:7
-        record pitch_last_td  creatures/quadruped.leg:440:7
-        record pitch_trim     creatures/quadruped.leg:441:7
-        record flight_apex    creatures/quadruped.leg:442:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:442:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:442:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:446:7
+        record pitch_mean      creatures/quadruped.leg:447:7
+        record pitch_last_td   creatures/quadruped.leg:448:7
+        record pitch_trim      creatures/quadruped.leg:449:7
+        record flight_apex     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -504,20 +509,21 @@ def entry_LOADING_0(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -531,13 +537,14 @@ def entry_LOADING_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -548,48 +555,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -647,9 +654,9 @@ def action_LOADING_0(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
@@ -749,16 +756,17 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -771,13 +779,14 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -788,34 +797,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -870,9 +879,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -955,16 +964,17 @@ def entry_THRUST_0(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -977,13 +987,14 @@ def entry_THRUST_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -994,36 +1005,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fl_roll.kp           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fl_roll.kv           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fl_motor.force       creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_fr_roll.kp           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_fr_roll.kv           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_fr_motor.force       creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_rl_spring.rest       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1084,10 +1095,10 @@ def action_THRUST_0(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    thrust_stroke = r[15]
-    side_trim = r[17]
-    aim_rate = r[18]
+    thrust_stroke = r[14]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
@@ -1176,16 +1187,17 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -1198,13 +1210,14 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1215,36 +1228,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1276,9 +1289,9 @@ def action_UNLOADING_0(s, u, p, r, tis):
     lead_rear = p[42]
     stance = r[1]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
@@ -1333,22 +1346,24 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:423:7
-        record ramped_speed  creatures/quadruped.leg:430:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:430:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:431:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:431:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:432:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:432:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:432:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:433:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:433:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:433:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:433:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:433:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:434:7
+        record steps         creatures/quadruped.leg:431:7
+        record ramped_speed  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:442:7
     """
     body_trunk_yaw = s[4]
+    com_vx = s[6]
+    com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
     path_route_ahead_heading = s[36]
@@ -1372,15 +1387,16 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    ahead_then = r[20]
+    ahead_at = r[21]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1391,11 +1407,11 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
     new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
-    t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = max(0.001, time)
     new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    t7 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    new_ramped_at = max(0.001, time)
     t8 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
@@ -1410,13 +1426,14 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         time,
         com_x,
         com_y,
-        new_ramped_speed,
-        new_ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
+        new_ramped_speed,
+        new_ramped_at,
         new_aim_rate,
         path_route_ahead_heading,
         time,
@@ -1427,46 +1444,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:424:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rl_spring.k          creatures/quadruped.leg:425:7
-        leg_rr_spring.k          creatures/quadruped.leg:425:7
-        leg_fl_spring.k          creatures/quadruped.leg:426:7
-        leg_fr_spring.k          creatures/quadruped.leg:426:7
-        leg_rl_spring.b          creatures/quadruped.leg:427:7
-        leg_rr_spring.b          creatures/quadruped.leg:427:7
-        leg_fl_spring.b          creatures/quadruped.leg:428:7
-        leg_fr_spring.b          creatures/quadruped.leg:428:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:429:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:429:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:429:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:436:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:435:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:436:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rl_spring.k          creatures/quadruped.leg:433:7
+        leg_rr_spring.k          creatures/quadruped.leg:433:7
+        leg_fl_spring.k          creatures/quadruped.leg:434:7
+        leg_fr_spring.k          creatures/quadruped.leg:434:7
+        leg_rl_spring.b          creatures/quadruped.leg:435:7
+        leg_rr_spring.b          creatures/quadruped.leg:435:7
+        leg_fl_spring.b          creatures/quadruped.leg:436:7
+        leg_fr_spring.b          creatures/quadruped.leg:436:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1510,9 +1527,9 @@ def action_FLIGHT_1(s, u, p, r, tis):
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     t2 = (steps > 1.0)
     t3 = ((stand) if t2 else (min(stand, short + slew*tis)))
@@ -1586,16 +1603,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:438:7
-        record pitch_mean     creatures/quadruped.leg:439:7
-        record pitch_last_td  creatures/quadruped.leg:440:7
-        record pitch_trim     creatures/quadruped.leg:441:7
-        record flight_apex    creatures/quadruped.leg:442:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:442:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:442:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:446:7
+        record pitch_mean      creatures/quadruped.leg:447:7
+        record pitch_last_td   creatures/quadruped.leg:448:7
+        record pitch_trim      creatures/quadruped.leg:449:7
+        record flight_apex     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -1618,20 +1636,21 @@ def entry_LOADING_1(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -1645,13 +1664,14 @@ def entry_LOADING_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1662,48 +1682,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:443:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:444:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:444:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:444:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:445:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:446:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:446:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1761,9 +1781,9 @@ def action_LOADING_1(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
@@ -1863,16 +1883,17 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -1885,13 +1906,14 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -1902,34 +1924,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:448:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:449:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:449:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1984,9 +2006,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -2069,16 +2091,17 @@ def entry_THRUST_1(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -2091,13 +2114,14 @@ def entry_THRUST_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -2108,36 +2132,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_rr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rl_roll.kp           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rl_roll.kv           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rl_motor.force       creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:401:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:402:5
-        hip_rr_roll.kp           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:403:5
-        hip_rr_roll.kv           creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:404:5
-        hip_rr_motor.force       creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:452:7 > creatures/quadruped.leg:270:5 > stdlib/raibert.leg:398:3 > stdlib/raibert.leg:406:5
-        leg_fl_spring.rest       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2198,10 +2222,10 @@ def action_THRUST_1(s, u, p, r, tis):
     pitch_mean = r[3]
     pitch_trim = r[5]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    thrust_stroke = r[15]
-    side_trim = r[17]
-    aim_rate = r[18]
+    thrust_stroke = r[14]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
@@ -2290,16 +2314,17 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     lifted = r[8]
     lifted_x = r[9]
     lifted_y = r[10]
-    ramped_speed = r[11]
-    ramped_at = r[12]
-    flight_apex = r[13]
-    stroke_trim = r[14]
-    thrust_stroke = r[15]
-    step_side = r[16]
-    side_trim = r[17]
-    aim_rate = r[18]
-    ahead_then = r[19]
-    ahead_at = r[20]
+    flight_apex = r[11]
+    stroke_trim = r[12]
+    stroke_nominal = r[13]
+    thrust_stroke = r[14]
+    step_side = r[15]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    ramped_at = r[18]
+    aim_rate = r[19]
+    ahead_then = r[20]
+    ahead_at = r[21]
     return [
         steps,
         stance,
@@ -2312,13 +2337,14 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         lifted,
         lifted_x,
         lifted_y,
-        ramped_speed,
-        ramped_at,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
+        ramped_speed,
+        ramped_at,
         aim_rate,
         ahead_then,
         ahead_at,
@@ -2329,36 +2355,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:455:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:455:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:455:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:455:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        leg_fr_spring.rest       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:415:5 > stdlib/raibert.leg:417:3 > stdlib/raibert.leg:417:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:455:50 > creatures/quadruped.leg:416:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:455:50 > creatures/quadruped.leg:417:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2390,9 +2416,9 @@ def action_UNLOADING_1(s, u, p, r, tis):
     lead_rear = p[42]
     stance = r[1]
     speed_trim = r[7]
-    ramped_speed = r[11]
-    side_trim = r[17]
-    aim_rate = r[18]
+    side_trim = r[16]
+    ramped_speed = r[17]
+    aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "57eb8f0181e86501";
+const char legdsl_control_fingerprint[] = "b624f007db6a1a1e";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -61,7 +61,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:199:5 */
+/*   event: creatures/quadruped.leg:200:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -71,7 +71,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:215:5 */
+/*   event: creatures/quadruped.leg:216:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -81,7 +81,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:222:5 */
+/*   event: creatures/quadruped.leg:223:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
@@ -91,7 +91,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:225:5 */
+/*   event: creatures/quadruped.leg:226:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
@@ -102,7 +102,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:229:5 */
+/*   event: creatures/quadruped.leg:230:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[19];
@@ -111,13 +111,13 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     const double leg_rr_touching = s[39];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[5];
+    const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:199:5 */
+/*   event: creatures/quadruped.leg:200:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -127,7 +127,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:215:5 */
+/*   event: creatures/quadruped.leg:216:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -137,7 +137,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:222:5 */
+/*   event: creatures/quadruped.leg:223:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
@@ -147,7 +147,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:225:5 */
+/*   event: creatures/quadruped.leg:226:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
@@ -158,7 +158,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:229:5 */
+/*   event: creatures/quadruped.leg:230:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_length = s[25];
@@ -167,26 +167,26 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     const double leg_rl_touching = s[33];
     const double stand = p[23];
     const double full = p[27];
-    const double thrust_stroke = r[5];
+    const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fr_touching < 0.5)) && ((leg_rl_touching < 0.5)))) || ((0.5*leg_fr_length + 0.5*leg_rl_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:201:7 */
-/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
-/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
-/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
-/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
-/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
-/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
-/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
-/*   record stance: creatures/quadruped.leg:212:7 */
+/*   record steps: creatures/quadruped.leg:202:7 */
+/*   record ramped_speed: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:213:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -211,18 +211,19 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -246,66 +247,67 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = new_step_side;
-    out[7] = new_side_trim;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = new_step_speed;
-    out[11] = new_speed_trim;
-    out[12] = time;
-    out[13] = com_x;
-    out[14] = com_y;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = new_step_side;
+    out[8] = new_side_trim;
+    out[9] = new_ramped_speed;
+    out[10] = new_ramped_at;
+    out[11] = new_step_speed;
+    out[12] = new_speed_trim;
+    out[13] = time;
+    out[14] = com_x;
+    out[15] = com_y;
+    out[16] = new_aim_rate;
+    out[17] = path_route_ahead_heading;
+    out[18] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.b, leg_rr_spring.b, leg_fr_spring.b, leg_rl_spring.b, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint, place fl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:203:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:203:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:205:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:205:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:206:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
-/*   place fl (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:205:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:205:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:207:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:207:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   place fl (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -341,10 +343,10 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double speed_trim = r[11];
-    const double aim_rate = r[15];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double speed_trim = r[12];
+    const double aim_rate = r[16];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rr_hip_z + t2;
@@ -410,11 +412,12 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:216:7 */
-/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:217:7 */
+/*   record flight_apex: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -429,89 +432,91 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
     out[3] = new_flight_apex;
     out[4] = new_stroke_trim;
-    out[5] = new_thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke;
+    out[6] = new_thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -548,7 +553,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -626,72 +631,74 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint. */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -727,7 +734,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -791,74 +798,76 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -895,8 +904,8 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[5];
-    const double aim_rate = r[15];
+    const double thrust_stroke = r[6];
+    const double aim_rate = r[16];
     const double leg_fl_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
@@ -963,74 +972,76 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fl_y_value = s[12];
@@ -1077,20 +1088,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:201:7 */
-/*   record ramped_speed: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3 */
-/*   record ramped_at: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3 */
-/*   record step_side: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3 */
-/*   record side_trim: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3 */
-/*   record aim_rate: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3 */
-/*   record speed_trim: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3 */
-/*   record lifted: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3 */
-/*   record lifted_x: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3 */
-/*   record lifted_y: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3 */
-/*   record stance: creatures/quadruped.leg:212:7 */
+/*   record steps: creatures/quadruped.leg:202:7 */
+/*   record ramped_speed: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:213:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1115,18 +1126,19 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1150,66 +1162,67 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = new_step_side;
-    out[7] = new_side_trim;
-    out[8] = new_ramped_speed;
-    out[9] = new_ramped_at;
-    out[10] = new_step_speed;
-    out[11] = new_speed_trim;
-    out[12] = time;
-    out[13] = com_x;
-    out[14] = com_y;
-    out[15] = new_aim_rate;
-    out[16] = path_route_ahead_heading;
-    out[17] = time;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = new_step_side;
+    out[8] = new_side_trim;
+    out[9] = new_ramped_speed;
+    out[10] = new_ramped_at;
+    out[11] = new_step_speed;
+    out[12] = new_speed_trim;
+    out[13] = time;
+    out[14] = com_x;
+    out[15] = com_y;
+    out[16] = new_aim_rate;
+    out[17] = path_route_ahead_heading;
+    out[18] = time;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.b, leg_rl_spring.b, leg_fl_spring.b, leg_rr_spring.b, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint, place fr (x, y), place rl (x, y). */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:203:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:203:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:205:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:205:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:206:7 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5 */
-/*   place fr (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:204:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:205:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:205:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:206:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:207:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:207:7 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
+/*   place fr (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1245,10 +1258,10 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double leg_k = p[30];
     const double steps = r[0];
     const double stance = r[1];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double speed_trim = r[11];
-    const double aim_rate = r[15];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double speed_trim = r[12];
+    const double aim_rate = r[16];
     const double t1 = slew*tis;
     const double t2 = leg_min(stand, short_ + t1);
     const double leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rl_hip_z + t2;
@@ -1314,11 +1327,12 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:216:7 */
-/*   record flight_apex: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3 */
-/*   record stroke_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3 */
+/* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
+/*   record landed: creatures/quadruped.leg:217:7 */
+/*   record flight_apex: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -1333,89 +1347,91 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double stance = r[1];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
     const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
     out[3] = new_flight_apex;
     out[4] = new_stroke_trim;
-    out[5] = new_thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke;
+    out[6] = new_thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1452,7 +1468,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
@@ -1530,72 +1546,74 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1631,7 +1649,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double swing_kp = p[17];
     const double swing_kv = p[18];
     const double short_ = p[24];
-    const double aim_rate = r[15];
+    const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
@@ -1695,74 +1713,76 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1799,8 +1819,8 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double swing_kv = p[18];
     const double stand = p[23];
     const double short_ = p[24];
-    const double thrust_stroke = r[5];
-    const double aim_rate = r[15];
+    const double thrust_stroke = r[6];
+    const double aim_rate = r[16];
     const double leg_fr_spring_rest = stand + thrust_stroke;
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
@@ -1867,74 +1887,76 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double landed = r[2];
     const double flight_apex = r[3];
     const double stroke_trim = r[4];
-    const double thrust_stroke = r[5];
-    const double step_side = r[6];
-    const double side_trim = r[7];
-    const double ramped_speed = r[8];
-    const double ramped_at = r[9];
-    const double step_speed = r[10];
-    const double speed_trim = r[11];
-    const double lifted = r[12];
-    const double lifted_x = r[13];
-    const double lifted_y = r[14];
-    const double aim_rate = r[15];
-    const double ahead_then = r[16];
-    const double ahead_at = r[17];
+    const double stroke_nominal = r[5];
+    const double thrust_stroke = r[6];
+    const double step_side = r[7];
+    const double side_trim = r[8];
+    const double ramped_speed = r[9];
+    const double ramped_at = r[10];
+    const double step_speed = r[11];
+    const double speed_trim = r[12];
+    const double lifted = r[13];
+    const double lifted_x = r[14];
+    const double lifted_y = r[15];
+    const double aim_rate = r[16];
+    const double ahead_then = r[17];
+    const double ahead_at = r[18];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
     out[3] = flight_apex;
     out[4] = stroke_trim;
-    out[5] = thrust_stroke;
-    out[6] = step_side;
-    out[7] = side_trim;
-    out[8] = ramped_speed;
-    out[9] = ramped_at;
-    out[10] = step_speed;
-    out[11] = speed_trim;
-    out[12] = lifted;
-    out[13] = lifted_x;
-    out[14] = lifted_y;
-    out[15] = aim_rate;
-    out[16] = ahead_then;
-    out[17] = ahead_at;
+    out[5] = stroke_nominal;
+    out[6] = thrust_stroke;
+    out[7] = step_side;
+    out[8] = side_trim;
+    out[9] = ramped_speed;
+    out[10] = ramped_at;
+    out[11] = step_speed;
+    out[12] = speed_trim;
+    out[13] = lifted;
+    out[14] = lifted_x;
+    out[15] = lifted_y;
+    out[16] = aim_rate;
+    out[17] = ahead_then;
+    out[18] = ahead_at;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fr_y_value = s[13];
@@ -2020,7 +2042,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 44, 4, 18, 44,
+    5, 2, 44, 4, 19, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

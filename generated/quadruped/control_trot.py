@@ -21,7 +21,7 @@ import math
 
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "57eb8f0181e86501"
+FINGERPRINT = "b624f007db6a1a1e"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -63,10 +63,10 @@ PARAMS = {
     "settle": 0.02,
     "leg_b": 99.8,
     "leg_k": 4050.0,
-    "decel": 1.7,
-    "k_start": 0.05,
+    "decel": 2.0,
+    "k_start": 0.2,
 }
-RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -86,7 +86,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:199:5
+        event  creatures/quadruped.leg:200:5
     """
     leg_fl_touching = s[21]
     leg_rr_touching = s[39]
@@ -97,7 +97,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:215:5
+        event  creatures/quadruped.leg:216:5
     """
     leg_fl_touching = s[21]
     leg_rr_touching = s[39]
@@ -108,7 +108,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:222:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fl_rate = s[20]
     leg_rr_rate = s[38]
@@ -119,7 +119,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:225:5
+        event  creatures/quadruped.leg:226:5
     """
     leg_fl_rate = s[20]
     leg_rr_rate = s[38]
@@ -131,7 +131,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:229:5
+        event  creatures/quadruped.leg:230:5
     """
     leg_fl_length = s[19]
     leg_fl_touching = s[21]
@@ -139,7 +139,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     leg_rr_touching = s[39]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[5]
+    thrust_stroke = r[6]
     return (leg_fl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
 
@@ -147,7 +147,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:199:5
+        event  creatures/quadruped.leg:200:5
     """
     leg_fr_touching = s[27]
     leg_rl_touching = s[33]
@@ -158,7 +158,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:215:5
+        event  creatures/quadruped.leg:216:5
     """
     leg_fr_touching = s[27]
     leg_rl_touching = s[33]
@@ -169,7 +169,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:222:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fr_rate = s[26]
     leg_rl_rate = s[32]
@@ -180,7 +180,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:225:5
+        event  creatures/quadruped.leg:226:5
     """
     leg_fr_rate = s[26]
     leg_rl_rate = s[32]
@@ -192,7 +192,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:229:5
+        event  creatures/quadruped.leg:230:5
     """
     leg_fr_length = s[25]
     leg_fr_touching = s[27]
@@ -200,7 +200,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     leg_rl_touching = s[33]
     stand = p[23]
     full = p[27]
-    thrust_stroke = r[5]
+    thrust_stroke = r[6]
     return (leg_fr_touching < 0.5) and (leg_rl_touching < 0.5) or (0.5*leg_fr_length + 0.5*leg_rl_length > full + stand + thrust_stroke)
 
 
@@ -208,20 +208,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:201:7
-        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3
-        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3
-        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3
-        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3
-        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3
-        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
-        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
-        record stance        creatures/quadruped.leg:212:7
+        record steps         creatures/quadruped.leg:202:7
+        record ramped_speed  creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:213:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -245,18 +245,19 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -281,6 +282,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -301,48 +303,48 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.b, leg_rr_spring.b, leg_fr_spring.b, leg_rl_spring.b, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint, place fl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:203:7
-        leg_rr_spring.k          creatures/quadruped.leg:203:7
-        leg_fr_spring.k          creatures/quadruped.leg:204:7
-        leg_rl_spring.k          creatures/quadruped.leg:204:7
-        leg_fl_spring.b          creatures/quadruped.leg:205:7
-        leg_rr_spring.b          creatures/quadruped.leg:205:7
-        leg_fr_spring.b          creatures/quadruped.leg:206:7
-        leg_rl_spring.b          creatures/quadruped.leg:206:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3
-        leg_fr_spring.rest       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5
-        place fl (x, y)          creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:204:7
+        leg_rr_spring.k          creatures/quadruped.leg:204:7
+        leg_fr_spring.k          creatures/quadruped.leg:205:7
+        leg_rl_spring.k          creatures/quadruped.leg:205:7
+        leg_fl_spring.b          creatures/quadruped.leg:206:7
+        leg_rr_spring.b          creatures/quadruped.leg:206:7
+        leg_fr_spring.b          creatures/quadruped.leg:207:7
+        leg_rl_spring.b          creatures/quadruped.leg:207:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
+        leg_fr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        place fl (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -377,10 +379,10 @@ def action_FLIGHT_0(s, u, p, r, tis):
     leg_k = p[30]
     steps = r[0]
     stance = r[1]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    speed_trim = r[11]
-    aim_rate = r[15]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    speed_trim = r[12]
+    aim_rate = r[16]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rr_hip_z + t2
@@ -447,13 +449,14 @@ def action_FLIGHT_0(s, u, p, r, tis):
 
 
 def entry_LOADING_0(s, u, p, r, tis):
-    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:216:7
-        record flight_apex    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:217:7
+        record flight_apex     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -467,21 +470,22 @@ def entry_LOADING_0(s, u, p, r, tis):
     stance = r[1]
     flight_apex = r[3]
     stroke_trim = r[4]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -489,6 +493,7 @@ def entry_LOADING_0(s, u, p, r, tis):
         time,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -509,50 +514,50 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -588,7 +593,7 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -665,25 +670,27 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -704,36 +711,36 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -768,7 +775,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kp = p[17]
     swing_kv = p[18]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -831,25 +838,27 @@ def entry_THRUST_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -870,38 +879,38 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -937,8 +946,8 @@ def action_THRUST_0(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    thrust_stroke = r[5]
-    aim_rate = r[15]
+    thrust_stroke = r[6]
+    aim_rate = r[16]
     leg_fl_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -1004,25 +1013,27 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1043,38 +1054,38 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.setpoint, hip_rl_pitch.setpoint, hip_fr_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3
-        leg_fr_spring.rest       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
+        leg_fr_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
+        leg_rl_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
     """
     coord_hip_fl_y_value = s[12]
     coord_hip_rr_y_value = s[15]
@@ -1123,20 +1134,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:201:7
-        record ramped_speed  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:443:3
-        record ramped_at     creatures/quadruped.leg:208:7 > stdlib/raibert.leg:444:3
-        record step_side     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:322:3
-        record side_trim     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:323:3
-        record aim_rate      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:210:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:210:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:451:3
-        record speed_trim    creatures/quadruped.leg:211:7 > stdlib/raibert.leg:452:3
-        record lifted        creatures/quadruped.leg:211:7 > stdlib/raibert.leg:453:3
-        record lifted_x      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:454:3
-        record lifted_y      creatures/quadruped.leg:211:7 > stdlib/raibert.leg:455:3
-        record stance        creatures/quadruped.leg:212:7
+        record steps         creatures/quadruped.leg:202:7
+        record ramped_speed  creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:213:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1160,18 +1171,19 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_steps = steps + 1.0
     new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1196,6 +1208,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         new_step_side,
         new_side_trim,
@@ -1216,48 +1229,48 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, leg_fr_spring.k, leg_rl_spring.k, leg_fl_spring.k, leg_rr_spring.k, leg_fr_spring.b, leg_rl_spring.b, leg_fl_spring.b, leg_rr_spring.b, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint, place fr (x, y), place rl (x, y).
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.rest       creatures/quadruped.leg:202:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.k          creatures/quadruped.leg:203:7
-        leg_rl_spring.k          creatures/quadruped.leg:203:7
-        leg_fl_spring.k          creatures/quadruped.leg:204:7
-        leg_rr_spring.k          creatures/quadruped.leg:204:7
-        leg_fr_spring.b          creatures/quadruped.leg:205:7
-        leg_rl_spring.b          creatures/quadruped.leg:205:7
-        leg_fl_spring.b          creatures/quadruped.leg:206:7
-        leg_rr_spring.b          creatures/quadruped.leg:206:7
-        hip_fr_pitch.kp          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:207:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:207:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:207:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:214:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:214:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:214:7 > creatures/quadruped.leg:124:5
-        place fr (x, y)          creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:213:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fr_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.k          creatures/quadruped.leg:204:7
+        leg_rl_spring.k          creatures/quadruped.leg:204:7
+        leg_fl_spring.k          creatures/quadruped.leg:205:7
+        leg_rr_spring.k          creatures/quadruped.leg:205:7
+        leg_fr_spring.b          creatures/quadruped.leg:206:7
+        leg_rl_spring.b          creatures/quadruped.leg:206:7
+        leg_fl_spring.b          creatures/quadruped.leg:207:7
+        leg_rr_spring.b          creatures/quadruped.leg:207:7
+        hip_fr_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
+        place fr (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1292,10 +1305,10 @@ def action_FLIGHT_1(s, u, p, r, tis):
     leg_k = p[30]
     steps = r[0]
     stance = r[1]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    speed_trim = r[11]
-    aim_rate = r[15]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    speed_trim = r[12]
+    aim_rate = r[16]
     t1 = slew*tis
     t2 = min(stand, short + t1)
     leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rl_hip_z + t2
@@ -1362,13 +1375,14 @@ def action_FLIGHT_1(s, u, p, r, tis):
 
 
 def entry_LOADING_1(s, u, p, r, tis):
-    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, thrust_stroke).
+    """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed         creatures/quadruped.leg:216:7
-        record flight_apex    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:310:3
-        record stroke_trim    creatures/quadruped.leg:217:7 > stdlib/raibert.leg:311:3
-        record thrust_stroke  creatures/quadruped.leg:217:7 > stdlib/raibert.leg:312:3
+        record landed          creatures/quadruped.leg:217:7
+        record flight_apex     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -1382,21 +1396,22 @@ def entry_LOADING_1(s, u, p, r, tis):
     stance = r[1]
     flight_apex = r[3]
     stroke_trim = r[4]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim))
+    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
     new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
@@ -1404,6 +1419,7 @@ def entry_LOADING_1(s, u, p, r, tis):
         time,
         new_flight_apex,
         new_stroke_trim,
+        stroke,
         new_thrust_stroke,
         step_side,
         side_trim,
@@ -1424,50 +1440,50 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:218:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:219:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:219:7 > stdlib/raibert.leg:169:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:220:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:221:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:221:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1503,7 +1519,7 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
@@ -1580,25 +1596,27 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1619,36 +1637,36 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        hip_fr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1683,7 +1701,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kp = p[17]
     swing_kv = p[18]
     short = p[24]
-    aim_rate = r[15]
+    aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
@@ -1746,25 +1764,27 @@ def entry_THRUST_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1785,38 +1805,38 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:228:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:228:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1852,8 +1872,8 @@ def action_THRUST_1(s, u, p, r, tis):
     swing_kv = p[18]
     stand = p[23]
     short = p[24]
-    thrust_stroke = r[5]
-    aim_rate = r[15]
+    thrust_stroke = r[6]
+    aim_rate = r[16]
     leg_fr_spring_rest = stand + thrust_stroke
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
@@ -1919,25 +1939,27 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     landed = r[2]
     flight_apex = r[3]
     stroke_trim = r[4]
-    thrust_stroke = r[5]
-    step_side = r[6]
-    side_trim = r[7]
-    ramped_speed = r[8]
-    ramped_at = r[9]
-    step_speed = r[10]
-    speed_trim = r[11]
-    lifted = r[12]
-    lifted_x = r[13]
-    lifted_y = r[14]
-    aim_rate = r[15]
-    ahead_then = r[16]
-    ahead_at = r[17]
+    stroke_nominal = r[5]
+    thrust_stroke = r[6]
+    step_side = r[7]
+    side_trim = r[8]
+    ramped_speed = r[9]
+    ramped_at = r[10]
+    step_speed = r[11]
+    speed_trim = r[12]
+    lifted = r[13]
+    lifted_x = r[14]
+    lifted_y = r[15]
+    aim_rate = r[16]
+    ahead_then = r[17]
+    ahead_at = r[18]
     return [
         steps,
         stance,
         landed,
         flight_apex,
         stroke_trim,
+        stroke_nominal,
         thrust_stroke,
         step_side,
         side_trim,
@@ -1958,38 +1980,38 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rl_spring.rest, hip_fr_pitch.kp, hip_rl_pitch.kp, hip_fr_pitch.kv, hip_rl_pitch.kv, hip_fr_motor.force, hip_rl_motor.force, hip_fr_roll.kp, hip_rl_roll.kp, hip_fr_roll.kv, hip_rl_roll.kv, hip_fr_roll_motor.force, hip_rl_roll_motor.force, leg_fl_spring.rest, leg_rr_spring.rest, hip_fl_pitch.kp, hip_rr_pitch.kp, hip_fl_pitch.kv, hip_rr_pitch.kv, hip_fl_motor.force, hip_rr_motor.force, hip_fl_roll.kp, hip_rr_roll.kp, hip_fl_roll.kv, hip_rr_roll.kv, hip_fl_roll_motor.force, hip_rr_roll_motor.force, hip_fl_pitch.setpoint, hip_rr_pitch.setpoint, hip_fl_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:230:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:230:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:230:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:230:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:230:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:230:50 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:230:50 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
+        leg_rr_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
     """
     coord_hip_fr_y_value = s[13]
     coord_hip_rl_y_value = s[14]

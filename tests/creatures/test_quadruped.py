@@ -316,8 +316,12 @@ def test_the_gaits_own_their_trims() -> None:
     own = {name: model.controller(name).own for name in ("trot", "pace", "bound", "gallop")}
     # its first step placed for its own stance; its command and trim started afresh
     trot = ("speed_trim", "landed", "stance", "ramped_at", "lifted")
+    # the bound's stroke trim is its own (the trot's 5 cm of trim over a nominal 1.2 cm made its
+    # first strides hop high); the gallop keeps the bound's trimmed stroke but ramps its command
+    # from the speed it finds
     assert own == {"trot": trot, "pace": trot,
-                   "bound": ("pitch_trim",), "gallop": ("pitch_trim",)}  # fmt: skip
+                   "bound": ("stroke_trim", "stroke_nominal", "pitch_trim"),
+                   "gallop": ("ramped_at", "pitch_trim")}  # fmt: skip
 
 
 def test_a_controller_taking_over_keeps_its_own_input_defaults(generated: Path) -> None:
@@ -339,3 +343,32 @@ def test_a_controller_taking_over_keeps_its_own_input_defaults(generated: Path) 
         assert seg["controller"] == "gallop"
         assert seg["inputs"]["height"] == pytest.approx(height)
         assert seg["inputs"]["speed"] == pytest.approx(1.0)
+
+
+def test_the_issues_transition_run_holds_when_shifted(generated: Path) -> None:
+    """The issue's schedule (trot 2 m/s, bound 2.8 from 6 s, gallop 4 from 12 s, trot 2 from 18 s)
+    with every switch and its command moved by d: each run holds its 24 s; each gait is within 5%
+    of its command from 3 s after it took over in the issue's own schedule (d = 0), within 6% in
+    the shifted ones (the gallop after the bound runs -5.6% at d = -0.2 s; docs/quadruped.md,
+    "Changing gait")."""
+    import legdsl
+
+    gaits = (("trot", 2.0), ("bound", 2.8), ("gallop", 4.0), ("trot", 2.0))
+    plans = []
+    for d in (-0.2, 0.0, 0.3, 0.6):
+        switch = {f"{6 * k + d:.1f} s": name for k, (name, _) in enumerate(gaits) if k}
+        sets = {f"speed@{6 * k + d:.1f}s": f"{v} m/s" for k, (_, v) in enumerate(gaits) if k}
+        plans.append({"controller": "trot", "set": {"speed": "2 m/s", **sets},
+                      "switch": switch, "time": 24.0})  # fmt: skip
+    quadruped = legdsl.load(QUADRUPED, generated=generated)
+    for n, run in quadruped.run_many(plans, threads=2):
+        assert run.status == "ok"
+        tolerance = 0.05 if n == 1 else 0.06
+        t, x = run.samples["t"], run.samples["q.x"]
+        segments = run.info["segments"]
+        assert [seg["controller"] for seg in segments] == [name for name, _ in gaits]
+        for k, (seg, (_, speed)) in enumerate(zip(segments, gaits, strict=True)):
+            start = seg["from"] + 3.0 if k else 3.0
+            end = segments[k + 1]["from"] if k + 1 < len(segments) else 24.0
+            i, j = int(np.searchsorted(t, start)), int(np.searchsorted(t, end)) - 1
+            assert (x[j] - x[i]) / (t[j] - t[i]) == pytest.approx(speed, rel=tolerance)
