@@ -183,7 +183,7 @@ def bench_batch() -> tuple[list[tuple[int, float, int, float]], float]:
         ]  # fmt: skip
         for threads in (1, 2):
             rate = 0.0
-            for _ in range(REPEAT if n * seconds <= 128 else 1):  # the best of a few
+            for _ in range(REPEAT):  # the best of a few: the machine's neighbours come and go
                 start = time.perf_counter()
                 runs = run_batch(session, jobs, threads)
                 wall = time.perf_counter() - start
@@ -280,10 +280,12 @@ def main() -> None:
         "",
         "Batched (`legdsl.pipeline.backend.run_batch`): N kangaroo hop runs of 0.5 s (and, in the "
         "last row, of 5 s), each with its own commanded speed, in 1 or 2 threads; "
-        f"creature-steps per second per thread (the best of {REPEAT} tries up to N = 256 of 0.5 s), including each "
+        f"creature-steps per second per thread (the best of {REPEAT} tries), including each "
         f"run's setup and result in Python ({overhead:.2f} ms a run, measured on runs of one step). "
-        "The machine's 2 cores were shared with other jobs while this ran "
-        f"(load average {os.getloadavg()[0]:.1f} at the end), so the two-thread figures are a lower bound.",
+        f"Load average {os.getloadavg()[0]:.1f} at the end. This is a virtual machine whose 2 "
+        "cores its host shares: two tries of the same 2-thread batch, one after the other on "
+        "an otherwise idle machine, have given 1.99x and 1.59x one thread's throughput, so the "
+        "two-thread figures are a lower bound.",
         "",
         "| N | run | 1 thread | 2 threads (per thread) | 2 threads / 1 |",
         "|---|---|---|---|---|",
