@@ -429,8 +429,12 @@ def test_a_switching_run_runs_the_same_its_machines_in_c(
     python = sess.run(first, settings, switches=switches, options=opts, backend="python")
     in_python = []
     tick = SwitchingMachine.__call__
-    monkeypatch.setattr(SwitchingMachine, "__call__", lambda m, sim: (in_python.append(sim.t),
-                                                                      tick(m, sim))[1])  # fmt: skip
+
+    def counted(machine: SwitchingMachine, sim: Any) -> None:
+        in_python.append(sim.t)
+        tick(machine, sim)
+
+    monkeypatch.setattr(SwitchingMachine, "__call__", counted)
     c = sess.run(first, settings, switches=switches, options=opts, backend="c")
     assert_same(python.result, c.result)
     assert python.machine is not None and c.machine is not None

@@ -68,14 +68,14 @@ def make_simulation(
         return Simulation(model, dynamics, options, controller)
     source, generated, syntax = where
     # a library per controller (a switching run's: one per controller it switches between)
-    modules = getattr(controller, "modules", None) or {
-        getattr(getattr(controller, "module", None), "CONTROLLER", None): None
-    }
+    names = list(getattr(controller, "modules", None) or [
+        getattr(getattr(controller, "module", None), "CONTROLLER", None)
+    ])  # fmt: skip
     note = python_version_note()
     if note is not None and log is not None:
         print(f"legdsl: {note}", file=log)
     libraries = {}
-    for name in modules:
+    for name in names:
         folder = _fresh_sources(model, source, generated, log, syntax, name)
         try:
             library = load_library(model, folder, name, trust=_BATCH[0] > 0)

@@ -26,7 +26,7 @@ from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.sim.machine import InputChange
-from legdsl.sim.switching import Switch
+from legdsl.sim.switching import Switch, starting_values
 
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 _TIME: Dim = KINDS["time"][0]
@@ -169,13 +169,10 @@ class Settings:
         return out | ({"by_controller": self.by_controller} if self.by_controller else {})
 
     def for_controller(self, ir: Any) -> tuple[dict[str, float], dict[str, float]]:
-        """The inputs and parameters one controller starts with: its ``CONTROLLER.NAME``
-        values over the run's (parameters), under the run's commands (inputs)."""
+        """The inputs and parameters one controller starts with (``starting_values``)."""
         own = self.by_controller.get(ir.name, {})
-        names = {c.name for c in ir.inputs}
-        inputs = {k: v for k, v in own.items() if k in names} | self.inputs
-        params = self.params | {k: v for k, v in own.items() if k not in names}
-        return inputs, params
+        names = ([c.name for c in ir.inputs], [c.name for c in ir.params])
+        return starting_values(*names, own, self.inputs, self.params)
 
 
 def sort_settings(

@@ -31,7 +31,7 @@ A run without switches uses a bare ``StateMachine``: nothing here touches it.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
@@ -59,6 +59,23 @@ class Switch:
 
     t: float
     controller: str
+
+
+def starting_values(
+    input_names: Iterable[str],
+    param_names: Iterable[str],
+    own: Mapping[str, float],
+    inputs: Mapping[str, float],
+    params: Mapping[str, float],
+) -> tuple[dict[str, float], dict[str, float]]:
+    """The inputs and parameters a controller starts with, of those it has: its own values
+    (``--set CONTROLLER.NAME=V``) over the run's parameters and under the run's commands."""
+    has_input, has_param = set(input_names), set(param_names)
+    start_inputs = {k: v for k, v in own.items() if k in has_input}
+    start_inputs |= {k: v for k, v in inputs.items() if k in has_input}
+    start_params = {k: v for k, v in params.items() if k in has_param}
+    start_params |= {k: v for k, v in own.items() if k in has_param}
+    return start_inputs, start_params
 
 
 def paths_for(model: Model, controller: str, given: Sequence[PathSpec]) -> list[PathSpec]:
@@ -131,11 +148,9 @@ class SwitchingMachine:
     def _machine(self, name: str, t: float) -> StateMachine:
         module = self.modules[name]
         own = module.INPUTS
-        mine = self.by_controller.get(name, {})  # --set NAME.KEY=V: this controller's own values
-        inputs = {k: v for k, v in mine.items() if k in own}
-        inputs |= {k: v for k, v in self.commanded.items() if k in own}
-        params = {k: v for k, v in self.params_given.items() if k in module.PARAMS}
-        params |= {k: v for k, v in mine.items() if k in module.PARAMS}
+        inputs, params = starting_values(
+            own, module.PARAMS, self.by_controller.get(name, {}), self.commanded, self.params_given
+        )
         # the first machine applies the whole schedule itself; a later one what is still to come
         later = [
             c
