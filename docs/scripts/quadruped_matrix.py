@@ -6,6 +6,7 @@ friction coefficient it needed.
 
     nice python docs/scripts/quadruped_matrix.py                 # every gait the file has
     nice python docs/scripts/quadruped_matrix.py --gait trot --speeds 1,2
+    nice python docs/scripts/quadruped_matrix.py --file stocky/stocky.leg   # another quadruped
 
 Runs go through the command line (``legdsl run``, ``legdsl metrics``) into --out.
 """
@@ -69,9 +70,11 @@ def staggered_stances(run: Path, gait: str, start: float = 3.0) -> tuple[int, in
     return total, sds
 
 
-def measure(gait: str, speed: float, out: Path, time: float) -> dict[str, object]:
+def measure(
+    gait: str, speed: float, out: Path, time: float, creature: str = CREATURE
+) -> dict[str, object]:
     run = out / f"q_{gait}_{speed:g}"
-    cmd = ["legdsl", "run", CREATURE, "--controller", gait, "--set", f"speed={speed:g}m/s"]
+    cmd = ["legdsl", "run", creature, "--controller", gait, "--set", f"speed={speed:g}m/s"]
     done = subprocess.run(
         [*cmd, "--time", str(time), "--out", str(run)], capture_output=True, text=True
     )
@@ -104,6 +107,7 @@ def main() -> int:
     parser.add_argument("--speeds", help="comma-separated speeds in m/s (default the issue's)")
     parser.add_argument("--time", type=float, default=20.0)
     parser.add_argument("--out", default="runs/matrix")
+    parser.add_argument("--file", default=CREATURE, help="another quadruped's .leg file")
     args = parser.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -113,7 +117,7 @@ def main() -> int:
     for gait in args.gait or list(MATRIX):
         speeds = [float(v) for v in args.speeds.split(",")] if args.speeds else MATRIX[gait]
         for v in speeds:
-            r = measure(gait, v, out, args.time)
+            r = measure(gait, v, out, args.time, args.file)
             ms = float(r.get("mean_speed", float("nan")))  # type: ignore[arg-type]
             print(
                 f"{gait:7} {v:5.2f} {r['exit']:>4} {float(r['ended'] or 0):6.2f} {ms:6.3f} "  # type: ignore[arg-type]
