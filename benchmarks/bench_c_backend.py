@@ -371,8 +371,8 @@ def main() -> None:
         f"with no Python between calls, in two threads at once, gives {alone:.2f} times one "
         "thread's throughput. Three or four Python threads with at most two C loops at a time "
         "(so that one thread's setup fills a core another leaves idle while it waits for the "
-        "GIL) gave no more than two threads (1.49x, 1.49x and 1.36x in one try, measured apart "
-        "from this benchmark): what is left is the Python of each run, about 0.6 ms, which a "
+        "GIL) gave no more than two threads when tried apart from this benchmark: what is left "
+        "is the Python of each run, about 0.6 ms, which a "
         "batch that set its runs up in C from one template, rather than each in Python, would "
         "remove.",
     ]
