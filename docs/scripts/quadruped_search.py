@@ -11,6 +11,7 @@
         --start-from bound --step 0.15 --seed 3 --jobs 2
     nice python docs/scripts/quadruped_search.py --search gallop_fast --generations 40 \
         --popsize 20 --step 0.08 --seed 17 --jobs 2 --start FILE.json
+    nice python docs/scripts/quadruped_search.py --search gallop_fast --check
 
 CMA-ES (pycma) through the Python API over a search's gains (SEARCHES, bounds in SI units),
 each scaled to [0, 1] within its bounds, starting from the file's values (or ``--start
@@ -56,7 +57,8 @@ seconds):
   5``, 60 generations of 24, some bounds narrower) scoring 4.5, 4.75, 5 (twice) and 5.25
   (half) m/s, 5 m/s over 30 s and the step; then (``--step 0.1 --seed 11``, 45 of 24) 4.5,
   4.6, 4.75, 4.9, 5 (twice), 5.1 and 5.25 (half) m/s, 5 m/s over 40 s and the step; then the
-  command above.
+  command above. ``--check`` runs the file's values (or ``--start``'s) on CHECKS, runs no
+  search scored, and prints each one's outcome and speed error.
 """
 
 from __future__ import annotations
@@ -303,6 +305,30 @@ def gains(creature: legdsl.Creature, controller: str) -> dict[str, Quantity]:
     return found.params | found.inputs
 
 
+# runs none of gallop_fast's searches scored, to check a result: (speed, seconds, step or None)
+CHECKS: dict[str, list[tuple[float, float, tuple[float, float] | None]]] = {
+    "gallop_fast": [(v, 20, None) for v in (4.3, 4.45, 4.55, 4.65, 4.75, 4.85, 4.95, 5.0, 5.05,
+                                             5.15, 5.25, 5.5)]
+    + [(v, 40, None) for v in (4.4, 4.8, 5.1)]
+    + [(5.0, 20, (4.0, 10.0)), (5.0, 20, (4.5, 8.0)), (4.5, 20, (5.0, 10.0))],
+}  # fmt: skip
+
+
+def check(search: Search, values: dict[str, float]) -> None:
+    """Each CHECKS run's outcome and relative speed error from 3 s (from 4 s after a step)."""
+    for speed, t, step in CHECKS[search.name]:
+        sets = search.settings(values, speed)
+        if step is not None:
+            sets |= {"speed": f"{step[0]} m/s", f"speed@{step[1]}s": f"{speed} m/s"}
+        run = search.creature.run(controller=search.controller, set=sets, time=t)
+        times, x = run.samples["t"], run.samples["q.x"]
+        i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
+        error = (x[-1] - x[i]) / (times[-1] - times[i]) / speed - 1
+        after = "" if step is None else f" after {step[0]} m/s to {step[1]} s"
+        print(f"{speed} m/s{after}, {t} s: {run.status} at {run.info.get('sim_time', t):.2f} s, "
+              f"{error:+.1%}", flush=True)  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--search", choices=sorted(SEARCHES), required=True)
@@ -315,6 +341,7 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=1, help="runs in this many processes")
     parser.add_argument("--start-from", help="start from another controller's values")
     parser.add_argument("--speeds", help="straight 20 s runs at these speeds (m/s, 2,2.4)")
+    parser.add_argument("--check", action="store_true", help="run CHECKS for the start values")
     args = parser.parse_args()
     if args.speeds:  # in place of the search's own trials
         TRIALS[args.search] = [(1, "", float(v), 20) for v in args.speeds.split(",")]
@@ -342,6 +369,8 @@ def main() -> None:
 
     search.creature.run(controller=search.controller, time=0.01)  # built once, before a fork
     x0 = [min(max((start[n] - lo) / (hi - lo), 0.0), 1.0) for n, (lo, hi) in bounds.items()]
+    if args.check:
+        return check(search, values(x0))
     print(f"start: {search.objectives([values(x0)], args.jobs)[0]:.3f}", flush=True)
     options = {"seed": args.seed, "popsize": args.popsize, "bounds": [0, 1], "verbose": -9}
     cmaes = cma.CMAEvolutionStrategy(x0, args.step, options)
