@@ -9,6 +9,9 @@
         --popsize 10 --step 0.08 --seed 13 --jobs 2
     nice python docs/scripts/quadruped_search.py --search gallop --generations 100 --popsize 16 \
         --start-from bound --step 0.15 --seed 3 --jobs 2
+    nice python docs/scripts/quadruped_search.py --search gallop_fast --generations 40 \
+        --popsize 20 --step 0.08 --seed 17 --jobs 2 --start FILE.json
+    nice python docs/scripts/quadruped_search.py --search gallop_fast --check
 
 CMA-ES (pycma) through the Python API over a search's gains (SEARCHES, bounds in SI units),
 each scaled to [0, 1] within its bounds, starting from the file's values (or ``--start
@@ -46,6 +49,16 @@ seconds):
   shortfall below 0.6 of its pairs' stances that go single, double, then single support.
   The shipped values: the command above at 3 (twice), 3.5 and 4 m/s, then from its best
   (``--start``, ``--step 0.08 --seed 6``, 50 generations) at the speeds listed.
+* ``gallop_fast`` (the gallop's ``fast_*`` values, what its gains move by past 4 m/s): 20 s
+  straight runs at 4.25, 4.4, 4.5, 4.6, 4.7, 4.8, 4.9, 5 (twice), 5.1 and 5.2 m/s, 40 s at 4.6
+  and 5 m/s, and 5 m/s commanded at 8 s after 4 m/s (scored from 12 s): each relative error
+  past 4% counted six times, plus twice the single-double-single shortfall below 0.6. The
+  shipped values: three searches, each from the last one's best: from 0 (``--step 0.2 --seed
+  5``, 60 generations of 24, some bounds narrower) scoring 4.5, 4.75, 5 (twice) and 5.25
+  (half) m/s, 5 m/s over 30 s and the step; then (``--step 0.1 --seed 11``, 45 of 24) 4.5,
+  4.6, 4.75, 4.9, 5 (twice), 5.1 and 5.25 (half) m/s, 5 m/s over 40 s and the step; then the
+  command above. ``--check`` runs the file's values (or ``--start``'s) on CHECKS, runs no
+  search scored, and prints each one's outcome and speed error.
 """
 
 from __future__ import annotations
@@ -105,6 +118,15 @@ SEARCHES: dict[str, tuple[str, Space]] = {
         "accel": (0.5, 2, "m/s^2"), "stagger": (0, 0.04, "m"), "stance_lead": (-0.04, 0.01, "m"),
         "kp_yaw": (2, 60, "N*m/rad"), "kv_yaw": (1, 30, "N*m*s/rad"),
         "lift_slew": (1, 10, "m/s"), "height": (0.6, 0.75, "m"),
+    }),
+    "gallop_fast": ("gallop", {
+        "fast_k_speed": (-0.0175, 0.1, "s"), "fast_stance_f": (-0.04, 0.08, "s"),
+        "fast_stance_r": (-0.08, 0.04, "s"), "fast_omega_f": (-2, 4, "rad/s"),
+        "fast_omega_r": (-2.1, 4, "rad/s"), "fast_kv_rate": (-20, 60, "N*m*s/rad"),
+        "fast_k_center": (-2, 6, "s^-1"), "fast_k_trim": (-0.08, 0.4, ""),
+        "fast_trim_band": (-0.25, 1, "m/s"), "fast_height": (-0.05, 0.1, "m"),
+        "fast_stroke_max": (-0.01, 0.05, "m"), "fast_pitch_thrust": (-0.0125, 0.1, "m/rad"),
+        "fast_window": (0, 0.1, "s"), "fast_lag": (0, 0.06, "s"),
     }),
     "pace": ("pace", {
         "kp": (150, 1200, "N*m/rad"), "kv": (10, 100, "N*m*s/rad"),
@@ -173,7 +195,9 @@ def _pair(a: int, b: int) -> Unit:
     return Unit(f"contacts {a} and {b}", "group", (a, b), ())
 
 
-Trial = tuple[float, str, float, float]  # (weight, path or "", speed, seconds)
+# (weight, path or "", speed, seconds), and optionally (speed, until): the command before a step
+Trial = tuple[float, str, float, float] | tuple[float, str, float, float, tuple[float, float]]
+STEP_SETTLE = 4.0  # s: a stepped command's speed is measured from this long after the step
 TRIALS: dict[str, list[Trial]] = {
     "turning": [(2, CIRCLE, PATH_SPEED, 30), (0.5, SQUARE, PATH_SPEED, 30),
                 (1, "", 2.3, 20), (1, "", 2.6, 20), (1, "", 1.0, 10)],
@@ -185,6 +209,8 @@ TRIALS: dict[str, list[Trial]] = {
     "bound_steady": [(1, "", v, 20) for v in (2.0, 2.4, 2.8, 3.2, 3.5)],
     "gallop": [(w, "", v, 20) for v, w in ((3.0, 1), (3.5, 0.5), (4.0, 1), (4.5, 1), (5.0, 1))],
     "pace": [(1, "", v, 20) for v in (1.0, 1.5, 2.0)],
+    "gallop_fast": [(1, "", v, 20) for v in (4.25, 4.4, 4.5, 4.6, 4.7, 4.8, 4.9, 5.0, 5.0, 5.1, 5.2)]
+                   + [(1, "", 4.6, 40), (1, "", 5.0, 40), (1, "", 5.0, 20, (4.0, 8.0))],
 }  # fmt: skip
 
 
@@ -203,8 +229,12 @@ class Search:
         """A run's score: a path run its lateral deviation (RMS, from 3 s) plus its relative
         speed error along the path; a straight one its relative speed error from 3 s; a
         fall 10 and more."""
-        _, path, speed, t = trial
+        _, path, speed, t = trial[:4]
         sets = self.settings(values, speed)
+        step = trial[4] if len(trial) > 4 else None  # type: ignore[misc]
+        if step is not None:  # the command `before` until `until`, then `speed`
+            before, until = step
+            sets |= {"speed": f"{before} m/s", f"speed@{until}s": f"{speed} m/s"}
         run = self.creature.run(controller=self.controller, set=sets, time=t, path=path or None)
         penalty = fell(run, t)
         if penalty is not None:
@@ -217,8 +247,12 @@ class Search:
             return window_score(times, x, speed)
         if self.name == "bound_steady":  # the same over every window stepped by 0.5 s
             return window_score(times, x, speed, STEADY_WINDOWS)
-        i = int(np.searchsorted(times, 3.0))
+        i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
         error = float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
+        if self.name == "gallop_fast":  # within 5%: past 4% costs six times, and staggered
+            return (
+                error + 5 * max(0.0, error - 0.04) + 2 * max(0.0, 0.6 - staggered(run, BOUND_PAIRS))
+            )
         if self.name == "bound":  # every speed within 5%: an error past 3.5% costs five times
             error += 5 * max(0.0, error - 0.035)
         if self.name == "pace":  # and the pairs must land together (95% within 10 ms)
@@ -271,6 +305,30 @@ def gains(creature: legdsl.Creature, controller: str) -> dict[str, Quantity]:
     return found.params | found.inputs
 
 
+# runs none of gallop_fast's searches scored, to check a result: (speed, seconds, step or None)
+CHECKS: dict[str, list[tuple[float, float, tuple[float, float] | None]]] = {
+    "gallop_fast": [(v, 20, None) for v in (4.3, 4.45, 4.55, 4.65, 4.75, 4.85, 4.95, 5.0, 5.05,
+                                             5.15, 5.25, 5.5)]
+    + [(v, 40, None) for v in (4.4, 4.8, 5.1)]
+    + [(5.0, 20, (4.0, 10.0)), (5.0, 20, (4.5, 8.0)), (4.5, 20, (5.0, 10.0))],
+}  # fmt: skip
+
+
+def check(search: Search, values: dict[str, float]) -> None:
+    """Each CHECKS run's outcome and relative speed error from 3 s (from 4 s after a step)."""
+    for speed, t, step in CHECKS[search.name]:
+        sets = search.settings(values, speed)
+        if step is not None:
+            sets |= {"speed": f"{step[0]} m/s", f"speed@{step[1]}s": f"{speed} m/s"}
+        run = search.creature.run(controller=search.controller, set=sets, time=t)
+        times, x = run.samples["t"], run.samples["q.x"]
+        i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
+        error = (x[-1] - x[i]) / (times[-1] - times[i]) / speed - 1
+        after = "" if step is None else f" after {step[0]} m/s to {step[1]} s"
+        print(f"{speed} m/s{after}, {t} s: {run.status} at {run.info.get('sim_time', t):.2f} s, "
+              f"{error:+.1%}", flush=True)  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--search", choices=sorted(SEARCHES), required=True)
@@ -283,6 +341,7 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=1, help="runs in this many processes")
     parser.add_argument("--start-from", help="start from another controller's values")
     parser.add_argument("--speeds", help="straight 20 s runs at these speeds (m/s, 2,2.4)")
+    parser.add_argument("--check", action="store_true", help="run CHECKS for the start values")
     args = parser.parse_args()
     if args.speeds:  # in place of the search's own trials
         TRIALS[args.search] = [(1, "", float(v), 20) for v in args.speeds.split(",")]
@@ -310,6 +369,8 @@ def main() -> None:
 
     search.creature.run(controller=search.controller, time=0.01)  # built once, before a fork
     x0 = [min(max((start[n] - lo) / (hi - lo), 0.0), 1.0) for n, (lo, hi) in bounds.items()]
+    if args.check:
+        return check(search, values(x0))
     print(f"start: {search.objectives([values(x0)], args.jobs)[0]:.3f}", flush=True)
     options = {"seed": args.seed, "popsize": args.popsize, "bounds": [0, 1], "verbose": -9}
     cmaes = cma.CMAEvolutionStrategy(x0, args.step, options)

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "c6bc5b6696827136";
+const char legdsl_control_fingerprint[] = "ffda8a7775877e2e";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -25,86 +25,91 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[9] = leg_sense_com(s, 0, 0, err);  /* com.x */
     out[10] = leg_sense_com(s, 1, 0, err);  /* com.y */
     out[11] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[12] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
-    out[13] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
-    out[14] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
-    out[15] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
-    out[16] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
-    out[17] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
-    out[18] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
-    out[19] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
-    out[20] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
-    out[21] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
-    out[22] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
-    out[23] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
-    out[24] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
-    out[25] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
-    out[26] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
-    out[27] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
-    out[28] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
-    out[29] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
-    out[30] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
-    out[31] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
-    out[32] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
-    out[33] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
-    out[34] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
-    out[35] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
-    out[36] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[37] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[38] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[39] = s->t;  /* time */
+    out[12] = leg_sense_leg(s, 0, 1, 10, err);  /* leg.fl.foot_z */
+    out[13] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
+    out[14] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
+    out[15] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
+    out[16] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
+    out[17] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
+    out[18] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
+    out[19] = leg_sense_leg(s, 1, 3, 10, err);  /* leg.fr.foot_z */
+    out[20] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
+    out[21] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
+    out[22] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
+    out[23] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
+    out[24] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
+    out[25] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
+    out[26] = leg_sense_leg(s, 2, 5, 10, err);  /* leg.rl.foot_z */
+    out[27] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
+    out[28] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
+    out[29] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
+    out[30] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
+    out[31] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
+    out[32] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
+    out[33] = leg_sense_leg(s, 3, 7, 10, err);  /* leg.rr.foot_z */
+    out[34] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
+    out[35] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
+    out[36] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
+    out[37] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
+    out[38] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
+    out[39] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
+    out[40] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[41] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[42] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[43] = leg_sense_terrain(s, 4, err);  /* terrain.height */
+    out[44] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:429:5 */
+/*   event: creatures/quadruped.leg:468:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[17];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_touching = s[25];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)));
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:445:5 */
+/*   event: creatures/quadruped.leg:484:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[17];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_touching = s[25];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching > 0.5)) || ((leg_fr_touching > 0.5)));
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:455:5 */
+/*   event: creatures/quadruped.leg:494:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[16];
-    const double leg_fr_rate = s[22];
+    const double leg_fl_rate = s[17];
+    const double leg_fr_rate = s[24];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0);
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:458:5 */
+/*   event: creatures/quadruped.leg:497:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[16];
-    const double leg_fr_rate = s[22];
+    const double leg_fl_rate = s[17];
+    const double leg_fr_rate = s[24];
     const double settle = p[28];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:462:5 */
+/*   event: creatures/quadruped.leg:501:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_length = s[23];
+    const double leg_fr_touching = s[25];
     const double stand = p[23];
     const double full = p[27];
     const double thrust_stroke = r[14];
@@ -113,54 +118,54 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:429:5 */
+/*   event: creatures/quadruped.leg:468:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[29];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_touching = s[39];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)));
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:445:5 */
+/*   event: creatures/quadruped.leg:484:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[29];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_touching = s[39];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching > 0.5)) || ((leg_rr_touching > 0.5)));
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:455:5 */
+/*   event: creatures/quadruped.leg:494:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[28];
-    const double leg_rr_rate = s[34];
+    const double leg_rl_rate = s[31];
+    const double leg_rr_rate = s[38];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0);
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:458:5 */
+/*   event: creatures/quadruped.leg:497:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[28];
-    const double leg_rr_rate = s[34];
+    const double leg_rl_rate = s[31];
+    const double leg_rr_rate = s[38];
     const double settle = p[28];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:462:5 */
+/*   event: creatures/quadruped.leg:501:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_length = s[30];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_length = s[37];
+    const double leg_rr_touching = s[39];
     const double stand = p[23];
     const double full = p[27];
     const double thrust_stroke = r[14];
@@ -169,20 +174,20 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:431:7 */
-/*   record ramped_speed: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:442:7 */
+/*   record steps: creatures/quadruped.leg:470:7 */
+/*   record ramped_speed: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:481:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -190,9 +195,9 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double time = s[39];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double time = s[44];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -201,6 +206,10 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_aim_rate = p[4];
     const double stance_guess = p[5];
     const double accel = p[25];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_trim = p[53];
+    const double fast_trim_band = p[54];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -230,14 +239,16 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double t5 = leg_sin(body_trunk_yaw);
     const double t6 = (lifted > 0.0);
     const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
+    const double t7 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t8 = fast_trim_band*t7 + trim_band;
+    const double new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*leg_min(t8, leg_max(-t8, ramped_speed - step_speed));
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (com_vx*t3 + com_vy*t5));
+    const double t9 = accel*(-ramped_at + time);
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
     const double new_ramped_at = leg_max(0.001, time);
-    const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t10 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -265,68 +276,75 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:433:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:433:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:434:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:434:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:435:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:435:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:436:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:436:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:472:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:472:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:474:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:474:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:475:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -346,6 +364,13 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -361,21 +386,30 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t5 = ((t2) ? (leg_max(short_, -lift_slew*tis + stand)) : (stand));
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t5 + ((((t4) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t5 + ((((t4) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t6 = leg_cos(body_trunk_yaw);
-    const double t7 = leg_sin(body_trunk_yaw);
-    const double t8 = com_vx*t6 + com_vy*t7;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8;
-    const double t9 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t10 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t9), leg_cos(t9))))) : (heading + time*turn_rate));
-    const double t11 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t10), leg_cos(t10))))));
-    const double t12 = com_vx*t7 - com_vy*t6;
-    const double t13 = k_speed*(-side_trim - t12) - 0.5*stance*t12;
-    const double t14 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t13;
-    const double fl_y_goal = leg_fl_hip_x*t11 + t14;
-    const double fr_y_goal = leg_fr_hip_x*t11 + t14;
-    const double t15 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t13;
-    const double rl_y_goal = leg_rl_hip_x*t11 + t15;
-    const double rr_y_goal = leg_rr_hip_x*t11 + t15;
+    const double t6 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t7 = fast_k_speed*t6 + k_speed;
+    const double t8 = leg_cos(body_trunk_yaw);
+    const double t9 = leg_sin(body_trunk_yaw);
+    const double t10 = com_vx*t8 + com_vy*t9;
+    const double t11 = t7*(-ramped_speed - speed_trim + t10);
+    const double t12 = -2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0));
+    const double t13 = com_vz*com_vz;
+    const double t14 = com_z - terrain_height;
+    const double t15 = 0.5*stance + 0.5*t6*(t12 + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))));
+    const double fl_x_goal = t10*t15 + t11;
+    const double t16 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + time*turn_rate));
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t17), leg_cos(t17))))));
+    const double t19 = com_vx*t9 - com_vy*t8;
+    const double t20 = t7*(-side_trim - t19);
+    const double t21 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t15*t19 + t20;
+    const double fl_y_goal = leg_fl_hip_x*t18 + t21;
+    const double fr_y_goal = leg_fr_hip_x*t18 + t21;
+    const double t22 = 0.5*stance + 0.5*t6*(t12 + ((t4) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))));
+    const double rl_x_goal = t10*t22 + t11;
+    const double t23 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t19*t22 + t20;
+    const double rl_y_goal = leg_rl_hip_x*t18 + t23;
+    const double rr_y_goal = leg_rr_hip_x*t18 + t23;
     out[0] = leg_fl_spring_rest;
     out[1] = leg_fr_spring_rest;
     out[2] = leg_k;
@@ -416,29 +450,29 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     out[37] = fl_y_goal;
     out[38] = fl_x_goal;
     out[39] = fr_y_goal;
-    out[40] = fl_x_goal;
+    out[40] = rl_x_goal;
     out[41] = rl_y_goal;
-    out[42] = fl_x_goal;
+    out[42] = rl_x_goal;
     out[43] = rr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:446:7 */
-/*   record pitch_mean: creatures/quadruped.leg:447:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:448:7 */
-/*   record pitch_trim: creatures/quadruped.leg:449:7 */
-/*   record flight_apex: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:485:7 */
+/*   record pitch_mean: creatures/quadruped.leg:486:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:487:7 */
+/*   record pitch_trim: creatures/quadruped.leg:488:7 */
+/*   record flight_apex: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[39];
+    const double time = s[44];
     const double height = u[3];
     const double stroke = p[19];
     const double k_height = p[20];
@@ -446,6 +480,10 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double stroke_max = p[22];
     const double k_pitch_i = p[35];
     const double trim_most = p[36];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_height = p[55];
+    const double fast_stroke_max = p[56];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -469,9 +507,11 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
-    const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double t1 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t2 = fast_stroke_max*t1 + stroke_max;
+    const double t3 = fast_height*t1 - flight_apex + height;
+    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(t2, leg_max(-0.02, k_height*t3 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -499,48 +539,48 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -550,26 +590,31 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_fr_length = s[23];
+    const double leg_fr_touching = s[25];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -594,6 +639,17 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double lead_front = p[41];
     const double lead_rear = p[42];
     const double stance_lead = p[43];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -608,38 +664,41 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double t2 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t2;
     const double hip_fl_pitch_kv = swing_kv*t2;
-    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
-    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
-    const double t7 = -aim_rate + body_trunk_yaw_rate;
-    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
-    const double t9 = leg_div(leg_fl_length*t8, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t11 = leg_fl_touching*t10;
-    const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
-    const double t13 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t13;
-    const double hip_fr_pitch_kv = swing_kv*t13;
-    const double t14 = leg_div(leg_fr_length*t8, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t15 = leg_fr_touching*t10;
-    const double hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3);
-    const double hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12);
-    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t18 = leg_cos(body_trunk_yaw);
-    const double t19 = leg_sin(body_trunk_yaw);
-    const double t20 = com_vx*t18 + com_vy*t19;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
-    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
-    const double t22 = com_vx*t19 - com_vy*t18;
-    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22;
-    const double rl_y_goal = leg_rl_hip_x*t21 + t23;
-    const double rr_y_goal = leg_rr_hip_x*t21 + t23;
+    const double t3 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t3 - omega_f) : (fast_omega_r*t3 + omega_r)));
+    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
+    const double t8 = -aim_rate + body_trunk_yaw_rate;
+    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
+    const double t10 = leg_div(leg_fl_length*t9, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t11 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t12 = leg_fl_touching*t11;
+    const double hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 - t4);
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13);
+    const double t14 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t14;
+    const double hip_fr_pitch_kv = swing_kv*t14;
+    const double t15 = leg_div(leg_fr_length*t9, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t16 = leg_fr_touching*t11;
+    const double hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 - t4);
+    const double hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13);
+    const double t17 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t18 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t17 + ((((t18) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t17 + ((((t18) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t19 = fast_k_speed*t3 + k_speed;
+    const double t20 = leg_cos(body_trunk_yaw);
+    const double t21 = leg_sin(body_trunk_yaw);
+    const double t22 = com_vx*t20 + com_vy*t21;
+    const double t23 = 0.5*stance + 0.5*t3*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t18) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))));
+    const double rl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23;
+    const double t24 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
+    const double t25 = com_vx*t21 - com_vy*t20;
+    const double t26 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t19*(-side_trim - t25) - t23*t25;
+    const double rl_y_goal = leg_rl_hip_x*t24 + t26;
+    const double rr_y_goal = leg_rr_hip_x*t24 + t26;
     out[0] = leg_fl_spring_rest;
     out[1] = leg_fr_spring_rest;
     out[2] = 0.0;
@@ -740,34 +799,34 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -777,24 +836,29 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_length = s[23];
+    const double leg_fr_touching = s[25];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -818,6 +882,17 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -829,38 +904,41 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
-    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
-    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
-    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
-    const double t6 = -aim_rate + body_trunk_yaw_rate;
-    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
-    const double t8 = leg_div(leg_fl_length*t7, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t10 = leg_fl_touching*t9;
-    const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
-    const double t12 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t12;
-    const double hip_fr_pitch_kv = swing_kv*t12;
-    const double t13 = leg_div(leg_fr_length*t7, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t14 = leg_fr_touching*t9;
-    const double hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2);
-    const double hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11);
-    const double t15 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t15 + ((((t16) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t15 + ((((t16) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t17 = leg_cos(body_trunk_yaw);
-    const double t18 = leg_sin(body_trunk_yaw);
-    const double t19 = com_vx*t17 + com_vy*t18;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19;
-    const double t20 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
-    const double t21 = com_vx*t18 - com_vy*t17;
-    const double t22 = k_speed*(-side_trim - t21) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t21;
-    const double rl_y_goal = leg_rl_hip_x*t20 + t22;
-    const double rr_y_goal = leg_rr_hip_x*t20 + t22;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_fl_length*t8, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t11 = leg_fl_touching*t10;
+    const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 - t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t13;
+    const double hip_fr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_fr_length*t8, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t15 = leg_fr_touching*t10;
+    const double hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 - t3);
+    const double hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12);
+    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((((t17) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t18 = fast_k_speed*t2 + k_speed;
+    const double t19 = leg_cos(body_trunk_yaw);
+    const double t20 = leg_sin(body_trunk_yaw);
+    const double t21 = com_vx*t19 + com_vy*t20;
+    const double t22 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t17) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))));
+    const double rl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22;
+    const double t23 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
+    const double t24 = com_vx*t20 - com_vy*t19;
+    const double t25 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t18*(-side_trim - t24) - t22*t24;
+    const double rl_y_goal = leg_rl_hip_x*t23 + t25;
+    const double rr_y_goal = leg_rr_hip_x*t23 + t25;
     out[0] = hip_fl_pitch_kp;
     out[1] = hip_fl_pitch_kv;
     out[2] = hip_fl_pitch_kp;
@@ -947,36 +1025,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -986,26 +1064,31 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_fr_length = s[23];
+    const double leg_fr_touching = s[25];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1033,6 +1116,18 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double lead_front = p[41];
     const double lead_rear = p[42];
     const double stance_lead = p[43];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_pitch_thrust = p[57];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1043,44 +1138,47 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2 + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
-    const double t3 = 1.0 - leg_fl_touching;
-    const double hip_fl_pitch_kp = swing_kp*t3;
-    const double hip_fl_pitch_kv = swing_kv*t3;
-    const double t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
-    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
-    const double t8 = -aim_rate + body_trunk_yaw_rate;
-    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
-    const double t10 = leg_div(leg_fl_length*t9, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
-    const double t11 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
-    const double t12 = leg_fl_touching*t11;
-    const double hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 + t4);
-    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13);
-    const double t14 = 1.0 - leg_fr_touching;
-    const double hip_fr_pitch_kp = swing_kp*t14;
-    const double hip_fr_pitch_kv = swing_kv*t14;
-    const double t15 = leg_div(leg_fr_length*t9, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
-    const double t16 = leg_fr_touching*t11;
-    const double hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 + t4);
-    const double hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13);
-    const double t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double t18 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t18 + ((((t17) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t18 + ((((t17) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t19 = leg_cos(body_trunk_yaw);
-    const double t20 = leg_sin(body_trunk_yaw);
-    const double t21 = com_vx*t19 + com_vy*t20;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21;
-    const double t22 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
-    const double t23 = com_vx*t20 - com_vy*t19;
-    const double t24 = k_speed*(-side_trim - t23) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t23;
-    const double rl_y_goal = leg_rl_hip_x*t22 + t24;
-    const double rr_y_goal = leg_rr_hip_x*t22 + t24;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t3 + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t3 + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t4 = 1.0 - leg_fl_touching;
+    const double hip_fl_pitch_kp = swing_kp*t4;
+    const double hip_fl_pitch_kv = swing_kv*t4;
+    const double t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
+    const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t8 = atan2(leg_sin(t7), leg_cos(t7));
+    const double t9 = -aim_rate + body_trunk_yaw_rate;
+    const double t10 = -kp_yaw*t8 - kv_yaw*t9;
+    const double t11 = leg_div(leg_fl_length*t10, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
+    const double t12 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
+    const double t13 = leg_fl_touching*t12;
+    const double hip_fl_motor_force = t13*(-leg_fl_hip_y*t11 - t5);
+    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_fl_roll_motor_force = t13*(-leg_fl_hip_x*t11 + t14);
+    const double t15 = 1.0 - leg_fr_touching;
+    const double hip_fr_pitch_kp = swing_kp*t15;
+    const double hip_fr_pitch_kv = swing_kv*t15;
+    const double t16 = leg_div(leg_fr_length*t10, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
+    const double t17 = leg_fr_touching*t12;
+    const double hip_fr_motor_force = t17*(-leg_fr_hip_y*t16 - t5);
+    const double hip_fr_roll_motor_force = t17*(-leg_fr_hip_x*t16 + t14);
+    const double t18 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
+    const double t19 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t19 + ((((t18) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t19 + ((((t18) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t20 = fast_k_speed*t2 + k_speed;
+    const double t21 = leg_cos(body_trunk_yaw);
+    const double t22 = leg_sin(body_trunk_yaw);
+    const double t23 = com_vx*t21 + com_vy*t22;
+    const double t24 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t18) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))));
+    const double rl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24;
+    const double t25 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t8 + t9*yaw_lead))));
+    const double t26 = com_vx*t22 - com_vy*t21;
+    const double t27 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t20*(-side_trim - t26) - t24*t26;
+    const double rl_y_goal = leg_rl_hip_x*t25 + t27;
+    const double rr_y_goal = leg_rr_hip_x*t25 + t27;
     out[0] = leg_fl_spring_rest;
     out[1] = leg_fr_spring_rest;
     out[2] = hip_fl_pitch_kp;
@@ -1169,52 +1267,57 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1229,6 +1332,13 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];
@@ -1237,17 +1347,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t2 = leg_cos(body_trunk_yaw);
-    const double t3 = leg_sin(body_trunk_yaw);
-    const double t4 = com_vx*t2 + com_vy*t3;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t4) + 0.5*stance*t4;
-    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
-    const double t7 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t6), leg_cos(t6))))));
-    const double t8 = com_vx*t3 - com_vy*t2;
-    const double t9 = k_speed*(-side_trim - t8) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t8;
-    const double rl_y_goal = leg_rl_hip_x*t7 + t9;
-    const double rr_y_goal = leg_rr_hip_x*t7 + t9;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = fast_k_speed*t2 + k_speed;
+    const double t4 = leg_cos(body_trunk_yaw);
+    const double t5 = leg_sin(body_trunk_yaw);
+    const double t6 = com_vx*t4 + com_vy*t5;
+    const double t7 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))));
+    const double rl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7;
+    const double t8 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + time*turn_rate));
+    const double t10 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t9), leg_cos(t9))))));
+    const double t11 = com_vx*t5 - com_vy*t4;
+    const double t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t11*t7 + t3*(-side_trim - t11);
+    const double rl_y_goal = leg_rl_hip_x*t10 + t12;
+    const double rr_y_goal = leg_rr_hip_x*t10 + t12;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -1285,20 +1398,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:431:7 */
-/*   record ramped_speed: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:442:7 */
+/*   record steps: creatures/quadruped.leg:470:7 */
+/*   record ramped_speed: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:479:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:481:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1306,9 +1419,9 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double time = s[39];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double time = s[44];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -1317,6 +1430,10 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double k_aim_rate = p[4];
     const double stance_guess = p[5];
     const double accel = p[25];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_trim = p[53];
+    const double fast_trim_band = p[54];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -1346,14 +1463,16 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double t5 = leg_sin(body_trunk_yaw);
     const double t6 = (lifted > 0.0);
     const double new_step_speed = ((t6) ? (leg_div((t2*t3 + t4*t5), t1)) : (ramped_speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
+    const double t7 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t8 = fast_trim_band*t7 + trim_band;
+    const double new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*leg_min(t8, leg_max(-t8, ramped_speed - step_speed));
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
-    const double t7 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (com_vx*t3 + com_vy*t5));
+    const double t9 = accel*(-ramped_at + time);
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
     const double new_ramped_at = leg_max(0.001, time);
-    const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t10 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1381,68 +1500,75 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:433:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:433:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:434:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:434:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:435:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:435:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:436:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:436:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:472:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:472:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:474:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:474:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:475:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_rl_foot_z = s[26];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rr_foot_z = s[33];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1462,6 +1588,13 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -1477,21 +1610,30 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t5 = ((t2) ? (leg_max(short_, -lift_slew*tis + stand)) : (stand));
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t5 + ((((t4) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t5 + ((((t4) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t6 = leg_cos(body_trunk_yaw);
-    const double t7 = leg_sin(body_trunk_yaw);
-    const double t8 = com_vx*t6 + com_vy*t7;
-    const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8;
-    const double t9 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t10 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t9), leg_cos(t9))))) : (heading + time*turn_rate));
-    const double t11 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t10), leg_cos(t10))))));
-    const double t12 = com_vx*t7 - com_vy*t6;
-    const double t13 = k_speed*(-side_trim - t12) - 0.5*stance*t12;
-    const double t14 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t13;
-    const double rl_y_goal = leg_rl_hip_x*t11 + t14;
-    const double rr_y_goal = leg_rr_hip_x*t11 + t14;
-    const double t15 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t13;
-    const double fl_y_goal = leg_fl_hip_x*t11 + t15;
-    const double fr_y_goal = leg_fr_hip_x*t11 + t15;
+    const double t6 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t7 = fast_k_speed*t6 + k_speed;
+    const double t8 = leg_cos(body_trunk_yaw);
+    const double t9 = leg_sin(body_trunk_yaw);
+    const double t10 = com_vx*t8 + com_vy*t9;
+    const double t11 = t7*(-ramped_speed - speed_trim + t10);
+    const double t12 = -2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0));
+    const double t13 = com_vz*com_vz;
+    const double t14 = com_z - terrain_height;
+    const double t15 = 0.5*stance + 0.5*t6*(t12 + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))));
+    const double rl_x_goal = t10*t15 + t11;
+    const double t16 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + time*turn_rate));
+    const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t17), leg_cos(t17))))));
+    const double t19 = com_vx*t9 - com_vy*t8;
+    const double t20 = t7*(-side_trim - t19);
+    const double t21 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t15*t19 + t20;
+    const double rl_y_goal = leg_rl_hip_x*t18 + t21;
+    const double rr_y_goal = leg_rr_hip_x*t18 + t21;
+    const double t22 = 0.5*stance + 0.5*t6*(t12 + ((t4) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))));
+    const double fl_x_goal = t10*t22 + t11;
+    const double t23 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t19*t22 + t20;
+    const double fl_y_goal = leg_fl_hip_x*t18 + t23;
+    const double fr_y_goal = leg_fr_hip_x*t18 + t23;
     out[0] = leg_rl_spring_rest;
     out[1] = leg_rr_spring_rest;
     out[2] = leg_k;
@@ -1532,29 +1674,29 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     out[37] = rl_y_goal;
     out[38] = rl_x_goal;
     out[39] = rr_y_goal;
-    out[40] = rl_x_goal;
+    out[40] = fl_x_goal;
     out[41] = fl_y_goal;
-    out[42] = rl_x_goal;
+    out[42] = fl_x_goal;
     out[43] = fr_y_goal;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:446:7 */
-/*   record pitch_mean: creatures/quadruped.leg:447:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:448:7 */
-/*   record pitch_trim: creatures/quadruped.leg:449:7 */
-/*   record flight_apex: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:485:7 */
+/*   record pitch_mean: creatures/quadruped.leg:486:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:487:7 */
+/*   record pitch_trim: creatures/quadruped.leg:488:7 */
+/*   record flight_apex: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:489:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[39];
+    const double time = s[44];
     const double height = u[3];
     const double stroke = p[19];
     const double k_height = p[20];
@@ -1562,6 +1704,10 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double stroke_max = p[22];
     const double k_pitch_i = p[35];
     const double trim_most = p[36];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_height = p[55];
+    const double fast_stroke_max = p[56];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1585,9 +1731,11 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
-    const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double t1 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t2 = fast_stroke_max*t1 + stroke_max;
+    const double t3 = fast_height*t1 - flight_apex + height;
+    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(t2, leg_max(-0.02, k_height*t3 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -1615,48 +1763,48 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1666,26 +1814,31 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rl_length = s[30];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double leg_rr_length = s[37];
+    const double leg_rr_touching = s[39];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1710,6 +1863,17 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double lead_front = p[41];
     const double lead_rear = p[42];
     const double stance_lead = p[43];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1724,38 +1888,41 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double t2 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t2;
     const double hip_rl_pitch_kv = swing_kv*t2;
-    const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
-    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
-    const double t7 = -aim_rate + body_trunk_yaw_rate;
-    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
-    const double t9 = leg_div(leg_rl_length*t8, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t11 = leg_rl_touching*t10;
-    const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
-    const double t13 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t13;
-    const double hip_rr_pitch_kv = swing_kv*t13;
-    const double t14 = leg_div(leg_rr_length*t8, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t15 = leg_rr_touching*t10;
-    const double hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3);
-    const double hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12);
-    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t18 = leg_cos(body_trunk_yaw);
-    const double t19 = leg_sin(body_trunk_yaw);
-    const double t20 = com_vx*t18 + com_vy*t19;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20;
-    const double t21 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
-    const double t22 = com_vx*t19 - com_vy*t18;
-    const double t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22;
-    const double fl_y_goal = leg_fl_hip_x*t21 + t23;
-    const double fr_y_goal = leg_fr_hip_x*t21 + t23;
+    const double t3 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t3 - omega_f) : (fast_omega_r*t3 + omega_r)));
+    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
+    const double t8 = -aim_rate + body_trunk_yaw_rate;
+    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
+    const double t10 = leg_div(leg_rl_length*t9, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t11 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t12 = leg_rl_touching*t11;
+    const double hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 - t4);
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13);
+    const double t14 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t14;
+    const double hip_rr_pitch_kv = swing_kv*t14;
+    const double t15 = leg_div(leg_rr_length*t9, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t16 = leg_rr_touching*t11;
+    const double hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 - t4);
+    const double hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13);
+    const double t17 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t18 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t17 + ((((t18) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t17 + ((((t18) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t19 = fast_k_speed*t3 + k_speed;
+    const double t20 = leg_cos(body_trunk_yaw);
+    const double t21 = leg_sin(body_trunk_yaw);
+    const double t22 = com_vx*t20 + com_vy*t21;
+    const double t23 = 0.5*stance + 0.5*t3*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t18) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))));
+    const double fl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23;
+    const double t24 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
+    const double t25 = com_vx*t21 - com_vy*t20;
+    const double t26 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t19*(-side_trim - t25) - t23*t25;
+    const double fl_y_goal = leg_fl_hip_x*t24 + t26;
+    const double fr_y_goal = leg_fr_hip_x*t24 + t26;
     out[0] = leg_rl_spring_rest;
     out[1] = leg_rr_spring_rest;
     out[2] = 0.0;
@@ -1856,34 +2023,34 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1893,24 +2060,29 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_length = s[30];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_length = s[37];
+    const double leg_rr_touching = s[39];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -1934,6 +2106,17 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1945,38 +2128,41 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
-    const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)));
-    const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
-    const double t5 = atan2(leg_sin(t4), leg_cos(t4));
-    const double t6 = -aim_rate + body_trunk_yaw_rate;
-    const double t7 = -kp_yaw*t5 - kv_yaw*t6;
-    const double t8 = leg_div(leg_rl_length*t7, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t10 = leg_rl_touching*t9;
-    const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
-    const double t12 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t12;
-    const double hip_rr_pitch_kv = swing_kv*t12;
-    const double t13 = leg_div(leg_rr_length*t7, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t14 = leg_rr_touching*t9;
-    const double hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2);
-    const double hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11);
-    const double t15 = (((steps > 1.0)) ? (short_) : (stand));
-    const double t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t15 + ((((t16) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t15 + ((((t16) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t17 = leg_cos(body_trunk_yaw);
-    const double t18 = leg_sin(body_trunk_yaw);
-    const double t19 = com_vx*t17 + com_vy*t18;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19;
-    const double t20 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t5 + t6*yaw_lead))));
-    const double t21 = com_vx*t18 - com_vy*t17;
-    const double t22 = k_speed*(-side_trim - t21) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t21;
-    const double fl_y_goal = leg_fl_hip_x*t20 + t22;
-    const double fr_y_goal = leg_fr_hip_x*t20 + t22;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
+    const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t6 = atan2(leg_sin(t5), leg_cos(t5));
+    const double t7 = -aim_rate + body_trunk_yaw_rate;
+    const double t8 = -kp_yaw*t6 - kv_yaw*t7;
+    const double t9 = leg_div(leg_rl_length*t8, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t11 = leg_rl_touching*t10;
+    const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 - t3);
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
+    const double t13 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t13;
+    const double hip_rr_pitch_kv = swing_kv*t13;
+    const double t14 = leg_div(leg_rr_length*t8, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t15 = leg_rr_touching*t10;
+    const double hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 - t3);
+    const double hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12);
+    const double t16 = (((steps > 1.0)) ? (short_) : (stand));
+    const double t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((((t17) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t18 = fast_k_speed*t2 + k_speed;
+    const double t19 = leg_cos(body_trunk_yaw);
+    const double t20 = leg_sin(body_trunk_yaw);
+    const double t21 = com_vx*t19 + com_vy*t20;
+    const double t22 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t17) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))));
+    const double fl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22;
+    const double t23 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t6 + t7*yaw_lead))));
+    const double t24 = com_vx*t20 - com_vy*t19;
+    const double t25 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t18*(-side_trim - t24) - t22*t24;
+    const double fl_y_goal = leg_fl_hip_x*t23 + t25;
+    const double fr_y_goal = leg_fr_hip_x*t23 + t25;
     out[0] = hip_rl_pitch_kp;
     out[1] = hip_rl_pitch_kv;
     out[2] = hip_rl_pitch_kp;
@@ -2063,36 +2249,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2102,26 +2288,31 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double leg_rl_hip_x = s[27];
+    const double leg_rl_hip_y = s[28];
+    const double leg_rl_hip_z = s[29];
+    const double leg_rl_length = s[30];
+    const double leg_rl_touching = s[32];
+    const double leg_rr_hip_x = s[34];
+    const double leg_rr_hip_y = s[35];
+    const double leg_rr_hip_z = s[36];
+    const double leg_rr_length = s[37];
+    const double leg_rr_touching = s[39];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -2149,6 +2340,18 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double lead_front = p[41];
     const double lead_rear = p[42];
     const double stance_lead = p[43];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_omega_f = p[49];
+    const double fast_omega_r = p[50];
+    const double fast_kv_rate = p[51];
+    const double fast_k_center = p[52];
+    const double fast_pitch_thrust = p[57];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2159,44 +2362,47 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
-    const double t2 = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
-    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
-    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2 + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
-    const double t3 = 1.0 - leg_rl_touching;
-    const double hip_rl_pitch_kp = swing_kp*t3;
-    const double hip_rl_pitch_kv = swing_kv*t3;
-    const double t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)));
-    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
-    const double t7 = atan2(leg_sin(t6), leg_cos(t6));
-    const double t8 = -aim_rate + body_trunk_yaw_rate;
-    const double t9 = -kp_yaw*t7 - kv_yaw*t8;
-    const double t10 = leg_div(leg_rl_length*t9, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
-    const double t11 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
-    const double t12 = leg_rl_touching*t11;
-    const double hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 + t4);
-    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
-    const double hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13);
-    const double t14 = 1.0 - leg_rr_touching;
-    const double hip_rr_pitch_kp = swing_kp*t14;
-    const double hip_rr_pitch_kv = swing_kv*t14;
-    const double t15 = leg_div(leg_rr_length*t9, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
-    const double t16 = leg_rr_touching*t11;
-    const double hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 + t4);
-    const double hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13);
-    const double t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
-    const double t18 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
-    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t18 + ((((t17) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t18 + ((((t17) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t19 = leg_cos(body_trunk_yaw);
-    const double t20 = leg_sin(body_trunk_yaw);
-    const double t21 = com_vx*t19 + com_vy*t20;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21;
-    const double t22 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t7 + t8*yaw_lead))));
-    const double t23 = com_vx*t20 - com_vy*t19;
-    const double t24 = k_speed*(-side_trim - t23) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t23;
-    const double fl_y_goal = leg_fl_hip_x*t22 + t24;
-    const double fr_y_goal = leg_fr_hip_x*t22 + t24;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
+    const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t3 + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t3 + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
+    const double t4 = 1.0 - leg_rl_touching;
+    const double hip_rl_pitch_kp = swing_kp*t4;
+    const double hip_rl_pitch_kv = swing_kv*t4;
+    const double t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
+    const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t8 = atan2(leg_sin(t7), leg_cos(t7));
+    const double t9 = -aim_rate + body_trunk_yaw_rate;
+    const double t10 = -kp_yaw*t8 - kv_yaw*t9;
+    const double t11 = leg_div(leg_rl_length*t10, (leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y));
+    const double t12 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
+    const double t13 = leg_rl_touching*t12;
+    const double hip_rl_motor_force = t13*(-leg_rl_hip_y*t11 - t5);
+    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double hip_rl_roll_motor_force = t13*(-leg_rl_hip_x*t11 + t14);
+    const double t15 = 1.0 - leg_rr_touching;
+    const double hip_rr_pitch_kp = swing_kp*t15;
+    const double hip_rr_pitch_kv = swing_kv*t15;
+    const double t16 = leg_div(leg_rr_length*t10, (leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y));
+    const double t17 = leg_rr_touching*t12;
+    const double hip_rr_motor_force = t17*(-leg_rr_hip_y*t16 - t5);
+    const double hip_rr_roll_motor_force = t17*(-leg_rr_hip_x*t16 + t14);
+    const double t18 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
+    const double t19 = (((steps > 1.0)) ? (leg_min(stand, short_ + slew*leg_max(0.0, -idle_delay + tis))) : (stand));
+    const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t19 + ((((t18) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t19 + ((((t18) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
+    const double t20 = fast_k_speed*t2 + k_speed;
+    const double t21 = leg_cos(body_trunk_yaw);
+    const double t22 = leg_sin(body_trunk_yaw);
+    const double t23 = com_vx*t21 + com_vy*t22;
+    const double t24 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t18) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))));
+    const double fl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24;
+    const double t25 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(t8 + t9*yaw_lead))));
+    const double t26 = com_vx*t22 - com_vy*t21;
+    const double t27 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t20*(-side_trim - t26) - t24*t26;
+    const double fl_y_goal = leg_fl_hip_x*t25 + t27;
+    const double fr_y_goal = leg_fr_hip_x*t25 + t27;
     out[0] = leg_rl_spring_rest;
     out[1] = leg_rr_spring_rest;
     out[2] = hip_rl_pitch_kp;
@@ -2285,52 +2491,57 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double com_vz = s[8];
+    const double com_z = s[11];
+    const double leg_fl_foot_z = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_foot_z = s[19];
+    const double leg_fr_hip_x = s[20];
+    const double leg_fr_hip_y = s[21];
+    const double leg_fr_hip_z = s[22];
+    const double path_route_ahead_heading = s[40];
+    const double path_route_given = s[41];
+    const double path_route_lateral = s[42];
+    const double terrain_height = s[43];
+    const double time = s[44];
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
@@ -2345,6 +2556,13 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double stagger = p[40];
     const double lead_front = p[41];
     const double lead_rear = p[42];
+    const double fast_from = p[44];
+    const double fast_span = p[45];
+    const double fast_k_speed = p[46];
+    const double fast_stance_f = p[47];
+    const double fast_stance_r = p[48];
+    const double fast_window = p[58];
+    const double fast_lag = p[59];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];
@@ -2353,17 +2571,20 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stagger) : (0.0));
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stagger) : (0.0));
-    const double t2 = leg_cos(body_trunk_yaw);
-    const double t3 = leg_sin(body_trunk_yaw);
-    const double t4 = com_vx*t2 + com_vy*t3;
-    const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t4) + 0.5*stance*t4;
-    const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
-    const double t7 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t6), leg_cos(t6))))));
-    const double t8 = com_vx*t3 - com_vy*t2;
-    const double t9 = k_speed*(-side_trim - t8) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t8;
-    const double fl_y_goal = leg_fl_hip_x*t7 + t9;
-    const double fr_y_goal = leg_fr_hip_x*t7 + t9;
+    const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
+    const double t3 = fast_k_speed*t2 + k_speed;
+    const double t4 = leg_cos(body_trunk_yaw);
+    const double t5 = leg_sin(body_trunk_yaw);
+    const double t6 = com_vx*t4 + com_vy*t5;
+    const double t7 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))));
+    const double fl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7;
+    const double t8 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
+    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + time*turn_rate));
+    const double t10 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t9), leg_cos(t9))))));
+    const double t11 = com_vx*t5 - com_vy*t4;
+    const double t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t11*t7 + t3*(-side_trim - t11);
+    const double fl_y_goal = leg_fl_hip_x*t10 + t12;
+    const double fr_y_goal = leg_fr_hip_x*t10 + t12;
     out[0] = stand;
     out[1] = stand;
     out[2] = 0.0;
@@ -2472,7 +2693,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 40, 4, 22, 44,
+    5, 2, 45, 4, 22, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -21,10 +21,10 @@ import math
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "c6bc5b6696827136"
+FINGERPRINT = "ffda8a7775877e2e"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -76,6 +76,22 @@ PARAMS = {
     "lead_front": 1.0,
     "lead_rear": -1.0,
     "stance_lead": -0.0271,
+    "fast_from": 4.0,
+    "fast_span": 1.0,
+    "fast_k_speed": -0.00532,
+    "fast_stance_f": 0.0397,
+    "fast_stance_r": -0.0195,
+    "fast_omega_f": 0.0263,
+    "fast_omega_r": -2.03,
+    "fast_kv_rate": 45.9,
+    "fast_k_center": 2.46,
+    "fast_k_trim": 0.118,
+    "fast_trim_band": 0.972,
+    "fast_height": 0.0135,
+    "fast_stroke_max": 0.0181,
+    "fast_pitch_thrust": -0.00566,
+    "fast_window": 0.0123,
+    "fast_lag": 0.00657,
 }
 RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'aim_rate', 'ahead_then', 'ahead_at')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -97,10 +113,10 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:429:5
+        event  creatures/quadruped.leg:468:5
     """
-    leg_fl_touching = s[17]
-    leg_fr_touching = s[23]
+    leg_fl_touching = s[18]
+    leg_fr_touching = s[25]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5)
 
 
@@ -108,10 +124,10 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:445:5
+        event  creatures/quadruped.leg:484:5
     """
-    leg_fl_touching = s[17]
-    leg_fr_touching = s[23]
+    leg_fl_touching = s[18]
+    leg_fr_touching = s[25]
     return (leg_fl_touching > 0.5) or (leg_fr_touching > 0.5)
 
 
@@ -119,10 +135,10 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:455:5
+        event  creatures/quadruped.leg:494:5
     """
-    leg_fl_rate = s[16]
-    leg_fr_rate = s[22]
+    leg_fl_rate = s[17]
+    leg_fr_rate = s[24]
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0)
 
 
@@ -130,10 +146,10 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:458:5
+        event  creatures/quadruped.leg:497:5
     """
-    leg_fl_rate = s[16]
-    leg_fr_rate = s[22]
+    leg_fl_rate = s[17]
+    leg_fr_rate = s[24]
     settle = p[28]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
@@ -142,12 +158,12 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:462:5
+        event  creatures/quadruped.leg:501:5
     """
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_length = s[23]
+    leg_fr_touching = s[25]
     stand = p[23]
     full = p[27]
     thrust_stroke = r[14]
@@ -158,10 +174,10 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:429:5
+        event  creatures/quadruped.leg:468:5
     """
-    leg_rl_touching = s[29]
-    leg_rr_touching = s[35]
+    leg_rl_touching = s[32]
+    leg_rr_touching = s[39]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
@@ -169,10 +185,10 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:445:5
+        event  creatures/quadruped.leg:484:5
     """
-    leg_rl_touching = s[29]
-    leg_rr_touching = s[35]
+    leg_rl_touching = s[32]
+    leg_rr_touching = s[39]
     return (leg_rl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
@@ -180,10 +196,10 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:455:5
+        event  creatures/quadruped.leg:494:5
     """
-    leg_rl_rate = s[28]
-    leg_rr_rate = s[34]
+    leg_rl_rate = s[31]
+    leg_rr_rate = s[38]
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0)
 
 
@@ -191,10 +207,10 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:458:5
+        event  creatures/quadruped.leg:497:5
     """
-    leg_rl_rate = s[28]
-    leg_rr_rate = s[34]
+    leg_rl_rate = s[31]
+    leg_rr_rate = s[38]
     settle = p[28]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
@@ -203,12 +219,12 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:462:5
+        event  creatures/quadruped.leg:501:5
     """
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
+    leg_rl_length = s[30]
+    leg_rl_touching = s[32]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
     stand = p[23]
     full = p[27]
     thrust_stroke = r[14]
@@ -219,29 +235,29 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:431:7
-        record ramped_speed  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:442:7
+        record steps         creatures/quadruped.leg:470:7
+        record ramped_speed  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:477:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:479:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:479:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:479:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:480:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:480:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:480:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:480:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:480:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:481:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    time = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    time = s[44]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -250,6 +266,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_aim_rate = p[4]
     stance_guess = p[5]
     accel = p[25]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_trim = p[53]
+    fast_trim_band = p[54]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -279,14 +299,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    t7 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t8 = fast_trim_band*t7 + trim_band
+    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*min(t8, max(-t8, ramped_speed - step_speed))
     new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
-    t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    t9 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t9, max(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
     new_ramped_at = max(0.001, time)
-    t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    t10 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -317,67 +339,74 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fl_spring.k          creatures/quadruped.leg:433:7
-        leg_fr_spring.k          creatures/quadruped.leg:433:7
-        leg_rl_spring.k          creatures/quadruped.leg:434:7
-        leg_rr_spring.k          creatures/quadruped.leg:434:7
-        leg_fl_spring.b          creatures/quadruped.leg:435:7
-        leg_fr_spring.b          creatures/quadruped.leg:435:7
-        leg_rl_spring.b          creatures/quadruped.leg:436:7
-        leg_rr_spring.b          creatures/quadruped.leg:436:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fl_spring.k          creatures/quadruped.leg:472:7
+        leg_fr_spring.k          creatures/quadruped.leg:472:7
+        leg_rl_spring.k          creatures/quadruped.leg:473:7
+        leg_rr_spring.k          creatures/quadruped.leg:473:7
+        leg_fl_spring.b          creatures/quadruped.leg:474:7
+        leg_fr_spring.b          creatures/quadruped.leg:474:7
+        leg_rl_spring.b          creatures/quadruped.leg:475:7
+        leg_rr_spring.b          creatures/quadruped.leg:475:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -397,6 +426,13 @@ def action_FLIGHT_0(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -412,21 +448,30 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t5 = ((max(short, -lift_slew*tis + stand)) if t2 else (stand))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t5 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t4 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t5 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t4 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
-    t9 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t10 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t9), math.cos(t9))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t11 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t10), math.cos(t10))))))
-    t12 = com_vx*t7 - com_vy*t6
-    t13 = k_speed*(-side_trim - t12) - 0.5*stance*t12
-    t14 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t13
-    fl_y_goal = leg_fl_hip_x*t11 + t14
-    fr_y_goal = leg_fr_hip_x*t11 + t14
-    t15 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t13
-    rl_y_goal = leg_rl_hip_x*t11 + t15
-    rr_y_goal = leg_rr_hip_x*t11 + t15
+    t6 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t7 = fast_k_speed*t6 + k_speed
+    t8 = math.cos(body_trunk_yaw)
+    t9 = math.sin(body_trunk_yaw)
+    t10 = com_vx*t8 + com_vy*t9
+    t11 = t7*(-ramped_speed - speed_trim + t10)
+    t12 = -2.0*((fast_lag) if (fast_window > 0.0) else (0.0))
+    t13 = com_vz*com_vz
+    t14 = com_z - terrain_height
+    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
+    fl_x_goal = t10*t15 + t11
+    t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t17 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
+    t19 = com_vx*t9 - com_vy*t8
+    t20 = t7*(-side_trim - t19)
+    t21 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t15*t19 + t20
+    fl_y_goal = leg_fl_hip_x*t18 + t21
+    fr_y_goal = leg_fr_hip_x*t18 + t21
+    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
+    rl_x_goal = t10*t22 + t11
+    t23 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t19*t22 + t20
+    rl_y_goal = leg_rl_hip_x*t18 + t23
+    rr_y_goal = leg_rr_hip_x*t18 + t23
     return [
         leg_fl_spring_rest,
         leg_fr_spring_rest,
@@ -468,9 +513,9 @@ def action_FLIGHT_0(s, u, p, r, tis):
         fl_y_goal,
         fl_x_goal,
         fr_y_goal,
-        fl_x_goal,
+        rl_x_goal,
         rl_y_goal,
-        fl_x_goal,
+        rl_x_goal,
         rr_y_goal,
     ]
 
@@ -479,19 +524,19 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:446:7
-        record pitch_mean      creatures/quadruped.leg:447:7
-        record pitch_last_td   creatures/quadruped.leg:448:7
-        record pitch_trim      creatures/quadruped.leg:449:7
-        record flight_apex     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:485:7
+        record pitch_mean      creatures/quadruped.leg:486:7
+        record pitch_last_td   creatures/quadruped.leg:487:7
+        record pitch_trim      creatures/quadruped.leg:488:7
+        record flight_apex     creatures/quadruped.leg:489:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:489:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:489:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:489:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[39]
+    time = s[44]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
@@ -499,6 +544,10 @@ def entry_LOADING_0(s, u, p, r, tis):
     stroke_max = p[22]
     k_pitch_i = p[35]
     trim_most = p[36]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_height = p[55]
+    fast_stroke_max = p[56]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -522,9 +571,11 @@ def entry_LOADING_0(s, u, p, r, tis):
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
-    t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    t1 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = fast_stroke_max*t1 + stroke_max
+    t3 = fast_height*t1 - flight_apex + height
+    new_stroke_trim = min(-stroke + t2, max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = min(t2, max(-0.02, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -555,48 +606,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -605,26 +656,31 @@ def action_LOADING_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_fr_length = s[23]
+    leg_fr_touching = s[25]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -649,6 +705,17 @@ def action_LOADING_0(s, u, p, r, tis):
     lead_front = p[41]
     lead_rear = p[42]
     stance_lead = p[43]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -663,38 +730,41 @@ def action_LOADING_0(s, u, p, r, tis):
     t2 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t2
     hip_fl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -aim_rate + body_trunk_yaw_rate
-    t8 = -kp_yaw*t6 - kv_yaw*t7
-    t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t11 = leg_fl_touching*t10
-    hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
-    t13 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t13
-    hip_fr_pitch_kv = swing_kv*t13
-    t14 = leg_fr_length*t8/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t15 = leg_fr_touching*t10
-    hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3)
-    hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
-    t16 = ((short) if (steps > 1.0) else (stand))
-    t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t17 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t17 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t18 = math.cos(body_trunk_yaw)
-    t19 = math.sin(body_trunk_yaw)
-    t20 = com_vx*t18 + com_vy*t19
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
-    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
-    t22 = com_vx*t19 - com_vy*t18
-    t23 = k_speed*(-side_trim - t22) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t22
-    rl_y_goal = leg_rl_hip_x*t21 + t23
-    rr_y_goal = leg_rr_hip_x*t21 + t23
+    t3 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -aim_rate + body_trunk_yaw_rate
+    t9 = -kp_yaw*t7 - kv_yaw*t8
+    t10 = leg_fl_length*t9/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t11 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t12 = leg_fl_touching*t11
+    hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 - t4)
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13)
+    t14 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t14
+    hip_fr_pitch_kv = swing_kv*t14
+    t15 = leg_fr_length*t9/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t16 = leg_fr_touching*t11
+    hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 - t4)
+    hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13)
+    t17 = ((short) if (steps > 1.0) else (stand))
+    t18 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t17 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t18 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t17 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t18 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t19 = fast_k_speed*t3 + k_speed
+    t20 = math.cos(body_trunk_yaw)
+    t21 = math.sin(body_trunk_yaw)
+    t22 = com_vx*t20 + com_vy*t21
+    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    rl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23
+    t24 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t25 = com_vx*t21 - com_vy*t20
+    t26 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t19*(-side_trim - t25) - t23*t25
+    rl_y_goal = leg_rl_hip_x*t24 + t26
+    rr_y_goal = leg_rr_hip_x*t24 + t26
     return [
         leg_fl_spring_rest,
         leg_fr_spring_rest,
@@ -797,34 +867,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -833,24 +903,29 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_length = s[23]
+    leg_fr_touching = s[25]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -874,6 +949,17 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -885,38 +971,41 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)))
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.atan2(math.sin(t4), math.cos(t4))
-    t6 = -aim_rate + body_trunk_yaw_rate
-    t7 = -kp_yaw*t5 - kv_yaw*t6
-    t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t10 = leg_fl_touching*t9
-    hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
-    t12 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t12
-    hip_fr_pitch_kv = swing_kv*t12
-    t13 = leg_fr_length*t7/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t14 = leg_fr_touching*t9
-    hip_fr_motor_force = t14*(-leg_fr_hip_y*t13 + t2)
-    hip_fr_roll_motor_force = t14*(-leg_fr_hip_x*t13 + t11)
-    t15 = ((short) if (steps > 1.0) else (stand))
-    t16 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t15 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t16 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t15 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t16 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t17 = math.cos(body_trunk_yaw)
-    t18 = math.sin(body_trunk_yaw)
-    t19 = com_vx*t17 + com_vy*t18
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19
-    t20 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
-    t21 = com_vx*t18 - com_vy*t17
-    t22 = k_speed*(-side_trim - t21) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t21
-    rl_y_goal = leg_rl_hip_x*t20 + t22
-    rr_y_goal = leg_rr_hip_x*t20 + t22
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t11 = leg_fl_touching*t10
+    hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 - t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t13
+    hip_fr_pitch_kv = swing_kv*t13
+    t14 = leg_fr_length*t8/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t15 = leg_fr_touching*t10
+    hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 - t3)
+    hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
+    t16 = ((short) if (steps > 1.0) else (stand))
+    t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t17 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t16 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t17 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t18 = fast_k_speed*t2 + k_speed
+    t19 = math.cos(body_trunk_yaw)
+    t20 = math.sin(body_trunk_yaw)
+    t21 = com_vx*t19 + com_vy*t20
+    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    rl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22
+    t23 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t24 = com_vx*t20 - com_vy*t19
+    t25 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t18*(-side_trim - t24) - t22*t24
+    rl_y_goal = leg_rl_hip_x*t23 + t25
+    rr_y_goal = leg_rr_hip_x*t23 + t25
     return [
         hip_fl_pitch_kp,
         hip_fl_pitch_kv,
@@ -1005,36 +1094,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1043,26 +1132,31 @@ def action_THRUST_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_fr_length = s[23]
+    leg_fr_touching = s[25]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -1090,6 +1184,18 @@ def action_THRUST_0(s, u, p, r, tis):
     lead_front = p[41]
     lead_rear = p[42]
     stance_lead = p[43]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_pitch_thrust = p[57]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1100,44 +1206,47 @@ def action_THRUST_0(s, u, p, r, tis):
     ramped_speed = r[17]
     aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t3 = 1.0 - leg_fl_touching
-    hip_fl_pitch_kp = swing_kp*t3
-    hip_fl_pitch_kv = swing_kv*t3
-    t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = math.atan2(math.sin(t6), math.cos(t6))
-    t8 = -aim_rate + body_trunk_yaw_rate
-    t9 = -kp_yaw*t7 - kv_yaw*t8
-    t10 = leg_fl_length*t9/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t11 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
-    t12 = leg_fl_touching*t11
-    hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 + t4)
-    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13)
-    t14 = 1.0 - leg_fr_touching
-    hip_fr_pitch_kp = swing_kp*t14
-    hip_fr_pitch_kv = swing_kv*t14
-    t15 = leg_fr_length*t9/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
-    t16 = leg_fr_touching*t11
-    hip_fr_motor_force = t16*(-leg_fr_hip_y*t15 + t4)
-    hip_fr_roll_motor_force = t16*(-leg_fr_hip_x*t15 + t13)
-    t17 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t18 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t18 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t17 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t18 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t17 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t19 = math.cos(body_trunk_yaw)
-    t20 = math.sin(body_trunk_yaw)
-    t21 = com_vx*t19 + com_vy*t20
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21
-    t22 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
-    t23 = com_vx*t20 - com_vy*t19
-    t24 = k_speed*(-side_trim - t23) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t23
-    rl_y_goal = leg_rl_hip_x*t22 + t24
-    rr_y_goal = leg_rr_hip_x*t22 + t24
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t4 = 1.0 - leg_fl_touching
+    hip_fl_pitch_kp = swing_kp*t4
+    hip_fl_pitch_kv = swing_kv*t4
+    t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
+    t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.atan2(math.sin(t7), math.cos(t7))
+    t9 = -aim_rate + body_trunk_yaw_rate
+    t10 = -kp_yaw*t8 - kv_yaw*t9
+    t11 = leg_fl_length*t10/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
+    t12 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t13 = leg_fl_touching*t12
+    hip_fl_motor_force = t13*(-leg_fl_hip_y*t11 - t5)
+    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_fl_roll_motor_force = t13*(-leg_fl_hip_x*t11 + t14)
+    t15 = 1.0 - leg_fr_touching
+    hip_fr_pitch_kp = swing_kp*t15
+    hip_fr_pitch_kv = swing_kv*t15
+    t16 = leg_fr_length*t10/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
+    t17 = leg_fr_touching*t12
+    hip_fr_motor_force = t17*(-leg_fr_hip_y*t16 - t5)
+    hip_fr_roll_motor_force = t17*(-leg_fr_hip_x*t16 + t14)
+    t18 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
+    t19 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t19 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t18 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t19 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t18 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t20 = fast_k_speed*t2 + k_speed
+    t21 = math.cos(body_trunk_yaw)
+    t22 = math.sin(body_trunk_yaw)
+    t23 = com_vx*t21 + com_vy*t22
+    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    rl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24
+    t25 = math.sin(min(turn_most, max(-turn_most, k_turn*(t8 + t9*yaw_lead))))
+    t26 = com_vx*t22 - com_vy*t21
+    t27 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t20*(-side_trim - t26) - t24*t26
+    rl_y_goal = leg_rl_hip_x*t25 + t27
+    rr_y_goal = leg_rr_hip_x*t25 + t27
     return [
         leg_fl_spring_rest,
         leg_fr_spring_rest,
@@ -1228,51 +1337,56 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -1287,6 +1401,13 @@ def action_UNLOADING_0(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_window = p[58]
+    fast_lag = p[59]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]
@@ -1295,17 +1416,20 @@ def action_UNLOADING_0(s, u, p, r, tis):
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t2 = math.cos(body_trunk_yaw)
-    t3 = math.sin(body_trunk_yaw)
-    t4 = com_vx*t2 + com_vy*t3
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t4) + 0.5*stance*t4
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t6), math.cos(t6))))))
-    t8 = com_vx*t3 - com_vy*t2
-    t9 = k_speed*(-side_trim - t8) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t8
-    rl_y_goal = leg_rl_hip_x*t7 + t9
-    rr_y_goal = leg_rr_hip_x*t7 + t9
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = fast_k_speed*t2 + k_speed
+    t4 = math.cos(body_trunk_yaw)
+    t5 = math.sin(body_trunk_yaw)
+    t6 = com_vx*t4 + com_vy*t5
+    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    rl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
+    t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t9 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t10 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
+    t11 = com_vx*t5 - com_vy*t4
+    t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t11*t7 + t3*(-side_trim - t11)
+    rl_y_goal = leg_rl_hip_x*t10 + t12
+    rr_y_goal = leg_rr_hip_x*t10 + t12
     return [
         stand,
         stand,
@@ -1346,29 +1470,29 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:431:7
-        record ramped_speed  creatures/quadruped.leg:438:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:438:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:439:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:440:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:440:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:441:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:441:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:441:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:442:7
+        record steps         creatures/quadruped.leg:470:7
+        record ramped_speed  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:477:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:479:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:479:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:479:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:480:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:480:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:480:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:480:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:480:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:481:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    time = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    time = s[44]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -1377,6 +1501,10 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     k_aim_rate = p[4]
     stance_guess = p[5]
     accel = p[25]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_trim = p[53]
+    fast_trim_band = p[54]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -1406,14 +1534,16 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    t7 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t8 = fast_trim_band*t7 + trim_band
+    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*min(t8, max(-t8, ramped_speed - step_speed))
     new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
-    t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    t9 = accel*(-ramped_at + time)
+    new_ramped_speed = ((min(ramped_speed + t9, max(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
     new_ramped_at = max(0.001, time)
-    t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    t10 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1444,67 +1574,74 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:432:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rl_spring.k          creatures/quadruped.leg:433:7
-        leg_rr_spring.k          creatures/quadruped.leg:433:7
-        leg_fl_spring.k          creatures/quadruped.leg:434:7
-        leg_fr_spring.k          creatures/quadruped.leg:434:7
-        leg_rl_spring.b          creatures/quadruped.leg:435:7
-        leg_rr_spring.b          creatures/quadruped.leg:435:7
-        leg_fl_spring.b          creatures/quadruped.leg:436:7
-        leg_fr_spring.b          creatures/quadruped.leg:436:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:437:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:437:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:437:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:444:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:443:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:444:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:471:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rl_spring.k          creatures/quadruped.leg:472:7
+        leg_rr_spring.k          creatures/quadruped.leg:472:7
+        leg_fl_spring.k          creatures/quadruped.leg:473:7
+        leg_fr_spring.k          creatures/quadruped.leg:473:7
+        leg_rl_spring.b          creatures/quadruped.leg:474:7
+        leg_rr_spring.b          creatures/quadruped.leg:474:7
+        leg_fl_spring.b          creatures/quadruped.leg:475:7
+        leg_fr_spring.b          creatures/quadruped.leg:475:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:476:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:476:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:476:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:483:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:482:7 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_rl_foot_z = s[26]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rr_foot_z = s[33]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -1524,6 +1661,13 @@ def action_FLIGHT_1(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -1539,21 +1683,30 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t5 = ((max(short, -lift_slew*tis + stand)) if t2 else (stand))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t5 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t4 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t5 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t4 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t6 = math.cos(body_trunk_yaw)
-    t7 = math.sin(body_trunk_yaw)
-    t8 = com_vx*t6 + com_vy*t7
-    rl_x_goal = k_speed*(-ramped_speed - speed_trim + t8) + 0.5*stance*t8
-    t9 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t10 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t9), math.cos(t9))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t11 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t10), math.cos(t10))))))
-    t12 = com_vx*t7 - com_vy*t6
-    t13 = k_speed*(-side_trim - t12) - 0.5*stance*t12
-    t14 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t13
-    rl_y_goal = leg_rl_hip_x*t11 + t14
-    rr_y_goal = leg_rr_hip_x*t11 + t14
-    t15 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t13
-    fl_y_goal = leg_fl_hip_x*t11 + t15
-    fr_y_goal = leg_fr_hip_x*t11 + t15
+    t6 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t7 = fast_k_speed*t6 + k_speed
+    t8 = math.cos(body_trunk_yaw)
+    t9 = math.sin(body_trunk_yaw)
+    t10 = com_vx*t8 + com_vy*t9
+    t11 = t7*(-ramped_speed - speed_trim + t10)
+    t12 = -2.0*((fast_lag) if (fast_window > 0.0) else (0.0))
+    t13 = com_vz*com_vz
+    t14 = com_z - terrain_height
+    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
+    rl_x_goal = t10*t15 + t11
+    t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t17 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
+    t19 = com_vx*t9 - com_vy*t8
+    t20 = t7*(-side_trim - t19)
+    t21 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t15*t19 + t20
+    rl_y_goal = leg_rl_hip_x*t18 + t21
+    rr_y_goal = leg_rr_hip_x*t18 + t21
+    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
+    fl_x_goal = t10*t22 + t11
+    t23 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t19*t22 + t20
+    fl_y_goal = leg_fl_hip_x*t18 + t23
+    fr_y_goal = leg_fr_hip_x*t18 + t23
     return [
         leg_rl_spring_rest,
         leg_rr_spring_rest,
@@ -1595,9 +1748,9 @@ def action_FLIGHT_1(s, u, p, r, tis):
         rl_y_goal,
         rl_x_goal,
         rr_y_goal,
-        rl_x_goal,
+        fl_x_goal,
         fl_y_goal,
-        rl_x_goal,
+        fl_x_goal,
         fr_y_goal,
     ]
 
@@ -1606,19 +1759,19 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:446:7
-        record pitch_mean      creatures/quadruped.leg:447:7
-        record pitch_last_td   creatures/quadruped.leg:448:7
-        record pitch_trim      creatures/quadruped.leg:449:7
-        record flight_apex     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:450:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:450:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:450:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:485:7
+        record pitch_mean      creatures/quadruped.leg:486:7
+        record pitch_last_td   creatures/quadruped.leg:487:7
+        record pitch_trim      creatures/quadruped.leg:488:7
+        record flight_apex     creatures/quadruped.leg:489:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:489:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:489:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:489:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[39]
+    time = s[44]
     height = u[3]
     stroke = p[19]
     k_height = p[20]
@@ -1626,6 +1779,10 @@ def entry_LOADING_1(s, u, p, r, tis):
     stroke_max = p[22]
     k_pitch_i = p[35]
     trim_most = p[36]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_height = p[55]
+    fast_stroke_max = p[56]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1649,9 +1806,11 @@ def entry_LOADING_1(s, u, p, r, tis):
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
-    t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    t1 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = fast_stroke_max*t1 + stroke_max
+    t3 = fast_height*t1 - flight_apex + height
+    new_stroke_trim = min(-stroke + t2, max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = min(t2, max(-0.02, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -1682,48 +1841,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:451:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:452:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:452:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:452:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:453:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:454:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:454:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:490:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:491:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:491:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1732,26 +1891,31 @@ def action_LOADING_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rl_length = s[30]
+    leg_rl_touching = s[32]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -1776,6 +1940,17 @@ def action_LOADING_1(s, u, p, r, tis):
     lead_front = p[41]
     lead_rear = p[42]
     stance_lead = p[43]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1790,38 +1965,41 @@ def action_LOADING_1(s, u, p, r, tis):
     t2 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t2
     hip_rl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.atan2(math.sin(t5), math.cos(t5))
-    t7 = -aim_rate + body_trunk_yaw_rate
-    t8 = -kp_yaw*t6 - kv_yaw*t7
-    t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t11 = leg_rl_touching*t10
-    hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
-    t13 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t13
-    hip_rr_pitch_kv = swing_kv*t13
-    t14 = leg_rr_length*t8/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t15 = leg_rr_touching*t10
-    hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3)
-    hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
-    t16 = ((short) if (steps > 1.0) else (stand))
-    t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t17 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t17 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t18 = math.cos(body_trunk_yaw)
-    t19 = math.sin(body_trunk_yaw)
-    t20 = com_vx*t18 + com_vy*t19
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t20) + 0.5*stance*t20
-    t21 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
-    t22 = com_vx*t19 - com_vy*t18
-    t23 = k_speed*(-side_trim - t22) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t22
-    fl_y_goal = leg_fl_hip_x*t21 + t23
-    fr_y_goal = leg_fr_hip_x*t21 + t23
+    t3 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
+    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = math.atan2(math.sin(t6), math.cos(t6))
+    t8 = -aim_rate + body_trunk_yaw_rate
+    t9 = -kp_yaw*t7 - kv_yaw*t8
+    t10 = leg_rl_length*t9/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t11 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t12 = leg_rl_touching*t11
+    hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 - t4)
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13)
+    t14 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t14
+    hip_rr_pitch_kv = swing_kv*t14
+    t15 = leg_rr_length*t9/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t16 = leg_rr_touching*t11
+    hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 - t4)
+    hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13)
+    t17 = ((short) if (steps > 1.0) else (stand))
+    t18 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t17 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t18 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t17 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t18 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t19 = fast_k_speed*t3 + k_speed
+    t20 = math.cos(body_trunk_yaw)
+    t21 = math.sin(body_trunk_yaw)
+    t22 = com_vx*t20 + com_vy*t21
+    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    fl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23
+    t24 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t25 = com_vx*t21 - com_vy*t20
+    t26 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t19*(-side_trim - t25) - t23*t25
+    fl_y_goal = leg_fl_hip_x*t24 + t26
+    fr_y_goal = leg_fr_hip_x*t24 + t26
     return [
         leg_rl_spring_rest,
         leg_rr_spring_rest,
@@ -1924,34 +2102,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:456:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:457:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:457:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1960,24 +2138,29 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_length = s[30]
+    leg_rl_touching = s[32]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -2001,6 +2184,17 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2012,38 +2206,41 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)))
-    t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t5 = math.atan2(math.sin(t4), math.cos(t4))
-    t6 = -aim_rate + body_trunk_yaw_rate
-    t7 = -kp_yaw*t5 - kv_yaw*t6
-    t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t10 = leg_rl_touching*t9
-    hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
-    t12 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t12
-    hip_rr_pitch_kv = swing_kv*t12
-    t13 = leg_rr_length*t7/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t14 = leg_rr_touching*t9
-    hip_rr_motor_force = t14*(-leg_rr_hip_y*t13 + t2)
-    hip_rr_roll_motor_force = t14*(-leg_rr_hip_x*t13 + t11)
-    t15 = ((short) if (steps > 1.0) else (stand))
-    t16 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t15 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t16 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t15 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t16 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t17 = math.cos(body_trunk_yaw)
-    t18 = math.sin(body_trunk_yaw)
-    t19 = com_vx*t17 + com_vy*t18
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t19) + 0.5*stance*t19
-    t20 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
-    t21 = com_vx*t18 - com_vy*t17
-    t22 = k_speed*(-side_trim - t21) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t21
-    fl_y_goal = leg_fl_hip_x*t20 + t22
-    fr_y_goal = leg_fr_hip_x*t20 + t22
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
+    t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.atan2(math.sin(t5), math.cos(t5))
+    t7 = -aim_rate + body_trunk_yaw_rate
+    t8 = -kp_yaw*t6 - kv_yaw*t7
+    t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t11 = leg_rl_touching*t10
+    hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 - t3)
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
+    t13 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t13
+    hip_rr_pitch_kv = swing_kv*t13
+    t14 = leg_rr_length*t8/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t15 = leg_rr_touching*t10
+    hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 - t3)
+    hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
+    t16 = ((short) if (steps > 1.0) else (stand))
+    t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t17 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t16 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t17 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t18 = fast_k_speed*t2 + k_speed
+    t19 = math.cos(body_trunk_yaw)
+    t20 = math.sin(body_trunk_yaw)
+    t21 = com_vx*t19 + com_vy*t20
+    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    fl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22
+    t23 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t24 = com_vx*t20 - com_vy*t19
+    t25 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t18*(-side_trim - t24) - t22*t24
+    fl_y_goal = leg_fl_hip_x*t23 + t25
+    fr_y_goal = leg_fr_hip_x*t23 + t25
     return [
         hip_rl_pitch_kp,
         hip_rl_pitch_kv,
@@ -2132,36 +2329,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:459:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:460:7 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:461:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:461:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:498:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:461:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2170,26 +2367,31 @@ def action_THRUST_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    leg_rl_hip_x = s[27]
+    leg_rl_hip_y = s[28]
+    leg_rl_hip_z = s[29]
+    leg_rl_length = s[30]
+    leg_rl_touching = s[32]
+    leg_rr_hip_x = s[34]
+    leg_rr_hip_y = s[35]
+    leg_rr_hip_z = s[36]
+    leg_rr_length = s[37]
+    leg_rr_touching = s[39]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -2217,6 +2419,18 @@ def action_THRUST_1(s, u, p, r, tis):
     lead_front = p[41]
     lead_rear = p[42]
     stance_lead = p[43]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_omega_f = p[49]
+    fast_omega_r = p[50]
+    fast_kv_rate = p[51]
+    fast_k_center = p[52]
+    fast_pitch_thrust = p[57]
+    fast_window = p[58]
+    fast_lag = p[59]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2227,44 +2441,47 @@ def action_THRUST_1(s, u, p, r, tis):
     ramped_speed = r[17]
     aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t2 = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
-    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
-    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2 + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t3 = 1.0 - leg_rl_touching
-    hip_rl_pitch_kp = swing_kp*t3
-    hip_rl_pitch_kv = swing_kv*t3
-    t4 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)))
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = math.atan2(math.sin(t6), math.cos(t6))
-    t8 = -aim_rate + body_trunk_yaw_rate
-    t9 = -kp_yaw*t7 - kv_yaw*t8
-    t10 = leg_rl_length*t9/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t11 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
-    t12 = leg_rl_touching*t11
-    hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 + t4)
-    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
-    hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13)
-    t14 = 1.0 - leg_rr_touching
-    hip_rr_pitch_kp = swing_kp*t14
-    hip_rr_pitch_kv = swing_kv*t14
-    t15 = leg_rr_length*t9/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
-    t16 = leg_rr_touching*t11
-    hip_rr_motor_force = t16*(-leg_rr_hip_y*t15 + t4)
-    hip_rr_roll_motor_force = t16*(-leg_rr_hip_x*t15 + t13)
-    t17 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t18 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
-    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t18 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t17 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
-    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t18 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t17 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t19 = math.cos(body_trunk_yaw)
-    t20 = math.sin(body_trunk_yaw)
-    t21 = com_vx*t19 + com_vy*t20
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t21) + 0.5*stance*t21
-    t22 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
-    t23 = com_vx*t20 - com_vy*t19
-    t24 = k_speed*(-side_trim - t23) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t23
-    fl_y_goal = leg_fl_hip_x*t22 + t24
-    fr_y_goal = leg_fr_hip_x*t22 + t24
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
+    leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
+    leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
+    t4 = 1.0 - leg_rl_touching
+    hip_rl_pitch_kp = swing_kp*t4
+    hip_rl_pitch_kv = swing_kv*t4
+    t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
+    t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.atan2(math.sin(t7), math.cos(t7))
+    t9 = -aim_rate + body_trunk_yaw_rate
+    t10 = -kp_yaw*t8 - kv_yaw*t9
+    t11 = leg_rl_length*t10/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
+    t12 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t13 = leg_rl_touching*t12
+    hip_rl_motor_force = t13*(-leg_rl_hip_y*t11 - t5)
+    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    hip_rl_roll_motor_force = t13*(-leg_rl_hip_x*t11 + t14)
+    t15 = 1.0 - leg_rr_touching
+    hip_rr_pitch_kp = swing_kp*t15
+    hip_rr_pitch_kv = swing_kv*t15
+    t16 = leg_rr_length*t10/(leg_rr_hip_x*leg_rr_hip_x + leg_rr_hip_y*leg_rr_hip_y)
+    t17 = leg_rr_touching*t12
+    hip_rr_motor_force = t17*(-leg_rr_hip_y*t16 - t5)
+    hip_rr_roll_motor_force = t17*(-leg_rr_hip_x*t16 + t14)
+    t18 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
+    t19 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t19 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t18 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
+    leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t19 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t18 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
+    t20 = fast_k_speed*t2 + k_speed
+    t21 = math.cos(body_trunk_yaw)
+    t22 = math.sin(body_trunk_yaw)
+    t23 = com_vx*t21 + com_vy*t22
+    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    fl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24
+    t25 = math.sin(min(turn_most, max(-turn_most, k_turn*(t8 + t9*yaw_lead))))
+    t26 = com_vx*t22 - com_vy*t21
+    t27 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t20*(-side_trim - t26) - t24*t26
+    fl_y_goal = leg_fl_hip_x*t25 + t27
+    fr_y_goal = leg_fr_hip_x*t25 + t27
     return [
         leg_rl_spring_rest,
         leg_rr_spring_rest,
@@ -2355,51 +2572,56 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:463:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:463:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:463:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:463:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:463:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:463:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:502:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:502:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:502:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:502:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:502:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:502:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    com_vz = s[8]
+    com_z = s[11]
+    leg_fl_foot_z = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_foot_z = s[19]
+    leg_fr_hip_x = s[20]
+    leg_fr_hip_y = s[21]
+    leg_fr_hip_z = s[22]
+    path_route_ahead_heading = s[40]
+    path_route_given = s[41]
+    path_route_lateral = s[42]
+    terrain_height = s[43]
+    time = s[44]
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
@@ -2414,6 +2636,13 @@ def action_UNLOADING_1(s, u, p, r, tis):
     stagger = p[40]
     lead_front = p[41]
     lead_rear = p[42]
+    fast_from = p[44]
+    fast_span = p[45]
+    fast_k_speed = p[46]
+    fast_stance_f = p[47]
+    fast_stance_r = p[48]
+    fast_window = p[58]
+    fast_lag = p[59]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]
@@ -2422,17 +2651,20 @@ def action_UNLOADING_1(s, u, p, r, tis):
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t2 = math.cos(body_trunk_yaw)
-    t3 = math.sin(body_trunk_yaw)
-    t4 = com_vx*t2 + com_vy*t3
-    fl_x_goal = k_speed*(-ramped_speed - speed_trim + t4) + 0.5*stance*t4
-    t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t7 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t6), math.cos(t6))))))
-    t8 = com_vx*t3 - com_vy*t2
-    t9 = k_speed*(-side_trim - t8) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t8
-    fl_y_goal = leg_fl_hip_x*t7 + t9
-    fr_y_goal = leg_fr_hip_x*t7 + t9
+    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = fast_k_speed*t2 + k_speed
+    t4 = math.cos(body_trunk_yaw)
+    t5 = math.sin(body_trunk_yaw)
+    t6 = com_vx*t4 + com_vy*t5
+    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    fl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
+    t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
+    t9 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t10 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
+    t11 = com_vx*t5 - com_vy*t4
+    t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t11*t7 + t3*(-side_trim - t11)
+    fl_y_goal = leg_fl_hip_x*t10 + t12
+    fr_y_goal = leg_fr_hip_x*t10 + t12
     return [
         stand,
         stand,
