@@ -191,8 +191,8 @@ def test_the_gallop_goes_single_double_single(gallop: RunResult) -> None:
 def test_the_gallop_runs_at_5_m_s(generated: Path) -> None:
     """Past 4 m/s the gallop's gains move with its ramped command (`fast`; docs/quadruped.md,
     "The gallop at 5 m/s"): asked for 5 m/s from standing it holds 20 s and runs within 5% of
-    it from 3 s (-0.1%). With the gains it runs 4 m/s with at every speed it ran 3.87 m/s
-    (-23%), and every faster speed loop tried fell."""
+    it from 3 s (-0.0%). Before `fast`, with the gains it holds 4 m/s with, it ran 5 m/s at
+    3.87 m/s (-23%), and every faster speed loop tried fell."""
     import legdsl
 
     run = legdsl.load(QUADRUPED, generated=generated).run(
