@@ -230,12 +230,8 @@ class Search:
         speed error along the path; a straight one its relative speed error from 3 s; a
         fall 10 and more."""
         _, path, speed, t = trial[:4]
-        sets = self.settings(values, speed)
         step = trial[4] if len(trial) > 4 else None  # type: ignore[misc]
-        if step is not None:  # the command `before` until `until`, then `speed`
-            before, until = step
-            sets |= {"speed": f"{before} m/s", f"speed@{until}s": f"{speed} m/s"}
-        run = self.creature.run(controller=self.controller, set=sets, time=t, path=path or None)
+        run = self.run(values, speed, t, step, path)
         penalty = fell(run, t)
         if penalty is not None:
             return penalty
@@ -247,8 +243,7 @@ class Search:
             return window_score(times, x, speed)
         if self.name == "bound_steady":  # the same over every window stepped by 0.5 s
             return window_score(times, x, speed, STEADY_WINDOWS)
-        i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
-        error = float(abs((x[-1] - x[i]) / (times[-1] - times[i]) - speed) / speed)
+        error = abs(settled_speed(run, step) - speed) / speed
         if self.name == "gallop_fast":  # within 5%: past 4% costs six times, and staggered
             return (
                 error + 5 * max(0.0, error - 0.04) + 2 * max(0.0, 0.6 - staggered(run, BOUND_PAIRS))
@@ -260,6 +255,21 @@ class Search:
         if self.name == "gallop":  # and the pairs must not: single, double, single support
             error += 2 * max(0.0, 0.6 - staggered(run, BOUND_PAIRS))
         return error
+
+    def run(
+        self,
+        values: dict[str, float],
+        speed: float,
+        t: float,
+        step: tuple[float, float] | None = None,
+        path: str = "",
+    ) -> legdsl.Run:
+        """A run of the search's controller with ``values`` at ``speed`` for ``t`` seconds; with
+        ``step`` (before, until), commanded ``before`` until ``until``, then ``speed``."""
+        sets = self.settings(values, speed)
+        if step is not None:
+            sets |= {"speed": f"{step[0]} m/s", f"speed@{step[1]}s": f"{speed} m/s"}
+        return self.creature.run(controller=self.controller, set=sets, time=t, path=path or None)
 
     def objectives(self, candidates: list[dict[str, float]], jobs: int) -> list[float]:
         """Each candidate's weighted sum of its trials' scores, the runs in ``jobs`` processes."""
@@ -274,6 +284,13 @@ class Search:
         n = len(trials)
         return [sum(trial[0] * scores[k * n + j] for j, trial in enumerate(trials))
                 for k in range(len(candidates))]  # fmt: skip
+
+
+def settled_speed(run: legdsl.Run, step: tuple[float, float] | None = None) -> float:
+    """A run's mean speed from 3 s, or from ``STEP_SETTLE`` after a stepped command."""
+    times, x = run.samples["t"], run.samples["q.x"]
+    i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
+    return float((x[-1] - x[i]) / (times[-1] - times[i]))
 
 
 def window_score(
@@ -317,13 +334,8 @@ CHECKS: dict[str, list[tuple[float, float, tuple[float, float] | None]]] = {
 def check(search: Search, values: dict[str, float]) -> None:
     """Each CHECKS run's outcome and relative speed error from 3 s (from 4 s after a step)."""
     for speed, t, step in CHECKS[search.name]:
-        sets = search.settings(values, speed)
-        if step is not None:
-            sets |= {"speed": f"{step[0]} m/s", f"speed@{step[1]}s": f"{speed} m/s"}
-        run = search.creature.run(controller=search.controller, set=sets, time=t)
-        times, x = run.samples["t"], run.samples["q.x"]
-        i = int(np.searchsorted(times, 3.0 if step is None else step[1] + STEP_SETTLE))
-        error = (x[-1] - x[i]) / (times[-1] - times[i]) / speed - 1
+        run = search.run(values, speed, t, step)
+        error = settled_speed(run, step) / speed - 1
         after = "" if step is None else f" after {step[0]} m/s to {step[1]} s"
         print(f"{speed} m/s{after}, {t} s: {run.status} at {run.info.get('sim_time', t):.2f} s, "
               f"{error:+.1%}", flush=True)  # fmt: skip
