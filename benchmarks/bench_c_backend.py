@@ -24,7 +24,9 @@ import platform
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -110,6 +112,23 @@ def pinocchio_aba_us(model) -> float:  # type: ignore[no-untyped-def]
     return per_call_us(functools.partial(pin.aba, reference, data, q, v, tau))
 
 
+def c_forward_dynamics(name: str, q: Any, v: Any, tau: Any) -> Callable[[int], np.ndarray]:
+    """A function that calls the creature's C ``forward_dynamics`` at (q, v, tau) ``calls``
+    times in a loop inside C (``leg_bench_forward_dynamics``) and returns its result; each
+    call of it has arrays of its own, so threads may call it at once."""
+    lib = ctypes.CDLL(str(build(name, sources(ROOT / "generated" / name)).path))
+    doubles = ctypes.POINTER(ctypes.c_double)
+    lib.leg_bench_forward_dynamics.argtypes = [doubles, doubles, doubles, ctypes.c_int64, doubles]
+
+    def loop(calls: int) -> np.ndarray:
+        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q, v, tau, np.zeros(len(v)))]
+        q_, v_, tau_, out = (a.ctypes.data_as(doubles) for a in arrays)
+        lib.leg_bench_forward_dynamics(q_, v_, tau_, calls, out)
+        return arrays[3]
+
+    return loop
+
+
 def bench_dynamics() -> list[tuple[str, float, float, float, float]]:
     import mujoco
 
@@ -123,23 +142,12 @@ def bench_dynamics() -> list[tuple[str, float, float, float, float]]:
         py_us = per_call_us(
             functools.partial(session.dynamics.forward_dynamics, list(q), list(v), list(tau))
         )
-        lib = ctypes.CDLL(str(build(name, sources(ROOT / "generated" / name)).path))
-        doubles = ctypes.POINTER(ctypes.c_double)
-        lib.leg_bench_forward_dynamics.argtypes = [
-            doubles,
-            doubles,
-            doubles,
-            ctypes.c_int64,
-            doubles,
-        ]
-        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q, v, tau)]
-        out = np.zeros(model.nv)
-        ptrs = [a.ctypes.data_as(doubles) for a in (*arrays, out)]
+        loop = c_forward_dynamics(name, q, v, tau)
         n = 200_000
         best = float("inf")
         for _ in range(5):
             start = time.perf_counter()
-            lib.leg_bench_forward_dynamics(ptrs[0], ptrs[1], ptrs[2], n, ptrs[3])
+            out = loop(n)
             best = min(best, (time.perf_counter() - start) / n * 1e6)
         assert list(out) == session.dynamics.forward_dynamics(list(q), list(v), list(tau))
         oracle = MuJoCoModel(check_model(ROOT / "creatures" / f"{name}.leg"))
@@ -204,23 +212,14 @@ def c_alone_scaling(name: str = "kangaroo", calls: int = 2_000_000) -> float:
     import threading
 
     session = RunSession.from_file(ROOT / "creatures" / f"{name}.leg", generated=ROOT / "generated")
-    lib = ctypes.CDLL(str(build(name, sources(ROOT / "generated" / name)).path))
-    doubles = ctypes.POINTER(ctypes.c_double)
-    lib.leg_bench_forward_dynamics.argtypes = [doubles, doubles, doubles, ctypes.c_int64, doubles]
-    q, v, tau = random_state(session.model, np.random.default_rng(1))
-
-    def loop() -> None:
-        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q, v, tau, np.zeros(len(v)))]
-        lib.leg_bench_forward_dynamics(*(a.ctypes.data_as(doubles) for a in arrays[:3]), calls,
-                                       arrays[3].ctypes.data_as(doubles))  # fmt: skip
-
+    loop = c_forward_dynamics(name, *random_state(session.model, np.random.default_rng(1)))
     best = 0.0
     for _ in range(REPEAT):
         start = time.perf_counter()
-        loop()
-        loop()
+        loop(calls)
+        loop(calls)
         one = time.perf_counter() - start
-        threads = [threading.Thread(target=loop) for _ in range(2)]
+        threads = [threading.Thread(target=loop, args=(calls,)) for _ in range(2)]
         start = time.perf_counter()
         for t in threads:
             t.start()
