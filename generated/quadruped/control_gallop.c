@@ -62,7 +62,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:465:5 */
+/*   event: creatures/quadruped.leg:469:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -72,7 +72,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:481:5 */
+/*   event: creatures/quadruped.leg:485:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -82,7 +82,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:491:5 */
+/*   event: creatures/quadruped.leg:495:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
@@ -92,7 +92,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:494:5 */
+/*   event: creatures/quadruped.leg:498:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
@@ -103,7 +103,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:498:5 */
+/*   event: creatures/quadruped.leg:502:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[16];
@@ -118,7 +118,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:465:5 */
+/*   event: creatures/quadruped.leg:469:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[32];
@@ -128,7 +128,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:481:5 */
+/*   event: creatures/quadruped.leg:485:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[32];
@@ -138,7 +138,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:491:5 */
+/*   event: creatures/quadruped.leg:495:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[31];
@@ -148,7 +148,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:494:5 */
+/*   event: creatures/quadruped.leg:498:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[31];
@@ -159,7 +159,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:498:5 */
+/*   event: creatures/quadruped.leg:502:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[30];
@@ -174,20 +174,20 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:467:7 */
-/*   record ramped_speed: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:475:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:475:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:478:7 */
+/*   record steps: creatures/quadruped.leg:471:7 */
+/*   record ramped_speed: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:482:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -276,46 +276,46 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:469:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:469:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:470:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:470:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:471:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:471:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:472:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:472:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:474:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:474:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:476:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:476:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -459,14 +459,14 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:482:7 */
-/*   record pitch_mean: creatures/quadruped.leg:483:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:484:7 */
-/*   record pitch_trim: creatures/quadruped.leg:485:7 */
-/*   record flight_apex: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:486:7 */
+/*   record pitch_mean: creatures/quadruped.leg:487:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:488:7 */
+/*   record pitch_trim: creatures/quadruped.leg:489:7 */
+/*   record flight_apex: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -539,48 +539,48 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -799,34 +799,34 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1025,36 +1025,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1267,36 +1267,36 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1398,20 +1398,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:467:7 */
-/*   record ramped_speed: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:475:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:475:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:476:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:478:7 */
+/*   record steps: creatures/quadruped.leg:471:7 */
+/*   record ramped_speed: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5 */
+/*   record ahead_then: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_at: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5 */
+/*   record step_speed: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:482:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1500,46 +1500,46 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:469:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:469:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:470:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:470:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:471:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:471:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:472:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:472:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:473:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:474:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:474:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:475:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:476:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:476:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1683,14 +1683,14 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:482:7 */
-/*   record pitch_mean: creatures/quadruped.leg:483:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:484:7 */
-/*   record pitch_trim: creatures/quadruped.leg:485:7 */
-/*   record flight_apex: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:486:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:486:7 */
+/*   record pitch_mean: creatures/quadruped.leg:487:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:488:7 */
+/*   record pitch_trim: creatures/quadruped.leg:489:7 */
+/*   record flight_apex: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1763,48 +1763,48 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2023,34 +2023,34 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2249,36 +2249,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2491,36 +2491,36 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];

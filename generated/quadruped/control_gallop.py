@@ -113,7 +113,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:465:5
+        event  creatures/quadruped.leg:469:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[25]
@@ -124,7 +124,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:481:5
+        event  creatures/quadruped.leg:485:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[25]
@@ -135,7 +135,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:491:5
+        event  creatures/quadruped.leg:495:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[24]
@@ -146,7 +146,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:494:5
+        event  creatures/quadruped.leg:498:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[24]
@@ -158,7 +158,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:498:5
+        event  creatures/quadruped.leg:502:5
     """
     leg_fl_length = s[16]
     leg_fl_touching = s[18]
@@ -174,7 +174,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:465:5
+        event  creatures/quadruped.leg:469:5
     """
     leg_rl_touching = s[32]
     leg_rr_touching = s[39]
@@ -185,7 +185,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:481:5
+        event  creatures/quadruped.leg:485:5
     """
     leg_rl_touching = s[32]
     leg_rr_touching = s[39]
@@ -196,7 +196,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:491:5
+        event  creatures/quadruped.leg:495:5
     """
     leg_rl_rate = s[31]
     leg_rr_rate = s[38]
@@ -207,7 +207,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:494:5
+        event  creatures/quadruped.leg:498:5
     """
     leg_rl_rate = s[31]
     leg_rr_rate = s[38]
@@ -219,7 +219,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:498:5
+        event  creatures/quadruped.leg:502:5
     """
     leg_rl_length = s[30]
     leg_rl_touching = s[32]
@@ -235,20 +235,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:467:7
-        record ramped_speed  creatures/quadruped.leg:474:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:474:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:475:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:475:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:476:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:476:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:476:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:477:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:477:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:477:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:477:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:477:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:478:7
+        record steps         creatures/quadruped.leg:471:7
+        record ramped_speed  creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:482:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -339,46 +339,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fl_spring.k          creatures/quadruped.leg:469:7
-        leg_fr_spring.k          creatures/quadruped.leg:469:7
-        leg_rl_spring.k          creatures/quadruped.leg:470:7
-        leg_rr_spring.k          creatures/quadruped.leg:470:7
-        leg_fl_spring.b          creatures/quadruped.leg:471:7
-        leg_fr_spring.b          creatures/quadruped.leg:471:7
-        leg_rl_spring.b          creatures/quadruped.leg:472:7
-        leg_rr_spring.b          creatures/quadruped.leg:472:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fl_spring.k          creatures/quadruped.leg:473:7
+        leg_fr_spring.k          creatures/quadruped.leg:473:7
+        leg_rl_spring.k          creatures/quadruped.leg:474:7
+        leg_rr_spring.k          creatures/quadruped.leg:474:7
+        leg_fl_spring.b          creatures/quadruped.leg:475:7
+        leg_fr_spring.b          creatures/quadruped.leg:475:7
+        leg_rl_spring.b          creatures/quadruped.leg:476:7
+        leg_rr_spring.b          creatures/quadruped.leg:476:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -524,14 +524,14 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:482:7
-        record pitch_mean      creatures/quadruped.leg:483:7
-        record pitch_last_td   creatures/quadruped.leg:484:7
-        record pitch_trim      creatures/quadruped.leg:485:7
-        record flight_apex     creatures/quadruped.leg:486:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:486:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:486:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:486:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:486:7
+        record pitch_mean      creatures/quadruped.leg:487:7
+        record pitch_last_td   creatures/quadruped.leg:488:7
+        record pitch_trim      creatures/quadruped.leg:489:7
+        record flight_apex     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -606,48 +606,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -867,34 +867,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1094,36 +1094,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1337,36 +1337,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1470,20 +1470,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:467:7
-        record ramped_speed  creatures/quadruped.leg:474:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:474:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:475:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:475:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:476:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:476:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:476:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:477:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:477:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:477:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:477:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:477:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:478:7
+        record steps         creatures/quadruped.leg:471:7
+        record ramped_speed  creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5
+        record ahead_then    creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5
+        record ahead_at      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5
+        record step_speed    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:482:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1574,46 +1574,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:468:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rl_spring.k          creatures/quadruped.leg:469:7
-        leg_rr_spring.k          creatures/quadruped.leg:469:7
-        leg_fl_spring.k          creatures/quadruped.leg:470:7
-        leg_fr_spring.k          creatures/quadruped.leg:470:7
-        leg_rl_spring.b          creatures/quadruped.leg:471:7
-        leg_rr_spring.b          creatures/quadruped.leg:471:7
-        leg_fl_spring.b          creatures/quadruped.leg:472:7
-        leg_fr_spring.b          creatures/quadruped.leg:472:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:473:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:473:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:473:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:480:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:479:7 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:480:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rl_spring.k          creatures/quadruped.leg:473:7
+        leg_rr_spring.k          creatures/quadruped.leg:473:7
+        leg_fl_spring.k          creatures/quadruped.leg:474:7
+        leg_fr_spring.k          creatures/quadruped.leg:474:7
+        leg_rl_spring.b          creatures/quadruped.leg:475:7
+        leg_rr_spring.b          creatures/quadruped.leg:475:7
+        leg_fl_spring.b          creatures/quadruped.leg:476:7
+        leg_fr_spring.b          creatures/quadruped.leg:476:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1759,14 +1759,14 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:482:7
-        record pitch_mean      creatures/quadruped.leg:483:7
-        record pitch_last_td   creatures/quadruped.leg:484:7
-        record pitch_trim      creatures/quadruped.leg:485:7
-        record flight_apex     creatures/quadruped.leg:486:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:486:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:486:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:486:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:486:7
+        record pitch_mean      creatures/quadruped.leg:487:7
+        record pitch_last_td   creatures/quadruped.leg:488:7
+        record pitch_trim      creatures/quadruped.leg:489:7
+        record flight_apex     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -1841,48 +1841,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:488:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:488:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:488:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:489:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:490:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:490:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2102,34 +2102,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:492:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2329,36 +2329,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:495:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2572,36 +2572,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:499:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:499:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:499:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:423:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:499:50 > creatures/quadruped.leg:424:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:499:50 > creatures/quadruped.leg:425:5 > creatures/quadruped.leg:456:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
