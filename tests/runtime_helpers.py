@@ -5,8 +5,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+import pytest
+
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.trajectory import ARRAYS
 
 _CACHE: dict[str, RunSession] = {}
 
@@ -25,3 +29,18 @@ def compile_text(text: str, tmp: Path, name: str) -> RunSession:
 def run(session: RunSession, **options: object) -> RunResult:
     """A passive run (no controller) with these ``RunOptions``."""
     return session.run(options=RunOptions(**options)).result  # type: ignore[arg-type]
+
+
+def assert_same(python: RunResult, c: RunResult) -> None:
+    """The same run: status, message, steps, events, and every recorded array byte for byte."""
+    assert (c.status, c.message, c.cause) == (python.status, python.message, python.cause)
+    assert c.steps == python.steps and c.sim_time == python.sim_time
+    assert c.events == python.events
+    assert c.stop_time == python.stop_time
+    for name in ARRAYS:
+        a, b = getattr(python.trajectory, name), getattr(c.trajectory, name)
+        assert a.shape == b.shape, name
+        if a.tobytes() != b.tobytes():
+            differ = np.argwhere(~((a == b) | (np.isnan(a) & np.isnan(b))))
+            pytest.fail(f"{name} differs first at {differ[:1].tolist()}: {a[tuple(differ[0])]!r} "
+                        f"(python) vs {b[tuple(differ[0])]!r} (c)")  # fmt: skip

@@ -17,15 +17,14 @@ import sys
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED, ROOT
+from runtime_helpers import assert_same
 
 from legdsl.ir.model import Terrain
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
 from legdsl.sim.simulate import RunOptions, RunResult
-from legdsl.sim.trajectory import ARRAYS
 
 pytestmark = pytest.mark.skipif(
     available() is not None,
@@ -63,20 +62,6 @@ DURATION = 1.0
 
 def session(name: str) -> RunSession:
     return RunSession.from_file(CREATURES / f"{name}.leg", generated=GENERATED)
-
-
-def assert_same(python: RunResult, c: RunResult) -> None:
-    assert (c.status, c.message, c.cause) == (python.status, python.message, python.cause)
-    assert c.steps == python.steps and c.sim_time == python.sim_time
-    assert c.events == python.events
-    assert c.stop_time == python.stop_time
-    for name in ARRAYS:
-        a, b = getattr(python.trajectory, name), getattr(c.trajectory, name)
-        assert a.shape == b.shape, name
-        if a.tobytes() != b.tobytes():
-            differ = np.argwhere(~((a == b) | (np.isnan(a) & np.isnan(b))))
-            pytest.fail(f"{name} differs first at {differ[:1].tolist()}: {a[tuple(differ[0])]!r} "
-                        f"(python) vs {b[tuple(differ[0])]!r} (c)")  # fmt: skip
 
 
 def both(

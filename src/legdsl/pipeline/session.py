@@ -112,7 +112,22 @@ class RunSession:
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
     ) -> Run:
-        """Simulate, with ``controller`` if given; ``settings`` are ``--set`` texts
+        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes)."""
+        plan = self.prepare(controller, settings, paths, options, scale, switches, backend)
+        return plan.finish(plan.sim.run(progress))
+
+    def prepare(
+        self,
+        controller: str | None = None,
+        settings: Sequence[str] = (),
+        paths: Sequence[str | PathSpec] = (),
+        options: RunOptions | None = None,
+        scale: float | None = None,
+        switches: Sequence[str | Switch] = (),
+        backend: str | None = None,
+    ) -> Plan:
+        """A run ready to simulate (its ``sim``; ``Plan.finish`` makes the ``Run`` of its
+        result), with ``controller`` if given; ``settings`` are ``--set`` texts
         (``speed=3m/s``, ``speed=4m/s@1s``, ``hip_servo.setpoint=10deg``), ``paths`` are
         ``--path`` texts or path specs (one alone needs no list). Mistakes in them raise
         ``UsageError`` before anything is simulated. With ``scale`` (L), every input is for the
@@ -171,22 +186,8 @@ class RunSession:
             sim.actuators.by_name[actuator].set(key, value)
         controls = getattr(machine, "modules", {"": control}).values()
         self._check_stiffness(sim, controls, set(sorted_settings.actuators))
-        result = sim.run(progress)
-        if scale is not None:
-            result = scaled.scale_result(result, self.model, scale)
-        reports = []
-        if machine is not None:
-            from legdsl.analysis.path_report import path_report
-
-            given = [p for p in machine.paths if p.shape != "none"]
-            if scale is not None:  # measured as the scaled creature's
-                given = [scaled.scale_path(p, 1 / scale) for p in given]
-            reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
-        if scale is not None:
-            return Run(
-                self.model, controller, asked, sorted_settings, machine, result, reports, scale
-            )
-        return Run(self.model, controller, options, sorted_settings, machine, result, reports)
+        shown = asked if scale is not None else options  # a scaled run reports the scaled
+        return Plan(self.model, sim, controller, shown, sorted_settings, machine, scale)
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is a mistake in the initial pose: the ground
@@ -261,6 +262,41 @@ def _file_sha256(path: Path) -> str | None:
 
 # How deep a contact may start under the ground (a resting foot sinks in a little).
 START_DEPTH = 0.01  # m
+
+
+@dataclass
+class Plan:
+    """A run set up and not yet simulated (``RunSession.prepare``)."""
+
+    model: Model
+    sim: Simulation
+    controller: str | None
+    options: RunOptions  # as asked (a scaled run's are those of the scaled creature)
+    settings: Settings
+    machine: StateMachine | SwitchingMachine | None
+    scale: float | None = None
+
+    def finish(
+        self,
+        result: RunResult,
+        settings: Settings | None = None,
+        machine: StateMachine | SwitchingMachine | None = None,
+    ) -> Run:
+        """The ``Run`` of ``result`` (with other ``settings`` and ``machine``: a copy's of a
+        batch, ``legdsl.pipeline.batch``): scaled back, its paths reported."""
+        machine = machine or self.machine
+        if self.scale is not None:
+            result = scaled.scale_result(result, self.model, self.scale)
+        reports = []
+        if machine is not None:
+            from legdsl.analysis.path_report import path_report
+
+            given = [p for p in machine.paths if p.shape != "none"]
+            if self.scale is not None:  # measured as the scaled creature's
+                given = [scaled.scale_path(p, 1 / self.scale) for p in given]
+            reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+        return Run(self.model, self.controller, self.options, settings or self.settings,
+                   machine, result, reports, self.scale)  # fmt: skip
 
 
 @dataclass

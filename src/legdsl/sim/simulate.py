@@ -413,19 +413,7 @@ class Simulation:
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
         opts = self.options
-        n_steps = int(round(opts.duration / opts.dt))
-        record_every = steps_per_sample(opts)
-        # At most this many samples; the arrays start small and double when full, so that a
-        # long run (--time 1e9) starts at once and memory follows what was recorded.
-        capacity = n_steps // record_every + 1
-        loop = RunLoop(
-            n_steps=n_steps,
-            record_every=record_every,
-            capacity=capacity,
-            traj=empty_trajectory(self, min(capacity, INITIAL_ROWS)),
-            control_every=max(1, int(round(opts.control_dt / opts.dt))),
-            start_height=self._standing_height(),
-        )
+        loop = self.new_loop(INITIAL_ROWS)
         self.message = ""
         cause = ""
         wall0 = time.perf_counter()
@@ -438,11 +426,7 @@ class Simulation:
             self.message = cause  # it names the time
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
             loop.status = "diverged"
-            state = ", ".join(
-                f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True)
-            )
-            cause = f"{err}. Likely cause: {self.likely_cause()}"
-            self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
+            cause = self.diverged(err)
         except (KeyboardInterrupt, Interrupted) as sig:
             loop.status = "interrupted"
             cause = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
@@ -468,6 +452,28 @@ class Simulation:
             cause=cause,
             stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
         )
+
+    def new_loop(self, rows: int) -> RunLoop:
+        """The loop of a run from now, its recording ``rows`` long at first (at most the run's
+        samples; it doubles when full: a long run starts at once, memory follows the samples)."""
+        opts = self.options
+        n_steps = int(round(opts.duration / opts.dt))
+        capacity = n_steps // steps_per_sample(opts) + 1  # samples at most
+        return RunLoop(
+            n_steps=n_steps,
+            record_every=steps_per_sample(opts),
+            capacity=capacity,
+            traj=empty_trajectory(self, min(capacity, rows)),
+            control_every=max(1, int(round(opts.control_dt / opts.dt))),
+            start_height=self._standing_height(),
+        )
+
+    def diverged(self, err: BaseException) -> str:
+        """The cause of a divergence ``err`` at the state now; sets the run's message."""
+        state = ", ".join(f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True))
+        cause = f"{err}. Likely cause: {self.likely_cause()}"
+        self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
+        return cause
 
     def _begin(self) -> None:
         """The ground's first look at the contacts, before the first step."""

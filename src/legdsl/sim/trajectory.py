@@ -72,7 +72,11 @@ class Trajectory:
 
     def head(self, n: int) -> Trajectory:
         """The first ``n`` samples (used to keep what was recorded when a run stops early)."""
-        cut = {f.name: getattr(self, f.name)[:n] for f in fields(self) if f.name in ARRAYS}
+        return self.rows(0, n)
+
+    def rows(self, start: int, stop: int) -> Trajectory:
+        """Samples ``start`` to ``stop`` (views of these arrays: one copy's of a batch's)."""
+        cut = {f.name: getattr(self, f.name)[start:stop] for f in fields(self) if f.name in ARRAYS}
         meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
         return Trajectory(**cut, **meta)
 
