@@ -2,9 +2,9 @@
 
 The library of a creature is its ``generated/NAME/dynamics.c`` and ``dynamics.h`` compiled
 with the runtime in ``runtime/`` (``step.c``: actuators, ground, integrators, the run loop;
-``legdsl_math.h``), each translation unit in a compiler process of its own, all at once,
-then linked, by the system C compiler, found at run time: ``$LEGDSL_CC`` if set,
-else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
+``batch.c``: many copies of a run; ``legdsl_math.h``), each translation unit in a compiler
+process of its own, all at once, then linked, by the system C compiler, found at run time:
+``$LEGDSL_CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
 
 Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize -fPIC -shared``.
 ``-ffp-contract=off`` keeps gcc and clang from fusing ``a*b + c`` into one rounding (an FMA),
@@ -43,6 +43,7 @@ RUNTIME_FILES = (
     "legdsl_control.h",
     "step.c",
     "machine.c",
+    "batch.c",
     "control_none.c",
 )
 FLAGS = (
@@ -61,6 +62,7 @@ UNITS = (
     "dynamics_some.c",
     "step.c",
     "machine.c",
+    "batch.c",
     "control.c",
 )  # a library's translation units
 

@@ -1,0 +1,378 @@
+"""Many copies of one run, each with its own values and start, run in C in one call per thread.
+
+    batch = Batch(session, 256, "hop", settings=["speed=2m/s"],
+                  vary={"speed": (np.linspace(2, 5, 256), "m/s")},
+                  options=RunOptions(duration=0.5))
+    copies = batch.run(threads=2)
+    copies.status, copies.sim_time          # arrays over the copies
+    copies.trajectory(k), copies.run(k)     # copy k as a single run would give it
+
+One run is set up as ``RunSession.prepare`` sets it up (the template). Each array of its C
+struct is then laid out once per copy, in one block (a structure of arrays: copy k's array in
+row k), the template's values in every row, and each copy's own values written into its rows
+with numpy: the inputs, parameters and actuator settings named in ``vary`` (an array of
+values and their unit, checked as ``--set`` checks one value) and the start (``q0``, ``v0``).
+``runtime/batch.c`` runs the copies, each from start to end exactly as a single run, in
+``threads`` threads that share them; Python is entered once per thread, not once per copy.
+All samples land in one trajectory of ``n * capacity`` rows (copy k's from row
+``k * capacity``); a copy's ``RunResult`` and ``Run`` are made only when asked for.
+
+A copy that needs Python on the way (a controller with no C twin, a tick the C state machine
+hands over, more contact events than its buffer holds) stops in C and is run again through
+``RunSession.prepare`` with its own values, on the C backend with Python's help, after the
+others (``Copies.rerun`` counts them).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import threading
+import time
+from collections.abc import Callable, Mapping, Sequence
+from copy import copy
+from typing import Any
+
+import numpy as np
+
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.session import Plan, Run, RunSession
+from legdsl.pipeline.settings import Settings, sort_settings
+from legdsl.sim.c_backend import (
+    CHECK,
+    CONTROL,
+    DONE,
+    ERRORS,
+    FULL,
+    NONFINITE,
+    RAISED,
+    YIELD,
+    CSimulation,
+)
+from legdsl.sim.c_library import address
+from legdsl.sim.machine import StateMachine
+from legdsl.sim.recorder import Divergence, empty_trajectory
+from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.trajectory import ARRAYS, Trajectory
+
+Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
+Progress = Callable[[int, int, float], None]  # (copies done, copies, seconds left)
+
+EVENTS_PER_SECOND = 200  # contact events a copy's buffer holds per contact per second of run
+
+
+class Batch:
+    """``n`` copies of one run (see the module docstring)."""
+
+    def __init__(
+        self,
+        session: RunSession,
+        n: int,
+        controller: str | None = None,
+        settings: Sequence[str] = (),
+        vary: Mapping[str, Values] | None = None,
+        q0: np.ndarray | None = None,
+        v0: np.ndarray | None = None,
+        paths: Sequence[str] = (),
+        options: RunOptions | None = None,
+    ):
+        if n < 1:
+            raise UsageError(f"a batch of {n} copies: give at least one")
+        self.session, self.n = session, n
+        self.controller, self.settings, self.paths = controller, list(settings), list(paths)
+        self.options = options or RunOptions()
+        self.plan = session.prepare(controller, self.settings, self.paths, self.options,
+                                    backend="c")  # fmt: skip
+        if not isinstance(self.plan.sim, CSimulation):
+            raise UsageError("a batch runs on the C backend: install a C compiler (gcc or clang)")
+        self.sim: CSimulation = self.plan.sim
+        self._given: dict[str, tuple[np.ndarray, str]] = {}
+        self.vary = {name: self._values(name, *given) for name, given in (vary or {}).items()}
+        model = session.model
+        self.q0 = self._start(q0, "q0", model.nq)
+        self.v0 = self._start(v0, "v0", model.nv)
+        self.start_heights = self._start_heights()
+        self._check_stiffness()
+
+    # ------------------------------------------------------------ the copies' values
+    def _values(self, name: str, numbers: Sequence[float] | np.ndarray, unit: str) -> np.ndarray:
+        """The copies' values of ``name`` in SI, checked as ``--set name=VALUE`` is (with the
+        smallest and the largest value: a check of sign or dimension holds for all between)."""
+        values = np.asarray(numbers, dtype=float)
+        if values.shape != (self.n,):
+            raise UsageError(
+                f"vary {name}: give {self.n} values (one per copy), not {values.shape}"
+            )
+        if not np.all(np.isfinite(values)):
+            raise UsageError(f"vary {name}: every value must be finite")
+        unit = unit.replace(" ", "")
+        for probe in (values.min(), values.max(), 1.0):
+            found = self._sorted([f"{name}={float(probe)!r}{unit}"])
+        self._given[name] = (values, unit)
+        one = next(iter({**found.inputs, **found.params, **found.actuators}.values()))
+        return values * one  # ``one`` is 1 unit in SI (units scale; none is affine)
+
+    def _sorted(self, texts: list[str]) -> Settings:
+        return sort_settings(texts, self.session.model, self.controller)
+
+    def _start(self, given: np.ndarray | None, what: str, size: int) -> np.ndarray:
+        if given is None:
+            start = np.array(self.sim.q if what == "q0" else self.sim.v, dtype=float)
+            return np.broadcast_to(start, (self.n, size))
+        values = np.asarray(given, dtype=float)
+        if values.shape != (self.n, size):
+            raise UsageError(
+                f"{what}: give {self.n} rows of {size} (one per copy), not {values.shape}"
+            )
+        if not np.all(np.isfinite(values)):
+            raise UsageError(f"{what}: every value must be finite")
+        return values
+
+    def _check_stiffness(self) -> None:
+        """The template's stiffness check (``RunSession._check_stiffness``) again with each
+        varied actuator setting at its largest (the stiffer and the more damped, the worse)."""
+        settings = {name: v for name, v in self.vary.items() if "." in name}
+        if not settings:
+            return
+        sim, saved = self.sim, [copy(a) for a in self.sim.actuators.states]
+        try:
+            for name, values in settings.items():
+                actuator, _, key = name.partition(".")
+                sim.actuators.by_name[actuator].set(key, float(values.max()))
+            controls = [self.session.control(self.controller)] if self.controller else []
+            self.session._check_stiffness(sim, controls, set(settings))
+        finally:
+            for a, old in zip(sim.actuators.states, saved, strict=True):
+                a.__dict__.update(old.__dict__)
+
+    def texts(self, k: int) -> list[str]:
+        """Copy ``k``'s ``--set`` texts: the batch's, then its own values as given."""
+        own = [
+            f"{name}={float(numbers[k])!r}{unit}" for name, (numbers, unit) in self._given.items()
+        ]
+        return self.settings + own
+
+    # ------------------------------------------------------------ the run
+    def run(self, threads: int = 1, progress: Progress | None = None) -> Copies:
+        """Run every copy (``threads`` at once); ``progress`` is called about every 0.2 s."""
+        sim, lib = self.sim, self.sim.library
+        loop = sim.new_loop(rows=1 << 62)  # the recording holds the whole run
+        sim._setup(loop)
+        c, n = sim.c, self.n
+        ticks = loop.n_steps // loop.control_every + 16  # a tick enters one state at most
+        seconds = loop.n_steps * sim.options.dt
+        events = max(16, int(EVENTS_PER_SECOND * seconds) + 16) * max(1, len(sim.contact_names))
+        c.step_budget, c.event_cap = loop.n_steps + 1, events  # leg_run returns once a copy
+        blocks: dict[str, np.ndarray] = {}
+        for name in lib.pointee:
+            if name.startswith("rec_") or name not in sim._keep:  # not this run's (no controller)
+                continue
+            own = sim._keep[name]
+            size = {"event_t": events, "event_kind": events, "event_contact": events,
+                    "ctl_event_t": ticks, "ctl_event_state": ticks}.get(name, own.size)  # fmt: skip
+            block = np.zeros((n, size), dtype=own.dtype)
+            block[:, : min(size, own.size)] = own[:size]
+            blocks[name] = block
+        self._write_values(blocks)
+        traj = empty_trajectory(sim, n * loop.capacity)
+        fields = [self._field(name, block, block.strides[0]) for name, block in blocks.items()]
+        for name in ARRAYS:
+            array = getattr(traj, name)
+            fields.append(self._field(f"rec_{name}", array, array.strides[0] * loop.capacity))
+        heights = self.start_heights
+        offset = lib.Sim.start_height.offset
+        fields.append([offset, heights.strides[0], 0, address(heights)])
+        table = np.array(fields, dtype=np.int64)
+        copies = (lib.Sim * n)()
+        codes = np.full(n, -1, dtype=np.int64)
+        taken = np.zeros(1, dtype=np.int64)
+        args = (ctypes.byref(c), address(table), len(table), ctypes.addressof(copies),
+                address(codes), n, address(taken))  # fmt: skip
+        start = time.perf_counter()
+        workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
+                   for _ in range(max(1, threads))]  # fmt: skip
+        for w in workers:
+            w.start()
+        while any(w.is_alive() for w in workers):
+            workers[0].join(0.2)
+            if progress is not None:
+                done = int(np.count_nonzero(codes >= 0))
+                spent = time.perf_counter() - start
+                progress(done, n, spent / done * (n - done) if done else math.nan)
+        for w in workers:
+            w.join()
+        wall = time.perf_counter() - start
+        return Copies(self, loop.capacity, traj, blocks, copies, codes, wall)
+
+    def _field(self, name: str, array: np.ndarray, stride: int) -> list[int]:
+        lib = self.sim.library
+        if array.dtype.type is not lib.pointee[name]:
+            raise TypeError(f"leg_sim.{name} points to {lib.pointee[name]}, not {array.dtype}")
+        return [getattr(lib.Sim, name).offset, stride, 1, address(array)]
+
+    def _write_values(self, blocks: dict[str, np.ndarray]) -> None:
+        """Each copy's own values into its rows of the struct's arrays."""
+        sim, m = self.sim, self.sim._running
+        blocks["q"][:, : self.q0.shape[1]] = self.q0
+        blocks["v"][:, : self.v0.shape[1]] = self.v0
+        for name, values in self.vary.items():
+            if "." in name:
+                actuator, _, key = name.partition(".")
+                k = [a.name for a in sim.actuators.states].index(actuator)
+                blocks[_actuator_array(sim.actuators.states[k], key)][:, k] = values
+            elif m is not None and name in m.input_names:
+                blocks["ctl_inputs"][:, m.input_names.index(name)] = values
+            elif m is not None:
+                blocks["ctl_params"][:, m.param_names.index(name)] = values
+            else:  # a controller Python runs: every copy goes through Python anyway
+                pass
+
+    def _start_heights(self) -> np.ndarray:
+        """Each copy's standing height (the fall rule's); each start checked as a single
+        run's is (``RunSession._check_start``) when the copies start apart."""
+        sim = self.sim
+        if self.q0.strides[0] == 0:
+            return np.full(self.n, sim._standing_height())
+        heights = np.empty(self.n)
+        saved = sim.q
+        try:
+            for k in range(self.n):
+                sim.q, sim._kinematics = self.q0[k].tolist(), None
+                try:
+                    self.session._check_start(sim)
+                except UsageError as e:
+                    raise UsageError(f"q0 of copy {k}: {e}") from None
+                heights[k] = sim._standing_height()
+        finally:
+            sim.q, sim._kinematics = saved, None
+        return heights
+
+
+def _actuator_array(state: Any, key: str) -> str:
+    """The struct's array that ``ActuatorState.set(key, ...)`` changes (act_gain, ...)."""
+    probe = copy(state)
+    probe.set(key, math.nan)
+    changed = [f for f in ("gain", "damping", "target", "force") if math.isnan(getattr(probe, f))]
+    return f"act_{changed[0]}"
+
+
+class Copies:
+    """A batch's copies after their run: arrays over the copies, and each copy's run."""
+
+    def __init__(self, batch: Batch, capacity: int, traj: Trajectory,
+                 blocks: dict[str, np.ndarray], structs: Any, codes: np.ndarray,
+                 wall: float):  # fmt: skip
+        self.batch, self.capacity, self.traj, self.blocks = batch, capacity, traj, blocks
+        self.structs, self.codes, self.wall_time = structs, codes, wall
+        n = batch.n
+        self.steps = np.array([s.steps for s in structs], dtype=np.int64)
+        self.sim_time = np.array([s.t for s in structs])
+        self.recorded = np.array([s.recorded for s in structs], dtype=np.int64)
+        self._results: dict[int, RunResult] = {}
+        self._reruns: dict[int, Run] = {}
+        needs_python = np.isin(codes, [CONTROL, FULL, YIELD])
+        self.rerun = int(np.count_nonzero(needs_python))
+        for index in np.flatnonzero(needs_python):
+            self._reruns[int(index)] = self._run_in_python(int(index))
+        status = np.full(n, "ok", dtype=object)
+        for k in range(n):
+            if k in self._reruns:
+                status[k] = self._reruns[k].status
+            elif codes[k] != DONE:
+                status[k] = self.result(k).status
+        self.status = status.astype(str)
+
+    def __len__(self) -> int:
+        return self.batch.n
+
+    def trajectory(self, k: int) -> Trajectory:
+        """Copy ``k``'s samples (views into the batch's arrays)."""
+        if k in self._reruns:
+            return self._reruns[k].result.trajectory
+        start = k * self.capacity
+        return self.traj.rows(start, start + int(self.recorded[k]))
+
+    def result(self, k: int) -> RunResult:
+        """Copy ``k``'s ``RunResult``, as ``Simulation.run`` gives a single run's."""
+        if k in self._reruns:
+            return self._reruns[k].result
+        if k not in self._results:
+            self._results[k] = self._result(k)
+        return self._results[k]
+
+    def run(self, k: int) -> Run:
+        """Copy ``k`` as ``RunSession.run`` gives a single run (its settings and machine)."""
+        if k in self._reruns:
+            return self._reruns[k]
+        b = self.batch
+        settings = b._sorted(b.texts(k))
+        if b.controller is not None:
+            settings.inputs, settings.params = settings.for_controller(
+                b.session.model.controller(b.controller)
+            )
+        machine = None
+        if b.plan.machine is not None:
+            m = b.plan.machine
+            assert isinstance(m, StateMachine)  # a batch does not switch controllers
+            machine = StateMachine(b.session.model, m.module, settings.inputs, settings.params,
+                                   settings.schedule, m.paths)  # fmt: skip
+            machine.events = self._state_events(k)
+        return b.plan.finish(self.result(k), settings, machine)
+
+    # ------------------------------------------------------------ one copy
+    def _state_events(self, k: int) -> list[dict[str, Any]]:
+        m = self.batch.sim._running
+        if m is None or not self.batch.sim.c.c_control:
+            return []
+        n = int(self.structs[k].n_ctl_events)
+        times, states = self.blocks["ctl_event_t"][k, :n], self.blocks["ctl_event_state"][k, :n]
+        return [{"t": round(float(t), 9), "kind": "state", "state": m.state_names[int(s)]}
+                for t, s in zip(times, states, strict=True)]  # fmt: skip
+
+    def _contact_events(self, k: int) -> list[dict[str, Any]]:
+        names, n = self.batch.sim.contact_names, int(self.structs[k].n_events)
+        rows = zip(self.blocks["event_t"][k, :n], self.blocks["event_kind"][k, :n],
+                   self.blocks["event_contact"][k, :n], strict=True)  # fmt: skip
+        return [{"t": round(float(t), 9), "kind": "touchdown" if kind == 1 else "liftoff",
+                 "contact": names[int(i)]} for t, kind, i in rows]  # fmt: skip
+
+    def _result(self, k: int) -> RunResult:
+        sim, s, code = self.batch.sim, self.structs[k], int(self.codes[k])
+        model = sim.model
+        sim.q = self.blocks["q"][k, : model.nq].tolist()
+        sim.v = self.blocks["v"][k, : model.nv].tolist()
+        sim.t, sim._kinematics = float(s.t), None
+        status, cause, sim.message = "ok", "", ""
+        try:
+            if code == CHECK:
+                status = sim._check(float(self.batch.start_heights[k])) or "ok"
+                if status == "ok":
+                    raise RuntimeError("C and Python disagree on the fall check (a legdsl bug)")
+                cause = sim.message
+            elif code == NONFINITE:
+                raise Divergence("the state is no longer finite (NaN or infinity)")
+            elif code == RAISED:
+                raise ERRORS[int(s.err)]()
+        except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
+            status, cause = "diverged", sim.diverged(err)
+        events = sorted(self._contact_events(k) + self._state_events(k), key=lambda e: e["t"])
+        stops = self.blocks["stop_time"][k]
+        return RunResult(
+            trajectory=self.trajectory(k),
+            events=events,
+            status=status,
+            message=sim.message,
+            steps=int(s.steps),
+            wall_time=self.wall_time / len(self),
+            sim_time=float(s.t),
+            cause=cause,
+            stop_time={st.dof: round(float(stops[i]), 9) for i, st in enumerate(sim._stops)},
+        )
+
+    def _run_in_python(self, k: int) -> Run:
+        """Copy ``k`` run as a single run (it needed Python on the way)."""
+        b = self.batch
+        plan: Plan = b.session.prepare(b.controller, b.texts(k), b.paths, b.options, backend="c")
+        plan.sim.q, plan.sim.v = b.q0[k].tolist(), b.v0[k].tolist()
+        plan.sim._kinematics = None
+        return plan.finish(plan.sim.run())

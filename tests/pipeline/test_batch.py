@@ -1,0 +1,110 @@
+"""The batch (legdsl.pipeline.batch): N copies of a run, each with its own values and start, run
+in C in one call per thread; every copy must equal the single run with its values, bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import CREATURES, GENERATED
+from runtime_helpers import assert_same
+
+import legdsl.pipeline.batch as batch_module
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.batch import Batch
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.c_backend import available
+from legdsl.sim.simulate import RunOptions
+
+pytestmark = pytest.mark.skipif(
+    available() is not None,
+    reason=f"the batch runs on the C backend, which needs a C compiler: {available()}",
+)
+
+HOP = RunOptions(duration=0.4)
+
+
+@pytest.fixture(scope="module")
+def roo() -> RunSession:
+    return RunSession.from_file(CREATURES / "kangaroo.leg", generated=GENERATED)
+
+
+def alone(session: RunSession, texts: list[str], options: RunOptions) -> object:
+    """The single run on the Python backend, the reference."""
+    return session.run("hop", texts, options=options, backend="python").result
+
+
+def test_each_copy_is_the_single_run_with_its_values(roo: RunSession) -> None:
+    speeds = np.array([2.0, 3.5, 5.0])
+    batch = Batch(roo, 3, "hop", settings=["height=0.48m"], options=HOP, vary={
+        "speed": (speeds * 100, "cm/s"),            # an input, in a unit not SI
+        "k_speed": ([0.03, 0.025, 0.035], "s"),     # a parameter
+        "hip_servo.kp": ([300, 400, 500], "N*m/rad"),  # an actuator setting
+    })  # fmt: skip
+    copies = batch.run(threads=2)
+    assert list(copies.status) == ["ok"] * 3 and copies.rerun == 0
+    for k in range(3):
+        texts = batch.texts(k)
+        assert texts[0] == "height=0.48m" and f"speed={float(speeds[k] * 100)!r}cm/s" in texts
+        assert_same(alone(roo, texts, HOP), copies.result(k))
+    commanded = [float(copies.trajectory(k).speed_command[-1]) for k in range(3)]
+    assert commanded == pytest.approx(list(speeds))
+    run = copies.run(1)  # the session's Run: its settings and machine are the copy's own
+    assert run.info()["inputs"]["speed"] == pytest.approx(3.5)
+    assert run.settings.params["k_speed"] == 0.025
+
+
+def test_copies_start_where_told_and_threads_change_nothing(roo: RunSession) -> None:
+    drops = [0.0, 0.05, 0.1, 0.15]
+    starts = np.array([roo.prepare("hop", [], options=RunOptions(drop=d)).sim.q for d in drops])
+    one = Batch(roo, 4, "hop", q0=starts, options=HOP).run(threads=1)
+    two = Batch(roo, 4, "hop", q0=starts, options=HOP).run(threads=2)
+    for k, drop in enumerate(drops):
+        opts = RunOptions(duration=HOP.duration, drop=drop)
+        assert_same(roo.run("hop", [], options=opts, backend="python").result, one.result(k))
+        assert_same(one.result(k), two.result(k))
+
+
+def test_a_fall_and_a_divergence_end_as_alone() -> None:
+    hopper = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
+    opts = RunOptions(duration=1.0)
+    copies = Batch(hopper, 2, "hop", options=opts, vary={"speed": ([1, 6], "m/s")}).run()
+    assert list(copies.status) == ["ok", "fell"]
+    fell = hopper.run("hop", ["speed=6m/s"], options=opts, backend="python").result
+    assert_same(fell, copies.result(1))
+    coarse = RunOptions(duration=1.0, dt=0.01, control_dt=0.01)  # too coarse for the contact
+    copies = Batch(hopper, 1, "hop", options=coarse).run()
+    assert list(copies.status) == ["diverged"]
+    assert_same(hopper.run("hop", [], options=coarse, backend="python").result, copies.result(0))
+
+
+def test_a_copy_that_needs_python_is_run_again_alone(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(batch_module, "EVENTS_PER_SECOND", 0)  # buffers of 16 events a contact
+    opts = RunOptions(duration=2.0)
+    copies = Batch(roo, 2, "hop", options=opts, vary={"speed": ([2, 3], "m/s")}).run()
+    assert copies.rerun == 2  # more than 16 touchdowns and liftoffs each: Python drained them
+    for k in range(2):
+        assert_same(alone(roo, copies.batch.texts(k), opts), copies.result(k))
+
+
+@pytest.mark.parametrize(
+    ("vary", "q0", "says"),
+    [
+        ({"speed": ([2, 3], "s")}, None, "speed is a velocity (m/s), but 2.0s is a time"),
+        ({"speed": ([2, 3, 4], "m/s")}, None, "give 2 values (one per copy)"),
+        ({"hip_servo.kp": ([-1, 400], "N*m/rad")}, None, "hip_servo.kp"),
+        ({"spead": ([2, 3], "m/s")}, None, "no input or parameter 'spead'"),
+        ({}, "under", "q0 of copy 1: "),
+    ],
+)
+def test_a_wrong_value_is_refused_before_anything_runs(
+    roo: RunSession, vary: dict, q0: str | None, says: str
+) -> None:
+    starts = None
+    if q0 == "under":
+        starts = np.array([roo.model.q0, roo.model.q0], dtype=float)
+        starts[1, roo.model.q_names.index("z") if "z" in roo.model.q_names else 1] -= 0.2
+    with pytest.raises(UsageError) as e:
+        Batch(roo, 2, "hop", vary=vary, q0=starts, options=HOP)
+    assert says in str(e.value)
