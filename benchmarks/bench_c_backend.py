@@ -10,9 +10,9 @@ array byte for byte), and its steps per second on each; MuJoCo's ``mj_step`` on 
 MJCF with its contacts and actuators on (``bench_runtime.mujoco_drop``: a 3 s drop, the same step
 and its Euler integrator). Then microseconds per ``forward_dynamics`` (Python, C called in a
 loop inside C, MuJoCo ``mj_forward`` without contacts, Pinocchio's ``aba`` on the URDF
-export), and the time from the ``.leg`` file to
-a loaded library, first with an empty cache and then cached. The results replace the
-"c-backend" section of docs/benchmarks.md.
+export), the time from the ``.leg`` file to a loaded library, first with an empty cache and
+then cached, and the batch's throughput (``legdsl.pipeline.batch``: N kangaroo runs in 1 and 2
+threads). The results replace the "c-backend" section of docs/benchmarks.md.
 """
 
 from __future__ import annotations
@@ -163,46 +163,51 @@ def bench_dynamics() -> list[tuple[str, float, float, float, float]]:
     return rows
 
 
-def bench_batch() -> tuple[list[tuple[int, float, int, float]], float]:
-    """(N, run seconds, threads, creature-steps per second per thread) for N kangaroo runs, and
-    the milliseconds of Python around one run (a run of one step: setup and result)."""
+def bench_batch() -> tuple[list[tuple[int, float, int, float, float]], dict[int, float]]:
+    """N kangaroo hop runs, each with its own commanded speed, as one ``Batch`` in 1 or 2
+    threads: (N, run seconds, threads, creature-steps per second per thread, the share of the
+    wall time outside C: the batch's setup and results in Python), the whole call timed. And
+    the same 256 runs of 0.5 s through ``run_batch`` (each run set up in Python), by threads."""
     from legdsl.pipeline.backend import run_batch
+    from legdsl.pipeline.batch import Batch
 
     session = RunSession.from_file(
         ROOT / "creatures" / "kangaroo.leg", generated=ROOT / "generated"
     )
-    session.run("hop", [], options=RunOptions(duration=0.01), backend="c")  # built, loaded
-    one_step = [{"controller": "hop", "settings": ["speed=2m/s"],
-                 "options": RunOptions(duration=STEP)}] * 200  # fmt: skip
-    overhead = float("inf")
-    for _ in range(REPEAT):
-        start = time.perf_counter()
-        run_batch(session, one_step, 1)
-        overhead = min(overhead, (time.perf_counter() - start) / len(one_step) * 1e3)
-    print(f"batch: {overhead:.3f} ms of Python around each run", flush=True)
+    Batch(session, 2, "hop", options=RunOptions(duration=0.01)).run()  # built, loaded
     rows = []
-    # 0.5 s runs at every N, and 5 s runs at N = 256: the longer run has ten times the C
-    # steps around the same Python setup and result, which two threads take turns at
     for n, seconds in ((1, 0.5), (16, 0.5), (256, 0.5), (4096, 0.5), (256, 5.0)):
-        jobs = [
-            {"controller": "hop", "settings": [f"speed={2 + 3 * k / n:.4f}m/s"],
-             "options": RunOptions(duration=seconds)}
-            for k in range(n)
-        ]  # fmt: skip
+        speeds = (2 + 3 * np.arange(n) / n, "m/s")
         for threads in (1, 2):
-            rate = 0.0
+            rate, outside = 0.0, 0.0
             for _ in range(REPEAT):  # the best of a few: the machine's neighbours come and go
                 start = time.perf_counter()
-                runs = run_batch(session, jobs, threads)
+                batch = Batch(session, n, "hop", vary={"speed": speeds},
+                              options=RunOptions(duration=seconds))  # fmt: skip
+                copies = batch.run(threads)
                 wall = time.perf_counter() - start
-                rate = max(rate, sum(r.result.steps for r in runs) / wall / threads)
-            rows.append((n, seconds, threads, rate))
+                assert not copies.rerun and set(copies.status) == {"ok"}
+                if copies.steps.sum() / wall / threads > rate:
+                    rate = copies.steps.sum() / wall / threads
+                    outside = 1 - copies.wall_time / wall
+            rows.append((n, seconds, threads, rate, outside))
             print(
                 f"batch N={n} of {seconds:g} s, threads={threads}: "
-                f"{rate:,.0f} creature-steps/s per thread",
+                f"{rate:,.0f} creature-steps/s per thread, {outside:.1%} outside C",
                 flush=True,
             )
-    return rows, overhead
+    jobs = [{"controller": "hop", "settings": [f"speed={2 + 3 * k / 256:.4f}m/s"],
+             "options": RunOptions(duration=0.5)} for k in range(256)]  # fmt: skip
+    per_run = {}
+    for threads in (1, 2):
+        best = 0.0
+        for _ in range(REPEAT):
+            start = time.perf_counter()
+            runs = run_batch(session, jobs, threads)
+            best = max(best, sum(r.result.steps for r in runs) / (time.perf_counter() - start))
+        per_run[threads] = best / threads
+        print(f"run_batch N=256, threads={threads}: {best / threads:,.0f} per thread", flush=True)
+    return rows, per_run
 
 
 def c_alone_scaling(name: str = "kangaroo", calls: int = 2_000_000) -> float:
@@ -257,7 +262,7 @@ def main() -> None:
     runs = bench_runs()
     dyn = bench_dynamics()
     printed, cc, first, cached = bench_compile()
-    batch, overhead = bench_batch()
+    batch, per_run = bench_batch()
     alone = c_alone_scaling()
     lines = [
         "## The C backend (issue 14)",
@@ -312,23 +317,27 @@ def main() -> None:
     ]
     lines += [
         "",
-        "Batched (`legdsl.pipeline.backend.run_batch`): N kangaroo hop runs of 0.5 s (and, in the "
-        "last row, of 5 s), each with its own commanded speed, in 1 or 2 threads; "
-        f"creature-steps per second per thread (the best of {REPEAT} tries), including each "
-        f"run's setup and result in Python ({overhead:.2f} ms a run, measured on runs of one step). "
-        f"Load average {os.getloadavg()[0]:.1f} at the end. This is a virtual machine whose 2 "
-        "cores its host shares: two tries of the same 2-thread batch, one after the other on "
-        "an otherwise idle machine, have given 1.99x and 1.59x one thread's throughput, so the "
-        "two-thread figures are a lower bound.",
+        "Batched (`legdsl.pipeline.batch.Batch`, docs/runtime.md): N kangaroo hop runs of 0.5 s "
+        "(and, in the last row, of 5 s), each with its own commanded speed, as one batch: the "
+        "run set up once, its struct's arrays laid out once per copy and each copy's speed "
+        "written in with numpy, then runtime/batch.c runs the copies in 1 or 2 threads, one C "
+        "call per thread. Creature-steps per second per thread (the best of "
+        f"{REPEAT} tries), the whole call timed: the setup, the C and the results (*outside C*: "
+        "the share of the wall time in Python). Every copy ran to its end in C (none needed "
+        f"Python on the way). Load average {os.getloadavg()[0]:.1f} at the end; this is a "
+        "virtual machine whose 2 cores its host shares, so the two-thread figures are a lower "
+        "bound.",
         "",
-        "| N | run | 1 thread | 2 threads (per thread) | 2 threads / 1 |",
-        "|---|---|---|---|---|",
+        "| N | run | 1 thread | 2 threads (per thread) | 2 threads / 1 | outside C, 1 / 2 threads |",
+        "|---|---|---|---|---|---|",
     ]
-    by = {(n, d, t): v for n, d, t, v in batch}
-    for n, d in dict.fromkeys((n, d) for n, d, _, _ in batch):
+    by = {(n, d, t): v for n, d, t, v, _ in batch}
+    share = {(n, d, t): o for n, d, t, _, o in batch}
+    for n, d in dict.fromkeys((n, d) for n, d, *_ in batch):
         lines.append(
             f"| {n} | {d:g} s | {by[(n, d, 1)]:,.0f} | {by[(n, d, 2)]:,.0f} | "
-            f"{2 * by[(n, d, 2)] / by[(n, d, 1)]:.2f}x |"
+            f"{2 * by[(n, d, 2)] / by[(n, d, 1)]:.2f}x | "
+            f"{share[(n, d, 1)]:.1%} / {share[(n, d, 2)]:.1%} |"
         )
     ratios = [c / mj for _, _, c, mj, _, _ in runs]
     padded = [c / mj_pads for _, _, c, _, mj_pads, _ in runs]
@@ -344,8 +353,6 @@ def main() -> None:
     )
     same = "every run identical" if all(r[5] for r in runs) else "NOT every run identical"
     worst = max(c_us / TRANSLITERATION_US[n] for n, _, c_us, *_ in dyn if n in TRANSLITERATION_US)
-    run_len = int(round(0.5 / STEP))
-    c_ms = run_len / kangaroo * 1e3
     lines += [
         "",
         f"Against the issue's aims: {same}; C runs {min(ratios):.1f}x to "
@@ -354,26 +361,21 @@ def main() -> None:
         f"dynamics {worst:.2f} times the issue's transliteration figure at worst (the aim: "
         "within 2x); the quadruped from `.leg` "
         f"to a loaded library in {first:.1f} s (the C compiler {cc:.1f} s), reused from the "
-        f"cache the second time. The batch's cost per creature-step at N = 256 is "
-        f"{by[(1, 0.5, 1)] / by[(256, 0.5, 1)]:.2f} times that of one run of the same length (N = 1) and "
-        f"{kangaroo / by[(256, 0.5, 1)]:.2f} times a single 5 s run's loop; two threads give "
-        f"{2 * by[(256, 0.5, 2)] / by[(256, 0.5, 1)]:.2f} times one thread's throughput at N = 256 and "
-        f"{2 * by[(4096, 0.5, 2)] / by[(4096, 0.5, 1)]:.2f} at N = 4096 (the aim: 1.8), and "
-        f"{2 * by[(256, 5.0, 2)] / by[(256, 5.0, 1)]:.2f} at N = 256 with runs of 5 s. The runs go on in "
-        "threads, their C loops with the GIL released, so one thread's Python (a run's setup and "
-        f"result, {overhead:.2f} ms) overlaps another's C ({c_ms:.2f} ms for the {run_len} steps of a "
-        "0.5 s run at the 5 s run's rate); but with two threads each one's processor time for the "
-        "same runs grows by a third to a half on 0.5 s runs (measured apart from this benchmark, "
-        "with getrusage per thread), "
-        "in the Python part, while the C alone scales: the longer the runs, the closer to 2. "
-        f"The machine's own ceiling, in this run: the kangaroo's `forward_dynamics` looped in C "
-        f"with no Python between calls, in two threads at once, gives {alone:.2f} times one "
-        "thread's throughput. Three or four Python threads with at most two C loops at a time "
-        "(so that one thread's setup fills a core another leaves idle while it waits for the "
-        "GIL) gave no more than two threads when tried apart from this benchmark: what is left "
-        "is the Python of each run, about 0.6 ms, which a "
-        "batch that set its runs up in C from one template, rather than each in Python, would "
-        "remove.",
+        f"cache the second time. A creature-step of the batch at N = 256 costs "
+        f"{kangaroo / by[(256, 0.5, 1)]:.2f} times one of a single 5 s run on the C backend "
+        f"(the kangaroo hop row above) and {by[(1, 0.5, 1)] / by[(256, 0.5, 1)]:.2f} times one "
+        "of a batch of one 0.5 s run; two threads give "
+        f"{2 * by[(256, 0.5, 2)] / by[(256, 0.5, 1)]:.2f} times one thread's throughput at "
+        f"N = 256, {2 * by[(4096, 0.5, 2)] / by[(4096, 0.5, 1)]:.2f} at N = 4096 and "
+        f"{2 * by[(256, 5.0, 2)] / by[(256, 5.0, 1)]:.2f} at N = 256 with runs of 5 s (the aim: "
+        "1.8). The machine's own ceiling, in this run: the kangaroo's `forward_dynamics` looped "
+        f"in C with no Python between calls, in two threads at once, gives {alone:.2f} times "
+        "one thread's throughput. The same 256 runs as separate jobs "
+        "(`legdsl.pipeline.backend.run_batch`: each its own settings, paths or switches, each "
+        f"set up and finished in Python, about 0.6 ms a run) give {per_run[1]:,.0f} "
+        f"creature-steps per second in one thread and {per_run[2]:,.0f} per thread in two "
+        f"({2 * per_run[2] / per_run[1]:.2f}x): there each run's Python takes turns at the "
+        "GIL, which the batch leaves only for its setup and results.",
     ]
     replace_section("c-backend", "\n".join(lines))
     print(f"wrote {DOC}")

@@ -38,7 +38,7 @@ from legdsl.pipeline.settings import named_si_unit
 from legdsl.sim.simulate import RunOptions
 from legdsl.sim.trajectory import Trajectory
 
-__all__ = ["Creature", "Quantity", "Run", "load", "open_run"]
+__all__ = ["Copies", "Creature", "Quantity", "Run", "load", "open_run"]
 
 
 @dataclass(frozen=True)
@@ -128,6 +128,30 @@ class Creature:
         for i, done in iter_batch(self.session, plans, threads):
             yield i, self._wrap(done)
 
+    def run_copies(
+        self,
+        n: int,
+        controller: str | None = None,
+        set: Mapping[str, str | float] | None = None,  # noqa: A002
+        vary: Mapping[str, tuple[Sequence[float], str]] | None = None,
+        time: float | None = None,
+        q0: Any = None,
+        v0: Any = None,
+        threads: int | None = None,
+        **options: Any,
+    ) -> Copies:
+        """``n`` copies of one run (``run``'s ``controller``, ``set``, ``time`` and options),
+        each with its own values of the inputs, parameters and actuator settings in ``vary``
+        (a name and its ``n`` values with their unit: ``{"speed": (speeds, "m/s")}``) and its
+        own start (``q0``, ``v0``: ``n`` rows of coordinates), run in C in ``threads`` threads
+        at once (``legdsl.pipeline.batch``); ``copies[k]`` is copy k's ``Run``."""
+        from legdsl.pipeline.batch import Batch
+
+        plan = self._session_args(controller, set, time, **options)
+        batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
+                      options=plan["options"])  # fmt: skip
+        return Copies(self, batch.run(threads or 1))
+
     def _session_args(
         self,
         controller: str | None = None,
@@ -174,6 +198,21 @@ def _setting(name: str, value: str | float) -> str:
     key, at, when = name.partition("@")
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
+
+
+class Copies:
+    """A batch's copies (``Creature.run_copies``): ``status`` and ``sim_time`` over them, and
+    each copy's ``Run`` by its index."""
+
+    def __init__(self, creature: Creature, copies: Any):
+        self._creature, self.copies = creature, copies
+        self.status, self.sim_time = copies.status, copies.sim_time
+
+    def __len__(self) -> int:
+        return len(self.copies)
+
+    def __getitem__(self, k: int) -> Run:
+        return self._creature._wrap(self.copies.run(k))
 
 
 class Run:
