@@ -95,6 +95,7 @@ def test_a_copy_that_needs_python_is_run_again_alone(
         ({"speed": ([2, 3, 4], "m/s")}, None, "give 2 values (one per copy)"),
         ({"hip_servo.kp": ([-1, 400], "N*m/rad")}, None, "hip_servo.kp"),
         ({"spead": ([2, 3], "m/s")}, None, "no input or parameter 'spead'"),
+        ({"hop.k_speed": ([0.03, 0.02], "s")}, None, "name an input or parameter of hop alone"),
         ({}, "under", "q0 of copy 1: "),
     ],
 )

@@ -108,8 +108,10 @@ class Batch:
         unit = unit.replace(" ", "")
         for probe in (values.min(), values.max(), 1.0):
             found = self._sorted([f"{name}={float(probe)!r}{unit}"])
+        one = {**found.inputs, **found.params, **found.actuators}.get(name)
+        if one is None:  # CONTROLLER.NAME: a switching run's, which a batch is not
+            raise UsageError(f"vary {name}: name an input or parameter of {self.controller} alone")
         self._given[name] = (values, unit)
-        one = next(iter({**found.inputs, **found.params, **found.actuators}.values()))
         return values * one  # ``one`` is 1 unit in SI (units scale; none is affine)
 
     def _sorted(self, texts: list[str]) -> Settings:
@@ -220,12 +222,12 @@ class Batch:
                 actuator, _, key = name.partition(".")
                 k = [a.name for a in sim.actuators.states].index(actuator)
                 blocks[_actuator_array(sim.actuators.states[k], key)][:, k] = values
-            elif m is not None and name in m.input_names:
+            elif m is None or "ctl_inputs" not in blocks:
+                continue  # the machine runs in Python: every copy runs again there
+            elif name in m.input_names:
                 blocks["ctl_inputs"][:, m.input_names.index(name)] = values
-            elif m is not None:
+            else:
                 blocks["ctl_params"][:, m.param_names.index(name)] = values
-            else:  # a controller Python runs: every copy goes through Python anyway
-                pass
 
     def _start_heights(self) -> np.ndarray:
         """Each copy's standing height (the fall rule's); each start checked as a single
