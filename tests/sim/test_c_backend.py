@@ -192,6 +192,23 @@ def test_the_library_is_cached_and_rebuilt_when_its_source_changes(tmp_path: Pat
     assert not other.cached and other.path != first.path
 
 
+def test_a_library_is_built_for_its_processor(monkeypatch: pytest.MonkeyPatch) -> None:
+    """-march=native where the compiler takes it, and the processor's features in the cache's
+    key: a library built on one machine is not loaded on a machine without its instructions."""
+    import legdsl.codegen.c.build as build_module
+
+    compiler = build_module.find_compiler()
+    assert compiler is not None
+    files = build_module.sources(GENERATED / "hopper")
+    march, features = build_module.native(compiler)
+    assert ("-march=native" in build_module.flags(compiler)) == bool(march)
+    key = build_module.library_key(files, compiler)
+    monkeypatch.setattr(build_module, "native", lambda c: (march, features + "-elsewhere"))
+    assert build_module.library_key(files, compiler) != key
+    monkeypatch.setattr(build_module, "native", lambda c: ("", ""))
+    assert "-march=native" not in build_module.flags(compiler)
+
+
 def test_a_unit_that_does_not_compile_fails_the_build_and_leaves_no_library(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

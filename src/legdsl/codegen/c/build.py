@@ -6,7 +6,8 @@ with the runtime in ``runtime/`` (``step.c``: actuators, ground, integrators, th
 process of its own, all at once, then linked, by the system C compiler, found at run time:
 ``$LEGDSL_CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH.
 
-Flags: ``-O2 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize -fPIC -shared``.
+Flags: ``-O3 -std=c99 -fno-fast-math -ffp-contract=off -fno-tree-vectorize
+-fno-semantic-interposition -fPIC -shared``, and ``-march=native`` where the compiler takes it.
 ``-ffp-contract=off`` keeps gcc and clang from fusing ``a*b + c`` into one rounding (an FMA),
 and no fast-math keeps them from reassociating sums or replacing divisions: then each printed
 operation is one IEEE double operation, in the order the Python print gives, and the results
@@ -15,9 +16,13 @@ x87's wider ones). ``-fno-tree-vectorize``: gcc 12's straight-line vectorizer pa
 multiplication with an add-and-subtract into ``vfmaddsub`` where the machine has FMA (with
 ``-mfma`` or ``-march=native``), a fused rounding in spite of ``-ffp-contract=off`` that changed
 the biped's dynamics; without it the runs stay identical with any ``-march``, for a few percent.
+``-march=native`` and ``-O3`` give the same doubles (no operation is fused, reordered or
+vectorized) about 9% sooner (docs/runtime.md); a library built for one processor may not run
+on another, so the key of the cache names the processor features ``-march=native`` turns on.
 
 The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
-A library is named by the hash of its sources, the compiler's path and version and the flags,
+A library is named by the hash of its sources, the compiler's path and version, the flags and
+the processor's features,
 so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
 reused. The compiler writes into a temporary file in the cache directory, which is then
 renamed to the final name: two runs that build the same library at once each rename a
@@ -47,11 +52,12 @@ RUNTIME_FILES = (
     "control_none.c",
 )
 FLAGS = (
-    "-O2",
+    "-O3",
     "-std=c99",
     "-fno-fast-math",
     "-ffp-contract=off",
     "-fno-tree-vectorize",
+    "-fno-semantic-interposition",
     "-fPIC",
     "-shared",
 )
@@ -130,12 +136,35 @@ def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str
     return files
 
 
+@lru_cache(maxsize=8)
+def native(compiler: Compiler) -> tuple[str, str]:
+    """(``-march=native``, a digest of what it means on this processor: the macros it defines,
+    ``__AVX2__`` and the like) where ``compiler`` takes it, else two empty strings."""
+    try:
+        out = subprocess.run(
+            [compiler.path, "-march=native", "-dM", "-E", "-x", "c", os.devnull],
+            capture_output=True, text=True, timeout=30,
+        )  # fmt: skip
+    except (OSError, subprocess.SubprocessError):
+        return "", ""
+    if out.returncode != 0:
+        return "", ""
+    return "-march=native", hashlib.sha256(out.stdout.encode()).hexdigest()[:16]
+
+
+def flags(compiler: Compiler) -> tuple[str, ...]:
+    """The flags ``build`` gives ``compiler``: ``FLAGS``, and ``-march=native`` if it takes it."""
+    march = native(compiler)[0]
+    return FLAGS + ((march,) if march else ())
+
+
 def library_key(files: dict[str, str], compiler: Compiler) -> str:
     digest = hashlib.sha256()
     for name in sorted(files):
         digest.update(f"{name}\0{len(files[name])}\0".encode())
         digest.update(files[name].encode())
-    digest.update(f"{compiler.path}\0{compiler.version}\0{' '.join(FLAGS + LIBS)}".encode())
+    given = " ".join(flags(compiler) + LIBS)
+    digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
     return digest.hexdigest()[:20]
 
 
@@ -156,7 +185,8 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         partial = Path(work) / "lib.so"
         # each unit compiled at once in a process of its own (dynamics.c takes most of the
         # time), then linked: the same objects and the same library as one gcc command
-        compile_flags = [f for f in FLAGS if f != "-shared"]
+        every = flags(compiler)
+        compile_flags = [f for f in every if f != "-shared"]
         started = []
         for unit in UNITS:
             source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
@@ -166,7 +196,7 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         for (command, process), err in zip(started, errors, strict=True):
             _check(process.returncode, command, err, name, compiler)
         objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
-        command = [compiler.path, *FLAGS, "-o", str(partial), *objects, *LIBS]
+        command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
         done = subprocess.run(command, capture_output=True, text=True)
         _check(done.returncode, command, done.stderr, name, compiler)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
