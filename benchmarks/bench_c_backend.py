@@ -180,7 +180,7 @@ def bench_batch() -> tuple[list[tuple[int, float, int, float, float]], dict[int,
         speeds = (2 + 3 * np.arange(n) / n, "m/s")
         for threads in (1, 2):
             rate, outside = 0.0, 0.0
-            for _ in range(REPEAT):  # the best of a few: the machine's neighbours come and go
+            for _ in range(REPEAT + 2):  # the best of a few: the host's other work comes and goes
                 start = time.perf_counter()
                 batch = Batch(session, n, "hop", vary={"speed": speeds},
                               options=RunOptions(duration=seconds))  # fmt: skip
