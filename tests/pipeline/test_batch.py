@@ -64,6 +64,20 @@ def test_copies_start_where_told_and_threads_change_nothing(roo: RunSession) -> 
         assert_same(one.result(k), two.result(k))
 
 
+def test_copies_of_a_3d_creature_on_a_path_are_the_single_runs() -> None:
+    """The quadruped trotting on a circle: a 3D root, the ground's torsion, a path tracker's
+    state and the placer's solves, per copy; the path report of each copy's run too."""
+    quad = RunSession.from_file(CREATURES / "quadruped.leg", generated=GENERATED)
+    circle = "circle(center = (0, 3) m, radius = 3 m, turn = left)"
+    opts = RunOptions(duration=1.0)
+    copies = Batch(quad, 2, "trot", paths=[circle], options=opts,
+                   vary={"speed": ([0.8, 1.2], "m/s")}).run(threads=2)  # fmt: skip
+    for k, speed in enumerate((0.8, 1.2)):
+        single = quad.run("trot", [f"speed={speed}m/s"], [circle], options=opts, backend="python")
+        assert_same(single.result, copies.result(k))
+        assert copies.run(k).path_reports == single.path_reports
+
+
 def test_a_fall_and_a_divergence_end_as_alone() -> None:
     hopper = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
     opts = RunOptions(duration=1.0)
