@@ -59,6 +59,7 @@ Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/
 Progress = Callable[[int, int, float], None]  # (copies done, copies, seconds left)
 
 EVENTS_PER_SECOND = 200  # contact events a copy's buffer holds per contact per second of run
+LINE = 64  # bytes: a cache line
 
 
 class Batch:
@@ -172,7 +173,7 @@ class Batch:
             own = sim._keep[name]
             size = {"event_t": events, "event_kind": events, "event_contact": events,
                     "ctl_event_t": ticks, "ctl_event_state": ticks}.get(name, own.size)  # fmt: skip
-            block = np.zeros((n, size), dtype=own.dtype)
+            block = lined_up(n, size, own.dtype)
             block[:, : min(size, own.size)] = own[:size]
             blocks[name] = block
         self._write_values(blocks)
@@ -185,11 +186,11 @@ class Batch:
         offset = lib.Sim.start_height.offset
         fields.append([offset, heights.strides[0], 0, address(heights)])
         table = np.array(fields, dtype=np.int64)
-        copies = (lib.Sim * n)()
+        structs = lined_up(n, ctypes.sizeof(lib.Sim), np.uint8)
         codes = np.full(n, -1, dtype=np.int64)
         taken = np.zeros(1, dtype=np.int64)
-        args = (ctypes.byref(c), address(table), len(table), ctypes.addressof(copies),
-                address(codes), n, address(taken))  # fmt: skip
+        args = (ctypes.byref(c), address(table), len(table), structs.ctypes.data,
+                structs.strides[0], address(codes), n, address(taken))  # fmt: skip
         start = time.perf_counter()
         workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
                    for _ in range(max(1, threads))]  # fmt: skip
@@ -204,13 +205,13 @@ class Batch:
         for w in workers:
             w.join()
         wall = time.perf_counter() - start
-        return Copies(self, loop.capacity, traj, blocks, copies, codes, wall)
+        return Copies(self, loop.capacity, traj, blocks, structs, codes, wall)
 
     def _field(self, name: str, array: np.ndarray, stride: int) -> list[int]:
         lib = self.sim.library
         if array.dtype.type is not lib.pointee[name]:
             raise TypeError(f"leg_sim.{name} points to {lib.pointee[name]}, not {array.dtype}")
-        return [getattr(lib.Sim, name).offset, stride, 1, address(array)]
+        return [getattr(lib.Sim, name).offset, stride, 1, array.ctypes.data]
 
     def _write_values(self, blocks: dict[str, np.ndarray]) -> None:
         """Each copy's own values into its rows of the struct's arrays."""
@@ -250,6 +251,16 @@ class Batch:
         return heights
 
 
+def lined_up(n: int, size: int, dtype: Any) -> np.ndarray:
+    """An (n, size) block of zeros whose rows each start a cache line: the copies two threads
+    run side by side then never write to one line (which would make the cores take turns)."""
+    item = np.dtype(dtype).itemsize
+    per = -(-size * item // LINE) * LINE // item  # a row's length, padded to whole lines
+    raw = np.zeros(n * per * item + LINE, dtype=np.uint8)
+    start = -raw.ctypes.data % LINE
+    return raw[start : start + n * per * item].view(dtype).reshape(n, per)[:, :size]
+
+
 def _actuator_array(state: Any, key: str) -> str:
     """The struct's array that ``ActuatorState.set(key, ...)`` changes (act_gain, ...)."""
     probe = copy(state)
@@ -265,7 +276,11 @@ class Copies:
                  blocks: dict[str, np.ndarray], structs: Any, codes: np.ndarray,
                  wall: float):  # fmt: skip
         self.batch, self.capacity, self.traj, self.blocks = batch, capacity, traj, blocks
-        self.structs, self.codes, self.wall_time = structs, codes, wall
+        self._raw, self.codes, self.wall_time = structs, codes, wall  # _raw: the structs' memory
+        sim_type = batch.sim.library.Sim
+        structs = [sim_type.from_address(structs.ctypes.data + k * structs.strides[0])
+                   for k in range(batch.n)]  # fmt: skip
+        self.structs = structs
         n = batch.n
         self.steps = np.array([s.steps for s in structs], dtype=np.int64)
         self.sim_time = np.array([s.t for s in structs])

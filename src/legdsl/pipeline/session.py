@@ -135,7 +135,8 @@ class RunSession:
         and its outputs by L (``legdsl.pipeline.scaled``). ``switches`` (``--switch`` texts,
         ``6s=gallop``, or ``Switch``es) change the controller during the run
         (``legdsl.sim.switching``). ``backend`` is ``python``, ``c`` or
-        ``auto``; None takes ``$LEGDSL_BACKEND``, else Python (``legdsl.pipeline.backend``)."""
+        ``auto``; None takes ``$LEGDSL_BACKEND``, else ``auto``: C where a compiler is found
+        (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         options = asked

@@ -30,14 +30,18 @@ typedef struct {
 } leg_copy_field;
 
 /* Runs copies until none is left; returns how many this call ran. codes[k] is leg_run's last
- * code for copy k (LEG_RAISED from leg_begin too) and copies[k] its struct at the end. */
+ * code for copy k (LEG_RAISED from leg_begin too); copy k's struct, at the end, is at
+ * copies + k * copy_stride. Two threads run copies k and k + 1 side by side, so each copy's
+ * struct and arrays start on cache lines of their own (Python lays them out so): sharing one
+ * would make the two cores take turns at it at every step. */
 int64_t leg_run_copies(const leg_sim *tmpl, const leg_copy_field *fields, int64_t n_fields,
-                       leg_sim *copies, int64_t *codes, int64_t n, int64_t *next) {
+                       char *copies, int64_t copy_stride, int64_t *codes, int64_t n,
+                       int64_t *next) {
     int64_t ran = 0;
     for (;;) {
         int64_t k = __atomic_fetch_add(next, 1, __ATOMIC_RELAXED);
         if (k >= n) return ran;
-        leg_sim *s = &copies[k];
+        leg_sim *s = (leg_sim *)(copies + k * copy_stride);
         memcpy(s, tmpl, sizeof *s);
         for (int64_t f = 0; f < n_fields; f++) {
             char *at = fields[f].base + k * fields[f].stride;
