@@ -144,13 +144,14 @@ class Creature:
         each with its own values of the inputs, parameters and actuator settings in ``vary``
         (a name and its ``n`` values with their unit: ``{"speed": (speeds, "m/s")}``) and its
         own start (``q0``, ``v0``: ``n`` rows of coordinates), run in C in ``threads`` threads
-        at once (``legdsl.pipeline.batch``); ``copies[k]`` is copy k's ``Run``."""
+        at once (default: one per core; ``legdsl.pipeline.batch``); ``copies[k]`` is copy k's
+        ``Run``."""
         from legdsl.pipeline.batch import Batch
 
         plan = self._session_args(controller, set, time, **options)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       options=plan["options"])  # fmt: skip
-        return Copies(self, batch.run(threads or 1))
+        return Copies(self, batch.run(threads))
 
     def _session_args(
         self,

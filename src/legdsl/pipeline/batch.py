@@ -3,7 +3,7 @@
     batch = Batch(session, 256, "hop", settings=["speed=2m/s"],
                   vary={"speed": (np.linspace(2, 5, 256), "m/s")},
                   options=RunOptions(duration=0.5))
-    copies = batch.run(threads=2)
+    copies = batch.run(threads=2)           # default: one thread per core
     copies.status, copies.sim_time          # arrays over the copies
     copies.trajectory(k), copies.run(k)     # copy k as a single run would give it
 
@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+import os
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -156,8 +157,9 @@ class Batch:
         return self.settings + own
 
     # ------------------------------------------------------------ the run
-    def run(self, threads: int = 1, progress: Progress | None = None) -> Copies:
-        """Run every copy (``threads`` at once); ``progress`` is called about every 0.2 s."""
+    def run(self, threads: int | None = None, progress: Progress | None = None) -> Copies:
+        """Run every copy, ``threads`` at once (default: one per core); ``progress`` is called
+        about every 0.2 s."""
         sim, lib = self.sim, self.sim.library
         loop = sim.new_loop(rows=1 << 62)  # the recording holds the whole run
         sim._setup(loop)
@@ -193,7 +195,7 @@ class Batch:
                 structs.strides[0], address(codes), n, address(taken))  # fmt: skip
         start = time.perf_counter()
         workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
-                   for _ in range(max(1, threads))]  # fmt: skip
+                   for _ in range(max(1, threads or os.cpu_count() or 1))]  # fmt: skip
         for w in workers:
             w.start()
         while any(w.is_alive() for w in workers):
