@@ -86,7 +86,10 @@ class Batch:
         self.plan = session.prepare(controller, self.settings, self.paths, self.options,
                                     backend="c")  # fmt: skip
         if not isinstance(self.plan.sim, CSimulation):
-            raise UsageError("a batch runs on the C backend: install a C compiler (gcc or clang)")
+            raise UsageError(
+                "a batch runs on the C backend, and this run would go on the Python backend: "
+                "the C runtime mirrors an older Python runtime (legdsl/sim/c_mirrors.py)"
+            )
         self.sim: CSimulation = self.plan.sim
         self._given: dict[str, tuple[np.ndarray, str]] = {}
         self.vary = {name: self._values(name, *given) for name, given in (vary or {}).items()}
@@ -162,7 +165,7 @@ class Batch:
         about every 0.2 s."""
         sim, lib = self.sim, self.sim.library
         loop = sim.new_loop(rows=1 << 62)  # the recording holds the whole run
-        sim._setup(loop)
+        arrays = sim.lay_out(loop)
         c, n = sim.c, self.n
         ticks = loop.n_steps // loop.control_every + 16  # a tick enters one state at most
         seconds = loop.n_steps * sim.options.dt
@@ -170,9 +173,9 @@ class Batch:
         c.step_budget, c.event_cap = loop.n_steps + 1, events  # leg_run returns once a copy
         blocks: dict[str, np.ndarray] = {}
         for name in lib.pointee:
-            if name.startswith("rec_") or name not in sim._keep:  # not this run's (no controller)
+            if name.startswith("rec_") or name not in arrays:  # not this run's (no controller)
                 continue
-            own = sim._keep[name]
+            own = arrays[name]
             size = {"event_t": events, "event_kind": events, "event_contact": events,
                     "ctl_event_t": ticks, "ctl_event_state": ticks}.get(name, own.size)  # fmt: skip
             block = lined_up(n, size, own.dtype)
@@ -217,7 +220,7 @@ class Batch:
 
     def _write_values(self, blocks: dict[str, np.ndarray]) -> None:
         """Each copy's own values into its rows of the struct's arrays."""
-        sim, m = self.sim, self.sim._running
+        sim, m = self.sim, self.sim.machine_in_c
         blocks["q"][:, : self.q0.shape[1]] = self.q0
         blocks["v"][:, : self.v0.shape[1]] = self.v0
         for name, values in self.vary.items():
@@ -237,19 +240,19 @@ class Batch:
         run's is (``RunSession._check_start``) when the copies start apart."""
         sim = self.sim
         if self.q0.strides[0] == 0:
-            return np.full(self.n, sim._standing_height())
+            return np.full(self.n, sim.standing_height())
         heights = np.empty(self.n)
-        saved = sim.q
+        saved, saved_v = sim.q, sim.v
         try:
             for k in range(self.n):
-                sim.q, sim._kinematics = self.q0[k].tolist(), None
+                sim.move_to(self.q0[k].tolist(), saved_v)
                 try:
                     self.session._check_start(sim)
                 except UsageError as e:
                     raise UsageError(f"q0 of copy {k}: {e}") from None
-                heights[k] = sim._standing_height()
+                heights[k] = sim.standing_height()
         finally:
-            sim.q, sim._kinematics = saved, None
+            sim.move_to(saved, saved_v)
         return heights
 
 
@@ -275,15 +278,14 @@ class Copies:
     """A batch's copies after their run: arrays over the copies, and each copy's run."""
 
     def __init__(self, batch: Batch, capacity: int, traj: Trajectory,
-                 blocks: dict[str, np.ndarray], structs: Any, codes: np.ndarray,
+                 blocks: dict[str, np.ndarray], memory: np.ndarray, codes: np.ndarray,
                  wall: float):  # fmt: skip
+        """``memory``: the copies' structs, one a row (``lined_up``)."""
         self.batch, self.capacity, self.traj, self.blocks = batch, capacity, traj, blocks
-        self._raw, self.codes, self.wall_time = structs, codes, wall  # _raw: the structs' memory
-        sim_type = batch.sim.library.Sim
-        structs = [sim_type.from_address(structs.ctypes.data + k * structs.strides[0])
-                   for k in range(batch.n)]  # fmt: skip
-        self.structs = structs
-        n = batch.n
+        self._memory, self.codes, self.wall_time = memory, codes, wall
+        n, sim_type = batch.n, batch.sim.library.Sim
+        self.structs = structs = [sim_type.from_address(memory.ctypes.data + k * memory.strides[0])
+                                  for k in range(n)]  # fmt: skip
         self.steps = np.array([s.steps for s in structs], dtype=np.int64)
         self.sim_time = np.array([s.t for s in structs])
         self.recorded = np.array([s.recorded for s in structs], dtype=np.int64)
@@ -340,8 +342,8 @@ class Copies:
 
     # ------------------------------------------------------------ one copy
     def _state_events(self, k: int) -> list[dict[str, Any]]:
-        m = self.batch.sim._running
-        if m is None or not self.batch.sim.c.c_control:
+        m = self.batch.sim.machine_in_c
+        if m is None:
             return []
         n = int(self.structs[k].n_ctl_events)
         times, states = self.blocks["ctl_event_t"][k, :n], self.blocks["ctl_event_state"][k, :n]
@@ -358,13 +360,12 @@ class Copies:
     def _result(self, k: int) -> RunResult:
         sim, s, code = self.batch.sim, self.structs[k], int(self.codes[k])
         model = sim.model
-        sim.q = self.blocks["q"][k, : model.nq].tolist()
-        sim.v = self.blocks["v"][k, : model.nv].tolist()
-        sim.t, sim._kinematics = float(s.t), None
+        q, v = self.blocks["q"][k, : model.nq], self.blocks["v"][k, : model.nv]
+        sim.move_to(q.tolist(), v.tolist(), float(s.t))
         status, cause, sim.message = "ok", "", ""
         try:
             if code == CHECK:
-                status = sim._check(float(self.batch.start_heights[k])) or "ok"
+                status = sim.fall_check(float(self.batch.start_heights[k])) or "ok"
                 if status == "ok":
                     raise RuntimeError("C and Python disagree on the fall check (a legdsl bug)")
                 cause = sim.message
@@ -385,13 +386,13 @@ class Copies:
             wall_time=self.wall_time / len(self),
             sim_time=float(s.t),
             cause=cause,
-            stop_time={st.dof: round(float(stops[i]), 9) for i, st in enumerate(sim._stops)},
+            stop_time={dof: round(float(stops[i]), 9) for i, dof in enumerate(sim.stop_dofs)},
         )
 
     def _run_in_python(self, k: int) -> Run:
         """Copy ``k`` run as a single run (it needed Python on the way)."""
         b = self.batch
         plan: Plan = b.session.prepare(b.controller, b.texts(k), b.paths, b.options, backend="c")
-        plan.sim.q, plan.sim.v = b.q0[k].tolist(), b.v0[k].tolist()
-        plan.sim._kinematics = None
+        assert isinstance(plan.sim, CSimulation)  # as the template's
+        plan.sim.move_to(b.q0[k].tolist(), b.v0[k].tolist())
         return plan.finish(plan.sim.run())

@@ -390,6 +390,36 @@ class CSimulation(Simulation):
         c.n_events = 0
         self._kinematics = None
 
+    # ------------------------------------------------------------ for a batch of copies
+    def lay_out(self, loop: RunLoop) -> dict[str, np.ndarray]:
+        """The struct set up to start ``loop`` and the arrays it points to, by field
+        (``legdsl.pipeline.batch`` lays them out once per copy)."""
+        self._setup(loop)
+        return dict(self._keep)
+
+    @property
+    def machine_in_c(self) -> StateMachine | None:
+        """The state machine whose ticks C takes (None: none, or Python takes them)."""
+        return self._running if self.c.c_control else None
+
+    def move_to(self, q: list[float], v: list[float], t: float = 0.0) -> None:
+        """This state (a batch's copy's), the kinematics found for the last one forgotten."""
+        self.q, self.v, self.t, self._kinematics = q, v, t, None
+
+    def standing_height(self) -> float:
+        """How far the root stands above its lowest foot (the fall rule's start height)."""
+        return self._standing_height()
+
+    def fall_check(self, start_height: float) -> str | None:
+        """``Simulation._check`` at the state now: None, or 'fell' (and the message); raises
+        the divergence it finds."""
+        return self._check(start_height)
+
+    @property
+    def stop_dofs(self) -> list[str]:
+        """The coordinates with joint stops, in the order of the struct's stop arrays."""
+        return [st.dof for st in self._stops]
+
     # ------------------------------------------------------------ the run
     def _begin(self) -> None:
         pass  # the ground's first update is C's, at the start of _loop
