@@ -78,6 +78,21 @@ def test_copies_of_a_3d_creature_on_a_path_are_the_single_runs() -> None:
         assert copies.run(k).path_reports == single.path_reports
 
 
+def test_copies_without_a_controller_and_with_rk4_and_a_schedule(roo: RunSession) -> None:
+    quad = RunSession.from_file(CREATURES / "quadruped.leg", generated=GENERATED)
+    drops = (0.0, 0.1)
+    starts = np.array([quad.prepare(None, options=RunOptions(drop=d)).sim.q for d in drops])
+    passive = Batch(quad, 2, None, q0=starts, options=RunOptions(duration=0.5)).run()
+    for k, drop in enumerate(drops):
+        opts = RunOptions(duration=0.5, drop=drop)
+        assert_same(quad.run(None, options=opts, backend="python").result, passive.result(k))
+    opts = RunOptions(duration=0.6, integrator="rk4")
+    scheduled = Batch(roo, 2, "hop", settings=["speed=4m/s@0.3s"], options=opts,
+                      vary={"speed": ([2, 3], "m/s")}).run()  # fmt: skip
+    for k in range(2):
+        assert_same(alone(roo, scheduled.batch.texts(k), opts), scheduled.result(k))
+
+
 def test_a_fall_and_a_divergence_end_as_alone() -> None:
     hopper = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
     opts = RunOptions(duration=1.0)
