@@ -117,6 +117,34 @@ def test_a_copy_that_needs_python_is_run_again_alone(
         assert_same(alone(roo, copies.batch.texts(k), opts), copies.result(k))
 
 
+def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C while the copies run (here: raised by the progress report): C stops the copy it
+    runs at its next step budget (here 1000 steps, 20000 in use), starts no more, and each
+    copy says how it ended, as a single run does."""
+
+    def ctrl_c(done: int, n: int, left: float) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(batch_module, "STEP_BUDGET", 1000)
+    opts = RunOptions(duration=20.0)
+    batch = Batch(roo, 8, "hop", options=opts, vary={"speed": (np.linspace(2, 4, 8), "m/s")})
+    copies = batch.run(threads=1, progress=ctrl_c)
+    assert copies.interrupted == "SIGINT (Ctrl-C)" and copies.rerun == 0
+    assert "interrupted" in set(copies.status) and copies.wall_time < 2.0
+    for k in [k for k in range(8) if 0 < copies.sim_time[k] < 20.0]:  # stopped on the way
+        result = copies.result(k)
+        assert result.status == "interrupted" and result.cause == "SIGINT (Ctrl-C)"
+        assert f"at t = {copies.sim_time[k]:.4f} s of 20 s" in result.message
+        whole = roo.run("hop", batch.texts(k), options=opts, backend="c").result.trajectory
+        kept = result.trajectory
+        assert 0 < len(kept) < len(whole)
+        assert kept.q.tobytes() == whole.q[: len(kept)].tobytes()
+    for k in np.flatnonzero(copies.sim_time == 0.0):
+        assert copies.status[k] == "interrupted" and len(copies.trajectory(int(k))) == 0
+
+
 @pytest.mark.parametrize(
     ("vary", "q0", "says"),
     [

@@ -47,13 +47,14 @@ from legdsl.sim.c_backend import (
     FULL,
     NONFINITE,
     RAISED,
+    STEP_BUDGET,
     YIELD,
     CSimulation,
 )
 from legdsl.sim.c_library import address
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
-from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.simulate import Interrupted, RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -170,7 +171,7 @@ class Batch:
         ticks = loop.n_steps // loop.control_every + 16  # a tick enters one state at most
         seconds = loop.n_steps * sim.options.dt
         events = max(16, int(EVENTS_PER_SECOND * seconds) + 16) * max(1, len(sim.contact_names))
-        c.step_budget, c.event_cap = loop.n_steps + 1, events  # leg_run returns once a copy
+        c.step_budget, c.event_cap = STEP_BUDGET, events  # C looks at `stop` every 20000 steps
         blocks: dict[str, np.ndarray] = {}
         for name in lib.pointee:
             if name.startswith("rec_") or name not in arrays:  # not this run's (no controller)
@@ -193,24 +194,28 @@ class Batch:
         table = np.array(fields, dtype=np.int64)
         structs = lined_up(n, ctypes.sizeof(lib.Sim), np.uint8)
         codes = np.full(n, -1, dtype=np.int64)
-        taken = np.zeros(1, dtype=np.int64)
+        taken, stop = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
         args = (ctypes.byref(c), address(table), len(table), structs.ctypes.data,
-                structs.strides[0], address(codes), n, address(taken))  # fmt: skip
-        start = time.perf_counter()
+                structs.strides[0], address(codes), n, address(taken), address(stop))  # fmt: skip
+        start, interrupted = time.perf_counter(), ""
         workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
                    for _ in range(max(1, threads or os.cpu_count() or 1))]  # fmt: skip
         for w in workers:
             w.start()
-        while any(w.is_alive() for w in workers):
-            workers[0].join(0.2)
-            if progress is not None:
-                done = int(np.count_nonzero(codes >= 0))
-                spent = time.perf_counter() - start
-                progress(done, n, spent / done * (n - done) if done else math.nan)
+        try:
+            while any(w.is_alive() for w in workers):
+                workers[0].join(0.2)
+                if progress is not None:
+                    done = int(np.count_nonzero(codes >= 0))
+                    spent = time.perf_counter() - start
+                    progress(done, n, spent / done * (n - done) if done else math.nan)
+        except (KeyboardInterrupt, Interrupted) as sig:  # the copies stop; what ran is kept
+            stop[0] = 1
+            interrupted = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
         for w in workers:
             w.join()
         wall = time.perf_counter() - start
-        return Copies(self, loop.capacity, traj, blocks, structs, codes, wall)
+        return Copies(self, loop.capacity, traj, blocks, structs, codes, wall, interrupted)
 
     def _field(self, name: str, array: np.ndarray, stride: int) -> list[int]:
         lib = self.sim.library
@@ -279,10 +284,12 @@ class Copies:
 
     def __init__(self, batch: Batch, capacity: int, traj: Trajectory,
                  blocks: dict[str, np.ndarray], memory: np.ndarray, codes: np.ndarray,
-                 wall: float):  # fmt: skip
-        """``memory``: the copies' structs, one a row (``lined_up``)."""
+                 wall: float, interrupted: str = ""):  # fmt: skip
+        """``memory``: the copies' structs, one a row (``lined_up``); ``interrupted``: the
+        signal that stopped the batch, if one did."""
         self.batch, self.capacity, self.traj, self.blocks = batch, capacity, traj, blocks
         self._memory, self.codes, self.wall_time = memory, codes, wall
+        self.interrupted = interrupted
         n, sim_type = batch.n, batch.sim.library.Sim
         self.structs = structs = [sim_type.from_address(memory.ctypes.data + k * memory.strides[0])
                                   for k in range(n)]  # fmt: skip
@@ -291,7 +298,7 @@ class Copies:
         self.recorded = np.array([s.recorded for s in structs], dtype=np.int64)
         self._results: dict[int, RunResult] = {}
         self._reruns: dict[int, Run] = {}
-        needs_python = np.isin(codes, [CONTROL, FULL, YIELD])
+        needs_python = np.isin(codes, [CONTROL, FULL, YIELD]) & (not interrupted)
         self.rerun = int(np.count_nonzero(needs_python))
         for index in np.flatnonzero(needs_python):
             self._reruns[int(index)] = self._run_in_python(int(index))
@@ -364,7 +371,13 @@ class Copies:
         sim.move_to(q.tolist(), v.tolist(), float(s.t))
         status, cause, sim.message = "ok", "", ""
         try:
-            if code == CHECK:
+            if self.interrupted and code not in (DONE, CHECK, NONFINITE, RAISED):
+                status, cause = "interrupted", self.interrupted  # as Simulation.run says it
+                sim.message = (
+                    f"interrupted by {cause} at t = {sim.t:.4f} s of {sim.options.duration:g} "
+                    "s; what was recorded up to then is kept"
+                )
+            elif code == CHECK:
                 status = sim.fall_check(float(self.batch.start_heights[k])) or "ok"
                 if status == "ok":
                     raise RuntimeError("C and Python disagree on the fall check (a legdsl bug)")

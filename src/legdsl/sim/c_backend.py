@@ -50,7 +50,7 @@ __all__ = ["CLibrary", "CSimulation", "available", "load_library", "python_versi
 STEP_BUDGET = 20000  # steps per call at most (about 10 ms of C)
 EVENT_CAP = 512  # contact events C keeps before Python drains them (LEG_YIELD)
 
-DONE, CONTROL, FULL, YIELD, CHECK, NONFINITE, RAISED = range(7)
+DONE, CONTROL, FULL, YIELD, CHECK, NONFINITE, RAISED, STOPPED = range(8)  # legdsl_sim.h's
 
 # legdsl_math.h's error codes as the exceptions Python raises there
 ERRORS: dict[int, Callable[[], BaseException]] = {

@@ -80,12 +80,12 @@ class CLibrary:
         for name in ("leg_run", "leg_begin"):
             getattr(self.lib, name).restype = ctypes.c_int64
             getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
-        # batch.c: (template, fields, n_fields, copies, copy_stride, codes, n, next); the fields
-        # are rows of four int64 (offset, stride, pointer, base), legdsl.pipeline.batch's
+        # batch.c: (template, fields, n_fields, copies, copy_stride, codes, n, next, stop); the
+        # fields are rows of four int64 (offset, stride, pointer, base), legdsl.pipeline.batch's
         self.lib.leg_run_copies.restype = ctypes.c_int64
         self.lib.leg_run_copies.argtypes = [
             ctypes.POINTER(self.Sim), ctypes.c_void_p, ctypes.c_int64, ctypes.c_void_p,
-            ctypes.c_int64, ctypes.c_void_p, ctypes.c_int64, ctypes.c_void_p,
+            ctypes.c_int64, ctypes.c_void_p, ctypes.c_int64, ctypes.c_void_p, ctypes.c_void_p,
         ]  # fmt: skip
         # the controller's state machine runs in C (else the Python one, at each control instant)
         self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)

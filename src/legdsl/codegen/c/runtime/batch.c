@@ -7,15 +7,17 @@
  * run by leg_begin and leg_run exactly as a single run is, so its samples are a single run's.
  *
  * Any number of threads share a batch, each in a call of its own (ctypes lets go of the GIL):
- * a call takes the next copy nobody has taken until none is left. The template's step budget
- * covers the run and its buffers hold all of it, so leg_run returns once per copy; a copy that
- * would need Python (a tick the C machine hands over, a buffer full) stops there with that
- * code, and Python runs it again its own way.
+ * a call takes the next copy nobody has taken until none is left. The template's buffers hold
+ * the whole run, so leg_run returns only when the copy ends, at its step budget (then the
+ * copy goes on unless the batch was told to stop: *stop, set by Python at Ctrl-C) or where
+ * it would need Python (a tick the C machine hands over, the event buffer full): the copy
+ * stops there with that code, and Python runs it again its own way.
  */
 #include <stdint.h>
 #include <string.h>
 
 #include "legdsl_sim.h"
+#include "dynamics.h"
 
 int64_t leg_begin(leg_sim *s);
 int64_t leg_run(leg_sim *s);
@@ -36,9 +38,10 @@ typedef struct {
  * would make the two cores take turns at it at every step. */
 int64_t leg_run_copies(const leg_sim *tmpl, const leg_copy_field *fields, int64_t n_fields,
                        char *copies, int64_t copy_stride, int64_t *codes, int64_t n,
-                       int64_t *next) {
+                       int64_t *next, const int64_t *stop) {
     int64_t ran = 0;
     for (;;) {
+        if (__atomic_load_n(stop, __ATOMIC_RELAXED)) return ran;
         int64_t k = __atomic_fetch_add(next, 1, __ATOMIC_RELAXED);
         if (k >= n) return ran;
         leg_sim *s = (leg_sim *)(copies + k * copy_stride);
@@ -51,7 +54,11 @@ int64_t leg_run_copies(const leg_sim *tmpl, const leg_copy_field *fields, int64_
                 memcpy((char *)s + fields[f].offset, at, 8);
         }
         int64_t code = leg_begin(s);
-        if (code == 0) code = leg_run(s);
+        while (code == 0) {
+            code = leg_run(s);
+            if (code != LEG_YIELD || s->n_events + LEG_NC > s->event_cap) break; /* Python's */
+            code = __atomic_load_n(stop, __ATOMIC_RELAXED) ? LEG_STOPPED : 0;
+        }
         codes[k] = code;
         ran++;
     }

@@ -63,7 +63,8 @@ enum {
     LEG_YIELD = 3,        /* the step budget of one call is spent, or the events buffer is full */
     LEG_CHECK = 4,        /* the fall and divergence check failed (Python says how) */
     LEG_NONFINITE = 5,    /* the state is no longer finite at a recorded instant */
-    LEG_RAISED = 6        /* Python would have raised: sim->err says what */
+    LEG_RAISED = 6,       /* Python would have raised: sim->err says what */
+    LEG_STOPPED = 7       /* a batch's copy stopped because the batch was told to (batch.c) */
 };
 
 /* The controller, when it runs in C (machine.c; the generated control_CONTROLLER.c). */
