@@ -18,7 +18,7 @@ from __future__ import annotations
 import html
 import math
 import tempfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -138,20 +138,22 @@ class Creature:
         q0: Any = None,
         v0: Any = None,
         threads: int | None = None,
+        progress: Callable[[int, int, float], None] | None = None,
         **options: Any,
     ) -> Copies:
         """``n`` copies of one run (``run``'s ``controller``, ``set``, ``time`` and options),
         each with its own values of the inputs, parameters and actuator settings in ``vary``
         (a name and its ``n`` values with their unit: ``{"speed": (speeds, "m/s")}``) and its
         own start (``q0``, ``v0``: ``n`` rows of coordinates), run in C in ``threads`` threads
-        at once (default: one per core; ``legdsl.pipeline.batch``); ``copies[k]`` is copy k's
-        ``Run``."""
+        at once (default: one per core; ``legdsl.pipeline.batch``); ``progress(done, n,
+        seconds_left)`` is called about every 0.2 s. ``copies[k]`` is copy k's ``Run``; at
+        Ctrl-C the copies stop and the ones cut short say ``interrupted``."""
         from legdsl.pipeline.batch import Batch
 
         plan = self._session_args(controller, set, time, **options)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       options=plan["options"])  # fmt: skip
-        return Copies(self, batch.run(threads))
+        return Copies(self, batch.run(threads, progress))
 
     def _session_args(
         self,
