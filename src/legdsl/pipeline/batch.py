@@ -20,7 +20,8 @@ All samples land in one trajectory of ``n * capacity`` rows (copy k's from row
 A copy that needs Python on the way (a controller with no C twin, a tick the C state machine
 hands over, more contact events than its buffer holds) stops in C and is run again through
 ``RunSession.prepare`` with its own values, on the C backend with Python's help, after the
-others (``Copies.rerun`` counts them).
+others (``Copies.rerun`` counts them). Ctrl-C stops the copies where they are: each keeps
+what it recorded and says ``interrupted``.
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ from legdsl.sim.c_backend import (
 from legdsl.sim.c_library import address
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
-from legdsl.sim.simulate import Interrupted, RunOptions, RunResult
+from legdsl.sim.simulate import Interrupted, RunLoop, RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -163,39 +164,15 @@ class Batch:
     # ------------------------------------------------------------ the run
     def run(self, threads: int | None = None, progress: Progress | None = None) -> Copies:
         """Run every copy, ``threads`` at once (default: one per core); ``progress`` is called
-        about every 0.2 s."""
-        sim, lib = self.sim, self.sim.library
+        about every 0.2 s. At Ctrl-C (or SIGTERM) the copies stop at their next 20000 steps
+        and none starts after: the copies say how they ended, as single runs do."""
+        sim, lib, n = self.sim, self.sim.library, self.n
         loop = sim.new_loop(rows=1 << 62)  # the recording holds the whole run
-        arrays = sim.lay_out(loop)
-        c, n = sim.c, self.n
-        ticks = loop.n_steps // loop.control_every + 16  # a tick enters one state at most
-        seconds = loop.n_steps * sim.options.dt
-        events = max(16, int(EVENTS_PER_SECOND * seconds) + 16) * max(1, len(sim.contact_names))
-        c.step_budget, c.event_cap = STEP_BUDGET, events  # C looks at `stop` every 20000 steps
-        blocks: dict[str, np.ndarray] = {}
-        for name in lib.pointee:
-            if name.startswith("rec_") or name not in arrays:  # not this run's (no controller)
-                continue
-            own = arrays[name]
-            size = {"event_t": events, "event_kind": events, "event_contact": events,
-                    "ctl_event_t": ticks, "ctl_event_state": ticks}.get(name, own.size)  # fmt: skip
-            block = lined_up(n, size, own.dtype)
-            block[:, : min(size, own.size)] = own[:size]
-            blocks[name] = block
-        self._write_values(blocks)
-        traj = empty_trajectory(sim, n * loop.capacity)
-        fields = [self._field(name, block, block.strides[0]) for name, block in blocks.items()]
-        for name in ARRAYS:
-            array = getattr(traj, name)
-            fields.append(self._field(f"rec_{name}", array, array.strides[0] * loop.capacity))
-        heights = self.start_heights
-        offset = lib.Sim.start_height.offset
-        fields.append([offset, heights.strides[0], 0, address(heights)])
-        table = np.array(fields, dtype=np.int64)
+        blocks, table, traj = self._lay_out(loop)
         structs = lined_up(n, ctypes.sizeof(lib.Sim), np.uint8)
         codes = np.full(n, -1, dtype=np.int64)
         taken, stop = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64)
-        args = (ctypes.byref(c), address(table), len(table), structs.ctypes.data,
+        args = (ctypes.byref(sim.c), address(table), len(table), structs.ctypes.data,
                 structs.strides[0], address(codes), n, address(taken), address(stop))  # fmt: skip
         start, interrupted = time.perf_counter(), ""
         workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
@@ -216,6 +193,36 @@ class Batch:
             w.join()
         wall = time.perf_counter() - start
         return Copies(self, loop.capacity, traj, blocks, structs, codes, wall, interrupted)
+
+    def _lay_out(self, loop: RunLoop) -> tuple[dict[str, np.ndarray], np.ndarray, Trajectory]:
+        """The template's struct set up for ``loop``, each of its arrays laid out once per
+        copy with the copy's own values in (by field), the table of fields ``leg_run_copies``
+        moves per copy, and the recording of every copy."""
+        sim, lib, n = self.sim, self.sim.library, self.n
+        arrays = sim.lay_out(loop)
+        ticks = loop.n_steps // loop.control_every + 16  # a tick enters one state at most
+        seconds = loop.n_steps * sim.options.dt
+        events = max(16, int(EVENTS_PER_SECOND * seconds) + 16) * max(1, len(sim.contact_names))
+        sim.c.step_budget, sim.c.event_cap = STEP_BUDGET, events  # C looks at `stop` between
+        sizes = {"event_t": events, "event_kind": events, "event_contact": events,
+                 "ctl_event_t": ticks, "ctl_event_state": ticks}  # fmt: skip
+        blocks: dict[str, np.ndarray] = {}
+        for name in lib.pointee:
+            if name.startswith("rec_") or name not in arrays:  # not this run's (no controller)
+                continue
+            own = arrays[name]
+            size = sizes.get(name, own.size)
+            blocks[name] = lined_up(n, size, own.dtype)
+            blocks[name][:, : min(size, own.size)] = own[:size]
+        self._write_values(blocks)
+        traj = empty_trajectory(sim, n * loop.capacity)
+        fields = [self._field(name, block, block.strides[0]) for name, block in blocks.items()]
+        for name in ARRAYS:
+            array = getattr(traj, name)
+            fields.append(self._field(f"rec_{name}", array, array.strides[0] * loop.capacity))
+        heights = self.start_heights
+        fields.append([lib.Sim.start_height.offset, heights.strides[0], 0, address(heights)])
+        return blocks, np.array(fields, dtype=np.int64), traj
 
     def _field(self, name: str, array: np.ndarray, stride: int) -> list[int]:
         lib = self.sim.library
