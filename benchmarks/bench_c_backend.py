@@ -276,7 +276,7 @@ def main() -> None:
         f"C and MuJoCo: the best of {REPEAT} runs, Python: one). "
         "On the C backend the state machine runs in C too (runtime/machine.c with the generated "
         "control_CONTROLLER.c), so a run enters Python only to start, to grow its recording and "
-        "every 20000 steps; the quadruped trots and, without a controller, drops. MuJoCo: `mj_step` on the exported MJCF "
+        "every 20000 steps; the quadruped trots and, without a controller, drops. MuJoCo: `mj_step` (its own loop in C, `nstep`) on the exported MJCF "
         "with its contacts and actuators on, twice: on the bare tree with MuJoCo's own soft "
         "contacts (as in the runtime section, the cheaper for MuJoCo), and as `legdsl export` "
         "writes it by default, whose anchor pads (a small body on two or three slides per foot, "
