@@ -14,7 +14,7 @@ from legdsl.check.source import check_model
 from legdsl.cli import main
 from legdsl.lower.control import lower_controller
 from legdsl.pipeline.generated import load_controller, load_dynamics
-from legdsl.sim.kinematics import FootPlacer
+from legdsl.sim.kinematics import FootPlacer, clip_step, solve_small
 from legdsl.sim.machine import InputChange, StateMachine
 from legdsl.sim.simulate import RunOptions, Simulation
 
@@ -139,6 +139,25 @@ def test_place_puts_the_foot_where_it_was_asked(generated: Path) -> None:
     hip = dyn.body_poses(sim.q)[1][0]
     assert foot[0] - hip[0] == pytest.approx(goal, abs=1e-9)
     assert setpoint == pytest.approx(-math.asin(goal / 0.8), abs=1e-9)  # a straight 0.8 m leg
+
+
+def test_the_placer_solve_agrees_with_lapack_and_stops_at_a_singular_matrix() -> None:
+    """kinematics.solve_small (the placer's Newton step; machine.c repeats it) against
+    numpy.linalg.solve, on the sizes a placement takes, pivoting included."""
+    rng = np.random.default_rng(3)
+    for n in (1, 2, 3):
+        for _ in range(200):
+            a = rng.normal(size=(n, n))
+            b = rng.normal(size=n)
+            if np.linalg.cond(a) > 1e6:
+                continue
+            got = solve_small(a.tolist(), b.tolist())
+            assert got is not None
+            np.testing.assert_allclose(got, np.linalg.solve(a, b), rtol=1e-9, atol=1e-12)
+    assert solve_small([[0.0, 1.0], [1.0, 0.0]], [2.0, 3.0]) == [3.0, 2.0]  # a row swap
+    assert solve_small([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]) is None  # singular
+    assert solve_small([[0.0]], [1.0]) is None
+    assert math.isnan(clip_step(math.nan)) and clip_step(1.0) == 0.3 and clip_step(-1.0) == -0.3
 
 
 def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(

@@ -36,7 +36,7 @@ import numpy as np
 
 from legdsl.ir.model import Model, Pad
 from legdsl.ir.paths import MEMBERS
-from legdsl.sim.c_library import CLibrary, address, available, load_library, numpy_dgesv
+from legdsl.sim.c_library import CLibrary, address, available, load_library
 from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
@@ -276,7 +276,6 @@ class CSimulation(Simulation):
         most = max([len(mod.RECORDS), *outputs])
         size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
-        c.dgesv = numpy_dgesv()
         self._setup_paths(m)
 
     def _setup_paths(self, m: StateMachine) -> None:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import ctypes
 import re
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -135,18 +134,3 @@ def address(array: np.ndarray) -> int:
     """The address of a contiguous array, for a pointer of the struct."""
     assert array.flags.c_contiguous
     return int(array.ctypes.data)
-
-
-@lru_cache(maxsize=1)
-def numpy_dgesv() -> int | None:
-    """The address of numpy.linalg.solve's own LAPACK dgesv (the placer's solve), or None."""
-    try:
-        from numpy.linalg import _umath_linalg
-
-        lib = ctypes.CDLL(_umath_linalg.__file__)
-        for name in ("scipy_dgesv_64_", "dgesv_64_", "scipy_dgesv_"):
-            if hasattr(lib, name):
-                return ctypes.cast(getattr(lib, name), ctypes.c_void_p).value
-    except (OSError, ImportError, AttributeError):
-        pass
-    return None

@@ -12,6 +12,12 @@ previous solution (or the current pose), so over successive control ticks of
 a flight phase it converges to the exact placement. Closed forms are not
 attempted: with massive links the solve is transcendental in general, and the
 warm-started Newton steps converge in one or two ticks.
+
+Each step's linear solve (two or three unknowns) is ``solve_small``: Gaussian
+elimination with partial pivoting in plain floats, whose every operation C
+repeats in the same order (runtime/machine.c), so the runs are the same doubles on
+both backends and on every processor (LAPACK's result would depend on the kernels
+OpenBLAS picks for the processor, and a call into it costs more than the solve).
 """
 
 from __future__ import annotations
@@ -19,8 +25,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from typing import Any
-
-import numpy as np
 
 from legdsl.ir.model import Model
 
@@ -67,29 +71,66 @@ class FootPlacer:
             rot = dyn.body_poses(q)[0][1]
             yaw = math.atan2(rot[3], rot[0])
         c, s = math.cos(yaw), math.sin(yaw)
+        cols = [dof.v_index for dof in dofs]
         for _ in range(self.iterations):
             foot = dyn.contact_positions(q)[spec.foot]
             hip = dyn.body_poses(q)[spec.hip][0]
             delta = (foot[0] - hip[0], foot[1] - hip[1], foot[2] - hip[2])
             rel = (c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1], delta[2])
-            residual = np.array([rel[r] - g for r, g in zip(rows, goals, strict=True)])
+            residual = [rel[r] - g for r, g in zip(rows, goals, strict=True)]
             jac = dyn.contact_jacobians(q)[spec.foot]
-            cols = [dof.v_index for dof in dofs]
-            world = np.array([[jac[r][i] for i in cols] for r in range(3)])
-            heading = np.array(
-                [c * world[0] + s * world[1], -s * world[0] + c * world[1], world[2]]
-            )
-            sub = heading[rows]
-            try:
-                step = np.linalg.solve(sub, -residual)
-            except np.linalg.LinAlgError:
+            world = [[jac[r][i] for i in cols] for r in range(3)]
+            heading = [
+                [c * x + s * y for x, y in zip(world[0], world[1], strict=True)],
+                [-s * x + c * y for x, y in zip(world[0], world[1], strict=True)],
+                world[2],
+            ]
+            step = solve_small([heading[r] for r in rows], [-x for x in residual])
+            if step is None:
                 break  # a singular pose (a straight leg): keep the last good guess
-            step = np.clip(step, -MAX_STEP, MAX_STEP)
             for k, dof in enumerate(dofs):
-                guess[k] += float(step[k])
+                guess[k] += clip_step(step[k])
                 q[dof.q_index] = guess[k]
         for k, servo in enumerate(servos):
             limits = self.limits[servo]
             if limits is not None:
                 guess[k] = min(max(guess[k], limits[0]), limits[1])
         return guess
+
+
+def clip_step(x: float) -> float:
+    """``x`` within ``MAX_STEP`` either way (a NaN passes: the state machine then faults)."""
+    if x < -MAX_STEP:
+        return -MAX_STEP
+    if x > MAX_STEP:
+        return MAX_STEP
+    return x
+
+
+def solve_small(a: list[list[float]], b: list[float]) -> list[float] | None:
+    """x with a x = b, by Gaussian elimination with partial pivoting (the first row of the
+    largest magnitude; each multiplier a division by the pivot) and back substitution, in
+    this order of operations, which runtime/machine.c's ``solve_small`` repeats; None where a
+    pivot is zero (the matrix is singular)."""
+    n = len(b)
+    m, x = [list(row) for row in a], list(b)
+    for col in range(n):
+        p = col
+        for r in range(col + 1, n):
+            if abs(m[r][col]) > abs(m[p][col]):
+                p = r
+        if m[p][col] == 0.0:
+            return None
+        m[col], m[p] = m[p], m[col]
+        x[col], x[p] = x[p], x[col]
+        for r in range(col + 1, n):
+            f = m[r][col] / m[col][col]
+            for k in range(col + 1, n):
+                m[r][k] = m[r][k] - f * m[col][k]
+            x[r] = x[r] - f * x[col]
+    for col in reversed(range(n)):
+        total = x[col]
+        for k in range(col + 1, n):
+            total = total - m[col][k] * x[k]
+        x[col] = total / m[col][col]
+    return x

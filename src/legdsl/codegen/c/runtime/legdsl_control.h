@@ -34,10 +34,6 @@ typedef struct {
     const double *const *places_d;    /* per place: low[n], high[n] */
 } leg_controller;
 
-/* LAPACK's dgesv with 64-bit integers: numpy.linalg.solve's own (legdsl/sim/kinematics.py) */
-typedef void (*leg_dgesv_fn)(const int64_t *n, const int64_t *nrhs, double *a, const int64_t *lda,
-                             int64_t *ipiv, double *b, const int64_t *ldb, int64_t *info);
-
 extern const leg_controller leg_the_controller;
 
 /* Sensors (legdsl/sim/sensors.py), computed from the state now; kinematics cached per tick. */

@@ -47,7 +47,7 @@
     X(int64_t *, sched_input) X(double *, sched_value) X(int64_t, n_hist) X(double *, hist_t) \
     X(double *, hist_inputs) X(int64_t, speed_input) X(double *, clocks) \
     X(int64_t, n_ctl_events) X(double *, ctl_event_t) X(int64_t *, ctl_event_state) \
-    X(double *, ctl_work) X(int64_t, ctl_ticks) X(void *, dgesv) \
+    X(double *, ctl_work) X(int64_t, ctl_ticks) \
     X(int64_t, n_paths) X(int64_t *, path_at) X(double *, path_data) X(double *, path_state) \
     X(int64_t, kin_valid) X(double *, kin) \
     X(double *, act_work) X(double *, rec_work_positive) X(double *, rec_work_negative)

@@ -310,6 +310,37 @@ double leg_sense_path(leg_sim *s, int k, int member, int *err) {
 #define PLACE_ITERATIONS 2 /* FootPlacer's default */
 #define MAX_STEP 0.3
 
+/* kinematics.solve_small: x with a x = b (a: n rows of n, row by row; b becomes x) by
+ * Gaussian elimination with partial pivoting, each operation the Python's in its order;
+ * 0, or 1 where a pivot is zero (Python's None: a singular pose). */
+static int solve_small(int64_t n, double *a, double *b) {
+    for (int64_t col = 0; col < n; col++) {
+        int64_t p = col;
+        for (int64_t r = col + 1; r < n; r++)
+            if (fabs(a[r * n + col]) > fabs(a[p * n + col])) p = r;
+        if (a[p * n + col] == 0.0) return 1;
+        for (int64_t k = 0; k < n; k++) {
+            double t = a[col * n + k];
+            a[col * n + k] = a[p * n + k];
+            a[p * n + k] = t;
+        }
+        double t = b[col];
+        b[col] = b[p];
+        b[p] = t;
+        for (int64_t r = col + 1; r < n; r++) {
+            double f = a[r * n + col] / a[col * n + col];
+            for (int64_t k = col + 1; k < n; k++) a[r * n + k] = a[r * n + k] - f * a[col * n + k];
+            b[r] = b[r] - f * b[col];
+        }
+    }
+    for (int64_t col = n - 1; col >= 0; col--) {
+        double total = b[col];
+        for (int64_t k = col + 1; k < n; k++) total = total - a[col * n + k] * b[k];
+        b[col] = total / a[col * n + col];
+    }
+    return 0;
+}
+
 /* The servos' setpoints that put the foot at goals from the hip; 0, or 1 where Python raises. */
 static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *goals) {
     int e = 0;
@@ -318,8 +349,7 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
     const int64_t *rows = pi + 3, *servo = rows + n, *qi = servo + n, *vi = qi + n;
     const int64_t *limited = vi + n;
     const double *low = pd, *high = pd + n;
-    leg_dgesv_fn dgesv = (leg_dgesv_fn)s->dgesv;
-    if (dgesv == 0 || n > 3) return 1;
+    if (n > 3) return 1;
     double q[LEG_NQ], guess[3], pose[12 * NB], pos[NCS], jac[3 * NC * LEG_NV + 1];
     for (int k = 0; k < LEG_NQ; k++) q[k] = s->q[k];
     for (int64_t k = 0; k < n; k++) {
@@ -350,7 +380,6 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double rel[3] = {c * delta[0] + sn * delta[1], -sn * delta[0] + c * delta[1], delta[2]};
         double residual[3], a[9], b[3], world[3][3], heading[3][3];
-        int64_t ipiv[3], info = 0, one = 1;
         for (int64_t k = 0; k < n; k++) residual[k] = rel[rows[k]] - goals[k];
         contact_jacobians_some(q, feet, jac, err);
         const double *J = jac + 3 * LEG_NV * foot;
@@ -361,14 +390,13 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
             heading[1][k] = -sn * world[0][k] + c * world[1][k];
             heading[2][k] = world[2][k];
         }
-        for (int64_t i = 0; i < n; i++) { /* numpy hands LAPACK the matrix column by column */
-            for (int64_t k = 0; k < n; k++) a[k * n + i] = heading[rows[i]][k];
+        for (int64_t i = 0; i < n; i++) {
+            for (int64_t k = 0; k < n; k++) a[i * n + k] = heading[rows[i]][k];
             b[i] = -residual[i];
         }
-        dgesv(&n, &one, a, &n, ipiv, b, &n, &info);
-        if (info != 0) break; /* a singular pose: numpy raises LinAlgError, the placer stops */
+        if (solve_small(n, a, b)) break; /* a singular pose: the placer stops */
         for (int64_t k = 0; k < n; k++) {
-            double step = b[k]; /* np.clip */
+            double step = b[k]; /* kinematics.clip_step */
             if (step < -MAX_STEP) step = -MAX_STEP;
             else if (step > MAX_STEP) step = MAX_STEP;
             guess[k] += step;
