@@ -240,7 +240,7 @@ class Batch:
                 actuator, _, key = name.partition(".")
                 k = [a.name for a in sim.actuators.states].index(actuator)
                 blocks[_actuator_array(sim.actuators.states[k], key)][:, k] = values
-            elif m is None or "ctl_inputs" not in blocks:
+            elif m is None:
                 continue  # the machine runs in Python: every copy runs again there
             elif name in m.input_names:
                 blocks["ctl_inputs"][:, m.input_names.index(name)] = values

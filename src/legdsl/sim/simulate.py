@@ -457,11 +457,11 @@ class Simulation:
         """The loop of a run from now, its recording ``rows`` long at first (at most the run's
         samples; it doubles when full: a long run starts at once, memory follows the samples)."""
         opts = self.options
-        n_steps = int(round(opts.duration / opts.dt))
-        capacity = n_steps // steps_per_sample(opts) + 1  # samples at most
+        n_steps, record_every = int(round(opts.duration / opts.dt)), steps_per_sample(opts)
+        capacity = n_steps // record_every + 1  # samples at most
         return RunLoop(
             n_steps=n_steps,
-            record_every=steps_per_sample(opts),
+            record_every=record_every,
             capacity=capacity,
             traj=empty_trajectory(self, min(capacity, rows)),
             control_every=max(1, int(round(opts.control_dt / opts.dt))),
