@@ -225,6 +225,49 @@ def test_a_unit_that_does_not_compile_fails_the_build_and_leaves_no_library(
     assert not build("hopper", files).cached  # and the good sources still build
 
 
+def test_a_damaged_library_in_the_cache_is_built_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A library cut short on the disk would crash the process that loads it (SIGBUS): its seal
+    (its own digest at its end) no longer matches, so it is built again, in a process of its
+    own here as a user's run would be."""
+    from legdsl.codegen.c.build import build, sealed, sources
+
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    files = sources(GENERATED / "hopper")
+    first = build("hopper", files)
+    assert sealed(first.path)
+    whole = first.path.read_bytes()
+    flipped = [bytearray(whole), bytearray(whole)]
+    flipped[0][-1] ^= 1  # in the seal
+    flipped[1][100] ^= 1  # in the ELF header
+    for damaged in (whole[:4096], *map(bytes, flipped)):
+        first.path.write_bytes(damaged)
+        assert not sealed(first.path)
+        code = (
+            "import ctypes; from pathlib import Path; from legdsl.codegen.c.build import build, "
+            f"sources; b = build('hopper', sources(Path({str(GENERATED / 'hopper')!r})));"
+            "ctypes.CDLL(str(b.path)); print(b.cached)"
+        )
+        env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+        done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+        assert (done.returncode, done.stdout.strip()) == (0, "False"), done.stderr
+        assert first.path.read_bytes() == whole
+
+
+def test_the_cache_keeps_the_most_recently_used_libraries(tmp_path: Path) -> None:
+    from legdsl.codegen.c.build import trim
+
+    sizes = {f"old-{k}.so": 1000 for k in range(5)} | {"new.so": 1000, "keep.so": 1000}
+    for k, (name, size) in enumerate(sizes.items()):
+        (tmp_path / name).write_bytes(b"x" * size)
+        os.utime(tmp_path / name, (1000 + k, 1000 + k))
+    os.utime(tmp_path / "keep.so", (0, 0))  # the oldest, but the one just built
+    (tmp_path / "notes.txt").write_text("not a library")
+    trim(tmp_path, keep=tmp_path / "keep.so", most=2500)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.so", "new.so", "notes.txt"]
+
+
 def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
     """Two processes building the same library into an empty cache: both end with a whole one."""
     env = dict(os.environ, LEGDSL_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT / "src"))

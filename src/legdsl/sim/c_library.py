@@ -123,9 +123,14 @@ def load_library(
     if key in _BY_STAT:
         _TRUSTED[trusted] = _BY_STAT[key]
         return _BY_STAT[key]
-    built = build(name, sources(generated_dir, controller))
+    files_text = sources(generated_dir, controller)
+    built = build(name, files_text)
     if built.path not in _LOADED:
-        _LOADED[built.path] = CLibrary(built, model)
+        try:
+            _LOADED[built.path] = CLibrary(built, model)
+        except OSError:  # another process trimmed the cache between the build and the load
+            built = build(name, files_text)
+            _LOADED[built.path] = CLibrary(built, model)
     _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
     return _LOADED[built.path]
 

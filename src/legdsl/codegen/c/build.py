@@ -26,11 +26,16 @@ the processor's features,
 so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
 reused. The compiler writes into a temporary file in the cache directory, which is then
 renamed to the final name: two runs that build the same library at once each rename a
-complete file, and a reader never sees a half-written one.
+complete file, and a reader never sees a half-written one. A library ends with its own
+SHA-256 after its last ELF byte (``seal``; the loader reads no further than the ELF says), and
+one whose digest does not match, cut short or damaged on the disk, is built again: loading it
+could crash the process (a truncated library is a SIGBUS, not an error). Each use touches the
+file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import shutil
@@ -62,6 +67,8 @@ FLAGS = (
     "-shared",
 )
 LIBS = ("-lm",)
+SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
+CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
 UNITS = (
     "dynamics.c",
@@ -177,7 +184,11 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
     root.mkdir(parents=True, exist_ok=True)
     final = root / f"{name}-{library_key(files, compiler)}.so"
     if final.is_file():
-        return Built(final, cached=True, seconds=0.0)
+        if sealed(final):
+            with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
+                os.utime(final)  # used now: the last to go when the cache is trimmed
+            return Built(final, cached=True, seconds=0.0)
+        final.unlink(missing_ok=True)  # damaged: built again below
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(dir=root, prefix=f".{name}-src-") as work:
         for file, text in files.items():
@@ -199,8 +210,47 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
         done = subprocess.run(command, capture_output=True, text=True)
         _check(done.returncode, command, done.stderr, name, compiler)
+        seal(partial)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
+    trim(root, keep=final)
     return Built(final, cached=False, seconds=time.perf_counter() - start)
+
+
+def seal(path: Path) -> None:
+    """Append the library's SHA-256 to it (``sealed`` checks it before a load)."""
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    with open(path, "ab") as out:
+        out.write(SEAL + digest.encode())
+
+
+def sealed(path: Path) -> bool:
+    """Whether the library is whole: its last bytes are the digest of the ones before."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return False
+    body, mark, digest = data.rpartition(SEAL)
+    return bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
+
+
+def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
+    """Remove the least recently used libraries while the cache holds more than ``most`` bytes.
+    A process that has a removed library loaded keeps it (the file lives on until closed); one
+    about to load it builds it again (``legdsl.sim.c_library.load_library``)."""
+    found = []
+    for path in root.glob("*.so"):
+        try:
+            info = path.stat()
+        except OSError:  # removed by another process meanwhile
+            continue
+        found.append((info.st_mtime, info.st_size, path))
+    total = sum(size for _, size, _ in found)
+    for _, size, path in sorted(found, key=lambda f: (f[0], str(f[2]))):
+        if total <= most:
+            break
+        if path != keep:
+            path.unlink(missing_ok=True)
+            total -= size
 
 
 def _check(code: int, command: list[str], stderr: str, name: str, compiler: Compiler) -> None:
