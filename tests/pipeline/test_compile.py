@@ -45,6 +45,7 @@ def test_compile_model_shows_every_stage(tiny: Path) -> None:
         "dynamics.c",
         "dynamics_some.c",
         "dynamics.h",
+        "SHA256SUMS",
     ]
     assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
     assert compiled.text("dynamics.py") == compile_model(tiny).text("dynamics.py")
@@ -56,6 +57,7 @@ def test_cli_compile_writes_the_modules(
     out = tmp_path / "gen"
     assert main(["compile", str(tiny), "--out", str(out)]) == 0
     assert sorted(p.name for p in (out / "tiny").iterdir()) == [
+        "SHA256SUMS",
         "__init__.py",
         "dynamics.c",
         "dynamics.h",
@@ -120,6 +122,7 @@ def test_write_replaces_the_whole_directory(tiny: Path, tmp_path: Path) -> None:
     (out / "tiny" / "stale.py").write_text("from an older legdsl", encoding="utf-8")
     write_generated(compile_model(tiny), out)
     assert sorted(os.listdir(out / "tiny")) == [
+        "SHA256SUMS",
         "__init__.py",
         "dynamics.c",
         "dynamics.h",

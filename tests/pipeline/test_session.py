@@ -75,6 +75,7 @@ def test_the_driver_returns_every_stage_and_parses_each_file_once(
         "dynamics.h",
         "control_hop.py",
         "control_hop.c",
+        "SHA256SUMS",
     ]
     assert [stage for stage, _ in compiled.timings] == ["parse", "check", "lower", "print"]
 
@@ -87,6 +88,7 @@ def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
     assert parses[str(HOPPER.resolve())] == 1
     assert "dynamics.py is missing; compiling" in log.getvalue()
     assert sorted(p.name for p in (tmp_path / "gen" / "hopper").iterdir()) == [
+        "SHA256SUMS",
         "__init__.py",
         "control_hop.c",
         "control_hop.py",
@@ -100,6 +102,36 @@ def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
     again.control("hop")
     assert log.getvalue().count("compiling") == 1
     assert session.controllers == ("hop",)
+
+
+@pytest.mark.parametrize(
+    ("damage", "said"),
+    [
+        (lambda text: text[: len(text) // 3], "changed since it was written"),  # cut short
+        (lambda text: text.replace("9.81", "1.62"), "changed since it was written"),  # an edit
+    ],
+)
+def test_a_damaged_generated_module_is_written_again(
+    generated: Path, damage: Any, said: str
+) -> None:
+    """A generated file cut short (its fingerprint intact) or edited by hand is not the file
+    SHA256SUMS lists: the run compiles the creature again instead of running the damaged code
+    (a cut one used to fail mid-run as a legdsl bug)."""
+    folder = generated / "hopper"
+    whole = (folder / "dynamics.py").read_text()
+    damaged = damage(whole)
+    assert damaged != whole and "MODEL_FINGERPRINT" in damaged
+    (folder / "dynamics.py").write_text(damaged)
+    log = io.StringIO()
+    session = RunSession.from_file(HOPPER, generated=generated, log=log)
+    assert f"dynamics.py is {said}" in log.getvalue()
+    assert (folder / "dynamics.py").read_text() == whole
+    run = session.run("hop", ["speed=1m/s"], options=RunOptions(duration=0.2), backend="python")
+    assert run.status == "ok"
+    (folder / "SHA256SUMS").unlink()  # an older legdsl's directory: written again, then listed
+    RunSession.from_file(HOPPER, generated=generated, log=log)
+    assert "dynamics.py is unchecked (not in a SHA256SUMS beside it)" in log.getvalue()
+    assert (folder / "SHA256SUMS").is_file()
 
 
 def test_the_cli_run_is_the_session_run(generated: Path, tmp_path: Path) -> None:

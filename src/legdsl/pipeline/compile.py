@@ -9,6 +9,7 @@ modules are stale). Writing ``generated/NAME/`` is ``legdsl.pipeline.generated``
 
 from __future__ import annotations
 
+import hashlib
 import multiprocessing
 import os
 import pickle
@@ -144,6 +145,7 @@ def compile_checked(
             pool.shutdown(cancel_futures=True)
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
+    files += ((SUMS, sha256_sums(files)),)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")
     return Compiled(
         source=source,
@@ -153,6 +155,18 @@ def compile_checked(
         lowered=controllers,
         files=files,
         timings=(*timings, ("lower", lowered), ("print", printed)),
+    )
+
+
+SUMS = "SHA256SUMS"  # in generated/NAME/: each file's digest, as ``sha256sum`` lists them
+
+
+def sha256_sums(files: tuple[tuple[str, str], ...]) -> str:
+    """The listing of ``sha256sum`` for the files (name, text) as written (UTF-8): loading
+    checks each file against it (``legdsl.pipeline.generated``), and so can
+    ``sha256sum -c SHA256SUMS``."""
+    return "".join(
+        f"{hashlib.sha256(text.encode('utf-8')).hexdigest()}  {name}\n" for name, text in files
     )
 
 

@@ -2,15 +2,18 @@
 
 A generated module is fresh when its fingerprint constant (``MODEL_FINGERPRINT`` in
 ``dynamics.py``, ``FINGERPRINT`` in ``control_CONTROLLER.py``) is the one the checked model
-gives now. Otherwise the creature is compiled and its directory replaced as a whole:
+gives now, and the file is the one legdsl wrote: its SHA-256 is the one ``SHA256SUMS`` lists
+(a file cut short or edited by hand would otherwise run, or fail deep inside a run). Otherwise
+the creature is compiled and its directory replaced as a whole:
 ``write_generated`` writes into a temporary sibling directory that is then renamed into place,
 so a failure leaves the previous directory untouched and never half-written.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -20,7 +23,7 @@ from legdsl.files import instant, recover_dir, remove, replace_dir, temp_sibling
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.compile import Compiled, compile_checked, compile_model
+from legdsl.pipeline.compile import SUMS, Compiled, compile_checked, compile_model
 
 
 def import_module_file(path: Path, name: str) -> ModuleType:
@@ -81,9 +84,11 @@ def _load(
         recover_dir(generated / model.name)  # after a compile that was killed
     reason = "missing"
     if path.is_file():
+        reason = next((why for _, why in _changed(path.parent, [file])), "")
+    if path.is_file() and not reason:
         try:
             module = import_module_file(path, label)
-        except Exception as e:  # half-written, hand-edited, a merge-conflict marker...
+        except Exception as e:  # a merge-conflict marker, an edit that kept its digest...
             reason = f"unreadable ({type(e).__name__}: {e})"
         else:
             if getattr(module, stamp[0], None) == stamp[1]:
@@ -120,21 +125,39 @@ def c_sources(
         wanted[f"control_{controller}.c"] = f'legdsl_control_fingerprint[] = "{stamp}";'
     if generated.is_dir():
         recover_dir(folder)
-    try:
-        fresh = (folder / "dynamics.h").is_file() and all(
-            line in (folder / file).read_text() for file, line in wanted.items()
-        )
-    except OSError:
-        fresh = False
-    if not fresh:
+    names = [*wanted, "dynamics.h"]
+    why = next((f"{name} is {why}" for name, why in _changed(folder, names)), None)
+    for file, line in wanted.items():
+        if why is None and line not in (folder / file).read_text(encoding="utf-8"):
+            why = f"{file} is stale"
+    if why:
         if log is not None:
-            names = ", ".join(wanted)
-            print(f"legdsl: {folder}/{{{names}}} missing or stale; compiling {source}", file=log)
+            listed = ", ".join(names)
+            print(f"legdsl: {folder}/{{{listed}}}: {why}; compiling {source}", file=log)
         compiled = (
             compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
         )
         write_generated(compiled, generated)
     return folder
+
+
+def _changed(folder: Path, names: Sequence[str]) -> Iterator[tuple[str, str]]:
+    """(name, why) for each file whose SHA-256 is not the one ``folder/SHA256SUMS`` lists."""
+    try:
+        lines = (folder / SUMS).read_text(encoding="utf-8").splitlines()
+        listed = {name: digest for digest, _, name in (line.partition("  ") for line in lines)}
+    except (OSError, UnicodeDecodeError):
+        listed = {}
+    for name in names:
+        try:
+            digest = hashlib.sha256((folder / name).read_bytes()).hexdigest()
+        except OSError:
+            yield name, "missing"
+            continue
+        if name not in listed:
+            yield name, f"unchecked (not in a {SUMS} beside it)"
+        elif listed[name] != digest:
+            yield name, f"changed since it was written (its SHA-256 is not the one {SUMS} lists)"
 
 
 def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
