@@ -255,6 +255,27 @@ def test_a_damaged_library_in_the_cache_is_built_again(
         assert first.path.read_bytes() == whole
 
 
+def test_a_cache_that_cannot_take_the_library_falls_back_to_python(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A full, unwritable or non-executable cache: the default backend runs in Python with a
+    notice; ``--backend c`` asked for C, so it is a user error naming the cache and the fixes."""
+    from legdsl.cli import main
+
+    (tmp_path / "file").write_text("a file where the cache's directory should be")
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "file" / "cache"))
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.1",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    said = capsys.readouterr().err
+    assert f"cannot build or load the C library in {tmp_path / 'file' / 'cache'}" in said
+    assert "running on the Python backend" in said
+    assert main([*argv, "--backend", "c"]) == 2
+    said = capsys.readouterr().err
+    assert "set LEGDSL_CACHE to another directory, or use --backend python" in said
+    assert "Traceback" not in said
+
+
 def test_the_cache_keeps_the_most_recently_used_libraries(tmp_path: Path) -> None:
     from legdsl.codegen.c.build import trim
 

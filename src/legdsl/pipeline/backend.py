@@ -14,7 +14,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from legdsl.codegen.c.build import DYNAMICS_FILES
+from legdsl.codegen.c.build import DYNAMICS_FILES, cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -83,6 +83,16 @@ def make_simulation(
             raise UsageError(f"--backend {backend}: {e}") from None
         except BuildFailed as e:
             raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
+        except OSError as e:  # the cache is full, unwritable, or on a file system without exec
+            why = f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})"
+            if backend == "c":
+                raise UsageError(
+                    f"--backend c: {why}; free space there, set LEGDSL_CACHE to another "
+                    "directory, or use --backend python"
+                ) from None
+            if log is not None:
+                print(f"legdsl: {why}: running on the Python backend", file=log)
+            return Simulation(model, dynamics, options, controller)
         if log is not None and not library.built.cached:
             print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
         libraries[name] = library

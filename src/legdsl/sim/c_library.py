@@ -128,8 +128,10 @@ def load_library(
     if built.path not in _LOADED:
         try:
             _LOADED[built.path] = CLibrary(built, model)
-        except OSError:  # another process trimmed the cache between the build and the load
-            built = build(name, files_text)
+        except OSError:
+            if built.path.exists():
+                raise  # e.g. a cache on a file system that may not map code (noexec)
+            built = build(name, files_text)  # another process trimmed the cache meanwhile
             _LOADED[built.path] = CLibrary(built, model)
     _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
     return _LOADED[built.path]
