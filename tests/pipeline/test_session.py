@@ -10,16 +10,19 @@ from typing import Any
 
 import pytest
 from conftest import CREATURES
+from runtime_helpers import assert_same
 
 import legdsl.check.source
 import legdsl.pipeline.compile
 import legdsl.pipeline.session
+import legdsl.sim.simulate
 from legdsl.check.source import check_file, check_tree
 from legdsl.cli import main
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline.compile import compile_file
 from legdsl.pipeline.session import RunSession
+from legdsl.sim.recorder import sample_bytes
 from legdsl.sim.simulate import RunOptions
 
 HOPPER = CREATURES / "hopper.leg"
@@ -132,6 +135,35 @@ def test_a_damaged_generated_module_is_written_again(
     RunSession.from_file(HOPPER, generated=generated, log=log)
     assert "dynamics.py is unchecked (not in a SHA256SUMS beside it)" in log.getvalue()
     assert (folder / "SHA256SUMS").is_file()
+
+
+def test_a_recording_that_would_fill_the_memory_stops_the_run_keeping_it(
+    generated: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The recording grows with the samples; one that would pass half the machine's memory
+    stops the run there, as interrupted, with what it recorded (the system would kill it
+    later with nothing written). The same on both backends. (The machine here has 1 MB.)"""
+    monkeypatch.setattr(legdsl.sim.simulate, "recording_budget", lambda: 2**19)
+    session = RunSession.from_file(HOPPER, generated=generated)
+    runs = [
+        session.run("hop", ["speed=1m/s"], options=RunOptions(duration=1e9), backend=backend)
+        for backend in ("python", "c")
+    ]
+    for run in runs:
+        assert run.status == "interrupted"
+        assert "by its recording filling half of this machine's memory" in run.result.message
+        rows = len(run.result.trajectory)
+        assert rows == 1024 and 2 * rows * sample_bytes(session.model) > 2**19  # no doubling
+    assert_same(*(run.result for run in runs))
+
+
+def test_a_batch_whose_recordings_cannot_fit_is_refused(generated: Path) -> None:
+    from legdsl.pipeline.batch import check_recordings
+
+    model = RunSession.from_file(HOPPER, generated=generated).model
+    check_recordings(model, RunOptions(duration=10.0), copies=4)  # fits
+    with pytest.raises(UsageError, match=r"a batch of 1000000 copies of 1000 s: their recordings"):
+        check_recordings(model, RunOptions(duration=1000.0), copies=1_000_000)
 
 
 def test_the_cli_run_is_the_session_run(generated: Path, tmp_path: Path) -> None:

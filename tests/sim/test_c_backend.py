@@ -261,7 +261,10 @@ def test_a_cache_that_cannot_take_the_library_falls_back_to_python(
     """A full, unwritable or non-executable cache: the default backend runs in Python with a
     notice; ``--backend c`` asked for C, so it is a user error naming the cache and the fixes."""
     from legdsl.cli import main
+    from legdsl.sim import c_library
 
+    for known in ("_LOADED", "_BY_STAT", "_TRUSTED"):  # as in a new process: nothing loaded yet
+        monkeypatch.setattr(c_library, known, {})
     (tmp_path / "file").write_text("a file where the cache's directory should be")
     monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "file" / "cache"))
     argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.1",

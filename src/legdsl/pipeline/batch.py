@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.session import Plan, Run, RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
@@ -54,8 +55,8 @@ from legdsl.sim.c_backend import (
 )
 from legdsl.sim.c_library import address
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.recorder import Divergence, empty_trajectory
-from legdsl.sim.simulate import Interrupted, RunLoop, RunOptions, RunResult
+from legdsl.sim.recorder import Divergence, empty_trajectory, recording_budget, sample_bytes
+from legdsl.sim.simulate import Interrupted, RunLoop, RunOptions, RunResult, steps_per_sample
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -93,6 +94,7 @@ class Batch:
                 "the C runtime mirrors an older Python runtime (legdsl/sim/c_mirrors.py)"
             )
         self.sim: CSimulation = self.plan.sim
+        check_recordings(session.model, self.sim.options, n)
         self._given: dict[str, tuple[np.ndarray, str]] = {}
         self.vary = {name: self._values(name, *given) for name, given in (vary or {}).items()}
         model = session.model
@@ -266,6 +268,23 @@ class Batch:
         finally:
             sim.move_to(saved, saved_v)
         return heights
+
+
+def check_recordings(model: Model, opts: RunOptions, copies: int) -> None:
+    """The copies' recordings are laid out at once, for every sample of their runs: more than
+    ``recording_budget`` is refused before anything runs."""
+    budget = recording_budget()
+    samples = copies * (int(round(opts.duration / opts.dt)) // steps_per_sample(opts) + 1)
+    need = samples * sample_bytes(model)
+    if budget is None or need <= budget:
+        return
+    rate = 1.0 / (steps_per_sample(opts) * opts.dt)
+    raise UsageError(
+        f"a batch of {copies} copies of {opts.duration:g} s: their recordings would take "
+        f"{need / 2**30:,.1f} GiB ({samples:,} samples at {rate:g} Hz), more than half of this "
+        f"machine's memory ({budget / 2**30:,.1f} GiB); record less often (record_rate="
+        f"{rate * budget / need:.3g} fits), run for less time, or run fewer copies at once"
+    )
 
 
 def lined_up(n: int, size: int, dtype: Any) -> np.ndarray:

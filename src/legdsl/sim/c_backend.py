@@ -41,7 +41,7 @@ from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
-from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation
+from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation, grow_recording
 from legdsl.sim.switching import SwitchingMachine
 from legdsl.sim.trajectory import ARRAYS
 
@@ -469,7 +469,7 @@ class CSimulation(Simulation):
                     progress(self.t, self.options.duration)
                     last_report = now
             elif code == FULL:
-                loop.traj = loop.traj.grown(min(loop.capacity, 2 * len(loop.traj)))
+                grow_recording(loop)
                 self._point_recording(loop)
             elif code == YIELD:
                 self._pull()

@@ -4,9 +4,11 @@ holds them; ``legdsl.sim.simulate`` decides when)."""
 from __future__ import annotations
 
 import math
+import os
 from typing import Any
 
-from legdsl.sim.trajectory import Trajectory, empty
+from legdsl.ir.model import Model
+from legdsl.sim.trajectory import ARRAYS, Trajectory, empty
 
 
 class Divergence(Exception):
@@ -34,6 +36,22 @@ def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
         gravity=-m.gravity[2],
         planar=m.planar,
     )
+
+
+def sample_bytes(model: Model) -> int:
+    """The memory one recorded sample of ``model``'s run takes (every array of its row)."""
+    nc, nl, na = len(model.contacts), len(model.legs), len(model.actuators)
+    one = empty(1, model.nq, model.nv, nc, nl, na)
+    return sum(getattr(one, name).nbytes for name in ARRAYS)
+
+
+def recording_budget() -> int | None:
+    """The most memory a run's recording may take: half the machine's (None where the system
+    does not say). Past it the system would kill the run, with nothing written."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
+    except (AttributeError, ValueError, OSError):
+        return None
 
 
 def record_row(sim: Any, traj: Trajectory, row: int) -> None:

@@ -21,9 +21,9 @@ from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
-from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.recorder import Divergence, empty_trajectory, record_row, recording_budget
 from legdsl.sim.stability import likely_cause
-from legdsl.sim.trajectory import Trajectory
+from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Vec = tuple[float, float, float]
 
@@ -93,6 +93,21 @@ class Interrupted(BaseException):
 
 
 INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
+
+
+def grow_recording(loop: RunLoop) -> None:
+    """Double the recording (to the run's samples at most), unless it would take more than
+    ``recording_budget``: then the run stops, keeping what it recorded, where the system would
+    have killed it later with nothing written (``--time 1e9`` runs until stopped)."""
+    rows = min(loop.capacity, 2 * len(loop.traj))
+    budget = recording_budget()
+    row = sum(getattr(loop.traj, name).nbytes for name in ARRAYS) // max(1, len(loop.traj))
+    if budget is not None and rows * row > budget:
+        raise Interrupted(
+            f"its recording filling half of this machine's memory ({budget / 2**30:.1f} GiB; "
+            "a lower --record-rate runs longer)"
+        )
+    loop.traj = loop.traj.grown(rows)
 
 
 @dataclass
@@ -494,7 +509,7 @@ class Simulation:
                 self.controller(self)
             if steps % loop.record_every == 0:
                 if loop.recorded == len(loop.traj):
-                    loop.traj = loop.traj.grown(min(loop.capacity, 2 * len(loop.traj)))
+                    grow_recording(loop)
                 self.generalized_forces(self.q, self.v, record=True)
                 record_row(self, loop.traj, loop.recorded)
                 loop.recorded += 1
