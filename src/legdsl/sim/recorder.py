@@ -8,7 +8,7 @@ import os
 from typing import Any
 
 from legdsl.ir.model import Model
-from legdsl.sim.trajectory import ARRAYS, Trajectory, empty
+from legdsl.sim.trajectory import Trajectory, empty
 
 
 class Divergence(Exception):
@@ -41,8 +41,7 @@ def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
 def sample_bytes(model: Model) -> int:
     """The memory one recorded sample of ``model``'s run takes (every array of its row)."""
     nc, nl, na = len(model.contacts), len(model.legs), len(model.actuators)
-    one = empty(1, model.nq, model.nv, nc, nl, na)
-    return sum(getattr(one, name).nbytes for name in ARRAYS)
+    return empty(0, model.nq, model.nv, nc, nl, na).row_bytes()
 
 
 def recording_budget() -> int | None:

@@ -23,7 +23,7 @@ from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row, recording_budget
 from legdsl.sim.stability import likely_cause
-from legdsl.sim.trajectory import ARRAYS, Trajectory
+from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
 
@@ -101,8 +101,7 @@ def grow_recording(loop: RunLoop) -> None:
     have killed it later with nothing written (``--time 1e9`` runs until stopped)."""
     rows = min(loop.capacity, 2 * len(loop.traj))
     budget = recording_budget()
-    row = sum(getattr(loop.traj, name).nbytes for name in ARRAYS) // max(1, len(loop.traj))
-    if budget is not None and rows * row > budget:
+    if budget is not None and rows * loop.traj.row_bytes() > budget:
         raise Interrupted(
             f"its recording filling half of this machine's memory ({budget / 2**30:.1f} GiB; "
             "a lower --record-rate runs longer)"

@@ -70,6 +70,11 @@ class Trajectory:
     def __len__(self) -> int:
         return int(self.t.shape[0])
 
+    def row_bytes(self) -> int:
+        """The memory one sample takes (a row of every array)."""
+        arrays = (getattr(self, name) for name in ARRAYS)
+        return sum(a.itemsize * int(np.prod(a.shape[1:])) for a in arrays)
+
     def head(self, n: int) -> Trajectory:
         """The first ``n`` samples (used to keep what was recorded when a run stops early)."""
         return self.rows(0, n)
