@@ -54,12 +54,14 @@ def test_a_grid_sweep_and_its_resume(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert all(again[k] == row for k, row in kept.items())  # the finished runs were kept
 
 
+@pytest.mark.parametrize("plan", [b"{}\n", b"not json {", b"\xff\xfe"])
 def test_another_sweep_in_the_same_directory_is_refused(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], plan: bytes
 ) -> None:
+    """Another sweep's plan, or a damaged one: refused as a user error, never resumed into."""
     out, generated = tmp_path / "sweep", tmp_path / "generated"
     out.mkdir()
-    (out / "sweep.json").write_text("{}\n")
+    (out / "sweep.json").write_bytes(plan)
     assert sweep(out, generated) == 2
     assert "holds another sweep" in capsys.readouterr().err
 

@@ -98,9 +98,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
             "from": args.t_from, "set": args.set, "runs": combos}  # fmt: skip
     plan_file = out / "sweep.json"
-    if plan_file.is_file() and json.loads(plan_file.read_text()) != plan:
+    if plan_file.is_file() and _plan_in(plan_file) != plan:
         raise UsageError(
-            f"{out} holds another sweep (its sweep.json differs); choose another --out or remove it"
+            f"{out} holds another sweep (its sweep.json differs, or is damaged); choose another --out or remove it"
         )
     write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     base = {
@@ -141,6 +141,15 @@ def _parquet(rows: list[dict[str, Any]], path: Path) -> None:
         return
     columns = {k: [r.get(k) for r in rows] for k in rows[0]} if rows else {}
     pq.write_table(pa.table(columns), path)
+
+
+def _plan_in(plan_file: Path) -> object:
+    """The plan a sweep directory records (None when its sweep.json is damaged: then it is
+    another sweep's, as far as this one can tell)."""
+    try:
+        return json.loads(plan_file.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
 
 
 def _writer_lock(out: Path) -> IO[str]:
