@@ -87,7 +87,10 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     try:
         yield tmp
         instant(f"wrote {tmp.name}")
-        os.replace(tmp, path)
+        try:
+            os.replace(tmp, path)
+        except OSError as e:  # name the file the user knows (a directory in its place...)
+            raise type(e)(e.errno, e.strerror, str(path)) from None
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.api.workers import Workers
+from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, UnitError, describe, parse_unit
 from legdsl.pipeline.settings import named_si_unit
@@ -236,13 +237,10 @@ def run_sweep(
         return done
     columns = ["run", *jobs[0].values, "outcome", "simulated", "strides", *METRICS]
     if table.exists():  # drop a line a kill left half-written before appending to it
-        fresh = table.with_name(f".{table.name}.{os.getpid()}")
-        fresh.unlink(missing_ok=True)
-        for row in done:
-            _append(fresh, columns, row)
-        if not done:
+        with atomic_path(table) as fresh:
             fresh.touch()
-        fresh.replace(table)
+            for row in done:
+                _append(fresh, columns, row)
     started = time.monotonic()
     with Workers(workers, dask) as pool:
         for count, row in enumerate(run_jobs(todo, pool), 1):
