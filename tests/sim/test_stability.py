@@ -129,3 +129,20 @@ def test_a_stiffness_written_in_the_file_is_refused_at_its_line(
     head = next(i for i, row in enumerate(err) if "is too stiff" in row)
     assert err[head].startswith(f"{leg}:{line}:3: error: actuator 'leg_spring' is too stiff")
     assert "k = 1e9 N/m" in err[head + 1] and err[head + 2].strip().startswith("^")
+
+
+def test_a_divergence_at_a_singular_mass_matrix_is_told_so() -> None:
+    """A joint at a singular configuration (gimbal lock) makes the mass matrix singular: the
+    likely cause says so, instead of suggesting a smaller step."""
+    from conftest import shipped_model
+
+    from legdsl.sim.stability import likely_cause
+
+    model = shipped_model("hopper")
+    q = [0.0, 1.0, 0.0, 0.0, 0.0]
+    locked = [[1.0, 0.0], [0.0, 1e-17]]
+    said = likely_cause(model, 0.0004, "euler", q, locked)
+    assert said.startswith("the mass matrix is singular here (condition number 1e+17)")
+    assert "gimbal lock" in said and "smaller --dt" not in said
+    for sound in ([[2.0, 0.1], [0.1, 1.0]], None):
+        assert "mass matrix" not in likely_cause(model, 0.0004, "euler", q, sound)

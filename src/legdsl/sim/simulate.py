@@ -10,6 +10,7 @@ A run that stops early keeps everything it recorded up to then.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from collections.abc import Callable
@@ -420,9 +421,14 @@ class Simulation:
             return "fell"
         return None
 
-    def likely_cause(self) -> str:
-        """Why a run diverged (``legdsl.sim.stability.likely_cause``)."""
-        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q)
+    def likely_cause(self, err: BaseException | None = None) -> str:
+        """Why a run diverged (``legdsl.sim.stability.likely_cause``); a division by zero may
+        be the dynamics' own, at a singular mass matrix, so that is looked at too."""
+        mass = None
+        if isinstance(err, ZeroDivisionError):
+            with contextlib.suppress(ArithmeticError, ValueError):
+                mass = self.dyn.mass_matrix(self.q)
+        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q, mass)
 
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
@@ -485,7 +491,7 @@ class Simulation:
     def diverged(self, err: BaseException) -> str:
         """The cause of a divergence ``err`` at the state now; sets the run's message."""
         state = ", ".join(f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True))
-        cause = f"{err}. Likely cause: {self.likely_cause()}"
+        cause = f"{err}. Likely cause: {self.likely_cause(err)}"
         self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
         return cause
 

@@ -33,6 +33,8 @@ import numpy as np
 from legdsl.ir.model import Model, Pad
 from legdsl.sim.actuators import ActuatorState
 
+SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
+
 # RK4's stability interval on the imaginary axis (undamped) and on the real axis (damped).
 RK4_OSCILLATION = 2.8284271247461903
 RK4_DAMPING = 2.785293563405282
@@ -108,9 +110,25 @@ def inverse_inertia_diagonal(mass_matrix: Sequence[Sequence[float]]) -> list[flo
         return [0.0] * len(mass_matrix)
 
 
-def likely_cause(model: Model, dt: float, integrator: str, q: Sequence[float]) -> str:
-    """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``."""
+def likely_cause(
+    model: Model,
+    dt: float,
+    integrator: str,
+    q: Sequence[float],
+    mass_matrix: Sequence[Sequence[float]] | None = None,
+) -> str:
+    """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
+    and the mass matrix there (where the dynamics could compute it)."""
     causes = []
+    if mass_matrix is not None:
+        m = np.asarray(mass_matrix, dtype=float)
+        condition = np.linalg.cond(m) if np.all(np.isfinite(m)) else math.inf
+        if not condition < SINGULAR:
+            causes.append(
+                f"the mass matrix is singular here (condition number {condition:.2g}): a joint "
+                "is at a singular configuration, such as a ball joint whose first and last axes "
+                "line up (gimbal lock); give that joint other axes or keep it away from there"
+            )
     g = model.ground
     if g is not None and model.contacts:
         lightest = min(model.body(c.body).mass for c in model.contacts)
