@@ -28,7 +28,7 @@ from mjhelpers import index_maps, quat_to_matrix
 from legdsl.check.source import check_model
 from legdsl.export.mjcf import CONTACT_RADIUS, TIMESTEP, model_to_mjcf
 from legdsl.export.mjcontact import invweight0
-from legdsl.export.mjpads import AnchorPad, anchor_pads
+from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
 from legdsl.ir.model import Model, Pad, Terrain
 from legdsl.lang.errors import LegError
 from legdsl.pipeline.generated import load_dynamics
@@ -146,6 +146,27 @@ def test_a_pad_too_heavy_for_its_body_is_a_leg_error() -> None:
     with pytest.raises(LegError, match="anchor pad for contact 'toe'.*--no-anchor-pads"):
         model_to_mjcf(heavy)
     assert "toe_pad" not in model_to_mjcf(heavy, pads=False)
+
+
+def test_a_planar_body_keeps_its_moment_about_y_under_a_heavy_pad() -> None:
+    """A planar body's x and z moments never act: a pad that leaves its moment about y
+    positive fits, though taking it out of the checker's (I, I, I) breaks the triangle
+    inequality (the shank's tangent damper at 300 N*s/m: a 0.06 kg pad 0.25 m from its
+    mass centre)."""
+    model = check_model(CREATURES / "hopper.leg")
+    assert model.ground is not None
+    tangent = dataclasses.replace(model.ground.tangent, b=300.0)
+    model = dataclasses.replace(model, ground=dataclasses.replace(model.ground, tangent=tangent))
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model))
+    shank = next(b for b in model.bodies if b.name == "shank")
+    pad = next(p for p in anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if p.contact == "toe")
+    mass, centre, inertia = carrier_inertials(model, (pad,))["shank"]
+    assert mass + pad.mass == pytest.approx(shank.mass)
+    com, point = np.asarray(shank.com), np.asarray(pad.point)
+    iyy = inertia[1, 1] + pad.inertia + pad.mass * float(((point - com)[[0, 2]] ** 2).sum())
+    iyy += mass * float(((centre - com)[[0, 2]] ** 2).sum())
+    assert iyy == pytest.approx(shank.inertia[1][1], rel=1e-12)
+    assert mj.body("shank").mass[0] == pytest.approx(mass)
 
 
 def _with_terrain(model: Model, *features: tuple[str, dict[str, float]]) -> Model:
