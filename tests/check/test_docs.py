@@ -36,3 +36,20 @@ def test_quoted_errors_are_in_the_bad_input_corpus() -> None:
 def test_every_unit_and_every_friendly_message_is_documented() -> None:
     assert [u for u in UNITS if f"`{u}`" not in DOC] == []
     assert [m for m, _ in friendly_errors() if f"> error: {m}\n" not in DOC] == []
+
+
+def test_the_standard_library_table_gives_every_action_with_its_parameters() -> None:
+    """docs/controllers.md names each action of stdlib/raibert.leg with the parameters it
+    takes, in order (a user calls it from that table)."""
+    library = (ROOT / "src" / "legdsl" / "stdlib" / "raibert.leg").read_text(encoding="utf-8")
+    actions = {
+        name: [p.strip() for p in params.split(",")]
+        for name, params in re.findall(r"^action\s+(\w+)\s*\(([^)]*)\)", library, flags=re.M)
+    }
+    table = (ROOT / "docs" / "controllers.md").read_text(encoding="utf-8")
+    documented = {
+        name: [p.strip() for p in params.split(",")]
+        for name, params in re.findall(r"`(\w+)\(([^)`]*)\)`", table)
+        if name in actions
+    }
+    assert documented == actions
