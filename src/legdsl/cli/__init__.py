@@ -331,9 +331,12 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
     k.add_argument(
         "--out",
+        "--generated",
+        dest="out",
         default="generated",
         metavar="DIR",
-        help="where to write NAME/ (default: generated)",
+        help="where to write NAME/ (default: generated); --generated is the same option, "
+        "named as in run, animate and the other commands that read the modules",
     )
     _COMMANDS["compile"] = _cmd_compile
 
