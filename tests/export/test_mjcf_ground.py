@@ -53,6 +53,37 @@ def test_invweight0_is_mujocos(name: str, pads: bool) -> None:
         assert mj.body(body).invweight0 == pytest.approx([tran, rot], rel=1e-9)
 
 
+TAIL_XYX = """\
+creature a {
+  spatial
+  body trunk free { mass 3 kg  inertia (0.1, 0.1, 0.1) kg*m^2  initial z = 1 m }
+  body tail on trunk via ball wag at (-0.1 m, 0 m, 0 m) {
+    axes (1, 0, 0), (0, 1, 0), (1, 0, 0)
+    initial wag_2 = 20 deg
+    direction (-1, 0, 0)  length 0.3 m  com 0.15 m  mass 0.3 kg  inertia (0.0002, 0.002, 0.002) kg*m^2
+  }
+  contact tip on tail at tip
+  ground { normal spring(k = 1e4 N/m)  tangent spring(k = 1e4 N/m, b = 50 N*s/m) }
+}
+"""
+
+
+@pytest.mark.parametrize("pads", [True, False])
+def test_invweight0_of_a_joint_in_gimbal_lock_at_zero_is_mujocos(
+    tmp_path: Path, pads: bool
+) -> None:
+    """The weights are taken at zero coordinates, where a ball joint about x, y, x (started
+    elsewhere) is in gimbal lock: a singular mass matrix, which MuJoCo weighs too (the
+    export raised numpy's LinAlgError, an internal error)."""
+    leg = tmp_path / "a.leg"
+    leg.write_text(TAIL_XYX)
+    model = check_model(leg)
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=pads))
+    anchors = anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if pads else ()
+    for body, (tran, rot) in invweight0(model, anchors).items():
+        assert mj.body(body).invweight0 == pytest.approx([tran, rot], rel=1e-9)
+
+
 def test_pad_force_follows_eq6() -> None:
     model = check_model(CREATURES / "kangaroo.leg")
     assert model.ground is not None and isinstance(model.ground.normal, Pad)
