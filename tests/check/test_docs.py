@@ -53,3 +53,20 @@ def test_the_standard_library_table_gives_every_action_with_its_parameters() -> 
         if name in actions
     }
     assert documented == actions
+
+
+def test_the_action_example_checks_in_the_hopper(tmp_path: Path) -> None:
+    """The example under "### Actions" checks in a controller of the shipped hopper, with
+    the alias and the names it reads (it added a length to an angle)."""
+    example = re.search(r"### Actions\n\n((?:    .*\n)+)", DOC)
+    assert example is not None
+    action = example.group(1).replace("action place_foot(", "action place_foot_doc(")
+    hopper = (ROOT / "creatures" / "hopper.leg").read_text(encoding="utf-8")
+    hopper = hopper.replace("hip_motor = hip_motor\n", "hip_motor = hip_motor, hip = hip_servo\n")
+    hopper = hopper.replace("  roles active = main\n", "  roles active = main\n" + action)
+    hopper = hopper.replace("place_foot(active, speed + speed_trim, k_speed, stance_guess)",
+                            "place_foot_doc(active)")  # fmt: skip
+    assert "place_foot_doc(active)" in hopper and "hip = hip_servo" in hopper
+    path = tmp_path / "hopper.leg"
+    path.write_text(hopper, encoding="utf-8")
+    assert check_file(path)
