@@ -36,3 +36,37 @@ def test_quoted_errors_are_in_the_bad_input_corpus() -> None:
 def test_every_unit_and_every_friendly_message_is_documented() -> None:
     assert [u for u in UNITS if f"`{u}`" not in DOC] == []
     assert [m for m, _ in friendly_errors() if f"> error: {m}\n" not in DOC] == []
+
+
+def test_the_standard_library_table_gives_every_action_with_its_parameters() -> None:
+    """docs/controllers.md names each action of stdlib/raibert.leg with the parameters it
+    takes, in order (a user calls it from that table)."""
+    library = (ROOT / "src" / "legdsl" / "stdlib" / "raibert.leg").read_text(encoding="utf-8")
+    actions = {
+        name: [p.strip() for p in params.split(",")]
+        for name, params in re.findall(r"^action\s+(\w+)\s*\(([^)]*)\)", library, flags=re.M)
+    }
+    table = (ROOT / "docs" / "controllers.md").read_text(encoding="utf-8")
+    documented = {
+        name: [p.strip() for p in params.split(",")]
+        for name, params in re.findall(r"`(\w+)\(([^)`]*)\)`", table)
+        if name in actions
+    }
+    assert documented == actions
+
+
+def test_the_action_example_checks_in_the_hopper(tmp_path: Path) -> None:
+    """The example under "### Actions" checks in a controller of the shipped hopper, with
+    the alias and the names it reads (it added a length to an angle)."""
+    example = re.search(r"### Actions\n\n((?:    .*\n)+)", DOC)
+    assert example is not None
+    action = example.group(1).replace("action place_foot(", "action place_foot_doc(")
+    hopper = (ROOT / "creatures" / "hopper.leg").read_text(encoding="utf-8")
+    hopper = hopper.replace("hip_motor = hip_motor\n", "hip_motor = hip_motor, hip = hip_servo\n")
+    hopper = hopper.replace("  roles active = main\n", "  roles active = main\n" + action)
+    hopper = hopper.replace("place_foot(active, speed + speed_trim, k_speed, stance_guess)",
+                            "place_foot_doc(active)")  # fmt: skip
+    assert "place_foot_doc(active)" in hopper and "hip = hip_servo" in hopper
+    path = tmp_path / "hopper.leg"
+    path.write_text(hopper, encoding="utf-8")
+    assert check_file(path)

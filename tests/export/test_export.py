@@ -405,6 +405,22 @@ def test_cli_export_bad_file_writes_nothing(
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["bad.leg"]
 
 
+def test_cli_export_mistake_shows_its_line_and_caret(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A mistake only the export finds (a pad too heavy for its body) is shown like the
+    checker's: file:line:col, the line and a caret."""
+    text = (CREATURES / "hopper.leg").read_text()
+    bad = tmp_path / "heavy.leg"
+    bad.write_text(text.replace("tangent spring(k = 2e4 N/m, b = 200 N*s/m)",
+                                "tangent spring(k = 2e4 N/m, b = 1000 N*s/m)"))  # fmt: skip
+    assert main(["export", str(bad), "--format", "mjcf", "-o", str(tmp_path / "x.xml")]) == 2
+    line = next(i for i, t in enumerate(text.split("\n"), 1) if "contact toe" in t)
+    err = capsys.readouterr().err.split("\n")
+    assert err[0].startswith(f"{bad}:{line}:3: error: the MJCF export's anchor pad")
+    assert err[1:3] == ["      contact toe on shank at tip", "      ^~~~~~~~~~~~~~~~~~~~~~~~~~~"]
+
+
 def test_write_atomic_keeps_the_old_file_on_failure(tmp_path: Path) -> None:
     target = tmp_path / "x.xml"
     target.write_text("old")

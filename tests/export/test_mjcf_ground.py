@@ -28,7 +28,7 @@ from mjhelpers import index_maps, quat_to_matrix
 from legdsl.check.source import check_model
 from legdsl.export.mjcf import CONTACT_RADIUS, TIMESTEP, model_to_mjcf
 from legdsl.export.mjcontact import invweight0
-from legdsl.export.mjpads import AnchorPad, anchor_pads
+from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
 from legdsl.ir.model import Model, Pad, Terrain
 from legdsl.lang.errors import LegError
 from legdsl.pipeline.generated import load_dynamics
@@ -50,6 +50,37 @@ def test_invweight0_is_mujocos(name: str, pads: bool) -> None:
     weights = invweight0(model, anchors)
     assert len(weights) == mj.nbody - 1  # every body, the pads' included
     for body, (tran, rot) in weights.items():
+        assert mj.body(body).invweight0 == pytest.approx([tran, rot], rel=1e-9)
+
+
+TAIL_XYX = """\
+creature a {
+  spatial
+  body trunk free { mass 3 kg  inertia (0.1, 0.1, 0.1) kg*m^2  initial z = 1 m }
+  body tail on trunk via ball wag at (-0.1 m, 0 m, 0 m) {
+    axes (1, 0, 0), (0, 1, 0), (1, 0, 0)
+    initial wag_2 = 20 deg
+    direction (-1, 0, 0)  length 0.3 m  com 0.15 m  mass 0.3 kg  inertia (0.0002, 0.002, 0.002) kg*m^2
+  }
+  contact tip on tail at tip
+  ground { normal spring(k = 1e4 N/m)  tangent spring(k = 1e4 N/m, b = 50 N*s/m) }
+}
+"""
+
+
+@pytest.mark.parametrize("pads", [True, False])
+def test_invweight0_of_a_joint_in_gimbal_lock_at_zero_is_mujocos(
+    tmp_path: Path, pads: bool
+) -> None:
+    """The weights are taken at zero coordinates, where a ball joint about x, y, x (started
+    elsewhere) is in gimbal lock: a singular mass matrix, which MuJoCo weighs too (the
+    export raised numpy's LinAlgError, an internal error)."""
+    leg = tmp_path / "a.leg"
+    leg.write_text(TAIL_XYX)
+    model = check_model(leg)
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=pads))
+    anchors = anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if pads else ()
+    for body, (tran, rot) in invweight0(model, anchors).items():
         assert mj.body(body).invweight0 == pytest.approx([tran, rot], rel=1e-9)
 
 
@@ -146,6 +177,27 @@ def test_a_pad_too_heavy_for_its_body_is_a_leg_error() -> None:
     with pytest.raises(LegError, match="anchor pad for contact 'toe'.*--no-anchor-pads"):
         model_to_mjcf(heavy)
     assert "toe_pad" not in model_to_mjcf(heavy, pads=False)
+
+
+def test_a_planar_body_keeps_its_moment_about_y_under_a_heavy_pad() -> None:
+    """A planar body's x and z moments never act: a pad that leaves its moment about y
+    positive fits, though taking it out of the checker's (I, I, I) breaks the triangle
+    inequality (the shank's tangent damper at 300 N*s/m: a 0.06 kg pad 0.25 m from its
+    mass centre)."""
+    model = check_model(CREATURES / "hopper.leg")
+    assert model.ground is not None
+    tangent = dataclasses.replace(model.ground.tangent, b=300.0)
+    model = dataclasses.replace(model, ground=dataclasses.replace(model.ground, tangent=tangent))
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model))
+    shank = next(b for b in model.bodies if b.name == "shank")
+    pad = next(p for p in anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if p.contact == "toe")
+    mass, centre, inertia = carrier_inertials(model, (pad,))["shank"]
+    assert mass + pad.mass == pytest.approx(shank.mass)
+    com, point = np.asarray(shank.com), np.asarray(pad.point)
+    iyy = inertia[1, 1] + pad.inertia + pad.mass * float(((point - com)[[0, 2]] ** 2).sum())
+    iyy += mass * float(((centre - com)[[0, 2]] ** 2).sum())
+    assert iyy == pytest.approx(shank.inertia[1][1], rel=1e-12)
+    assert mj.body("shank").mass[0] == pytest.approx(mass)
 
 
 def _with_terrain(model: Model, *features: tuple[str, dict[str, float]]) -> Model:

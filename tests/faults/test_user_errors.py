@@ -216,6 +216,39 @@ def test_a_foot_under_the_ground_is_a_user_error(
     assert code == 0
 
 
+RIG = """\
+creature rig {
+  planar
+  body frame fixed at (0 m, 0.4 m) { mass 5 kg  inertia 0.1 kg*m^2 }
+  body shin on frame via prismatic knee { length 0.45 m  mass 1 kg  inertia 0.01 kg*m^2 }
+  contact paw on shin at tip
+  actuator kn on knee spring(k = 3000 N/m)
+  ground { normal spring(k = 1e4 N/m)  tangent spring(k = 1e4 N/m) }
+}
+"""
+
+
+def test_a_root_welded_to_the_world_cannot_be_dropped(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A fixed root has no z to lift: --drop is a user error (it was an internal one), and a
+    foot under the ground says to move the point after 'fixed at', not to use --drop."""
+    leg = tmp_path / "rig.leg"
+    leg.write_text(RIG)
+    argv = ["run", str(leg), "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "r")]
+    code, err = _run(capsys, [*argv, "--time", "0.05", "--drop", "0.1"])
+    assert code == 2
+    assert "--drop lifts a free root, but creature 'rig' is welded to the world" in err
+    code, err = _run(capsys, argv)
+    assert code == 2
+    assert "contact 'paw' of creature 'rig' starts 0.05 m under the ground" in err
+    assert "raise the point after 'fixed at' of its root body 'frame'" in err
+    assert "--drop" not in err
+    leg.write_text(RIG.replace("0.4 m)", "0.5 m)"))
+    code, err = _run(capsys, [*argv, "--time", "0.05"])
+    assert code == 0, err
+
+
 def test_deep_nesting_that_is_accepted_compiles_and_runs(
     capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
 ) -> None:

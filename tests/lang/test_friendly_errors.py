@@ -132,6 +132,14 @@ REALISTIC: dict[str, tuple[str, str]] = {
         ),
         "22:5",
     ),
+    "'==' compares; a statement sets a value": (
+        controller("    state FLIGHT on liftoff(active): active.spring.rest == 0.1 m\n"),
+        "21:58",
+    ),
+    "properties are not separated by ','": (
+        HOPPER.replace("mass 1 kg  inertia 0.01 kg*m^2", "mass 1 kg, inertia 0.01 kg*m^2"),
+        "10:24",
+    ),
     "a comparison needs a value on both sides": (
         controller("    state FLIGHT on active.touching = 0: active.spring.rest = 0.1 m\n"),
         "21:37",

@@ -72,6 +72,13 @@ def test_cli_compile_writes_the_modules(
     assert "tiny: lowered in" in err and "wrote" in err
 
 
+def test_cli_compile_takes_generated_as_run_does(tiny: Path, tmp_path: Path) -> None:
+    """`legdsl run --generated DIR` reads what `legdsl compile --generated DIR` writes."""
+    out = tmp_path / "gen"
+    assert main(["compile", str(tiny), "--generated", str(out)]) == 0
+    assert (out / "tiny" / "dynamics.py").is_file()
+
+
 def test_compile_all_compiles_every_creature_here(
     tiny: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

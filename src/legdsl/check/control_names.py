@@ -132,9 +132,11 @@ class NameResolver:
         if found is None:
             if report:
                 names = [*self.scope.names, *self.scope.signals, *local]
-                self.err(
-                    ident.span, f"unknown name '{ident.name}'{did_you_mean(ident.name, names)}"
+                advice = did_you_mean(ident.name, names) or (
+                    ": not a part of the creature, nor an input, parameter, signal, role, path "
+                    f"or record of the controller; declare it, as in 'param {ident.name} = ...'"
                 )
+                self.err(ident.span, f"unknown name '{ident.name}'{advice}")
             return None
         if isinstance(found, ir.Named) and found.kind == "record":
             return ir.Named("record", found.name, self.scope.records.get(found.name))

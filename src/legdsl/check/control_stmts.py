@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
 from legdsl.ir.model import setting_kind
 from legdsl.lang import ast
@@ -131,7 +131,7 @@ class Elaborator(ExprChecker):
                 s.action.span,
                 f"unknown action '{s.action.name}'; define it with 'action {s.action.name}(...) "
                 f"{{ ... }}' or 'use' a library that has it"
-                f"{did_you_mean(s.action.name, self.scope.actions)}",
+                f"{library_advice(s.action.name) or did_you_mean(s.action.name, self.scope.actions)}",
             )
             return None
         if len(s.args) != len(action.params):
@@ -255,4 +255,12 @@ def _cannot_set(text: str) -> str:
     return (
         f"'{text}' cannot be set; a controller sets actuator inputs: k, b, rest of a spring; "
         "kp, kv, setpoint of a servo; force of a force or torque actuator"
+    )
+
+
+def library_advice(name: str) -> str:
+    """For an unknown action the standard library has: which library, and the line to add."""
+    library = stdlib_actions().get(name)
+    return (
+        f": the standard library {library} has it (add the line 'use {library}')" if library else ""
     )

@@ -154,6 +154,9 @@ def choose(items: list[Named], creature: str | None, path: str | Path) -> Named:
             return item
     names = ", ".join(item.name for item in items)
     wanted = (
-        f"there is no creature '{creature}'" if creature else "choose a creature with --creature"
+        f"there is no creature '{creature}'"
+        if creature
+        else "choose a creature with --creature (creature= in Python)"
     )
-    raise LegError.at(Span(str(path), 1, 1, 1, 2), f"{wanted}: this file has {names}")
+    # the whole file (line 0): no line of it is the mistake, so none is shown with a caret
+    raise LegError.at(Span(str(path), 0, 0, 0, 0), f"{wanted}: this file has {names}")

@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import contextlib
 import difflib
+import functools
 import math
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,6 +18,17 @@ from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe, parse_unit
 
 STDLIB = Path(__file__).parents[1] / "stdlib"
+
+
+@functools.cache
+def stdlib_actions() -> dict[str, str]:
+    """Each top-level action of the standard library, with the library that has it, for
+    the advice on an unknown action ('use raibert')."""
+    out: dict[str, str] = {}
+    for path in sorted(STDLIB.glob("*.leg")):
+        for name in re.findall(r"^action\s+(\w+)\s*\(", path.read_text(), re.MULTILINE):
+            out.setdefault(name, path.stem)
+    return out
 
 
 # A creature's name names files and directories (generated/NAME/, runs/NAME/, NAME.xml), and a

@@ -8,6 +8,7 @@ reported as such (with the traceback under ``--debug``) and exits with 70.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 import traceback
@@ -27,6 +28,17 @@ from legdsl.cli.run import add_run_parser
 from legdsl.lang.errors import LegError, UsageError
 
 _COMMANDS: dict[str, Command] = {}
+
+
+def _render(e: LegError) -> str:
+    """The mistakes with their lines and carets, also those found after the check (an
+    export's, a run's), which carry no source text: it is read from the file."""
+    for d in e.diagnostics:
+        name = d.span.file
+        if d.span.line > 0 and name not in e.sources:
+            with contextlib.suppress(OSError, UnicodeDecodeError):
+                e.sources[name] = Path(name).read_text(encoding="utf-8-sig")
+    return e.render()
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -319,9 +331,12 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
     k.add_argument(
         "--out",
+        "--generated",
+        dest="out",
         default="generated",
         metavar="DIR",
-        help="where to write NAME/ (default: generated)",
+        help="where to write NAME/ (default: generated); --generated is the same option, "
+        "named as in run, animate and the other commands that read the modules",
     )
     _COMMANDS["compile"] = _cmd_compile
 
@@ -426,7 +441,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     check_output_file(value, flag)
         return _COMMANDS[args.command](args)
     except LegError as e:
-        print(e.render(), file=sys.stderr)
+        print(_render(e), file=sys.stderr)
         return EXIT_USER_ERROR
     except UsageError as e:
         print(f"legdsl: {e}", file=sys.stderr)

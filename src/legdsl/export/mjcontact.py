@@ -110,7 +110,12 @@ def invweight0(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, tupl
                 jv[:, i] += np.cross(axis, x - at)
         mass += m * jv.T @ jv + jw.T @ inertia @ jw
         jacobians[name] = (jv, jw)
-    inverse = np.linalg.inv(mass)
+    try:
+        inverse = np.linalg.inv(mass)
+    except np.linalg.LinAlgError:
+        # Singular at zero coordinates (a ball joint about x, y, x is in gimbal lock there,
+        # though it starts elsewhere): MuJoCo's weights are the pseudo-inverse's then.
+        inverse = np.linalg.pinv(mass)
     return {
         name: (
             float(np.trace(jv @ inverse @ jv.T)) / 3.0,

@@ -25,8 +25,10 @@ has its slides ``a`` off the ground, and the normal force's share ``N tan a``
 then loads them too. The torsion spring (3D) is not exported.
 
 The pad's mass is taken out of its body (mass, mass centre and inertia), so
-at rest the body with its pads has the declared mass properties exactly; how
-heavy it is follows from the integrator's stability (PAD_STEP_EIGENVALUE).
+at rest the body with its pads has the declared mass properties exactly (a planar
+body: its moment about y, the only one that acts; its other moments are chosen to keep
+it a rigid body); how heavy it is follows from the integrator's stability
+(PAD_STEP_EIGENVALUE).
 """
 
 from __future__ import annotations
@@ -162,14 +164,20 @@ def _shift(mass: float, d: np.ndarray) -> np.ndarray:
     return mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
 
 
+def _rigid(inertia: np.ndarray) -> bool:
+    """Whether an inertia tensor is a rigid body's: positive moments, triangle inequality."""
+    moments = np.linalg.eigvalsh(inertia)
+    return bool(moments.min() > 0 and 2 * moments.max() <= moments.sum() * (1 + 1e-9))
+
+
 def carrier_inertials(
     model: Model, pads: tuple[AnchorPad, ...]
 ) -> dict[str, tuple[float, np.ndarray, np.ndarray]]:
     """Every body's (mass, mass centre, inertia about it) with its pads' mass taken out.
 
     The body and its pads at rest (zero slides) have the declared mass, mass
-    centre and inertia; a ``LegError`` at the contact says so if what is left
-    is not a valid rigid body.
+    centre and inertia (a planar body: its moment about y); a ``LegError`` at the
+    contact says so if what is left is not a valid rigid body.
     """
     out = {
         b.name: (b.mass, np.asarray(b.com, float), np.asarray(b.inertia, float))
@@ -183,8 +191,11 @@ def carrier_inertials(
         left = (
             inertia - pad.inertia * np.eye(3) - _shift(pad.mass, p - c) - _shift(rest, centre - c)
         )
-        moments = np.linalg.eigvalsh(left)
-        if rest <= 0 or moments.min() <= 0 or 2 * moments.max() > moments.sum() * (1 + 1e-9):
+        if model.planar and rest > 0 and left[1, 1] > 0 and not _rigid(left):
+            # A planar creature turns about y only: its bodies' other moments (the checker
+            # makes them Iyy) never act, so they are chosen to keep the carrier a rigid body.
+            left = left[1, 1] * np.eye(3)
+        if rest <= 0 or not _rigid(left):
             contact = next(x for x in model.contacts if x.name == pad.contact)
             raise LegError.at(
                 contact.span,

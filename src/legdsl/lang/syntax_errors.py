@@ -225,7 +225,7 @@ _UNIT_NAMES: dict[str, str | None] = {
     "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
     "degree": "deg", "radian": "rad", "revolution": "rev",
     "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
-    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": None,
+    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": "rev/min",
 }  # fmt: skip
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 _UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")

@@ -139,6 +139,12 @@ class RunSession:
         (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
+        if asked.drop is not None and self._welded() is not None:
+            raise UsageError(
+                f"--drop lifts a free root, but creature '{self.model.name}' is welded to the "
+                f"world (its root body '{self._welded()}' is 'fixed'): to start it higher, "
+                "move the point after 'fixed at' in the .leg file"
+            )
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
@@ -199,12 +205,23 @@ class RunSession:
         if not under:
             return
         name, depth = max(under, key=lambda c: c[1])
+        welded = self._welded()
+        fix = (
+            f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
+            "with --drop H (the lowest foot H metres above the ground)"
+            if welded is None
+            else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
+            f"{depth:.3g} m in the .leg file"
+        )
         raise UsageError(
             f"{self.source}: contact '{name}' of creature '{self.model.name}' starts "
-            f"{depth:.3g} m under the ground (the ground would throw the body up); raise the "
-            f"root's initial z by at least {depth:.3g} m in the .leg file, or start with "
-            "--drop H (the lowest foot H metres above the ground)"
+            f"{depth:.3g} m under the ground (the ground would throw the body up); {fix}"
         )
+
+    def _welded(self) -> str | None:
+        """The root body's name when it is welded to the world (no z to lift), else None."""
+        root = next(j for j in self.model.joints if j.parent is None)
+        return root.child if root.kind == "fixed" else None
 
     def _check_stiffness(
         self, sim: Simulation, controls: Iterable[ModuleType | None], given: set[str]
