@@ -27,6 +27,7 @@ from legdsl.check.source import check_model
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
+from legdsl.pipeline.settings import require_controller
 
 Command = Callable[[argparse.Namespace], int]
 
@@ -75,12 +76,7 @@ def add_sweep_parser(sub: Any) -> Command:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     model = check_model(args.file, args.creature)
-    names = [c.name for c in model.controllers]
-    if args.controller not in names:
-        raise UsageError(
-            f"--controller {args.controller}: creature '{model.name}' has no such controller "
-            f"(it has {', '.join(names) or 'none'})"
-        )
+    require_controller(model, args.controller)
     controller = model.controller(args.controller)
     dims: dict[str, Dim] = {c.name: c.dim for c in (*controller.inputs, *controller.params)}
     axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")

@@ -121,6 +121,8 @@ class LegChecker(CreaturePart):
         if leg_joints[0] not in chain:
             self.err(
                 decl.name.span,
-                f"the foot '{foot}' of leg '{decl.name.name}' is not below its first joint '{leg_joints[0]}'",
+                f"the foot '{foot}' of leg '{decl.name.name}' is not below its first joint "
+                f"'{leg_joints[0]}': list the joints from the body down to the foot "
+                f"(the joints above '{contact_by[foot].body}': {', '.join(reversed(chain)) or 'none'})",
             )
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)

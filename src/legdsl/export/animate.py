@@ -188,7 +188,8 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
 
         size = write_gltf(motion, out, args.format, skin=args.skin)
     print(
-        f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} links, "
+        f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
+        f"link{'s' if len(motion.bodies) != 1 else ''}, "
         f"{motion.frames} keyframes over {motion.duration:.2f} s)"
     )
     return 0

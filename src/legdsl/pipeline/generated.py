@@ -24,6 +24,7 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.compile import SUMS, Compiled, compile_checked, compile_model
+from legdsl.pipeline.settings import require_controller
 
 
 def import_module_file(path: Path, name: str) -> ModuleType:
@@ -58,12 +59,7 @@ def load_controller(
     syntax: ast.SourceFile | None = None,
 ) -> ModuleType:
     """The generated control module of one of the creature's controllers (compiled if needed)."""
-    names = [c.name for c in model.controllers]
-    if controller not in names:
-        raise UsageError(
-            f"--controller {controller}: creature '{model.name}' has no such controller "
-            f"(it has {', '.join(names) or 'none'})"
-        )
+    require_controller(model, controller)
     stamp = ("FINGERPRINT", controller_fingerprint(model, model.controller(controller)))
     return _load(model, source, generated, f"control_{controller}.py", stamp, log, syntax)
 

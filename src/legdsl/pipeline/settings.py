@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from legdsl.check.values import did_you_mean
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.ir.scene import Scene, choose_gaits
@@ -175,6 +176,16 @@ class Settings:
         return starting_values(*names, own, self.inputs, self.params)
 
 
+def require_controller(model: Model, controller: str) -> None:
+    """``--controller NAME``: a ``UsageError`` unless the creature has that controller."""
+    names = [c.name for c in model.controllers]
+    if controller not in names:
+        raise UsageError(
+            f"--controller {controller}: creature '{model.name}' has no such controller"
+            f"{did_you_mean(controller, names)} (it has {', '.join(names) or 'none'})"
+        )
+
+
 def sort_settings(
     texts: list[str], model: Model, controller: str | None, later: Sequence[str] = ()
 ) -> Settings:
@@ -233,10 +244,12 @@ def sort_settings(
         else:
             known = ", ".join([*inputs, *params]) or "none"
             which = f"controller {controller}" if not later else "no controller of the run"
+            hint = did_you_mean(name, [*inputs, *params])
             raise UsageError(
-                f"--set {name}: {which} has no input or parameter {name!r} (it has {known})"
+                f"--set {name}: {which} has no input or parameter {name!r}{hint} (it has {known})"
                 if not later
-                else f"--set {name}: {which} has an input or parameter {name!r} (they have {known})"
+                else f"--set {name}: {which} has an input or parameter {name!r}{hint} "
+                f"(they have {known})"
             )
     return out
 
@@ -284,8 +297,8 @@ def _controller_setting(
     if key not in dims:
         known = ", ".join(dims) or "none"
         raise UsageError(
-            f"{where}: controller {owner} has no input or parameter {key!r} (it has {known})"
-            + _caret(text, len(owner) + 1, len(key))
+            f"{where}: controller {owner} has no input or parameter {key!r}"
+            f"{did_you_mean(key, dims)} (it has {known})" + _caret(text, len(owner) + 1, len(key))
         )
     if at is not None:
         raise UsageError(
