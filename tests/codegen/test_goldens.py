@@ -8,6 +8,7 @@ that only reorders terms can be re-blessed with confidence.
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import os
 import subprocess
@@ -32,9 +33,17 @@ def test_golden_is_current(name: str) -> None:
     for file_name, text in compiled.files:
         golden = (folder / file_name).read_bytes()
         if golden != text.encode("utf-8"):
+            diff = difflib.unified_diff(
+                golden.decode("utf-8", "replace").splitlines(),
+                text.splitlines(),
+                "checked in",
+                "printed now",
+                lineterm="",
+            )
             pytest.fail(
                 f"generated/{name}/{file_name} is stale (the compiler now prints something else): "
-                f"run `{UPDATE}` from the project root, check the diff, and commit generated/",
+                f"run `{UPDATE}` from the project root, check the diff, and commit generated/\n"
+                + "\n".join(list(diff)[:40]),
                 pytrace=False,
             )
 
