@@ -43,7 +43,7 @@ from legdsl.codegen.c.build import build, find_compiler, sources  # noqa: E402
 from legdsl.pipeline.compile import compile_model  # noqa: E402
 from legdsl.pipeline.generated import write_generated  # noqa: E402
 from legdsl.pipeline.session import RunSession  # noqa: E402
-from legdsl.sim.simulate import RunOptions  # noqa: E402
+from legdsl.sim.run_loop import RunOptions  # noqa: E402
 from legdsl.sim.trajectory import ARRAYS  # noqa: E402
 
 # The issue's transliteration of forward_dynamics into C, microseconds per call (issue 14)

@@ -29,7 +29,7 @@ from report import DOC, replace_section  # noqa: E402
 from legdsl.check.source import check_model  # noqa: E402
 from legdsl.export.mjcf import model_to_mjcf  # noqa: E402
 from legdsl.pipeline.session import RunSession  # noqa: E402
-from legdsl.sim.simulate import RunOptions  # noqa: E402
+from legdsl.sim.run_loop import RunOptions  # noqa: E402
 
 CREATURES = ("kangaroo", "biped", "quadruped", "hopper")
 DURATION = 3.0

@@ -26,7 +26,7 @@ import numpy as np
 from legdsl.analysis.metrics import compute_metrics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import si_unit
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 KANGAROO = ROOT / "creatures" / "kangaroo.leg"

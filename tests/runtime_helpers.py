@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.run_loop import RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS
 
 _CACHE: dict[str, RunSession] = {}

@@ -28,7 +28,8 @@ from legdsl.analysis.clearance import terrain_contacts  # noqa: E402
 from legdsl.check.source import check_model  # noqa: E402
 from legdsl.pipeline.generated import load_controller, load_dynamics  # noqa: E402
 from legdsl.sim.machine import StateMachine  # noqa: E402
-from legdsl.sim.simulate import RunOptions, Simulation  # noqa: E402
+from legdsl.sim.run_loop import RunOptions  # noqa: E402
+from legdsl.sim.simulate import Simulation  # noqa: E402
 
 KANGAROO = ROOT / "creatures" / "kangaroo.leg"
 GROUND = "    friction none\n  }"

@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from legdsl.pipeline.batch import Batch  # noqa: E402
 from legdsl.pipeline.session import RunSession  # noqa: E402
-from legdsl.sim.simulate import RunOptions  # noqa: E402
+from legdsl.sim.run_loop import RunOptions  # noqa: E402
 
 # (creature, controller, commanded m/s, run seconds): the shipped gaits at speeds their tests
 # and docs hold them to

@@ -13,7 +13,8 @@ from legdsl.analysis.metrics import compute_metrics
 from legdsl.check.source import check_model
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+from legdsl.sim.run_loop import RunOptions, RunResult
+from legdsl.sim.simulate import Simulation
 
 BIPED = CREATURES / "biped.leg"
 GALLOP = ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")

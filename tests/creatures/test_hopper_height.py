@@ -19,7 +19,8 @@ from legdsl.analysis.rows import apex_heights
 from legdsl.check.source import check_model
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 HOPPER = CREATURES / "hopper.leg"
 

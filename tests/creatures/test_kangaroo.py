@@ -16,7 +16,8 @@ from conftest import CREATURES
 from legdsl.check.source import check_model
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 KANGAROO = CREATURES / "kangaroo.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")

@@ -16,7 +16,8 @@ from legdsl.api import Run
 from legdsl.check.source import check_model
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, RunResult, Simulation
+from legdsl.sim.run_loop import RunOptions, RunResult
+from legdsl.sim.simulate import Simulation
 
 QUADRUPED = CREATURES / "quadruped.leg"
 FEET = ("toe_fl", "toe_fr", "toe_rl", "toe_rr")  # the order of trajectory.contact

@@ -33,7 +33,8 @@ from legdsl.ir.model import Model, Pad, Terrain
 from legdsl.lang.errors import LegError
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.sim.contact import GroundContact, pad_force
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 ALL = ["hopper", "kangaroo", "biped", "quadruped"]
 # RMS of the root height difference over the 2 s drop, metres. Measured (MuJoCo 4.0.0):

@@ -124,7 +124,7 @@ def test_a_fall_and_a_divergence_are_written_with_their_cause(
 
 def test_the_recorder_grows_as_it_goes() -> None:
     """No allocation sized by the duration: the arrays start small and double."""
-    from legdsl.sim.simulate import INITIAL_ROWS
+    from legdsl.sim.run_loop import INITIAL_ROWS
     from legdsl.sim.trajectory import empty
 
     t = empty(INITIAL_ROWS, 3, 3, 1, 1)

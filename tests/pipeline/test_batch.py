@@ -13,7 +13,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.batch import Batch
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 
 pytestmark = pytest.mark.skipif(
     available() is not None,

@@ -228,7 +228,7 @@ def test_the_apex_metrics_of_a_hop_and_of_its_run_scaled_by_4(
 def test_a_path_is_scaled_with_its_default_lookahead_written(tmp_path: Path) -> None:
     from legdsl.ir.paths import DEFAULT_LOOKAHEAD
     from legdsl.lang import scaling
-    from legdsl.sim.simulate import RunOptions
+    from legdsl.sim.run_loop import RunOptions
 
     assert scaling.DEFAULT_LOOKAHEAD == DEFAULT_LOOKAHEAD
     defaults = RunOptions()

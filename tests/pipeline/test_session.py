@@ -15,7 +15,7 @@ from runtime_helpers import assert_same
 import legdsl.check.source
 import legdsl.pipeline.compile
 import legdsl.pipeline.session
-import legdsl.sim.simulate
+import legdsl.sim.run_loop
 from legdsl.check.source import check_file, check_tree
 from legdsl.cli import main
 from legdsl.lang.errors import LegError, UsageError
@@ -23,7 +23,7 @@ from legdsl.lang.parser import parse_file
 from legdsl.pipeline.compile import compile_file
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.recorder import sample_bytes
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 
 HOPPER = CREATURES / "hopper.leg"
 
@@ -143,7 +143,7 @@ def test_a_recording_that_would_fill_the_memory_stops_the_run_keeping_it(
     """The recording grows with the samples; one that would pass half the machine's memory
     stops the run there, as interrupted, with what it recorded (the system would kill it
     later with nothing written). The same on both backends. (The machine here has 1 MB.)"""
-    monkeypatch.setattr(legdsl.sim.simulate, "recording_budget", lambda: 2**19)
+    monkeypatch.setattr(legdsl.sim.run_loop, "recording_budget", lambda: 2**19)
     session = RunSession.from_file(HOPPER, generated=generated)
     runs = [
         session.run("hop", ["speed=1m/s"], options=RunOptions(duration=1e9), backend=backend)
@@ -201,6 +201,10 @@ def test_a_session_rejects_a_path_without_a_controller_and_unknown_controllers(
         session.run(paths=["circle(center = (0, 5) m, radius = 5 m, turn = left)"])
     with pytest.raises(UsageError, match="has no such controller .it has hop"):
         session.run("trot")
+    with pytest.raises(UsageError, match="no such controller; did you mean 'hop'"):
+        session.run("hopp")
+    with pytest.raises(UsageError, match="no input or parameter 'sped'; did you mean 'speed'"):
+        session.run("hop", ["sped=1m/s"])
     with pytest.raises(UsageError, match="choose a controller with --controller"):
         session.run(settings=["speed=1m/s"])
     with pytest.raises(UsageError, match="'speed' is a controller input"):

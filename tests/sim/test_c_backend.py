@@ -24,7 +24,7 @@ from runtime_helpers import assert_same
 from legdsl.ir.model import Terrain
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
-from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.run_loop import RunOptions, RunResult
 
 pytestmark = pytest.mark.skipif(
     available() is not None,
@@ -403,7 +403,7 @@ def test_an_interrupt_between_c_calls_stops_the_run_where_c_is() -> None:
     """A signal lands in Python between two calls into C (here from the progress callback,
     which runs at such a moment): the run is interrupted there, its time, steps, message and
     recording telling the same instant, as on the Python backend."""
-    from legdsl.sim.simulate import Interrupted
+    from legdsl.sim.run_loop import Interrupted
 
     calls = []
 

@@ -102,7 +102,7 @@ def test_a_lifted_contact_records_no_force_while_another_touches() -> None:
     """The kangaroo lands on toe and tail and lifts them at different times: a contact that
     does not touch records zero force, even while the other one does."""
     from legdsl.pipeline.session import RunSession
-    from legdsl.sim.simulate import RunOptions
+    from legdsl.sim.run_loop import RunOptions
 
     session = RunSession.from_file(
         Path(__file__).resolve().parents[2] / "creatures" / "kangaroo.leg"

@@ -16,7 +16,8 @@ from legdsl.lower.control import lower_controller
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.sim.kinematics import FootPlacer, clip_step, solve_small
 from legdsl.sim.machine import InputChange, StateMachine
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 HOPPER = CREATURES / "hopper.leg"
 FIGURE_4 = ("FLIGHT", "LOADING", "COMPRESSION", "THRUST", "UNLOADING")

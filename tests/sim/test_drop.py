@@ -17,7 +17,8 @@ from conftest import CREATURES
 from legdsl.check.source import check_model
 from legdsl.ir.model import Pad
 from legdsl.pipeline.generated import load_dynamics
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 
 @pytest.mark.parametrize("name", ["kangaroo", "biped", "quadruped"])

@@ -107,7 +107,8 @@ def test_divergence_stops_with_time_state_and_cause_and_keeps_the_record(hopper)
 
 
 def test_a_tipped_hopper_is_reported_as_a_fall(hopper) -> None:
-    from legdsl.sim.simulate import RunOptions, Simulation
+    from legdsl.sim.run_loop import RunOptions
+    from legdsl.sim.simulate import Simulation
 
     sim = Simulation(
         hopper.model, hopper.dynamics, RunOptions(duration=5.0, dt=1e-4, integrator="rk4")

@@ -16,7 +16,7 @@ from legdsl.cli import main
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.handover import Clock, Fact, cycle, on_liftoff, take_over
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.switching import FLIGHT_WAIT, HANDOVER_WAIT
 
 BIPED = CREATURES / "biped.leg"

@@ -30,7 +30,8 @@ from legdsl.check.source import check_model
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
-from legdsl.sim.simulate import RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 from legdsl.sim.trajectory import Trajectory, empty
 
 SLIDER = """

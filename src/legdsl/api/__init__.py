@@ -35,7 +35,7 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "Quantity", "Run", "load", "open_run"]

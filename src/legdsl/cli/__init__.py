@@ -428,7 +428,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from legdsl.sim.simulate import Interrupted
+    from legdsl.sim.run_loop import Interrupted
 
     parser = _parser()
     args = parser.parse_args(argv)

@@ -48,7 +48,7 @@ class _Interrupts:
         self.late: list[str] = []  # the signals noted and not obeyed
 
     def __call__(self, signum: int, frame: Any) -> None:
-        from legdsl.sim.simulate import Interrupted
+        from legdsl.sim.run_loop import Interrupted
 
         if self.simulating and not self.stopped:
             self.stopped = True

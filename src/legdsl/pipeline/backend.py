@@ -19,7 +19,8 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.generated import c_sources
-from legdsl.sim.simulate import Controller, RunOptions, Simulation
+from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Controller, Simulation
 
 BACKENDS = ("python", "c", "auto")
 DEFAULT_BACKEND = "auto"

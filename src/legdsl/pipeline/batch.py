@@ -56,7 +56,7 @@ from legdsl.sim.c_backend import (
 from legdsl.sim.c_library import address
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory, recording_budget, sample_bytes
-from legdsl.sim.simulate import Interrupted, RunLoop, RunOptions, RunResult, steps_per_sample
+from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, steps_per_sample
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)

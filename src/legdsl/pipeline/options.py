@@ -17,7 +17,7 @@ from pathlib import Path
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given
-from legdsl.sim.simulate import RunOptions
+from legdsl.sim.run_loop import RunOptions
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ import sys
 from typing import Any
 
 from legdsl.ir.model import Model
-from legdsl.sim.simulate import RunResult
+from legdsl.sim.run_loop import RunResult
 
 
 def progress_bar(t: float, total: float) -> None:

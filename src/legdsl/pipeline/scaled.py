@@ -25,7 +25,7 @@ from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.settings import Settings
 from legdsl.sim.machine import InputChange
-from legdsl.sim.simulate import RunOptions, RunResult
+from legdsl.sim.run_loop import RunOptions, RunResult
 from legdsl.sim.trajectory import Trajectory
 
 _LENGTH: Dim = KINDS["length"][0]

@@ -40,7 +40,8 @@ from legdsl.pipeline.options import check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.simulate import RunOptions, RunResult, Simulation, steps_per_sample
+from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
+from legdsl.sim.simulate import Simulation
 from legdsl.sim.stability import TooStiff, inverse_inertia_diagonal, too_stiff
 from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths
 

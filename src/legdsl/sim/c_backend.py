@@ -41,7 +41,8 @@ from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
-from legdsl.sim.simulate import Controller, RunLoop, RunOptions, Simulation, grow_recording
+from legdsl.sim.run_loop import RunLoop, RunOptions, grow_recording
+from legdsl.sim.simulate import Controller, Simulation
 from legdsl.sim.switching import SwitchingMachine
 from legdsl.sim.trajectory import ARRAYS
 

@@ -14,7 +14,6 @@ import contextlib
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Protocol
 
@@ -22,36 +21,19 @@ from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
-from legdsl.sim.recorder import Divergence, empty_trajectory, record_row, recording_budget
+from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.run_loop import (
+    INITIAL_ROWS,
+    Interrupted,
+    RunLoop,
+    RunOptions,
+    RunResult,
+    grow_recording,
+    steps_per_sample,
+)
 from legdsl.sim.stability import likely_cause
-from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
-
-
-@dataclass
-class RunOptions:
-    duration: float = 5.0
-    dt: float = 0.0004  # the paper's integration interval
-    integrator: str = "euler"  # semi-implicit Euler, or "rk4"
-    control_dt: float = 0.002  # "usually a few ms" (Figure 2)
-    record_rate: float = 200.0  # samples per second; 0 records every step
-    fall_height: float | None = (
-        None  # root below this is a fall; default 30% of its height over its feet
-    )
-    fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall
-    drop: float | None = None  # start with the lowest contact this high above the ground
-
-
-def steps_per_sample(options: RunOptions) -> int:
-    """Samples are taken every this many steps: one fixed interval, the record rate's
-    rounded up to a whole number of steps (at 200 Hz and 0.4 ms, 12.5 steps: every 13, 5.2 ms),
-    so never more often than asked. An interval within 0.1% of a step of a whole number is
-    that number (a rate and step printed to six digits, as a scaled file does, agree with
-    the exact ones). A record rate of 0 records every step."""
-    if options.record_rate <= 0:
-        return 1
-    return max(1, math.ceil(1.0 / (options.record_rate * options.dt) - 1e-3))
 
 
 class Controller(Protocol):
@@ -65,64 +47,6 @@ class Controller(Protocol):
     def __call__(self, sim: Simulation) -> None: ...
 
     def speed_command(self, t: float) -> float: ...
-
-
-@dataclass
-class RunResult:
-    trajectory: Trajectory
-    events: list[dict[str, Any]]
-    status: str  # ok | diverged | fell | interrupted
-    message: str
-    steps: int
-    wall_time: float
-    sim_time: float
-    cause: str = ""  # why a run ended early: a signal, the fall, the divergence
-    stop_time: dict[str, float] = field(default_factory=dict)  # s on each joint stop
-
-    @property
-    def real_time_factor(self) -> float:
-        return self.sim_time / self.wall_time if self.wall_time > 0 else math.inf
-
-
-class Interrupted(BaseException):
-    """A signal that ends a run early, as Ctrl-C does (the CLI raises it on SIGTERM): the run
-    stops, keeps what it recorded and reports ``interrupted``."""
-
-    def __init__(self, signal: str):
-        super().__init__(signal)
-        self.signal = signal
-
-
-INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
-
-
-def grow_recording(loop: RunLoop) -> None:
-    """Double the recording (to the run's samples at most), unless it would take more than
-    ``recording_budget``: then the run stops, keeping what it recorded, where the system would
-    have killed it later with nothing written (``--time 1e9`` runs until stopped)."""
-    rows = min(loop.capacity, 2 * len(loop.traj))
-    budget = recording_budget()
-    if budget is not None and rows * loop.traj.row_bytes() > budget:
-        raise Interrupted(
-            f"its recording filling half of this machine's memory ({budget / 2**30:.1f} GiB; "
-            "a lower --record-rate runs longer)"
-        )
-    loop.traj = loop.traj.grown(rows)
-
-
-@dataclass
-class RunLoop:
-    """How far a run's loop got: what ``Simulation.run`` reports once it stops."""
-
-    n_steps: int
-    record_every: int  # steps per sample (steps_per_sample)
-    capacity: int  # most samples the run records
-    traj: Trajectory  # the recording, grown as it fills
-    control_every: int  # steps per control interval
-    start_height: float  # the root over its feet at the start (the fall rule)
-    recorded: int = 0
-    steps: int = 0  # the loop's step index when it stopped
-    status: str = "ok"
 
 
 class Simulation:
