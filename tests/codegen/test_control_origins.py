@@ -41,3 +41,20 @@ def test_every_value_names_its_statement(module: Path) -> None:
                 source = _text(file)[int(line) - 1]
                 word = source[int(col) - 1 :]
                 assert re.match(r"[A-Za-z_]", word), f"{row}: {file}:{line}:{col} is {word!r}"
+
+
+def test_the_standard_library_is_named_alike_from_any_copy_of_legdsl(tmp_path: Path) -> None:
+    """A compile's spawned workers may import legdsl from another copy than the one that read
+    the .leg files (a source tree on the path, a Dask worker's install): the standard library
+    is still 'stdlib/NAME' in the generated code. It was the file's bare name from a worker
+    whose copy differed, so the goldens depended on which copy a worker had imported."""
+    from legdsl.codegen.python.control import shown_file
+
+    source = "creatures/kangaroo.leg"
+    for copy in (STDLIB, tmp_path / "site-packages" / "legdsl" / "stdlib"):
+        assert shown_file(str(copy.resolve() / "raibert.leg"), source) == "stdlib/raibert.leg"
+    elsewhere = tmp_path / "mine" / "stdlib" / "raibert.leg"  # a user's own folder
+    assert shown_file(str(elsewhere), source) == "raibert.leg"
+    assert (
+        shown_file(str(STDLIB.resolve() / "nothing_of_ours.leg"), source) == "nothing_of_ours.leg"
+    )

@@ -8,7 +8,7 @@ from typing import Protocol, TypeVar
 from legdsl.check.controller import check_controllers
 from legdsl.check.creature import CreatureChecker
 from legdsl.check.scene import check_scenes
-from legdsl.check.values import STDLIB
+from legdsl.check.values import STDLIB, stdlib_name
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, Diagnostics, LegError, Span
@@ -77,8 +77,9 @@ def load_uses(
 
     def name(path: Path) -> str:
         """A file in a chain: the stdlib's by name, others relative to the first file's folder."""
-        if path.parent == STDLIB.resolve():
-            return f"stdlib/{path.name}"
+        library = stdlib_name(path)
+        if library is not None:
+            return library
         try:
             return path.relative_to(root.parent).as_posix()
         except ValueError:

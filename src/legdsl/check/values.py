@@ -43,13 +43,25 @@ def too_long(what: str, name: str) -> str:
     )
 
 
+def stdlib_name(path: str | Path) -> str | None:
+    """``stdlib/NAME`` for a file of legdsl's standard library, else None. Known by its place
+    in a ``legdsl`` package, not by this process's copy of it: a compile's spawned workers (or a
+    Dask cluster's) may have imported legdsl from another copy than the one that read the file."""
+    path = Path(path)
+    in_a_legdsl = path.parent.name == "stdlib" and path.parent.parent.name == "legdsl"
+    if path.is_absolute() and in_a_legdsl and (STDLIB / path.name).is_file():
+        return f"stdlib/{path.name}"
+    return None
+
+
 def place_of(span: Span) -> str:
     """``file:line:col`` for a note: the standard library by its own name, another file
     relative to the working directory where it can be (never a machine's absolute path)."""
     path = Path(span.file)
     if path.is_absolute():
-        if path.parent == STDLIB.resolve() or path.parent == STDLIB:
-            path = Path("stdlib") / path.name
+        library = stdlib_name(path)
+        if library is not None:
+            path = Path(library)
         else:
             with contextlib.suppress(ValueError):
                 path = path.relative_to(Path.cwd())

@@ -15,7 +15,7 @@ import sympy
 from sympy import Expr, Symbol
 
 from legdsl import __version__
-from legdsl.check.values import STDLIB
+from legdsl.check.values import stdlib_name
 from legdsl.codegen.python.dynamics import _environment, _names, function_body
 from legdsl.lower.control import LoweredController, Where, sensor_symbol
 from legdsl.lower.straightline import Block, substituted
@@ -124,8 +124,9 @@ def shown_file(file: str, source: str) -> str:
     path = Path(file)
     if not path.is_absolute():
         return file
-    if path.parent == STDLIB.resolve():
-        return f"stdlib/{path.name}"
+    library = stdlib_name(path)
+    if library is not None:
+        return library
     home = Path(source).resolve().parent
     if path.is_relative_to(home):
         return str(Path(source).parent / path.relative_to(home))
