@@ -169,6 +169,32 @@ def test_a_fall_stops_the_same() -> None:
     assert_same(python, c)
 
 
+OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the team
+
+
+@pytest.mark.parametrize(
+    ("name", "controller", "seconds"), [("knee_hopper", "hop", 5.0), ("rig", "stomp", 2.0)]
+)
+def test_creatures_written_outside_the_team_run_the_same(
+    tmp_path_factory: pytest.TempPathFactory, name: str, controller: str, seconds: float
+) -> None:
+    """Creatures none of the shipped ones resemble: a hopper whose leg is a revolute knee
+    with a rotary spring (in cm, g and kN/m, with the standard library's hopping, speed and
+    posture control), and a rig welded to the world with a welded bracket, an oblique gimbal,
+    a sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box."""
+    generated = tmp_path_factory.mktemp("outside")
+    sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
+    opts = RunOptions(duration=seconds)
+    python = sess.run(controller, [], options=opts, backend="python").result
+    c = sess.run(controller, [], options=opts, backend="c").result
+    assert python.status == "ok", python.message
+    assert_same(python, c)
+    if name == "knee_hopper":  # it hops forward at about its commanded 0.5 m/s
+        x = python.trajectory.com[:, 0]
+        assert 0.40 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 0.60
+        assert len(python.events) >= 16
+
+
 def test_a_divergence_stops_the_same() -> None:
     sess = session("hopper")
     opts = RunOptions(
