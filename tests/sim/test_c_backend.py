@@ -173,20 +173,30 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
 
 
 @pytest.mark.parametrize(
-    ("name", "controller", "seconds"), [("knee_hopper", "hop", 5.0), ("rig", "stomp", 2.0)]
+    ("name", "controller", "switches", "seconds"),
+    [
+        ("knee_hopper", "hop", [], 5.0),
+        ("rig", "stomp", [], 2.0),
+        ("hexapod", "tripod", ["1s=tripod_fast"], 2.0),
+    ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
-    tmp_path_factory: pytest.TempPathFactory, name: str, controller: str, seconds: float
+    tmp_path_factory: pytest.TempPathFactory,
+    name: str,
+    controller: str,
+    switches: list[str],
+    seconds: float,
 ) -> None:
     """Creatures none of the shipped ones resemble: a hopper whose leg is a revolute knee
     with a rotary spring (in cm, g and kN/m, with the standard library's hopping, speed and
-    posture control), and a rig welded to the world with a welded bracket, an oblique gimbal,
-    a sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box."""
+    posture control); a rig welded to the world with a welded bracket, an oblique gimbal, a
+    sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box; a
+    hexapod from a mirrored template whose virtual legs have three feet, switching gait."""
     generated = tmp_path_factory.mktemp("outside")
     sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
     opts = RunOptions(duration=seconds)
-    python = sess.run(controller, [], options=opts, backend="python").result
-    c = sess.run(controller, [], options=opts, backend="c").result
+    python = sess.run(controller, [], options=opts, switches=switches, backend="python").result
+    c = sess.run(controller, [], options=opts, switches=switches, backend="c").result
     assert python.status == "ok", python.message
     assert_same(python, c)
     if name == "knee_hopper":  # it hops forward at about its commanded 0.5 m/s
