@@ -103,6 +103,8 @@ def compute_metrics(
     cols = coordinates(tr, joint, against)
 
     starts, ends, note = counted_strides(t, touching(tr, ref_contacts), t_from, t_to, ref_name)
+    if not tr.contact_names:
+        note = "the creature has no contacts, so it takes none (only the work rows apply)"
     per_stride = stride_series(tr, starts, ends, cols)
     stances = all_stances(tr, units, starts, ends, per_stride["energy_fluctuation"], t_from, t_to)
     flights = all_flights(tr, units, starts, ends, t_from, t_to)
