@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from legdsl.check.scope import CreaturePart
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, takes_one_value
 from legdsl.ir.model import Body, Mat3, Shape, Vec3
 from legdsl.lang import ast
 
@@ -111,7 +111,7 @@ class BodyChecker(CreaturePart):
             )
             return fallback
         if not isinstance(prop.value, ast.One):
-            self.err(prop.value.span, "'inertia' takes one value")
+            self.err(prop.value.span, takes_one_value(prop))
             return fallback
         value = prop.value.value
         if self.planar:

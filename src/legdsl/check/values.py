@@ -195,9 +195,24 @@ class ValueChecker:
     def one_scalar(self, prop: ast.Prop, kind: str, what: str) -> float | None:
         """The one number of a property (``mass 1.5 kg``) of dimension ``kind``."""
         if not isinstance(prop.value, ast.One):
-            self.err(prop.value.span, f"'{prop.key.name}' takes one value")
+            self.err(prop.value.span, takes_one_value(prop))
             return None
         return self.scalar(prop.value.value, kind, what)
+
+
+def takes_one_value(prop: ast.Prop) -> str:
+    """A property given several values; ``mass 3 kg, shape box(...)`` is a ',' between two
+    properties (the next one's name reads as a second value)."""
+    said = f"'{prop.key.name}' takes one value"
+    if isinstance(prop.value, ast.Many):
+        names = [v.ident.name for v in prop.value.values[1:] if isinstance(v, ast.NameValue)]
+        if names:
+            return (
+                f"{said}, and '{names[0]}' after the ',' looks like the next property: "
+                "properties are not separated by ','; leave a space between them, as in "
+                "'mass 3 kg  inertia 0.1 kg*m^2'"
+            )
+    return said
 
 
 def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
