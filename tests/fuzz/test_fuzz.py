@@ -1,5 +1,5 @@
-"""A mutation fuzzer over the shipped creatures' text, the command line's options and run
-directories (issue 18, item 6).
+"""A mutation fuzzer over the shipped creatures' text, the command line's options, run
+directories (issue 18, item 6) and the generated code a run loads.
 
 Every case asserts: exit status 0 or 2 (3 or 4 for a run that diverges or falls, 130 never:
 nothing is interrupted here), never 70 ("internal error") and never a traceback, and a run
@@ -34,9 +34,9 @@ CREATURES = ("hopper", "kangaroo", "biped", "quadruped")
 CI_CASES = 150
 TOTAL = int(os.environ.get("LEGDSL_FUZZ", CI_CASES))
 SEED = int(os.environ.get("LEGDSL_FUZZ_SEED", "18"))
-# the share of each fuzzer: .leg text, command-line options, run directories
-SHARES = {"leg": 0.5, "options": 0.3, "runfiles": 0.2}
-ALLOWED = {"leg": {0, 2}, "options": {0, 2, 3, 4}, "runfiles": {0, 2}}
+# the share of each fuzzer: .leg text, command-line options, run directories, generated code
+SHARES = {"leg": 0.47, "options": 0.3, "runfiles": 0.18, "generated": 0.05}
+ALLOWED = {"leg": {0, 2}, "options": {0, 2, 3, 4}, "runfiles": {0, 2}, "generated": {0}}
 
 
 def _count(kind: str) -> int:
@@ -314,3 +314,65 @@ def test_fuzz_run_directories(tmp_path: Path, a_run: Path, generated: Path) -> N
         what = f"legdsl {' '.join(argv)} after: {change} (case {i})"
         code, err = _call(argv)
         _assert_case("runfiles", code, err, what)
+
+
+# ------------------------------------------------------------------ generated code
+def _damage_generated(folder: Path, rng: random.Random) -> str:
+    files = sorted(p for p in folder.iterdir() if p.is_file())
+    path = rng.choice(files)
+    data = path.read_bytes()
+    op = rng.randrange(6)
+    if op == 0:
+        path.write_bytes(data[: rng.randrange(len(data))])
+        return f"{path.name} cut short"
+    if op == 1:
+        changed = bytearray(data)
+        for _ in range(rng.randint(1, 5)):
+            changed[rng.randrange(len(changed))] = rng.randrange(256)
+        path.write_bytes(bytes(changed))
+        return f"bytes of {path.name} changed"
+    if op == 2:
+        path.write_bytes(data + rng.choice([b"\nx = (\n", b"\n}\n", b"\nimport nothing_here\n"]))
+        return f"junk after {path.name}"
+    if op == 3:
+        path.unlink()
+        return f"{path.name} removed"
+    if op == 4:
+        text = data.decode("utf-8", "replace")
+        numbers = list(_NUMBER.finditer(text))
+        if numbers:
+            m = rng.choice(numbers)
+            text = text[: m.start()] + rng.choice(NUMBERS) + text[m.end() :]
+        path.write_text(text, encoding="utf-8")
+        return f"a number in {path.name} edited"
+    (folder / "SHA256SUMS").write_bytes(rng.choice([b"", b"\x00\xff", b"not a listing\n"]))
+    return "SHA256SUMS damaged"
+
+
+def test_fuzz_generated_code(tmp_path: Path) -> None:
+    """A run over generated code that was cut short, edited or lost: whatever it reads is
+    compiled again first (exit 0, never an internal error), so its trajectory is the one the
+    intact code gives, byte for byte."""
+    golden = ROOT / "generated" / "hopper"
+
+    def run(generated: Path, backend: str, out: Path) -> tuple[int, str]:
+        return _call(["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                      "--time", "0.05", "--generated", str(generated), "--backend", backend,
+                      "--out", str(out)])  # fmt: skip
+
+    intact = {}
+    for backend in ("python", "c"):
+        shutil.copytree(golden, tmp_path / "intact" / "hopper", dirs_exist_ok=True)
+        code, err = run(tmp_path / "intact", backend, tmp_path / f"intact-{backend}")
+        assert code == 0, err
+        intact[backend] = (tmp_path / f"intact-{backend}" / "trajectory.npz").read_bytes()
+    for i in range(_count("generated")):
+        rng = random.Random(f"{SEED}-generated-{i}")
+        generated = tmp_path / f"generated{i}"
+        shutil.copytree(golden, generated / "hopper")
+        change = _damage_generated(generated / "hopper", rng)
+        backend = rng.choice(["python", "c"])
+        code, err = run(generated, backend, tmp_path / f"run{i}")
+        what = f"legdsl run --backend {backend} after: {change} (case {i}, seed {SEED})"
+        _assert_case("generated", code, err, what)
+        assert (tmp_path / f"run{i}" / "trajectory.npz").read_bytes() == intact[backend], what
