@@ -10,10 +10,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import os
 import sys
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any, TextIO, cast
 
 from legdsl import __version__
 from legdsl.cli.common import (
@@ -427,7 +429,56 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+class _QuietWhenClosed:
+    """Standard output that goes quiet when its reader leaves (``legdsl run ... | head -1``):
+    the command still writes its files (a run's player, an export), and its exit status is
+    the work's, not a "Broken pipe" after half of it."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self._stream = stream
+        self.reader_left = False
+
+    def write(self, text: str) -> int:
+        if not self.reader_left:
+            try:
+                return self._stream.write(text)
+            except BrokenPipeError:
+                self._left()
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.reader_left:
+            try:
+                self._stream.flush()
+            except BrokenPipeError:
+                self._left()
+
+    def _left(self) -> None:
+        self.reader_left = True
+        # what is still buffered is flushed at exit too: send it nowhere, quietly
+        with contextlib.suppress(OSError, ValueError):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self._stream.fileno())
+            os.close(devnull)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    stdout = sys.stdout
+    if stdout is None:  # started with standard output closed: print() writes nothing
+        return _main(argv)
+    quiet = _QuietWhenClosed(stdout)
+    sys.stdout = cast(TextIO, quiet)
+    try:
+        return _main(argv)
+    finally:
+        quiet.flush()  # here, not at exit, where a reader gone is exit status 120
+        sys.stdout = stdout
+
+
+def _main(argv: Sequence[str] | None) -> int:
     from legdsl.sim.run_loop import Interrupted
 
     parser = _parser()
