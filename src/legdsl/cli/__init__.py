@@ -11,9 +11,10 @@ import argparse
 import contextlib
 import json
 import os
+import signal
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, TextIO, cast
 
@@ -465,6 +466,30 @@ class _QuietWhenClosed:
         return getattr(self._stream, name)
 
 
+# Readers that write one output through a temporary file and, for a video, an ffmpeg: SIGTERM
+# unwinds them as Ctrl-C does (the temporary file removed, ffmpeg stopped), where Python's
+# default would end the process on the spot and leave both behind. (``run`` has its own.)
+_TERM_UNWINDS = ("animate", "export-motion", "replay", "plot")
+
+
+@contextlib.contextmanager
+def _sigterm_unwinds() -> Iterator[None]:
+    from legdsl.sim.run_loop import Interrupted
+
+    def unwind(signum: int, frame: Any) -> None:
+        raise Interrupted("SIGTERM")
+
+    try:
+        previous = signal.signal(signal.SIGTERM, unwind)
+    except ValueError:  # not the main thread (main() called from a thread): leave it be
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     stdout = sys.stdout
     if stdout is None:  # started with standard output closed: print() writes nothing
@@ -490,7 +515,10 @@ def _main(argv: Sequence[str] | None) -> int:
             for flag, value in (("-o", args.output), ("--video", getattr(args, "video", None))):
                 if value:
                     check_output_file(value, flag)
-        return _COMMANDS[args.command](args)
+        if args.command not in _TERM_UNWINDS:
+            return _COMMANDS[args.command](args)
+        with _sigterm_unwinds():
+            return _COMMANDS[args.command](args)
     except LegError as e:
         print(_render(e), file=sys.stderr)
         return EXIT_USER_ERROR
