@@ -43,6 +43,19 @@ def test_a_two_generation_tune_is_reproducible(tmp_path: Path) -> None:
     assert (tmp_path / "a" / "tune.png").stat().st_size > 5_000
 
 
+def test_one_parameter_tunes_past_the_step_limit(tmp_path: Path) -> None:
+    """One --param, seed 1, 4 candidates: CMA-ES's step passes a third of the bounds in the
+    second generation, which cma 4 could not handle in one dimension (internal error, exit 70)."""
+    code = main([
+        "tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.01:0.2",
+        "--speeds", "1", "--time", "3", "--from", "1", "--generations", "2", "--popsize", "4",
+        "--seed", "1", "--jobs", "1", "--out", str(tmp_path / "t"),
+        "--generated", str(tmp_path / "generated"),
+    ])  # fmt: skip
+    assert code == 0
+    assert len(json.loads((tmp_path / "t" / "tune.json").read_text())["history"]) == 2
+
+
 def test_falls_score_by_how_early_they_happen() -> None:
     objective = Objective(speeds=(2.0,), duration=10.0, start=3.0)
     ok = {"outcome": "ok", "running_speed": 1.9, "simulated": 10.0, "by_label": {}}

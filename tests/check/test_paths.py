@@ -155,6 +155,15 @@ def test_path_option_parses_like_the_file(tmp_path: Path) -> None:
         parse_path_option(str(csv))
 
 
+def test_a_waypoints_file_that_is_not_utf8_text_is_a_usage_error(tmp_path: Path) -> None:
+    csv = tmp_path / "waypoints.csv"
+    csv.write_bytes(b"\xff\xfe\x00\x01")  # it was an internal error (UnicodeDecodeError)
+    with pytest.raises(UsageError, match="save it as UTF-8 text"):
+        read_waypoints(csv, "route")
+    csv.write_bytes(b"\xef\xbb\xbf0,0\n5,0\n")  # a byte-order mark hid the first point
+    assert read_waypoints(csv, "route").points == ((0.0, 0.0), (5.0, 0.0))
+
+
 def test_path_option_names_a_declared_path() -> None:
     model = check_model(BIPED)
     circle = parse_path_option("circle(center = (0, 5) m, radius = 5 m)")

@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -150,3 +151,67 @@ def test_a_killed_write_leaves_run_json_saying_incomplete(generated: Path, tmp_p
     assert json.loads((out / "run.json").read_text())["status"] == "incomplete"
     assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
         "run.json", "trajectory.csv", "trajectory.npz"]  # fmt: skip
+
+
+# ------------------------------------------------------------------ the readers' outputs
+def test_sigterm_unwinds_a_reader_as_ctrl_c_does() -> None:
+    """animate, export-motion, replay and plot: SIGTERM raises, so that their temporary file
+    is removed and ffmpeg stopped (Python's default ended the process on the spot)."""
+    from legdsl.cli import _sigterm_unwinds
+    from legdsl.sim.run_loop import Interrupted
+
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Interrupted), _sigterm_unwinds():
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(5)  # the handler raises before this ends
+    assert signal.getsignal(signal.SIGTERM) == before
+
+
+def test_an_interrupted_video_leaves_no_file_and_no_ffmpeg(tmp_path: Path) -> None:
+    """Ctrl-C between frames: ffmpeg is killed, not left to finish (with +faststart it wrote
+    the file again by name after atomic_path had removed it: a hidden leftover)."""
+    from external_tools import ffmpeg
+
+    from legdsl.export.video import _write_mp4
+    from legdsl.files import atomic_path
+
+    ffmpeg()
+
+    def frames() -> Iterator[np.ndarray]:
+        for _ in range(5):
+            yield np.zeros((16, 16, 3), dtype=np.uint8)
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt), atomic_path(tmp_path / "v.mp4") as tmp:
+        _write_mp4(frames(), tmp, 30.0, 16, 16, lambda i: None)
+    assert list(tmp_path.iterdir()) == []
+    assert "ffmpeg" not in _children()  # else it finishes the file once legdsl exits
+
+
+def _children() -> list[str]:
+    """The names of this process's child processes (Linux's /proc)."""
+    names = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[1]) == os.getpid():
+                names.append(stat.read_text().split("(", 1)[1].rsplit(")", 1)[0])
+        except (OSError, IndexError, ValueError):
+            continue
+    return names
+
+
+def test_an_interrupted_usd_export_leaves_no_layer(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    pytest.importorskip("pxr", reason="usd-core is in the test extra: pip install '.[test]'")
+    from legdsl.export import usd
+
+    def interrupted(motion: object, path: Path) -> None:
+        path.write_text("#usda 1.0\n")  # half of a layer
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(usd, "build_stage", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        usd.write_usd(None, tmp_path / "m.usda", "usda")  # type: ignore[arg-type]
+    assert list(tmp_path.iterdir()) == []

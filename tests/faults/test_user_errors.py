@@ -135,6 +135,25 @@ def _damage(run: Path, how: str) -> None:
             arrays = {k: data[k] for k in data.files}
         arrays["q"] = arrays["q"][:3]
         np.savez(npz, **arrays)  # type: ignore[arg-type]
+    elif how in ("npz without samples", "npz with complex q", "npz with text states",
+                 "npz with q too large"):  # fmt: skip
+        with np.load(npz) as data:
+            arrays = {k: data[k] for k in data.files}
+        if how == "npz without samples":
+            arrays = {k: v if k == "meta" else v[:0] for k, v in arrays.items()}
+        elif how == "npz with complex q":
+            arrays["q"] = arrays["q"].astype(complex)
+        elif how == "npz with text states":
+            arrays["state"] = arrays["state"].astype(str)
+        else:  # finite, but past what the exports can write as float32
+            arrays["q"] = arrays["q"] * 1e200
+        np.savez(npz, **arrays)  # type: ignore[arg-type]
+    elif how == "run.json with a damaged path":
+        data = json.loads(info.read_text())
+        data["paths"] = [{"shape": "circle", "points": "x"}]
+        info.write_text(json.dumps(data))
+    elif how == "run.json nested too deeply":
+        info.write_text("[" * 100_000 + "]" * 100_000)
     elif how == "run.json not JSON":
         info.write_text("{ this is not json")
     elif how == "run.json a list":
@@ -155,7 +174,9 @@ def _damage(run: Path, how: str) -> None:
 DAMAGES = [
     "truncated npz", "empty npz", "npz without q", "npz with bad meta", "npz with a short q",
     "run.json not JSON", "run.json a list", "run.json not UTF-8", "run.json with a bad source",
-    "no run.json", "no trajectory", "empty directory",
+    "no run.json", "no trajectory", "empty directory", "npz without samples",
+    "npz with complex q", "npz with text states", "npz with q too large",
+    "run.json with a damaged path", "run.json nested too deeply",
 ]  # fmt: skip
 READERS = ["metrics", "plot", "animate", "export-motion"]
 

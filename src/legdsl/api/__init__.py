@@ -166,6 +166,9 @@ class Creature:
         **options: Any,
     ) -> dict[str, Any]:
         """``run``'s arguments as those of ``RunSession.run``."""
+        if set is not None and not isinstance(set, Mapping):
+            raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
+                             f"not {set!r}")  # fmt: skip
         settings = [_setting(name, value) for name, value in (set or {}).items()]
         switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
         if scene is not None:
@@ -178,7 +181,7 @@ class Creature:
             if time is None and plan.duration is not None:
                 time = plan.duration
         try:
-            run_options = RunOptions(duration=float(5.0 if time is None else time), **options)
+            run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
         except TypeError as e:
             raise UsageError(f"run(): {e}") from None
         return {
@@ -196,8 +199,26 @@ class Creature:
         return f"<legdsl creature '{self.name}': {self.model.nv} DOF, controllers {list(self.controllers)}>"
 
 
+def _seconds(time: object) -> float:
+    """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``)."""
+    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
+
+    if isinstance(time, str):
+        return read_numeric("--time", time.replace(" ", ""), RUN_NUMERIC["duration"][1])
+    if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
+        raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
+                         f"not {time!r}")  # fmt: skip
+    return float(time)
+
+
 def _setting(name: str, value: str | float) -> str:
     """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
+    if not isinstance(name, str) or not (
+        isinstance(value, str | int | float | np.integer | np.floating)
+        and not isinstance(value, bool)
+    ):
+        raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
+                         f"{{'speed': '2 m/s'}}, not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")

@@ -125,6 +125,8 @@ def tune(
                                "verbose": -9}  # fmt: skip
     if popsize is not None:
         options["popsize"] = popsize
+    if len(bounds) == 1:  # cma 4 fails in one dimension once its step passes maxstd (a third
+        options["maxstd"] = math.inf  # of the bounds): "not yet initialized (dimension needed)"
     es = cma.CMAEvolutionStrategy(x0, 0.3, options)
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, float], list[Any]] | None = None

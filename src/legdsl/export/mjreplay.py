@@ -24,6 +24,7 @@ import numpy as np
 
 from legdsl.export.motion import frame_times, interpolate_q, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
+from legdsl.files import atomic_path
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 
@@ -106,14 +107,15 @@ def render_mp4(
 
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
-        _write_mp4(
-            frames(),
-            out,
-            fps,
-            width,
-            height,
-            lambda i: progress(i + 1, len(times)) if progress else None,
-        )
+        with atomic_path(out) as tmp:  # interrupted, no half of an mp4 under its name
+            _write_mp4(
+                frames(),
+                tmp,
+                fps,
+                width,
+                height,
+                lambda i: progress(i + 1, len(times)) if progress else None,
+            )
     finally:
         renderer.close()
     return len(times)

@@ -116,8 +116,12 @@ def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
     tmp = path.with_name(f".{path.stem}.tmp.{fmt}")
     if tmp.exists():
         tmp.unlink()
-    stage = build_stage(motion, tmp)
-    stage.GetRootLayer().Save()
-    del stage
-    tmp.replace(path)
+    try:
+        stage = build_stage(motion, tmp)
+        stage.GetRootLayer().Save()
+        del stage
+        tmp.replace(path)
+    except BaseException:  # Ctrl-C, SIGTERM, a failure: no half-written layer left beside it
+        tmp.unlink(missing_ok=True)
+        raise
     return path.stat().st_size

@@ -143,6 +143,10 @@ def _write_mp4(
         proc.stdin.close()
     except BrokenPipeError:
         pass
+    except BaseException:  # Ctrl-C, SIGTERM, a frame that fails: ffmpeg must not finish the
+        proc.kill()  # file (with +faststart it writes it again by name, after its removal)
+        proc.wait()
+        raise
     error = proc.stderr.read().decode(errors="replace")
     if proc.wait() != 0:
         raise RuntimeError(f"ffmpeg failed (exit {proc.returncode}): {error.strip()}")

@@ -104,8 +104,15 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
     """``x,y`` per line (metres; ``#`` comments and a header line without numbers are skipped)."""
     from legdsl.lang.errors import UsageError
 
+    try:  # utf-8-sig: a spreadsheet's byte-order mark would hide the first point as a header
+        lines = path.read_bytes().decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError as e:
+        raise UsageError(
+            f"--path {path}: not a text file of 'x,y' lines (byte {e.start}: {e.reason}); "
+            "save it as UTF-8 text"
+        ) from None
     points: list[Point] = []
-    for n, line in enumerate(path.read_text().splitlines(), 1):
+    for n, line in enumerate(lines, 1):
         text = line.split("#", 1)[0].strip()
         if not text:
             continue

@@ -81,8 +81,17 @@ class Batch:
         paths: Sequence[str] = (),
         options: RunOptions | None = None,
     ):
+        if isinstance(n, bool) or not isinstance(n, int | np.integer):
+            raise UsageError(f"a batch of {n!r} copies: give their number as a whole number")
         if n < 1:
             raise UsageError(f"a batch of {n} copies: give at least one")
+        for name, given in (vary or {}).items():  # each a pair, or its values read wrongly
+            if not (isinstance(given, tuple | list) and len(given) == 2
+                    and isinstance(given[1], str)):  # fmt: skip
+                raise UsageError(
+                    f"vary {name}: give its {n} values and their unit as a pair, e.g. "
+                    f"{{{name!r}: (values, 'm/s')}} ('' for a number without one)"
+                )
         self.session, self.n = session, n
         self.controller, self.settings, self.paths = controller, list(settings), list(paths)
         self.options = options or RunOptions()
@@ -107,7 +116,10 @@ class Batch:
     def _values(self, name: str, numbers: Sequence[float] | np.ndarray, unit: str) -> np.ndarray:
         """The copies' values of ``name`` in SI, checked as ``--set name=VALUE`` is (with the
         smallest and the largest value: a check of sign or dimension holds for all between)."""
-        values = np.asarray(numbers, dtype=float)
+        try:
+            values = np.asarray(numbers, dtype=float)
+        except (TypeError, ValueError):
+            raise UsageError(f"vary {name}: its values are not all numbers") from None
         if values.shape != (self.n,):
             raise UsageError(
                 f"vary {name}: give {self.n} values (one per copy), not {values.shape}"

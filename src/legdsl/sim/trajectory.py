@@ -33,6 +33,7 @@ ARRAYS = (
     "work_positive", "work_negative",
 )  # fmt: skip
 LATER = ("work_positive", "work_negative")  # arrays a run of an older legdsl lacks (empty then)
+FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
 @dataclass
@@ -191,6 +192,16 @@ class Trajectory:
             a = getattr(self, name)
             if n < 0 or a.ndim != ndim or a.shape[0] != n:
                 raise UsageError(f"{path}: the array {name} has the wrong shape {a.shape}{again}")
+        if n == 0:  # a run records its start, even one that falls at t = 0
+            raise UsageError(f"{path}: the run recorded no samples{again}")
+        # real numbers only (complex or text would fail later in the readers), indices integers
+        for name in ("t", *want):
+            a, kinds = getattr(self, name), "iu" if name in ("state", "contact") else "iuf"
+            if a.dtype.kind not in kinds and not (name == "contact" and a.dtype.kind == "b"):
+                raise UsageError(
+                    f"{path}: the array {name} holds {a.dtype} values, not "
+                    f"{'integers' if len(kinds) == 2 else 'real numbers'}{again}"
+                )
         t = self.t
         if not np.issubdtype(t.dtype, np.number) or not (
             np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)
@@ -200,6 +211,11 @@ class Trajectory:
             a = getattr(self, name)
             if not np.issubdtype(a.dtype, np.number) or not np.all(np.isfinite(a)):
                 raise UsageError(f"{path}: the array {name} is not all finite numbers{again}")
+        # the exports write times and positions as float32: a recorded run (which stops past
+        # 1000 m/s) stays far inside its range
+        for name in ("t", "q", "com", "root_pos"):
+            if np.max(np.abs(getattr(self, name))) >= FLOAT32_MAX:
+                raise UsageError(f"{path}: the array {name} holds values too large{again}")
         if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
             raise UsageError(f"{path}: q or v does not match its coordinate names{again}")
         if self.contact.shape[1] != len(self.contact_names) or self.force.shape[1:] != (
@@ -270,7 +286,7 @@ def load_run_info(directory: Path) -> dict[str, Any]:
         )
     try:
         info = json.loads(path.read_bytes().decode("utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as e:
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
         raise UsageError(
             f"cannot read {path}: it is not JSON ({e}); run the creature again"
         ) from None
@@ -295,9 +311,30 @@ def load_run_info(directory: Path) -> dict[str, Any]:
         ):
             raise UsageError(f"{path}: an event is damaged ({str(event)[:60]}){again}")
     for spec in info.get("paths") or []:
-        if not isinstance(spec, dict):
+        if not _sound_path(spec):
             raise UsageError(f"{path}: a path is damaged ({str(spec)[:60]}){again}")
     return info
+
+
+def _sound_path(spec: object) -> bool:
+    """Whether ``spec`` (a path in run.json) reads back as a path the readers can follow."""
+    from legdsl.ir.paths import SHAPES, PathSpec
+    from legdsl.sim.path_tracking import PathGeometry
+
+    if not isinstance(spec, dict):
+        return False
+    try:
+        checked = PathSpec.from_json(spec)
+        numbers = [*checked.center, checked.radius, checked.lookahead]
+        numbers += [x for point in checked.points for x in point]
+        if checked.shape not in SHAPES or not all(math.isfinite(x) for x in numbers):
+            return False
+        if checked.shape == "circle" and not (checked.radius > 0 and checked.turn in (1, -1)):
+            return False
+        geometry = PathGeometry(checked)
+        return math.isfinite(geometry.length) and geometry.length > 0
+    except (AssertionError, KeyError, TypeError, ValueError, IndexError, OverflowError):
+        return False
 
 
 def _fmt(value: Any) -> str:

@@ -1,0 +1,66 @@
+"""The Python API's mistakes are ``UsageError``s saying what to write (docs/api.md: "A mistake
+is a UsageError raised before anything runs"), not a TypeError from deep inside."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import legdsl
+from legdsl.lang.errors import UsageError
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def hopper(generated: Path) -> legdsl.Creature:
+    return legdsl.load(ROOT / "creatures" / "hopper.leg", generated=generated)
+
+
+RUN_MISTAKES: list[tuple[dict[str, Any], str]] = [
+    ({"set": {"speed": None}}, "give a value with its unit as text"),
+    ({"set": {"speed": [1]}}, "give a value with its unit as text"),
+    ({"set": ["speed=1m/s"]}, "set= maps names to values"),
+    ({"set": "speed=1m/s"}, "set= maps names to values"),
+    ({"set": {3: "1 m/s"}}, "give a value with its unit as text"),
+    ({"time": True}, "time= is seconds"),
+    ({"time": [1]}, "time= is seconds"),
+    ({"time": "2 kg"}, r"--time is a time \(s\)"),
+    ({"time": "x"}, "is not a number"),
+]
+
+
+@pytest.mark.parametrize(("kwargs", "message"), RUN_MISTAKES, ids=[str(k) for k, _ in RUN_MISTAKES])
+def test_a_wrong_run_argument_is_a_usage_error(
+    hopper: legdsl.Creature, kwargs: dict[str, Any], message: str
+) -> None:
+    with pytest.raises(UsageError, match=message):
+        hopper.run(controller="hop", **kwargs)
+
+
+def test_time_takes_a_unit(hopper: legdsl.Creature) -> None:
+    run = hopper.run(controller="hop", time="50 ms")
+    assert run.info["options"]["duration"] == pytest.approx(0.05)
+
+
+COPIES_MISTAKES: list[tuple[Any, dict[str, Any], str]] = [
+    (2.5, {}, "give their number as a whole number"),
+    ("2", {}, "give their number as a whole number"),
+    (True, {}, "give their number as a whole number"),
+    (2, {"speed": [1, 2]}, r"their unit as a pair, e.g. \{'speed': \(values, 'm/s'\)\}"),
+    (2, {"speed": ([1, 2], "m/s", 3)}, "their unit as a pair"),
+    (2, {"speed": ([1, 2], 3)}, "their unit as a pair"),
+    (2, {"speed": (["a", "b"], "m/s")}, "its values are not all numbers"),
+    (2, {"speed": ([1, None], "m/s")}, "every value must be finite"),
+]
+
+
+@pytest.mark.parametrize(("n", "vary", "message"), COPIES_MISTAKES,
+                         ids=[f"{n!r}-{v}" for n, v, _ in COPIES_MISTAKES])  # fmt: skip
+def test_wrong_copies_are_a_usage_error(
+    hopper: legdsl.Creature, n: Any, vary: dict[str, Any], message: str
+) -> None:
+    with pytest.raises(UsageError, match=message):
+        hopper.run_copies(n, "hop", vary=vary, time=0.05)
