@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.cli import _QuietWhenClosed
+from legdsl.cli.process import QuietWhenClosed
 
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = str(ROOT / "creatures" / "hopper.leg")
@@ -52,7 +52,7 @@ def test_the_quiet_stdout_passes_text_on_until_the_reader_leaves() -> None:
             raise ValueError("no descriptor")  # a stream without one: nothing to redirect
 
     pipe = Pipe()
-    quiet = _QuietWhenClosed(pipe)  # type: ignore[arg-type]
+    quiet = QuietWhenClosed(pipe)  # type: ignore[arg-type]
     for line in ("a\n", "b\n", "c\n", "d\n"):
         assert quiet.write(line) == 2
     quiet.flush()

@@ -157,11 +157,11 @@ def test_a_killed_write_leaves_run_json_saying_incomplete(generated: Path, tmp_p
 def test_sigterm_unwinds_a_reader_as_ctrl_c_does() -> None:
     """animate, export-motion, replay and plot: SIGTERM raises, so that their temporary file
     is removed and ffmpeg stopped (Python's default ended the process on the spot)."""
-    from legdsl.cli import _sigterm_unwinds
+    from legdsl.cli.process import sigterm_unwinds
     from legdsl.sim.run_loop import Interrupted
 
     before = signal.getsignal(signal.SIGTERM)
-    with pytest.raises(Interrupted), _sigterm_unwinds():
+    with pytest.raises(Interrupted), sigterm_unwinds():
         os.kill(os.getpid(), signal.SIGTERM)
         time.sleep(5)  # the handler raises before this ends
     assert signal.getsignal(signal.SIGTERM) == before

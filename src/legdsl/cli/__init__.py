@@ -10,13 +10,11 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
-import os
-import signal
 import sys
 import traceback
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, TextIO, cast
+from typing import TextIO, cast
 
 from legdsl import __version__
 from legdsl.cli.common import (
@@ -27,6 +25,7 @@ from legdsl.cli.common import (
     Command,
     numeric,
 )
+from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
 from legdsl.cli.run import add_run_parser
 from legdsl.lang.errors import LegError, UsageError
 
@@ -430,71 +429,11 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-class _QuietWhenClosed:
-    """Standard output that goes quiet when its reader leaves (``legdsl run ... | head -1``):
-    the command still writes its files (a run's player, an export), and its exit status is
-    the work's, not a "Broken pipe" after half of it."""
-
-    def __init__(self, stream: TextIO) -> None:
-        self._stream = stream
-        self.reader_left = False
-
-    def write(self, text: str) -> int:
-        if not self.reader_left:
-            try:
-                return self._stream.write(text)
-            except BrokenPipeError:
-                self._left()
-        return len(text)
-
-    def flush(self) -> None:
-        if not self.reader_left:
-            try:
-                self._stream.flush()
-            except BrokenPipeError:
-                self._left()
-
-    def _left(self) -> None:
-        self.reader_left = True
-        # what is still buffered is flushed at exit too: send it nowhere, quietly
-        with contextlib.suppress(OSError, ValueError):
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, self._stream.fileno())
-            os.close(devnull)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._stream, name)
-
-
-# Readers that write one output through a temporary file and, for a video, an ffmpeg: SIGTERM
-# unwinds them as Ctrl-C does (the temporary file removed, ffmpeg stopped), where Python's
-# default would end the process on the spot and leave both behind. (``run`` has its own.)
-_TERM_UNWINDS = ("animate", "export-motion", "replay", "plot")
-
-
-@contextlib.contextmanager
-def _sigterm_unwinds() -> Iterator[None]:
-    from legdsl.sim.run_loop import Interrupted
-
-    def unwind(signum: int, frame: Any) -> None:
-        raise Interrupted("SIGTERM")
-
-    try:
-        previous = signal.signal(signal.SIGTERM, unwind)
-    except ValueError:  # not the main thread (main() called from a thread): leave it be
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     stdout = sys.stdout
     if stdout is None:  # started with standard output closed: print() writes nothing
         return _main(argv)
-    quiet = _QuietWhenClosed(stdout)
+    quiet = QuietWhenClosed(stdout)
     sys.stdout = cast(TextIO, quiet)
     try:
         return _main(argv)
@@ -515,9 +454,9 @@ def _main(argv: Sequence[str] | None) -> int:
             for flag, value in (("-o", args.output), ("--video", getattr(args, "video", None))):
                 if value:
                     check_output_file(value, flag)
-        if args.command not in _TERM_UNWINDS:
+        if args.command not in TERM_UNWINDS:
             return _COMMANDS[args.command](args)
-        with _sigterm_unwinds():
+        with sigterm_unwinds():
             return _COMMANDS[args.command](args)
     except LegError as e:
         print(_render(e), file=sys.stderr)
