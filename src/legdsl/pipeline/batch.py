@@ -56,7 +56,14 @@ from legdsl.sim.c_backend import (
 from legdsl.sim.c_library import address
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory, recording_budget, sample_bytes
-from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, steps_per_sample
+from legdsl.sim.run_loop import (
+    Interrupted,
+    RunLoop,
+    RunOptions,
+    RunResult,
+    run_samples,
+    steps_per_sample,
+)
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -286,7 +293,7 @@ def check_recordings(model: Model, opts: RunOptions, copies: int) -> None:
     """The copies' recordings are laid out at once, for every sample of their runs: more than
     ``recording_budget`` is refused before anything runs."""
     budget = recording_budget()
-    samples = copies * (int(round(opts.duration / opts.dt)) // steps_per_sample(opts) + 1)
+    samples = copies * run_samples(opts)
     need = samples * sample_bytes(model)
     if budget is None or need <= budget:
         return

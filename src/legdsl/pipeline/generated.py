@@ -78,10 +78,8 @@ def _load(
     label = f"legdsl_generated_{model.name}_{path.stem}"
     if generated.is_dir():
         recover_dir(generated / model.name)  # after a compile that was killed
-    reason = "missing"
-    if path.is_file():
-        reason = next((why for _, why in _changed(path.parent, [file])), "")
-    if path.is_file() and not reason:
+    reason = next((why for _, why in _changed(path.parent, [file])), "")  # "missing", ...
+    if not reason:
         try:
             module = import_module_file(path, label)
         except Exception as e:  # a merge-conflict marker, an edit that kept its digest...
@@ -122,7 +120,7 @@ def c_sources(
     if generated.is_dir():
         recover_dir(folder)
     names = [*wanted, "dynamics.h"]
-    why = next((f"{name} is {why}" for name, why in _changed(folder, names)), None)
+    why = next((f"{name} is {reason}" for name, reason in _changed(folder, names)), None)
     for file, line in wanted.items():
         if why is None and line not in (folder / file).read_text(encoding="utf-8"):
             why = f"{file} is stale"

@@ -37,6 +37,11 @@ def steps_per_sample(options: RunOptions) -> int:
     return max(1, math.ceil(1.0 / (options.record_rate * options.dt) - 1e-3))
 
 
+def run_samples(options: RunOptions) -> int:
+    """The most samples a run of these options records (its recording's full length)."""
+    return int(round(options.duration / options.dt)) // steps_per_sample(options) + 1
+
+
 @dataclass
 class RunResult:
     trajectory: Trajectory

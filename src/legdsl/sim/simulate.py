@@ -29,6 +29,7 @@ from legdsl.sim.run_loop import (
     RunOptions,
     RunResult,
     grow_recording,
+    run_samples,
     steps_per_sample,
 )
 from legdsl.sim.stability import likely_cause
@@ -402,7 +403,7 @@ class Simulation:
         samples; it doubles when full: a long run starts at once, memory follows the samples)."""
         opts = self.options
         n_steps, record_every = int(round(opts.duration / opts.dt)), steps_per_sample(opts)
-        capacity = n_steps // record_every + 1  # samples at most
+        capacity = run_samples(opts)
         return RunLoop(
             n_steps=n_steps,
             record_every=record_every,
