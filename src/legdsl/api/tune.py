@@ -40,6 +40,13 @@ from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lang.units import parse_unit
+from legdsl.sim.run_loop import Interrupted
+
+# how a tune ended early, by what stopped it (``tune.json``'s "ended"; else "finished")
+STOPPED_BY: dict[type[BaseException], str] = {
+    KeyboardInterrupt: "interrupted",
+    Interrupted: "terminated",
+}
 
 
 @dataclass(frozen=True)
@@ -130,33 +137,43 @@ def tune(
     es = cma.CMAEvolutionStrategy(x0, 0.3, options)
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, float], list[Any]] | None = None
+    begun: tuple[float, list[Any]] | None = None  # the file's own values: objective, runs
+    ended = "finished"
     began = time.perf_counter()
-    with Workers(workers, dask) as pool:
-        (start_rows,) = evaluate(pool, [start])
-        start_score = score(start_rows, objective)
-        say(f"start: objective {start_score:.4g}")
-        while not es.stop():
-            xs = es.ask()
-            candidates = [values_of(x) for x in xs]
-            results = evaluate(pool, candidates)
-            scores = [score(r, objective) for r in results]
-            es.tell(xs, scores)
-            k = min(range(len(scores)), key=scores.__getitem__)
-            if best is None or scores[k] < best[0]:
-                best = (scores[k], candidates[k], results[k])
-            history.append({"generation": len(history) + 1, "best": scores[k],
-                            "mean": sum(scores) / len(scores), "runs": len(xs) * len(results[0])})  # fmt: skip
-            done, spent = len(history), time.perf_counter() - began
-            left = spent / done * (generations - done)
-            say(f"generation {done}/{generations}: best {scores[k]:.4g}, so far {best[0]:.4g} "
-                f"({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
-    assert best is not None
-    if start_score <= best[0]:  # nothing found beats the file's own values: keep them
+    try:
+        with Workers(workers, dask) as pool:
+            (start_rows,) = evaluate(pool, [start])
+            begun = (score(start_rows, objective), start_rows)
+            say(f"start: objective {begun[0]:.4g}")
+            while not es.stop():
+                xs = es.ask()
+                candidates = [values_of(x) for x in xs]
+                results = evaluate(pool, candidates)
+                scores = [score(r, objective) for r in results]
+                es.tell(xs, scores)
+                k = min(range(len(scores)), key=scores.__getitem__)
+                if best is None or scores[k] < best[0]:
+                    best = (scores[k], candidates[k], results[k])
+                history.append({"generation": len(history) + 1, "best": scores[k],
+                                "mean": sum(scores) / len(scores),
+                                "runs": len(xs) * len(results[0])})  # fmt: skip
+                done, spent = len(history), time.perf_counter() - began
+                left = spent / done * (generations - done)
+                say(f"generation {done}/{generations}: best {scores[k]:.4g}, so far "
+                    f"{best[0]:.4g} ({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
+    except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
+        if begun is None:  # not even the file's own values measured: nothing to keep
+            raise
+        ended = STOPPED_BY[type(stop)]
+        say(f"{ended} in generation {len(history) + 1} of {generations}: the best so far is kept")
+    start_score, start_rows = begun
+    if best is None or start_score <= best[0]:  # nothing found beats the file's own values
         best = (start_score, start, start_rows)
     return {
         "start": {"values": start, "objective": start_score, "runs": start_rows},
         "best": {"values": best[1], "objective": best[0], "runs": best[2]},
         "history": history,
+        "ended": ended,
     }
 
 

@@ -13,6 +13,7 @@ from legdsl.api.sweep import Job, parse_axis, units_of
 from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
 from legdsl.check.source import check_model
 from legdsl.lang.errors import UsageError
+from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
 
@@ -26,7 +27,8 @@ def add_tune_parser(sub: Any) -> Command:
             "holds each of --speeds (and, with --table2, comes close to the paper's rows; with "
             "--energy-weight, spends less positive actuator work per metre); "
             "falls are penalised by how early they happen. Writes OUT/NAME.leg with the "
-            "tuned values, OUT/tune.json and OUT/tune.png."
+            "tuned values, OUT/tune.json and OUT/tune.png (after Ctrl-C or SIGTERM too, with the "
+            "best so far)."
         ),
         epilog="Example: legdsl tune creatures/hopper.leg --controller hop --param "
         "k_speed=0.02:0.2 --param kp=50:300 --speeds 0.5,1,1.5 --time 10 --out tuned/hopper",
@@ -112,5 +114,11 @@ def cmd_tune(args: argparse.Namespace) -> int:
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
     print(report(result, units))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
-    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}")
+    done = len(result["history"])
+    kept = "" if result["ended"] == "finished" else f", the best of {done} generations so far"
+    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}{kept}")
+    if result["ended"] == "interrupted":
+        raise KeyboardInterrupt  # the command's status, now that its results are written
+    if result["ended"] == "terminated":
+        raise Interrupted("SIGTERM")
     return 0

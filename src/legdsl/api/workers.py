@@ -12,6 +12,7 @@ purpose. Every result is the same wherever it was computed: a run depends only o
 
 from __future__ import annotations
 
+import signal
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, TypeVar
@@ -49,13 +50,27 @@ class Workers:
                 raise UsageError(f"--dask {self.dask}: cannot reach the scheduler ({e})") from None
         return self
 
-    def __exit__(self, *exc: object) -> None:
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
         if self._pool is not None:
-            self._pool.shutdown()
+            if kind is None:
+                self._pool.shutdown()
+            else:  # Ctrl-C, SIGTERM or an error: stop the runs under way, never wait for them
+                self._stop_processes()
         if self._client is not None:
             self._client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+    def _stop_processes(self) -> None:
+        assert self._pool is not None
+        # the executor's own processes (Python 3.14 names this terminate_workers); left
+        # running, a worker of a parent killed by SIGTERM would wait for work forever
+        processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()  # SIGTERM, which a worker leaves at the system's default
+        for process in processes:
+            process.join()
 
     def as_completed(self, fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
         """``fn`` of each item, in the order they finish."""
@@ -63,7 +78,7 @@ class Workers:
             return
         if self.dask is None:
             if self._pool is None:
-                self._pool = ProcessPoolExecutor(max_workers=self.workers)
+                self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
             pending = {self._pool.submit(fn, item) for item in items}
             while pending:
                 ready, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -74,3 +89,10 @@ class Workers:
 
         for future in as_completed(self._client.map(fn, list(items), pure=False)):
             yield future.result()
+
+
+def _worker() -> None:
+    """A local worker's signals: Ctrl-C is its parent's to handle (which stops the workers, see
+    ``Workers.__exit__``), and SIGTERM ends it at once, whatever handler it was forked with."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)

@@ -46,10 +46,11 @@ class QuietWhenClosed:
         return getattr(self._stream, name)
 
 
-# Readers that write one output through a temporary file and, for a video, an ffmpeg: SIGTERM
-# unwinds them as Ctrl-C does (the temporary file removed, ffmpeg stopped), where Python's
-# default would end the process on the spot and leave both behind. (``run`` has its own.)
-TERM_UNWINDS = ("animate", "export-motion", "replay", "plot")
+# Readers that write one output through a temporary file and, for a video, an ffmpeg, and the
+# commands with worker processes: SIGTERM unwinds them as Ctrl-C does (the temporary file
+# removed, ffmpeg and the workers stopped, a tune's best so far written), where Python's
+# default would end the process on the spot and leave them behind. (``run`` has its own.)
+TERM_UNWINDS = ("animate", "export-motion", "replay", "plot", "sweep", "tune")
 
 
 @contextlib.contextmanager
