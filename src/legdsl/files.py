@@ -5,15 +5,19 @@ generated modules) goes through this module, so that a crash, a Ctrl-C or a SIGK
 instant leaves either the old file or the new one, never a mix or a half-written file.
 
 Temporary names are hidden siblings of the target, ``.NAME.TAG-PID-RANDOM`` (keeping the
-target's suffix, which tools such as ffmpeg read), so two processes writing the same target at
-the same moment never share one; leftovers of a killed writer are recognised by
-``is_leftover`` and removed by ``clean_leftovers``.
+target's suffix, which tools such as ffmpeg read; NAME is cut short, with a digest of the
+whole, where the temporary name would pass the file system's 255 bytes), so two processes
+writing the same target at the same moment never share one; leftovers of a killed writer are
+recognised by ``is_leftover`` and ``leftovers``. A writer of several files into one directory
+(a run directory) holds ``writing_alone``'s lock meanwhile.
 """
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import fcntl
+import hashlib
 import os
 import re
 import secrets
@@ -23,20 +27,50 @@ from collections.abc import Iterator
 from pathlib import Path
 
 # .NAME.TAG-PID-HEX[.suffix]: what temp_sibling makes
-_LEFTOVER = re.compile(r"^\.(?P<name>.+)\.(?P<tag>tmp|new|old)-(?P<pid>\d+)-[0-9a-f]{8}(\.[^.]*)?$")
+_LEFTOVER = re.compile(
+    r"^\.(?P<name>.+)\.(?P<tag>tmp|new|old)-(?P<pid>\d+)-[0-9a-f]{8}(?P<suffix>\.[^.]*)?$"
+)
 
 
-def temp_sibling(path: str | Path, tag: str = "tmp") -> Path:
-    """A fresh hidden name beside ``path``: ``.NAME.TAG-PID-RANDOM`` plus its suffix."""
+# the longest file name of the common file systems (ext4, XFS, Btrfs, APFS: 255 bytes)
+NAME_MAX = 255
+# what a temporary name adds to its target's: two dots, the tag, a pid, 8 hex digits, dashes
+_ADDED = len("..old--") + len(str(2**32)) + 8
+_SUFFIX_MAX = 16  # a longer "suffix" is no format's extension: the temporary name drops it
+
+
+def temp_sibling(path: str | Path, tag: str = "tmp", suffix: str | None = None) -> Path:
+    """A fresh hidden name beside ``path``: ``.NAME.TAG-PID-RANDOM`` plus its suffix (or
+    ``suffix``), NAME shortened where the whole would pass the file system's limit."""
     path = Path(path)
+    end = _suffix(path) if suffix is None else suffix
     unique = f"{os.getpid()}-{secrets.token_hex(4)}"
-    return path.with_name(f".{path.name}.{tag}-{unique}{path.suffix}")
+    return path.with_name(f".{_temp_stem(path.name, end)}.{tag}-{unique}{end}")
+
+
+def _suffix(path: Path) -> str:
+    return path.suffix if len(os.fsencode(path.suffix)) <= _SUFFIX_MAX else ""
+
+
+def _temp_stem(name: str, suffix: str) -> str:
+    """``name`` as its temporary siblings spell it: whole where the sibling's name fits in
+    NAME_MAX bytes, else cut short and made unique again by a digest of the whole name."""
+    room = NAME_MAX - _ADDED - len(os.fsencode(suffix))
+    raw = os.fsencode(name)
+    if len(raw) <= room:
+        return name
+    return f"{os.fsdecode(raw[: room - 9])}~{hashlib.sha256(raw).hexdigest()[:8]}"
 
 
 def is_leftover(path: Path, name: str | None = None) -> bool:
     """Whether ``path`` is a temporary sibling (of the target ``name``, if given)."""
     m = _LEFTOVER.match(path.name)
-    return m is not None and (name is None or m.group("name") == name)
+    return m is not None and (name is None or _names(m, name))
+
+
+def _names(m: re.Match[str], name: str) -> bool:
+    """Whether the temporary name ``m`` matched is one of the target ``name``'s."""
+    return m.group("name") in (name, _temp_stem(name, m.group("suffix") or ""))
 
 
 def _pid_alive(pid: int) -> bool:
@@ -58,7 +92,7 @@ def leftovers(directory: Path, name: str) -> list[Path]:
     found = []
     for p in directory.iterdir():
         m = _LEFTOVER.match(p.name)
-        if m and m.group("name") == name and not _pid_alive(int(m.group("pid"))):
+        if m and _names(m, name) and not _pid_alive(int(m.group("pid"))):
             found.append(p)
     return sorted(found)
 
@@ -78,12 +112,12 @@ def _normal_mode(path: Path) -> None:
 
 
 @contextlib.contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
-    """A temporary path to write; renamed over ``path`` when the block ends without error,
-    removed if it raises. Parents are created."""
+def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
+    """A temporary path to write (ending in ``suffix``, by default ``path``'s own); renamed
+    over ``path`` when the block ends without error, removed if it raises. Parents are made."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = temp_sibling(path)
+    tmp = temp_sibling(path, suffix=suffix)
     try:
         yield tmp
         instant(f"wrote {tmp.name}")
@@ -94,6 +128,19 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+@contextlib.contextmanager
+def writing_alone(directory: Path) -> Iterator[None]:
+    """Hold ``directory``'s lock while writing several files into it: two writers of one
+    directory (two runs given the same ``--out``) take turns, so its files all come from one
+    of them, the last (the system releases the lock of a writer killed meanwhile)."""
+    fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
 
 
 def write_atomic(path: str | Path, data: str | bytes) -> None:

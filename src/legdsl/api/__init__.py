@@ -28,7 +28,7 @@ import numpy as np
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.export.motion import motion_from, read_run
-from legdsl.files import write_atomic
+from legdsl.files import write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
@@ -342,8 +342,9 @@ class Run:
             import json
 
             out.mkdir(parents=True, exist_ok=True)
-            self.trajectory.save(out)
-            write_atomic(out / "run.json", json.dumps(self.info, indent=2) + "\n")
+            with writing_alone(out):
+                self.trajectory.save(out)
+                write_atomic(out / "run.json", json.dumps(self.info, indent=2) + "\n")
         self.directory = out
         return out
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, quaternion_to_matrix
+from legdsl.files import write_atomic
 
 # legdsl z-up to BVH y-up: (x, y, z) -> (x, z, -y)
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
@@ -109,8 +110,5 @@ def bvh_text(motion: Motion) -> str:
 
 def write_bvh(motion: Motion, path: Path) -> int:
     """Write ``path``; returns its size."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(bvh_text(motion))
-    tmp.replace(path)
+    write_atomic(path, bvh_text(motion))
     return path.stat().st_size

@@ -24,6 +24,7 @@ from legdsl import __version__
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
+from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("usd", "usda")
@@ -111,17 +112,9 @@ def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
     """Write ``path`` as .usd (binary crate) or .usda (text); returns its size."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
-    path.parent.mkdir(parents=True, exist_ok=True)
     # The layer's format follows its extension: write under the right one, then rename.
-    tmp = path.with_name(f".{path.stem}.tmp.{fmt}")
-    if tmp.exists():
-        tmp.unlink()
-    try:
+    with atomic_path(path, suffix=f".{fmt}") as tmp:
         stage = build_stage(motion, tmp)
         stage.GetRootLayer().Save()
         del stage
-        tmp.replace(path)
-    except BaseException:  # Ctrl-C, SIGTERM, a failure: no half-written layer left beside it
-        tmp.unlink(missing_ok=True)
-        raise
     return path.stat().st_size

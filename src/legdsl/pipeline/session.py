@@ -26,7 +26,7 @@ from typing import Any
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.python.dynamics import creature_fingerprint
-from legdsl.files import leftovers, remove, write_atomic
+from legdsl.files import leftovers, remove, write_atomic, writing_alone
 from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -392,15 +392,16 @@ class Run:
         text = json.dumps(info, indent=2, allow_nan=False) + "\n"
         pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
-        for name in RUN_FILES:  # temporary files of a run that was killed while writing here
-            for leftover in leftovers(out, name):
-                remove(leftover)
-        for name in DERIVED_FILES:  # drawn from an earlier run here: stale beside this one
-            if (out / name).is_file():
-                remove(out / name)
-        write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
-        self.result.trajectory.save(out)
-        write_atomic(out / "run.json", text)
+        with writing_alone(out):
+            for name in RUN_FILES:  # temporary files of a run killed while writing here
+                for leftover in leftovers(out, name):
+                    remove(leftover)
+            for name in DERIVED_FILES:  # drawn from an earlier run here: stale beside this one
+                if (out / name).is_file():
+                    remove(out / name)
+            write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
+            self.result.trajectory.save(out)
+            write_atomic(out / "run.json", text)
         return out
 
     def summary(self) -> str:
