@@ -4,10 +4,14 @@ so a command added later is covered too."""
 from __future__ import annotations
 
 import argparse
+import shutil
+from pathlib import Path
 
 import pytest
 
 from legdsl.cli import _parser, main
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def subcommands() -> list[str]:
@@ -27,3 +31,15 @@ def test_help_exits_0_with_an_example(argv: list[str], capsys: pytest.CaptureFix
     out = capsys.readouterr().out
     assert "Example" in out
     assert out.startswith("usage: legdsl")
+
+
+def test_a_file_named_like_an_option_says_how_to_name_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """argparse reads -hop.leg as -h given 'op.leg' ("ignored explicit argument")."""
+    monkeypatch.chdir(tmp_path)
+    shutil.copy(ROOT / "creatures" / "hopper.leg", "-hop.leg")
+    assert main(["check", "-hop.leg"]) == 2
+    assert "write ./-hop.leg (or put -- before it)" in capsys.readouterr().err
+    assert main(["check", "./-hop.leg"]) == 0
+    assert main(["check", "--", "-hop.leg"]) == 0

@@ -64,3 +64,20 @@ def test_wrong_copies_are_a_usage_error(
 ) -> None:
     with pytest.raises(UsageError, match=message):
         hopper.run_copies(n, "hop", vary=vary, time=0.05)
+
+
+@pytest.mark.parametrize("threads", [0, -1, 1.5, True, "2"])
+def test_threads_are_a_whole_number_of_one_or_more(hopper: legdsl.Creature, threads: Any) -> None:
+    with pytest.raises(UsageError, match="give a whole number of 1 or more"):
+        hopper.run_copies(2, "hop", time=0.05, threads=threads)
+    with pytest.raises(UsageError, match="give a whole number of 1 or more"):
+        list(hopper.run_many([{"controller": "hop", "time": 0.05}], threads=threads))
+
+
+@pytest.mark.parametrize(("start", "end"), [(-1.0, None), (float("nan"), None), (0.0, -2.0)])
+def test_a_metrics_window_before_the_run_is_a_usage_error(
+    hopper: legdsl.Creature, start: float, end: float | None
+) -> None:
+    run = hopper.run(controller="hop", time=1.0)
+    with pytest.raises(UsageError, match="give a time of 0 s or more"):
+        run.metrics(start=start, end=end)

@@ -96,6 +96,9 @@ def compute_metrics(
     t = tr.t
     end = float(t[-1]) if len(tr) else 0.0
     t_to = end if t_to is None else float(t_to)
+    for side, at in (("starts", t_from), ("ends", t_to)):
+        if not at >= 0.0:  # a NaN too
+            raise MetricsError(f"the window {side} at {at:g} s; give a time of 0 s or more")
     if t_to < t_from:
         raise MetricsError(f"the window ends ({t_to:g} s) before it starts ({t_from:g} s)")
     units = stance_units(tr, dict(groups or {}))

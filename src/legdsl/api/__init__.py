@@ -125,7 +125,7 @@ class Creature:
         from legdsl.pipeline.backend import iter_batch
 
         plans = [self._session_args(**r) for r in runs]
-        for i, done in iter_batch(self.session, plans, threads):
+        for i, done in iter_batch(self.session, plans, _threads(threads)):
             yield i, self._wrap(done)
 
     def run_copies(
@@ -153,7 +153,7 @@ class Creature:
         plan = self._session_args(controller, set, time, **options)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       options=plan["options"])  # fmt: skip
-        return Copies(self, batch.run(threads, progress))
+        return Copies(self, batch.run(_threads(threads), progress))
 
     def _session_args(
         self,
@@ -209,6 +209,15 @@ def _seconds(time: object) -> float:
         raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
                          f"not {time!r}")  # fmt: skip
     return float(time)
+
+
+def _threads(threads: object) -> int | None:
+    """``threads=``: a whole number of 1 or more, or None for one per core."""
+    if threads is None or (isinstance(threads, int) and not isinstance(threads, bool)
+                           and threads >= 1):  # fmt: skip
+        return threads
+    raise UsageError(f"threads={threads!r}: give a whole number of 1 or more, or None for one "
+                     "thread per core")  # fmt: skip
 
 
 def _setting(name: str, value: str | float) -> str:

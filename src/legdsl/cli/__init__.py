@@ -23,6 +23,7 @@ from legdsl.cli.common import (
     EXIT_TERMINATED,
     EXIT_USER_ERROR,
     Command,
+    file_read_as_option,
     numeric,
 )
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
@@ -446,6 +447,9 @@ def _main(argv: Sequence[str] | None) -> int:
     from legdsl.sim.run_loop import Interrupted
 
     parser = _parser()
+    if mistake := file_read_as_option(sys.argv[1:] if argv is None else argv):
+        print(f"legdsl: {mistake}", file=sys.stderr)
+        return EXIT_USER_ERROR
     args = parser.parse_args(argv)
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first

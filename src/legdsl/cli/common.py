@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 EXIT_USER_ERROR = 2
@@ -22,3 +23,17 @@ def numeric(args: argparse.Namespace, dest: str, flag: str, spec: Any) -> Any:
 
     value = getattr(args, dest)
     return read_numeric(flag, value, spec) if isinstance(value, str) else value
+
+
+def file_read_as_option(argv: Sequence[str]) -> str | None:
+    """What to say of a file whose name starts with '-' (``legdsl run -hop.leg``), which
+    argparse reads as options (there ``-h`` given 'op.leg'), or None if there is none."""
+    for arg in argv:
+        if arg == "--":
+            return None
+        if arg.startswith("-") and len(arg) > 2 and (arg.endswith(".leg") or Path(arg).exists()):
+            return (
+                f"{arg}: a name that starts with '-' reads as an option; write ./{arg} "
+                "(or put -- before it)"
+            )
+    return None
