@@ -16,10 +16,12 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
+ENV = dict(os.environ, PYTHONPATH=str(ROOT / "src"), PYTHONUNBUFFERED="1")
+
+
 def _start(argv: list[str]) -> subprocess.Popen[str]:
     """``legdsl ARGV`` in a session of its own (its workers in its process group)."""
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), PYTHONUNBUFFERED="1")
-    return subprocess.Popen([sys.executable, "-m", "legdsl", *argv], cwd=ROOT, env=env,
+    return subprocess.Popen([sys.executable, "-m", "legdsl", *argv], cwd=ROOT, env=ENV,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             start_new_session=True)  # fmt: skip
 
@@ -82,3 +84,32 @@ def test_a_terminated_sweep_keeps_its_rows_and_stops_its_workers(
     assert proc.returncode == 143, output
     assert "terminated (SIGTERM)" in output and "Traceback" not in output
     assert 3 <= table.read_text().count("\n") < 2001
+
+
+def test_a_stopped_tune_run_again_goes_on_as_if_it_had_never_stopped(
+    generated: Path, tmp_path: Path
+) -> None:
+    """The journal's generations are told to a fresh CMA-ES without runs: the resumed tune's
+    results equal, byte for byte, those of a tune that was never stopped."""
+    argv = ["tune", "creatures/hopper.leg", "--controller", "hop", "--param", "k_speed=0.02:0.2",
+            "--param", "kp=50:300", "--speeds", "1m/s,1.5m/s", "--time", "2", "--from", "0.5",
+            "--generations", "6", "--popsize", "4", "--seed", "3", "--jobs", "2",
+            "--generated", str(generated)]  # fmt: skip
+    whole, stopped = tmp_path / "whole", tmp_path / "stopped"
+    proc = _start([*argv, "--out", str(stopped)])
+    assert proc.stdout is not None
+    seen = ""
+    while not seen.startswith("generation 2/") and proc.poll() is None:
+        seen = proc.stdout.readline()
+    _stop(proc, signal.SIGINT, whole_group=True)
+    assert proc.returncode == 130
+    assert len(json.loads((stopped / "tune.json").read_text())["history"]) < 6
+    assert (stopped / ".tune-journal.json").is_file()
+    again = subprocess.run([sys.executable, "-m", "legdsl", *argv, "--out", str(stopped)],
+                           cwd=ROOT, env=ENV, capture_output=True, text=True, check=True)  # fmt: skip
+    assert "from before" in again.stdout
+    subprocess.run([sys.executable, "-m", "legdsl", *argv, "--out", str(whole)], cwd=ROOT,
+                   env=ENV, capture_output=True, check=True)  # fmt: skip
+    for name in ("tune.json", "hopper.leg"):
+        assert (stopped / name).read_bytes() == (whole / name).read_bytes(), name
+    assert not (stopped / ".tune-journal.json").exists()  # a finished tune needs none

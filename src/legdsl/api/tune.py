@@ -18,7 +18,8 @@ searches the parameters scaled to [0, 1] within their bounds, from the file's va
 ``--seed``; each generation's runs go to parallel processes. It writes ``OUT/NAME.leg``,
 the input with only the tuned values changed, ``OUT/tune.json`` (the best values, the
 objective of every generation, the start's and the tuned runs' metrics at each speed) and
-``OUT/tune.png`` (the objective per generation).
+``OUT/tune.png`` (the objective per generation). Stopped by Ctrl-C or SIGTERM, it writes the
+same with the best so far, and the same command goes on from there (``tune_journal``).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from typing import Any
 
 from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
+from legdsl.api.tune_journal import Journal
 from legdsl.api.workers import Workers
 from legdsl.files import write_atomic
 from legdsl.ir.controller import Controller
@@ -106,8 +108,11 @@ def tune(
     workers: int,
     say: Callable[[str], None] = print,
     dask: str | None = None,
+    journal: Journal | None = None,
 ) -> dict[str, Any]:
-    """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows."""
+    """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows. With
+    a ``journal``, each generation is written down as it ends, and the generations it already
+    holds are taken from it instead of being run again."""
     import cma
 
     def values_of(x: Sequence[float]) -> dict[str, float]:
@@ -126,40 +131,71 @@ def tune(
         n = len(objective.speeds)
         return [rows[k * n : (k + 1) * n] for k in range(len(candidates))]
 
-    start = {b.name: b.start for b in bounds}
-    x0 = [(b.start - b.low) / (b.high - b.low) for b in bounds]
-    options: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": seed, "maxiter": generations,
-                               "verbose": -9}  # fmt: skip
-    if popsize is not None:
-        options["popsize"] = popsize
-    if len(bounds) == 1:  # cma 4 fails in one dimension once its step passes maxstd (a third
-        options["maxstd"] = math.inf  # of the bounds): "not yet initialized (dimension needed)"
-    es = cma.CMAEvolutionStrategy(x0, 0.3, options)
+    def search() -> Any:
+        x0 = [(b.start - b.low) / (b.high - b.low) for b in bounds]
+        options: dict[str, Any] = {"bounds": [0.0, 1.0], "seed": seed, "maxiter": generations,
+                                   "verbose": -9}  # fmt: skip
+        if popsize is not None:
+            options["popsize"] = popsize
+        if len(bounds) == 1:  # cma 4 fails in one dimension once its step passes maxstd (a
+            options["maxstd"] = math.inf  # third of the bounds): "not yet initialized"
+        return cma.CMAEvolutionStrategy(x0, 0.3, options)
+
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, float], list[Any]] | None = None
+
+    def record(xs: list[list[float]], scores: list[float], best_runs: list[Any]) -> None:
+        nonlocal best
+        k = min(range(len(scores)), key=scores.__getitem__)
+        if best is None or scores[k] < best[0]:
+            best = (scores[k], values_of(xs[k]), best_runs)
+        history.append({"generation": len(history) + 1, "best": scores[k],
+                        "mean": sum(scores) / len(scores),
+                        "runs": len(xs) * len(objective.speeds)})  # fmt: skip
+
+    es = search()
+    if journal is not None:  # the generations done before: their objectives, told again
+        journal.generations = journal.generations[:generations]
+        for before in journal.generations:
+            xs = es.ask()
+            if [list(map(float, x)) for x in xs] != before["xs"]:  # not the recorded search
+                es, history, best = search(), [], None
+                journal.generations = []
+                break
+            es.tell(xs, before["scores"])
+            record(before["xs"], before["scores"], before["best_runs"])
+    start = {b.name: b.start for b in bounds}
     begun: tuple[float, list[Any]] | None = None  # the file's own values: objective, runs
     ended = "finished"
-    began = time.perf_counter()
     try:
         with Workers(workers, dask) as pool:
-            (start_rows,) = evaluate(pool, [start])
+            if journal is not None and journal.start is not None:
+                start_rows = journal.start
+            else:
+                (start_rows,) = evaluate(pool, [start])
             begun = (score(start_rows, objective), start_rows)
             say(f"start: objective {begun[0]:.4g}")
+            if history:
+                assert best is not None
+                say(f"generations 1 to {len(history)} from before: so far {best[0]:.4g}")
+            if journal is not None:
+                journal.start = start_rows
+                journal.save()
+            began, replayed = time.perf_counter(), len(history)
             while not es.stop():
                 xs = es.ask()
-                candidates = [values_of(x) for x in xs]
-                results = evaluate(pool, candidates)
+                results = evaluate(pool, [values_of(x) for x in xs])
                 scores = [score(r, objective) for r in results]
                 es.tell(xs, scores)
-                k = min(range(len(scores)), key=scores.__getitem__)
-                if best is None or scores[k] < best[0]:
-                    best = (scores[k], candidates[k], results[k])
-                history.append({"generation": len(history) + 1, "best": scores[k],
-                                "mean": sum(scores) / len(scores),
-                                "runs": len(xs) * len(results[0])})  # fmt: skip
+                xs = [list(map(float, x)) for x in xs]
+                best_runs = results[min(range(len(scores)), key=scores.__getitem__)]
+                record(xs, scores, best_runs)
+                if journal is not None:
+                    journal.add(xs, scores, best_runs)
+                assert best is not None
                 done, spent = len(history), time.perf_counter() - began
-                left = spent / done * (generations - done)
-                say(f"generation {done}/{generations}: best {scores[k]:.4g}, so far "
+                left = spent / (done - replayed) * (generations - done)
+                say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
                     f"{best[0]:.4g} ({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
     except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
         if begun is None:  # not even the file's own values measured: nothing to keep

@@ -3,15 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 from collections.abc import Callable
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 from legdsl.api.sweep import Job, parse_axis, units_of
 from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
+from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
+from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.lang.errors import UsageError
 from legdsl.sim.run_loop import Interrupted
 
@@ -28,7 +32,7 @@ def add_tune_parser(sub: Any) -> Command:
             "--energy-weight, spends less positive actuator work per metre); "
             "falls are penalised by how early they happen. Writes OUT/NAME.leg with the "
             "tuned values, OUT/tune.json and OUT/tune.png (after Ctrl-C or SIGTERM too, with the "
-            "best so far)."
+            "best so far; the same command run again then goes on from there)."
         ),
         epilog="Example: legdsl tune creatures/hopper.leg --controller hop --param "
         "k_speed=0.02:0.2 --param kp=50:300 --speeds 0.5,1,1.5 --time 10 --out tuned/hopper",
@@ -105,13 +109,19 @@ def cmd_tune(args: argparse.Namespace) -> int:
     objective = Objective(
         speeds, args.time, args.t_from, args.table2, args.table2_weight, args.energy_weight
     )
+    plan = {"creature": creature_fingerprint(model),
+            "controller": controller_fingerprint(model, controller), "bounds": bounds,
+            "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
+    journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
     result = tune(
         base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-        dask=args.dask,
+        dask=args.dask, journal=journal,
     )  # fmt: skip
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
+    if result["ended"] == "finished":
+        journal.remove()
     print(report(result, units))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     done = len(result["history"])

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import os
 import signal
 import sys
 from collections.abc import Iterator
@@ -128,7 +129,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         except OSError as e:
             raise os_error("the run directory", out, e) from None
     print(run.summary())
-    print(f"  written to {out}/ (trajectory.npz, trajectory.csv, run.json)")
+    print(f"  written to {os.path.join(out, '')} (trajectory.npz, trajectory.csv, run.json)")
     if args.animate:
         from legdsl.export.animate import animate_result
 

@@ -1,0 +1,75 @@
+"""What a stopped ``legdsl tune`` had done, so that the same command run again goes on from there.
+
+``OUT/.tune-journal.json`` holds the plan (all that decides the search: the ``.leg`` file's
+digest, the controller, the bounds, the speeds, the objective, the population and the seed),
+the start's runs, and each finished generation's candidates, their objectives and the runs of
+its best. CMA-ES is deterministic given its seed, so telling a fresh search the recorded
+objectives (``ask``, then ``tell``, without a run) brings it to the state of the stopped one,
+bit for bit, and the tune goes on as if it had never stopped. A candidate that does not come
+out as recorded (another version of cma) discards the generations, and the search starts
+again from the start's runs. The journal is removed when a tune finishes.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from legdsl.files import write_atomic
+
+JOURNAL = ".tune-journal.json"
+
+
+@dataclass
+class Journal:
+    path: Path
+    plan: dict[str, Any]
+    start: list[Any] | None = None  # the runs of the file's own values, one per speed
+    generations: list[dict[str, Any]] = field(default_factory=list)  # xs, scores, best_runs
+
+    @classmethod
+    def open(cls, out: Path, plan: dict[str, Any]) -> Journal:
+        """The journal in ``out`` if it is of this plan, else an empty one (a damaged journal
+        or another tune's is no reason to refuse: the tune starts afresh and replaces it)."""
+        plan = json.loads(json.dumps(plan))  # as it reads back: lists, not tuples
+        journal = cls(out / JOURNAL, plan)
+        try:
+            data = json.loads(journal.path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError):
+            return journal
+        if not isinstance(data, dict) or data.get("plan") != plan:
+            return journal
+        start, generations = data.get("start"), data.get("generations")
+        if _runs(start) and isinstance(generations, list) and all(map(_generation, generations)):
+            journal.start, journal.generations = start, generations
+        return journal
+
+    def add(self, xs: list[list[float]], scores: list[float], best_runs: list[Any]) -> None:
+        self.generations.append({"xs": xs, "scores": scores, "best_runs": best_runs})
+        self.save()
+
+    def save(self) -> None:
+        data = {"plan": self.plan, "start": self.start, "generations": self.generations}
+        write_atomic(self.path, json.dumps(data, default=float) + "\n")
+
+    def remove(self) -> None:
+        self.path.unlink(missing_ok=True)
+
+
+def _runs(rows: object) -> bool:
+    return isinstance(rows, list) and all(isinstance(r, dict) and "outcome" in r for r in rows)
+
+
+def _generation(entry: object) -> bool:
+    """Whether a journal's entry is a generation as ``add`` writes it (else the journal was
+    edited or damaged, and the tune starts afresh)."""
+    return (
+        isinstance(entry, dict)
+        and isinstance(entry.get("xs"), list)
+        and isinstance(entry.get("scores"), list)
+        and len(entry["xs"]) == len(entry["scores"]) > 0
+        and all(isinstance(v, int | float) for v in entry["scores"])
+        and _runs(entry.get("best_runs"))
+    )
