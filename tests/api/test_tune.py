@@ -98,3 +98,22 @@ def test_a_parameter_of_a_shared_part_is_written_where_it_is_declared(tmp_path: 
     changed = [a for a, b in zip(source.read_text().splitlines(), out.read_text().splitlines(),
                                  strict=True) if a != b]  # fmt: skip
     assert len(changed) == 2
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["", "{", "[]", '{"plan": {"seed": 1}, "start": 3, "generations": []}',
+     '{"plan": {"seed": 1}, "start": [], "generations": [{"xs": [[0.5]], "scores": ["x"]}]}',
+     '{"plan": {"seed": 2}, "start": [], "generations": []}'],
+    ids=["empty", "cut", "a list", "start", "a generation", "another tune's"],
+)  # fmt: skip
+def test_a_damaged_or_foreign_journal_starts_the_tune_afresh(tmp_path: Path, text: str) -> None:
+    from legdsl.api.tune_journal import JOURNAL, Journal
+
+    (tmp_path / JOURNAL).write_text(text)
+    journal = Journal.open(tmp_path, {"seed": 1})
+    assert journal.start is None and journal.generations == []
+    journal.start = [{"outcome": "ok"}]
+    journal.add([[0.5]], [0.25], [{"outcome": "ok"}])
+    again = Journal.open(tmp_path, {"seed": 1})
+    assert again.start == journal.start and again.generations == journal.generations
