@@ -445,8 +445,8 @@ def test_an_interrupt_between_c_calls_stops_the_run_where_c_is() -> None:
 
     def stop(t: float, duration: float) -> None:
         calls.append(t)
-        if len(calls) == 1:  # the signal, once (run() reports progress once more at the end)
-            raise Interrupted("SIGTERM")
+        if len(calls) == 2:  # the signal, once, after the report at the start (run() reports
+            raise Interrupted("SIGTERM")  # once more at the end)
 
     sess = session("kangaroo")
     opts = RunOptions(duration=60.0, record_rate=10.0)

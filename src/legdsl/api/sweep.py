@@ -24,7 +24,6 @@ import itertools
 import math
 import os
 import re
-import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
@@ -37,6 +36,7 @@ from legdsl.api.workers import Workers
 from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, UnitError, describe, parse_unit
+from legdsl.pipeline.report import progress_line
 from legdsl.pipeline.settings import named_si_unit
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
@@ -287,12 +287,7 @@ def _typed(text: str) -> Any:
 
 
 def progress_bar(done: int, total: int, left: float) -> None:
-    width = 30
-    filled = int(width * done / total) if total else width
-    eta = f"{int(left // 60)}m{int(left % 60):02d}s left" if done < total else "done"
-    end = "\n" if done >= total else ""
-    bar = "#" * filled + "." * (width - filled)
-    print(f"\r[{bar}] {done}/{total} runs, {eta}", end=end, file=sys.stderr, flush=True)
+    progress_line(done, total, "runs", left)
 
 
 def iter_jobs(

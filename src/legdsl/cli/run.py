@@ -80,7 +80,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_run_options,
         os_error,
     )
-    from legdsl.pipeline.report import progress_bar
+    from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
     from legdsl.pipeline.session import RunSession
 
@@ -117,7 +117,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             options.duration = scene.duration
     check_run_options(options)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
-    progress = progress_bar if sys.stderr.isatty() else None
+    progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
     with _Interrupts(out).installed() as interrupts:
         run = session.run(

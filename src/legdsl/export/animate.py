@@ -84,7 +84,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
             raise UsageError(f"--video {video}: write an .mp4 or a .gif")
         fps = args.fps or 30.0
         motion = _load(args, max(fps, 60.0))
-        result = render_video(motion, video, fps, size, overlays, progress=stderr_progress)
+        result = render_video(motion, video, fps, size, overlays, progress=stderr_progress())
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} frames at "
             f"{fps:g} fps, {motion.duration:.2f} s of motion) in {result.seconds:.1f} s"

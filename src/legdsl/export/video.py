@@ -165,9 +165,8 @@ def _write_gif(frames: Any, path: Path, fps: float, report: Callable[[int], None
     )
 
 
-def stderr_progress(t: float, total: float) -> None:
-    """A one-line progress bar on stderr (only when it is a terminal)."""
-    if sys.stderr.isatty():
-        from legdsl.pipeline.report import progress_bar
+def stderr_progress() -> Callable[[float, float], None] | None:
+    """A video's progress bar on stderr when it is a terminal."""
+    from legdsl.pipeline.report import ProgressBar
 
-        progress_bar(t, total)
+    return ProgressBar() if sys.stderr.isatty() else None

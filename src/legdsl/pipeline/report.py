@@ -3,18 +3,44 @@
 from __future__ import annotations
 
 import sys
+import time
 from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.sim.run_loop import RunResult
 
 
-def progress_bar(t: float, total: float) -> None:
+def progress_line(done: float, total: float, unit: str, left: float | None) -> None:
+    """A progress bar on standard error, written over itself: how much of ``total`` is done
+    (seconds of a run or a video, or runs of a sweep) and, when known, the time left."""
     width = 30
-    frac = min(1.0, t / total) if total > 0 else 1.0
-    bar = "#" * int(frac * width) + "." * (width - int(frac * width))
-    end = "\n" if frac >= 1.0 else ""
-    print(f"\r[{bar}] {t:6.2f} / {total:.2f} s", end=end, file=sys.stderr, flush=True)
+    frac = min(1.0, done / total) if total > 0 else 1.0
+    filled = int(frac * width)
+    amount = f"{done:6.2f} / {total:.2f} s" if unit == "s" else f"{done:g}/{total:g} {unit}"
+    if frac >= 1.0:
+        tail = "done\n"
+    elif left is None:
+        tail = "\033[K"
+    else:
+        tail = f"about {int(left // 60)}m{int(left % 60):02d}s left\033[K"  # \033[K: clear the rest
+    print(f"\r[{'#' * filled}{'.' * (width - filled)}] {amount}, {tail}", end="",
+          file=sys.stderr, flush=True)  # fmt: skip
+
+
+class ProgressBar:
+    """``progress(t, total)`` of a run or a video: ``progress_line`` with the wall time left
+    at the pace since the first call."""
+
+    def __init__(self) -> None:
+        self._first: tuple[float, float] | None = None  # (wall clock, t) at the first call
+
+    def __call__(self, t: float, total: float) -> None:
+        now = time.perf_counter()
+        if self._first is None:
+            self._first = (now, t)
+        wall, t0 = self._first
+        left = (now - wall) * (total - t) / (t - t0) if t > t0 else None
+        progress_line(t, total, "s", left)
 
 
 def summary(model: Model, result: RunResult) -> str:

@@ -364,6 +364,8 @@ class Simulation:
         wall0 = time.perf_counter()
         self._begin()
         try:
+            if progress is not None:  # at the start: the time left is told from the pace since
+                progress(self.t, opts.duration)
             self._loop(loop, progress)
         except ControlFault as fault:
             loop.status = "diverged"
