@@ -51,7 +51,9 @@ class Workers:
 
     def __exit__(self, *exc: object) -> None:
         if self._pool is not None:
-            self._pool.shutdown()
+            # Left by an exception (Ctrl-C): the work not yet started is dropped, or shutting
+            # down would first run all of it, its results thrown away.
+            self._pool.shutdown(cancel_futures=exc[0] is not None)
         if self._client is not None:
             self._client.close()
         if self._cluster is not None:
