@@ -591,3 +591,36 @@ def test_friction_needed_in_the_first_10_ms_of_stance() -> None:
     late = compute_metrics(_friction_run(spike_at=20))
     assert late.value("friction_first_toe") == pytest.approx(0.3 + 0.22 * math.sin(math.pi * 0.09))
     assert late.value("friction_toe") == pytest.approx(1.9)  # the whole stance still has it
+
+
+def test_the_magnitude_of_a_sliding_joint_is_a_length(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`--joint leg` (the hopper's slide) was reported in degrees: its travel in metres times
+    57.3. The creature's file says which coordinates slide; the quaternion of a 3D root has no
+    magnitude."""
+    import legdsl
+
+    root = Path(__file__).resolve().parents[2]
+    monkeypatch.chdir(root)
+    run = legdsl.load("creatures/hopper.leg").run(controller="hop", time=3)
+    where = run.save(tmp_path / "hopper")
+    assert main(["metrics", str(where), "--joint", "leg", "--against", "hip", "--json"]) == 0
+    saved = json.loads(capsys.readouterr().out)
+    row = saved["summary"]["joint_magnitude"]
+    assert row["label"] == "magnitude of leg (m)"
+    travel = [
+        np.ptp(run["q.leg"][(run["t"] >= a) & (run["t"] <= b)])
+        for a, b in zip(saved["strides"]["t_start"], saved["strides"]["t_end"], strict=True)
+    ]
+    assert row["value"] == pytest.approx(np.mean(travel), rel=1e-12)
+    assert 0.01 < row["value"] < 0.35  # the leg's travel, within its limits
+    assert main(["metrics", str(where), "--joint", "hip"]) == 0
+    assert "magnitude of hip (deg)" in capsys.readouterr().out
+
+    quadruped = legdsl.load("creatures/quadruped.leg").run(time=0.2, drop=0.05)
+    where = quadruped.save(tmp_path / "quadruped")
+    assert main(["metrics", str(where), "--joint", "qw"]) == 2
+    assert "--joint qw: a component of the root's orientation quaternion" in capsys.readouterr().err
+    assert main(["metrics", str(where), "--joint", "z"]) == 0
+    assert "magnitude of z (m)" in capsys.readouterr().out

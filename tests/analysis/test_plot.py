@@ -91,3 +91,28 @@ def test_plot_writes_the_footfall_diagram_beside_figure_6(
     assert (other.parent / "second-footfall.png").is_file()
     assert (other.parent / "second-top.png").is_file()
     assert (other.parent / "fig-footfall.png").is_file()
+
+
+def test_a_window_without_samples_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`plot --from 100` of a 1 s run wrote empty panels on axes matplotlib made up, exit 0."""
+    run = _run(tmp_path)
+    assert main(["plot", str(run), "--from", "100"]) == 2
+    assert "--from 100s is after its last sample, at 1 s" in capsys.readouterr().err
+    assert main(["plot", str(run), "--from", "0.1001", "--to", "0.1009"]) == 2
+    assert "none lies from 0.1001 to 0.1009 s" in capsys.readouterr().err
+    assert not (run / "figure6.png").exists() and not (run / "footfall.png").exists()
+
+
+def test_a_run_of_one_sample_draws_without_warnings(tmp_path: Path) -> None:
+    import warnings
+
+    from legdsl.sim.trajectory import Trajectory
+
+    tr = Trajectory.load(_run(tmp_path))
+    tr.rows(0, 1).save(tmp_path / "one")
+    (tmp_path / "one" / "run.json").write_text((tmp_path / "run.json").read_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # matplotlib's "identical low and high xlims"
+        assert main(["plot", str(tmp_path / "one")]) == 0

@@ -75,3 +75,61 @@ def test_run_many_gives_each_run_as_run_gives_it(monkeypatch: pytest.MonkeyPatch
 
     with pytest.raises(UsageError, match="speed"):
         list(hopper.run_many([*asked, {"controller": "hop", "set": {"speed": "2 kg"}}]))
+
+
+def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPatch) -> None:
+    """copies[-1] was a run of no samples (the rows before copy 0's), copies[5] of 2 an
+    IndexError from a list inside, copies['a'] a TypeError about lists."""
+    import numpy as np
+
+    monkeypatch.chdir(ROOT)
+    copies = legdsl.load("creatures/hopper.leg").run_copies(
+        2, "hop", vary={"speed": (np.array([0.5, 1.0]), "m/s")}, time=0.2
+    )
+    assert copies[-1]["com.x"].tobytes() == copies[1]["com.x"].tobytes()
+    assert copies[-2].info["inputs"]["speed"] == 0.5
+    assert len(copies[-1]) == len(copies[1]) > 0
+    with pytest.raises(IndexError, match=r"copy 2: the batch has 2 copies \(0 to 1\)"):
+        copies[2]
+    with pytest.raises(IndexError, match="copy -3"):
+        copies[-3]
+    with pytest.raises(TypeError, match="a copy is found by its index"):
+        copies["a"]  # type: ignore[index]
+    assert [len(c) for c in copies] == [len(copies[0]), len(copies[1])]  # iterating stops
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda c: c.run(controller=5, time=0.1), "controller= takes a text, not 5"),
+        (lambda c: c.run(controller="hop", switch=["1s=hop"], time=0.1), "switch= maps times"),
+        (lambda c: list(c.run_many(5)), "runs= is a list of run"),
+        (lambda c: list(c.run_many(["x"])), "each run is a dict"),
+        (lambda c: list(c.run_many([{"time": 0.1}], threads=-1)), "threads= is how many"),
+        (lambda c: list(c.run_many([{"time": 0.1}], threads="2")), "threads= is how many"),
+        (lambda c: c.run_copies(2, "hop", time=0.1, threads=0), "threads= is how many"),
+        (lambda c: c.run(time=0.1).metrics(start=float("nan")), "start= is seconds"),
+        (lambda c: c.run(time=0.1).metrics(start=-1), "start= is seconds"),
+        (lambda c: c.run(time=0.1).metrics(end=float("inf")), "end= is seconds"),
+        (lambda c: c.run(time=0.1).metrics(start="1 kg"), "start= 1kg"),
+        (lambda c: c.run(time=0.1).plot(start=None), "start= is seconds"),
+        (lambda c: c.run(time=0.1).save(ROOT / "README.md"), "this is a file"),
+        (lambda c: legdsl.load(None), "load.*: give the path of a .leg file, not None"),
+        (lambda c: legdsl.open_run(3), "give the path of a run directory, not 3"),
+    ],
+)
+def test_misuse_is_a_usage_error(monkeypatch: pytest.MonkeyPatch, call, message: str) -> None:  # type: ignore[no-untyped-def]
+    """Each of these was a TypeError, AttributeError, ValueError or FileExistsError from
+    inside legdsl, or (NaN and negative metric windows) metrics of nothing."""
+    from legdsl.lang.errors import UsageError
+
+    monkeypatch.chdir(ROOT)
+    hopper = legdsl.load("creatures/hopper.leg")
+    with pytest.raises(UsageError, match=message):
+        call(hopper)
+
+
+def test_a_metrics_window_takes_a_unit(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    run = legdsl.load("creatures/hopper.leg").run(controller="hop", time=2)
+    assert run.metrics(start="500 ms").t_from == run.metrics(start=0.5).t_from == 0.5

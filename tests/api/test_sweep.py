@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 
 import pytest
@@ -141,3 +142,91 @@ def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -
     assert all(len({j.source for j in batch}) == 1 for batch in pool.handed)
     assert all(1 <= len(batch) <= BATCH_RUNS for batch in pool.handed)
     assert len(pool.handed) >= 2 * 2  # a few per worker
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--seed", "-1"], "--seed -1: give a whole number, 0 or more"),
+        (["--from", "nan"], "--from nan is not a time within the runs"),
+        (["--from", "-1"], "--from -1 is not a time within the runs"),
+        (["--from", "3"], "--from 3 is not a time within the runs .--time 3."),
+        (["--grid", "k_trim=1e400,1"], "--grid k_trim: '1e400' is too large to be a number"),
+    ],
+)
+def test_options_that_would_give_nothing_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    """A negative seed was an internal error (numpy refuses it), 1e400 was read as infinity
+    and reported as a --set of 'infm/s', and a --from outside the runs gave rows of n/a."""
+    assert sweep(tmp_path / "out", tmp_path / "generated", *extra) == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert not (tmp_path / "out" / "sweep.csv").exists()
+
+
+def test_an_interrupted_run_is_no_row_and_stops_the_sweep(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At Ctrl-C the workers' runs come back 'interrupted': they are left out of the table
+    (the resume runs them again) and the sweep stops there."""
+    import legdsl.api.sweep as sweep_module
+    from legdsl.api.sweep import Job, run_sweep
+
+    def job(i: int) -> Job:
+        return Job(index=i, source=str(HOPPER), creature=None, controller="hop",
+                   values={"speed": 1.0}, units={"speed": "m/s"}, fixed=(), duration=1.0,
+                   start=0.0, generated="generated", keep=None)  # fmt: skip
+
+    def outcomes(jobs, pool):  # type: ignore[no-untyped-def]
+        yield {"run": 0, "speed": 1.0, "outcome": "ok"}
+        yield {"run": 1, "speed": 1.0, "outcome": "interrupted at 0.400 s"}
+        yield {"run": 2, "speed": 1.0, "outcome": "ok"}  # pragma: no cover (never asked for)
+
+    monkeypatch.setattr(sweep_module, "run_jobs", outcomes)
+    table = tmp_path / "sweep.csv"
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep([job(i) for i in range(3)], table, 1)
+    assert [r["run"] for r in rows(tmp_path)] == ["0"]
+
+
+def test_a_worker_stops_its_batch_at_an_interrupted_run(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The runs after one that Ctrl-C cut short are not started (they ran to their end)."""
+    import legdsl.api.sweep as sweep_module
+    from legdsl.api.sweep import Job, run_batch_of_jobs
+
+    started: list[int] = []
+
+    class FakeRun:
+        def __init__(self, status: str):
+            self.status, self.info = status, {"sim_time": 0.5}
+
+        def metrics(self, start: float) -> None:
+            raise UsageError("no strides")
+
+    class FakeCreature:
+        def run_many(self, runs, threads):  # type: ignore[no-untyped-def]
+            for i, _ in enumerate(runs):
+                started.append(i)
+                yield i, FakeRun("interrupted" if i == 1 else "ok")
+
+    monkeypatch.setattr(sweep_module, "_creature", lambda job: FakeCreature())
+    jobs = [Job(index=i, source="x.leg", creature=None, controller="hop", values={},
+                units={}, fixed=(), duration=1.0, start=0.0, generated="generated",
+                keep=None) for i in range(4)]  # fmt: skip
+    out = run_batch_of_jobs(jobs)
+    assert started == [0, 1]
+    assert [r["outcome"] for r in out] == ["ok", "interrupted at 0.500 s"]
+
+
+def test_workers_left_by_an_exception_drop_the_work_not_started() -> None:
+    """Ctrl-C in the sweep's process: the pool no longer runs every queued batch before it
+    lets the command end (a whole sweep, its results thrown away)."""
+    import time
+
+    from legdsl.api.workers import Workers
+
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt), Workers(1) as pool:
+        for _ in pool.as_completed(time.sleep, [0.2] * 40):
+            raise KeyboardInterrupt
+    assert time.monotonic() - start < 4.0  # not the 8 s of all forty

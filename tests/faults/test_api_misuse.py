@@ -68,9 +68,9 @@ def test_wrong_copies_are_a_usage_error(
 
 @pytest.mark.parametrize("threads", [0, -1, 1.5, True, "2"])
 def test_threads_are_a_whole_number_of_one_or_more(hopper: legdsl.Creature, threads: Any) -> None:
-    with pytest.raises(UsageError, match="give a whole number of 1 or more"):
+    with pytest.raises(UsageError, match="a whole number, 1 or more"):
         hopper.run_copies(2, "hop", time=0.05, threads=threads)
-    with pytest.raises(UsageError, match="give a whole number of 1 or more"):
+    with pytest.raises(UsageError, match="a whole number, 1 or more"):
         list(hopper.run_many([{"controller": "hop", "time": 0.05}], threads=threads))
 
 
@@ -78,6 +78,10 @@ def test_threads_are_a_whole_number_of_one_or_more(hopper: legdsl.Creature, thre
 def test_a_metrics_window_before_the_run_is_a_usage_error(
     hopper: legdsl.Creature, start: float, end: float | None
 ) -> None:
+    from legdsl.analysis.metrics import MetricsError, compute_metrics
+
     run = hopper.run(controller="hop", time=1.0)
-    with pytest.raises(UsageError, match="give a time of 0 s or more"):
+    with pytest.raises(UsageError, match="0 or more"):
         run.metrics(start=start, end=end)
+    with pytest.raises(MetricsError, match="give a time of 0 s or more"):  # beneath the API
+        compute_metrics(run.trajectory, t_from=start, t_to=end)

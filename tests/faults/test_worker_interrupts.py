@@ -74,7 +74,7 @@ def test_a_terminated_sweep_keeps_its_rows_and_stops_its_workers(
 ) -> None:
     out = tmp_path / "sweep"
     argv = ["sweep", "creatures/hopper.leg", "--controller", "hop", "--grid",
-            "speed=0.5:1.5:2000", "--time", "3", "--jobs", "2", "--out", str(out),
+            "speed=0.5:1.5:2000", "--time", "3", "--from", "1", "--jobs", "2", "--out", str(out),
             "--generated", str(generated)]  # fmt: skip
     proc = _start(argv)
     table = out / "sweep.csv"

@@ -85,10 +85,12 @@ def compute_metrics(
     against: str | None = None,
     edge: float = FRICTION_EDGE,
     min_normal_fraction: float = MIN_NORMAL_FRACTION,
+    joint_slides: bool = False,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
-    coordinate ``joint`` and its correlation with coordinate ``against``.
+    coordinate ``joint`` (in degrees, or in metres when ``joint_slides``: the trajectory does
+    not say which) and its correlation with coordinate ``against``.
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -108,7 +110,7 @@ def compute_metrics(
     starts, ends, note = counted_strides(t, touching(tr, ref_contacts), t_from, t_to, ref_name)
     if not tr.contact_names:
         note = "the creature has no contacts, so it takes none (only the work rows apply)"
-    per_stride = stride_series(tr, starts, ends, cols)
+    per_stride = stride_series(tr, starts, ends, cols, joint_slides)
     stances = all_stances(tr, units, starts, ends, per_stride["energy_fluctuation"], t_from, t_to)
     flights = all_flights(tr, units, starts, ends, t_from, t_to)
     per_stride["flight_time"] = [
@@ -138,7 +140,9 @@ def compute_metrics(
         flights=flights,
         friction=friction,
         summaries=with_support_rows(
-            summary_rows(tr, units, per_stride, stances, flights, friction, joint, against),
+            summary_rows(
+                tr, units, per_stride, stances, flights, friction, joint, against, joint_slides
+            ),
             tr,
             t_from,
             t_to,

@@ -53,6 +53,13 @@ def plot_run(
     tr = Trajectory.load(run)
     end = tr.t[-1] if t_to is None else t_to
     window = (tr.t >= t_from) & (tr.t <= end)
+    if not window.any():  # the panels would be empty, their axes made up by matplotlib
+        last = float(tr.t[-1])
+        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
+                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
+        raise UsageError(
+            f"nothing of {run} to draw: {where}; give --from and --to within 0 to {last:g} s"
+        )
     t = tr.t[window]
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
     height, pitch, speed, joints = axes
@@ -141,7 +148,8 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
         if t_from <= t <= end:
             ax.axvline(t, color="tab:red", linewidth=1.2)
             ax.text(t, len(rows) - 0.45, f" {controller}", color="tab:red", fontsize=8, va="bottom")
-    ax.set_xlim(t_from, end)
+    if end > t_from:  # a run of one sample has no time axis to fix
+        ax.set_xlim(t_from, end)
     ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
     ax.set_xlabel("time (s)")
     ax.set_title(f"{run.name}: footfalls (each foot's stance as a bar)", fontsize=10)

@@ -30,6 +30,7 @@ def summary_rows(
     friction: list[Friction],
     joint: str | None,
     against: str | None,
+    joint_slides: bool = False,
 ) -> list[Summary]:
     ps = per_stride
     legs = [u for u in units if u.kind in ("leg", "contact")]
@@ -89,7 +90,10 @@ def summary_rows(
     if tr.planar:  # a planar run has no roll
         rows = [r for r in rows if r.key != "roll_magnitude"]
     if joint is not None:
-        rows.append(stat("joint_magnitude", f"magnitude of {joint} (deg)", ps["joint_magnitude"]))
+        unit = "m" if joint_slides else "deg"
+        rows.append(
+            stat("joint_magnitude", f"magnitude of {joint} ({unit})", ps["joint_magnitude"])
+        )
     if against is not None:
         rows.append(
             stat(

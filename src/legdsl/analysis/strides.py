@@ -139,10 +139,15 @@ def _stride_of(index: int, starts: np.ndarray, ends: np.ndarray) -> int:
 
 
 def stride_series(
-    tr: Trajectory, starts: np.ndarray, ends: np.ndarray, cols: dict[str, int]
+    tr: Trajectory,
+    starts: np.ndarray,
+    ends: np.ndarray,
+    cols: dict[str, int],
+    joint_slides: bool = False,
 ) -> dict[str, list[float]]:
     """One value per counted stride. Means use the samples ``[start, end)`` so a periodic
-    signal is averaged over whole periods; extrema use ``[start, end]``."""
+    signal is averaged over whole periods; extrema use ``[start, end]``. The joint's magnitude
+    is in degrees, or in metres for a sliding joint."""
     t, g, mass = tr.t, tr.gravity, tr.total_mass
     yaw = tr.root_rpy[:, 2]
     forward = tr.com_vel[:, 0] * np.cos(yaw) + tr.com_vel[:, 1] * np.sin(yaw)
@@ -178,7 +183,7 @@ def stride_series(
         series["energy_fluctuation"].append(_ptp(e_ext[closed]))
         if "joint" in cols:
             q = tr.q[closed, cols["joint"]]
-            series["joint_magnitude"].append(math.degrees(_ptp(q)))
+            series["joint_magnitude"].append(_ptp(q) if joint_slides else math.degrees(_ptp(q)))
             if "against" in cols:
                 series["joint_correlation"].append(_correlation(q, tr.q[closed, cols["against"]]))
     return series

@@ -18,7 +18,7 @@ from __future__ import annotations
 import html
 import math
 import tempfile
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -124,6 +124,14 @@ class Creature:
         started are cancelled."""
         from legdsl.pipeline.backend import iter_batch
 
+        if isinstance(runs, str | bytes | Mapping) or not isinstance(runs, Iterable):
+            raise UsageError(f"run_many(): runs= is a list of run()'s keyword arguments, e.g. "
+                             f"[{{'controller': 'hop', 'time': 2}}], not {runs!r}")  # fmt: skip
+        runs = list(runs)
+        for r in runs:
+            if not isinstance(r, Mapping):
+                raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
+                                 f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [self._session_args(**r) for r in runs]
         for i, done in iter_batch(self.session, plans, _threads(threads)):
             yield i, self._wrap(done)
@@ -166,6 +174,12 @@ class Creature:
         **options: Any,
     ) -> dict[str, Any]:
         """``run``'s arguments as those of ``RunSession.run``."""
+        for name, value in (("controller", controller), ("path", path), ("scene", scene)):
+            if value is not None and not isinstance(value, str):
+                raise UsageError(f"run(): {name}= takes a text, not {value!r}")
+        if switch is not None and not isinstance(switch, Mapping):
+            raise UsageError(f"run(): switch= maps times to controllers, e.g. {{'6 s': "
+                             f"'gallop'}}, not {switch!r}")  # fmt: skip
         if set is not None and not isinstance(set, Mapping):
             raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
                              f"not {set!r}")  # fmt: skip
@@ -212,12 +226,30 @@ def _seconds(time: object) -> float:
 
 
 def _threads(threads: object) -> int | None:
-    """``threads=``: a whole number of 1 or more, or None for one per core."""
-    if threads is None or (isinstance(threads, int) and not isinstance(threads, bool)
-                           and threads >= 1):  # fmt: skip
-        return threads
-    raise UsageError(f"threads={threads!r}: give a whole number of 1 or more, or None for one "
-                     "thread per core")  # fmt: skip
+    """``threads=``: None (one per core) or a whole number, 1 or more."""
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1
+    ):
+        raise UsageError(f"threads= is how many threads run at once, a whole number, 1 or "
+                         f"more (or None: one per core), not {threads!r}")  # fmt: skip
+    return None if threads is None else int(threads)
+
+
+def _window_time(name: str, value: object) -> float:
+    """``start=``, ``end=``: seconds from the run's start (0 or more), or a text with its unit
+    as ``--from`` takes it (``"3 s"``)."""
+    from legdsl.pipeline.options import WINDOW, read_numeric
+
+    if isinstance(value, str):
+        return read_numeric(f"{name}=", value.replace(" ", ""), WINDOW)
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float | np.integer | np.floating)
+        or not (math.isfinite(value) and value >= 0)
+    ):
+        raise UsageError(f"{name}= is seconds from the run's start, a number 0 or more (or a "
+                         f"text like '3 s'), not {value!r}")  # fmt: skip
+    return float(value)
 
 
 def _setting(name: str, value: str | float) -> str:
@@ -335,16 +367,22 @@ class Run:
         groups: tuple[str, ...] = (),
     ) -> GaitMetrics:
         """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``)."""
+        t_from = _window_time("start", start)
+        t_to = None if end is None else _window_time("end", end)
+        if isinstance(groups, str):
+            groups = (groups,)
         try:
             return compute_metrics(
-                self.trajectory, t_from=start, t_to=end, leg=leg, groups=parse_groups(groups)
+                self.trajectory, t_from=t_from, t_to=t_to, leg=leg, groups=parse_groups(groups)
             )
         except MetricsError as e:
             raise UsageError(str(e)) from None
 
     def save(self, directory: str | Path) -> Path:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
-        out = Path(directory)
+        from legdsl.pipeline.options import check_output_dir
+
+        out = check_output_dir(directory, "save()")
         if self._session_run is not None:
             self._session_run.write(out)
         else:
@@ -361,9 +399,10 @@ class Run:
         """Figure 6 of the paper for this run, as a PNG (in the run's directory by default)."""
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
+        t_from = _window_time("start", start)
         directory = self._directory()
         out = Path(path) if path is not None else directory / "figure6.png"
-        return plot_run(directory, out, first_leg_angles(directory), start, None)
+        return plot_run(directory, out, first_leg_angles(directory), t_from, None)
 
     def animate(self, path: str | Path | None = None) -> Path:
         """The self-contained HTML player of this run (in the run's directory by default)."""
@@ -413,11 +452,15 @@ def load(
 ) -> Creature:
     """Check a ``.leg`` file and load its creature (the one named, if it has several),
     compiling its generated code into ``generated/`` when missing or stale."""
+    if not isinstance(path, str | Path):
+        raise UsageError(f"load(): give the path of a .leg file, not {path!r}")
     return Creature(RunSession.from_file(path, creature, generated))
 
 
 def open_run(directory: str | Path, source: str | Path | None = None) -> Run:
     """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``)."""
+    if not isinstance(directory, str | Path):
+        raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
     found = read_run(Path(directory), Path(source) if source is not None else None)
     dynamics = load_dynamics(found.model, found.source, Path("generated"))
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

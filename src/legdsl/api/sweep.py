@@ -96,6 +96,8 @@ def _number(text: str, want: Dim, kind: str, name: str) -> float:
     if match is None:
         raise UsageError(f"--{kind} {name}: {text!r} is not a number with an optional unit")
     value = float(match.group(1))
+    if not math.isfinite(value):  # 1e400 reads as infinity
+        raise UsageError(f"--{kind} {name}: {text.strip()!r} is too large to be a number")
     if match.group(2) is None:
         return value  # in the SI unit of the quantity
     try:
@@ -192,9 +194,15 @@ def run_jobs(jobs: Sequence[Job], pool: Workers) -> Iterator[dict[str, Any]]:
 
 def run_batch_of_jobs(jobs: Sequence[Job]) -> list[dict[str, Any]]:
     """The rows of several jobs of one creature, in this process: one batch
-    (``Creature.run_many``, on one thread: the pool's workers are the parallelism)."""
-    runs = _creature(jobs[0]).run_many([_run_args(j) for j in jobs], threads=1)
-    return [_row(jobs[i], run) for i, run in runs]
+    (``Creature.run_many``, on one thread: the pool's workers are the parallelism). A run
+    cut short by Ctrl-C ends the batch: its row says ``interrupted`` and no other run
+    starts after it."""
+    rows = []
+    for i, run in _creature(jobs[0]).run_many([_run_args(j) for j in jobs], threads=1):
+        rows.append(_row(jobs[i], run))
+        if run.status == "interrupted":
+            break
+    return rows
 
 
 def _row(job: Job, run: Any) -> dict[str, Any]:
@@ -244,6 +252,9 @@ def run_sweep(
     started = time.monotonic()
     with Workers(workers, dask) as pool:
         for count, row in enumerate(run_jobs(todo, pool), 1):
+            if str(row["outcome"]).startswith("interrupted"):
+                # not a result: the run is left out of the table, for the resume to run it
+                raise KeyboardInterrupt
             _append(table, columns, row)
             if progress is not None:
                 elapsed = time.monotonic() - started

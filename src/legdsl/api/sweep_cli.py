@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import fcntl
 import json
+import math
 import os
 import sys
 from collections.abc import Callable
@@ -28,8 +29,10 @@ from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 from legdsl.pipeline.settings import require_controller
+from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
+DEFAULT_FROM = 3.0  # s: the metrics are measured from here (--from)
 
 
 def add_sweep_parser(sub: Any) -> Command:
@@ -59,7 +62,7 @@ def add_sweep_parser(sub: Any) -> Command:
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a fixed setting for every run, as legdsl run --set")  # fmt: skip
     p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
-    p.add_argument("--from", dest="t_from", type=float, default=3.0,
+    p.add_argument("--from", dest="t_from", type=float, default=None,
                    help="measure the metrics from this time (s, default 3)")  # fmt: skip
     p.add_argument("--out", required=True, metavar="DIR", help="where the table and plot go")
     p.add_argument("--keep-runs", action="store_true", help="keep each run's directory")
@@ -87,6 +90,18 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError("sweep: each name is swept once")
     if args.samples < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("sweep: --samples, --jobs and --time must be positive")
+    if args.seed < 0:  # numpy's generator takes none
+        raise UsageError(f"sweep: --seed {args.seed}: give a whole number, 0 or more")
+    if not math.isfinite(args.time):
+        raise UsageError(f"--time {args.time:g}: must be a finite number more than zero")
+    default = " (the default)" if args.t_from is None else ""
+    args.t_from = DEFAULT_FROM if args.t_from is None else args.t_from
+    if not 0 <= args.t_from < args.time:  # also NaN: every row's metrics would be n/a
+        raise UsageError(
+            f"sweep: --from {args.t_from:g}{default} is not a time within the runs (--time "
+            f"{args.time:g}), so every row's metrics would be n/a; give --from from 0 to "
+            "before --time (seconds)"
+        )
     combos = points(axes, args.samples, args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -116,7 +131,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     load(args.file, args.creature, args.generated).session.control(args.controller)
     before = len(read_table(out / "sweep.csv"))
     bar = progress_bar if sys.stderr.isatty() else None
-    rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+    try:
+        rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+    except (KeyboardInterrupt, Interrupted):
+        done = len(read_table(out / "sweep.csv"))
+        print(f"legdsl: sweep interrupted: {done} of {len(jobs)} runs are in "
+              f"{out / 'sweep.csv'}; the same command again runs the other "
+              f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
+        raise
     _parquet(rows, out / "sweep.parquet")
     metric = args.plot or "speed_error"
     units = {**base["units"], **METRIC_UNITS}

@@ -358,8 +358,19 @@ class Copies:
     def __len__(self) -> int:
         return self.batch.n
 
+    def index(self, k: object) -> int:
+        """Copy ``k``'s place, 0 to n - 1 (a negative ``k`` counts from the end, as in a list):
+        a copy's rows are found from it, so any other number would read another copy's."""
+        n = self.batch.n
+        if isinstance(k, bool) or not isinstance(k, int | np.integer):
+            raise TypeError(f"copy {k!r}: a copy is found by its index, a whole number")
+        if not -n <= k < n:
+            raise IndexError(f"copy {k}: the batch has {n} copies (0 to {n - 1})")
+        return int(k) % n
+
     def trajectory(self, k: int) -> Trajectory:
         """Copy ``k``'s samples (views into the batch's arrays)."""
+        k = self.index(k)
         if k in self._reruns:
             return self._reruns[k].result.trajectory
         start = k * self.capacity
@@ -367,6 +378,7 @@ class Copies:
 
     def result(self, k: int) -> RunResult:
         """Copy ``k``'s ``RunResult``, as ``Simulation.run`` gives a single run's."""
+        k = self.index(k)
         if k in self._reruns:
             return self._reruns[k].result
         if k not in self._results:
@@ -375,6 +387,7 @@ class Copies:
 
     def run(self, k: int) -> Run:
         """Copy ``k`` as ``RunSession.run`` gives a single run (its settings and machine)."""
+        k = self.index(k)
         if k in self._reruns:
             return self._reruns[k]
         b = self.batch

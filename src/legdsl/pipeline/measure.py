@@ -9,6 +9,7 @@ from typing import Any
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths
+from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
 from legdsl.analysis.table2 import MEASURE, virtual_legs
@@ -59,6 +60,7 @@ def measure_run(
             groups=given,
             joint=joint,
             against=against,
+            joint_slides=joint is not None and _slides(run, joint),
         )
     except MetricsError as e:
         raise UsageError(str(e)) from None
@@ -89,6 +91,25 @@ def run_segments(run: str | Path) -> list[dict[str, Any]]:
     if not isinstance(segments, list) or not all(isinstance(s, dict) for s in segments):
         return []
     return segment_report(Trajectory.load(run), segments)
+
+
+def _slides(run: Path, joint: str) -> bool:
+    """Whether coordinate ``joint`` of the run's creature slides (its magnitude is then a
+    length), from the creature's ``.leg`` file; False (an angle) when that is not at hand. A
+    component of a 3D root's quaternion has no magnitude to report."""
+    info = load_run_info(run)
+    if run_source(run, info) is None:
+        return False
+    _, model = recorded_model(run, info)
+    motion = {d.name: d.motion for d in model.dofs}
+    if model.joints and model.joints[0].is_free_3d:
+        motion |= dict.fromkeys(("x", "y", "z"), "slide")
+    if joint in model.q_names and joint not in motion:
+        raise UsageError(
+            f"--joint {joint}: a component of the root's orientation quaternion, not an angle "
+            f"or a length; give a joint's coordinate ({', '.join(motion)})"
+        )
+    return motion.get(joint) == "slide"
 
 
 def run_model(run: Path, why: str) -> Model:
