@@ -69,7 +69,7 @@ def main() -> None:
     print(f"{args.controller} at {args.speed} m/s for {args.time} s: {run.status}")
     tr, s = run.trajectory, run.samples
     dyn, model = creature.session.dynamics, creature.session.model
-    hips = {leg.name: model.hip_body_index(leg) for leg in model.legs}
+    hips = {leg.name: model.leg_hip(leg) for leg in model.legs}
     limits = {a.name: a.max for a in model.actuators}
     t = s["t"]
     dt = float(np.diff(t).mean())
@@ -90,7 +90,7 @@ def main() -> None:
             q, v = [float(x) for x in tr.q[a - 1]], [float(x) for x in tr.v[a - 1]]
             foot = dyn.contact_positions(q)[c]
             speed = float(np.hypot(*dyn.contact_velocities(q, v)[c][:2]))
-            hip = dyn.body_poses(q)[hips[leg]][0][0]
+            hip = hips[leg].point(dyn.body_poses(q))[0]
             first = a + int(round(0.010 / dt))
             fx = tr.force[a:b, c, 0]
             early = float(fx[: first - a].sum() * dt)

@@ -33,24 +33,24 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[17] = s->q[11];  /* coord.hip_r_x.value */
     out[18] = s->q[12];  /* coord.hip_r_y.value */
     out[19] = s->q[13];  /* coord.hip_r_z.value */
-    out[20] = leg_sense_leg(s, 0, 1, 8, err);  /* leg.left.foot_x */
-    out[21] = leg_sense_leg(s, 0, 1, 9, err);  /* leg.left.foot_y */
-    out[22] = leg_sense_leg(s, 0, 1, 10, err);  /* leg.left.foot_z */
-    out[23] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.left.hip_x */
-    out[24] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.left.hip_y */
-    out[25] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.left.hip_z */
-    out[26] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.left.length */
-    out[27] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.left.rate */
-    out[28] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.left.touching */
-    out[29] = leg_sense_leg(s, 1, 3, 8, err);  /* leg.right.foot_x */
-    out[30] = leg_sense_leg(s, 1, 3, 9, err);  /* leg.right.foot_y */
-    out[31] = leg_sense_leg(s, 1, 3, 10, err);  /* leg.right.foot_z */
-    out[32] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.right.hip_x */
-    out[33] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.right.hip_y */
-    out[34] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.right.hip_z */
-    out[35] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.right.length */
-    out[36] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.right.rate */
-    out[37] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.right.touching */
+    out[20] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
+    out[21] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
+    out[22] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
+    out[23] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
+    out[24] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
+    out[25] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
+    out[26] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
+    out[27] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
+    out[28] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
+    out[29] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
+    out[30] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
+    out[31] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
+    out[32] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
+    out[33] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
+    out[34] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
+    out[35] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
+    out[36] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
+    out[37] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
     out[38] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
@@ -665,9 +665,9 @@ static const int64_t n_settings[] = {20, 18, 18, 20};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3};
 
-static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 3, 2, 8, 7, 7, 6, 1, 1};
+static const int64_t places_0_0_i[] = {0, 0, 2, 0, 1, 3, 2, 8, 7, 7, 6, 1, 1};
 
-static const int64_t places_0_1_i[] = {1, 3, 2, 0, 1, 6, 5, 12, 11, 11, 10, 1, 1};
+static const int64_t places_0_1_i[] = {1, 1, 2, 0, 1, 6, 5, 12, 11, 11, 10, 1, 1};
 
 static const double places_0_0_d[] = {-1.3962634015954636, -0.5235987755982988, 1.3962634015954636, 0.5235987755982988};
 

@@ -20,11 +20,11 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[4] = leg_sense_com(s, 0, 1, err);  /* com.vx */
     out[5] = leg_sense_com(s, 2, 1, err);  /* com.vz */
     out[6] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[7] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.main.hip_x */
-    out[8] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.main.length */
-    out[9] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.main.rate */
-    out[10] = leg_sense_leg(s, 0, 1, 1, err);  /* leg.main.stance_time */
-    out[11] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.main.touching */
+    out[7] = leg_sense_leg(s, 0, 5, err);  /* leg.main.hip_x */
+    out[8] = leg_sense_leg(s, 0, 3, err);  /* leg.main.length */
+    out[9] = leg_sense_leg(s, 0, 4, err);  /* leg.main.rate */
+    out[10] = leg_sense_leg(s, 0, 1, err);  /* leg.main.stance_time */
+    out[11] = leg_sense_leg(s, 0, 0, err);  /* leg.main.touching */
     (void)s; (void)out; (void)err;
 }
 
@@ -295,7 +295,7 @@ static const int64_t n_settings[] = {4, 3, 3, 4, 4};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3, settings_0_4};
 
-static const int64_t places_0_0_i[] = {0, 1, 1, 0, 1, 3, 3, 1};
+static const int64_t places_0_0_i[] = {0, 0, 1, 0, 1, 3, 3, 1};
 
 static const double places_0_0_d[] = {-1.0471975511965976, 1.0471975511965976};
 

@@ -23,13 +23,13 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[7] = s->v[5];  /* coord.ankle.rate */
     out[8] = s->q[5];  /* coord.ankle.value */
     out[9] = s->q[6];  /* coord.tail_base.value */
-    out[10] = leg_sense_leg(s, 0, 1, 2, err);  /* leg.main.flight_time */
-    out[11] = leg_sense_leg(s, 0, 1, 8, err);  /* leg.main.foot_x */
-    out[12] = leg_sense_leg(s, 0, 1, 10, err);  /* leg.main.foot_z */
-    out[13] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.main.hip_x */
-    out[14] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.main.hip_z */
-    out[15] = leg_sense_leg(s, 0, 1, 1, err);  /* leg.main.stance_time */
-    out[16] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.main.touching */
+    out[10] = leg_sense_leg(s, 0, 2, err);  /* leg.main.flight_time */
+    out[11] = leg_sense_leg(s, 0, 8, err);  /* leg.main.foot_x */
+    out[12] = leg_sense_leg(s, 0, 10, err);  /* leg.main.foot_z */
+    out[13] = leg_sense_leg(s, 0, 5, err);  /* leg.main.hip_x */
+    out[14] = leg_sense_leg(s, 0, 7, err);  /* leg.main.hip_z */
+    out[15] = leg_sense_leg(s, 0, 1, err);  /* leg.main.stance_time */
+    out[16] = leg_sense_leg(s, 0, 0, err);  /* leg.main.touching */
     out[17] = leg_sense_terrain(s, 4, err);  /* terrain.height */
     out[18] = s->t;  /* time */
     (void)s; (void)out; (void)err;

@@ -25,30 +25,30 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[9] = leg_sense_com(s, 0, 0, err);  /* com.x */
     out[10] = leg_sense_com(s, 1, 0, err);  /* com.y */
     out[11] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[12] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
-    out[13] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
-    out[14] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
-    out[15] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
-    out[16] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
-    out[17] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
-    out[18] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
-    out[19] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
-    out[20] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
-    out[21] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
-    out[22] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
-    out[23] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
-    out[24] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
-    out[25] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
-    out[26] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
-    out[27] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
-    out[28] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
-    out[29] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
-    out[30] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
-    out[31] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
-    out[32] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
-    out[33] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
-    out[34] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
-    out[35] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
+    out[12] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
+    out[13] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
+    out[14] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
+    out[15] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
+    out[16] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
+    out[17] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
+    out[18] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
+    out[19] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
+    out[20] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
+    out[21] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
+    out[22] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
+    out[23] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
+    out[24] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
+    out[25] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
+    out[26] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
+    out[27] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
+    out[28] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
+    out[29] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
+    out[30] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
+    out[31] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
+    out[32] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
+    out[33] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
+    out[34] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
+    out[35] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
     out[36] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
     out[37] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
     out[38] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
@@ -2511,25 +2511,25 @@ static const int64_t n_settings[] = {36, 40, 26, 28, 28, 36, 40, 26, 28, 28};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3, settings_0_4, settings_1_0, settings_1_1, settings_1_2, settings_1_3, settings_1_4};
 
-static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0, 2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_0_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0, 2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_0_1_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_1_i[] = {2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_0_2_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_2_i[] = {2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_0_3_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_3_i[] = {2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_0_4_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_0_4_i[] = {2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
-static const int64_t places_1_0_i[] = {2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0, 0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_1_0_i[] = {2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0, 0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
 
-static const int64_t places_1_1_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_1_1_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
 
-static const int64_t places_1_2_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_1_2_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
 
-static const int64_t places_1_3_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_1_3_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
 
-static const int64_t places_1_4_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
+static const int64_t places_1_4_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0};
 
 static const double places_0_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
 

@@ -29,30 +29,30 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[13] = s->q[11];  /* coord.hip_fr_y.value */
     out[14] = s->q[14];  /* coord.hip_rl_y.value */
     out[15] = s->q[17];  /* coord.hip_rr_y.value */
-    out[16] = leg_sense_leg(s, 0, 1, 5, err);  /* leg.fl.hip_x */
-    out[17] = leg_sense_leg(s, 0, 1, 6, err);  /* leg.fl.hip_y */
-    out[18] = leg_sense_leg(s, 0, 1, 7, err);  /* leg.fl.hip_z */
-    out[19] = leg_sense_leg(s, 0, 1, 3, err);  /* leg.fl.length */
-    out[20] = leg_sense_leg(s, 0, 1, 4, err);  /* leg.fl.rate */
-    out[21] = leg_sense_leg(s, 0, 1, 0, err);  /* leg.fl.touching */
-    out[22] = leg_sense_leg(s, 1, 3, 5, err);  /* leg.fr.hip_x */
-    out[23] = leg_sense_leg(s, 1, 3, 6, err);  /* leg.fr.hip_y */
-    out[24] = leg_sense_leg(s, 1, 3, 7, err);  /* leg.fr.hip_z */
-    out[25] = leg_sense_leg(s, 1, 3, 3, err);  /* leg.fr.length */
-    out[26] = leg_sense_leg(s, 1, 3, 4, err);  /* leg.fr.rate */
-    out[27] = leg_sense_leg(s, 1, 3, 0, err);  /* leg.fr.touching */
-    out[28] = leg_sense_leg(s, 2, 5, 5, err);  /* leg.rl.hip_x */
-    out[29] = leg_sense_leg(s, 2, 5, 6, err);  /* leg.rl.hip_y */
-    out[30] = leg_sense_leg(s, 2, 5, 7, err);  /* leg.rl.hip_z */
-    out[31] = leg_sense_leg(s, 2, 5, 3, err);  /* leg.rl.length */
-    out[32] = leg_sense_leg(s, 2, 5, 4, err);  /* leg.rl.rate */
-    out[33] = leg_sense_leg(s, 2, 5, 0, err);  /* leg.rl.touching */
-    out[34] = leg_sense_leg(s, 3, 7, 5, err);  /* leg.rr.hip_x */
-    out[35] = leg_sense_leg(s, 3, 7, 6, err);  /* leg.rr.hip_y */
-    out[36] = leg_sense_leg(s, 3, 7, 7, err);  /* leg.rr.hip_z */
-    out[37] = leg_sense_leg(s, 3, 7, 3, err);  /* leg.rr.length */
-    out[38] = leg_sense_leg(s, 3, 7, 4, err);  /* leg.rr.rate */
-    out[39] = leg_sense_leg(s, 3, 7, 0, err);  /* leg.rr.touching */
+    out[16] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
+    out[17] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
+    out[18] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
+    out[19] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
+    out[20] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
+    out[21] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
+    out[22] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
+    out[23] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
+    out[24] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
+    out[25] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
+    out[26] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
+    out[27] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
+    out[28] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
+    out[29] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
+    out[30] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
+    out[31] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
+    out[32] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
+    out[33] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
+    out[34] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
+    out[35] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
+    out[36] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
+    out[37] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
+    out[38] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
+    out[39] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
     out[40] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
     out[41] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
     out[42] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
@@ -2025,9 +2025,9 @@ static const int64_t n_settings[] = {40, 44, 30, 32, 32, 40, 44, 30, 32, 32};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3, settings_0_4, settings_1_0, settings_1_1, settings_1_2, settings_1_3, settings_1_4};
 
-static const int64_t places_0_0_i[] = {0, 1, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 2, 5, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0};
+static const int64_t places_0_0_i[] = {0, 0, 2, 0, 1, 5, 4, 8, 7, 7, 6, 0, 0, 2, 2, 2, 0, 1, 9, 8, 14, 13, 13, 12, 0, 0};
 
-static const int64_t places_1_0_i[] = {1, 3, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0, 3, 7, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
+static const int64_t places_1_0_i[] = {1, 1, 2, 0, 1, 7, 6, 11, 10, 10, 9, 0, 0, 3, 3, 2, 0, 1, 11, 10, 17, 16, 16, 15, 0, 0};
 
 static const double places_0_0_d[] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
 

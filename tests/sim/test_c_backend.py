@@ -178,6 +178,7 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
         ("knee_hopper", "hop", [], 5.0),
         ("rig", "stomp", [], 2.0),
         ("hexapod", "tripod", ["1s=tripod_fast"], 2.0),
+        ("pogo", "bounce", [], 4.0),
     ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
@@ -191,7 +192,8 @@ def test_creatures_written_outside_the_team_run_the_same(
     with a rotary spring (in cm, g and kN/m, with the standard library's hopping, speed and
     posture control); a rig welded to the world with a welded bracket, an oblique gimbal, a
     sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box; a
-    hexapod from a mirrored template whose virtual legs have three feet, switching gait."""
+    hexapod from a mirrored template whose virtual legs have three feet, switching gait; a
+    pogo stick whose leg is a slide and nothing else."""
     generated = tmp_path_factory.mktemp("outside")
     sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
     opts = RunOptions(duration=seconds)
@@ -203,6 +205,13 @@ def test_creatures_written_outside_the_team_run_the_same(
         x = python.trajectory.com[:, 0]
         assert 0.40 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 0.60
         assert len(python.events) >= 16
+    if name == "pogo":  # its leg shortens and lengthens, and every state of its hop is entered
+        length = python.trajectory.leg_length[:, 0]
+        assert length.max() - length.min() > 0.08
+        assert set(python.trajectory.state.tolist()) == {0, 1, 2, 3, 4}
+        z = python.trajectory.root_pos[:, 2]
+        apexes = [z[i] for i in range(1, len(z) - 1) if z[i - 1] < z[i] >= z[i + 1]]
+        assert len(apexes) >= 6 and all(0.78 < a < 0.86 for a in apexes[2:])  # commanded 0.8 m
 
 
 def test_a_divergence_stops_the_same() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import random
+from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
@@ -12,6 +13,8 @@ import pytest
 from conftest import shipped_dynamics, shipped_model
 
 from legdsl.sim.sensors import Sensors, euler_rates
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _rot(roll: float, pitch: float, yaw: float) -> tuple[float, ...]:
@@ -125,7 +128,7 @@ def test_leg_length_is_the_hip_to_foot_distance_and_com_is_the_models() -> None:
     dyn = shipped_dynamics("hopper")
     q, v = _hopper_state()
     got = Sensors(model).read(_sim("hopper", q, v), ["leg.main.length", "com.x", "com.z"])
-    hip = dyn.body_poses(q)[model.hip_body_index(model.legs[0])][0]
+    hip = model.leg_hip(model.legs[0]).point(dyn.body_poses(q))
     foot = dyn.contact_positions(q)[0]
     assert got["leg.main.length"] == pytest.approx(math.dist(hip, foot))
     com = dyn.center_of_mass(q)
@@ -227,3 +230,29 @@ def test_a_spatial_leg_rate_is_the_derivative_of_its_length() -> None:
     numeric = (length(h) - length(-h)) / (2 * h)
     got = sensors.read(_sim("biped", q, v), ["leg.left.rate"])["leg.left.rate"]
     assert got == pytest.approx(numeric, abs=1e-6) and abs(numeric) > 1e-3
+
+
+def test_a_leg_that_only_slides_is_measured_from_where_the_slide_sits(tmp_path: Path) -> None:
+    """The pogo's leg is one prismatic joint: its hip point is the joint's place on the body,
+    not the rod's origin (which slides with the leg: a length that never changed). The rate
+    is the derivative of the length, the body turning and moving too."""
+    from legdsl.pipeline.session import RunSession
+
+    session = RunSession.from_file(ROOT / "tests/good/outside/pogo.leg", generated=tmp_path)
+    model, dyn = session.model, session.dynamics
+    hip = model.leg_hip(model.legs[0])
+    assert hip.at is not None and model.bodies[hip.body].name == "body"
+    q, v = [0.1, 0.9, 0.2, -0.05], [0.7, -0.4, 0.9, 0.6]  # x, z, pitch, leg
+    sensors = Sensors(model)
+
+    def read(qs: list[float], key: str) -> float:
+        sim = SimpleNamespace(t=0.0, q=qs, v=v, dyn=dyn, ground=None)
+        return sensors.read(sim, [key])[key]
+
+    # the rod's tip from the joint: its length (0.6 m) plus the slide
+    assert read(q, "leg.main.length") == pytest.approx(0.6 + q[3])
+    h = 1e-6
+    moved = [[qi + step * vi for qi, vi in zip(q, v, strict=True)] for step in (h, -h)]
+    numeric = (read(moved[0], "leg.main.length") - read(moved[1], "leg.main.length")) / (2 * h)
+    assert read(q, "leg.main.rate") == pytest.approx(numeric, abs=1e-6)
+    assert read(q, "leg.main.rate") == pytest.approx(v[3])

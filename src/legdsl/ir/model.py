@@ -29,6 +29,7 @@ Frames and conventions (also in docs/language.md):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from legdsl.ir.controller import Controller
 from legdsl.ir.scene import Scene
@@ -226,6 +227,42 @@ class Leg:
 
 
 @dataclass(frozen=True)
+class Hip:
+    """A leg's hip point: the origin of body ``body``, or where ``at`` (in that body's frame)
+    puts it. The runtime's sensors, recorder and foot placer in Python and in C read it alike."""
+
+    body: int
+    at: Vec3 | None = None
+
+    def point(self, poses: Any) -> tuple[float, float, float]:
+        """In the world, from ``body_poses``: (origin, row-major rotation) per body."""
+        pos, r = poses[self.body]
+        if self.at is None:
+            return pos  # the body's origin, as it is (a turning first joint)
+        x, y, z = self.at
+        return (
+            pos[0] + (r[0] * x + r[1] * y + r[2] * z),
+            pos[1] + (r[3] * x + r[4] * y + r[5] * z),
+            pos[2] + (r[6] * x + r[7] * y + r[8] * z),
+        )
+
+    def velocity(self, poses: Any, velocities: Any) -> tuple[float, float, float]:
+        """In the world, from ``body_velocities``: (origin's velocity, angular velocity)."""
+        vel, w = velocities[self.body]
+        if self.at is None:
+            return vel
+        _, r = poses[self.body]
+        x, y, z = self.at
+        a = (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
+             r[6] * x + r[7] * y + r[8] * z)  # fmt: skip
+        return (
+            vel[0] + (w[1] * a[2] - w[2] * a[1]),
+            vel[1] + (w[2] * a[0] - w[0] * a[2]),
+            vel[2] + (w[0] * a[1] - w[1] * a[0]),
+        )
+
+
+@dataclass(frozen=True)
 class Stop:
     """A joint limit as a mechanical stop: past ``low`` or ``high`` the coordinate meets a
     one-sided spring-damper (``k`` N/m or N*m/rad, ``b`` N*s/m or N*m*s/rad) pushing it back.
@@ -304,9 +341,17 @@ class Model:
     def joint(self, name: str) -> Joint:
         return next(j for j in self.joints if j.name == name)
 
-    def hip_body_index(self, leg: Leg) -> int:
-        """The body whose frame origin is the leg's hip point (the child of its first joint)."""
-        return next(i for i, b in enumerate(self.bodies) if b.joint == leg.joints[0])
+    def leg_hip(self, leg: Leg) -> Hip:
+        """Where the leg's first joint sits on the body it hangs from. A joint that turns
+        keeps the origin of the body it moves there; a slide carries that origin along, so its
+        hip point is the joint's place on its parent (else the leg's length would not change)."""
+        joint = self.joint(leg.joints[0])
+        child = next(i for i, b in enumerate(self.bodies) if b.joint == joint.name)
+        if joint.kind != "prismatic" or joint.parent is None:
+            return Hip(child)
+        return Hip(
+            next(i for i, b in enumerate(self.bodies) if b.name == joint.parent), joint.origin
+        )
 
     def scene(self, name: str) -> Scene:
         return next(s for s in self.scenes if s.name == name)

@@ -169,8 +169,10 @@ class CSimulation(Simulation):
         self._array("event_kind", [], np.int64, EVENT_CAP)
         self._array("event_contact", [], np.int64, EVENT_CAP)
         legs = m.legs
-        c.n_legs = len(self._hip_body)
-        self._array("leg_hip", self._hip_body, np.int64)
+        c.n_legs = len(self._hips)
+        self._array("leg_hip", [hip.body for hip in self._hips], np.int64)
+        self._array("leg_hip_moved", [hip.at is not None for hip in self._hips], np.int64)
+        self._array("leg_hip_at", [hip.at or (0.0, 0.0, 0.0) for hip in self._hips])
         self._array("leg_foot", self._foot, np.int64)
         mask = [[a.name in springs for a in acts] for springs in self._leg_springs]
         self._array("leg_spring", mask if legs else [], np.int64)

@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from legdsl.ir.model import Model
+from legdsl.ir.model import Hip, Model
 
 MAX_STEP = 0.3  # rad or m per Newton step: keeps a far-off first guess from overshooting
 
@@ -34,7 +34,7 @@ MAX_STEP = 0.3  # rad or m per Newton step: keeps a far-off first guess from ove
 @dataclass(frozen=True)
 class _Leg:
     foot: int  # contact index
-    hip: int  # body whose origin is the hip point
+    hip: Hip
 
 
 class FootPlacer:
@@ -44,7 +44,7 @@ class FootPlacer:
         self.legs = {
             leg.name: _Leg(
                 foot=[c.name for c in model.contacts].index(leg.foot),
-                hip=model.hip_body_index(leg),
+                hip=model.leg_hip(leg),
             )
             for leg in model.legs
         }
@@ -74,7 +74,7 @@ class FootPlacer:
         cols = [dof.v_index for dof in dofs]
         for _ in range(self.iterations):
             foot = dyn.contact_positions(q)[spec.foot]
-            hip = dyn.body_poses(q)[spec.hip][0]
+            hip = spec.hip.point(dyn.body_poses(q))
             delta = (foot[0] - hip[0], foot[1] - hip[1], foot[2] - hip[2])
             rel = (c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1], delta[2])
             residual = [rel[r] - g for r, g in zip(rows, goals, strict=True)]

@@ -70,10 +70,10 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
     pos, rot = poses[0]
     traj.root_pos[row] = pos
     traj.root_rpy[row] = rpy(rot)
-    if sim._hip_body:
+    if sim._hips:
         feet = dyn.contact_positions(q)
-        for i, (hip, foot) in enumerate(zip(sim._hip_body, sim._foot, strict=True)):
-            traj.leg_length[row, i] = math.dist(poses[hip][0], feet[foot])
+        for i, (hip, foot) in enumerate(zip(sim._hips, sim._foot, strict=True)):
+            traj.leg_length[row, i] = math.dist(hip.point(poses), feet[foot])
             traj.leg_spring_energy[row, i] = sim.actuators.elastic_energy(q, sim._leg_springs[i])
     kinetic, potential, elastic = sim.energy()
     traj.kinetic[row] = kinetic

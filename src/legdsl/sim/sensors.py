@@ -67,7 +67,7 @@ class Sensors:
         self.contact_index = {c.name: i for i, c in enumerate(model.contacts)}
         self.dof = {d.name: d for d in model.dofs}
         self.legs = {leg.name: leg for leg in model.legs}
-        self.leg_hip = {leg.name: model.hip_body_index(leg) for leg in model.legs}
+        self.leg_hip = {leg.name: model.leg_hip(leg) for leg in model.legs}
         self.clocks = {c.name: _LegClock() for c in model.contacts}
         self.paths: dict[str, PathTracker] = {}
 
@@ -209,8 +209,9 @@ class Sensors:
             return clock.flight
         feet, feet_vel = self._feet(sim, cache)
         if member in ("length", "rate"):
-            hip = self._poses(sim, cache)[self.leg_hip[name]][0]
-            hip_vel = self._velocities(sim, cache)[self.leg_hip[name]][0]
+            poses = self._poses(sim, cache)
+            hip = self.leg_hip[name].point(poses)
+            hip_vel = self.leg_hip[name].velocity(poses, self._velocities(sim, cache))
             d = [feet[foot][k] - hip[k] for k in range(3)]
             length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             if member == "length":
@@ -219,7 +220,7 @@ class Sensors:
             return (d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2]) / length if length > 0 else 0.0
         com, com_vel = self._com(sim, cache)
         if member in ("hip_x", "hip_y", "hip_z"):
-            hip = self._poses(sim, cache)[self.leg_hip[name]][0]
+            hip = self.leg_hip[name].point(self._poses(sim, cache))
             rel = (hip[0] - com[0], hip[1] - com[1], hip[2] - com[2])
             return self._to_heading(sim, cache, rel)["xyz".index(member[-1])]
         if member in ("foot_x", "foot_y", "foot_z"):

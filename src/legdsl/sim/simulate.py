@@ -81,7 +81,7 @@ class Simulation:
         self.events: list[ContactEvent] = []
         self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)
         self._contact_body = [model.bodies.index(model.body(c.body)) for c in model.contacts]
-        self._hip_body = [model.hip_body_index(leg) for leg in model.legs]
+        self._hips = [model.leg_hip(leg) for leg in model.legs]
         self._foot = [self.contact_names.index(leg.foot) for leg in model.legs]
         self._leg_springs = [self._springs_of(leg.joints) for leg in model.legs]
         self._stops = model.stops

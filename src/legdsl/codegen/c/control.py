@@ -66,10 +66,8 @@ def sensor_call(model: Model, key: str, controller: str | None = None) -> str:
         return f"leg_sense_body(s, {b}, {BODY_MEMBERS.index(member)}, err)"
     if kind == "leg" and member in (*LEG_MEMBERS, "foot_vx", "foot_vy", "foot_vz"):
         leg = next(x for x in model.legs if x.name == name)
-        foot = [c.name for c in model.contacts].index(leg.foot)
-        hip = model.hip_body_index(leg)
         code = LEG_MEMBERS.index(member) if member in LEG_MEMBERS else 11 + "xyz".index(member[-1])
-        return f"leg_sense_leg(s, {foot}, {hip}, {code}, err)"
+        return f"leg_sense_leg(s, {model.legs.index(leg)}, {code}, err)"
     if kind == "path" and controller is not None and member in MEMBERS:
         names = [p.name for p in model.controller(controller).paths]
         if len(names) <= 64:
@@ -211,7 +209,7 @@ def _places(model: Model, lc: LoweredController, n_states: int, n_bindings: int)
                 dofs[next(a.dof for a in model.actuators if a.name == sv)] for sv in p.servos
             ]
             n = len(p.axes)
-            i_data += [str(contacts.index(leg.foot)), str(model.hip_body_index(leg)), str(n)]
+            i_data += [str(contacts.index(leg.foot)), str(model.legs.index(leg)), str(n)]
             i_data += [str("xyz".index(a)) for a in p.axes]
             i_data += [str(actuators.index(sv)) for sv in p.servos]
             i_data += [str(d.q_index) for d in servo_dofs] + [str(d.v_index) for d in servo_dofs]

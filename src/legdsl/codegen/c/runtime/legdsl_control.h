@@ -30,7 +30,7 @@ typedef struct {
     void (*read_sensors)(leg_sim *s, double *out, int *err);
     const int64_t *n_outputs;         /* per (binding, state): settings, then the place goals */
     const int64_t *n_places;          /* per (binding, state) */
-    const int64_t *const *places_i;   /* per place: foot, hip, n, rows[n], servo[n], q[n], v[n], limited[n] */
+    const int64_t *const *places_i;   /* per place: foot, leg, n, rows[n], servo[n], q[n], v[n], limited[n] */
     const double *const *places_d;    /* per place: low[n], high[n] */
 } leg_controller;
 
@@ -42,7 +42,7 @@ double leg_sense_com(leg_sim *s, int axis, int velocity, int *err);
 double leg_sense_contact(leg_sim *s, int contact, int member, int *err);
 double leg_sense_act(const leg_sim *s, int actuator, int member);
 double leg_sense_body(leg_sim *s, int body, int member, int *err);
-double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err);
+double leg_sense_leg(leg_sim *s, int leg, int member, int *err);
 double leg_sense_path(leg_sim *s, int path, int member, int *err);
 double leg_sense_terrain(leg_sim *s, int member, int *err);
 double leg_ground_height(const leg_sim *s, double x, double y, int *err);

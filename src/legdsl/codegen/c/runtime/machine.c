@@ -161,7 +161,32 @@ double leg_sense_body(leg_sim *s, int b, int member, int *err) {
     return kc->angles[member - 6];
 }
 
-double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
+/* A leg's hip point (ir.model.Hip.point), and its velocity (Hip.velocity) where v is given */
+static void hip_point(sense_cache *kc, leg_sim *s, int leg, double *h, double *v, int *err) {
+    int b = (int)s->leg_hip[leg], moved = (int)s->leg_hip_moved[leg];
+    const double *p = pose(kc, s, b, moved, err);
+    const double *pv = v ? velocity(kc, s, b, moved, err) : 0;
+    if (!moved) { /* the body's origin, as it is */
+        for (int k = 0; k < 3; k++) h[k] = p[k];
+        if (v)
+            for (int k = 0; k < 3; k++) v[k] = pv[k];
+        return;
+    }
+    const double *r = p + 3, *at = s->leg_hip_at + 3 * leg, *w = pv + 3;
+    double a[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2];
+        h[k] = p[k] + a[k];
+    }
+    if (v) {
+        v[0] = pv[0] + (w[1] * a[2] - w[2] * a[1]);
+        v[1] = pv[1] + (w[2] * a[0] - w[0] * a[2]);
+        v[2] = pv[2] + (w[0] * a[1] - w[1] * a[0]);
+    }
+}
+
+double leg_sense_leg(leg_sim *s, int leg, int member, int *err) {
+    int foot = (int)s->leg_foot[leg];
     const double *clock = s->clocks + 5 * foot; /* touching, touchdown, liftoff, stance, flight */
     if (member == 0) return clock[0] != 0.0 ? 1.0 : 0.0;
     if (member == 1) return clock[3];
@@ -169,9 +194,9 @@ double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
     sense_cache *const kc = this_thread();
     feet(kc, s, err);
     const double *f = kc->foot + 3 * foot, *fv = kc->foot_v + 3 * foot;
+    double h[3], hv[3];
     if (member == 3 || member == 4) {
-        const double *h = pose(kc, s, hip, 0, err);
-        const double *hv = velocity(kc, s, hip, 0, err);
+        hip_point(kc, s, leg, h, hv, err);
         double d[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double length = leg_sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (member == 3) return length;
@@ -180,7 +205,7 @@ double leg_sense_leg(leg_sim *s, int foot, int hip, int member, int *err) {
     }
     com(kc, s, err);
     if (member <= 7) {
-        const double *h = pose(kc, s, hip, 0, err);
+        hip_point(kc, s, leg, h, 0, err);
         double rel[3] = {h[0] - kc->c[0], h[1] - kc->c[1], h[2] - kc->c[2]};
         return to_heading(kc, s, rel, member - 5, err);
     }
@@ -345,7 +370,9 @@ static int solve_small(int64_t n, double *a, double *b) {
 static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *goals) {
     int e = 0;
     int *err = &e;
-    int64_t foot = pi[0], hip = pi[1], n = pi[2];
+    int64_t foot = pi[0], leg = pi[1], n = pi[2];
+    int64_t hip = s->leg_hip[leg], moved = s->leg_hip_moved[leg];
+    const double *at = s->leg_hip_at + 3 * leg;
     const int64_t *rows = pi + 3, *servo = rows + n, *qi = servo + n, *vi = qi + n;
     const int64_t *limited = vi + n;
     const double *low = pd, *high = pd + n;
@@ -362,7 +389,8 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
      * compute those as the whole functions do, failing where they fail. */
     unsigned char feet[NCS], root_and_hip[2 * NB], hip_only[2 * NB];
     for (int i = 0; i < NC; i++) feet[i] = i == foot;
-    for (int b = 0; b < 2 * NB; b++) root_and_hip[b] = hip_only[b] = b == 2 * hip;
+    for (int b = 0; b < 2 * NB; b++)
+        root_and_hip[b] = hip_only[b] = b == 2 * hip || (moved && b == 2 * hip + 1);
     root_and_hip[1] = 1; /* the root body's rotation */
     double yaw = 0.0;
     int posed = 0; /* pose is of q as it is now (the first iteration's, which Python computes again) */
@@ -376,7 +404,13 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         contact_positions_some(q, feet, pos, err);
         if (!posed) body_poses_some(q, hip_only, pose, err);
         posed = 0;
-        const double *f = pos + 3 * foot, *h = pose + 12 * hip;
+        const double *f = pos + 3 * foot, *h = pose + 12 * hip, *r = h + 3;
+        double moved_h[3]; /* Hip.point */
+        if (moved) {
+            for (int k = 0; k < 3; k++)
+                moved_h[k] = h[k] + (r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2]);
+            h = moved_h;
+        }
         double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double rel[3] = {c * delta[0] + sn * delta[1], -sn * delta[0] + c * delta[1], delta[2]};
         double residual[3], a[9], b[3], world[3][3], heading[3][3];

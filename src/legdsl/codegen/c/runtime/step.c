@@ -634,7 +634,10 @@ static int record_row(leg_sim *s, int64_t row) {
     double poses[NBP];
     unsigned char read[2 * LEG_NB]; /* the root's pose and the hips' positions (record_row's) */
     for (int b = 0; b < 2 * LEG_NB; b++) read[b] = b < 2;
-    for (int64_t i = 0; i < s->n_legs; i++) read[2 * s->leg_hip[i]] = 1;
+    for (int64_t i = 0; i < s->n_legs; i++) {
+        read[2 * s->leg_hip[i]] = 1;
+        if (s->leg_hip_moved[i]) read[2 * s->leg_hip[i] + 1] = 1; /* its rotation, for Hip.point */
+    }
     body_poses_some(q, read, poses, err);
     const double *rot = poses + 3;
     for (int k = 0; k < 3; k++) s->rec_root_pos[3 * row + k] = poses[k];
@@ -645,8 +648,14 @@ static int record_row(leg_sim *s, int64_t row) {
         double feet[NC3];
         contact_positions(q, feet, err);
         for (int64_t i = 0; i < s->n_legs; i++) {
-            s->rec_leg_length[row * s->n_legs + i] =
-                leg_dist3(poses + 12 * s->leg_hip[i], feet + 3 * s->leg_foot[i]);
+            const double *h = poses + 12 * s->leg_hip[i], *r = h + 3, *at = s->leg_hip_at + 3 * i;
+            double moved[3]; /* Hip.point */
+            if (s->leg_hip_moved[i]) {
+                for (int k = 0; k < 3; k++)
+                    moved[k] = h[k] + (r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2]);
+                h = moved;
+            }
+            s->rec_leg_length[row * s->n_legs + i] = leg_dist3(h, feet + 3 * s->leg_foot[i]);
             s->rec_leg_spring_energy[row * s->n_legs + i] =
                 springs_energy(s, q, s->leg_spring + i * s->n_act);
         }
