@@ -17,7 +17,6 @@ any other bare number is dimensionless.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 from legdsl.check.control_names import (
@@ -37,7 +36,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import Dim, describe
+from legdsl.lang.units import Dim, describe, out_of_range
 
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
@@ -92,8 +91,9 @@ class ExprChecker(NameResolver):
     def expr(self, e: ast.Expr, local: dict[str, Value], event: bool = False) -> Value | None:
         if isinstance(e, ast.EQuantity):
             q = e.quantity
-            if not math.isfinite(q.value):
-                self.err(e.span, f"'{e.text}' is too large a number")
+            trouble = out_of_range(e.text, q.value)
+            if trouble is not None:
+                self.err(e.span, trouble)
                 return None
             if q.unitless:
                 return ir.Num(q.value, None if q.value == 0 else ONE)
