@@ -71,6 +71,10 @@ class LegError(Exception):
         )
         super().__init__(self.render())
 
+    def __reduce__(self) -> tuple[type[LegError], tuple[list[Diagnostic], dict[str, str]]]:
+        # pickled as its fields (a compile's worker process sends it back), not its text
+        return (LegError, (self.diagnostics, self.sources))
+
     @classmethod
     def at(cls, span: Span, message: str, sources: dict[str, str] | None = None) -> LegError:
         return cls([Diagnostic(span, message)], dict(sources or {}))
