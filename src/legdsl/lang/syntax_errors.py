@@ -344,6 +344,24 @@ def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
     return (found[-1].group(0), found[-1].start()) if found else None
 
 
+def _slip(text: str, pos: int) -> str | None:
+    """A sentence for a habit from other languages at ``pos``: a C comment, a percentage,
+    a name with a letter outside ASCII."""
+    if text.startswith(("//", "/*"), pos):
+        return (
+            f"'{text[pos : pos + 2]}' does not start a comment in a .leg file: a comment "
+            "starts with '#' and runs to the end of the line"
+        )
+    if text.startswith("%", pos) and text[:pos][-1:].isdigit():  # not '5 % 2', a remainder
+        return "a percentage is written as a plain number: '0.5', not '50%'"
+    if pos < len(text) and not text[pos].isascii() and text[pos].isalpha():
+        return (
+            f"'{text[pos]}' is not a letter of a name: names are made of the letters a-z and "
+            "A-Z, digits and '_' (comments and strings may hold any text)"
+        )
+    return None
+
+
 def _spaced_unit(text: str, token: Token) -> bool:
     """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
     if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
@@ -390,7 +408,10 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     friendly = _friendly(context, _open_brace(text)) if context is not None else None
 
     not_a_number = _not_a_number(text, pos) if pos is not None else None
-    if not_a_number is not None:
+    slip = _slip(text, pos) if pos is not None else None
+    if slip is not None:
+        message = slip
+    elif not_a_number is not None:
         word, start = not_a_number
         span = _offset_span(file, text, start, len(word))
         message = (
