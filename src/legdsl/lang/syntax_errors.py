@@ -230,10 +230,17 @@ _UNIT_NAMES: dict[str, str | None] = {
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 _UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
 _UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
+_PREFIXES = "kcmuμnMG"  # SI prefixes that run into a symbol as a product would ('mN', 'kJ')
+
+
+_SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 
 
 def _plain_unit(word: str) -> str:
-    return word.replace("²", "^2").replace("³", "^3").replace("·", "*").replace(".", "*")
+    """A unit as typeset ('m·s⁻²', 'N⋅m', 'N.s') in the symbols legdsl reads ('m*s^-2')."""
+    for dot in "·⋅.":
+        word = word.replace(dot, "*")
+    return re.sub(r"[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+", lambda m: "^" + m.group().translate(_SUPERSCRIPTS), word)
 
 
 def _looks_like_unit(word: str) -> bool:
@@ -243,6 +250,7 @@ def _looks_like_unit(word: str) -> bool:
         p.lower().removesuffix("s") in _UNIT_NAMES
         or p.lower().removesuffix("s") in _UNIT_BY_LOWER
         or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or (p[:1] in _PREFIXES and p[1:] in UNITS)
         or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
         for p in parts
     )
@@ -265,6 +273,8 @@ def _suggest_unit(word: str) -> str | None:
             out.append(symbol)
         elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
             out.append(_UNIT_BY_LOWER[singular])
+        elif part[:1] in _PREFIXES and part[1:] in UNITS:
+            return None  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
         elif _UNIT_RUN.fullmatch(part):
             out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
         else:
