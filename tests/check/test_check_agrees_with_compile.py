@@ -17,6 +17,7 @@ from legdsl.check.source import check_file
 from legdsl.codegen.python.control import render_control
 from legdsl.lang.errors import LegError
 from legdsl.lower.control import lower_controller
+from legdsl.pipeline.compile import compile_file
 from tests.lang.test_mutants import mutants
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -63,3 +64,21 @@ def test_a_mutant_that_checks_compiles(tmp_path_factory: pytest.TempPathFactory,
     except LegError:
         return  # rejected by check: nothing to compile
     compile_controllers(path)
+
+
+def test_what_sympy_makes_infinite_is_an_error_at_its_line(tmp_path: Path) -> None:
+    """The checker refuses constants with no finite value (``2 ^ 2000``); a product that only
+    sympy folds (``x * 1e300 * 1e300``) or a division by a difference that is always 0 is
+    lowering's error, at the line, with the line shown (it was ``inf`` in the generated code:
+    a NameError in Python, a C compile error, both internal errors)."""
+    text = (ROOT / "tests" / "bad" / "ctl_constant_without_value.leg").read_text()
+    for value in ("trunk.pitch * 1e300 * 1e300", "trunk.pitch * trunk.z / (trunk.z - trunk.z)"):
+        table = "table {\n    state A on time > 0 s: hip_servo.setpoint = " + value + "\n  }"
+        path = tmp_path / "c.leg"
+        path.write_text(text.split("controller c {")[0] + "controller c {\n  " + table + "\n}\n")
+        with pytest.raises(LegError) as info:
+            compile_file(path)
+        (d,) = info.value.diagnostics
+        assert (d.span.line, d.span.col) == (11, 28)
+        assert "no finite real number" in d.message
+        assert "hip_servo.setpoint = " + value in info.value.render()

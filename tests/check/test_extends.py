@@ -5,8 +5,11 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from legdsl.check.source import check_model
+import pytest
+
+from legdsl.check.source import check_file, check_model
 from legdsl.ir.controller import Controller
+from legdsl.lang.errors import LegError
 
 ROOT = Path(__file__).resolve().parents[2]
 CREATURE = (ROOT / "tests" / "bad" / "ctl_dim_comparison.leg").read_text().split("controller")[0]
@@ -78,3 +81,34 @@ def test_the_quadrupeds_pace_is_the_trot_with_its_own_pairs_and_gains() -> None:
                       "leg_k", "leg_b"}  # fmt: skip
     assert trot.state_names == pace.state_names
     assert trot.bindings[0] != pace.bindings[0]
+
+
+TWO_CREATURES = """\
+creature a { planar body b free { mass 1 kg inertia 1 kg*m^2 }
+  body c on b via revolute j { mass 1 kg inertia 1 kg*m^2 }  actuator s on j servo(kp = 1 N*m/rad) }
+creature z { planar body b free { mass 1 kg inertia 1 kg*m^2 }
+  body c on b via prismatic j { mass 1 kg inertia 1 kg*m^2 }  actuator s on j servo(kp = 1 N/m) }
+controller c for a { table { state A on time > 0 s: s.setpoint = 1 deg } }
+controller c for z { table { state A on time > 0 s: s.setpoint = 1 cm } }
+"""
+
+
+def test_two_creatures_may_each_have_a_controller_of_one_name(tmp_path: Path) -> None:
+    """Each is its own controller (the second was taken for the first: 'defined twice',
+    reported twice, at the first)."""
+    path = tmp_path / "two.leg"
+    path.write_text(TWO_CREATURES)
+    models = {m.name: m for m in check_file(path)}
+    assert [c.name for c in models["a"].controllers] == ["c"]
+    assert [c.name for c in models["z"].controllers] == ["c"]
+
+
+def test_a_controller_defined_twice_is_reported_at_the_second(tmp_path: Path) -> None:
+    path = tmp_path / "twice.leg"
+    path.write_text(CREATURE + HOP + "\n" + HOP.replace("hip_servo.kv = kv", "hip_servo.kv = x"))
+    with pytest.raises(LegError) as info:
+        check_file(path)
+    second = CREATURE.count("\n") + HOP.count("\n") + 2
+    messages = [(d.span.line, d.message) for d in info.value.diagnostics]
+    first = f"{path}:{CREATURE.count(chr(10)) + 1}:12"
+    assert (second, f"controller 'hop' is defined twice (first at {first})") in messages

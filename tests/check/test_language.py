@@ -65,6 +65,18 @@ def test_byte_order_mark_is_skipped_and_control_characters_are_named(tmp_path: P
     assert (d.span.line, d.span.col, d.message) == (2, 9, "unexpected character 'U+0000'")
 
 
+def test_an_axis_of_huge_components_is_normalised(tmp_path: Path) -> None:
+    """Its squares overflow: sqrt(inf) divided it into the axis (0, 0, 0), silently."""
+    path = tmp_path / "axis.leg"
+    path.write_text(
+        "creature a {\n  spatial\n  body b free { mass 1 kg  inertia (1, 1, 1) kg*m^2 }\n"
+        "  body c on b via revolute j { axis (1e200, 1e200, 0)  mass 1 kg  "
+        "inertia (1, 1, 1) kg*m^2 }\n}\n"
+    )
+    (dof,) = check_model(path).joint("j").dofs
+    assert dof.axis == pytest.approx((math.sqrt(0.5), math.sqrt(0.5), 0.0))
+
+
 def test_a_file_that_is_not_utf8_is_reported_at_the_bad_byte(tmp_path: Path) -> None:
     path = tmp_path / "latin1.leg"
     path.write_bytes(b"creature a {\n  planar # caf\xe9\n}\n")

@@ -30,6 +30,9 @@ RUN_MISTAKES = [
     (["--time", "inf"], "'inf' is not a number"),
     (["--time", "0"], "must be more than zero"),
     (["--time", "1e400"], "too large"),
+    (["--time", "1km^200"], "too large"),  # the unit's factor overflows, not the number
+    (["--time", "1e-400"], "1e-400 is too small to be a number"),
+    (["--drop", "1g^200/kg^200"], "too small"),
     (["--time", "2kg"], "--time is a time (s), but 2kg is a mass (kg); write e.g. --time 2s"),
     (["--dt", "0"], "--dt must be more than zero"),
     (["--dt", "-1"], "--dt must be more than zero"),
@@ -44,6 +47,7 @@ RUN_MISTAKES = [
     (["--drop", "3s"], "--drop is a length (m)"),
     (["--set", "leg_spring.k=-3000N/m"], "'k' must not be negative (as in the .leg file)"),
     (["--controller", "hop", "--set", "speed=1e400m/s"], "too large"),
+    (["--controller", "hop", "--set", "speed=1e-400m/s"], "too small"),
     (["--controller", "hop", "--set", "speed=1m/s@1e400s"], "too large"),
 ]
 

@@ -66,3 +66,22 @@ def test_a_file_that_is_not_utf8_shows_the_line_and_a_caret(tmp_path: Path) -> N
     assert shown[0].startswith(f"{leg}:2:12: error: the file is not UTF-8 text")
     assert "byte 0xff" in shown[0]
     assert shown[1:] == ["      planar é \ufffd", "               ^"]
+
+
+@pytest.mark.parametrize(
+    ("unit", "suggestion"),
+    [
+        ("m·s⁻²", "; did you mean 'm*s^-2'?"),  # as typeset: a dot and superscripts
+        ("N⋅s/m", "; did you mean 'N*s/m'?"),
+        ("mN*s/m", ""),  # a prefix legdsl lacks: it suggested 'm*N*s/m', a metre-newton
+        ("kJ", ""),  # was not even seen as a unit: "unexpected ..."
+    ],
+)
+def test_a_typeset_or_prefixed_unit_is_named_and_never_misread(unit: str, suggestion: str) -> None:
+    text = f"creature a {{\n  planar\n  body trunk free {{ mass 5 kg  inertia 1 {unit} }}\n}}\n"
+    with pytest.raises(LegError) as caught:
+        parse(text, "a.leg")
+    (d,) = caught.value.diagnostics
+    assert d.message.startswith(f"'{unit}' is not a unit legdsl knows: ")
+    assert d.message.endswith("'60 N*m/rad'" + suggestion)
+    assert (d.span.line, d.span.col) == (3, 42)

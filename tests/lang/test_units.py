@@ -91,6 +91,11 @@ def test_parse_unit_rejects_unknown_units(text: str) -> None:
         parse_unit(text)
 
 
+def test_a_power_past_a_double_is_an_infinite_factor_not_an_overflow_error() -> None:
+    assert parse_unit("km^200") == (math.inf, (0, 200, 0, 0))
+    assert parse_unit("g^200")[0] == 0.0
+
+
 def test_describe_names_dimensions() -> None:
     assert describe((1, 0, -2, 0)) == "linear stiffness (N/m)"
     assert describe((1, 2, -1, -1)) == "angular damping (N*m*s/rad)"

@@ -269,3 +269,37 @@ def test_bad_scale_factors_are_user_errors(
     assert "the scale factor is a positive number" in err
     assert "--animate draws the file's creature" in err
     assert not Path(out).exists()
+
+
+def test_a_factor_whose_numbers_no_double_holds_is_refused_at_the_numbers(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """L = 1e100 makes an inertia 1e500 (L^5): an internal error (OverflowError) before; L =
+    1e-300 made the masses 0, written out, then refused in the file written."""
+    hopper = str(CREATURES / "hopper.leg")
+    out = tmp_path / "x.leg"
+    for by, words in (("1e100", "past a double"), ("1e-300", "nearer 0 than a double holds")):
+        assert main(["scale", hopper, "--by", by, "-o", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert f"hopper.leg:13:25: error: scaled by L^5 with L = {by} this number is {words}" in err
+        assert "inertia 0.4 kg*m^2" in err and "Traceback" not in err
+        assert not out.exists()
+    gen = ["--generated", str(generated), "--time", "0.01", "--out", str(out)]
+    assert main(["run", hopper, "--scale", "1e100", *gen]) == 2
+    assert "too far from 1" in capsys.readouterr().err
+
+
+def test_a_file_with_a_byte_order_mark_and_its_own_use_scales_into_another_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It is read as the checker reads it (the mark was 'unexpected character U+FEFF'), and
+    its 'use "actions.leg"' points at the same file from the new folder."""
+    good = CREATURES.parent / "tests" / "good"
+    (tmp_path / "actions.leg").write_text((good / "actions.leg").read_text())
+    source = tmp_path / "hopper.leg"
+    source.write_bytes(b"\xef\xbb\xbf" + (good / "hopper.leg").read_bytes())
+    out = tmp_path / "scaled" / "hopper_x2.leg"
+    out.parent.mkdir()
+    assert main(["scale", str(source), "--by", "2", "-o", str(out)]) == 0, capsys.readouterr().err
+    assert 'use "../actions.leg"' in out.read_text()
+    assert [m.name for m in check_file(out)] == ["hopper_x2"]

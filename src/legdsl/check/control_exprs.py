@@ -37,7 +37,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import Dim, describe
+from legdsl.lang.units import Dim, describe, out_of_range
 
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
@@ -92,8 +92,9 @@ class ExprChecker(NameResolver):
     def expr(self, e: ast.Expr, local: dict[str, Value], event: bool = False) -> Value | None:
         if isinstance(e, ast.EQuantity):
             q = e.quantity
-            if not math.isfinite(q.value):
-                self.err(e.span, f"'{e.text}' is too large a number")
+            trouble = out_of_range(e.text, q.value)
+            if trouble is not None:
+                self.err(e.span, trouble)
                 return None
             if q.unitless:
                 return ir.Num(q.value, None if q.value == 0 else ONE)
@@ -110,8 +111,46 @@ class ExprChecker(NameResolver):
             operand = self.number(e.operand, local)
             return None if operand is None else ir.Unary("-", operand, operand.type)
         if isinstance(e, ast.EBinary):
-            return self.binary(e, local, event)
-        return self.call(e, local, event)
+            return self.valued(e, self.binary(e, local, event))
+        return self.valued(e, self.call(e, local, event))
+
+    def valued(self, e: ast.Expr, node: ir.Expr | None) -> ir.Expr | None:
+        """``node``, unless it is made of constants only and has no finite real value
+        (``2 ^ 2000``, ``sqrt(-1)``): then an error, for the generated code would compute
+        NaN, an infinity or a complex number there."""
+        if node is None:
+            return None
+        try:
+            self.constant_value(node)
+        except NoValue as why:
+            self.err(e.span, str(why))
+            return None
+        return node
+
+    def constant_value(self, e: ir.Expr) -> float | None:
+        """The value of an expression of numbers, the model's constants, pi, g and the total
+        mass; None for one that reads anything else. Raises ``NoValue``."""
+        builtins = {"pi": math.pi, "g": -self.scope.model.gravity[2]}
+        if isinstance(e, ir.Num):
+            return e.value
+        if isinstance(e, ir.Named):
+            if e.kind == "builtin" and e.name == "total_mass":
+                return self.scope.model.total_mass
+            return builtins.get(e.name) if e.kind == "builtin" else None
+        if isinstance(e, ir.Unary) and e.op == "-":
+            v = self.constant_value(e.operand)
+            return None if v is None else -v
+        if isinstance(e, ir.Binary) and e.op in _ARITHMETIC:
+            a, b = self.constant_value(e.left), self.constant_value(e.right)
+            if a is None or b is None:
+                return None
+            return _finite(lambda: _ARITHMETIC[e.op](a, b), e.op)
+        if isinstance(e, ir.Call) and e.func in _MATH:
+            args = [self.constant_value(a) for a in e.args]
+            if any(a is None for a in args):
+                return None
+            return _finite(lambda: _MATH[e.func](*args), e.func)
+        return None
 
     def binary(self, e: ast.EBinary, local: dict[str, Value], event: bool) -> ir.Expr | None:
         if e.op in ("and", "or"):
@@ -122,6 +161,10 @@ class ExprChecker(NameResolver):
             return None if left is None or right is None else ir.Binary(e.op, left, right, BOOL)
         left, right = self.number(e.left, local), self.number(e.right, local)
         if left is None or right is None:
+            return None
+        if e.op == "/" and self.constant_value(right) == 0:
+            why = " (the creature's gravity, g, is 0)" if _reads(right, "g") else ""
+            self.err(e.right.span, f"division by zero: this is 0{why}")
             return None
         if e.op in ("*", "/"):
             sign = 1 if e.op == "*" else -1
@@ -309,6 +352,59 @@ def _constant(e: ir.Expr) -> float | None:
             return None
         return a / b if e.op == "/" else a * b
     return None
+
+
+class NoValue(ValueError):
+    """A constant expression with no finite real value; the message says why."""
+
+
+_ARITHMETIC: dict[str, Callable[[float, float], float]] = {
+    "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b,
+    "/": lambda a, b: a / b, "^": lambda a, b: a**b,
+}  # fmt: skip
+_MATH: dict[str, Callable[..., float]] = {
+    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos,
+    "atan": math.atan, "atan2": math.atan2, "sqrt": math.sqrt, "abs": abs, "exp": math.exp,
+    "log": math.log, "sign": lambda x: math.copysign(1.0, x) if x else 0.0,
+    "min": lambda *a: min(a), "max": lambda *a: max(a),
+    "clamp": lambda x, lo, hi: min(max(x, lo), hi),
+}  # fmt: skip
+_DOMAIN = {
+    "sqrt": "sqrt() of a negative number",
+    "log": "log() of zero or a negative number",
+    "asin": "asin() of a number outside -1 to 1",
+    "acos": "acos() of a number outside -1 to 1",
+}
+
+
+def _reads(e: ir.Expr, builtin: str) -> bool:
+    """Whether ``e`` reads the built-in value ``builtin``."""
+    if isinstance(e, ir.Named):
+        return e.kind == "builtin" and e.name == builtin
+    if isinstance(e, ir.Unary):
+        return _reads(e.operand, builtin)
+    if isinstance(e, ir.Binary):
+        return _reads(e.left, builtin) or _reads(e.right, builtin)
+    return isinstance(e, ir.Call) and any(_reads(a, builtin) for a in e.args)
+
+
+def _finite(compute: Callable[[], float], op: str) -> float:
+    """``compute()``, which must give a finite real number; else ``NoValue`` saying why."""
+    try:
+        value = compute()
+    except ZeroDivisionError:
+        raise NoValue("this has no value: it divides by zero") from None
+    except OverflowError:
+        value = math.inf
+    except ValueError:
+        raise NoValue(
+            f"this has no value: {_DOMAIN.get(op, f'{op}() outside its domain')}"
+        ) from None
+    if isinstance(value, complex):
+        raise NoValue("this has no real value: a negative number raised to a fractional power")
+    if not math.isfinite(value):
+        raise NoValue("this is too large a number: it overflows a double")
+    return value
 
 
 def fits(t: Type, want: Dim) -> bool:

@@ -186,15 +186,19 @@ def extend_bases(
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
     that extends an unknown controller, or itself through a chain, is reported and left out."""
     written = list(decls)
-    by_name = {d.name.name: d for d in written}
-    done: dict[str, ast.ControllerDecl | None] = {}
+    by_name: dict[str, ast.ControllerDecl] = {}
+    for d in written:  # a base is the first of its name (a second is 'defined twice' later)
+        by_name.setdefault(d.name.name, d)
+    # each declaration resolved once, by itself: two of one name (each for its creature, or
+    # one defined twice) are two controllers
+    done: dict[int, ast.ControllerDecl | None] = {}
 
     def resolve(decl: ast.ControllerDecl, chain: tuple[str, ...]) -> ast.ControllerDecl | None:
         name = decl.name.name
-        if name in done:
-            return done[name]
+        if id(decl) in done:
+            return done[id(decl)]
         if decl.base is None:
-            done[name] = decl
+            done[id(decl)] = decl
             return decl
         base_name = decl.base.name
         if base_name == name or base_name in chain:
@@ -204,7 +208,7 @@ def extend_bases(
                 f"controller '{name}' extends itself ({' -> '.join((*loop, base_name))}); "
                 "break the loop: one of them must extend none of the others",
             )
-            done[name] = None
+            done[id(decl)] = None
             return None
         written_base = by_name.get(base_name)
         if written_base is None:
@@ -213,11 +217,11 @@ def extend_bases(
                 f"unknown controller '{base_name}' to extend; write 'controller {base_name} "
                 f"{{ ... }}' in this file{did_you_mean(base_name, by_name)}",
             )
-            done[name] = None
+            done[id(decl)] = None
             return None
         base = resolve(written_base, (*chain, name))
-        done[name] = None if base is None else _merged(decl, base, diag)
-        return done[name]
+        done[id(decl)] = None if base is None else _merged(decl, base, diag)
+        return done[id(decl)]
 
     resolved = [resolve(d, ()) for d in written]
     return [d for d in resolved if d is not None]

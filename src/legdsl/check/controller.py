@@ -9,7 +9,6 @@ people what a name can be and which members each kind of thing has.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import replace
 
@@ -30,6 +29,7 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.units import out_of_range
 
 # What a controller's own declarations are called in messages.
 _DECLARED_KIND: dict[type, str] = {
@@ -339,8 +339,13 @@ class ControllerChecker:
         node, sign = expr, 1.0
         while isinstance(node, ast.EUnary) and node.op == "-":
             node, sign = node.operand, -sign
-        if isinstance(node, ast.EQuantity) and not math.isfinite(node.quantity.value):
-            self.err(node.span, f"'{node.text}' is too large a number")
+        trouble = (
+            out_of_range(node.text, node.quantity.value)
+            if isinstance(node, ast.EQuantity)
+            else None
+        )
+        if trouble is not None:
+            self.err(node.span, trouble)
             return None
         if isinstance(node, ast.EQuantity):
             q = node.quantity

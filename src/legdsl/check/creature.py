@@ -58,10 +58,20 @@ class CreatureChecker(ValueChecker):
             self.planar = flags[0].name == "planar"
 
         gravity = 9.81
+        given: ast.Prop | None = None
         for prop in (i for i in d.items if isinstance(i, ast.Prop)):
-            if prop.key.name == "gravity":
+            if prop.key.name == "gravity" and given is not None:
+                self.err(prop.key.span, f"'gravity' is given twice (first at {given.key.span})")
+            elif prop.key.name == "gravity":
+                given = prop
                 g = self.one_scalar(prop, "acceleration", "gravity")
-                if g is not None:
+                if g is not None and g < 0:
+                    self.err(
+                        prop.value.span,
+                        "gravity is the magnitude of the acceleration, which points along -z: "
+                        f"write it without the sign, as in 'gravity {-g:g} m/s^2'",
+                    )
+                elif g is not None:
                     gravity = g
             else:
                 self.err(

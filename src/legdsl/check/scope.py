@@ -46,7 +46,7 @@ class CreaturePart(ValueChecker):
         v = self.point(value, what, "dimensionless")
         if v is None:
             return None
-        norm = math.sqrt(sum(c * c for c in v))
+        norm = math.hypot(*v)  # not sqrt of the sum of squares: (1e200, 1e200, 0) overflows it
         if norm < 1e-12:
             self.err(value.span, f"{what} has zero length; give a direction such as (0, 0, -1)")
             return None

@@ -29,7 +29,16 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     diag.items.extend(tree.pending)
     library, shared = load_uses(tree, diag, sources)
     models = []
+    seen: dict[str, Span] = {}
     for decl in tree.creatures:
+        first = seen.setdefault(decl.name.name, decl.name.span)
+        if first != decl.name.span:  # both would be generated/NAME/, runs/NAME/
+            diag.error(
+                decl.name.span,
+                f"creature '{decl.name.name}' is defined twice (first at {first}); give each "
+                "creature of a file a name of its own",
+            )
+            continue
         model = CreatureChecker(decl, diag, str(path)).check()
         if model is not None:
             models.append(model)

@@ -15,7 +15,7 @@ from pathlib import Path
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import KINDS, Dim, describe, parse_unit
+from legdsl.lang.units import KINDS, Dim, describe, out_of_range, parse_unit
 
 STDLIB = Path(__file__).parents[1] / "stdlib"
 
@@ -134,8 +134,9 @@ class ValueChecker:
             self.err(value.span, f"{what} must be a number with a unit of {unit_hint(kind)}")
             return None
         q = node.quantity
-        if not math.isfinite(q.value):
-            self.err(node.span, f"'{node.text}' is too large a number")
+        trouble = out_of_range(node.text, q.value)
+        if trouble is not None:
+            self.err(node.span, trouble)
             return None
         want = KINDS[kind][0]
         if q.unitless:
@@ -181,6 +182,9 @@ class ValueChecker:
                     return None
                 if not math.isfinite(v * factor):
                     self.err(item.span, f"{what} is too large")
+                    return None
+                if v != 0 and v * factor == 0:
+                    self.err(item.span, f"{what} is too small: nearer 0 than a double holds")
                     return None
                 out.append(v * factor)
             return tuple(out)

@@ -15,12 +15,15 @@ holds the scaled value to 1e-14, in the unit it was written in.
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import fields, is_dataclass
 from decimal import Decimal
+from pathlib import Path
 from typing import Any
 
 from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostic, LegError
 from legdsl.lang.parser import parse
 from legdsl.lang.units import DIMENSIONLESS, Dim, parse_unit
 
@@ -46,7 +49,10 @@ def factor(dim: Dim | None, scale: float) -> float:
     e = exponent(dim)
     if e == 0:
         return 1.0
-    return scale**e
+    try:
+        return scale**e
+    except OverflowError:  # L = 1e100 on an inertia (L^5): past a double
+        return math.inf
 
 
 def format_number(value: float) -> str:
@@ -95,15 +101,45 @@ def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> N
                 _walk(getattr(node, f.name), unit_dim, out)
 
 
+def _beyond(value: float, dim: Dim, scale: float) -> str:
+    """Why a scaled number cannot be written: it is past a double, or nearer 0 than one."""
+    size = "past a double" if not math.isfinite(value) else "nearer 0 than a double holds"
+    return (
+        f"scaled by L^{format_number(exponent(dim))} with L = {format_number(scale)} this "
+        f"number is {size}; scale by a factor nearer 1"
+    )
+
+
+def _uses_from(
+    tree: ast.SourceFile, text: str, starts: list[int], file: str, out: Path
+) -> list[tuple[int, int, str]]:
+    """Edits that point each ``use "path"`` of the file at the same file from ``out``'s
+    folder (it is relative to the file that says it); the standard library's stay."""
+    edits = []
+    for use in tree.uses:
+        if not (use.target.endswith(".leg") or "/" in use.target):
+            continue
+        used = Path(file).parent / use.target
+        moved = Path(os.path.relpath(used, out.parent)).as_posix()
+        start = text.index('"', _offset(starts, use.span.line, use.span.col))
+        if moved != use.target:
+            edits.append((start, start + len(use.target) + 2, f'"{moved}"'))
+    return edits
+
+
 def _has_block(creature: ast.CreatureDecl, name: str) -> bool:
     return any(isinstance(i, ast.BlockDecl) and i.name.name == name for i in creature.items)
 
 
-def scale_source(text: str, scale: float, file: str = "<string>") -> str:
+def scale_source(
+    text: str, scale: float, file: str = "<string>", out: str | Path | None = None
+) -> str:
     """The text of a ``.leg`` file with every quantity scaled by Table 1 for length factor ``scale``,
     its creatures renamed NAME_xL (with the controllers that name them), and a ``simulation``
     block giving the scaled integration step, control interval and record rate to a creature
-    that has none. Raises ``LegError`` for a file that does not parse."""
+    that has none; a ``use`` of a file by its path is pointed at that file from ``out``, where
+    the text will be written. Raises ``LegError`` for a file that does not parse, and for a
+    number that no double holds once scaled (L = 1e100 on an inertia, L^5)."""
     if not (scale > 0 and math.isfinite(scale)):
         raise ValueError(f"the scale factor must be a positive number, not {scale}")
     tree = parse(text, file)
@@ -114,6 +150,7 @@ def scale_source(text: str, scale: float, file: str = "<string>") -> str:
 
     found: list[tuple[ast.Span, Dim]] = []
     _walk((tree.creatures, tree.controllers, tree.actions, tree.shared), None, found)
+    beyond: list[Diagnostic] = []
     for span, dim in found:
         start = _offset(starts, span.line, span.col)
         match = _NUMBER.match(text, start)
@@ -121,7 +158,14 @@ def scale_source(text: str, scale: float, file: str = "<string>") -> str:
         f = factor(dim, scale)
         if f != 1.0:
             value = float(match.group(0)) * f
+            if not math.isfinite(value) or (value == 0 and float(match.group(0)) != 0):
+                beyond.append(Diagnostic(span, _beyond(value, dim, scale)))
+                continue
             edits.append((start, match.end(), format_number(value)))
+    if beyond:
+        raise LegError(beyond, {file: text})
+    if out is not None:
+        edits += _uses_from(tree, text, starts, file, Path(out))
 
     names = {c.name.name for c in tree.creatures}
     for creature in tree.creatures:

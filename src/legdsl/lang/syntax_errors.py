@@ -230,10 +230,17 @@ _UNIT_NAMES: dict[str, str | None] = {
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 _UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
 _UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
+_PREFIXES = "kcmuμnMG"  # SI prefixes that run into a symbol as a product would ('mN', 'kJ')
+
+
+_SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 
 
 def _plain_unit(word: str) -> str:
-    return word.replace("²", "^2").replace("³", "^3").replace("·", "*").replace(".", "*")
+    """A unit as typeset ('m·s⁻²', 'N⋅m', 'N.s') in the symbols legdsl reads ('m*s^-2')."""
+    for dot in "·⋅.":
+        word = word.replace(dot, "*")
+    return re.sub(r"[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+", lambda m: "^" + m.group().translate(_SUPERSCRIPTS), word)
 
 
 def _looks_like_unit(word: str) -> bool:
@@ -243,6 +250,7 @@ def _looks_like_unit(word: str) -> bool:
         p.lower().removesuffix("s") in _UNIT_NAMES
         or p.lower().removesuffix("s") in _UNIT_BY_LOWER
         or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or (p[:1] in _PREFIXES and p[1:] in UNITS)
         or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
         for p in parts
     )
@@ -265,6 +273,8 @@ def _suggest_unit(word: str) -> str | None:
             out.append(symbol)
         elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
             out.append(_UNIT_BY_LOWER[singular])
+        elif part[:1] in _PREFIXES and part[1:] in UNITS:
+            return None  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
         elif _UNIT_RUN.fullmatch(part):
             out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
         else:
@@ -344,6 +354,24 @@ def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
     return (found[-1].group(0), found[-1].start()) if found else None
 
 
+def _slip(text: str, pos: int) -> str | None:
+    """A sentence for a habit from other languages at ``pos``: a C comment, a percentage,
+    a name with a letter outside ASCII."""
+    if text.startswith(("//", "/*"), pos):
+        return (
+            f"'{text[pos : pos + 2]}' does not start a comment in a .leg file: a comment "
+            "starts with '#' and runs to the end of the line"
+        )
+    if text.startswith("%", pos) and text[:pos][-1:].isdigit():  # not '5 % 2', a remainder
+        return "a percentage is written as a plain number: '0.5', not '50%'"
+    if pos < len(text) and not text[pos].isascii() and text[pos].isalpha():
+        return (
+            f"'{text[pos]}' is not a letter of a name: names are made of the letters a-z and "
+            "A-Z, digits and '_' (comments and strings may hold any text)"
+        )
+    return None
+
+
 def _spaced_unit(text: str, token: Token) -> bool:
     """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
     if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
@@ -390,7 +418,10 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     friendly = _friendly(context, _open_brace(text)) if context is not None else None
 
     not_a_number = _not_a_number(text, pos) if pos is not None else None
-    if not_a_number is not None:
+    slip = _slip(text, pos) if pos is not None else None
+    if slip is not None:
+        message = slip
+    elif not_a_number is not None:
         word, start = not_a_number
         span = _offset_span(file, text, start, len(word))
         message = (

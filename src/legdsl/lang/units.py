@@ -77,7 +77,10 @@ def parse_unit(text: str) -> tuple[float, Dim]:
             raise UnitError(f"unknown unit '{bad}'" if bad else f"a unit is missing in '{text}'")
         scale, base = UNITS[match.group(1)]
         power = sign * int(match.group(2) or 1)
-        factor *= scale**power
+        try:
+            factor *= scale**power
+        except OverflowError:  # '1 km^200': past a double, so the number reads as too large
+            factor = math.inf
         for i in range(4):
             dim[i] += base[i] * power
         pos = match.end()
@@ -87,6 +90,23 @@ def parse_unit(text: str) -> tuple[float, Dim]:
             raise UnitError(f"unknown unit '{text[pos:]}'")
         sign = 1 if text[pos] == "*" else -1
         pos += 1
+
+
+_MANTISSA = re.compile(r"\s*[-+]?(\d*\.?\d*)")
+
+
+def out_of_range(written: str, value: float) -> str | None:
+    """Why a number, as written, has no double to hold it: too large (it would be infinite),
+    or too small (not zero, yet it would read as 0); None for a number that reads."""
+    if not math.isfinite(value):
+        return f"'{written}' is too large a number"
+    mantissa = _MANTISSA.match(written)
+    if value == 0 and mantissa is not None and re.search("[1-9]", mantissa.group(1)):
+        return (
+            f"'{written}' is too small a number: nearer 0 than a double holds (5e-324), it "
+            "would read as 0; write 0 if you mean zero"
+        )
+    return None
 
 
 def unit_pattern() -> str:

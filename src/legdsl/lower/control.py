@@ -27,6 +27,7 @@ none does: as events they are tested only while the machine waits for them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
@@ -38,7 +39,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import Binding, Controller
 from legdsl.ir.model import Model
-from legdsl.lang.errors import InternalError, Span
+from legdsl.lang.errors import InternalError, LegError, Span
 
 Roles = dict[str, tuple[str, ...]]  # role -> legs, under one binding
 
@@ -133,7 +134,7 @@ class Lowerer:
         for b, binding in enumerate(self.ctl.bindings):
             roles = dict(binding)
             for s, state in enumerate(self.ctl.states):
-                events[(b, s)] = self.expr(state.event, roles)
+                events[(b, s)] = self.finite(self.expr(state.event, roles), (state.span,))
                 event_where[(b, s)] = (state.span,)
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
@@ -171,11 +172,11 @@ class Lowerer:
     ) -> None:
         for s in stmts:
             if isinstance(s, ir.Record):
-                records.append((s.name, self.expr(s.value, roles)))
+                records.append((s.name, self.finite(self.expr(s.value, roles), (s.span, *calls))))
                 if record_where is not None:
                     record_where.append((s.span, *calls))
             elif isinstance(s, ir.Assign):
-                value = self.expr(s.value, roles)
+                value = self.finite(self.expr(s.value, roles), (s.span, *calls))
                 for part in self.parts(s.actuator, roles):
                     settings.append(Setting(part.name, s.key, value, (s.span, *calls)))
             elif isinstance(s, ir.Do):
@@ -193,7 +194,7 @@ class Lowerer:
     def place(self, s: ir.Place, roles: Roles, where: Where = ()) -> list[Place]:
         """One solve per leg of the role (each foot placed from its own hip)."""
         legs = self.legs(s.legs, roles)
-        goals = tuple(self.expr(goal, roles) for goal in s.goals)
+        goals = tuple(self.finite(self.expr(goal, roles), where) for goal in s.goals)
         per_servo = [self.parts(servo, roles) for servo in s.servos]
         return [
             Place(
@@ -207,6 +208,21 @@ class Lowerer:
         ]
 
     # ------------------------------------------------------------ things
+    def finite(self, value: Any, where: Where) -> Any:
+        """``value``; an error at its line in the user's file where sympy has made a
+        number of it that is infinite, NaN or complex in every state (a product past a
+        double, ``x * 1e200 * 1e200``; a division by a difference that is always 0): the
+        checker refuses such constants, but sees no further than them."""
+        if not _finite_everywhere(value):
+            user = next((w for w in where if w.file == self.model.span.file), where[-1])
+            raise LegError.at(
+                user,
+                "this gives no finite real number, whatever the creature's state (sympy makes an infinity, NaN "
+                "or a complex number of it: a product or power past a double, or a division "
+                "by something that is always 0); write it otherwise",
+            )
+        return value
+
     def legs(self, legs: ir.Legs, roles: Roles) -> tuple[str, ...]:
         if legs.each is not None:
             return roles[legs.each]  # the member an `each` block is at
@@ -309,6 +325,16 @@ def _sensor_key(part: ir.Part, member: str) -> str:
     if part.kind == "actuator":
         return f"act.{part.name}.{member}"
     return f"{part.kind}.{part.name}.{member}"
+
+
+def _finite_everywhere(value: Any) -> bool:
+    """Whether an expression holds no infinity, NaN or imaginary unit, and no number past
+    a double (sympy's floats go further: 1e200 * 1e200 is 1e400 to it, inf to the code)."""
+    if not isinstance(value, sympy.Basic):
+        return True
+    if value.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan, sympy.I):
+        return False
+    return all(math.isfinite(float(f)) for f in value.atoms(sympy.Float))
 
 
 def _mean(*values: Expr) -> Expr:

@@ -30,6 +30,7 @@ from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
 from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
+from legdsl.lang.errors import LegError
 from legdsl.lang.parser import parse_file
 from legdsl.lower.control import LoweredController, lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
@@ -85,7 +86,10 @@ def compile_file(path: str | Path, progress: Progress | None = None) -> list[Com
     checked = time.perf_counter() - start
     say(f"{path}: parsed in {parsed:.2f} s, checked in {checked:.2f} s")
     timings = (("parse", parsed), ("check", checked))
-    return [compile_checked(syntax, m, progress, timings) for m in models]
+    try:
+        return [compile_checked(syntax, m, progress, timings) for m in models]
+    except LegError as e:  # found in lowering: shown with its line, as the checker's are
+        raise LegError(e.diagnostics, {**e.sources, str(path): text}) from None
 
 
 def compile_model(

@@ -10,6 +10,7 @@ from typing import Any
 from legdsl.check.source import check_file
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
+from legdsl.lang.parser import parse_file
 from legdsl.lang.scaling import scale_source
 
 
@@ -34,7 +35,8 @@ def cmd_scale(args: argparse.Namespace) -> int:
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
     check_file(args.file)
     out = Path(args.output)
-    write_atomic(out, scale_source(Path(args.file).read_text(), args.by, args.file))
+    _, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
+    write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
     return 0

@@ -34,6 +34,7 @@ _SPEED: Dim = KINDS["velocity"][0]
 _ANGULAR_SPEED: Dim = KINDS["angular velocity"][0]
 _FORCE: Dim = KINDS["force"][0]
 _ENERGY: Dim = (1, 2, -2, 0)
+_INERTIA: Dim = KINDS["moment of inertia"][0]
 
 
 def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOptions:
@@ -51,8 +52,16 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
 
 
 def check_scale(scale: float | None) -> None:
-    if scale is not None and not 0 < scale < math.inf:
+    if scale is None:
+        return
+    if not 0 < scale < math.inf:
         raise UsageError(f"--scale {scale:g}: the scale factor is a positive number")
+    # Table 1's factors reach L^5 (an inertia): it and 1 / L^5 must both be doubles
+    if not all(0 < factor(_INERTIA, f) < math.inf for f in (scale, 1 / scale)):
+        raise UsageError(
+            f"--scale {scale:g}: too far from 1 (L^5, the factor of an inertia, or 1 / L^5 is "
+            "past a double); scale by a factor nearer 1"
+        )
 
 
 def scale_options(options: RunOptions, scale: float) -> RunOptions:

@@ -55,15 +55,20 @@ def parse_given(value: str, where: str) -> Given:
     number, unit = match.group(1), match.group(2)
     if not math.isfinite(float(number)):
         raise UsageError(f"{where}: {number} is too large to be a number (it overflows)")
-    if not unit:
-        return Given(number, "", float(number), None)
-    try:
-        factor, dim = parse_unit(unit)
-    except UnitError as e:
-        raise UsageError(f"{where}: {e}") from None
+    factor, dim = 1.0, None
+    if unit:
+        try:
+            factor, dim = parse_unit(unit)
+        except UnitError as e:
+            raise UsageError(f"{where}: {e}") from None
     si = float(number) * factor
     if not math.isfinite(si):
         raise UsageError(f"{where}: {number}{unit} is too large to be a number (it overflows)")
+    if si == 0 and re.search("[1-9]", re.split("[eE]", number)[0]):
+        raise UsageError(
+            f"{where}: {number}{unit} is too small to be a number (nearer 0 than a double "
+            "holds, it would read as 0); write 0 if you mean zero"
+        )
     return Given(number, unit, si, dim)
 
 
