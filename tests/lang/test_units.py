@@ -72,6 +72,7 @@ def test_every_unit_symbol_is_a_quantity_in_the_grammar(symbol: str) -> None:
         ("kN", 1e3, (1, 1, -2, 0)),
         ("rev", 2 * math.pi, ANGLE),
         ("Hz", 1.0, (0, 0, -1, 0)),
+        ("kHz", 1e3, (0, 0, -1, 0)),
         ("deg/s", math.pi / 180, (0, 0, -1, 1)),
         ("N*m/deg", 180 / math.pi, (1, 2, -2, -1)),
         ("s^-1", 1.0, (0, 0, -1, 0)),
