@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 import re
 from pathlib import Path
 
@@ -148,8 +149,8 @@ def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -
     ("extra", "message"),
     [
         (["--seed", "-1"], "--seed -1: give a whole number, 0 or more"),
-        (["--from", "nan"], "--from nan is not a time within the runs"),
-        (["--from", "-1"], "--from -1 is not a time within the runs"),
+        (["--from", "nan"], "--from nan: 'nan' is not a number"),
+        (["--from", "-1"], "--from -1: --from must not be negative"),
         (["--from", "3"], "--from 3 is not a time within the runs .--time 3."),
         (["--grid", "k_trim=1e400,1"], "--grid k_trim: '1e400' is too large to be a number"),
     ],
@@ -230,3 +231,17 @@ def test_workers_left_by_an_exception_drop_the_work_not_started() -> None:
         for _ in pool.as_completed(time.sleep, [0.2] * 40):
             raise KeyboardInterrupt
     assert time.monotonic() - start < 4.0  # not the 8 s of all forty
+
+
+def test_time_and_from_take_a_unit_as_for_legdsl_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=1", "--time", "1.5s",
+            "--from", "500ms", "--out", str(tmp_path / "s"), "--generated", str(tmp_path / "g")]  # fmt: skip
+    assert main(argv) == 0
+    plan = json.loads((tmp_path / "s" / "sweep.json").read_text())
+    assert (plan["time"], plan["from"]) == (1.5, 0.5)
+    bad = ["sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=1", "--time", "2kg",
+           "--out", str(tmp_path / "t")]  # fmt: skip
+    assert main(bad) == 2
+    assert "--time is a time (s), but 2kg is a mass" in capsys.readouterr().err

@@ -22,6 +22,7 @@ from legdsl.api.sweep import (
     progress_bar,
     read_table,
     run_sweep,
+    seconds,
     units_of,
 )
 from legdsl.check.source import check_model
@@ -61,8 +62,8 @@ def add_sweep_parser(sub: Any) -> Command:
     p.add_argument("--seed", type=int, default=0, help="seed of the draws (0)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a fixed setting for every run, as legdsl run --set")  # fmt: skip
-    p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
-    p.add_argument("--from", dest="t_from", type=float, default=None,
+    p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
+    p.add_argument("--from", dest="t_from", default=None,
                    help="measure the metrics from this time (s, default 3)")  # fmt: skip
     p.add_argument("--out", required=True, metavar="DIR", help="where the table and plot go")
     p.add_argument("--keep-runs", action="store_true", help="keep each run's directory")
@@ -88,6 +89,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")
     if len({a.name for a in axes}) != len(axes):
         raise UsageError("sweep: each name is swept once")
+    args.time = seconds("--time", args.time)
+    if args.t_from is not None:
+        args.t_from = seconds("--from", args.t_from, "nonnegative")
     if args.samples < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("sweep: --samples, --jobs and --time must be positive")
     if args.seed < 0:  # numpy's generator takes none

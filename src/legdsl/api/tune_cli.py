@@ -11,7 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from legdsl.api.sweep import Job, parse_axis, units_of
+from legdsl.api.sweep import Job, parse_axis, seconds, units_of
 from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
@@ -51,8 +51,8 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument("--energy-weight", type=float, default=0.0,
                    help="add this times the cost of transport, positive actuator work / (m g d) "
                    "(dimensionless; 0)")  # fmt: skip
-    p.add_argument("--time", type=float, default=10.0, help="simulated seconds per run (10)")
-    p.add_argument("--from", dest="t_from", type=float, default=3.0, help="measure from (s, 3)")
+    p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
+    p.add_argument("--from", dest="t_from", default=3.0, help="measure from (s, 3; or with a unit)")
     p.add_argument("--generations", type=int, default=10, help="CMA-ES generations (10)")
     p.add_argument("--popsize", type=int, default=None, help="candidates per generation")
     p.add_argument("--seed", type=int, default=1, help="CMA-ES seed (1)")
@@ -95,6 +95,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
     if not (math.isfinite(args.energy_weight) and args.energy_weight >= 0):
         raise UsageError(f"--energy-weight {args.energy_weight:g}: give a weight of 0 or more")
+    args.time = seconds("--time", args.time)
+    args.t_from = seconds("--from", args.t_from, "nonnegative")
     if args.generations < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("tune: --generations, --jobs and --time must be positive")
     out = Path(args.out)
