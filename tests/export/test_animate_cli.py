@@ -114,3 +114,22 @@ def test_help_has_examples(capsys) -> None:
         with pytest.raises(SystemExit):
             main([command, "--help"])
         assert "Example: legdsl" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("given", "output", "expected"),
+    [(None, None, "glb"), (None, "m.bvh", "bvh"), (None, "m.USDA", "usda"), ("bvh", "m.txt", "bvh"),
+     ("usda", "m.usd", "usda"), ("gltf", None, "gltf"), ("usd", "m.glb", None),
+     ("usd", "m.usda", None), ("glb", "m.bvh", None)],
+)  # fmt: skip
+def test_the_motion_format_follows_the_name_or_is_refused(
+    given: str | None, output: str | None, expected: str | None
+) -> None:
+    from legdsl.export.animate import motion_format
+    from legdsl.lang.errors import UsageError
+
+    if expected is None:
+        with pytest.raises(UsageError, match="leave out --format"):
+            motion_format(given, output)
+    else:
+        assert motion_format(given, output) == expected

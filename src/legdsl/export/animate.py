@@ -167,13 +167,26 @@ def add_animate_parser(sub: Any) -> Command:
 MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "bvh")
 
 
+def motion_format(given: str | None, output: str | None) -> str:
+    """``--format``, or the one ``-o``'s name says, or glb; a name that says another format
+    than ``--format`` is a mistake (a USD layer named .glb), except text USD in a .usd file."""
+    named = Path(output).suffix[1:].lower() if output else ""
+    if named not in MOTION_FORMATS:
+        return given or "glb"
+    if given is not None and given != named and (given, named) != ("usda", "usd"):
+        raise UsageError(
+            f"-o {output}: a .{named} name, but --format {given}; name the file "
+            f"{Path(output or '').stem}.{given}, or leave out --format"
+        )
+    return given or named
+
+
 def _cmd_export_motion(args: argparse.Namespace) -> int:
     _positive(args.fps, "--fps")
+    args.format = motion_format(args.format, args.output)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
     if args.skin and args.format not in ("glb", "gltf"):
         raise UsageError(f"--skin is for glTF (--format glb or gltf), not {args.format}")
-    if args.format == "usd" and out.suffix == ".usda":
-        raise UsageError(f"-o {out}: a .usda file is text; use --format usda, or name it .usd")
     motion = _load(args, args.fps)
     if args.format in ("usd", "usda"):
         from legdsl.export.usd import write_usd
@@ -213,8 +226,8 @@ def add_export_motion_parser(sub: Any) -> Command:
     e.add_argument(
         "--format",
         choices=MOTION_FORMATS,
-        default="glb",
-        help="glb (default), gltf, usd, usda or bvh",
+        default=None,
+        help="glb, gltf, usd, usda or bvh (default: as -o's name says, else glb)",
     )
     e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.FORMAT")
     e.add_argument(
