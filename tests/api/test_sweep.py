@@ -153,6 +153,11 @@ def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -
         (["--from", "-1"], "--from -1: --from must not be negative"),
         (["--from", "3"], "--from 3 is not a time within the runs .--time 3."),
         (["--grid", "k_trim=1e400,1"], "--grid k_trim: '1e400' is too large to be a number"),
+        (["--grid", "k_trim=0:1:100000000"], "100,000,000 runs, more than a sweep takes"),
+        (
+            ["--grid", "k_trim=0:1:2000", "--lhs", "k_apex=0:1", "--samples", "1000"],
+            "the sweep: 8,000,000 runs",  # times the 2 x 2 grid beside it
+        ),
     ],
 )
 def test_options_that_would_give_nothing_are_refused(

@@ -82,6 +82,7 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     if kind == "grid":
         if len(parts) != 3 or not parts[2].strip().isdigit() or int(parts[2]) < 1:
             raise UsageError(f"--grid {text!r}: write NAME=LO:HI:N (N values) or NAME=A,B,C")
+        _at_most(int(parts[2]), f"--grid {text}")
         lo, hi = (_number(v, want, kind, name) for v in parts[:2])
         return Axis(name, kind, tuple(float(v) for v in np.linspace(lo, hi, int(parts[2]))))
     if len(parts) != 2:
@@ -114,10 +115,22 @@ def _number(text: str, want: Dim, kind: str, name: str) -> float:
     return value * factor
 
 
+MAX_RUNS = 1_000_000  # a sweep's plan is laid out whole, in memory and in sweep.json
+
+
+def _at_most(runs: int, what: str) -> None:
+    if runs > MAX_RUNS:
+        raise UsageError(
+            f"{what}: {runs:,} runs, more than a sweep takes ({MAX_RUNS:,}); sweep fewer "
+            "values, or split it into sweeps of their own --out"
+        )
+
+
 def points(axes: Sequence[Axis], samples: int, seed: int) -> list[dict[str, float]]:
     """Every combination of the grids, times the random and Latin-hypercube draws."""
     grids = [a for a in axes if a.kind == "grid"]
     drawn = [a for a in axes if a.kind != "grid"]
+    _at_most(math.prod(len(a.values) for a in grids) * (samples if drawn else 1), "the sweep")
     combos = [dict(zip([a.name for a in grids], c, strict=True)) for c in
               itertools.product(*[a.values for a in grids])]  # fmt: skip
     if not drawn:
