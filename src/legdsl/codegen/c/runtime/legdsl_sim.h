@@ -76,4 +76,15 @@ extern const int64_t leg_has_c_controller;
 double leg_dist3(const double *p, const double *q);
 double leg_hypot(double x, double y);
 
+/* Where a leg's hip point h is, from the pose of its body (origin, then the row-major
+ * rotation) and, for a leg that starts with a slide, the joint's place in that body (at; 0 for
+ * the body's origin itself): ir.model.Hip.point. a is the offset turned into the world. */
+static inline void leg_hip_point(const double *pose, const double *at, double *h, double *a) {
+    const double *r = pose + 3;
+    for (int k = 0; k < 3; k++) {
+        a[k] = at ? r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2] : 0.0;
+        h[k] = at ? pose[k] + a[k] : pose[k];
+    }
+}
+
 #endif

@@ -166,19 +166,13 @@ static void hip_point(sense_cache *kc, leg_sim *s, int leg, double *h, double *v
     int b = (int)s->leg_hip[leg], moved = (int)s->leg_hip_moved[leg];
     const double *p = pose(kc, s, b, moved, err);
     const double *pv = v ? velocity(kc, s, b, moved, err) : 0;
-    if (!moved) { /* the body's origin, as it is */
-        for (int k = 0; k < 3; k++) h[k] = p[k];
-        if (v)
-            for (int k = 0; k < 3; k++) v[k] = pv[k];
-        return;
-    }
-    const double *r = p + 3, *at = s->leg_hip_at + 3 * leg, *w = pv + 3;
+    const double *at = moved ? s->leg_hip_at + 3 * leg : 0;
     double a[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2];
-        h[k] = p[k] + a[k];
-    }
-    if (v) {
+    leg_hip_point(p, at, h, a);
+    if (v && !moved) /* the body origin's velocity, as it is */
+        for (int k = 0; k < 3; k++) v[k] = pv[k];
+    if (v && moved) { /* Hip.velocity: the body's, plus its turning about the hip's offset */
+        const double *w = pv + 3;
         v[0] = pv[0] + (w[1] * a[2] - w[2] * a[1]);
         v[1] = pv[1] + (w[2] * a[0] - w[0] * a[2]);
         v[2] = pv[2] + (w[0] * a[1] - w[1] * a[0]);
@@ -372,7 +366,7 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
     int *err = &e;
     int64_t foot = pi[0], leg = pi[1], n = pi[2];
     int64_t hip = s->leg_hip[leg], moved = s->leg_hip_moved[leg];
-    const double *at = s->leg_hip_at + 3 * leg;
+    const double *at = moved ? s->leg_hip_at + 3 * leg : 0;
     const int64_t *rows = pi + 3, *servo = rows + n, *qi = servo + n, *vi = qi + n;
     const int64_t *limited = vi + n;
     const double *low = pd, *high = pd + n;
@@ -404,13 +398,9 @@ static int place(leg_sim *s, const int64_t *pi, const double *pd, const double *
         contact_positions_some(q, feet, pos, err);
         if (!posed) body_poses_some(q, hip_only, pose, err);
         posed = 0;
-        const double *f = pos + 3 * foot, *h = pose + 12 * hip, *r = h + 3;
-        double moved_h[3]; /* Hip.point */
-        if (moved) {
-            for (int k = 0; k < 3; k++)
-                moved_h[k] = h[k] + (r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2]);
-            h = moved_h;
-        }
+        const double *f = pos + 3 * foot;
+        double h[3], offset[3];
+        leg_hip_point(pose + 12 * hip, at, h, offset);
         double delta[3] = {f[0] - h[0], f[1] - h[1], f[2] - h[2]};
         double rel[3] = {c * delta[0] + sn * delta[1], -sn * delta[0] + c * delta[1], delta[2]};
         double residual[3], a[9], b[3], world[3][3], heading[3][3];

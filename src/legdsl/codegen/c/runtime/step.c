@@ -648,13 +648,9 @@ static int record_row(leg_sim *s, int64_t row) {
         double feet[NC3];
         contact_positions(q, feet, err);
         for (int64_t i = 0; i < s->n_legs; i++) {
-            const double *h = poses + 12 * s->leg_hip[i], *r = h + 3, *at = s->leg_hip_at + 3 * i;
-            double moved[3]; /* Hip.point */
-            if (s->leg_hip_moved[i]) {
-                for (int k = 0; k < 3; k++)
-                    moved[k] = h[k] + (r[3 * k] * at[0] + r[3 * k + 1] * at[1] + r[3 * k + 2] * at[2]);
-                h = moved;
-            }
+            double h[3], a[3];
+            leg_hip_point(poses + 12 * s->leg_hip[i],
+                          s->leg_hip_moved[i] ? s->leg_hip_at + 3 * i : 0, h, a);
             s->rec_leg_length[row * s->n_legs + i] = leg_dist3(h, feet + 3 * s->leg_foot[i]);
             s->rec_leg_spring_energy[row * s->n_legs + i] =
                 springs_energy(s, q, s->leg_spring + i * s->n_act);
