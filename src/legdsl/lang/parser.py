@@ -18,7 +18,8 @@ from lark.exceptions import UnexpectedInput
 from legdsl.lang import ast
 from legdsl.lang.errors import LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
-from legdsl.lang.syntax_errors import other_numbers, repaired_unit, syntax_error
+from legdsl.lang.spellings import other_numbers
+from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
 
 __all__ = ["grammar_dir", "parse", "parse_file"]

@@ -2,7 +2,8 @@
 
 A lark ``UnexpectedInput`` becomes a ``LegError`` at the right place with, in
 order of preference: an unknown unit written after a number ('5 kgs'), a unit
-with spaces inside it, a friendly sentence from ``grammar/friendly_errors.toml``
+with spaces inside it, a unit spelt as elsewhere ('m s^-2', 'm/(s^2)': ``spellings``),
+a friendly sentence from ``grammar/friendly_errors.toml``
 (matched by example: the same parser state on the same kind of token), or what
 was found and what was expected.
 """
@@ -19,6 +20,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import friendly_entries, lark_parser
+from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import UNITS, UnitError, parse_unit, unit_pattern
 
 
@@ -197,14 +199,9 @@ def _common_subsequence(a: tuple[int, ...], b: tuple[int, ...]) -> int:
     return row[-1]
 
 
-def _mask(text: str) -> str:
-    """``text`` with comments and strings blanked out (same length, same line breaks)."""
-    return re.sub(r'"[^"\n]*"|#[^\n]*', lambda m: " " * len(m.group()), text)
-
-
 def _open_brace(text: str) -> bool:
     depth = 0
-    for ch in _mask(text):
+    for ch in mask(text):
         if ch == "{":
             depth += 1
         elif ch == "}":
@@ -301,7 +298,7 @@ def _undoubled(part: str) -> str | None:
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
     found = None
-    for m in _NUMBER_AND_WORD.finditer(_mask(text)):
+    for m in _NUMBER_AND_WORD.finditer(mask(text)):
         if m.start(1) > pos:
             break
         found = m
@@ -336,7 +333,7 @@ def repaired_unit(text: str, err: UnexpectedInput) -> str | None:
     unit = _bad_unit(text, pos) if pos is not None else None
     suggestion: str | None
     if unit is None:
-        spelt = _unit_spelling(text, pos) if pos is not None else None
+        spelt = unit_spelling(text, pos) if pos is not None else None
         if spelt is None:
             return None
         unit, suggestion = (spelt.written, spelt.start), spelt.suggestion
@@ -348,125 +345,6 @@ def repaired_unit(text: str, err: UnexpectedInput) -> str | None:
     return text[:start] + suggestion.ljust(len(word)) + text[start + len(word) :]
 
 
-# The unit written after a number, loosely: symbols with spaces, parentheses or '**'
-# between them ('9.81 m s^-2', '200 N s/m', 'm/(s^2)', 'm/s**2'), which legdsl does not read.
-_LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)-?\d+)?(?![A-Za-z0-9_])"
-_LOOSE_SEP = r"(?:[ \t]*[*/][ \t]*\(?[ \t]*|[ \t]+\(?[ \t]*|[ \t]*\([ \t]*)"
-_LOOSE_UNIT = re.compile(
-    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*"
-    rf"({_LOOSE_ATOM}(?:[ \t]*\)|{_LOOSE_SEP}{_LOOSE_ATOM})*)"
-)
-
-
-@dataclass(frozen=True)
-class _UnitSpelling:
-    written: str
-    start: int
-    suggestion: str
-    message: str
-
-
-def _tidy_unit(written: str) -> str | None:
-    """``written`` in legdsl's spelling: '*' between symbols, '^' for powers, no
-    parentheses ('/' divides by the one symbol after it), a lone trailing negative power
-    as a division ('m*s^-2' is 'm/s^2'); None if that is no unit legdsl reads."""
-    text = written.replace("**", "^")
-    parts = re.findall(r"[A-Za-z]+(?:\^-?\d+)?|[*/()]|[ \t]+", text)
-    out: list[str] = []
-    group: str | None = None  # the operator before an open parenthesis
-    op = ""
-    for part in parts:
-        if part.isspace():
-            op = op or "*"
-        elif part in "*/":
-            op = part
-        elif part == "(":
-            if group is not None:
-                return None  # nested: leave it to the person
-            group, op = op or "*", ""
-        elif part == ")":
-            group = None
-        else:
-            if out:
-                sign = op or "*"
-                if group == "/" and op:  # inside '/(...)' every factor divides
-                    sign = "/" if op == "*" else "*"
-                elif group == "/":
-                    sign = "/"
-                out.append(sign)
-            out.append(part)
-            op = ""
-    tidy = "".join(out)
-    negative = re.findall(r"\^-\d+", tidy)
-    if "/" not in tidy and len(negative) == 1 and tidy.endswith(negative[0]):
-        tidy = re.sub(r"\*([A-Za-z]+)\^-(\d+)$", r"/\1^\2", tidy)
-        tidy = re.sub(r"\^1(?!\d)", "", tidy)
-    try:
-        parse_unit(tidy)
-    except UnitError:
-        return None
-    return tidy
-
-
-def _unit_spelling(text: str, pos: int) -> _UnitSpelling | None:
-    """A unit spelt as elsewhere (spaces, parentheses, '**') around ``pos``, with how to
-    write it."""
-    masked = _mask(text)
-    line_start = masked.rfind("\n", 0, pos) + 1
-    line_end = masked.find("\n", pos)
-    line = masked[: line_end if line_end >= 0 else len(masked)]
-    for m in _LOOSE_UNIT.finditer(line, line_start):
-        written = m.group(1).rstrip()
-        start = m.start(1)
-        while written.endswith(")") and written.count(")") > written.count("("):
-            written = written[:-1].rstrip()  # a call's or a vector's own ')'
-        if not start <= pos <= start + len(written):
-            continue
-        tidy = _tidy_unit(written)
-        if tidy is None or tidy == written:
-            continue
-        if "(" in written or ")" in written:
-            why = "a unit takes no parentheses ('/' divides by the one symbol after it)"
-        elif "**" in written:
-            why = "a power in a unit is written with '^'"
-        else:
-            why = "a unit is written without spaces, its symbols joined by '*' or '/'"
-        return _UnitSpelling(written, start, tidy, f"{why}: write '{tidy}', not '{written}'")
-    return None
-
-
-# Numbers as other languages write them: 0x10, 0b101, 0o17, 1_000, 2_500.5.
-_OTHER_NUMBER = re.compile(
-    r"(?<![\w.])(?:0[xX][0-9a-fA-F_]+|0[bB][01_]+|0[oO][0-7_]+"
-    r"|\d+(?:_\d+)+(?:\.\d+(?:_\d+)*)?|\d+\.\d+(?:_\d+)+)"
-)
-
-
-def other_numbers(file: str, text: str) -> tuple[list[Diagnostic], str]:
-    """The numbers written as in other languages (hexadecimal, binary, octal, with '_'
-    between digits), each reported, and ``text`` with each read as a plain number of the
-    same length so the parse goes on to the file's other mistakes."""
-    found: list[Diagnostic] = []
-    read = text
-    for m in _OTHER_NUMBER.finditer(_mask(text)):
-        written = m.group()
-        plain = written.replace("_", "")
-        if written[:2].lower() in ("0x", "0b", "0o"):
-            value = int(plain, 0) if 2 < len(plain) <= 20 else None
-            message = f"'{written}' is not a number legdsl reads: numbers are plain decimals" + (
-                f", so write '{value}'" if value is not None else ", as in '16'"
-            )
-        else:
-            message = (
-                f"'{written}' is not a number legdsl reads: digits are written without '_', "
-                f"as in '{plain}'"
-            )
-        found.append(Diagnostic(_offset_span(file, text, m.start(), len(written)), message))
-        # 1 stands in for it: its value is reported already, and 1 passes every check of sign
-        read = read[: m.start()] + "1".ljust(len(written)) + read[m.end() :]
-    return found, read
-
-
 _NOT_A_NUMBER = re.compile(r"(?<![\w.])(?:nan|inf|infinity)(?![\w.])", re.IGNORECASE)
 
 
@@ -474,7 +352,7 @@ def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
     """'nan' or 'inf' written as a value on the line of ``pos`` (or the line before) and
     before it: the mistake a parse error there comes from. (word, its offset)"""
     line_start = text.rfind("\n", 0, text.rfind("\n", 0, pos)) + 1
-    found = list(_NOT_A_NUMBER.finditer(_mask(text), line_start, pos + 1))
+    found = list(_NOT_A_NUMBER.finditer(mask(text), line_start, pos + 1))
     return (found[-1].group(0), found[-1].start()) if found else None
 
 
@@ -500,7 +378,7 @@ def _spaced_unit(text: str, token: Token) -> bool:
     """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
     if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
         return False
-    before = _mask(text)[: token.start_pos]
+    before = mask(text)[: token.start_pos]
     if not before or before[-1] not in " \t":
         return False
     return (
@@ -509,12 +387,6 @@ def _spaced_unit(text: str, token: Token) -> bool:
         )
         is not None
     )
-
-
-def _offset_span(file: str, text: str, start: int, length: int) -> Span:
-    line = text.count("\n", 0, start) + 1
-    col = start - (text.rfind("\n", 0, start) + 1) + 1
-    return Span(file, line, col, line, col + length)
 
 
 def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
@@ -543,19 +415,19 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
 
     not_a_number = _not_a_number(text, pos) if pos is not None else None
     slip = _slip(text, pos) if pos is not None else None
-    spelt = _unit_spelling(text, pos) if pos is not None else None
+    spelt = unit_spelling(text, pos) if pos is not None else None
     if slip is not None:
         message = slip
     elif not_a_number is not None:
         word, start = not_a_number
-        span = _offset_span(file, text, start, len(word))
+        span = offset_span(file, text, start, len(word))
         message = (
             f"'{word}' is not a number legdsl reads: every quantity is a finite number with "
             "its unit, as in '10 kg'"
         )
     elif unit is not None:
         word, start = unit
-        span = _offset_span(file, text, start, len(word))
+        span = offset_span(file, text, start, len(word))
         symbols = ", ".join(UNITS)
         message = (
             f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
@@ -567,7 +439,7 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
     elif spelt is not None:
-        span = _offset_span(file, text, spelt.start, len(spelt.written))
+        span = offset_span(file, text, spelt.start, len(spelt.written))
         message = spelt.message
     elif friendly is not None:
         message = friendly
