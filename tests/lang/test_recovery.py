@@ -85,3 +85,48 @@ def test_a_typeset_or_prefixed_unit_is_named_and_never_misread(unit: str, sugges
     assert d.message.startswith(f"'{unit}' is not a unit legdsl knows: ")
     assert d.message.endswith("'60 N*m/rad'" + suggestion)
     assert (d.span.line, d.span.col) == (3, 42)
+
+
+FOREIGN_SPELLINGS = """\
+creature a {
+  planar
+  gravity 9.81 m s^-2
+  body trunk free { mass 0x10 kg  inertia 0.03 kg*m^2 }
+  body shank on trunk via prismatic leg { mass 1_000 g  inertia 0.01 kg*m/(s^0) }
+  actuator leg_spring on leg spring(k = 1000 N/m, b = 200 N s/m)
+  actuator leg_servo on leg servo(kp = 1000 N/m**1, max = -5 N)
+}
+"""
+
+
+def test_units_and_numbers_as_other_languages_write_them_are_each_named_once(
+    tmp_path: Path,
+) -> None:
+    """Spaces, parentheses and '**' in a unit, hexadecimal and '_' in a number: one message
+    each, at the unit or number, with the legdsl spelling; the parse and the check go on
+    (the checker's own finding on line 7 shows), with no follow-on message."""
+    leg = tmp_path / "a.leg"
+    leg.write_text(FOREIGN_SPELLINGS)
+    with pytest.raises(LegError) as caught:
+        check_file(leg)
+    found = [(d.span.line, d.span.col, d.message) for d in caught.value.diagnostics]
+    assert [(line, col) for line, col, _ in found] == [
+        (3, 16), (4, 26), (5, 48), (5, 70), (6, 59), (7, 45), (7, 59)
+    ]  # fmt: skip
+    messages = [m for _, _, m in found]
+    assert messages[0].endswith("write 'm/s^2', not 'm s^-2'")
+    assert messages[1].endswith("numbers are plain decimals, so write '16'")
+    assert messages[2].endswith("digits are written without '_', as in '1000'")
+    assert messages[3].endswith("write 'kg*m/s^0', not 'kg*m/(s^0)'")
+    assert messages[4].endswith("write 'N*s/m', not 'N s/m'")
+    assert messages[5].endswith("write 'N/m^1', not 'N/m**1'")
+    assert messages[6] == "'max' must not be negative"
+
+
+def test_a_hexadecimal_number_too_long_to_spell_in_decimal_is_still_named() -> None:
+    text = "0x1234567890abcdef1234567890"
+    source = f"creature a {{\n  planar\n  body trunk free {{ mass {text} kg }}\n}}\n"
+    with pytest.raises(LegError) as caught:
+        parse(source, "a.leg")
+    (d,) = caught.value.diagnostics
+    assert d.message.startswith(f"'{text}' is not a number legdsl reads: numbers are plain")

@@ -32,6 +32,9 @@ class ActuatorChecker(CreaturePart):
             )
             return None
         dof = dofs.get(decl.coordinate.name)
+        coord = decl.coordinate.name
+        if dof is None and any(coord == j or coord.startswith(j + "_") for j in self.unsettled):
+            return None  # on a joint whose kind is wrong, which is reported there
         if dof is None:
             self.err(
                 decl.coordinate.span,

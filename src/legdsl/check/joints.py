@@ -4,6 +4,7 @@ its kind, location and axes, the coordinates it adds, their initial values and r
 
 from __future__ import annotations
 
+import difflib
 import math
 
 from legdsl.check.scope import CreaturePart, Scope
@@ -55,13 +56,20 @@ class JointChecker(CreaturePart):
                     f"unknown joint kind '{kind}'; use one of {', '.join(JOINT_KINDS)}"
                     + did_you_mean(kind, JOINT_KINDS),
                 )
-                kind = "fixed"
+                # Checked on as the kind it most likely means, so that its coordinate (which
+                # actuators and legs name) exists; failing that, as fixed.
+                likely = [k for k in JOINT_KINDS if not (self.planar and k in ("gimbal", "ball"))]
+                close = difflib.get_close_matches(kind, likely, n=1)
+                kind = close[0] if close else "fixed"
+                if not close:
+                    self.unsettled.add(attach.joint.name)
             if self.planar and kind in ("gimbal", "ball"):
                 self.err(
                     attach.kind.span,
                     f"a planar creature has no {kind} joints; use revolute joints about y",
                 )
                 kind = "fixed"
+                self.unsettled.add(attach.joint.name)
             self.declare(attach.joint, "joint")
             if kind == "fixed":
                 kind = "weld"

@@ -118,7 +118,8 @@ class LegChecker(CreaturePart):
         while body in by_child and by_child[body].parent is not None:
             chain.append(by_child[body].name)
             body = by_child[body].parent or ""
-        if leg_joints[0] not in chain:
+        # A walk that stops short of the root met a misspelt parent, reported in the tree.
+        if leg_joints[0] not in chain and body in by_child:
             self.err(
                 decl.name.span,
                 f"the foot '{foot}' of leg '{decl.name.name}' is not below its first joint "

@@ -10,7 +10,7 @@ on that scope, with the readers that depend on it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from legdsl.check.values import ValueChecker
 from legdsl.ir.model import Body, Vec3
@@ -25,6 +25,9 @@ class Scope:
     diag: Diagnostics
     planar: bool
     names: dict[str, tuple[str, Span]]  # name -> (what it names, where it was declared)
+    # Joints whose kind was wrong and could not be guessed: their coordinates are unknown,
+    # so a name on them is not reported again as unknown.
+    unsettled: set[str] = field(default_factory=set)
 
 
 class CreaturePart(ValueChecker):
@@ -34,6 +37,7 @@ class CreaturePart(ValueChecker):
         super().__init__(scope.diag)
         self.planar = scope.planar
         self.names = scope.names
+        self.unsettled = scope.unsettled
 
     def point(self, value: ast.Value, what: str, kind: str = "length") -> Vec3 | None:
         """A point or direction: (x, z) in a planar creature, (x, y, z) otherwise."""

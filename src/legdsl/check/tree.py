@@ -49,14 +49,15 @@ class TreeChecker(CreaturePart):
                 "'on PARENT via KIND JOINT'",
             )
         children: dict[str, list[ast.BodyDecl]] = {}
+        # Bodies whose parent is not declared (a typo): still checked, with the bodies below
+        # them, so that their own mistakes show and no name they declare looks unknown.
+        orphans: list[ast.BodyDecl] = []
         for b in by_name.values():
             if isinstance(b.attach, ast.AttachJoint):
                 parent = b.attach.parent
                 if parent.name not in by_name:
-                    self.err(
-                        parent.span,
-                        f"unknown parent body '{parent.name}'{did_you_mean(parent.name, by_name)}",
-                    )
+                    self.err(parent.span, _unknown_parent(parent.name, b.name.name, by_name))
+                    orphans.append(b)
                     continue
                 if parent.name == b.name.name:
                     self.err(parent.span, f"body '{b.name.name}' cannot hang from itself")
@@ -64,7 +65,7 @@ class TreeChecker(CreaturePart):
                 children.setdefault(parent.name, []).append(b)
         order: list[ast.BodyDecl] = []
         seen: set[str] = set()
-        stack = list(reversed(roots[:1]))
+        stack = list(reversed(roots[:1] + orphans))
         while stack:
             b = stack.pop()
             if b.name.name in seen:
@@ -110,3 +111,17 @@ class TreeChecker(CreaturePart):
             q0 += q_init
             v0 += v_init
         return bodies, joints, q0, v0
+
+
+def _unknown_parent(parent: str, child: str, bodies: dict[str, ast.BodyDecl]) -> str:
+    head = f"unknown parent body '{parent}'"
+    hint = did_you_mean(parent, bodies)
+    if hint:
+        return head + hint
+    others = [name for name in bodies if name != child]
+    if parent in ("ground", "world"):
+        return head + f"; to weld body '{child}' to the world, write 'body {child} fixed'"
+    if not others:
+        return head + "; declare the parent body in this creature first"
+    shown = ", ".join(others[:6]) + (", ..." if len(others) > 6 else "")
+    return head + f"; hang '{child}' from one of this creature's bodies ({shown})"

@@ -24,6 +24,7 @@ from legdsl.cli.common import (
     EXIT_USER_ERROR,
     Command,
     file_read_as_option,
+    negative_values_joined,
     numeric,
 )
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
@@ -447,10 +448,11 @@ def _main(argv: Sequence[str] | None) -> int:
     from legdsl.sim.run_loop import Interrupted
 
     parser = _parser()
-    if mistake := file_read_as_option(sys.argv[1:] if argv is None else argv):
+    given = negative_values_joined(sys.argv[1:] if argv is None else argv, parser)
+    if mistake := file_read_as_option(given):
         print(f"legdsl: {mistake}", file=sys.stderr)
         return EXIT_USER_ERROR
-    args = parser.parse_args(argv)
+    args = parser.parse_args(given)
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first
             from legdsl.pipeline.options import check_output_file

@@ -1,8 +1,10 @@
-"""What every ``legdsl`` command shares: exit statuses, and numbers given with their units."""
+"""What every ``legdsl`` command shares: exit statuses, numbers given with their units, and
+the argv mistakes argparse would misread."""
 
 from __future__ import annotations
 
 import argparse
+import re
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -37,3 +39,34 @@ def file_read_as_option(argv: Sequence[str]) -> str | None:
                 "(or put -- before it)"
             )
     return None
+
+
+_NEGATIVE = re.compile(r"-\.?\d")  # '-5s', '-1ms', '-.5': a negative value, not an option
+
+
+def negative_values_joined(argv: Sequence[str], parser: argparse.ArgumentParser) -> list[str]:
+    """``argv`` with each negative value given to an option that takes one written as
+    ``--time=-5s``: argparse reads a '-5s' after ``--time`` as another option ("expected
+    one argument"), where legdsl's own check of the value says what is wrong with it."""
+    takes_value = _options_with_a_value(parser)
+    out: list[str] = []
+    for i, arg in enumerate(argv):
+        if arg == "--":
+            return out + list(argv[i:])
+        if out and out[-1] in takes_value and _NEGATIVE.match(arg):
+            out[-1] = f"{out[-1]}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+def _options_with_a_value(parser: argparse.ArgumentParser) -> set[str]:
+    """The long options of ``parser`` and its subcommands that take exactly one value."""
+    found: set[str] = set()
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                found |= _options_with_a_value(sub)
+        elif action.nargs is None:
+            found.update(o for o in action.option_strings if o.startswith("--"))
+    return found

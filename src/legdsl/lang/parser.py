@@ -16,8 +16,9 @@ from lark import Token, Transformer, Tree, v_args
 from lark.exceptions import UnexpectedInput
 
 from legdsl.lang import ast
-from legdsl.lang.errors import Diagnostic, LegError, Span
+from legdsl.lang.errors import LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
+from legdsl.lang.spellings import other_numbers
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
 
@@ -346,8 +347,9 @@ def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.Sourc
     With ``recover`` the tree is returned with those reports in ``pending``, for the checker
     to report beside its own (``check_tree``); without, they are raised once parsing is done.
     """
-    read = text  # what the parser reads: the text with misspelt units repaired
-    pending: list[Diagnostic] = []
+    # what the parser reads: the text with numbers in other notations and misspelt units
+    # repaired
+    pending, read = other_numbers(file, text)
     while True:
         try:
             tree = lark_parser().parse(read, start="start")

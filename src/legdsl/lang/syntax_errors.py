@@ -2,7 +2,8 @@
 
 A lark ``UnexpectedInput`` becomes a ``LegError`` at the right place with, in
 order of preference: an unknown unit written after a number ('5 kgs'), a unit
-with spaces inside it, a friendly sentence from ``grammar/friendly_errors.toml``
+with spaces inside it, a unit spelt as elsewhere ('m s^-2', 'm/(s^2)': ``spellings``),
+a friendly sentence from ``grammar/friendly_errors.toml``
 (matched by example: the same parser state on the same kind of token), or what
 was found and what was expected.
 """
@@ -19,6 +20,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import friendly_entries, lark_parser
+from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import UNITS, UnitError, parse_unit, unit_pattern
 
 
@@ -197,14 +199,9 @@ def _common_subsequence(a: tuple[int, ...], b: tuple[int, ...]) -> int:
     return row[-1]
 
 
-def _mask(text: str) -> str:
-    """``text`` with comments and strings blanked out (same length, same line breaks)."""
-    return re.sub(r'"[^"\n]*"|#[^\n]*', lambda m: " " * len(m.group()), text)
-
-
 def _open_brace(text: str) -> bool:
     depth = 0
-    for ch in _mask(text):
+    for ch in mask(text):
         if ch == "{":
             depth += 1
         elif ch == "}":
@@ -301,7 +298,7 @@ def _undoubled(part: str) -> str | None:
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
     found = None
-    for m in _NUMBER_AND_WORD.finditer(_mask(text)):
+    for m in _NUMBER_AND_WORD.finditer(mask(text)):
         if m.start(1) > pos:
             break
         found = m
@@ -334,10 +331,15 @@ def repaired_unit(text: str, err: UnexpectedInput) -> str | None:
     still reported."""
     pos = _error_pos(err)
     unit = _bad_unit(text, pos) if pos is not None else None
+    suggestion: str | None
     if unit is None:
-        return None
+        spelt = unit_spelling(text, pos) if pos is not None else None
+        if spelt is None:
+            return None
+        unit, suggestion = (spelt.written, spelt.start), spelt.suggestion
+    else:
+        suggestion = _suggest_unit(unit[0])
     word, start = unit
-    suggestion = _suggest_unit(word)
     if suggestion is None or len(suggestion) > len(word):
         return None
     return text[:start] + suggestion.ljust(len(word)) + text[start + len(word) :]
@@ -350,7 +352,7 @@ def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
     """'nan' or 'inf' written as a value on the line of ``pos`` (or the line before) and
     before it: the mistake a parse error there comes from. (word, its offset)"""
     line_start = text.rfind("\n", 0, text.rfind("\n", 0, pos)) + 1
-    found = list(_NOT_A_NUMBER.finditer(_mask(text), line_start, pos + 1))
+    found = list(_NOT_A_NUMBER.finditer(mask(text), line_start, pos + 1))
     return (found[-1].group(0), found[-1].start()) if found else None
 
 
@@ -376,7 +378,7 @@ def _spaced_unit(text: str, token: Token) -> bool:
     """A unit with a space inside it, as '60 N * m/rad': the error is on the '*', '/' or '^'."""
     if token.type not in ("STAR", "SLASH", "CIRCUMFLEX") or token.start_pos is None:
         return False
-    before = _mask(text)[: token.start_pos]
+    before = mask(text)[: token.start_pos]
     if not before or before[-1] not in " \t":
         return False
     return (
@@ -385,12 +387,6 @@ def _spaced_unit(text: str, token: Token) -> bool:
         )
         is not None
     )
-
-
-def _offset_span(file: str, text: str, start: int, length: int) -> Span:
-    line = text.count("\n", 0, start) + 1
-    col = start - (text.rfind("\n", 0, start) + 1) + 1
-    return Span(file, line, col, line, col + length)
 
 
 def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
@@ -419,18 +415,19 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
 
     not_a_number = _not_a_number(text, pos) if pos is not None else None
     slip = _slip(text, pos) if pos is not None else None
+    spelt = unit_spelling(text, pos) if pos is not None else None
     if slip is not None:
         message = slip
     elif not_a_number is not None:
         word, start = not_a_number
-        span = _offset_span(file, text, start, len(word))
+        span = offset_span(file, text, start, len(word))
         message = (
             f"'{word}' is not a number legdsl reads: every quantity is a finite number with "
             "its unit, as in '10 kg'"
         )
     elif unit is not None:
         word, start = unit
-        span = _offset_span(file, text, start, len(word))
+        span = offset_span(file, text, start, len(word))
         symbols = ", ".join(UNITS)
         message = (
             f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
@@ -441,6 +438,9 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
             message += f"; did you mean '{suggestion}'?"
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
+    elif spelt is not None:
+        span = offset_span(file, text, spelt.start, len(spelt.written))
+        message = spelt.message
     elif friendly is not None:
         message = friendly
     elif isinstance(err, UnexpectedToken):
