@@ -169,6 +169,19 @@ def test_a_fall_stops_the_same() -> None:
     assert_same(python, c)
 
 
+def test_a_fall_between_long_control_ticks_is_seen() -> None:
+    """With a control interval longer than the run the controller acts at t = 0 only; the
+    hopper topples, and the fall rule, looked at every 2 ms whatever the control interval,
+    stops it (it was looked at on control ticks only: status ok, the root on its side)."""
+    sess = session("hopper")
+    opts = RunOptions(duration=1.5, control_dt=10.0)
+    python = sess.run("hop", [], options=opts, backend="python").result
+    c = sess.run("hop", [], options=opts, backend="c").result
+    assert python.status == "fell", python.message
+    assert "tilted" in python.message and python.sim_time < 1.1
+    assert_same(python, c)
+
+
 OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the team
 
 

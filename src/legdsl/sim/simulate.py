@@ -30,6 +30,7 @@ from legdsl.sim.run_loop import (
     RunResult,
     grow_recording,
     run_samples,
+    steps_per_check,
     steps_per_sample,
 )
 from legdsl.sim.stability import likely_cause
@@ -406,12 +407,14 @@ class Simulation:
         opts = self.options
         n_steps, record_every = int(round(opts.duration / opts.dt)), steps_per_sample(opts)
         capacity = run_samples(opts)
+        control_every = max(1, int(round(opts.control_dt / opts.dt)))
         return RunLoop(
             n_steps=n_steps,
             record_every=record_every,
             capacity=capacity,
             traj=empty_trajectory(self, min(capacity, rows)),
-            control_every=max(1, int(round(opts.control_dt / opts.dt))),
+            control_every=control_every,
+            check_every=steps_per_check(opts, control_every),
             start_height=self._standing_height(),
         )
 
@@ -445,7 +448,7 @@ class Simulation:
                 self.generalized_forces(self.q, self.v, record=True)
                 record_row(self, loop.traj, loop.recorded)
                 loop.recorded += 1
-            if steps % control_every == 0:
+            if steps % loop.check_every == 0 or steps == loop.n_steps:
                 fell = self._check(loop.start_height)
                 if fell:
                     loop.status = fell
