@@ -33,7 +33,7 @@ from legdsl.sim.run_loop import (
     steps_per_check,
     steps_per_sample,
 )
-from legdsl.sim.stability import likely_cause
+from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
 
 Vec = tuple[float, float, float]
 
@@ -354,7 +354,12 @@ class Simulation:
         if isinstance(err, ZeroDivisionError):
             with contextlib.suppress(ArithmeticError, ValueError):
                 mass = self.dyn.mass_matrix(self.q)
-        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q, mass)
+        opts = self.options
+        stiff: list[str] = []
+        with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
+            inverse = inverse_inertia_diagonal(self.dyn.mass_matrix(list(self.model.q0)))
+            stiff = stiff_now(self.actuators.states, self._stops, inverse, opts.dt, opts.integrator)
+        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff)
 
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
