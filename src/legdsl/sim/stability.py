@@ -15,7 +15,8 @@ RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
 with the bound and what to change instead of diverging after a few steps.
 
 A run that diverges all the same is told its likely cause (``likely_cause``): a ground too
-stiff for the step, or a joint far past its limits.
+stiff for the step, an actuator at the gains the controller set or a joint stop too stiff for
+it (``stiff_now``), or a joint far past its limits.
 
 An actuator with a ``max`` saturates (it cannot grow without bound): past the bound it
 chatters between its limits, which is worth a warning, not a refusal. A gain the controller
