@@ -341,8 +341,8 @@ class Simulation:
             return "fell"
         if tilt > self.options.fall_tilt:
             self.message = (
-                f"the root tilted {math.degrees(tilt):.0f} deg from upright "
-                f"(limit {math.degrees(self.options.fall_tilt):.0f} deg)"
+                f"the root tilted {math.degrees(tilt):.1f} deg from upright "
+                f"(limit {math.degrees(self.options.fall_tilt):g} deg)"
             )
             return "fell"
         return None
