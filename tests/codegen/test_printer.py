@@ -151,3 +151,16 @@ def test_an_unrolled_power_alone_in_a_denominator_keeps_its_parentheses() -> Non
         want = float(expr.subs({x: 3.0, y: 2.0, z: 5.0}))
         assert run(text, x=3.0, y=2.0, z=5.0) == pytest.approx(want, rel=1e-15), text
     assert print_expr(x * y**2) == "x*y*y"  # a numerator is printed as before
+
+
+def test_sign_of_a_nan_is_a_nan() -> None:
+    """sign() keeps a NaN (a stance time not measured yet), so the state machine faults on it;
+    ``math.copysign`` alone gave 1 or -1. The C print does the same."""
+    from legdsl.codegen.c.printer import CPrinter
+
+    x = Symbol("x")
+    code = print_expr(sympy.sign(x))
+    for value, want in ((2.5, 1.0), (-0.1, -1.0), (0.0, 0.0), (-0.0, 0.0)):
+        assert eval(code, {"math": math, "x": value}) == want
+    assert math.isnan(eval(code, {"math": math, "x": math.nan}))
+    assert ": NAN)" in CPrinter().doprint(sympy.sign(x))

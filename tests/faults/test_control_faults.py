@@ -22,6 +22,10 @@ CASES = {
              "asin(1.53) is undefined", "com.z = 0.7651"),
     "division": ("hip_motor.force = 1 N*m*s / time_in_state",
                  "1/0 (a division) is undefined", "time_in_state = 0"),
+    # sign() of a NaN is NaN: it was 1 (math.copysign), a full deflection from a stance time
+    # not measured yet
+    "sign": ("hip_servo.setpoint = 10 deg * sign(active.stance_time)",
+             "the value is nan", "leg.main.stance_time = nan"),
 }  # fmt: skip
 
 

@@ -38,6 +38,7 @@ RUN_MISTAKES = [
     (["--dt", "-1"], "--dt must be more than zero"),
     (["--dt", "2s", "--time", "1s"], "longer than the run"),
     (["--control-dt", "0"], "--control-dt must be more than zero"),
+    (["--dt", "0.4ms", "--control-dt", "0.1ms"], "shorter than the integration step"),
     (["--record-rate", "nan"], "not a number"),
     (["--record-rate", "-5"], "--record-rate must not be negative"),
     (["--fall-tilt", "nan"], "not a number"),

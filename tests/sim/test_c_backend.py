@@ -169,6 +169,19 @@ def test_a_fall_stops_the_same() -> None:
     assert_same(python, c)
 
 
+def test_a_fall_between_long_control_ticks_is_seen() -> None:
+    """With a control interval longer than the run the controller acts at t = 0 only; the
+    hopper topples, and the fall rule, looked at every 2 ms whatever the control interval,
+    stops it (it was looked at on control ticks only: status ok, the root on its side)."""
+    sess = session("hopper")
+    opts = RunOptions(duration=1.5, control_dt=10.0)
+    python = sess.run("hop", [], options=opts, backend="python").result
+    c = sess.run("hop", [], options=opts, backend="c").result
+    assert python.status == "fell", python.message
+    assert "tilted" in python.message and python.sim_time < 1.1
+    assert_same(python, c)
+
+
 OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the team
 
 
@@ -356,13 +369,31 @@ def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
 
 
 def test_a_state_gone_infinite_between_checks_stops_the_same() -> None:
-    """Checked once in 20 s, the state overflows to NaN first: the recorder's check stops it
-    (12 ms steps: too coarse for the ground, just inside the leg springs' bound)."""
+    """A hip torque of 1e300 N*m (its 'max' taken off) overflows the state to NaN within
+    two steps, before the next check: the recorder's check, every step, stops it."""
+    sess = session("hopper")
+    model = sess.model
+    free = [dataclasses.replace(a, max=None) if a.name == "hip_motor" else a
+            for a in model.actuators]  # fmt: skip
+    sess.model = dataclasses.replace(model, actuators=tuple(free))
+    opts = RunOptions(duration=0.1, record_rate=0.0)
+    settings = ["hip_motor.force=1e300N*m"]
+    python = sess.run(None, settings, options=opts, backend="python").result
+    c = sess.run(None, settings, options=opts, backend="c").result
+    assert python.status == "diverged" and "no longer finite" in python.message
+    assert python.steps < 5  # before the first check after the start
+    assert_same(python, c)
+
+
+def test_a_divergence_between_long_control_ticks_is_seen() -> None:
+    """Checked only at its control ticks, once in 20 s, the biped on 12 ms steps (too
+    coarse for the ground) ran on until its state overflowed; the checks every 2 ms find
+    the runaway velocity first."""
     sess = session("biped")
     opts = RunOptions(duration=20.0, dt=0.012, control_dt=20.0, record_rate=0.1)
     python = sess.run(None, [], options=opts, backend="python").result
     c = sess.run(None, [], options=opts, backend="c").result
-    assert python.status == "diverged" and "no longer finite" in python.message
+    assert python.status == "diverged" and "a velocity reached" in python.message
     assert_same(python, c)
 
 

@@ -95,7 +95,7 @@ def test_a_run_too_stiff_for_its_step_is_refused(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert "actuator 'leg_spring' is too stiff for the integration step" in err
-    assert "use k below 7.27e+06 N/m, or --dt below 0.0342 ms" in err
+    assert "use k below 7.27e+06 N/m, or --dt below 0.0341 ms" in err
     assert not out.exists()
 
 
@@ -146,3 +146,38 @@ def test_a_divergence_at_a_singular_mass_matrix_is_told_so() -> None:
     assert "gimbal lock" in said and "smaller --dt" not in said
     for sound in ([[2.0, 0.1], [0.1, 1.0]], None):
         assert "mass matrix" not in likely_cause(model, 0.0004, "euler", q, sound)
+
+
+def test_a_bound_is_told_rounded_down() -> None:
+    """A bound to stay under is rounded down: kv = 0.5 against a bound of 0.4999 was told
+    'use kv below 0.5'."""
+    from legdsl.sim.stability import below
+
+    assert below(0.49995) == "0.499"
+    assert below(7.2749e6) == "7.27e+06"
+    assert below(2.5) == "2.5" and below(0.0342) == "0.0342"
+
+
+def test_a_divergence_names_what_is_too_stiff_now() -> None:
+    """A gain the controller set (not checked before the run) and a joint stop too stiff or
+    too damped for the step are named as the likely cause, with the value to use."""
+    from conftest import shipped_model
+
+    from legdsl.ir.model import Stop
+    from legdsl.lang.errors import Span
+    from legdsl.sim.stability import likely_cause, stiff_now
+
+    set_by_controller = ActuatorState("leg_spring", "spring", 0, 0, 1e9, 0.0, 0.0, 0.0, None)
+    saturating = ActuatorState("hip_servo", "servo", 1, 1, 1e9, 0.0, 0.0, 0.0, 10.0)
+    stop = Stop("knee", 1, 1, -0.05, 0.05, 1e5, 0.0, Span("x.leg", 1, 1, 1, 2))
+    found = stiff_now([set_by_controller, saturating], [stop], [1.0, 1e3], 4e-4, "euler")
+    assert found == [
+        "actuator 'leg_spring' has k = 1e+09 now, too stiff for the step: use k below "
+        "2.5e+07, or --dt below 0.0632 ms",
+        "the stop of joint coordinate knee is too stiff for the step (k = 1e+05): use k below "
+        "2.5e+04, or --dt below 0.2 ms",
+    ]
+    said = likely_cause(shipped_model("hopper"), 4e-4, "euler", [0.0, 1.0, 0.0, 0.0, 0.0],
+                        None, found)  # fmt: skip
+    assert said.startswith("actuator 'leg_spring' has k = 1e+09 now")
+    assert "grew without bound" not in said

@@ -88,6 +88,13 @@ def check_run_options(options: RunOptions) -> None:
         raise UsageError(
             f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s)"
         )
+    # the controller runs on steps: once a step at most (a shorter interval ran every step)
+    if options.control_dt < options.dt * (1.0 - 1e-9):
+        raise UsageError(
+            f"--control-dt {options.control_dt:g}s is shorter than the integration step "
+            f"(--dt {options.dt:g}s), and the controller runs at most once a step; give "
+            f"--control-dt {options.dt:g}s or more, or a --dt of {options.control_dt:g}s or less"
+        )
 
 
 def _why(e: OSError) -> str:

@@ -133,6 +133,7 @@ class CSimulation(Simulation):
         c, m, opts = self.c, self.model, self.options
         c.dt, c.rk4, c.n_steps = opts.dt, int(opts.integrator == "rk4"), loop.n_steps
         c.control_every, c.has_controller = loop.control_every, int(self.controller is not None)
+        c.check_every = loop.check_every
         c.record_every, c.capacity = loop.record_every, loop.capacity
         c.has_fall_height = int(opts.fall_height is not None)
         c.fall_height = opts.fall_height if opts.fall_height is not None else 0.0

@@ -37,7 +37,7 @@ _MATH: dict[Any, Callable[..., Any]] = {
     sympy.sin: math.sin, sympy.cos: math.cos, sympy.tan: math.tan, sympy.asin: math.asin,
     sympy.acos: math.acos, sympy.atan: math.atan, sympy.atan2: math.atan2, sympy.exp: math.exp,
     sympy.log: math.log, sympy.Abs: abs, sympy.Min: min, sympy.Max: max,
-    sympy.sign: lambda x: math.copysign(1.0, x) if x else 0.0,
+    sympy.sign: lambda x: 0.0 if x == 0 else math.copysign(1.0, x) if x == x else math.nan,
 }  # fmt: skip
 
 

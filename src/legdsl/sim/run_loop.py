@@ -37,6 +37,17 @@ def steps_per_sample(options: RunOptions) -> int:
     return max(1, math.ceil(1.0 / (options.record_rate * options.dt) - 1e-3))
 
 
+CHECK_INTERVAL = 0.002  # s: the fall and divergence rules are looked at at least this often
+
+
+def steps_per_check(options: RunOptions, control_every: int) -> int:
+    """The fall and divergence rules are looked at at every control tick, but at least every
+    ``CHECK_INTERVAL`` (a run's last step is looked at too): with a longer control interval,
+    or one longer than the run, a creature lay fallen below the ground with status ok."""
+    most = max(1, int(round(CHECK_INTERVAL / options.dt)))
+    return min(control_every, most)
+
+
 def run_samples(options: RunOptions) -> int:
     """The most samples a run of these options records (its recording's full length)."""
     return int(round(options.duration / options.dt)) // steps_per_sample(options) + 1
@@ -94,6 +105,7 @@ class RunLoop:
     capacity: int  # most samples the run records
     traj: Trajectory  # the recording, grown as it fills
     control_every: int  # steps per control interval
+    check_every: int  # steps between looks at the fall and divergence rules (steps_per_check)
     start_height: float  # the root over its feet at the start (the fall rule)
     recorded: int = 0
     steps: int = 0  # the loop's step index when it stopped

@@ -30,9 +30,10 @@ from legdsl.sim.run_loop import (
     RunResult,
     grow_recording,
     run_samples,
+    steps_per_check,
     steps_per_sample,
 )
-from legdsl.sim.stability import likely_cause
+from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
 
 Vec = tuple[float, float, float]
 
@@ -340,8 +341,8 @@ class Simulation:
             return "fell"
         if tilt > self.options.fall_tilt:
             self.message = (
-                f"the root tilted {math.degrees(tilt):.0f} deg from upright "
-                f"(limit {math.degrees(self.options.fall_tilt):.0f} deg)"
+                f"the root tilted {math.degrees(tilt):.1f} deg from upright "
+                f"(limit {math.degrees(self.options.fall_tilt):g} deg)"
             )
             return "fell"
         return None
@@ -353,7 +354,12 @@ class Simulation:
         if isinstance(err, ZeroDivisionError):
             with contextlib.suppress(ArithmeticError, ValueError):
                 mass = self.dyn.mass_matrix(self.q)
-        return likely_cause(self.model, self.options.dt, self.options.integrator, self.q, mass)
+        opts = self.options
+        stiff: list[str] = []
+        with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
+            inverse = inverse_inertia_diagonal(self.dyn.mass_matrix(list(self.model.q0)))
+            stiff = stiff_now(self.actuators.states, self._stops, inverse, opts.dt, opts.integrator)
+        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff)
 
     # ------------------------------------------------------------ running
     def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
@@ -406,12 +412,14 @@ class Simulation:
         opts = self.options
         n_steps, record_every = int(round(opts.duration / opts.dt)), steps_per_sample(opts)
         capacity = run_samples(opts)
+        control_every = max(1, int(round(opts.control_dt / opts.dt)))
         return RunLoop(
             n_steps=n_steps,
             record_every=record_every,
             capacity=capacity,
             traj=empty_trajectory(self, min(capacity, rows)),
-            control_every=max(1, int(round(opts.control_dt / opts.dt))),
+            control_every=control_every,
+            check_every=steps_per_check(opts, control_every),
             start_height=self._standing_height(),
         )
 
@@ -445,7 +453,7 @@ class Simulation:
                 self.generalized_forces(self.q, self.v, record=True)
                 record_row(self, loop.traj, loop.recorded)
                 loop.recorded += 1
-            if steps % control_every == 0:
+            if steps % loop.check_every == 0 or steps == loop.n_steps:
                 fell = self._check(loop.start_height)
                 if fell:
                     loop.status = fell

@@ -15,7 +15,8 @@ RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
 with the bound and what to change instead of diverging after a few steps.
 
 A run that diverges all the same is told its likely cause (``likely_cause``): a ground too
-stiff for the step, or a joint far past its limits.
+stiff for the step, an actuator at the gains the controller set or a joint stop too stiff for
+it (``stiff_now``), or a joint far past its limits.
 
 An actuator with a ``max`` saturates (it cannot grow without bound): past the bound it
 chatters between its limits, which is worth a warning, not a refusal. A gain the controller
@@ -30,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from legdsl.ir.model import Model, Pad
+from legdsl.ir.model import Model, Pad, Stop
 from legdsl.sim.actuators import ActuatorState
 
 SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
@@ -56,9 +57,18 @@ class TooStiff:
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step: "
             f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms {outcome}; "
-            f"use {self.setting} below {self.limit:.3g} {unit}, or --dt below "
-            f"{self.dt_limit * 1e3:.3g} ms{fix}"
+            f"use {self.setting} below {below(self.limit)} {unit}, or --dt below "
+            f"{below(self.dt_limit * 1e3)} ms{fix}"
         )
+
+
+def below(x: float) -> str:
+    """``x`` to three significant digits rounded down, a bound to stay under (rounded to
+    nearest, kv = 0.5 was told to stay below 0.5)."""
+    if not (math.isfinite(x) and x > 0):
+        return f"{x:.3g}"
+    unit = 10.0 ** (math.floor(math.log10(x)) - 2)
+    return f"{math.floor(x / unit * (1 + 1e-12)) * unit:.3g}"
 
 
 def too_stiff(
@@ -110,16 +120,48 @@ def inverse_inertia_diagonal(mass_matrix: Sequence[Sequence[float]]) -> list[flo
         return [0.0] * len(mass_matrix)
 
 
+def stiff_now(
+    actuators: Iterable[ActuatorState],
+    stops: Iterable[Stop],
+    inverse_inertia: Sequence[float],
+    dt: float,
+    integrator: str,
+) -> list[str]:
+    """The actuators at their settings now (a gain the controller set is not checked before
+    the run) and the joint stops that are too stiff or too damped for the step, as causes of
+    a divergence (values in SI units)."""
+    causes = []
+    for f in too_stiff(actuators, inverse_inertia, dt, integrator, set()):
+        causes.append(
+            f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} now, too "
+            f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
+            f"{f.setting} below {below(f.limit)}, or --dt below {below(f.dt_limit * 1e3)} ms"
+        )
+    # a stop pushes like a spring while its coordinate is past the limit
+    pushing = [ActuatorState(st.dof, "spring", st.q_index, st.v_index, st.k, st.b, 0.0, 0.0, None)
+               for st in stops]  # fmt: skip
+    for f in too_stiff(pushing, inverse_inertia, dt, integrator, set()):
+        causes.append(
+            f"the stop of joint coordinate {f.actuator} is too "
+            f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
+            f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or --dt below "
+            f"{below(f.dt_limit * 1e3)} ms"
+        )
+    return causes
+
+
 def likely_cause(
     model: Model,
     dt: float,
     integrator: str,
     q: Sequence[float],
     mass_matrix: Sequence[Sequence[float]] | None = None,
+    stiff: Sequence[str] = (),
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
-    and the mass matrix there (where the dynamics could compute it)."""
-    causes = []
+    the mass matrix there (where the dynamics could compute it), and the actuators and stops
+    too stiff for the step (``stiff``: ``stiff_now``)."""
+    causes = list(stiff)
     if mass_matrix is not None:
         m = np.asarray(mass_matrix, dtype=float)
         condition = np.linalg.cond(m) if np.all(np.isfinite(m)) else math.inf

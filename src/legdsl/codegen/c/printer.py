@@ -145,7 +145,8 @@ class CPrinter(LegPrinter):
 
     def _print_sign(self, expr: Expr) -> str:
         x = self._print(expr.args[0])
-        return f"(({x}) == 0 ? 0.0 : copysign(1.0, {x}))"
+        # sign(NaN) is NaN, as in the Python print (the state machine then faults)
+        return f"(({x}) == 0 ? 0.0 : ({x}) == ({x}) ? copysign(1.0, {x}) : NAN)"
 
     def _print_Piecewise(self, expr: Expr) -> str:
         *pieces, last = expr.args

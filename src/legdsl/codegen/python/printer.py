@@ -96,6 +96,13 @@ class LegPrinter(PythonCodePrinter):
         base_text = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
         return f"{base_text}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
 
+    def _print_sign(self, expr: Expr) -> str:
+        """sign(NaN) is NaN, so that the state machine faults on it (``math.copysign`` of a NaN,
+        sympy's print, is 1 or -1: a setpoint from a stance time before the first stance ran on
+        silently at full deflection); the C printer does the same."""
+        x = self._print(expr.args[0])
+        return f"(0.0 if ({x}) == 0 else math.copysign(1.0, {x}) if ({x}) == ({x}) else math.nan)"
+
 
 def _is_half(exp: Expr) -> bool:
     """1/2 as sympy writes a square root, or 0.5 once fractions have become floats."""

@@ -771,7 +771,8 @@ int64_t leg_run(leg_sim *s) {
             s->phase = 2;
         }
         if (s->phase == 2) {
-            if (tick && check_fails(s)) return LEG_CHECK;
+            int check = steps % s->check_every == 0 || steps == s->n_steps;
+            if (check && check_fails(s)) return LEG_CHECK;
             s->phase = 3;
         }
         if (steps == s->n_steps) return LEG_DONE;
