@@ -11,6 +11,8 @@ from __future__ import annotations
 from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.model import SimulationDefaults
 from legdsl.lang import ast
+from legdsl.lang.errors import Span
+from legdsl.lang.scaling import DEFAULT_DT
 
 # property -> (kind, what it is called in messages)
 SIMULATION_PROPS: dict[str, tuple[str, str]] = {
@@ -23,6 +25,7 @@ SIMULATION_PROPS: dict[str, tuple[str, str]] = {
 class SimulationChecker(ValueChecker):
     def simulation(self, block: ast.BlockDecl) -> SimulationDefaults:
         values: dict[str, float] = {}
+        spans: dict[str, Span] = {}
         for p in block.props:
             key = p.key.name
             if key not in SIMULATION_PROPS:
@@ -45,5 +48,15 @@ class SimulationChecker(ValueChecker):
             if value < 0 or (value == 0 and key != "record_rate"):
                 self.err(p.value.span, f"{what} must be positive")
                 continue
-            values[key] = value
+            values[key], spans[key] = value, p.value.span
+        step = values.get("dt", DEFAULT_DT)
+        if values.get("control_dt", step) < step * (1.0 - 1e-9):  # as legdsl run refuses it
+            given = "this block's dt" if "dt" in values else "the default dt"
+            self.err(
+                spans["control_dt"],
+                f"the control interval is shorter than the integration step "
+                f"({step * 1e3:g} ms, {given}): the controller runs at most once a step; "
+                "make control_dt at least dt",
+            )
+            del values["control_dt"]
         return SimulationDefaults(**values)
