@@ -216,3 +216,20 @@ def test_a_passive_session_run_has_no_controller_fields(generated: Path) -> None
     info = run.info()
     assert info["controller"] is None and run.machine is None
     assert not {"inputs", "params", "paths", "path_reports"} & set(info)
+
+
+def test_a_long_step_without_a_control_interval_runs_the_controller_every_step(
+    generated: Path,
+) -> None:
+    """--dt 10ms alone (or the API's dt=): the default control interval, 2 ms, is never below
+    the step (a --control-dt asked below it is refused, tests/faults/test_user_errors.py)."""
+    from legdsl.pipeline.scaled import run_options
+
+    model = check_file(CREATURES / "hopper.leg")[0]
+    assert run_options(model, dt=0.01).control_dt == 0.01
+    assert run_options(model, dt=0.001).control_dt == 0.002
+    assert run_options(model, dt=0.01, control_dt=0.02).control_dt == 0.02
+    import legdsl
+
+    run = legdsl.load(CREATURES / "hopper.leg", generated=generated).run("hop", time=0.2, dt=0.005)
+    assert run.info["options"]["control_dt"] == 0.005

@@ -35,7 +35,7 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
-from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.run_loop import RunOptions, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "Quantity", "Run", "load", "open_run"]
@@ -194,6 +194,9 @@ class Creature:
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
             if time is None and plan.duration is not None:
                 time = plan.duration
+        step = options.get("dt")
+        if "control_dt" not in options and isinstance(step, int | float):  # never below it
+            options["control_dt"] = default_control_dt(step)
         try:
             run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
         except TypeError as e:

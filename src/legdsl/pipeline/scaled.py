@@ -25,7 +25,7 @@ from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.settings import Settings
 from legdsl.sim.machine import InputChange
-from legdsl.sim.run_loop import RunOptions, RunResult
+from legdsl.sim.run_loop import RunOptions, RunResult, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
 _LENGTH: Dim = KINDS["length"][0]
@@ -48,6 +48,8 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
         if given.get(key) is None:
             own = getattr(sim, key)
             given[key] = (own if own is not None else getattr(runner, key)) * per
+            if key == "control_dt" and own is None:  # never below the step
+                given[key] = default_control_dt(given["dt"] / per) * per
     return RunOptions(**given)
 
 

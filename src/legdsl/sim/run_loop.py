@@ -11,13 +11,21 @@ from typing import Any
 from legdsl.sim.recorder import recording_budget
 from legdsl.sim.trajectory import Trajectory
 
+CONTROL_DT = 0.002  # s: the control interval, "usually a few ms" (Figure 2)
+
+
+def default_control_dt(dt: float) -> float:
+    """The control interval when none is asked for: 2 ms, or the step where that is longer
+    (the controller runs at most once a step; a shorter interval asked for is refused)."""
+    return max(CONTROL_DT, dt)
+
 
 @dataclass
 class RunOptions:
     duration: float = 5.0
     dt: float = 0.0004  # the paper's integration interval
     integrator: str = "euler"  # semi-implicit Euler, or "rk4"
-    control_dt: float = 0.002  # "usually a few ms" (Figure 2)
+    control_dt: float = CONTROL_DT  # with another dt: default_control_dt(dt)
     record_rate: float = 200.0  # samples per second; 0 records every step
     fall_height: float | None = (
         None  # root below this is a fall; default 30% of its height over its feet
