@@ -14,6 +14,11 @@ from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
 JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
+# What other tools name these kinds (MuJoCo's hinge and slide, URDF's continuous...): said so,
+# and checked on as the kind meant.
+KIND_SYNONYMS = {"hinge": "revolute", "continuous": "revolute", "pin": "revolute",
+                 "slide": "prismatic", "slider": "prismatic", "linear": "prismatic",
+                 "spherical": "ball", "universal": "gimbal"}  # fmt: skip
 
 
 STOP_EXAMPLE = {
@@ -51,15 +56,17 @@ class JointChecker(CreaturePart):
             kind, name, span = attach.kind.name, attach.joint.name, attach.joint.span
             parent = attach.parent.name
             if kind not in JOINT_KINDS:
+                meant = KIND_SYNONYMS.get(kind.lower())
                 self.err(
                     attach.kind.span,
                     f"unknown joint kind '{kind}'; use one of {', '.join(JOINT_KINDS)}"
-                    + did_you_mean(kind, JOINT_KINDS),
-                )
+                    + (f"; legdsl calls a {kind} joint '{meant}'" if meant
+                       else did_you_mean(kind, JOINT_KINDS)),
+                )  # fmt: skip
                 # Checked on as the kind it most likely means, so that its coordinate (which
                 # actuators and legs name) exists; failing that, as fixed.
                 likely = [k for k in JOINT_KINDS if not (self.planar and k in ("gimbal", "ball"))]
-                close = difflib.get_close_matches(kind, likely, n=1)
+                close = [meant] if meant in likely else difflib.get_close_matches(kind, likely, n=1)
                 kind = close[0] if close else "fixed"
                 if not close:
                     self.unsettled.add(attach.joint.name)
