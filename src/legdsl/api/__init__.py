@@ -218,10 +218,10 @@ class Creature:
 
 def _seconds(time: object) -> float:
     """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``)."""
-    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
+    from legdsl.pipeline.options import read_seconds
 
     if isinstance(time, str):
-        return read_numeric("--time", time.replace(" ", ""), RUN_NUMERIC["duration"][1])
+        return read_seconds("--time", time)
     if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
         raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
                          f"not {time!r}")  # fmt: skip
@@ -241,10 +241,10 @@ def _threads(threads: object) -> int | None:
 def _window_time(name: str, value: object) -> float:
     """``start=``, ``end=``: seconds from the run's start (0 or more), or a text with its unit
     as ``--from`` takes it (``"3 s"``)."""
-    from legdsl.pipeline.options import WINDOW, read_numeric
+    from legdsl.pipeline.options import read_seconds
 
     if isinstance(value, str):
-        return read_numeric(f"{name}=", value.replace(" ", ""), WINDOW)
+        return read_seconds(f"{name}=", value, "nonnegative")
     if (
         isinstance(value, bool)
         or not isinstance(value, int | float | np.integer | np.floating)

@@ -36,7 +36,7 @@ from legdsl.api.workers import Workers
 from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, UnitError, describe, parse_unit
-from legdsl.pipeline.options import Numeric, read_numeric
+from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
 from legdsl.pipeline.settings import named_si_unit
 
@@ -314,9 +314,7 @@ def _typed(text: str) -> Any:
 def seconds(flag: str, value: str | float, least: str = "positive") -> float:
     """``--time`` or ``--from`` in seconds: a number as given on the command line (a unit may
     follow, as for ``legdsl run``: ``2s``, ``500ms``; a bare number is seconds), or a default."""
-    if not isinstance(value, str):
-        return value
-    return read_numeric(flag, value.replace(" ", ""), Numeric("time", "s", least))
+    return read_seconds(flag, value, least) if isinstance(value, str) else value
 
 
 def progress_bar(done: int, total: int, left: float) -> None:

@@ -145,11 +145,11 @@ class ExprChecker(NameResolver):
             if a is None or b is None:
                 return None
             return _finite(lambda: _ARITHMETIC[e.op](a, b), e.op)
-        if isinstance(e, ir.Call) and e.func in _MATH:
+        if isinstance(e, ir.Call) and e.func in ir.FUNCTION_VALUES:
             args = [self.constant_value(a) for a in e.args]
             if any(a is None for a in args):
                 return None
-            return _finite(lambda: _MATH[e.func](*args), e.func)
+            return _finite(lambda: ir.FUNCTION_VALUES[e.func](*args), e.func)
         return None
 
     def binary(self, e: ast.EBinary, local: dict[str, Value], event: bool) -> ir.Expr | None:
@@ -361,13 +361,6 @@ class NoValue(ValueError):
 _ARITHMETIC: dict[str, Callable[[float, float], float]] = {
     "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b,
     "/": lambda a, b: a / b, "^": lambda a, b: a**b,
-}  # fmt: skip
-_MATH: dict[str, Callable[..., float]] = {
-    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos,
-    "atan": math.atan, "atan2": math.atan2, "sqrt": math.sqrt, "abs": abs, "exp": math.exp,
-    "log": math.log, "sign": lambda x: math.copysign(1.0, x) if x else 0.0,
-    "min": lambda *a: min(a), "max": lambda *a: max(a),
-    "clamp": lambda x, lo, hi: min(max(x, lo), hi),
 }  # fmt: skip
 _DOMAIN = {
     "sqrt": "sqrt() of a negative number",

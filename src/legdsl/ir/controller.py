@@ -19,6 +19,8 @@ vocabulary that the checker resolves against and that lowering turns into sensor
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from legdsl.ir.paths import PathSpec
@@ -29,6 +31,18 @@ BOOL = "bool"  # the type of a condition
 # A node's type: a dimension, BOOL, or None for a value that fits any dimension (a bare 0,
 # or an uncalled action's parameter).
 Type = Dim | str | None
+
+# What each built-in function of a control law computes on numbers, as the generated code does
+# (Python's math; the sign of a NaN is NaN): the checker folds constants with it, and a control
+# law that failed at run time is explained with it.
+FUNCTION_VALUES: dict[str, Callable[..., float]] = {
+    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos,
+    "atan": math.atan, "atan2": math.atan2, "sqrt": math.sqrt, "abs": abs, "exp": math.exp,
+    "log": math.log,
+    "sign": lambda x: 0.0 if x == 0 else math.copysign(1.0, x) if x == x else math.nan,
+    "min": lambda *a: min(a), "max": lambda *a: max(a),
+    "clamp": lambda x, lo, hi: min(max(x, lo), hi),
+}  # fmt: skip
 
 LENGTH = KINDS["length"][0]
 VELOCITY = KINDS["velocity"][0]

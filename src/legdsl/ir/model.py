@@ -239,27 +239,27 @@ class Hip:
         pos, r = poses[self.body]
         if self.at is None:
             return pos  # the body's origin, as it is (a turning first joint)
-        x, y, z = self.at
-        return (
-            pos[0] + (r[0] * x + r[1] * y + r[2] * z),
-            pos[1] + (r[3] * x + r[4] * y + r[5] * z),
-            pos[2] + (r[6] * x + r[7] * y + r[8] * z),
-        )
+        a = self._turned(r)
+        return (pos[0] + a[0], pos[1] + a[1], pos[2] + a[2])
 
     def velocity(self, poses: Any, velocities: Any) -> tuple[float, float, float]:
         """In the world, from ``body_velocities``: (origin's velocity, angular velocity)."""
         vel, w = velocities[self.body]
         if self.at is None:
             return vel
-        _, r = poses[self.body]
-        x, y, z = self.at
-        a = (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
-             r[6] * x + r[7] * y + r[8] * z)  # fmt: skip
+        a = self._turned(poses[self.body][1])
         return (
             vel[0] + (w[1] * a[2] - w[2] * a[1]),
             vel[1] + (w[2] * a[0] - w[0] * a[2]),
             vel[2] + (w[0] * a[1] - w[1] * a[0]),
         )
+
+    def _turned(self, r: Any) -> tuple[float, float, float]:
+        """``at`` turned into the world by the body's rotation ``r`` (row-major)."""
+        assert self.at is not None
+        x, y, z = self.at
+        return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
+                r[6] * x + r[7] * y + r[8] * z)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -259,7 +259,7 @@ class Lowerer:
         args = tuple(self.expr(a, roles) for a in e.args)
         key = (e.func, args)
         if key not in self._calls:
-            self._calls[key] = _FUNCTIONS[e.func](*args)
+            self._calls[key] = FUNCTIONS[e.func](*args)
         return self._calls[key]
 
     def named(self, e: ir.Named, roles: Roles) -> Any:
@@ -362,7 +362,7 @@ _BINARY = {
     "or": lambda a, b: sympy.Or(a, b),
 }
 
-_FUNCTIONS = {
+FUNCTIONS = {  # a control law's built-in functions in sympy (their values: ir FUNCTION_VALUES)
     "sin": sympy.sin,
     "cos": sympy.cos,
     "tan": sympy.tan,

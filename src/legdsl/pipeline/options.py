@@ -64,6 +64,12 @@ def read_numeric(flag: str, text: str, spec: Numeric) -> float:
     return value
 
 
+def read_seconds(flag: str, text: str, least: str = "positive") -> float:
+    """A time written as text, as ``legdsl run``'s options take it (``2s``, ``500 ms``; a
+    bare number is seconds), in seconds; a mistake raises ``UsageError`` naming ``flag``."""
+    return read_numeric(flag, text.replace(" ", ""), Numeric("time", "s", least))
+
+
 def check_run_options(options: RunOptions) -> None:
     """Raise ``UsageError`` for options no run can use (the API's path to the same rules)."""
     positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}

@@ -47,9 +47,9 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
     for key, per in (("dt", tick), ("control_dt", tick), ("record_rate", 1 / tick)):
         if given.get(key) is None:
             own = getattr(sim, key)
+            if own is None and key == "control_dt":  # the runner's, never below the step
+                own = default_control_dt(given["dt"] / per)
             given[key] = (own if own is not None else getattr(runner, key)) * per
-            if key == "control_dt" and own is None:  # never below the step
-                given[key] = default_control_dt(given["dt"] / per) * per
     return RunOptions(**given)
 
 

@@ -44,7 +44,7 @@ def _step_functions() -> list[Callable[..., Any]]:
         g.force, g.torsion, g.near, g.update, g._slip, g.elastic_energy,
         s.generalized_forces, s._add_torsion, s._contact_kinematics, s._qdot,
         s._advance_positions, s._normalise, s._accel, s.step, s.energy, s._check, s._begin,
-        s._loop, recorder.record_row, recorder.rpy, Hip.point,
+        s._loop, recorder.record_row, recorder.rpy, Hip.point, Hip._turned,
     ]  # fmt: skip
 
 
@@ -56,7 +56,7 @@ def _machine_functions() -> list[Callable[..., Any]]:
         sensors.euler_rates, kinematics.FootPlacer.solve, kinematics.solve_small,
         kinematics.clip_step, path_tracking.PathTracker.update,
         path_tracking.PathGeometry.project, path_tracking.PathGeometry.at, path_tracking._wrap,
-        n._terrain, terrain_ahead._crossing, terrain_ahead.ahead, Hip.point, Hip.velocity,
+        n._terrain, terrain_ahead._crossing, terrain_ahead.ahead, Hip.point, Hip.velocity, Hip._turned,
     ]  # fmt: skip
 
 
@@ -66,8 +66,8 @@ def digest(functions: list[Callable[..., Any]]) -> str:
 
 
 # The sources step.c and machine.c were brought in line with (see the module docstring).
-STEP_DIGEST = "6bba4fb8fca4ff46"
-MACHINE_DIGEST = "eb3bf245437865f9"
+STEP_DIGEST = "9a63840ae7fefefd"
+MACHINE_DIGEST = "a8675059ae2d529e"
 
 
 @lru_cache(maxsize=1)

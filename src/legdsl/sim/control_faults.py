@@ -18,8 +18,10 @@ from typing import Any
 
 import sympy
 
+from legdsl.ir.controller import FUNCTION_VALUES
 from legdsl.ir.model import Model
 from legdsl.lang.errors import Span
+from legdsl.lower.control import FUNCTIONS
 
 
 class ControlFault(Exception):
@@ -33,12 +35,11 @@ class _Bad(Exception):
         self.operands = tuple(operands)
 
 
+# the sympy functions a lowered control law is made of, and their values (sqrt is a Pow and
+# clamp a Min of a Max there, so neither is a function of its own)
 _MATH: dict[Any, Callable[..., Any]] = {
-    sympy.sin: math.sin, sympy.cos: math.cos, sympy.tan: math.tan, sympy.asin: math.asin,
-    sympy.acos: math.acos, sympy.atan: math.atan, sympy.atan2: math.atan2, sympy.exp: math.exp,
-    sympy.log: math.log, sympy.Abs: abs, sympy.Min: min, sympy.Max: max,
-    sympy.sign: lambda x: 0.0 if x == 0 else math.copysign(1.0, x) if x == x else math.nan,
-}  # fmt: skip
+    f: FUNCTION_VALUES[name] for name, f in FUNCTIONS.items() if isinstance(f, type)
+}
 
 
 def _name(e: Any) -> str:
