@@ -18,6 +18,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "9e5c5145f63200db"
@@ -137,10 +149,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     thrust_stroke = r[12]
     held_pitch = r[13]
     held_roll = r[14]
-    new_stance_2 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
-    new_extend_at = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
+    new_stance_2 = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
+    new_extend_at = time + maximum(0.0, 0.2038735983690112*com_vz - extend_lead)
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
     return [
         new_stance_2,
         new_extend_at,
@@ -208,8 +220,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     speed_trim = r[7]
     lifted = r[8]
     t1 = short + slew*(-extend_at + time)
-    leg_l_spring_rest = min(0.0, max(short, t1, -slew*(-lifted_1 + time)))
-    leg_r_spring_rest = min(stagger, max(short, t1, -slew*(-lifted + time)))
+    leg_l_spring_rest = minimum(0.0, maximum(short, t1, -slew*(-lifted_1 + time)))
+    leg_r_spring_rest = minimum(stagger, maximum(short, t1, -slew*(-lifted + time)))
     t2 = math.cos(body_trunk_yaw)
     t3 = math.sin(body_trunk_yaw)
     t4 = com_vx*t2 + com_vy*t3
@@ -277,7 +289,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     held_pitch = r[13]
     held_roll = r[14]
     new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
-    new_thrust_stroke = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    new_thrust_stroke = minimum(0.04, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
         stance_2,
         extend_at,
@@ -495,7 +507,7 @@ def action_DOUBLE_0(s, u, p, r, tis):
     double_time = p[18]
     pitch_lead = p[19]
     thrust_stroke = r[12]
-    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
+    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((maximum(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
@@ -555,7 +567,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     lifted_y = r[10]
     predicted_apex = r[11]
     thrust_stroke = r[12]
-    new_stance_1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
+    new_stance_1 = minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
         extend_at,
@@ -639,7 +651,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = -body_trunk_yaw + heading + time*turn_rate
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
-    leg_l_spring_rest = max(short, -slew*tis)
+    leg_l_spring_rest = maximum(short, -slew*tis)
     return [
         leg_r_spring_rest,
         0.0,

@@ -18,6 +18,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "0994e9b009adcd46"
@@ -143,10 +155,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     predicted_apex = r[11]
     thrust_stroke = r[12]
     leg_rest_at_lift = r[15]
-    new_stance_2 = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
-    new_extend_at = time + max(0.0, 0.2038735983690112*com_vz - extend_lead)
+    new_stance_2 = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
+    new_extend_at = time + maximum(0.0, 0.2038735983690112*com_vz - extend_lead)
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
     return [
         new_stance_2,
         new_extend_at,
@@ -212,8 +224,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     speed_trim = r[7]
     held_pitch = r[13]
     held_roll = r[14]
-    leg_l_spring_rest = min(0.0, max(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
-    leg_r_spring_rest = max(short, -slew*tis)
+    leg_l_spring_rest = minimum(0.0, maximum(short, -slew*(-lifted_1 + time), short + slew*(-extend_at + time)))
+    leg_r_spring_rest = maximum(short, -slew*tis)
     t1 = math.cos(body_trunk_yaw)
     t2 = math.sin(body_trunk_yaw)
     t3 = com_vx*t1 + com_vy*t2
@@ -278,7 +290,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     held_roll = r[14]
     leg_rest_at_lift = r[15]
     new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
-    new_thrust_stroke = min(0.04, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    new_thrust_stroke = minimum(0.04, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
     return [
         stance_2,
         extend_at,
@@ -369,7 +381,7 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = -body_trunk_yaw + heading + time*turn_rate
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t2), math.cos(t2))
-    leg_r_spring_rest = min(0.0, max(short, short + swing_slew*(-swing_wait + tis)))
+    leg_r_spring_rest = minimum(0.0, maximum(short, short + swing_slew*(-swing_wait + tis)))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
@@ -505,7 +517,7 @@ def action_DOUBLE_0(s, u, p, r, tis):
     lift_slew = p[20]
     pitch_lead = p[22]
     thrust_stroke = r[12]
-    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((max(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
+    leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((maximum(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
     t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
@@ -565,7 +577,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     thrust_stroke = r[12]
     held_pitch = r[13]
     held_roll = r[14]
-    new_stance_1 = min(2.0*stance_guess, max(0.5*stance_guess, -landed_1 + time))
+    new_stance_1 = minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed_1 + time))
     return [
         stance_2,
         extend_at,
@@ -652,7 +664,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = -body_trunk_yaw + heading + time*turn_rate
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
-    leg_l_spring_rest = max(short, leg_rest_at_lift - lift_slew*tis)
+    leg_l_spring_rest = maximum(short, leg_rest_at_lift - lift_slew*tis)
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror_gain
     return [
         leg_r_spring_rest,

@@ -19,6 +19,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "39706e46062f7c2a"
@@ -201,9 +213,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_x = r[5]
     lifted_y = r[6]
     predicted_apex = r[7]
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
     return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
 
 
@@ -255,8 +267,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
-    leg_l_spring_rest = min(0.0, short + t1)
-    leg_r_spring_rest = max(short, -t1)
+    leg_l_spring_rest = minimum(0.0, short + t1)
+    leg_r_spring_rest = maximum(short, -t1)
     hip_r_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_l_y_value*mirror
     hip_r_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_l_x_value
     t2 = math.cos(body_trunk_yaw)
@@ -430,7 +442,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
@@ -538,12 +550,12 @@ def action_THRUST_0(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     predicted_apex = r[7]
-    leg_l_spring_rest = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    leg_l_spring_rest = minimum(0.06, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
@@ -658,9 +670,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted_x = r[5]
     lifted_y = r[6]
     predicted_apex = r[7]
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
     return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
 
 
@@ -712,8 +724,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
-    leg_r_spring_rest = min(0.0, short + t1)
-    leg_l_spring_rest = max(short, -t1)
+    leg_r_spring_rest = minimum(0.0, short + t1)
+    leg_l_spring_rest = maximum(short, -t1)
     hip_l_pitch_setpoint = balance*(body_trunk_pitch + body_trunk_pitch_rate*lead) - coord_hip_r_y_value*mirror
     hip_l_roll_setpoint = balance*(body_trunk_roll + body_trunk_roll_rate*lead) - coord_hip_r_x_value
     t2 = math.cos(body_trunk_yaw)
@@ -887,7 +899,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
@@ -995,12 +1007,12 @@ def action_THRUST_1(s, u, p, r, tis):
     k_path = p[20]
     turn_limit = p[21]
     predicted_apex = r[7]
-    leg_r_spring_rest = min(0.06, max(-0.04, k_height*(height - predicted_apex) + stroke))
+    leg_r_spring_rest = minimum(0.06, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [

@@ -18,6 +18,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "5330c500ac7d918e"
@@ -124,7 +136,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     apex_trim = r[4]
     new_speed_trim = k_trim*(-com_vx + speed) + speed_trim
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
-    new_apex_trim = min(0.5, max(-0.5, apex_trim + k_apex*(height - new_apex_seen)))
+    new_apex_trim = minimum(0.5, maximum(-0.5, apex_trim + k_apex*(height - new_apex_seen)))
     return [new_speed_trim, predicted_apex, thrust_stroke, new_apex_seen, new_apex_trim]
 
 
@@ -219,7 +231,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     t3 = 1/act_leg_spring_k
     t4 = t2*t3
     new_predicted_apex = com_z + 0.0509683995922528*t1 + 0.004591747711013765*t4
-    new_thrust_stroke = min(3.0*stroke, max(0.0, -act_leg_spring_force*t3 + math.sqrt(max(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + t2/(act_leg_spring_k*act_leg_spring_k)))))
+    new_thrust_stroke = minimum(3.0*stroke, maximum(0.0, -act_leg_spring_force*t3 + math.sqrt(maximum(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + t2/(act_leg_spring_k*act_leg_spring_k)))))
     return [speed_trim, new_predicted_apex, new_thrust_stroke, apex_seen, apex_trim]
 
 

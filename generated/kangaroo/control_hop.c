@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "9318b8ec18f7c029";
+const char legdsl_control_fingerprint[] = "1432f3be39422b9c";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -36,7 +36,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(main) */
-/*   event: creatures/kangaroo.leg:266:5 */
+/*   event: creatures/kangaroo.leg:268:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -45,7 +45,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(main) */
-/*   event: creatures/kangaroo.leg:267:5 */
+/*   event: creatures/kangaroo.leg:269:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -54,7 +54,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0 */
-/*   event: creatures/kangaroo.leg:268:5 */
+/*   event: creatures/kangaroo.leg:270:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -63,7 +63,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: ankle.rate > 0 */
-/*   event: creatures/kangaroo.leg:269:5 */
+/*   event: creatures/kangaroo.leg:271:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -72,7 +72,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main) */
-/*   event: creatures/kangaroo.leg:270:5 */
+/*   event: creatures/kangaroo.leg:272:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_value = s[8];
@@ -84,10 +84,10 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim). */
-/*   record desired_now: creatures/kangaroo.leg:266:65 > creatures/kangaroo.leg:227:5 */
-/*   record speed_trim: creatures/kangaroo.leg:266:92 > creatures/kangaroo.leg:232:5 */
-/*   record apex_seen: creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:360:3 */
+/*   record desired_now: creatures/kangaroo.leg:268:65 > creatures/kangaroo.leg:229:5 */
+/*   record speed_trim: creatures/kangaroo.leg:268:92 > creatures/kangaroo.leg:234:5 */
+/*   record apex_seen: creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -108,7 +108,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double speed_trim = r[4];
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    const double t1 = accel*leg_min(0.5, leg_main_flight_time + leg_main_stance_time);
+    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(0.5, leg_main_flight_time + leg_main_stance_time)) : (0.5));
     const double new_desired_now = desired_now + leg_min(t1, leg_max(-t1, -desired_now + speed));
     const double new_speed_trim = leg_min(max_trim, leg_max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim));
     out[0] = new_apex_seen;
@@ -121,20 +121,20 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:266:42 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:243:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:244:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:245:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:246:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:247:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
-/*   knee_servo.setpoint: creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
-/*   tail_spring.k: creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:266:248 > creatures/kangaroo.leg:182:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:266:264 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:266:278 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:268:42 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:245:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:246:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:247:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:248:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:249:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
+/*   knee_servo.setpoint: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
+/*   tail_spring.k: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:268:248 > creatures/kangaroo.leg:182:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:268:264 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:268:278 > creatures/kangaroo.leg:193:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -224,18 +224,18 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   hip_servo.kp: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:267:94 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:267:106 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:267:120 > creatures/kangaroo.leg:193:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:269:94 > creatures/kangaroo.leg:186:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:269:106 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:269:120 > creatures/kangaroo.leg:193:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -289,18 +289,18 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   hip_servo.kp: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:268:95 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:268:107 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:268:121 > creatures/kangaroo.leg:193:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:270:95 > creatures/kangaroo.leg:186:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:270:107 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:270:121 > creatures/kangaroo.leg:193:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -337,7 +337,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:220:5 */
+/*   record predicted_apex: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:220:5 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_ankle_spring_force = s[0];
@@ -358,19 +358,19 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:221:5 */
-/*   hip_servo.kp: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:269:163 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:269:175 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:269:189 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:221:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:271:163 > creatures/kangaroo.leg:186:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:271:175 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:271:189 > creatures/kangaroo.leg:193:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -437,18 +437,18 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:270:78 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:198:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:270:150 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:270:164 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:272:78 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:198:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:272:150 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:272:164 > creatures/kangaroo.leg:193:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];

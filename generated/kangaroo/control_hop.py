@@ -18,9 +18,21 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "9318b8ec18f7c029"
+FINGERPRINT = "1432f3be39422b9c"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.height', 'time')
@@ -83,7 +95,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:266:5
+        event  creatures/kangaroo.leg:268:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
@@ -93,7 +105,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:267:5
+        event  creatures/kangaroo.leg:269:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
@@ -103,7 +115,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:268:5
+        event  creatures/kangaroo.leg:270:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate < 0.0)
@@ -113,7 +125,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:269:5
+        event  creatures/kangaroo.leg:271:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate > 0.0)
@@ -123,7 +135,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:270:5
+        event  creatures/kangaroo.leg:272:5
     """
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
@@ -136,10 +148,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record desired_now  creatures/kangaroo.leg:266:65 > creatures/kangaroo.leg:227:5
-        record speed_trim   creatures/kangaroo.leg:266:92 > creatures/kangaroo.leg:232:5
-        record apex_seen    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:359:3
-        record apex_trim    creatures/kangaroo.leg:266:133 > stdlib/raibert.leg:360:3
+        record desired_now  creatures/kangaroo.leg:268:65 > creatures/kangaroo.leg:229:5
+        record speed_trim   creatures/kangaroo.leg:268:92 > creatures/kangaroo.leg:234:5
+        record apex_seen    creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -158,10 +170,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     desired_now = r[3]
     speed_trim = r[4]
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
-    new_apex_trim = min(apex_limit, max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
-    t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    new_desired_now = desired_now + min(t1, max(-t1, -desired_now + speed))
-    new_speed_trim = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
+    new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
+    t1 = accel*((minimum(0.5, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (0.5))
+    new_desired_now = desired_now + minimum(t1, maximum(-t1, -desired_now + speed))
+    new_speed_trim = minimum(max_trim, maximum(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
     return [new_apex_seen, new_apex_trim, predicted_apex, new_desired_now, new_speed_trim]
 
 
@@ -169,20 +181,20 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:266:42 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:243:5
-        hip_servo.kv         creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:244:5
-        knee_servo.kp        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:245:5
-        knee_servo.kv        creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:246:5
-        knee_motor.force     creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:247:5
-        hip_servo.setpoint   creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:266:173 > creatures/kangaroo.leg:235:5 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
-        tail_spring.k        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:266:233 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:266:248 > creatures/kangaroo.leg:182:5
-        neck_servo.setpoint  creatures/kangaroo.leg:266:264 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:266:278 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:268:42 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:245:5
+        hip_servo.kv         creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:246:5
+        knee_servo.kp        creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:247:5
+        knee_servo.kv        creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:248:5
+        knee_motor.force     creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:249:5
+        hip_servo.setpoint   creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:268:248 > creatures/kangaroo.leg:182:5
+        neck_servo.setpoint  creatures/kangaroo.leg:268:264 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:268:278 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -220,21 +232,21 @@ def action_FLIGHT_0(s, u, p, r, tis):
     tail_kv = p[35]
     desired_now = r[3]
     speed_trim = r[4]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
+    ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
     t1 = (com_vz > 0.0)
     t2 = 0.8*((tuck) if t1 else (reach))
-    t3 = min(t2, max(-t2, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
-    t4 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + min(match_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t3
+    t3 = minimum(t2, maximum(-t2, 0.5*com_vx*minimum(1.3*stance_guess, maximum(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + minimum(max_correction, maximum(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
+    t4 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + minimum(match_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t3
     t5 = -t3*t3 + ((tuck*tuck) if t1 else (reach*reach))
     t6 = 0.174*math.cos(coord_ankle_value) + 0.26
     t7 = math.sin(coord_ankle_value)
     t8 = t6*t6 + 0.030275999999999997*t7*t7
     t9 = math.sqrt(t8)
-    t10 = min(0.97*t9 + 0.1261, math.sqrt(t4*t4 + t5))
-    t11 = min(1.0, max(-1.0, 3.846153846153846*(-t8 + t10*t10 - 0.016900000000000002)/t9))
+    t10 = minimum(0.97*t9 + 0.1261, math.sqrt(t4*t4 + t5))
+    t11 = minimum(1.0, maximum(-1.0, 3.846153846153846*(-t8 + t10*t10 - 0.016900000000000002)/t9))
     hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t4, math.sqrt(t5)) - math.atan2(t9*math.sqrt(1.0 - t11*t11), t9*t11 + 0.13)
     knee_servo_setpoint = math.acos(t11) - math.atan2(0.174*t7, t6)
-    tail_motor_force = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low)))
+    tail_motor_force = body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv + tail_stop*(-coord_tail_base_value + minimum(tail_high, maximum(coord_tail_base_value, tail_low)))
     return [
         ankle_spring_rest,
         swing_kp,
@@ -267,18 +279,18 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:267:43 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:267:77 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:267:94 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:267:106 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:267:120 > creatures/kangaroo.leg:193:5
+        hip_servo.kp         creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:269:94 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:269:106 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:269:120 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -295,7 +307,7 @@ def action_LOADING_0(s, u, p, r, tis):
     pitch_lead = p[24]
     tail_down = p[29]
     tail_b = p[30]
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
@@ -327,18 +339,18 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:268:44 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:268:78 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:268:95 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:268:107 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:268:121 > creatures/kangaroo.leg:193:5
+        hip_servo.kp         creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:270:95 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:270:107 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:270:121 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -355,7 +367,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     pitch_lead = p[24]
     tail_down = p[29]
     tail_b = p[30]
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         hip_kp,
@@ -377,7 +389,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:220:5
+        record predicted_apex  creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:220:5
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
@@ -394,19 +406,19 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:269:44 > creatures/kangaroo.leg:221:5
-        hip_servo.kp         creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:269:112 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:269:146 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:269:163 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:269:175 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:269:189 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:221:5
+        hip_servo.kp         creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:271:163 > creatures/kangaroo.leg:186:5
+        neck_servo.setpoint  creatures/kangaroo.leg:271:175 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:271:189 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -434,8 +446,8 @@ def action_THRUST_0(s, u, p, r, tis):
     tail_b = p[30]
     apex_trim = r[1]
     predicted_apex = r[2]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest) + min(max_stroke, max(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest) + minimum(max_stroke, maximum(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         ankle_spring_rest,
@@ -468,18 +480,18 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:270:78 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:270:101 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:270:135 > creatures/kangaroo.leg:198:5
-        neck_servo.setpoint  creatures/kangaroo.leg:270:150 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:270:164 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:272:78 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:198:5
+        neck_servo.setpoint  creatures/kangaroo.leg:272:150 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:272:164 > creatures/kangaroo.leg:193:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -500,8 +512,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
     pitch_lead = p[24]
     tail_up = p[28]
     tail_b = p[30]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
         ankle_spring_rest,

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "ef13fa0b22ff298a";
+const char legdsl_control_fingerprint[] = "f9c121da87007241";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -41,7 +41,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(main) */
-/*   event: creatures/kangaroo.leg:386:5 */
+/*   event: creatures/kangaroo.leg:388:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[17];
@@ -50,7 +50,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(main) */
-/*   event: creatures/kangaroo.leg:387:5 */
+/*   event: creatures/kangaroo.leg:389:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[17];
@@ -59,7 +59,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0 */
-/*   event: creatures/kangaroo.leg:388:5 */
+/*   event: creatures/kangaroo.leg:390:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[8];
@@ -68,7 +68,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: ankle.rate > 0 */
-/*   event: creatures/kangaroo.leg:389:5 */
+/*   event: creatures/kangaroo.leg:391:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[8];
@@ -77,7 +77,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload + select(takeoff > 0, jump_unload, 0 deg) or liftoff(main) */
-/*   event: creatures/kangaroo.leg:390:5 */
+/*   event: creatures/kangaroo.leg:392:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_value = s[9];
@@ -91,13 +91,13 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: jump_flight, jumps, clear_x, desired_now, speed_trim, apex_seen, apex_trim). */
-/*   record jump_flight: creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:353:5 */
-/*   record jumps: creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:354:5 */
-/*   record clear_x: creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:355:5 */
-/*   record desired_now: creatures/kangaroo.leg:386:81 > creatures/kangaroo.leg:227:5 */
-/*   record speed_trim: creatures/kangaroo.leg:386:108 > creatures/kangaroo.leg:232:5 */
-/*   record apex_seen: creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:360:3 */
+/*   record jump_flight: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:355:5 */
+/*   record jumps: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:356:5 */
+/*   record clear_x: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:357:5 */
+/*   record desired_now: creatures/kangaroo.leg:388:81 > creatures/kangaroo.leg:229:5 */
+/*   record speed_trim: creatures/kangaroo.leg:388:108 > creatures/kangaroo.leg:234:5 */
+/*   record apex_seen: creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -128,7 +128,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double hop_predicted = r[11];
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    const double t1 = accel*leg_min(0.5, leg_main_flight_time + leg_main_stance_time);
+    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(0.5, leg_main_flight_time + leg_main_stance_time)) : (0.5));
     const double new_desired_now = desired_now + leg_min(t1, leg_max(-t1, -desired_now + speed));
     const double new_speed_trim = leg_min(max_trim, leg_max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim));
     const double new_jumps = jumps + takeoff;
@@ -150,23 +150,23 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_spring.k, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:386:58 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:243:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:244:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:245:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:246:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:247:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
-/*   knee_servo.setpoint: creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
-/*   tail_spring.k: creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:198:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:378:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:379:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:386:558 > creatures/kangaroo.leg:382:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:386:571 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:386:585 > creatures/kangaroo.leg:358:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:386:585 > creatures/kangaroo.leg:359:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:388:58 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:245:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:246:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:247:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:248:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:249:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
+/*   knee_servo.setpoint: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
+/*   tail_spring.k: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:380:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:381:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:388:558 > creatures/kangaroo.leg:384:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:388:571 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:360:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:361:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -269,8 +269,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: takeoff, landing). */
-/*   record takeoff: creatures/kangaroo.leg:387:43 > creatures/kangaroo.leg:348:5 */
-/*   record landing: creatures/kangaroo.leg:387:43 > creatures/kangaroo.leg:349:5 */
+/*   record takeoff: creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:350:5 */
+/*   record landing: creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:351:5 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -321,22 +321,22 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   hip_servo.kp: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:387:103 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:387:115 > creatures/kangaroo.leg:371:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:387:115 > creatures/kangaroo.leg:372:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:387:134 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:387:148 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:387:162 > creatures/kangaroo.leg:358:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:387:162 > creatures/kangaroo.leg:359:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:389:103 > creatures/kangaroo.leg:186:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:373:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:374:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:389:134 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:389:148 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:360:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:361:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -425,22 +425,22 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   hip_servo.kp: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:388:95 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:388:107 > creatures/kangaroo.leg:371:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:388:107 > creatures/kangaroo.leg:372:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:388:126 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:388:140 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:388:154 > creatures/kangaroo.leg:358:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:388:154 > creatures/kangaroo.leg:359:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:390:95 > creatures/kangaroo.leg:186:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:373:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:374:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:390:126 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:390:140 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:360:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:361:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -498,9 +498,9 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: hop_predicted, predicted_apex, thrust_stroke). */
-/*   record hop_predicted: creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:364:5 */
-/*   record predicted_apex: creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:344:3 */
+/*   record hop_predicted: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:366:5 */
+/*   record predicted_apex: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_ankle_spring_force = s[0];
@@ -549,24 +549,24 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: ankle_spring.rest, ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:345:3 */
-/*   ankle_spring.rest: creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:366:5 */
-/*   hip_servo.kp: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:389:124 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:389:136 > creatures/kangaroo.leg:371:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:389:136 > creatures/kangaroo.leg:372:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:389:155 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:389:169 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:389:183 > creatures/kangaroo.leg:358:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:389:183 > creatures/kangaroo.leg:359:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:345:3 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:368:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:198:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:391:124 > creatures/kangaroo.leg:186:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:373:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:374:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:391:155 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:391:169 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:360:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:361:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -687,20 +687,20 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:390:120 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:198:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:390:192 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:390:206 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:390:220 > creatures/kangaroo.leg:358:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:390:220 > creatures/kangaroo.leg:359:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:392:120 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:207:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:209:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:211:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:212:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:196:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:198:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:392:192 > creatures/kangaroo.leg:189:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:392:206 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:360:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:361:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];

@@ -18,9 +18,21 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "jump"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "ef13fa0b22ff298a"
+FINGERPRINT = "f9c121da87007241"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.x', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.ahead_depth', 'terrain.ahead_distance', 'terrain.ahead_given', 'terrain.ahead_height', 'terrain.height', 'time')
@@ -113,7 +125,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:386:5
+        event  creatures/kangaroo.leg:388:5
     """
     leg_main_touching = s[17]
     return (leg_main_touching < 0.5)
@@ -123,7 +135,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:387:5
+        event  creatures/kangaroo.leg:389:5
     """
     leg_main_touching = s[17]
     return (leg_main_touching > 0.5)
@@ -133,7 +145,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:388:5
+        event  creatures/kangaroo.leg:390:5
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate < 0.0)
@@ -143,7 +155,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:389:5
+        event  creatures/kangaroo.leg:391:5
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate > 0.0)
@@ -153,7 +165,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload + select(takeoff > 0, jump_unload, 0 deg) or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:390:5
+        event  creatures/kangaroo.leg:392:5
     """
     coord_ankle_value = s[9]
     leg_main_touching = s[17]
@@ -168,13 +180,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: jump_flight, jumps, clear_x, desired_now, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record jump_flight  creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:353:5
-        record jumps        creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:354:5
-        record clear_x      creatures/kangaroo.leg:386:42 > creatures/kangaroo.leg:355:5
-        record desired_now  creatures/kangaroo.leg:386:81 > creatures/kangaroo.leg:227:5
-        record speed_trim   creatures/kangaroo.leg:386:108 > creatures/kangaroo.leg:232:5
-        record apex_seen    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:359:3
-        record apex_trim    creatures/kangaroo.leg:386:149 > stdlib/raibert.leg:360:3
+        record jump_flight  creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:355:5
+        record jumps        creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:356:5
+        record clear_x      creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:357:5
+        record desired_now  creatures/kangaroo.leg:388:81 > creatures/kangaroo.leg:229:5
+        record speed_trim   creatures/kangaroo.leg:388:108 > creatures/kangaroo.leg:234:5
+        record apex_seen    creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -203,10 +215,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     jumps = r[9]
     hop_predicted = r[11]
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
-    new_apex_trim = min(apex_limit, max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
-    t1 = accel*min(0.5, leg_main_flight_time + leg_main_stance_time)
-    new_desired_now = desired_now + min(t1, max(-t1, -desired_now + speed))
-    new_speed_trim = min(max_trim, max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
+    new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
+    t1 = accel*((minimum(0.5, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (0.5))
+    new_desired_now = desired_now + minimum(t1, maximum(-t1, -desired_now + speed))
+    new_speed_trim = minimum(max_trim, maximum(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
     new_jumps = jumps + takeoff
     new_clear_x = jump_past + ((com_x + terrain_ahead_depth + terrain_ahead_distance) if (terrain_ahead_given > 0.0) else (com_x + 0.5))
     return [
@@ -229,23 +241,23 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_spring.k, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:386:58 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:243:5
-        hip_servo.kv         creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:244:5
-        knee_servo.kp        creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:245:5
-        knee_servo.kv        creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:246:5
-        knee_motor.force     creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:247:5
-        hip_servo.setpoint   creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:386:189 > creatures/kangaroo.leg:250:5 > creatures/kangaroo.leg:258:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
-        tail_spring.k        creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:377:5 > creatures/kangaroo.leg:198:5
-        tail_spring.k        creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:378:5
-        tail_motor.force     creatures/kangaroo.leg:386:545 > creatures/kangaroo.leg:379:5
-        neck_servo.setpoint  creatures/kangaroo.leg:386:558 > creatures/kangaroo.leg:382:5
-        ankle_spring.k       creatures/kangaroo.leg:386:571 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:386:585 > creatures/kangaroo.leg:358:5
-        ankle_spring.b       creatures/kangaroo.leg:386:585 > creatures/kangaroo.leg:359:5
+        ankle_spring.rest    creatures/kangaroo.leg:388:58 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:245:5
+        hip_servo.kv         creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:246:5
+        knee_servo.kp        creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:247:5
+        knee_servo.kv        creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:248:5
+        knee_motor.force     creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:249:5
+        hip_servo.setpoint   creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:198:5
+        tail_spring.k        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:380:5
+        tail_motor.force     creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:381:5
+        neck_servo.setpoint  creatures/kangaroo.leg:388:558 > creatures/kangaroo.leg:384:5
+        ankle_spring.k       creatures/kangaroo.leg:388:571 > creatures/kangaroo.leg:193:5
+        ankle_spring.k       creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:360:5
+        ankle_spring.b       creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:361:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -300,27 +312,27 @@ def action_FLIGHT_0(s, u, p, r, tis):
     landing = r[7]
     jump_flight = r[8]
     clear_x = r[10]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
+    ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
     t1 = (jump_flight > 0.0)
     t2 = t1 and (clear_x > com_x + leg_main_foot_x)
     t3 = ((1.0) if t2 else (0.0))
     t4 = (com_vz > 0.0)
     t5 = 0.8*((((jump_tuck) if t1 else (tuck))) if t4 else (((jump_tuck) if t2 else (reach))))
-    t6 = t3*min(0.8*jump_tuck, max(-0.8*jump_tuck, body_trunk_pitch*leg_kp + body_trunk_pitch_rate*leg_kv + jump_toe_x)) + (1.0 - t3)*min(t5, max(-t5, 0.5*com_vx*min(1.3*stance_guess, max(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + min(max_correction, max(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
-    t7 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + min(match_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t6
+    t6 = t3*minimum(0.8*jump_tuck, maximum(-0.8*jump_tuck, body_trunk_pitch*leg_kp + body_trunk_pitch_rate*leg_kv + jump_toe_x)) + (1.0 - t3)*minimum(t5, maximum(-t5, 0.5*com_vx*minimum(1.3*stance_guess, maximum(0.7*stance_guess, ((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)))) - leg_main_hip_x + minimum(max_correction, maximum(-max_correction, k_speed*(com_vx - desired_now*(speed_ff + 1.0) - speed_trim)))))
+    t7 = com_vx*(-((match_lag) if (match_window > 0.0) else (0.0)) + minimum(match_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + leg_main_foot_z - terrain_height)))))) + t6
     t8 = jump_tuck*jump_tuck
     t9 = -t6*t6 + ((((t8) if t1 else (tuck*tuck))) if t4 else (((t8) if t2 else (reach*reach))))
     t10 = 0.174*math.cos(coord_ankle_value) + 0.26
     t11 = math.sin(coord_ankle_value)
     t12 = t10*t10 + 0.030275999999999997*t11*t11
     t13 = math.sqrt(t12)
-    t14 = min(0.97*t13 + 0.1261, math.sqrt(t9 + t7*t7))
-    t15 = min(1.0, max(-1.0, 3.846153846153846*(-t12 + t14*t14 - 0.016900000000000002)/t13))
+    t14 = minimum(0.97*t13 + 0.1261, math.sqrt(t9 + t7*t7))
+    t15 = minimum(1.0, maximum(-1.0, 3.846153846153846*(-t12 + t14*t14 - 0.016900000000000002)/t13))
     hip_servo_setpoint = -body_trunk_pitch + math.atan2(-t7, math.sqrt(t9)) - math.atan2(t13*math.sqrt(1.0 - t15*t15), t13*t15 + 0.13)
     knee_servo_setpoint = math.acos(t15) - math.atan2(0.174*t11, t10)
     tail_spring_rest = ((tail_jump) if t1 else (tail_up))
     tail_spring_k = ((jump_tail_k) if t1 else (tail_k))
-    tail_motor_force = tail_stop*(-coord_tail_base_value + min(tail_high, max(coord_tail_base_value, tail_low))) + (body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv)*((jump_tail_on) if t1 else (1.0))
+    tail_motor_force = tail_stop*(-coord_tail_base_value + minimum(tail_high, maximum(coord_tail_base_value, tail_low))) + (body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv)*((jump_tail_on) if t1 else (1.0))
     neck_servo_setpoint = -body_trunk_pitch + ((head_look) if t1 and (com_vz < 0.0) else (0.0))
     t16 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if (takeoff > 0.0) else (((land_k) if t16 else (ankle_k))))
@@ -350,8 +362,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: takeoff, landing).
 
     From the .leg file:
-        record takeoff  creatures/kangaroo.leg:387:43 > creatures/kangaroo.leg:348:5
-        record landing  creatures/kangaroo.leg:387:43 > creatures/kangaroo.leg:349:5
+        record takeoff  creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:350:5
+        record landing  creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:351:5
     """
     com_vx = s[4]
     com_x = s[6]
@@ -404,22 +416,22 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:387:52 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:387:86 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:387:103 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:387:115 > creatures/kangaroo.leg:371:5
-        tail_motor.force     creatures/kangaroo.leg:387:115 > creatures/kangaroo.leg:372:5
-        neck_servo.setpoint  creatures/kangaroo.leg:387:134 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:387:148 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:387:162 > creatures/kangaroo.leg:358:5
-        ankle_spring.b       creatures/kangaroo.leg:387:162 > creatures/kangaroo.leg:359:5
+        hip_servo.kp         creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:389:103 > creatures/kangaroo.leg:186:5
+        knee_motor.force     creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:373:5
+        tail_motor.force     creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:374:5
+        neck_servo.setpoint  creatures/kangaroo.leg:389:134 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:389:148 > creatures/kangaroo.leg:193:5
+        ankle_spring.k       creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:360:5
+        ankle_spring.b       creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:361:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -446,7 +458,7 @@ def action_LOADING_0(s, u, p, r, tis):
     jump_lead_slope = p[61]
     takeoff = r[6]
     landing = r[7]
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t1 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1
     t2 = (takeoff > 0.0)
@@ -509,22 +521,22 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:388:44 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:388:78 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:388:95 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:388:107 > creatures/kangaroo.leg:371:5
-        tail_motor.force     creatures/kangaroo.leg:388:107 > creatures/kangaroo.leg:372:5
-        neck_servo.setpoint  creatures/kangaroo.leg:388:126 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:388:140 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:388:154 > creatures/kangaroo.leg:358:5
-        ankle_spring.b       creatures/kangaroo.leg:388:154 > creatures/kangaroo.leg:359:5
+        hip_servo.kp         creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:390:95 > creatures/kangaroo.leg:186:5
+        knee_motor.force     creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:373:5
+        tail_motor.force     creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:374:5
+        neck_servo.setpoint  creatures/kangaroo.leg:390:126 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:390:140 > creatures/kangaroo.leg:193:5
+        ankle_spring.k       creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:360:5
+        ankle_spring.b       creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:361:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -551,7 +563,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     jump_lead_slope = p[61]
     takeoff = r[6]
     landing = r[7]
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t1 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1
     t2 = (takeoff > 0.0)
@@ -584,9 +596,9 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: hop_predicted, predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record hop_predicted   creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:364:5
-        record predicted_apex  creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:343:3
-        record thrust_stroke   creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:344:3
+        record hop_predicted   creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:366:5
+        record predicted_apex  creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:344:3
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
@@ -616,7 +628,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     t4 = t2*t3
     new_hop_predicted = com_z + 0.007485445673704333*t4
     new_predicted_apex = 0.0509683995922528*t1 + new_hop_predicted
-    new_thrust_stroke = min(jump_max_stroke, max(jump_min_stroke, -act_ankle_spring_force*t3 + math.sqrt(max(0.0, t3*(-133.59258*com_z - 6.808999999999999*t1 - t4 + 133.59258*min(max_jump, max(min_jump, clearance + hang + ((terrain_ahead_height) if (terrain_ahead_given > 0.0) else (jump_height))))) + t2/(act_ankle_spring_k*act_ankle_spring_k)))))
+    new_thrust_stroke = minimum(jump_max_stroke, maximum(jump_min_stroke, -act_ankle_spring_force*t3 + math.sqrt(maximum(0.0, t3*(-133.59258*com_z - 6.808999999999999*t1 - t4 + 133.59258*minimum(max_jump, maximum(min_jump, clearance + hang + ((terrain_ahead_height) if (terrain_ahead_given > 0.0) else (jump_height))))) + t2/(act_ankle_spring_k*act_ankle_spring_k)))))
     return [
         new_predicted_apex,
         new_thrust_stroke,
@@ -637,24 +649,24 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:365:5 > stdlib/raibert.leg:345:3
-        ankle_spring.rest    creatures/kangaroo.leg:389:44 > creatures/kangaroo.leg:366:5
-        hip_servo.kp         creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:389:73 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:389:107 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:389:124 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:389:136 > creatures/kangaroo.leg:371:5
-        tail_motor.force     creatures/kangaroo.leg:389:136 > creatures/kangaroo.leg:372:5
-        neck_servo.setpoint  creatures/kangaroo.leg:389:155 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:389:169 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:389:183 > creatures/kangaroo.leg:358:5
-        ankle_spring.b       creatures/kangaroo.leg:389:183 > creatures/kangaroo.leg:359:5
+        ankle_spring.rest    creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:345:3
+        ankle_spring.rest    creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:368:5
+        hip_servo.kp         creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:198:5
+        tail_motor.force     creatures/kangaroo.leg:391:124 > creatures/kangaroo.leg:186:5
+        knee_motor.force     creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:373:5
+        tail_motor.force     creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:374:5
+        neck_servo.setpoint  creatures/kangaroo.leg:391:155 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:391:169 > creatures/kangaroo.leg:193:5
+        ankle_spring.k       creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:360:5
+        ankle_spring.b       creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:361:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -703,7 +715,7 @@ def action_THRUST_0(s, u, p, r, tis):
     takeoff = r[6]
     landing = r[7]
     hop_predicted = r[11]
-    t1 = min(ankle_rest, ramp*time + start_rest)
+    t1 = minimum(ankle_rest, ramp*time + start_rest)
     ankle_spring_rest = t1 + thrust_stroke
     t2 = (takeoff > 0.0)
     t3 = (terrain_ahead_given > 0.0)
@@ -712,8 +724,8 @@ def action_THRUST_0(s, u, p, r, tis):
     t6 = t5 + 0.5*terrain_ahead_depth + terrain_ahead_distance
     t7 = approach_band + t4
     t8 = (landing > 0.0)
-    ankle_spring_rest_2 = t1 + ((thrust_stroke) if t2 else (min(max_stroke, max(min_stroke, k_height*(apex_trim + approach_raise*((1.0) if ((t3 and (t4 < t6) and (t6 < t7)) if t3 else (t3 and (t4 < t5) and (t5 < t7))) else (0.0)) + height - hop_predicted)*((land_gain) if t8 else (1.0)) + stroke))))
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    ankle_spring_rest_2 = t1 + ((thrust_stroke) if t2 else (minimum(max_stroke, maximum(min_stroke, k_height*(apex_trim + approach_raise*((1.0) if ((t3 and (t4 < t6) and (t6 < t7)) if t3 else (t3 and (t4 < t5) and (t5 < t7))) else (0.0)) + height - hop_predicted)*((land_gain) if t8 else (1.0)) + stroke))))
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t9 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t9
     knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(speed - 4.0)) if t2 else (pitch_lead))) + t9
@@ -776,20 +788,20 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:390:120 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:390:143 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:390:177 > creatures/kangaroo.leg:198:5
-        neck_servo.setpoint  creatures/kangaroo.leg:390:192 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:390:206 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:390:220 > creatures/kangaroo.leg:358:5
-        ankle_spring.b       creatures/kangaroo.leg:390:220 > creatures/kangaroo.leg:359:5
+        ankle_spring.rest    creatures/kangaroo.leg:392:120 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:207:5
+        hip_servo.kv         creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:208:5
+        hip_servo.setpoint   creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:209:5
+        knee_servo.kp        creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:210:5
+        knee_servo.kv        creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:211:5
+        knee_motor.force     creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:212:5
+        tail_spring.k        creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:196:5
+        tail_spring.b        creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:197:5
+        tail_spring.rest     creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:198:5
+        neck_servo.setpoint  creatures/kangaroo.leg:392:192 > creatures/kangaroo.leg:189:5
+        ankle_spring.k       creatures/kangaroo.leg:392:206 > creatures/kangaroo.leg:193:5
+        ankle_spring.k       creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:360:5
+        ankle_spring.b       creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:361:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -815,8 +827,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
     land_b = p[46]
     takeoff = r[6]
     landing = r[7]
-    ankle_spring_rest = min(ankle_rest, ramp*time + start_rest)
-    hip_servo_setpoint = -body_trunk_pitch + math.asin(min(1.0, max(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
+    ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
+    hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t1 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if (takeoff > 0.0) else (((land_k) if t1 else (ankle_k))))

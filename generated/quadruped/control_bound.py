@@ -19,6 +19,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "d11d5ae91fb2f25c"
@@ -274,7 +286,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     ahead_then = r[27]
     ahead_at = r[28]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.cos(body_trunk_yaw)
@@ -282,14 +294,14 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim
     t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = max(0.001, time)
-    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_ramped_speed = ((minimum(ramped_speed + t7, maximum(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
+    new_ramped_at = maximum(0.001, time)
+    new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -409,17 +421,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     side_trim = r[18]
     aim_rate = r[26]
     t1 = (steps > 1.0)
-    t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
+    t2 = ((stand) if t1 else (minimum(stand, short + slew*tis)))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t2
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t2
-    leg_rl_spring_rest = ((max(short, -lift_slew*tis + stand)) if t1 else (stand))
+    leg_rl_spring_rest = ((maximum(short, -lift_slew*tis + stand)) if t1 else (stand))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
     t11 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t10
@@ -539,13 +551,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     ahead_then = r[27]
     ahead_at = r[28]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
-    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
+    new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
+    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/maximum(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
     new_stride_t1 = ((time) if t2 else (stride_t1))
     new_stride_x1 = ((com_x) if t2 else (stride_x1))
     new_stride_y1 = ((com_y) if t2 else (stride_y1))
@@ -689,14 +701,14 @@ def action_LOADING_0(s, u, p, r, tis):
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
     t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t9 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t10 = leg_fl_touching*t9
     hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
     t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -713,7 +725,7 @@ def action_LOADING_0(s, u, p, r, tis):
     t16 = math.sin(body_trunk_yaw)
     t17 = com_vx*t15 + com_vy*t16
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t5 + t6*yaw_lead))))
     t19 = com_vx*t16 - com_vy*t15
     t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19
     rl_y_goal = leg_rl_hip_x*t18 + t20
@@ -920,14 +932,14 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
     t8 = leg_fl_length*t7/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t9 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t9 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t10 = leg_fl_touching*t9
     hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
     t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -944,7 +956,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t16 = math.sin(body_trunk_yaw)
     t17 = com_vx*t15 + com_vy*t16
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t5 + t6*yaw_lead))))
     t19 = com_vx*t16 - com_vy*t15
     t20 = k_speed*(-side_trim - t19) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t19
     rl_y_goal = leg_rl_hip_x*t18 + t20
@@ -1145,14 +1157,14 @@ def action_THRUST_0(s, u, p, r, tis):
     t2 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t2
     hip_fl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
     t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t10 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t11 = leg_fl_touching*t10
     hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
     t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1164,12 +1176,12 @@ def action_THRUST_0(s, u, p, r, tis):
     t15 = leg_fr_touching*t10
     hip_fr_motor_force = t15*(-leg_fr_hip_y*t14 + t3)
     hip_fr_roll_motor_force = t15*(-leg_fr_hip_x*t14 + t12)
-    leg_rl_spring_rest = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_rl_spring_rest = ((minimum(stand, short + slew*maximum(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
     t16 = math.cos(body_trunk_yaw)
     t17 = math.sin(body_trunk_yaw)
     t18 = com_vx*t16 + com_vy*t17
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18
-    t19 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
+    t19 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t7*yaw_lead + t6))))
     t20 = com_vx*t17 - com_vy*t16
     t21 = k_speed*(-side_trim - t20) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t20
     rl_y_goal = leg_rl_hip_x*t19 + t21
@@ -1342,8 +1354,8 @@ def action_UNLOADING_0(s, u, p, r, tis):
     t3 = com_vx*t1 + com_vy*t2
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
     t7 = com_vx*t2 - com_vy*t1
     t8 = k_speed*(-side_trim - t7) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t7
     rl_y_goal = leg_rl_hip_x*t6 + t8
@@ -1445,7 +1457,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     ahead_then = r[27]
     ahead_at = r[28]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.cos(body_trunk_yaw)
@@ -1453,14 +1465,14 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    new_speed_trim = k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim
     t7 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t7, max(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = max(0.001, time)
-    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_ramped_speed = ((minimum(ramped_speed + t7, maximum(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
+    new_ramped_at = maximum(0.001, time)
+    new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1580,17 +1592,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
     side_trim = r[18]
     aim_rate = r[26]
     t1 = (steps > 1.0)
-    t2 = ((stand) if t1 else (min(stand, short + slew*tis)))
+    t2 = ((stand) if t1 else (minimum(stand, short + slew*tis)))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t2
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t2
-    leg_fl_spring_rest = ((max(short, -lift_slew*tis + stand)) if t1 else (stand))
+    leg_fl_spring_rest = ((maximum(short, -lift_slew*tis + stand)) if t1 else (stand))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
     t11 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t10
@@ -1710,13 +1722,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     ahead_then = r[27]
     ahead_at = r[28]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
-    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
+    new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/max(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
+    new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/maximum(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
     new_stride_t1 = ((time) if t2 else (stride_t1))
     new_stride_x1 = ((com_x) if t2 else (stride_x1))
     new_stride_y1 = ((com_y) if t2 else (stride_y1))
@@ -1860,14 +1872,14 @@ def action_LOADING_1(s, u, p, r, tis):
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
     t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t9 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t10 = leg_rl_touching*t9
     hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
     t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1884,7 +1896,7 @@ def action_LOADING_1(s, u, p, r, tis):
     t16 = math.sin(body_trunk_yaw)
     t17 = com_vx*t15 + com_vy*t16
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t5 + t6*yaw_lead))))
     t19 = com_vx*t16 - com_vy*t15
     t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19
     fl_y_goal = leg_fl_hip_x*t18 + t20
@@ -2091,14 +2103,14 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
     t8 = leg_rl_length*t7/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t9 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t9 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t10 = leg_rl_touching*t9
     hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
     t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -2115,7 +2127,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t16 = math.sin(body_trunk_yaw)
     t17 = com_vx*t15 + com_vy*t16
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t17) + 0.5*stance*t17
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(t5 + t6*yaw_lead))))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t5 + t6*yaw_lead))))
     t19 = com_vx*t16 - com_vy*t15
     t20 = k_speed*(-side_trim - t19) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t19
     fl_y_goal = leg_fl_hip_x*t18 + t20
@@ -2316,14 +2328,14 @@ def action_THRUST_1(s, u, p, r, tis):
     t2 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t2
     hip_rl_pitch_kv = swing_kv*t2
-    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - min(stride_most, max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
+    t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
     t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t10 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t11 = leg_rl_touching*t10
     hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
     t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -2335,12 +2347,12 @@ def action_THRUST_1(s, u, p, r, tis):
     t15 = leg_rr_touching*t10
     hip_rr_motor_force = t15*(-leg_rr_hip_y*t14 + t3)
     hip_rr_roll_motor_force = t15*(-leg_rr_hip_x*t14 + t12)
-    leg_fl_spring_rest = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    leg_fl_spring_rest = ((minimum(stand, short + slew*maximum(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
     t16 = math.cos(body_trunk_yaw)
     t17 = math.sin(body_trunk_yaw)
     t18 = com_vx*t16 + com_vy*t17
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t18) + 0.5*stance*t18
-    t19 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7*yaw_lead + t6))))
+    t19 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t7*yaw_lead + t6))))
     t20 = com_vx*t17 - com_vy*t16
     t21 = k_speed*(-side_trim - t20) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t20
     fl_y_goal = leg_fl_hip_x*t19 + t21
@@ -2513,8 +2525,8 @@ def action_UNLOADING_1(s, u, p, r, tis):
     t3 = com_vx*t1 + com_vy*t2
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t6 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
     t7 = com_vx*t2 - com_vy*t1
     t8 = k_speed*(-side_trim - t7) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t7
     fl_y_goal = leg_fl_hip_x*t6 + t8

@@ -19,6 +19,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "f12f62d6a252441e"
@@ -291,7 +303,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     ahead_then = r[20]
     ahead_at = r[21]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.cos(body_trunk_yaw)
@@ -299,16 +311,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    t7 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t7 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t8 = fast_trim_band*t7 + trim_band
-    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*min(t8, max(-t8, ramped_speed - step_speed))
-    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*minimum(t8, maximum(-t8, ramped_speed - step_speed))
+    new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t9, max(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
-    new_ramped_at = max(0.001, time)
+    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -441,14 +453,14 @@ def action_FLIGHT_0(s, u, p, r, tis):
     aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     t2 = (steps > 1.0)
-    t3 = ((stand) if t2 else (min(stand, short + slew*tis)))
+    t3 = ((stand) if t2 else (minimum(stand, short + slew*tis)))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t3 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t3 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
     t4 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t5 = ((max(short, -lift_slew*tis + stand)) if t2 else (stand))
+    t5 = ((maximum(short, -lift_slew*tis + stand)) if t2 else (stand))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t5 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t4 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t5 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t4 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t6 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t6 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t7 = fast_k_speed*t6 + k_speed
     t8 = math.cos(body_trunk_yaw)
     t9 = math.sin(body_trunk_yaw)
@@ -457,17 +469,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t12 = -2.0*((fast_lag) if (fast_window > 0.0) else (0.0))
     t13 = com_vz*com_vz
     t14 = com_z - terrain_height
-    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
+    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
     fl_x_goal = t10*t15 + t11
     t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t17 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
+    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
     t19 = com_vx*t9 - com_vy*t8
     t20 = t7*(-side_trim - t19)
     t21 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t15*t19 + t20
     fl_y_goal = leg_fl_hip_x*t18 + t21
     fr_y_goal = leg_fr_hip_x*t18 + t21
-    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
+    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
     rl_x_goal = t10*t22 + t11
     t23 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t19*t22 + t20
     rl_y_goal = leg_rl_hip_x*t18 + t23
@@ -569,13 +581,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     ahead_then = r[20]
     ahead_at = r[21]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
-    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
+    new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
-    t1 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t1 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t2 = fast_stroke_max*t1 + stroke_max
     t3 = fast_height*t1 - flight_apex + height
-    new_stroke_trim = min(-stroke + t2, max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(t2, max(-0.02, k_height*t3 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(t2, maximum(-0.02, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -730,15 +742,15 @@ def action_LOADING_0(s, u, p, r, tis):
     t2 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t2
     hip_fl_pitch_kv = swing_kv*t2
-    t3 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
     t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t7 = math.atan2(math.sin(t6), math.cos(t6))
     t8 = -aim_rate + body_trunk_yaw_rate
     t9 = -kp_yaw*t7 - kv_yaw*t8
     t10 = leg_fl_length*t9/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t11 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t11 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t12 = leg_fl_touching*t11
     hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 - t4)
     t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -758,9 +770,9 @@ def action_LOADING_0(s, u, p, r, tis):
     t20 = math.cos(body_trunk_yaw)
     t21 = math.sin(body_trunk_yaw)
     t22 = com_vx*t20 + com_vy*t21
-    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
     rl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23
-    t24 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t24 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t7 + t8*yaw_lead))))
     t25 = com_vx*t21 - com_vy*t20
     t26 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t19*(-side_trim - t25) - t23*t25
     rl_y_goal = leg_rl_hip_x*t24 + t26
@@ -971,15 +983,15 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
     t9 = leg_fl_length*t8/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t10 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t10 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t11 = leg_fl_touching*t10
     hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 - t3)
     t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -999,9 +1011,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t19 = math.cos(body_trunk_yaw)
     t20 = math.sin(body_trunk_yaw)
     t21 = com_vx*t19 + com_vy*t20
-    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
     rl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22
-    t23 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t23 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t6 + t7*yaw_lead))))
     t24 = com_vx*t20 - com_vy*t19
     t25 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t18*(-side_trim - t24) - t22*t24
     rl_y_goal = leg_rl_hip_x*t23 + t25
@@ -1206,7 +1218,7 @@ def action_THRUST_0(s, u, p, r, tis):
     ramped_speed = r[17]
     aim_rate = r[19]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
@@ -1215,12 +1227,12 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fl_pitch_kv = swing_kv*t4
     t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t8 = math.atan2(math.sin(t7), math.cos(t7))
     t9 = -aim_rate + body_trunk_yaw_rate
     t10 = -kp_yaw*t8 - kv_yaw*t9
     t11 = leg_fl_length*t10/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
-    t12 = 1/max(1.0, leg_fl_touching + leg_fr_touching)
+    t12 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t13 = leg_fl_touching*t12
     hip_fl_motor_force = t13*(-leg_fl_hip_y*t11 - t5)
     t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1233,16 +1245,16 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fr_motor_force = t17*(-leg_fr_hip_y*t16 - t5)
     hip_fr_roll_motor_force = t17*(-leg_fr_hip_x*t16 + t14)
     t18 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t19 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    t19 = ((minimum(stand, short + slew*maximum(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t19 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t18 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t19 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t18 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
     t20 = fast_k_speed*t2 + k_speed
     t21 = math.cos(body_trunk_yaw)
     t22 = math.sin(body_trunk_yaw)
     t23 = com_vx*t21 + com_vy*t22
-    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
     rl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24
-    t25 = math.sin(min(turn_most, max(-turn_most, k_turn*(t8 + t9*yaw_lead))))
+    t25 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t8 + t9*yaw_lead))))
     t26 = com_vx*t22 - com_vy*t21
     t27 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y + t20*(-side_trim - t26) - t24*t26
     rl_y_goal = leg_rl_hip_x*t25 + t27
@@ -1416,16 +1428,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = fast_k_speed*t2 + k_speed
     t4 = math.cos(body_trunk_yaw)
     t5 = math.sin(body_trunk_yaw)
     t6 = com_vx*t4 + com_vy*t5
-    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
+    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
     rl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
     t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t9 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t10 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
+    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t10 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
     t11 = com_vx*t5 - com_vy*t4
     t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t11*t7 + t3*(-side_trim - t11)
     rl_y_goal = leg_rl_hip_x*t10 + t12
@@ -1526,7 +1538,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     ahead_then = r[20]
     ahead_at = r[21]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.cos(body_trunk_yaw)
@@ -1534,16 +1546,16 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t5 = math.sin(body_trunk_yaw)
     t6 = (lifted > 0.0)
     new_step_speed = (((t2*t3 + t4*t5)/t1) if t6 else (ramped_speed))
-    t7 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t7 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t8 = fast_trim_band*t7 + trim_band
-    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*min(t8, max(-t8, ramped_speed - step_speed))
-    new_step_side = (((-t2*t5 + t3*t4)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_speed_trim = speed_trim + (fast_k_trim*t7 + k_trim)*minimum(t8, maximum(-t8, ramped_speed - step_speed))
+    new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
-    new_ramped_speed = ((min(ramped_speed + t9, max(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
-    new_ramped_at = max(0.001, time)
+    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1676,14 +1688,14 @@ def action_FLIGHT_1(s, u, p, r, tis):
     aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     t2 = (steps > 1.0)
-    t3 = ((stand) if t2 else (min(stand, short + slew*tis)))
+    t3 = ((stand) if t2 else (minimum(stand, short + slew*tis)))
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t3 + ((stagger) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t3 + ((stagger) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
     t4 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t5 = ((max(short, -lift_slew*tis + stand)) if t2 else (stand))
+    t5 = ((maximum(short, -lift_slew*tis + stand)) if t2 else (stand))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t5 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t4 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t5 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t4 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t6 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t6 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t7 = fast_k_speed*t6 + k_speed
     t8 = math.cos(body_trunk_yaw)
     t9 = math.sin(body_trunk_yaw)
@@ -1692,17 +1704,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t12 = -2.0*((fast_lag) if (fast_window > 0.0) else (0.0))
     t13 = com_vz*com_vz
     t14 = com_z - terrain_height
-    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
+    t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
     rl_x_goal = t10*t15 + t11
     t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t17 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t18 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
+    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
     t19 = com_vx*t9 - com_vy*t8
     t20 = t7*(-side_trim - t19)
     t21 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t15*t19 + t20
     rl_y_goal = leg_rl_hip_x*t18 + t21
     rr_y_goal = leg_rr_hip_x*t18 + t21
-    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, t13 + 19.62*max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
+    t22 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t4 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
     fl_x_goal = t10*t22 + t11
     t23 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t19*t22 + t20
     fl_y_goal = leg_fl_hip_x*t18 + t23
@@ -1804,13 +1816,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     ahead_then = r[20]
     ahead_at = r[21]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
-    new_pitch_trim = min(trim_most, max(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
+    new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
-    t1 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t1 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t2 = fast_stroke_max*t1 + stroke_max
     t3 = fast_height*t1 - flight_apex + height
-    new_stroke_trim = min(-stroke + t2, max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(t2, max(-0.02, k_height*t3 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(t2, maximum(-0.02, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -1965,15 +1977,15 @@ def action_LOADING_1(s, u, p, r, tis):
     t2 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t2
     hip_rl_pitch_kv = swing_kv*t2
-    t3 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t3 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
     t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t7 = math.atan2(math.sin(t6), math.cos(t6))
     t8 = -aim_rate + body_trunk_yaw_rate
     t9 = -kp_yaw*t7 - kv_yaw*t8
     t10 = leg_rl_length*t9/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t11 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t11 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t12 = leg_rl_touching*t11
     hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 - t4)
     t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1993,9 +2005,9 @@ def action_LOADING_1(s, u, p, r, tis):
     t20 = math.cos(body_trunk_yaw)
     t21 = math.sin(body_trunk_yaw)
     t22 = com_vx*t20 + com_vy*t21
-    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    t23 = 0.5*stance + 0.5*t3*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
     fl_x_goal = t19*(-ramped_speed - speed_trim + t22) + t22*t23
-    t24 = math.sin(min(turn_most, max(-turn_most, k_turn*(t7 + t8*yaw_lead))))
+    t24 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t7 + t8*yaw_lead))))
     t25 = com_vx*t21 - com_vy*t20
     t26 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t19*(-side_trim - t25) - t23*t25
     fl_y_goal = leg_fl_hip_x*t24 + t26
@@ -2206,15 +2218,15 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
     t9 = leg_rl_length*t8/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t10 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t10 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t11 = leg_rl_touching*t10
     hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 - t3)
     t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -2234,9 +2246,9 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t19 = math.cos(body_trunk_yaw)
     t20 = math.sin(body_trunk_yaw)
     t21 = com_vx*t19 + com_vy*t20
-    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    t22 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t17 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
     fl_x_goal = t18*(-ramped_speed - speed_trim + t21) + t21*t22
-    t23 = math.sin(min(turn_most, max(-turn_most, k_turn*(t6 + t7*yaw_lead))))
+    t23 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t6 + t7*yaw_lead))))
     t24 = com_vx*t20 - com_vy*t19
     t25 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t18*(-side_trim - t24) - t22*t24
     fl_y_goal = leg_fl_hip_x*t23 + t25
@@ -2441,7 +2453,7 @@ def action_THRUST_1(s, u, p, r, tis):
     ramped_speed = r[17]
     aim_rate = r[19]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + t3 + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
@@ -2450,12 +2462,12 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_rl_pitch_kv = swing_kv*t4
     t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t8 = math.atan2(math.sin(t7), math.cos(t7))
     t9 = -aim_rate + body_trunk_yaw_rate
     t10 = -kp_yaw*t8 - kv_yaw*t9
     t11 = leg_rl_length*t10/(leg_rl_hip_x*leg_rl_hip_x + leg_rl_hip_y*leg_rl_hip_y)
-    t12 = 1/max(1.0, leg_rl_touching + leg_rr_touching)
+    t12 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t13 = leg_rl_touching*t12
     hip_rl_motor_force = t13*(-leg_rl_hip_y*t11 - t5)
     t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -2468,16 +2480,16 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_rr_motor_force = t17*(-leg_rr_hip_y*t16 - t5)
     hip_rr_roll_motor_force = t17*(-leg_rr_hip_x*t16 + t14)
     t18 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
-    t19 = ((min(stand, short + slew*max(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
+    t19 = ((minimum(stand, short + slew*maximum(0.0, -idle_delay + tis))) if (steps > 1.0) else (stand))
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + t19 + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t18 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + t19 + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t18 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
     t20 = fast_k_speed*t2 + k_speed
     t21 = math.cos(body_trunk_yaw)
     t22 = math.sin(body_trunk_yaw)
     t23 = com_vx*t21 + com_vy*t22
-    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    t24 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t18 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
     fl_x_goal = t20*(-ramped_speed - speed_trim + t23) + t23*t24
-    t25 = math.sin(min(turn_most, max(-turn_most, k_turn*(t8 + t9*yaw_lead))))
+    t25 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(t8 + t9*yaw_lead))))
     t26 = com_vx*t22 - com_vy*t21
     t27 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y + t20*(-side_trim - t26) - t24*t26
     fl_y_goal = leg_fl_hip_x*t25 + t27
@@ -2651,16 +2663,16 @@ def action_UNLOADING_1(s, u, p, r, tis):
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stagger) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
-    t2 = min(1.0, max(0.0, (-fast_from + ramped_speed)/fast_span))
+    t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = fast_k_speed*t2 + k_speed
     t4 = math.cos(body_trunk_yaw)
     t5 = math.sin(body_trunk_yaw)
     t6 = com_vx*t4 + com_vy*t5
-    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*min(fast_window, max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(max(0.0, com_vz*com_vz + 19.62*max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
+    t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
     fl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
     t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t9 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t10 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
+    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t10 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
     t11 = com_vx*t5 - com_vy*t4
     t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t11*t7 + t3*(-side_trim - t11)
     fl_y_goal = leg_fl_hip_x*t10 + t12

@@ -19,6 +19,18 @@ current state, s). SI units throughout.
 
 import math
 
+
+def minimum(*values):
+    """min(), but NaN when any value is NaN (as numpy.minimum), so that the state machine
+    faults on a sensor not measured yet instead of dropping it."""
+    return math.nan if any(v != v for v in values) else min(values)
+
+
+def maximum(*values):
+    """max(), but NaN when any value is NaN (as numpy.maximum)."""
+    return math.nan if any(v != v for v in values) else max(values)
+
+
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
 FINGERPRINT = "b624f007db6a1a1e"
@@ -259,23 +271,23 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     ahead_then = r[17]
     ahead_at = r[18]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.sin(body_trunk_yaw)
     t4 = com_y - lifted_y
     t5 = math.cos(body_trunk_yaw)
     t6 = (lifted > 0.0)
-    new_step_side = (((-t2*t3 + t4*t5)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_step_side = (((-t2*t3 + t4*t5)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t7 = -ramped_at + time
     t8 = com_vx*t5 + com_vy*t3
-    new_ramped_speed = ((min(accel*t7 + ramped_speed, max(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
-    new_ramped_at = max(0.001, time)
+    new_ramped_speed = ((minimum(accel*t7 + ramped_speed, maximum(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
+    new_ramped_at = maximum(0.001, time)
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
-    new_speed_trim = ((k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
+    new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -384,18 +396,18 @@ def action_FLIGHT_0(s, u, p, r, tis):
     speed_trim = r[12]
     aim_rate = r[16]
     t1 = slew*tis
-    t2 = min(stand, short + t1)
+    t2 = minimum(stand, short + t1)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_rr_hip_z + t2
     leg_rr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_rr_hip_z + t2
-    leg_fr_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
+    leg_fr_spring_rest = ((maximum(short, stand - t1)) if (steps > 1.0) else (stand))
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rr_y_value
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9
     fl_y_goal = leg_fl_hip_x*t8 + t10
@@ -485,8 +497,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -598,11 +610,11 @@ def action_LOADING_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t7 = 1/maximum(1.0, leg_fl_touching + leg_rr_touching)
     t8 = leg_fl_touching*t7
     hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -780,11 +792,11 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t7 = 1/maximum(1.0, leg_fl_touching + leg_rr_touching)
     t8 = leg_fl_touching*t7
     hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -953,11 +965,11 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fl_touching + leg_rr_touching)
+    t7 = 1/maximum(1.0, leg_fl_touching + leg_rr_touching)
     t8 = leg_fl_touching*t7
     hip_fl_motor_force = t8*(-leg_fl_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1185,23 +1197,23 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     ahead_then = r[17]
     ahead_at = r[18]
     new_steps = steps + 1.0
-    new_stance = ((min(2.0*stance_guess, max(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
+    new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
     t2 = com_x - lifted_x
     t3 = math.sin(body_trunk_yaw)
     t4 = com_y - lifted_y
     t5 = math.cos(body_trunk_yaw)
     t6 = (lifted > 0.0)
-    new_step_side = (((-t2*t3 + t4*t5)/max(0.001, t1)) if t6 else (0.0))
-    new_side_trim = -k_side_trim*min(trim_band, max(step_side, -trim_band)) + side_trim
+    new_step_side = (((-t2*t3 + t4*t5)/maximum(0.001, t1)) if t6 else (0.0))
+    new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t7 = -ramped_at + time
     t8 = com_vx*t5 + com_vy*t3
-    new_ramped_speed = ((min(accel*t7 + ramped_speed, max(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
-    new_ramped_at = max(0.001, time)
+    new_ramped_speed = ((minimum(accel*t7 + ramped_speed, maximum(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
+    new_ramped_at = maximum(0.001, time)
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
-    new_speed_trim = ((k_trim*min(trim_band, max(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
+    new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((min(1.0, max(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/max(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1310,18 +1322,18 @@ def action_FLIGHT_1(s, u, p, r, tis):
     speed_trim = r[12]
     aim_rate = r[16]
     t1 = slew*tis
-    t2 = min(stand, short + t1)
+    t2 = minimum(stand, short + t1)
     leg_fr_spring_rest = 0.5*leg_fr_hip_z - 0.5*leg_rl_hip_z + t2
     leg_rl_spring_rest = -0.5*leg_fr_hip_z + 0.5*leg_rl_hip_z + t2
-    leg_fl_spring_rest = ((max(short, stand - t1)) if (steps > 1.0) else (stand))
+    leg_fl_spring_rest = ((maximum(short, stand - t1)) if (steps > 1.0) else (stand))
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rl_y_value
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
     t5 = com_vx*t3 + com_vy*t4
     fr_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
-    t8 = math.sin(min(turn_most, max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*leg_fr_hip_y - 0.5*leg_rl_hip_y - 0.5*stance*t9
     fr_y_goal = leg_fr_hip_x*t8 + t10
@@ -1411,8 +1423,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = min(-stroke + stroke_max, max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = min(stroke_max, max(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -1524,11 +1536,11 @@ def action_LOADING_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t7 = 1/maximum(1.0, leg_fr_touching + leg_rl_touching)
     t8 = leg_fr_touching*t7
     hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1706,11 +1718,11 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t7 = 1/maximum(1.0, leg_fr_touching + leg_rl_touching)
     t8 = leg_fr_touching*t7
     hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
@@ -1879,11 +1891,11 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + min(turn_limit, max(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
-    t7 = 1/max(1.0, leg_fr_touching + leg_rl_touching)
+    t7 = 1/maximum(1.0, leg_fr_touching + leg_rl_touching)
     t8 = leg_fr_touching*t7
     hip_fr_motor_force = t8*(-leg_fr_hip_y*t5 + t6)
     t9 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll

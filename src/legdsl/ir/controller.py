@@ -33,14 +33,15 @@ BOOL = "bool"  # the type of a condition
 Type = Dim | str | None
 
 # What each built-in function of a control law computes on numbers, as the generated code does
-# (Python's math; the sign of a NaN is NaN): the checker folds constants with it, and a control
-# law that failed at run time is explained with it.
+# (Python's math; the sign, min and max of a NaN are NaN): the checker folds constants with it,
+# and a control law that failed at run time is explained with it.
 FUNCTION_VALUES: dict[str, Callable[..., float]] = {
     "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos,
     "atan": math.atan, "atan2": math.atan2, "sqrt": math.sqrt, "abs": abs, "exp": math.exp,
     "log": math.log,
     "sign": lambda x: 0.0 if x == 0 else math.copysign(1.0, x) if x == x else math.nan,
-    "min": lambda *a: min(a), "max": lambda *a: max(a),
+    "min": lambda *a: math.nan if any(x != x for x in a) else min(a),
+    "max": lambda *a: math.nan if any(x != x for x in a) else max(a),
     "clamp": lambda x, lo, hi: min(max(x, lo), hi),
 }  # fmt: skip
 

@@ -196,4 +196,13 @@ def _message(
 ) -> str:
     used = sorted(expr.free_symbols, key=lambda x: names.get(x, str(x)))
     read = ", ".join(f"{names.get(x, str(x))} = {values[x]:.4g}" for x in used[:10] if x in values)
-    return f"{_where(where)}: {head}: in {label}, {what}; it read {read or 'no values'}"
+    text = f"{_where(where)}: {head}: in {label}, {what}; it read {read or 'no values'}"
+    unmeasured = [names[x] for x in used if x in names and x in values and values[x] != values[x]]
+    if unmeasured:
+        text += f"; {unmeasured[0]} is NaN (not measured yet)"
+        if unmeasured[0].endswith(("stance_time", "flight_time")):
+            sensor = unmeasured[0].split(".", 1)[1]  # as the controller writes it: main.stance_time
+            text += (
+                f": give a time to use until it is, as in select({sensor} > 0 s, {sensor}, 0.3 s)"
+            )
+    return text

@@ -96,6 +96,14 @@ class LegPrinter(PythonCodePrinter):
         base_text = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
         return f"{base_text}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
 
+    def _print_Min(self, expr: Expr) -> str:
+        """``minimum``, defined in each control module: min() would keep its first argument
+        against a NaN, so a sensor not measured yet vanished or not by sympy's order."""
+        return f"minimum({', '.join(self._print(a) for a in expr.args)})"
+
+    def _print_Max(self, expr: Expr) -> str:
+        return f"maximum({', '.join(self._print(a) for a in expr.args)})"
+
     def _print_sign(self, expr: Expr) -> str:
         """sign(NaN) is NaN, so that the state machine faults on it (``math.copysign`` of a NaN,
         sympy's print, is 1 or -1: a setpoint from a stance time before the first stance ran on

@@ -129,10 +129,15 @@ static inline double leg_pow_e(double x, double y, int *err) {
     return r;
 }
 
-/* Python's max(a, b) and min(a, b): the first argument unless the second compares greater
- * (smaller); unlike fmax and fmin, a NaN second argument gives the first. */
-static inline double leg_max(double a, double b) { return b > a ? b : a; }
-static inline double leg_min(double a, double b) { return b < a ? b : a; }
+/* The generated Python's maximum(a, b) and minimum(a, b): NaN when either is NaN (unlike fmax
+ * and fmin, which drop it), else the first argument unless the second compares greater
+ * (smaller), as Python's max and min. */
+static inline double leg_max(double a, double b) {
+    return a != a || b != b ? NAN : b > a ? b : a;
+}
+static inline double leg_min(double a, double b) {
+    return a != a || b != b ? NAN : b < a ? b : a;
+}
 
 #define leg_div(a, b) leg_div_e((a), (b), err)
 #ifdef LEG_TRIG_LOCAL /* a function that declared leg_trig_here = leg_trig_table() */
