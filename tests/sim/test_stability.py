@@ -181,3 +181,45 @@ def test_a_divergence_names_what_is_too_stiff_now() -> None:
                         None, found)  # fmt: skip
     assert said.startswith("actuator 'leg_spring' has k = 1e+09 now")
     assert "grew without bound" not in said
+
+
+SWING = """
+# A pendulum on a ball joint about x, y, x: its first and last axes line up where its middle
+# angle is 0, which its swing passes close to.
+creature swing {
+  spatial
+  body frame fixed at (0 m, 0 m, 1 m) { mass 5 kg  inertia (0.1, 0.1, 0.1) kg*m^2 }
+  body bob on frame via ball pivot {
+    axes (1, 0, 0), (0, 1, 0), (1, 0, 0)
+    initial pivot_2 = 20 deg
+    velocity pivot_1 = 0.094 rad/s, pivot_2 = -4 rad/s, pivot_3 = -0.1 rad/s
+    length 0.5 m  com 0.5 m  mass 1 kg  inertia (0.001, 0.001, 0.0001) kg*m^2
+  }
+}
+"""
+
+
+def test_a_ball_joint_driven_into_gimbal_lock_is_named_as_the_cause(tmp_path: Path) -> None:
+    """Its rates grow without bound near the lock: the likely cause names the joint and its
+    middle angle, on both backends, instead of suggesting a smaller step."""
+    from runtime_helpers import assert_same, compile_text
+
+    from legdsl.sim.c_backend import available
+    from legdsl.sim.run_loop import RunOptions
+
+    sess = compile_text(SWING, tmp_path, "swing")
+    python = sess.run(options=RunOptions(duration=1.0), backend="python").result
+    assert python.status == "diverged" and python.sim_time < 0.2
+    assert "Likely cause: ball joint 'pivot' is near gimbal lock: at pivot_2 = " in python.message
+    assert "limits on pivot_2" in python.message and "smaller --dt" not in python.message
+    if available() is None:
+        assert_same(python, sess.run(options=RunOptions(duration=1.0), backend="c").result)
+
+
+def test_the_spread_of_a_ball_joints_axes() -> None:
+    from legdsl.ir.model import axes_spread
+
+    x, y, z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    assert axes_spread([x, y, z], [0.3, -1.2, 2.0]) == pytest.approx(math.cos(-1.2))
+    assert axes_spread([x, y, x], [0.7, 0.0, 1.1]) == pytest.approx(0.0, abs=1e-15)
+    assert axes_spread([x, y, x], [0.7, math.pi / 2, 1.1]) == pytest.approx(1.0)

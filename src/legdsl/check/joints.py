@@ -9,7 +9,7 @@ import math
 
 from legdsl.check.scope import CreaturePart, Scope
 from legdsl.check.values import did_you_mean
-from legdsl.ir.model import Body, Dof, Joint, Stop, Vec3
+from legdsl.ir.model import Body, Dof, Joint, Stop, Vec3, axes_spread
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
@@ -108,7 +108,7 @@ class JointChecker(CreaturePart):
         )
         free3d = kind == "free" and not self.planar
         initial, rates = self.initial_values(decl, props, coord_names, motions, free3d)
-        if kind == "ball" and _locked(axes, initial):
+        if kind == "ball" and axes_spread(axes, initial) < 1e-6:
             where = props.get("axes") or props.get("initial")
             self.err(
                 where.value.span if where is not None else span,
@@ -376,26 +376,6 @@ class JointChecker(CreaturePart):
                 continue
             out[i] = (lo, hi)
         return out
-
-
-def _locked(axes: list[Vec3], angles: list[float]) -> bool:
-    """Whether three hinges applied in order, at these angles, turn about directions that lie
-    in one plane (the joint's mass matrix is then singular)."""
-
-    def turn(k: Vec3, angle: float, v: Vec3) -> Vec3:  # Rodrigues
-        c, s = math.cos(angle), math.sin(angle)
-        dot = sum(p * q for p, q in zip(k, v, strict=True))
-        cross = (k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0])
-        return tuple(v[i] * c + cross[i] * s + k[i] * dot * (1 - c) for i in range(3))  # type: ignore[return-value]
-
-    a1, a2, a3 = axes
-    w1, w2, w3 = a1, turn(a1, angles[0], a2), turn(a1, angles[0], turn(a2, angles[1], a3))
-    det = (
-        w1[0] * (w2[1] * w3[2] - w2[2] * w3[1])
-        - w1[1] * (w2[0] * w3[2] - w2[2] * w3[0])
-        + w1[2] * (w2[0] * w3[1] - w2[1] * w3[0])
-    )
-    return abs(det) < 1e-6
 
 
 def _coord_kind(motion: str, rate: bool) -> str:

@@ -28,6 +28,7 @@ Frames and conventions (also in docs/language.md):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -112,6 +113,30 @@ class Joint:
     @property
     def is_free_3d(self) -> bool:
         return self.kind == "free" and self.nq == 7
+
+
+def axes_spread(axes: tuple[Vec3, ...] | list[Vec3], angles: list[float]) -> float:
+    """How far three hinges applied in order, at these angles, are from gimbal lock: the
+    volume their turned axes span, 1 at right angles, 0 when they lie in one plane (the
+    joint's mass matrix is then singular and its rates grow without bound near there)."""
+
+    def turn(k: Vec3, angle: float, v: Vec3) -> Vec3:  # Rodrigues
+        c, s = math.cos(angle), math.sin(angle)
+        dot = sum(p * q for p, q in zip(k, v, strict=True))
+        cross = (k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0])
+        return (
+            v[0] * c + cross[0] * s + k[0] * dot * (1 - c),
+            v[1] * c + cross[1] * s + k[1] * dot * (1 - c),
+            v[2] * c + cross[2] * s + k[2] * dot * (1 - c),
+        )
+
+    a1, a2, a3 = axes
+    w1, w2, w3 = a1, turn(a1, angles[0], a2), turn(a1, angles[0], turn(a2, angles[1], a3))
+    return abs(
+        w1[0] * (w2[1] * w3[2] - w2[2] * w3[1])
+        - w1[1] * (w2[0] * w3[2] - w2[2] * w3[0])
+        + w1[2] * (w2[0] * w3[1] - w2[1] * w3[0])
+    )
 
 
 @dataclass(frozen=True)

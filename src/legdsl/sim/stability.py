@@ -31,10 +31,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from legdsl.ir.model import Model, Pad, Stop
+from legdsl.ir.model import Model, Pad, Stop, axes_spread
 from legdsl.sim.actuators import ActuatorState
 
 SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
+# A ball joint whose turned axes span less than this (1 at right angles; their first and last
+# within about 3 deg of lining up) is near gimbal lock, where its rates grow without bound.
+NEAR_LOCK = 0.05
 
 # RK4's stability interval on the imaginary axis (undamped) and on the real axis (damped).
 RK4_OSCILLATION = 2.8284271247461903
@@ -170,6 +173,20 @@ def likely_cause(
                 f"the mass matrix is singular here (condition number {condition:.2g}): a joint "
                 "is at a singular configuration, such as a ball joint whose first and last axes "
                 "line up (gimbal lock); give that joint other axes or keep it away from there"
+            )
+    for joint in model.joints:
+        angles = [q[d.q_index] for d in joint.dofs]
+        if joint.kind != "ball" or not all(map(math.isfinite, angles)):
+            continue
+        spread = axes_spread([d.axis for d in joint.dofs], angles)
+        if spread < NEAR_LOCK:  # the middle angle alone decides it (the first turns all three)
+            middle = joint.dofs[1]
+            causes.append(
+                f"ball joint '{joint.name}' is {'in' if spread < 1e-6 else 'near'} gimbal lock: "
+                f"at {middle.name} = {math.degrees(angles[1]):.3g} deg its axes lie within "
+                f"{math.degrees(math.asin(min(spread, 1.0))):.2g} deg of one plane, where its rates "
+                f"grow without bound; give it axes that this motion keeps away from that, or "
+                f"limits on {middle.name} with a stop short of it"
             )
     g = model.ground
     if g is not None and model.contacts:
