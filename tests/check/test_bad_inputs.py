@@ -40,6 +40,7 @@ SUBPROCESS_CASES = [
     "tabs_caret_column",
 ]
 
+SHOWN = 120  # the most of a long source line an error shows (legdsl.lang.errors.SHOWN)
 HEAD = re.compile(r"(?P<file>[^:]+):(?P<line>\d+):(?P<col>\d+): error: (?P<message>.+)")
 
 
@@ -57,10 +58,16 @@ def check_stderr(name: str, stderr: str) -> None:
         m = HEAD.fullmatch(lines[i])
         assert m is not None, lines[i]
         row, col = int(m["line"]), int(m["col"])
-        assert lines[i + 1] == "    " + source[row - 1].expandtabs(1)
+        line = source[row - 1].expandtabs(1)
         caret = re.fullmatch(r"    (?P<pad> *)\^~*", lines[i + 2])
         assert caret is not None, lines[i + 2]
-        assert len(caret["pad"]) == col - 1, "the caret is under the reported column"
+        if len(line) <= SHOWN:
+            assert lines[i + 1] == "    " + line
+            assert len(caret["pad"]) == col - 1, "the caret is under the reported column"
+        else:  # 120 characters of it around the caret, cut with "..."
+            shown = lines[i + 1][4:]
+            assert shown.removeprefix("...").removesuffix("...") in line
+            assert shown[len(caret["pad"])] == line[col - 1], "the caret is under its character"
 
 
 def test_corpus_is_large_and_paired() -> None:

@@ -38,3 +38,20 @@ def test_rendering_many_mistakes_takes_time_in_proportion() -> None:
     rendered = error.render()
     assert time.perf_counter() - start < 5.0
     assert rendered.count("\n") == 3 * 20_000 - 1
+
+
+def test_a_mistake_on_a_very_long_line_shows_the_line_around_its_caret() -> None:
+    """A mistake on a 10 000-character line (a generated file, a line without breaks)
+    printed the whole line: now 120 characters of it around the caret, cut with '...'."""
+    line = "x" * 5000 + " mass 3 kgg " + "y" * 5000
+    sources = {"f.leg": line + "\n"}
+    for col, word in [(line.index("kgg") + 1, "kgg"), (1, "xxx"), (len(line) - 1, "yy")]:
+        text = Diagnostic(Span("f.leg", 1, col, 1, col + len(word)), "m").render(sources)
+        _, shown, caret = text.split("\n")
+        assert len(shown) <= 4 + 3 + 120 + 3
+        at = caret.index("^")
+        assert shown[at : at + len(word)] == word and len(caret.strip()) == len(word)
+        assert shown.strip().startswith("...") == (col > 100)
+        assert shown.endswith("...") == (col < 9000)
+    short = Diagnostic(Span("f.leg", 1, 3, 1, 5), "m").render({"f.leg": "ab cd ef"})
+    assert short.split("\n")[1:] == ["    ab cd ef", "      ^~"]

@@ -55,8 +55,18 @@ class Diagnostic:
         else:
             width = max(len(line) - start + 1, 1)
         width = max(1, min(width, max(len(line) - start + 1, 1)))
+        if len(line) > SHOWN:  # a long line is shown around the caret, cut with "..."
+            left = max(0, min(start - 1 - SHOWN // 3, len(line) - SHOWN))
+            prefix = "..." if left else ""
+            cut = prefix + line[left : left + SHOWN]
+            line = cut + ("..." if left + SHOWN < len(line) else "")
+            start += len(prefix) - left
+            width = min(width, len(cut) - start + 1)
         caret = " " * (start - 1) + "^" + "~" * (width - 1)
         return f"{head}\n    {line}\n    {caret}"
+
+
+SHOWN = 120  # the most of a source line an error shows
 
 
 @functools.lru_cache(maxsize=16)
