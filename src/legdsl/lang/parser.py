@@ -371,8 +371,13 @@ def _check_nesting(tree: Tree, file: str, text: str) -> None:
     """Raise a ``LegError`` at the first place the tree nests deeper than ``MAX_NESTING``
     (walked without recursion, so that any depth is measured safely)."""
     stack: list[tuple[Tree, int, Tree | None]] = [(tree, 1, None)]
+    # walked depth first, so `kind` is the top-level item (creature, controller...) of a node
+    top = {id(item): str(item.data) for item in tree.children if isinstance(item, Tree)}
+    kind = ""
     while stack:
         node, depth, outer = stack.pop()
+        if depth == 2:
+            kind = top.get(id(node), "")
         if depth > MAX_NESTING:
             where = outer if outer is not None else node
             meta = where.meta
@@ -382,7 +387,11 @@ def _check_nesting(tree: Tree, file: str, text: str) -> None:
             raise LegError.at(
                 span,
                 f"this is nested too deeply (more than {MAX_NESTING} levels of operators or "
-                "calls); split it into steps with 'let' or a signal",
+                + (
+                    "calls); split it into steps with 'let' or a signal"
+                    if kind in ("controller", "action_def", "shared")
+                    else "calls); write it with fewer parentheses and operators"
+                ),
                 {file: text},
             )
         # the outermost node that is deeper than a statement marks where the trouble starts
