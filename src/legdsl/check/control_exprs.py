@@ -67,8 +67,8 @@ class ExprChecker(NameResolver):
         value = self.expr(e, local, event)
         if value is None:
             return None
-        if isinstance(value, Opaque):
-            return ir.Num(0.0, None)
+        if isinstance(value, Opaque):  # of any type, and no constant (not a zero to divide by)
+            return ir.Named("opaque", value.name, None)
         if isinstance(value, ir.Legs | ir.Part | ir.Alias):
             kind = thing_kind(value)
             text = expression_text(e)
@@ -268,7 +268,7 @@ class ExprChecker(NameResolver):
             return None
         target = self.expr(e.args[0], local)
         if isinstance(target, Opaque):
-            return ir.Num(0.0, None)
+            return ir.Named("opaque", target.name, BOOL)
         ok = isinstance(target, ir.Legs) or (
             isinstance(target, ir.Part | ir.Alias) and target.kind == "contact"
         )

@@ -56,6 +56,7 @@ class ControllerChecker:
         self.diag = diag
         self.actions = dict(library)
         self.roles: dict[str, tuple[str, ...]] = {}
+        self.broken_legs: set[str] = set()  # declared with a mistake reported at the creature
 
     def err(self, span: Span, message: str) -> None:
         self.diag.error(span, message)
@@ -73,6 +74,8 @@ class ControllerChecker:
             names[c.name] = ir.Part("contact", c.name)
         for leg in m.legs:
             names[leg.name] = ir.Legs(leg=leg.name)
+        for name in self.broken_legs:  # declared with a mistake reported there: no follow-ons
+            names[name] = Opaque(name)
         for name, dim in ir.BUILTIN_VALUES.items():
             names[name] = ir.Named("builtin", name, dim)
         names["com"] = ir.Part("com", "com")
@@ -126,6 +129,8 @@ class ControllerChecker:
                     define(role.name, ir.Legs(role=role.name.name))
                     legs = []
                     for leg in role.legs:
+                        if leg.name in self.broken_legs:
+                            continue
                         if leg.name not in legs_declared:
                             self.err(
                                 leg.span,
@@ -426,8 +431,10 @@ def check_controllers(
     library: list[ast.ActionDef],
     shared: list[ast.SharedDecl],
     diag: Diagnostics,
+    broken_legs: dict[str, set[str]] | None = None,
 ) -> list[Model]:
-    """Attach each controller of the file to its creature."""
+    """Attach each controller of the file to its creature (``broken_legs``: per creature, the
+    legs it declares with a mistake already reported, which its controllers may name)."""
     parts = shared_parts(shared, diag)
     lib: dict[str, ast.ActionDef] = {}
     for a in library:
@@ -453,7 +460,9 @@ def check_controllers(
             )
             continue
         seen[key] = decl.name.span
-        checked = ControllerChecker(decl, model, lib, parts, diag).check()
+        checker = ControllerChecker(decl, model, lib, parts, diag)
+        checker.broken_legs = (broken_legs or {}).get(model.name, set())
+        checked = checker.check()
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]

@@ -78,6 +78,11 @@ class LegChecker(CreaturePart):
                 if ident is None:
                     if not isinstance(p.value, ast.One):
                         self.err(p.value.span, "a leg has one foot contact: 'foot toe'")
+                elif (
+                    ident.name not in contact_by
+                    and self.names.get(ident.name, ("",))[0] == "contact"
+                ):
+                    pass  # declared, with its mistake reported there (on an unknown body, say)
                 elif ident.name not in contact_by:
                     self.err(
                         ident.span,

@@ -29,6 +29,8 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     diag.items.extend(tree.pending)
     library, shared = load_uses(tree, diag, sources)
     models = []
+    # legs declared with a mistake reported there: a controller's role on one is not an error
+    broken: dict[str, set[str]] = {}
     seen: dict[str, Span] = {}
     for decl in tree.creatures:
         first = seen.setdefault(decl.name.name, decl.name.span)
@@ -39,12 +41,17 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
                 "creature of a file a name of its own",
             )
             continue
-        model = CreatureChecker(decl, diag, str(path)).check()
+        checker = CreatureChecker(decl, diag, str(path))
+        model = checker.check()
         if model is not None:
             models.append(model)
+            built = {leg.name for leg in model.legs}
+            broken[model.name] = {
+                n for n, (kind, _) in checker.names.items() if kind == "leg" and n not in built
+            }
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
-    models = check_controllers(tree, models, library, shared, diag)
+    models = check_controllers(tree, models, library, shared, diag, broken)
     models = check_scenes(tree, models, diag)
     diag.items = _without_echoes(diag.items, tree.pending)
     diag.raise_if_any()

@@ -171,7 +171,7 @@ class Num:
 class Named:
     """An input, parameter, record or signal, or a built-in value (``time``, ``pi``, ``g``...)."""
 
-    kind: str  # input, param, record, signal, builtin
+    kind: str  # input, param, record, signal, builtin; opaque: a name only checked, never lowered
     name: str
     type: Type
 
