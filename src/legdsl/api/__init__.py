@@ -159,8 +159,16 @@ class Creature:
         from legdsl.pipeline.batch import Batch
 
         plan = self._session_args(controller, set, time, **options)
+        if plan["switches"]:  # a batch runs one controller: a switch would be left out
+            raise UsageError(
+                "run_copies(): the copies run one controller, and this run switches "
+                f"({', '.join(plan['switches'])}); run them with run_many() instead"
+            )
+        if vary is not None and not isinstance(vary, Mapping):
+            raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
+                             f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
-                      options=plan["options"])  # fmt: skip
+                      plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(_threads(threads), progress))
 
     def _session_args(

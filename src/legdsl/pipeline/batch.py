@@ -149,7 +149,10 @@ class Batch:
         if given is None:
             start = np.array(self.sim.q if what == "q0" else self.sim.v, dtype=float)
             return np.broadcast_to(start, (self.n, size))
-        values = np.asarray(given, dtype=float)
+        try:
+            values = np.asarray(given, dtype=float)
+        except (TypeError, ValueError):
+            raise UsageError(f"{what}: its values are not all numbers") from None
         if values.shape != (self.n, size):
             raise UsageError(
                 f"{what}: give {self.n} rows of {size} (one per copy), not {values.shape}"
