@@ -166,3 +166,25 @@ def test_a_wrong_value_is_refused_before_anything_runs(
     with pytest.raises(UsageError) as e:
         Batch(roo, 2, "hop", vary=vary, q0=starts, options=HOP)
     assert says in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("jobs", "threads", "says"),
+    [
+        ([{"controller": "hop"}], -1, "threads is a whole number, 1 or more"),
+        ([{"controller": "hop"}], 1.5, "threads is a whole number"),
+        ({"controller": "hop"}, None, "jobs is a list of RunSession.run's keyword arguments"),
+        (["hop"], None, "job 0 is a dict"),
+        ([{"controller": "hop"}, {"controler": "hop"}], None, "did you mean 'controller'?"),
+    ],
+)
+def test_run_batch_misuse_is_a_usage_error(
+    roo: RunSession, jobs: object, threads: object, says: str
+) -> None:
+    """These were a thread pool's ValueError, a TypeError from inside a thread, an
+    AttributeError ('str' object has no attribute 'get'), or a pool of 1.5 threads."""
+    from legdsl.pipeline.backend import run_batch
+
+    with pytest.raises(UsageError) as e:
+        run_batch(roo, jobs, threads)  # type: ignore[arg-type]
+    assert says in str(e.value)
