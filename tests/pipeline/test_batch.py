@@ -188,3 +188,19 @@ def test_run_batch_misuse_is_a_usage_error(
     with pytest.raises(UsageError) as e:
         run_batch(roo, jobs, threads)  # type: ignore[arg-type]
     assert says in str(e.value)
+
+
+def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Only the recordings were counted: copies of a short run, recorded rarely, whose states
+    outgrow the memory were laid out anyway (a MemoryError, or the system killing the run)."""
+    options = RunOptions(duration=0.01, record_rate=1.0)
+    per_sample = batch_module.sample_bytes(roo.model) * batch_module.run_samples(options)
+    monkeypatch.setattr(batch_module, "recording_budget", lambda: 200 * per_sample)
+    batch = Batch(roo, 100, "hop", options=options)  # their recordings fit
+    laid: list[int] = []
+    monkeypatch.setattr(batch_module, "lined_up", lambda n, *a: laid.append(n))
+    with pytest.raises(UsageError, match=r"a batch of 100 copies: their states and recordings"):
+        batch.run(threads=1)
+    assert laid == []
