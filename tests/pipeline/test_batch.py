@@ -154,6 +154,8 @@ def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(
         ({"spead": ([2, 3], "m/s")}, None, "no input or parameter 'spead'"),
         ({"hop.k_speed": ([0.03, 0.02], "s")}, None, "name an input or parameter of hop alone"),
         ({}, "under", "q0 of copy 1: "),
+        ({"speed@0.1s": ([2, 3], "m/s")}, None, "vary 'speed@0.1s': name an input"),
+        ({"speed=2m/s": ([2, 3], "m/s")}, None, "vary 'speed=2m/s': name an input"),
     ],
 )
 def test_a_wrong_value_is_refused_before_anything_runs(

@@ -96,6 +96,12 @@ class Batch:
         if n < 1:
             raise UsageError(f"a batch of {n} copies: give at least one")
         for name, given in (vary or {}).items():  # each a pair, or its values read wrongly
+            if not isinstance(name, str) or any(c in name for c in "@= "):
+                raise UsageError(
+                    f"vary {name!r}: name an input, a parameter or an actuator setting "
+                    "(ACTUATOR.KEY) alone; its values are each copy's from the start (a change "
+                    "during the run is a set= 'NAME@T', the same for every copy)"
+                )
             if not (isinstance(given, tuple | list) and len(given) == 2
                     and isinstance(given[1], str)):  # fmt: skip
                 raise UsageError(
