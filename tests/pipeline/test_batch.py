@@ -206,3 +206,18 @@ def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
     with pytest.raises(UsageError, match=r"a batch of 100 copies: their states and recordings"):
         batch.run(threads=1)
     assert laid == []
+
+
+@pytest.mark.parametrize(("quaternion", "norm"), [((0, 0, 0, 0), "0"), ((2, 0, 0, 0), "2")])
+def test_a_3d_copys_orientation_is_a_unit_quaternion(quaternion: tuple, norm: str) -> None:
+    """A zero quaternion was a ZeroDivisionError; (2, 0, 0, 0) ran, its first sample
+    recorded as given (q.qw = 2) and the next normalised."""
+    quad = RunSession.from_file(CREATURES / "quadruped.leg", generated=GENERATED)
+    starts = np.array([quad.model.q0, quad.model.q0], dtype=float)
+    starts[1, 3:7] = quaternion
+    with pytest.raises(UsageError) as e:
+        Batch(quad, 2, "trot", q0=starts, options=RunOptions(duration=0.05))
+    assert (
+        f"q0 of copy 1: the root's orientation (qw, qx, qy, qz) is a unit quaternion, and its norm is {norm};"
+        in str(e.value)
+    )

@@ -168,6 +168,14 @@ class Batch:
             )
         if not np.all(np.isfinite(values)):
             raise UsageError(f"{what}: every value must be finite")
+        if what == "q0" and self.sim.free3d:  # q[3:7]: the root's orientation, a unit quaternion
+            names = ", ".join(self.session.model.q_names[3:7])
+            norms = np.sqrt(np.sum(values[:, 3:7] ** 2, axis=1))
+            for k in np.flatnonzero(~(np.abs(norms - 1.0) <= 1e-6)):
+                raise UsageError(
+                    f"q0 of copy {k}: the root's orientation ({names}) is a unit quaternion, "
+                    f"and its norm is {norms[k]:.6g}; divide it by its norm"
+                )
         return values
 
     def _check_stiffness(self) -> None:
