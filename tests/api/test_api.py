@@ -109,6 +109,8 @@ def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPat
         (lambda c: list(c.run_many([{"time": 0.1}], threads="2")), "threads= is how many"),
         (lambda c: c.run_copies(2, "hop", time=0.1, threads=0), "threads= is how many"),
         (lambda c: c.run_copies(2, "hop", time=0.1, switch={"0.05 s": "hop"}), "run_many"),
+        (lambda c: c.run(time=0.1, backend="python"), "no option 'backend' .*LEGDSL_BACKEND"),
+        (lambda c: c.run(time=0.1, dtt=0.001), "no option 'dtt'.*did you mean 'dt'"),
         (
             lambda c: c.run_copies(
                 2, "hop", time=0.1, path="circle(center = (0, 5) m, radius = 5 m)"
