@@ -108,6 +108,18 @@ def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPat
         (lambda c: list(c.run_many([{"time": 0.1}], threads=-1)), "threads= is how many"),
         (lambda c: list(c.run_many([{"time": 0.1}], threads="2")), "threads= is how many"),
         (lambda c: c.run_copies(2, "hop", time=0.1, threads=0), "threads= is how many"),
+        (lambda c: c.run_copies(2, "hop", time=0.1, switch={"0.05 s": "hop"}), "run_many"),
+        (lambda c: c.run(time=0.1, backend="python"), "no option 'backend' .*LEGDSL_BACKEND"),
+        (lambda c: c.run(time=0.1, dtt=0.001), "no option 'dtt'.*did you mean 'dt'"),
+        (
+            lambda c: c.run_copies(
+                2, "hop", time=0.1, path="circle(center = (0, 5) m, radius = 5 m)"
+            ),
+            "controller hop has no path",
+        ),
+        (lambda c: c.run_copies(1, "hop", time=0.1, vary=[("speed", ([1], "m/s"))]), "vary= maps"),
+        (lambda c: c.run_copies(1, "hop", time=0.1, q0=[["a"] * 5]), "q0: its values are not"),
+        (lambda c: c.run_copies(1, "hop", time=0.1, v0=[["x"] * 5]), "v0: its values are not"),
         (lambda c: c.run(time=0.1).metrics(start=float("nan")), "start= is seconds"),
         (lambda c: c.run(time=0.1).metrics(start=-1), "start= is seconds"),
         (lambda c: c.run(time=0.1).metrics(end=float("inf")), "end= is seconds"),

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -162,6 +163,41 @@ def test_a_waypoints_file_that_is_not_utf8_text_is_a_usage_error(tmp_path: Path)
         read_waypoints(csv, "route")
     csv.write_bytes(b"\xef\xbb\xbf0,0\n5,0\n")  # a byte-order mark hid the first point
     assert read_waypoints(csv, "route").points == ((0.0, 0.0), (5.0, 0.0))
+
+
+@pytest.mark.parametrize(
+    ("shape", "says", "at"),
+    [
+        ("polyline((0, 0) m, (1e-13, 0) m)", "is the point before it again", "(1e-13"),
+        ("polygon((0, 0) m, (1, 0) m, (1, 1) m, (1e-13, 0) m)", "closes itself", "polygon"),
+        ("polyline((0, 0) m, (1e200, 0) m)", "within 1e+09 m of the origin", "(1e200"),
+        ("circle(center = (0, 5) m, radius = 1e300 m)", "at most 1e+09 m", "1e300"),
+        ("square(corner = (-1e10, 0) m, side = 1 m)", "within 1e+09 m", "(-1e10"),
+    ],
+)
+def test_a_degenerate_or_far_path_is_an_error_at_its_place(shape: str, says: str, at: str) -> None:
+    """A segment shorter than the tracker keeps was an internal error (AssertionError: no
+    segment left); a point past about 1e154 m projected every point onto the segment's start
+    (its squared length overflowed), and a radius of 1e300 m made a path of infinite length."""
+    with pytest.raises(LegError) as err:
+        parse_path_option(shape)
+    rendered = err.value.render()
+    assert says in rendered
+    _, line, caret = rendered.splitlines()
+    assert caret.index("^") == line.index(at)
+
+
+@pytest.mark.parametrize(
+    ("rows", "says"),
+    [("0,0\n1e-13,0\n", "line 2 repeats"), ("0,0\n1e300,0\n", "line 2 is more than 1e+09 m")],
+)
+def test_a_degenerate_or_far_waypoint_is_a_usage_error(
+    tmp_path: Path, rows: str, says: str
+) -> None:
+    csv = tmp_path / "waypoints.csv"
+    csv.write_text(rows)
+    with pytest.raises(UsageError, match=re.escape(says)):
+        read_waypoints(csv, "route")
 
 
 def test_path_option_names_a_declared_path() -> None:

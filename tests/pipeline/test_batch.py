@@ -154,6 +154,8 @@ def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(
         ({"spead": ([2, 3], "m/s")}, None, "no input or parameter 'spead'"),
         ({"hop.k_speed": ([0.03, 0.02], "s")}, None, "name an input or parameter of hop alone"),
         ({}, "under", "q0 of copy 1: "),
+        ({"speed@0.1s": ([2, 3], "m/s")}, None, "vary 'speed@0.1s': name an input"),
+        ({"speed=2m/s": ([2, 3], "m/s")}, None, "vary 'speed=2m/s': name an input"),
     ],
 )
 def test_a_wrong_value_is_refused_before_anything_runs(
@@ -166,3 +168,56 @@ def test_a_wrong_value_is_refused_before_anything_runs(
     with pytest.raises(UsageError) as e:
         Batch(roo, 2, "hop", vary=vary, q0=starts, options=HOP)
     assert says in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("jobs", "threads", "says"),
+    [
+        ([{"controller": "hop"}], -1, "threads is a whole number, 1 or more"),
+        ([{"controller": "hop"}], 1.5, "threads is a whole number"),
+        ({"controller": "hop"}, None, "jobs is a list of RunSession.run's keyword arguments"),
+        (["hop"], None, "job 0 is a dict"),
+        ([{"controller": "hop"}, {"controler": "hop"}], None, "did you mean 'controller'?"),
+    ],
+)
+def test_run_batch_misuse_is_a_usage_error(
+    roo: RunSession, jobs: object, threads: object, says: str
+) -> None:
+    """These were a thread pool's ValueError, a TypeError from inside a thread, an
+    AttributeError ('str' object has no attribute 'get'), or a pool of 1.5 threads."""
+    from legdsl.pipeline.backend import run_batch
+
+    with pytest.raises(UsageError) as e:
+        run_batch(roo, jobs, threads)  # type: ignore[arg-type]
+    assert says in str(e.value)
+
+
+def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Only the recordings were counted: copies of a short run, recorded rarely, whose states
+    outgrow the memory were laid out anyway (a MemoryError, or the system killing the run)."""
+    options = RunOptions(duration=0.01, record_rate=1.0)
+    per_sample = batch_module.sample_bytes(roo.model) * batch_module.run_samples(options)
+    monkeypatch.setattr(batch_module, "recording_budget", lambda: 200 * per_sample)
+    batch = Batch(roo, 100, "hop", options=options)  # their recordings fit
+    laid: list[int] = []
+    monkeypatch.setattr(batch_module, "lined_up", lambda n, *a: laid.append(n))
+    with pytest.raises(UsageError, match=r"a batch of 100 copies: their states and recordings"):
+        batch.run(threads=1)
+    assert laid == []
+
+
+@pytest.mark.parametrize(("quaternion", "norm"), [((0, 0, 0, 0), "0"), ((2, 0, 0, 0), "2")])
+def test_a_3d_copys_orientation_is_a_unit_quaternion(quaternion: tuple, norm: str) -> None:
+    """A zero quaternion was a ZeroDivisionError; (2, 0, 0, 0) ran, its first sample
+    recorded as given (q.qw = 2) and the next normalised."""
+    quad = RunSession.from_file(CREATURES / "quadruped.leg", generated=GENERATED)
+    starts = np.array([quad.model.q0, quad.model.q0], dtype=float)
+    starts[1, 3:7] = quaternion
+    with pytest.raises(UsageError) as e:
+        Batch(quad, 2, "trot", q0=starts, options=RunOptions(duration=0.05))
+    assert (
+        f"q0 of copy 1: the root's orientation (qw, qx, qy, qz) is a unit quaternion, and its norm is {norm};"
+        in str(e.value)
+    )

@@ -19,7 +19,7 @@ import html
 import math
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,7 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import write_atomic, writing_alone
 from legdsl.ir.model import Model
@@ -159,8 +160,16 @@ class Creature:
         from legdsl.pipeline.batch import Batch
 
         plan = self._session_args(controller, set, time, **options)
+        if plan["switches"]:  # a batch runs one controller: a switch would be left out
+            raise UsageError(
+                "run_copies(): the copies run one controller, and this run switches "
+                f"({', '.join(plan['switches'])}); run them with run_many() instead"
+            )
+        if vary is not None and not isinstance(vary, Mapping):
+            raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
+                             f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
-                      options=plan["options"])  # fmt: skip
+                      plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(_threads(threads), progress))
 
     def _session_args(
@@ -197,10 +206,13 @@ class Creature:
         step = options.get("dt")
         if "control_dt" not in options and isinstance(step, int | float):  # never below it
             options["control_dt"] = default_control_dt(step)
-        try:
-            run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
-        except TypeError as e:
-            raise UsageError(f"run(): {e}") from None
+        known = [f.name for f in fields(RunOptions) if f.name != "duration"]
+        for key in options:  # else RunOptions' own TypeError, which names no way out
+            if key not in known:
+                where = " (the backend is $LEGDSL_BACKEND's: c or python)" * (key == "backend")
+                raise UsageError(f"run(): no option '{key}'{where}; the options are "
+                                 f"{', '.join(known)}{did_you_mean(key, known)}")  # fmt: skip
+        run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
         return {
             "controller": controller,
             "settings": settings,

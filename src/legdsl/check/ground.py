@@ -170,6 +170,15 @@ class GroundChecker(CreaturePart):
             )
             return None
         arg_kinds, required = kinds[call.func.name]
+        if self.planar and call.func.name == "box":
+            for arg in call.args:  # the creature is at y = 0: a box off it would be no box
+                if arg.keyword is not None and arg.keyword.name in ("y0", "y1"):
+                    self.err(
+                        arg.keyword.span,
+                        f"a planar creature moves in the x-z plane: its box takes x0, x1 and "
+                        f"height, not '{arg.keyword.name}' (remove it)",
+                    )
+                    return None
         args = self.kwargs_signed(call, arg_kinds, required)
         if args is None:
             return None

@@ -4,7 +4,15 @@
 from __future__ import annotations
 
 from legdsl.check.values import ValueChecker, did_you_mean
-from legdsl.ir.paths import DEFAULT_LOOKAHEAD, SHAPES, PathSpec, square_corners
+from legdsl.ir.paths import (
+    DEFAULT_LOOKAHEAD,
+    FARTHEST,
+    SHAPES,
+    PathSpec,
+    far,
+    same_point,
+    square_corners,
+)
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics
 
@@ -51,9 +59,9 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
                 ok = False
                 continue
             p = values.vector(arg.value, "length", 2, "a point of the path")
-            if p is None:
+            if p is None or not _near(p, arg.value, diag):
                 ok = False
-            elif points and (p[0], p[1]) == points[-1]:
+            elif points and same_point((p[0], p[1]), points[-1]):
                 diag.error(
                     arg.span,
                     f"point {len(points) + 1} of the {shape} is the point before it again; "
@@ -84,6 +92,11 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         if v is not None and v <= 0:
             diag.error(given[key].value.span, f"'{key}' must be positive, got {v:g} m")
             return None
+        if v is not None and key != "lookahead" and far(v):
+            diag.error(
+                given[key].value.span, f"'{key}' must be at most {FARTHEST:g} m, got {v:g} m"
+            )
+            return None
         return v
 
     lookahead = DEFAULT_LOOKAHEAD
@@ -100,7 +113,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
                 f"a {shape} needs at least {least} points, got {len(points)}: write {shape}((0, 0) m, (10, 0) m{', (10, 10) m' if least == 3 else ''})",
             )
             return None
-        if shape == "polygon" and points[0] == points[-1]:
+        if shape == "polygon" and same_point(points[0], points[-1]):
             diag.error(
                 value.span,
                 "a polygon closes itself: its last point repeats the first; remove the last",
@@ -113,6 +126,8 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
             diag.error(value.span, f"{shape}() needs '{key} = ...', as in {_PATH_EXAMPLES[shape]}")
             return None
     where = values.vector(given[place].value, "length", 2, f"the {place}")
+    if where is not None and not _near(where, given[place].value, diag):
+        return None
     extent = length(size)
     turn = 1
     if "turn" in given:
@@ -131,3 +146,15 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
     return PathSpec(
         name, "square", square_corners(center, extent, turn), closed=True, lookahead=lookahead
     )
+
+
+def _near(point: tuple[float, ...], value: ast.Value, diag: Diagnostics) -> bool:
+    """Whether a point of a path is within ``FARTHEST`` of the origin (else an error at it)."""
+    if far(point[0]) or far(point[1]):
+        diag.error(
+            value.span,
+            f"a point of a path must be within {FARTHEST:g} m of the origin in x and y, "
+            f"got ({point[0]:g}, {point[1]:g}) m; give it in metres near where the creature runs",
+        )
+        return False
+    return True

@@ -22,7 +22,7 @@ from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe
+from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe, out_of_range
 
 _TIME: Dim = KINDS["time"][0]
 
@@ -57,6 +57,10 @@ def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float 
         return None
     q = value.quantity
     number = sign * q.value
+    trouble = out_of_range(value.text, q.value)
+    if trouble is not None:  # it read as inf (or 0), and the run would refuse it placeless
+        diag.error(value.span, trouble)
+        return None
     if want == DIMENSIONLESS:
         if not q.unitless and q.dim != DIMENSIONLESS:
             diag.error(value.span, f"{what} is dimensionless, but {value.text} is {_kind(q.dim)}")
@@ -120,8 +124,9 @@ class _SceneChecker:
         ok = not first or self._controller(first[0].name)
         switches = self._switches(bool(tables))
         bands = self._bands(tables[0]) if tables else ()
+        # the table's controllers, even when a band is wrong: its sets are still theirs
         names = [*(f.name.name for f in first[:1]), *(s.controller for s in switches),
-                 *(b.controller for b in bands or ())]  # fmt: skip
+                 *(b.controller.name for b in (tables[0].bands if tables else ()))]  # fmt: skip
         used = [self.controllers[n] for n in dict.fromkeys(names) if n in self.controllers]
         values = [v for item in decl.items if isinstance(item, ast.SceneSet)
                   for v in [self._value(item, used)] if v is not None]  # fmt: skip

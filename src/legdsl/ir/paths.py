@@ -28,6 +28,22 @@ MEMBERS = (
     "ahead_x", "ahead_y", "ahead_heading", "given",
 )  # fmt: skip
 DEFAULT_LOOKAHEAD = 1.0  # m
+# A path's coordinates and sizes are at most this (m): far beyond any run, and a
+# segment's squared length stays finite (the tracker divides by it); beyond about 1e154 m
+# it overflows and every point projects onto the segment's start.
+FARTHEST = 1e9
+# Points nearer than this (m) are one point: the tracker drops the segment between them.
+SAME_POINT = 1e-12
+
+
+def far(value: float) -> bool:
+    """Whether a coordinate or size is past ``FARTHEST``."""
+    return not abs(value) <= FARTHEST
+
+
+def same_point(a: Point, b: Point) -> bool:
+    """Whether two points are one (the tracker keeps a segment only if longer than this)."""
+    return math.dist(a, b) <= SAME_POINT
 
 
 @dataclass(frozen=True)
@@ -123,7 +139,12 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
             point = (float(parts[0]), float(parts[1]))
             if not all(math.isfinite(c) for c in point):
                 raise UsageError(f"--path {path}: line {n} is not finite: {line!r}")
-            if points and point == points[-1]:
+            if far(point[0]) or far(point[1]):
+                raise UsageError(
+                    f"--path {path}: line {n} is more than {FARTHEST:g} m from the origin: "
+                    f"{line!r}; give the path in metres near where the creature runs"
+                )
+            if points and same_point(point, points[-1]):
                 raise UsageError(
                     f"--path {path}: line {n} repeats the point before it; remove the repeat"
                 )

@@ -8,6 +8,7 @@ readable reference the C is checked against, bit for bit.
 
 from __future__ import annotations
 
+import numbers
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
@@ -167,6 +168,32 @@ def run_batch(
     return [done[i] for i in range(len(jobs))]
 
 
+def _check_jobs(session: Any, jobs: object, threads: object) -> None:
+    """A batch's jobs and threads as ``run_batch`` takes them, else a ``UsageError`` (a
+    thread pool's ValueError, or a TypeError from inside a thread, named nothing of yours)."""
+    import inspect
+
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 1
+    ):
+        raise UsageError(f"run_batch: threads is a whole number, 1 or more (or None: one per "
+                         f"core), not {threads!r}")  # fmt: skip
+    if isinstance(jobs, str | bytes | Mapping) or not isinstance(jobs, Sequence):
+        raise UsageError(f"run_batch: jobs is a list of RunSession.run's keyword arguments, "
+                         f"not {jobs!r}")  # fmt: skip
+    known = [k for k in inspect.signature(session.run).parameters if k != "progress"]
+    for i, job in enumerate(jobs):
+        if not isinstance(job, Mapping):
+            raise UsageError(f"run_batch: job {i} is a dict of RunSession.run's keyword "
+                             f"arguments ({', '.join(known)}), not {job!r}")  # fmt: skip
+        for key in job:
+            if key not in known:
+                from legdsl.check.values import did_you_mean
+
+                raise UsageError(f"run_batch: job {i} has '{key}'; a job takes "
+                                 f"{', '.join(known)}{did_you_mean(str(key), known)}")  # fmt: skip
+
+
 def iter_batch(
     session: Any,
     jobs: Sequence[Mapping[str, Any]],
@@ -186,6 +213,7 @@ def iter_batch(
     """
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
+    _check_jobs(session, jobs, threads)
     for name in dict.fromkeys(j.get("controller") for j in jobs):
         if name is not None:
             session.control(name)  # compiled and loaded here, not by two threads at once

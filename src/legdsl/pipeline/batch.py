@@ -71,6 +71,9 @@ Progress = Callable[[int, int, float], None]  # (copies done, copies, seconds le
 
 EVENTS_PER_SECOND = 200  # contact events a copy's buffer holds per contact per second of run
 LINE = 64  # bytes: a cache line
+PER_COPY_OBJECTS = (
+    1024  # bytes: about what Copies keeps per copy in Python (its struct's view, ...)
+)
 
 
 class Batch:
@@ -93,6 +96,12 @@ class Batch:
         if n < 1:
             raise UsageError(f"a batch of {n} copies: give at least one")
         for name, given in (vary or {}).items():  # each a pair, or its values read wrongly
+            if not isinstance(name, str) or any(c in name for c in "@= "):
+                raise UsageError(
+                    f"vary {name!r}: name an input, a parameter or an actuator setting "
+                    "(ACTUATOR.KEY) alone; its values are each copy's from the start (a change "
+                    "during the run is a set= 'NAME@T', the same for every copy)"
+                )
             if not (isinstance(given, tuple | list) and len(given) == 2
                     and isinstance(given[1], str)):  # fmt: skip
                 raise UsageError(
@@ -149,13 +158,24 @@ class Batch:
         if given is None:
             start = np.array(self.sim.q if what == "q0" else self.sim.v, dtype=float)
             return np.broadcast_to(start, (self.n, size))
-        values = np.asarray(given, dtype=float)
+        try:
+            values = np.asarray(given, dtype=float)
+        except (TypeError, ValueError):
+            raise UsageError(f"{what}: its values are not all numbers") from None
         if values.shape != (self.n, size):
             raise UsageError(
                 f"{what}: give {self.n} rows of {size} (one per copy), not {values.shape}"
             )
         if not np.all(np.isfinite(values)):
             raise UsageError(f"{what}: every value must be finite")
+        if what == "q0" and self.sim.free3d:  # q[3:7]: the root's orientation, a unit quaternion
+            names = ", ".join(self.session.model.q_names[3:7])
+            norms = np.sqrt(np.sum(values[:, 3:7] ** 2, axis=1))
+            for k in np.flatnonzero(~(np.abs(norms - 1.0) <= 1e-6)):
+                raise UsageError(
+                    f"q0 of copy {k}: the root's orientation ({names}) is a unit quaternion, "
+                    f"and its norm is {norms[k]:.6g}; divide it by its norm"
+                )
         return values
 
     def _check_stiffness(self) -> None:
@@ -227,13 +247,14 @@ class Batch:
         sim.c.step_budget, sim.c.event_cap = STEP_BUDGET, events  # C looks at `stop` between
         sizes = {"event_t": events, "event_kind": events, "event_contact": events,
                  "ctl_event_t": ticks, "ctl_event_state": ticks}  # fmt: skip
+        laid = {name: (sizes.get(name, arrays[name].size), arrays[name].dtype)
+                for name in lib.pointee  # not rec_, nor a field this run lacks (no controller)
+                if not name.startswith("rec_") and name in arrays}  # fmt: skip
+        check_copies_memory(self.session.model, sim.options, n, laid, ctypes.sizeof(lib.Sim))
         blocks: dict[str, np.ndarray] = {}
-        for name in lib.pointee:
-            if name.startswith("rec_") or name not in arrays:  # not this run's (no controller)
-                continue
+        for name, (size, dtype) in laid.items():
             own = arrays[name]
-            size = sizes.get(name, own.size)
-            blocks[name] = lined_up(n, size, own.dtype)
+            blocks[name] = lined_up(n, size, dtype)
             blocks[name][:, : min(size, own.size)] = own[:size]
         self._write_values(blocks)
         traj = empty_trajectory(sim, n * loop.capacity)
@@ -303,6 +324,24 @@ def check_recordings(model: Model, opts: RunOptions, copies: int) -> None:
         f"{need / 2**30:,.1f} GiB ({samples:,} samples at {rate:g} Hz), more than half of this "
         f"machine's memory ({budget / 2**30:,.1f} GiB); record less often (record_rate="
         f"{rate * budget / need:.3g} fits), run for less time, or run fewer copies at once"
+    )
+
+
+def check_copies_memory(model: Model, opts: RunOptions, copies: int,
+                        laid: Mapping[str, tuple[int, Any]], struct: int) -> None:  # fmt: skip
+    """The copies' structs, their arrays and their recordings are laid out at once (and a
+    Python object per copy is made after): more than ``recording_budget`` in all is refused
+    before anything is allocated (else a huge batch is a MemoryError, or the system kills it)."""
+    budget = recording_budget()
+    rows = sum(-(-size * np.dtype(dtype).itemsize // LINE) * LINE for size, dtype in laid.values())
+    per_copy = rows + struct + PER_COPY_OBJECTS + run_samples(opts) * sample_bytes(model)
+    if budget is None or copies * per_copy <= budget:
+        return
+    raise UsageError(
+        f"a batch of {copies:,} copies: their states and recordings would take "
+        f"{copies * per_copy / 2**30:,.1f} GiB ({per_copy:,} bytes a copy), more than half of "
+        f"this machine's memory ({budget / 2**30:,.1f} GiB); run at most "
+        f"{budget // per_copy:,} copies at once"
     )
 
 

@@ -44,10 +44,11 @@ def terrain_rows(
             if t.kind == "step"
             else f"box {scale * t.get('x0'):g}..{scale * t.get('x1'):g} m"
         )
+        when = f", {c.body} at {c.t:g} s" if c.body else ""  # none: no sample in the window
         rows.append(
             Summary(
                 f"terrain_margin_{c.feature}",
-                f"least margin of the body to the {where}, {c.body} at {c.t:g} s (m)",
+                f"least margin of the body to the {where}{when} (m)",
                 scale * c.margin,
                 float("nan"),
                 len(c.overlapping),

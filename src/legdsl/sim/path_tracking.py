@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from legdsl.ir.paths import MEMBERS, PathSpec, Point
+from legdsl.ir.paths import MEMBERS, PathSpec, Point, same_point
 
 
 @dataclass(frozen=True)
@@ -46,7 +46,7 @@ class PathGeometry:
         # drop repeated vertices (zero-length segments have no direction)
         clean = [pts[0]]
         for p in pts[1:]:
-            if math.dist(p, clean[-1]) > 1e-12:
+            if not same_point(p, clean[-1]):
                 clean.append(p)
         self.vertices = tuple(clean)
         self.starts = [0.0]
