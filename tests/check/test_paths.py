@@ -154,6 +154,9 @@ def test_path_option_parses_like_the_file(tmp_path: Path) -> None:
     csv.write_text("0,0\n5\n")
     with pytest.raises(UsageError, match="line 2"):
         parse_path_option(str(csv))
+    for empty in ("", "  ", "route="):  # was 'unexpected end of the file' at '--path:1:1'
+        with pytest.raises(UsageError, match="gives no path: write a shape"):
+            parse_path_option(empty)
 
 
 def test_a_waypoints_file_that_is_not_utf8_text_is_a_usage_error(tmp_path: Path) -> None:

@@ -348,6 +348,11 @@ def parse_path_option(text: str) -> PathSpec:
         if not file.is_file():
             raise UsageError(f"--path {text}: no such file {file}")
         return read_waypoints(file, name)
+    if not shape.strip():
+        raise UsageError(
+            f"--path {text!r} gives no path: write a shape, as in --path 'circle(center = "
+            "(0, 5) m, radius = 5 m)', or a waypoints file, as in --path route.csv"
+        )
     # parse the shape where it stands in the option, so the caret points into it
     padded = " " * (len(text) - len(shape)) + shape
     value = parse_value(padded, "--path")
