@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from legdsl.cli import main
@@ -66,3 +67,70 @@ def test_a_run_of_another_creature_with_as_many_coordinates_is_refused(
         assert "the run's contacts (tip) are not those of" in err
         assert "--source FILE" in err
     assert not (tmp_path / "a.html").exists() and not (tmp_path / "a.glb").exists()
+
+
+@pytest.fixture(scope="module")
+def sparse_run(arm_run: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The arm for 1 s recorded at 10 Hz (11 samples)."""
+    home = arm_run.parent
+    run = tmp_path_factory.mktemp("sparse") / "run"
+    argv = ["run", str(home / "arm.leg"), "--time", "1", "--record-rate", "10", "--out", str(run)]
+    assert main([*argv, "--backend", "python", "--generated", str(home / "generated")]) == 0
+    return run
+
+
+def test_replay_frames_of_a_sparse_run_are_one_over_fps_apart(sparse_run: Path) -> None:
+    # the frames were never denser than the samples, and the mp4 played them at --fps: a run
+    # recorded at 10 Hz played three times too fast at 30 fps
+    pytest.importorskip("mujoco")
+    from legdsl.export.mjreplay import replay_frames
+
+    _, _, _, times, qpos = replay_frames(sparse_run, fps=30)
+    assert len(times) == len(qpos) == 31
+    assert np.allclose(np.diff(times), 1 / 30) and times[-1] == pytest.approx(1.0)
+
+
+def test_a_gif_plays_in_real_time(
+    sparse_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # GIF delays are whole 10 ms steps: 30 ms each at 30 fps played the run 10% fast
+    pytest.importorskip("PIL")
+    from PIL import Image
+
+    out = tmp_path / "arm.gif"
+    argv = ["animate", str(sparse_run), "--video", str(out), "--fps", "30", "--size", "64x64"]
+    assert main([*argv, "--generated", str(sparse_run.parent.parent / "generated")]) == 0
+    frames = int(capsys.readouterr().out.split(" frames at ")[0].rsplit(" ", 1)[1])
+    with Image.open(out) as gif:
+        delays = []
+        for frame in range(gif.n_frames):
+            gif.seek(frame)
+            delays.append(gif.info["duration"])
+    # a still frame is merged into the one before it, with both delays
+    assert frames >= 30 and sum(delays) == pytest.approx(frames * 1000 / 30, abs=10)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["animate", "{run}", "--fps", "inf"], "--fps must be positive and finite, not inf"),
+        (["export-motion", "{run}", "--fps", "nan"], "--fps must be positive and finite"),
+        (["animate", "{run}", "--video", "{out}.mp4", "--fps", "1e6"], "1 to 240 frames"),
+        (["animate", "{run}", "--video", "{out}.mp4", "--fps", "0.001"], "1 to 240 frames"),
+        (["animate", "{run}", "--video", "{out}.gif", "--fps", "60"], "write an .mp4 for more"),
+        (["animate", "{run}", "--video", "{out}.gif", "--fps", "1e-3"], "1 to 50 frames"),
+        (["replay", "{run}", "--mujoco", "-o", "{out}.mp4", "--fps", "inf"], "and finite"),
+        (["replay", "{run}", "--mujoco", "-o", "{out}.mp4", "--fps", "1e9"], "1 to 240 frames"),
+    ],
+)
+def test_frame_rates_no_video_can_show_are_refused(
+    arm_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], message: str
+) -> None:
+    # inf was an internal error (a zero frame step), a million frames a second rendered for
+    # hours, a GIF's delay of 1000 s overflowed its 16 bits
+    argv = [a.format(run=arm_run, out=tmp_path / "v") for a in args]
+    if argv[0] != "replay":
+        argv += ["--generated", str(arm_run.parent / "generated")]
+    assert main(argv) == 2
+    assert message in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
