@@ -134,3 +134,27 @@ def test_frame_rates_no_video_can_show_are_refused(
     assert main(argv) == 2
     assert message in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_output_that_is_an_input_is_refused(
+    arm_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # export -o FILE.leg replaced the user's .leg file with MJCF, export-motion -o
+    # DIR/trajectory.npz the run's recording with a glb
+    leg = tmp_path / "arm.leg"
+    leg.write_text(ARM)
+    run = tmp_path / "run"
+    run.mkdir()
+    for name in ("trajectory.npz", "trajectory.csv", "run.json"):
+        (run / name).write_bytes((arm_run / name).read_bytes())
+    before = {p: p.read_bytes() for p in (leg, *run.iterdir())}
+    gen = ["--generated", str(arm_run.parent / "generated")]
+    for argv in (
+        ["export", str(leg), "--format", "mjcf", "-o", str(leg)],
+        ["export-motion", str(run), "-o", str(run / "trajectory.npz"), "--format", "glb", *gen],
+        ["animate", str(run), "-o", str(run / "run.json"), *gen],
+        ["export-motion", str(run), "--source", str(leg), "-o", str(leg), "--format", "bvh"],
+    ):
+        assert main(argv) == 2
+        assert "this is an input of the command" in capsys.readouterr().err
+    assert {p: p.read_bytes() for p in before} == before
