@@ -204,10 +204,11 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.export.formats import default_path, export_text, write_atomic
-    from legdsl.pipeline.options import check_output_file, os_error
+    from legdsl.pipeline.options import check_output_file, not_an_input, os_error
 
     if args.output not in (None, "-"):
         check_output_file(args.output, "-o")
+        not_an_input(args.output, "-o", [Path(args.file)])
     model = check_model(args.file, args.creature)
     if args.format != "urdf" and (args.base != "world" or args.link_mass):
         raise UsageError("--base and --link-mass are URDF options (--format urdf)")
@@ -455,11 +456,13 @@ def _main(argv: Sequence[str] | None) -> int:
     args = parser.parse_args(given)
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first
-            from legdsl.pipeline.options import check_output_file
+            from legdsl.pipeline.options import check_output_file, not_an_input
 
+            run = [Path(args.run) / n for n in ("trajectory.npz", "trajectory.csv", "run.json")]
             for flag, value in (("-o", args.output), ("--video", getattr(args, "video", None))):
                 if value:
                     check_output_file(value, flag)
+                    not_an_input(value, flag, run + ([Path(args.source)] if args.source else []))
         if args.command not in TERM_UNWINDS:
             return _COMMANDS[args.command](args)
         with sigterm_unwinds():

@@ -12,6 +12,7 @@ CLI can build its parser without loading numpy, matplotlib or pygltflib.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Callable
@@ -52,8 +53,26 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def _positive(value: float | None, flag: str) -> None:
-    if value is not None and not value > 0:
-        raise UsageError(f"{flag} must be positive")
+    if value is not None and not 0 < value < math.inf:
+        raise UsageError(f"{flag} must be positive and finite, not {value:g}")
+
+
+VIDEO_FPS = 1.0, 240.0  # a video's frames per second: slower is a slide show, faster no player
+GIF_FPS = 50.0  # a GIF's frames are shown 20 ms at least (browsers slow shorter ones down)
+
+
+def video_fps(value: float | None, default: float, gif: bool = False) -> float:
+    """``--fps`` of a video: one that no player shows as given, or that would render for
+    hours (a million frames a second), is refused."""
+    fps = default if value is None else value
+    top = GIF_FPS if gif else VIDEO_FPS[1]
+    if not VIDEO_FPS[0] <= fps <= top:
+        more = "; write an .mp4 for more" if gif else ""
+        raise UsageError(
+            f"--fps {fps:g}: a{' GIF' if gif else 'n .mp4'} shows {VIDEO_FPS[0]:g} to {top:g} "
+            f"frames per second{more}"
+        )
+    return fps
 
 
 def _load(args: argparse.Namespace, fps: float) -> Any:
@@ -82,7 +101,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
         if video.suffix.lower() not in (".mp4", ".gif"):
             raise UsageError(f"--video {video}: write an .mp4 or a .gif")
-        fps = args.fps or 30.0
+        fps = video_fps(args.fps, 30.0, video.suffix.lower() == ".gif")
         motion = _load(args, max(fps, 60.0))
         result = render_video(motion, video, fps, size, overlays, progress=stderr_progress())
         print(
@@ -263,7 +282,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     source = Path(args.source) if args.source else None
     run = Path(args.run)
     if args.output is None and mjreplay.has_display():
-        mjreplay.view(run, args.fps or 60.0, source)
+        mjreplay.view(run, video_fps(args.fps, 60.0), source)
         return 0
     out = Path(args.output) if args.output else run / "mujoco.mp4"
     if out.suffix.lower() != ".mp4":
@@ -273,7 +292,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
             "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
         )
     frames = mjreplay.render_mp4(
-        run, out, args.fps or 30.0, parse_size(args.size or "960x540"), source
+        run, out, video_fps(args.fps, 30.0), parse_size(args.size or "960x540"), source
     )
     print(f"legdsl: wrote {out} ({frames} frames, MuJoCo's renderer)")
     return 0

@@ -165,6 +165,19 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
             f"{directory}: the run has {trajectory.q.shape[1]} coordinates but {source} "
             f"describes {model.nq}; was the .leg file changed after the run?"
         )
+    # a run without a fingerprint (an older legdsl's) may be of another creature with as
+    # many coordinates: its names say so (drawn, its forces would go to the wrong contacts)
+    contacts = tuple(c.name for c in model.contacts)
+    for what, recorded, described in (
+        ("coordinates", trajectory.q_names, model.q_names),
+        ("contacts", trajectory.contact_names, contacts),
+    ):
+        if tuple(recorded) != tuple(described):
+            raise UsageError(
+                f"{directory}: the run's {what} ({', '.join(recorded) or 'none'}) are not "
+                f"those of {source} ({', '.join(described) or 'none'}); give the .leg file "
+                f"the run was made with (--source FILE), or run {source} again"
+            )
     return Run(directory, info, trajectory, model, source)
 
 

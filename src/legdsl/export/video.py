@@ -159,9 +159,12 @@ def _write_gif(frames: Any, path: Path, fps: float, report: Callable[[int], None
     for i, frame in enumerate(frames):
         images.append(Image.fromarray(frame).quantize(colors=128, method=Image.Quantize.MEDIANCUT))
         report(i)
-    duration = max(20, int(round(1000 / fps / 10)) * 10)  # GIF delays are in 10 ms steps
+    # GIF delays are whole 10 ms steps: one delay for all (30 ms at 30 fps) played the run
+    # 10% fast; each frame's delay is where the next frame is due, rounded, so none drifts
+    due = np.round(np.arange(len(images) + 1) * 100.0 / fps).astype(int)
+    durations = [max(2, int(d)) * 10 for d in np.diff(due)]
     images[0].save(
-        path, format="GIF", save_all=True, append_images=images[1:], duration=duration, loop=0
+        path, format="GIF", save_all=True, append_images=images[1:], duration=durations, loop=0
     )
 
 

@@ -9,6 +9,7 @@ negative where a duration or a step is meant) are a ``UsageError``: exit status 
 
 from __future__ import annotations
 
+import contextlib
 import math
 import tempfile
 from dataclasses import dataclass
@@ -146,6 +147,18 @@ def check_output_file(path: str | Path, flag: str) -> Path:
         )
     check_output_dir(parent, flag, path)
     return path
+
+
+def not_an_input(path: str | Path, flag: str, inputs: list[Path]) -> None:
+    """An output that is one of the command's inputs is refused: written, it replaced the
+    user's .leg file (export -o FILE.leg) or the run's own recording."""
+    for given in inputs:
+        with contextlib.suppress(OSError):
+            if Path(path).exists() and Path(path).samefile(given):
+                raise UsageError(
+                    f"{flag} {path}: this is an input of the command ({given}), which "
+                    "writing would destroy; give another file name"
+                )
 
 
 def os_error(what: str, path: Path, e: OSError) -> UsageError:
