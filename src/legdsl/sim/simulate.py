@@ -312,7 +312,10 @@ class Simulation:
         return pos, rot
 
     def _standing_height(self) -> float:
-        """How far the root stands above its lowest foot at the start (its own height if footless)."""
+        """How far the root stands above its lowest foot at the start (its own height if
+        footless); 0, no fall limit, for a root welded to the world, which cannot fall."""
+        if self.model.joints[0].kind == "fixed":
+            return 0.0
         root = self._root_pose()[0]
         if not self.contact_names:
             return root[2] - self._ground_under(root)
