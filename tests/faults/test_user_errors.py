@@ -41,6 +41,8 @@ RUN_MISTAKES = [
     (["--dt", "0.4ms", "--control-dt", "0.1ms"], "shorter than the integration step"),
     (["--record-rate", "nan"], "not a number"),
     (["--record-rate", "-5"], "--record-rate must not be negative"),
+    # one sample, the start: the summary said its end energy was its start's
+    (["--record-rate", "1Hz", "--time", "0.5s"], "records only the start of a 0.5s run"),
     (["--fall-tilt", "nan"], "not a number"),
     (["--fall-tilt", "0deg"], "more than zero"),
     (["--fall-height=-1m"], "must not be negative"),

@@ -197,7 +197,7 @@ def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
 ) -> None:
     """Only the recordings were counted: copies of a short run, recorded rarely, whose states
     outgrow the memory were laid out anyway (a MemoryError, or the system killing the run)."""
-    options = RunOptions(duration=0.01, record_rate=1.0)
+    options = RunOptions(duration=0.01, record_rate=100.0)
     per_sample = batch_module.sample_bytes(roo.model) * batch_module.run_samples(options)
     monkeypatch.setattr(batch_module, "recording_budget", lambda: 200 * per_sample)
     batch = Batch(roo, 100, "hop", options=options)  # their recordings fit

@@ -86,6 +86,13 @@ def check_run_options(options: RunOptions) -> None:
     for flag, value in checks.values():
         if value is not None and not (math.isfinite(value) and value >= 0):
             raise UsageError(f"{flag} {value!r}: must be a finite number, zero or more")
+    rate = options.record_rate
+    if rate is not None and rate > 0 and rate * options.duration < 1.0 - 1e-9:
+        # one sample, the start: its summary's end would be its start, its exports one frame
+        raise UsageError(
+            f"--record-rate {rate:g}Hz records only the start of a {options.duration:g}s run; "
+            f"give --record-rate {1.0 / options.duration:.3g}Hz or more, or 0 to record every step"
+        )
     tilt = options.fall_tilt
     if not (math.isfinite(tilt) and tilt > 0):
         raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
