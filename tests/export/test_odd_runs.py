@@ -157,4 +157,9 @@ def test_an_output_that_is_an_input_is_refused(
     ):
         assert main(argv) == 2
         assert "this is an input of the command" in capsys.readouterr().err
+    # the .leg file run.json names (no --source given) was replaced with glTF, exit 0
+    source = Path(json.loads((run / "run.json").read_text())["source"])
+    for command in ("export-motion", "animate"):
+        assert main([command, str(run), "-o", str(source), *gen]) == 2
+        assert "a .leg name is for a creature's source" in capsys.readouterr().err
     assert {p: p.read_bytes() for p in before} == before

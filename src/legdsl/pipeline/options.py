@@ -158,7 +158,8 @@ def check_output_file(path: str | Path, flag: str) -> Path:
 
 def not_an_input(path: str | Path, flag: str, inputs: list[Path]) -> None:
     """An output that is one of the command's inputs is refused: written, it replaced the
-    user's .leg file (export -o FILE.leg) or the run's own recording."""
+    user's .leg file (export -o FILE.leg) or the run's own recording. So is a .leg name: no
+    export is a .leg file, and the one named may be the creature a run.json names."""
     for given in inputs:
         with contextlib.suppress(OSError):
             if Path(path).exists() and Path(path).samefile(given):
@@ -166,6 +167,11 @@ def not_an_input(path: str | Path, flag: str, inputs: list[Path]) -> None:
                     f"{flag} {path}: this is an input of the command ({given}), which "
                     "writing would destroy; give another file name"
                 )
+    if Path(path).suffix.lower() == ".leg":
+        raise UsageError(
+            f"{flag} {path}: a .leg name is for a creature's source, which this command does not "
+            "write (and writing may destroy); give the output the name of its format"
+        )
 
 
 def os_error(what: str, path: Path, e: OSError) -> UsageError:
