@@ -9,7 +9,7 @@ people what a name can be and which members each kind of thing has.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from dataclasses import replace
 
 from legdsl.check.control_names import (
@@ -49,6 +49,7 @@ class ControllerChecker:
         library: dict[str, ast.ActionDef],
         parts: dict[str, ast.SharedDecl],
         diag: Diagnostics,
+        broken_legs: Collection[str] = (),  # declared with a mistake reported at the creature
     ):
         self.decl = decl
         self.items = expand_includes(decl, parts, diag)
@@ -56,7 +57,7 @@ class ControllerChecker:
         self.diag = diag
         self.actions = dict(library)
         self.roles: dict[str, tuple[str, ...]] = {}
-        self.broken_legs: set[str] = set()  # declared with a mistake reported at the creature
+        self.broken_legs = set(broken_legs)
 
     def err(self, span: Span, message: str) -> None:
         self.diag.error(span, message)
@@ -460,9 +461,8 @@ def check_controllers(
             )
             continue
         seen[key] = decl.name.span
-        checker = ControllerChecker(decl, model, lib, parts, diag)
-        checker.broken_legs = (broken_legs or {}).get(model.name, set())
-        checked = checker.check()
+        broken = (broken_legs or {}).get(model.name, set())
+        checked = ControllerChecker(decl, model, lib, parts, diag, broken).check()
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]
