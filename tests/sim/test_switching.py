@@ -206,6 +206,27 @@ def test_switch_mistakes_are_user_errors(session, capsys) -> None:
     assert "no controller 'trot'" in capsys.readouterr().err
 
 
+def test_a_change_after_the_end_of_the_run_is_noted(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A switch or an input change timed after --time happened never, silently."""
+    from legdsl.pipeline.settings import too_late
+
+    notes = too_late(["speed=2m/s@5s", "speed=1m/s@500ms", "k=2"], ["3s=gallop", "1s=run"], 2.0)
+    assert notes == [
+        "--set speed=2m/s@5s comes after the run's end (2 s) and has no effect; give a longer "
+        "--time to see it",
+        "--switch 3s=gallop comes after the run's end (2 s) and has no effect; give a longer "
+        "--time to see it",
+    ]
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.1",
+            "--set", "speed=1m/s@0.2s", "--out", str(tmp_path / "r")]  # fmt: skip
+    assert main(argv) == 0
+    assert (
+        "legdsl: note: --set speed=1m/s@0.2s comes after the run's end" in capsys.readouterr().err
+    )
+
+
 # Small tables of their own (the shipped file has controllers of these gaits too).
 TROT = """
 controller pairs_trot {

@@ -83,6 +83,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
     from legdsl.pipeline.session import RunSession
+    from legdsl.pipeline.settings import too_late
 
     values = {
         field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
@@ -116,6 +117,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
     check_run_options(options)
+    for note in too_late(settings, switches, options.duration):
+        print(f"legdsl: note: {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}

@@ -13,6 +13,8 @@ always was for actuator settings. Values are stored in SI units.
 
 from __future__ import annotations
 
+import contextlib
+
 import math
 import re
 from collections.abc import Sequence
@@ -382,6 +384,23 @@ def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
             f"(controllers: {', '.join(controllers) or 'none'})"
         )
     return Switch(given.value, name)
+
+
+def too_late(settings: Sequence[str], switches: Sequence[str], duration: float) -> list[str]:
+    """The timed changes (``--set NAME=V@T``, ``--switch T=NAME``, a scene's ``at T``) that
+    come after the run's end: notes for the user, since they will not happen."""
+    timed = [(text.rpartition("@")[2], f"--set {text}") for text in settings if "@" in text]
+    timed += [(text.partition("=")[0], f"--switch {text}") for text in switches]
+    notes = []
+    for when, text in timed:
+        with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
+            at = parse_given(when, text).value
+            if at > duration:
+                notes.append(
+                    f"{text} comes after the run's end ({duration:g} s) and has no effect; "
+                    "give a longer --time to see it"
+                )
+    return notes
 
 
 def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
