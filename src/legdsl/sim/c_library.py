@@ -23,6 +23,7 @@ from legdsl.codegen.c.build import (
     Built,
     build,
     find_compiler,
+    no_compiler,
     sources,
 )
 from legdsl.ir.model import Model
@@ -97,9 +98,7 @@ _TRUSTED: dict[tuple[str, str], CLibrary] = {}  # the last library found for (na
 
 def available() -> str | None:
     """None when the C backend can run here, else why not (one line)."""
-    if find_compiler() is None:
-        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
-    return None
+    return no_compiler()
 
 
 def load_library(

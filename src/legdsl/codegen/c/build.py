@@ -20,6 +20,9 @@ the biped's dynamics; without it the runs stay identical with any ``-march``, fo
 vectorized) about 9% sooner (docs/runtime.md); a library built for one processor may not run
 on another, so the key of the cache names the processor features ``-march=native`` turns on.
 
+The compiler found must build a tiny library when a build fails (``probe``): one that cannot
+(not a compiler, no headers) is the user's to fix (``CompilerUnusable``), else the C is legdsl's.
+
 The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
 A library is named by the hash of its sources, the compiler's path and version, the flags and
 the processor's features,
@@ -88,6 +91,11 @@ class BuildFailed(Exception):
     """The C compiler refused the generated code (a legdsl bug: the message has its output)."""
 
 
+class CompilerUnusable(Exception):
+    """The compiler found cannot build even a tiny library (not a C compiler, or one without
+    its headers): the user's environment, not legdsl's code; the message says what to do."""
+
+
 @dataclass(frozen=True)
 class Compiler:
     path: str
@@ -128,6 +136,19 @@ def _compiler(wanted: str | None) -> Compiler | None:
 def find_compiler() -> Compiler | None:
     """The C compiler to build with, or None when there is none."""
     return _compiler(os.environ.get("LEGDSL_CC") or None)
+
+
+def no_compiler() -> str | None:
+    """None when a compiler is found, else why not, in one line that says what to do."""
+    if find_compiler() is not None:
+        return None
+    wanted = os.environ.get("LEGDSL_CC") or None
+    if wanted is None:
+        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
+    fix = "set LEGDSL_CC to a C compiler (gcc, clang) or unset it"
+    if shutil.which(wanted) is None:
+        return f"LEGDSL_CC={wanted}: no such program; {fix}"
+    return f"LEGDSL_CC={wanted}: '{wanted} --version' failed, not a C compiler; {fix}"
 
 
 def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str]:
@@ -179,7 +200,7 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
     """The shared library of ``files`` (compiled now unless the cache has it)."""
     compiler = compiler or find_compiler()
     if compiler is None:
-        raise NoCompiler("no C compiler found (looked for $LEGDSL_CC, cc, gcc, clang)")
+        raise NoCompiler(no_compiler() or "no C compiler found")
     root = cache_dir()
     root.mkdir(parents=True, exist_ok=True)
     final = root / f"{name}-{library_key(files, compiler)}.so"
@@ -190,6 +211,19 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
             return Built(final, cached=True, seconds=0.0)
         final.unlink(missing_ok=True)  # damaged: built again below
     start = time.perf_counter()
+    try:
+        _compile(name, files, compiler, root, final)
+    except BuildFailed as e:
+        why = probe(compiler, root)
+        if why is not None:  # the compiler, not the generated C: the user's to fix
+            raise CompilerUnusable(why) from e
+        raise
+    trim(root, keep=final)
+    return Built(final, cached=False, seconds=time.perf_counter() - start)
+
+
+def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, final: Path) -> None:
+    """Compile ``files`` into the library ``final``, through a temporary directory in ``root``."""
     with tempfile.TemporaryDirectory(dir=root, prefix=f".{name}-src-") as work:
         for file, text in files.items():
             (Path(work) / file).write_text(text)
@@ -202,18 +236,62 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         for unit in UNITS:
             source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
             command = [compiler.path, *compile_flags, "-I", work, "-c", "-o", obj, source]
-            started.append((command, subprocess.Popen(command, stderr=subprocess.PIPE, text=True)))
+            started.append((command, _start(command, compiler)))
         errors = [process.communicate()[1] for _, process in started]  # all, failed or not
         for (command, process), err in zip(started, errors, strict=True):
             _check(process.returncode, command, err, name, compiler)
         objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
         command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-        done = subprocess.run(command, capture_output=True, text=True)
-        _check(done.returncode, command, done.stderr, name, compiler)
+        done = _start(command, compiler)
+        err = done.communicate()[1]
+        _check(done.returncode, command, err, name, compiler)
+        if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
+            _check(1, command, "it wrote no shared library", name, compiler)
         seal(partial)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
-    trim(root, keep=final)
-    return Built(final, cached=False, seconds=time.perf_counter() - start)
+
+
+PROBE = (
+    "#include <float.h>\n#include <math.h>\n#include <stdint.h>\n#include <string.h>\n"
+    'double legdsl_probe(double x) { return sin(x) + (double)strlen("") + DBL_EPSILON; }\n'
+)
+
+
+def probe(compiler: Compiler, root: Path) -> str | None:
+    """None when ``compiler`` builds a tiny shared library with the headers the runtime uses,
+    else why not, in one line: after a failed build, this tells a broken or missing compiler
+    (the user's to fix) from C legdsl generated wrong (legdsl's bug)."""
+    with tempfile.TemporaryDirectory(dir=root, prefix=".probe-") as work:
+        source, out = Path(work) / "probe.c", Path(work) / "probe.so"
+        source.write_text(PROBE)
+        command = [compiler.path, "-std=c99", "-fPIC", "-shared", "-o", str(out), str(source)]
+        try:
+            done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        except (OSError, subprocess.SubprocessError) as e:
+            said = str(e)
+        else:
+            if done.returncode == 0 and _is_elf(out):
+                return None
+            lines = [line for line in done.stderr.splitlines() if line.strip()]
+            said = lines[0].strip() if lines else f"exit {done.returncode}, no library written"
+            said = said.replace(f"{work}{os.sep}", "")  # probe.c:1:19: error: ...
+    fix = "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
+    return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
+
+
+def _start(command: list[str], compiler: Compiler) -> subprocess.Popen[str]:
+    try:
+        return subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    except OSError as e:  # removed or made unrunnable since it was found
+        raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e})") from e
+
+
+def _is_elf(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            return f.read(4) == b"\x7fELF"
+    except OSError:
+        return False
 
 
 def seal(path: Path) -> None:

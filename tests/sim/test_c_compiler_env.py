@@ -1,0 +1,100 @@
+"""A C compiler that is missing, is not a compiler, or cannot build: one line that says what to
+do, and the Python backend under ``--backend auto``; never a traceback, an exit 70 or a notice
+that blames the cache."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, GENERATED
+
+from legdsl.cli import main
+from legdsl.sim import c_library
+
+
+def _script(tmp_path: Path, name: str, text: str) -> str:
+    path = tmp_path / name
+    path.write_text("#!/bin/sh\n" + text)
+    path.chmod(0o755)
+    return str(path)
+
+
+def _run(tmp_path: Path, backend: str) -> list[str]:
+    return ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.05",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run"),
+            "--backend", backend]  # fmt: skip
+
+
+@pytest.fixture
+def fresh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    for known in ("_LOADED", "_BY_STAT", "_TRUSTED"):  # as in a new process: nothing loaded yet
+        monkeypatch.setattr(c_library, known, {})
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+
+
+CASES = {
+    "missing": ("/nonexistent/cc", "LEGDSL_CC=/nonexistent/cc: no such program"),
+    "false": ("/bin/false", "LEGDSL_CC=/bin/false: '/bin/false --version' failed"),
+    "true": ("/bin/true", "/bin/true cannot build a C library here (exit 0, no library written)"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_a_compiler_that_is_not_one_is_named_with_the_fix(
+    case: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    cc, said = CASES[case]
+    if not Path(cc).exists() and case != "missing":
+        pytest.skip(f"no {cc} here")
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert said in err and "running on the Python backend" in err, err
+    assert "LEGDSL_CC" in err and "cannot build or load the C library in" not in err
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert said in err and "use --backend python" in err and "Traceback" not in err, err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_a_compiler_that_fails_is_the_users_to_fix_not_an_internal_error(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """It answers --version but builds nothing (a licence server down, a broken wrapper)."""
+    cc = _script(
+        tmp_path, "cc", '[ "$1" = --version ] && echo "cc 1.0" && exit 0\n'
+        'echo "fatal: licence expired" >&2; exit 1\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert f"{cc} cannot build a C library here (fatal: licence expired)" in err, err
+    assert "running on the Python backend" in err
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert "fatal: licence expired" in err and "Traceback" not in err, err
+    assert [p.name for p in (tmp_path / "cache").iterdir()] == []  # no leftover probe or sources
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_without_its_headers_is_told_to_install_them(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    cc = _script(tmp_path, "cc", 'exec gcc -nostdinc "$@"\n')
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert f"{cc} cannot build a C library here (probe.c:1:" in err, err
+    assert "libc6-dev" in err and "Traceback" not in err
