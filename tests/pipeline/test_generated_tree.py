@@ -1,0 +1,49 @@
+"""``legdsl run`` against a generated tree it must recompile but cannot write (a read-only
+checkout, a shared install): one line that names the tree and the fix, on both backends."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, GENERATED
+
+from legdsl.cli import main
+from legdsl.pipeline import generated as generated_module
+
+
+@pytest.mark.parametrize(
+    ("backend", "stale"), [("python", "dynamics.py"), ("c", "dynamics.c"), ("auto", "dynamics.h")]
+)
+def test_a_stale_tree_that_cannot_be_written_says_to_give_another(
+    backend: str,
+    stale: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    if backend == "c":
+        from legdsl.sim.c_library import available
+
+        if available() is not None:
+            pytest.skip(f"needs a C compiler: {available()}")
+    tree = tmp_path / "generated"
+    shutil.copytree(GENERATED / "hopper", tree / "hopper")
+    with open(tree / "hopper" / stale, "a") as f:
+        f.write("\n")  # edited by hand: its digest no longer matches SHA256SUMS
+
+    def read_only(*args: object) -> Path:
+        raise OSError(30, "Read-only file system", str(tree / ".hopper.new-1-2"))
+
+    monkeypatch.setattr(generated_module, "write_generated", read_only)
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.05",
+            "--generated", str(tree), "--out", str(tmp_path / "run"),
+            "--backend", backend]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == (
+        f"legdsl: the generated modules of hopper in {tree} are out of date and cannot be "
+        "written there (Read-only file system); make it writable, or give --generated a "
+        "directory you can write"
+    ), err
