@@ -98,3 +98,39 @@ def test_a_compiler_without_its_headers_is_told_to_install_them(
     err = capsys.readouterr().err
     assert f"{cc} cannot build a C library here (probe.c:1:" in err, err
     assert "libc6-dev" in err and "Traceback" not in err
+
+
+@pytest.mark.skipif(shutil.which("g++") is None, reason="needs g++")
+def test_a_cpp_driver_compiles_the_library_as_c(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """g++ took the .c files for C++: mangled names, and an internal error on load."""
+    monkeypatch.setenv("LEGDSL_CC", "g++")
+    assert main(_run(tmp_path, "c")) == 0, capsys.readouterr().err
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_library_without_legdsls_symbols_is_refused_and_removed(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    import subprocess
+
+    from legdsl.codegen.c.build import Built
+
+    (tmp_path / "other.c").write_text("int something_else(void) { return 1; }\n")
+    other = tmp_path / "cache" / "other.so"
+    other.parent.mkdir()
+    subprocess.run(
+        ["gcc", "-shared", "-fPIC", "-o", str(other), str(tmp_path / "other.c")], check=True
+    )
+    monkeypatch.setattr(c_library, "build", lambda name, files: Built(other, True, 0.0))
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert "lacks legdsl's symbols" in err and "set LEGDSL_CC to a C compiler" in err, err
+    assert "internal error" not in err and not other.exists()

@@ -70,6 +70,7 @@ FLAGS = (
     "-shared",
 )
 LIBS = ("-lm",)
+LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
@@ -191,7 +192,7 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
     for name in sorted(files):
         digest.update(f"{name}\0{len(files[name])}\0".encode())
         digest.update(files[name].encode())
-    given = " ".join(flags(compiler) + LIBS)
+    given = " ".join(flags(compiler) + LIBS + LANGUAGE)
     digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
     return digest.hexdigest()[:20]
 
@@ -235,7 +236,17 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         started = []
         for unit in UNITS:
             source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
-            command = [compiler.path, *compile_flags, "-I", work, "-c", "-o", obj, source]
+            command = [
+                compiler.path,
+                *compile_flags,
+                "-I",
+                work,
+                "-c",
+                "-o",
+                obj,
+                *LANGUAGE,
+                source,
+            ]
             started.append((command, _start(command, compiler)))
         errors = [process.communicate()[1] for _, process in started]  # all, failed or not
         for (command, process), err in zip(started, errors, strict=True):
