@@ -47,3 +47,17 @@ def test_a_stale_tree_that_cannot_be_written_says_to_give_another(
         "written there (Read-only file system); make it writable, or give --generated a "
         "directory you can write"
     ), err
+
+
+def test_a_generated_path_that_is_a_file_says_to_give_a_directory(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "generated").write_text("not a directory")
+    argv = ["run", str(CREATURES / "hopper.leg"), "--time", "0.05", "--backend", "python",
+            "--generated", str(tmp_path / "generated"), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == (
+        f"legdsl: cannot write generated modules into {tmp_path / 'generated'}: it is a file; "
+        "give --generated a directory you can write"
+    ), err

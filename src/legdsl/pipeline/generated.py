@@ -179,7 +179,11 @@ def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) ->
     try:
         root.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise UsageError(f"cannot write generated modules into {root}: {_why(e)}") from e
+        why = "it is a file" if root.is_file() else _why(e)
+        raise UsageError(
+            f"cannot write generated modules into {root}: {why}; "
+            "give --generated a directory you can write"
+        ) from e
     final = root / name
     recover_dir(final)
     fresh = temp_sibling(final, "new")
