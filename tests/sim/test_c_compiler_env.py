@@ -134,3 +134,20 @@ def test_a_library_without_legdsls_symbols_is_refused_and_removed(
     err = capsys.readouterr().err
     assert "lacks legdsl's symbols" in err and "set LEGDSL_CC to a C compiler" in err, err
     assert "internal error" not in err and not other.exists()
+
+
+def test_trimming_skips_what_it_cannot_remove(tmp_path: Path) -> None:
+    """A shared cache holds other users' libraries: one that cannot be removed is left, and
+    the build that trims does not fail for it (else its run fell back to Python)."""
+    import os
+
+    from legdsl.codegen.c.build import trim
+
+    (tmp_path / "stuck.so").mkdir()  # unlink() refuses it, as it refuses another's file
+    (tmp_path / "stuck.so" / "x").write_bytes(b"x" * 3000)
+    for k, name in enumerate(["old.so", "keep.so"]):
+        (tmp_path / name).write_bytes(b"x" * 1000)
+        os.utime(tmp_path / name, (1000 + k, 1000 + k))
+    os.utime(tmp_path / "stuck.so", (0, 0))  # the least recently used
+    trim(tmp_path, keep=tmp_path / "keep.so", most=10)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.so", "stuck.so"]

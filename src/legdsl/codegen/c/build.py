@@ -338,7 +338,10 @@ def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
         if total <= most:
             break
         if path != keep:
-            path.unlink(missing_ok=True)
+            try:
+                path.unlink(missing_ok=True)
+            except OSError:  # another user's, in a shared cache: theirs to remove
+                continue
             total -= size
 
 
