@@ -36,6 +36,7 @@ def fresh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
 
 CASES = {
     "missing": ("/nonexistent/cc", "LEGDSL_CC=/nonexistent/cc: no such program"),
+    "options": ("gcc -O0", "LEGDSL_CC=gcc -O0: no such program (name the program alone, "),
     "false": ("/bin/false", "LEGDSL_CC=/bin/false: '/bin/false --version' failed"),
     "true": ("/bin/true", "/bin/true cannot build a C library here (exit 0, no library written)"),
 }
@@ -50,7 +51,7 @@ def test_a_compiler_that_is_not_one_is_named_with_the_fix(
     fresh: None,
 ) -> None:
     cc, said = CASES[case]
-    if not Path(cc).exists() and case != "missing":
+    if not Path(cc).exists() and case not in ("missing", "options"):
         pytest.skip(f"no {cc} here")
     monkeypatch.setenv("LEGDSL_CC", cc)
     assert main(_run(tmp_path, "auto")) == 0

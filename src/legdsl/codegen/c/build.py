@@ -148,7 +148,8 @@ def no_compiler() -> str | None:
         return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
     fix = "set LEGDSL_CC to a C compiler (gcc, clang) or unset it"
     if shutil.which(wanted) is None:
-        return f"LEGDSL_CC={wanted}: no such program; {fix}"
+        alone = " (name the program alone, without options)" if " " in wanted.strip() else ""
+        return f"LEGDSL_CC={wanted}: no such program{alone}; {fix}"
     return f"LEGDSL_CC={wanted}: '{wanted} --version' failed, not a C compiler; {fix}"
 
 
