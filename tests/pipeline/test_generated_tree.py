@@ -1,5 +1,6 @@
 """``legdsl run`` against a generated tree it must recompile but cannot write (a read-only
-checkout, a shared install): one line that names the tree and the fix, on both backends."""
+checkout, a shared install) or that is a file, and with a wrong ``LEGDSL_BACKEND``: one line
+that names what is wrong and the fix."""
 
 from __future__ import annotations
 
@@ -61,3 +62,15 @@ def test_a_generated_path_that_is_a_file_says_to_give_a_directory(
         f"legdsl: cannot write generated modules into {tmp_path / 'generated'}: it is a file; "
         "give --generated a directory you can write"
     ), err
+
+
+def test_a_wrong_legdsl_backend_is_named_as_the_variable(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """No --backend was given: the message names what was set, LEGDSL_BACKEND."""
+    monkeypatch.setenv("LEGDSL_BACKEND", "gcc")
+    argv = ["run", str(CREATURES / "hopper.leg"), "--time", "0.05",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == "legdsl: LEGDSL_BACKEND=gcc: use one of python, c, auto", err

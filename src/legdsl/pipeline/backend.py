@@ -43,9 +43,10 @@ def make_simulation(
 ) -> Simulation:
     """A simulation on ``backend`` (None: ``chosen``); ``where`` is (the .leg file, generated/,
     its syntax tree)."""
-    backend = chosen(backend)
+    given, backend = backend, chosen(backend)
     if backend not in BACKENDS:
-        raise UsageError(f"--backend {backend}: use one of {', '.join(BACKENDS)}")
+        where = f"--backend {backend}" if given else f"LEGDSL_BACKEND={backend}"
+        raise UsageError(f"{where}: use one of {', '.join(BACKENDS)}")
     if backend == "python":
         return Simulation(model, dynamics, options, controller)
     from legdsl.codegen.c.build import BuildFailed, CompilerUnusable, NoCompiler
