@@ -152,3 +152,22 @@ def test_trimming_skips_what_it_cannot_remove(tmp_path: Path) -> None:
     os.utime(tmp_path / "stuck.so", (0, 0))  # the least recently used
     trim(tmp_path, keep=tmp_path / "keep.so", most=10)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.so", "stuck.so"]
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_killed_out_of_memory_is_not_an_internal_error(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """The probe's tiny library builds; the big dynamics.c is what the kernel kills."""
+    cc = _script(
+        tmp_path, "cc", 'for a in "$@"; do case "$a" in *dynamics.c) kill -9 $$;; esac; done\n'
+        'exec gcc "$@"\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert f"{cc} was killed (SIGKILL) building the C of hopper-hop, most likely out" in err, err
+    assert "running on the Python backend" in err

@@ -42,6 +42,7 @@ import contextlib
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -347,6 +348,11 @@ def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
 
 
 def _check(code: int, command: list[str], stderr: str, name: str, compiler: Compiler) -> None:
+    if code == -signal.SIGKILL:  # the kernel's out-of-memory killer, most likely: not our C
+        raise CompilerUnusable(
+            f"{compiler.path} was killed (SIGKILL) building the C of {name}, most likely out "
+            "of memory; close other programs and run again"
+        )
     if code != 0:
         raise BuildFailed(
             f"{compiler.path} failed on the C of {name} ({' '.join(command)}):\n" + stderr[-4000:]
