@@ -45,8 +45,8 @@ def make_simulation(
     its syntax tree)."""
     given, backend = backend, chosen(backend)
     if backend not in BACKENDS:
-        where = f"--backend {backend}" if given else f"LEGDSL_BACKEND={backend}"
-        raise UsageError(f"{where}: use one of {', '.join(BACKENDS)}")
+        named = f"--backend {backend}" if given else f"LEGDSL_BACKEND={backend}"
+        raise UsageError(f"{named}: use one of {', '.join(BACKENDS)}")
     if backend == "python":
         return Simulation(model, dynamics, options, controller)
     from legdsl.codegen.c.build import BuildFailed, CompilerUnusable, NoCompiler
