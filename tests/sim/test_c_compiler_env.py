@@ -171,3 +171,17 @@ def test_a_compiler_killed_out_of_memory_is_not_an_internal_error(
     err = capsys.readouterr().err
     assert f"{cc} was killed (SIGKILL) building the C of hopper-hop, most likely out" in err, err
     assert "running on the Python backend" in err
+
+
+def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """LEGDSL_CACHE=~/x from a settings file no shell expanded: not a folder '~' here."""
+    from legdsl.codegen.c.build import cache_dir
+
+    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.setenv("LEGDSL_CACHE", "~/legdsl-cache")
+    assert cache_dir() == tmp_path / "legdsl-cache"
+    monkeypatch.delenv("LEGDSL_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", "~/.cache")
+    assert cache_dir() == tmp_path / ".cache" / "legdsl"

@@ -112,10 +112,11 @@ class Built:
 
 
 def cache_dir() -> Path:
+    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
     if os.environ.get("LEGDSL_CACHE"):
-        return Path(os.environ["LEGDSL_CACHE"])
+        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "legdsl"
+    return Path(base).expanduser() / "legdsl"
 
 
 @lru_cache(maxsize=8)
