@@ -185,3 +185,19 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     monkeypatch.delenv("LEGDSL_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", "~/.cache")
     assert cache_dir() == tmp_path / ".cache" / "legdsl"
+
+
+def test_the_sources_of_a_killed_build_are_removed_in_time(tmp_path: Path) -> None:
+    import os
+
+    from legdsl.codegen.c.build import LEFTOVER_SECONDS, trim
+
+    for name in (".hopper-src-abc", ".probe-xyz", ".kangaroo-src-new"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "dynamics.c").write_text("/* ... */")
+    old = os.stat(tmp_path).st_mtime - LEFTOVER_SECONDS - 60
+    for name in (".hopper-src-abc", ".probe-xyz"):
+        os.utime(tmp_path / name, (old, old))
+    (tmp_path / "keep.so").write_bytes(b"x")
+    trim(tmp_path, keep=tmp_path / "keep.so")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".kangaroo-src-new", "keep.so"]

@@ -74,6 +74,7 @@ LIBS = ("-lm",)
 LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
+LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
 UNITS = (
     "dynamics.c",
@@ -328,7 +329,12 @@ def sealed(path: Path) -> bool:
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
     """Remove the least recently used libraries while the cache holds more than ``most`` bytes.
     A process that has a removed library loaded keeps it (the file lives on until closed); one
-    about to load it builds it again (``legdsl.sim.c_library.load_library``)."""
+    about to load it builds it again (``legdsl.sim.c_library.load_library``). The sources of
+    a build killed outright (SIGKILL, a power cut) are removed after ``LEFTOVER_SECONDS``."""
+    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
+        with contextlib.suppress(OSError):  # another process's, just removed
+            if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
+                shutil.rmtree(work, ignore_errors=True)
     found = []
     for path in root.glob("*.so"):
         try:
