@@ -43,18 +43,20 @@ def make_simulation(
 ) -> Simulation:
     """A simulation on ``backend`` (None: ``chosen``); ``where`` is (the .leg file, generated/,
     its syntax tree)."""
-    backend = chosen(backend)
+    given, backend = backend, chosen(backend)
     if backend not in BACKENDS:
-        raise UsageError(f"--backend {backend}: use one of {', '.join(BACKENDS)}")
+        named = f"--backend {backend}" if given else f"LEGDSL_BACKEND={backend}"
+        raise UsageError(f"{named}: use one of {', '.join(BACKENDS)}")
     if backend == "python":
         return Simulation(model, dynamics, options, controller)
-    from legdsl.codegen.c.build import BuildFailed, NoCompiler
+    from legdsl.codegen.c.build import BuildFailed, CompilerUnusable, NoCompiler
     from legdsl.sim.c_backend import CSimulation, available, load_library, python_version_note
 
     missing = available()
     if missing is not None:
         if backend == "c":
-            raise UsageError(f"--backend c: {missing}; install gcc or use --backend python")
+            fix = "" if missing.startswith("LEGDSL_CC") else "install gcc "  # it said what to do
+            raise UsageError(f"--backend c: {missing}; {fix}or use --backend python")
         if log is not None:
             print(f"legdsl: {missing}: running on the Python backend", file=log)
         return Simulation(model, dynamics, options, controller)
@@ -83,6 +85,12 @@ def make_simulation(
             library = load_library(model, folder, name, trust=_BATCH[0] > 0)
         except NoCompiler as e:  # the compiler went away between the check and the build
             raise UsageError(f"--backend {backend}: {e}") from None
+        except CompilerUnusable as e:  # LEGDSL_CC is no compiler, or one without its headers
+            if backend == "c":
+                raise UsageError(f"--backend c: {e}; or use --backend python") from None
+            if log is not None:
+                print(f"legdsl: {e}: running on the Python backend", file=log)
+            return Simulation(model, dynamics, options, controller)
         except BuildFailed as e:
             raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
         except OSError as e:  # the cache is full, unwritable, or on a file system without exec

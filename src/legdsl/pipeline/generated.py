@@ -90,10 +90,7 @@ def _load(
             reason = "stale"
     if log is not None:
         print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
-    compiled = (
-        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
-    )
-    write_generated(compiled, generated)
+    _recompile(model, source, generated, syntax)
     return import_module_file(path, label + "_new")
 
 
@@ -128,11 +125,24 @@ def c_sources(
         if log is not None:
             listed = ", ".join(names)
             print(f"legdsl: {folder}/{{{listed}}}: {why}; compiling {source}", file=log)
-        compiled = (
-            compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
-        )
-        write_generated(compiled, generated)
+        _recompile(model, source, generated, syntax)
     return folder
+
+
+def _recompile(model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None) -> None:
+    """Compile the creature again into ``generated/NAME/``; a tree that cannot be written (a
+    read-only checkout, a shared install) is the user's to fix, and the message says how."""
+    compiled = (
+        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+    )
+    try:
+        write_generated(compiled, generated)
+    except OSError as e:
+        raise UsageError(
+            f"the generated modules of {model.name} in {generated} are out of date and cannot "
+            f"be written there ({_why(e)}); make it writable, or give --generated a directory "
+            "you can write"
+        ) from None
 
 
 def _changed(folder: Path, names: Sequence[str]) -> Iterator[tuple[str, str]]:
@@ -169,7 +179,11 @@ def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) ->
     try:
         root.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise UsageError(f"cannot write generated modules into {root}: {_why(e)}") from e
+        why = "it is a file" if root.is_file() else _why(e)
+        raise UsageError(
+            f"cannot write generated modules into {root}: {why}; "
+            "give --generated a directory you can write"
+        ) from e
     final = root / name
     recover_dir(final)
     fresh = temp_sibling(final, "new")

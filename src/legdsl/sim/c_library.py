@@ -21,8 +21,10 @@ from legdsl.codegen.c.build import (
     RUNTIME,
     RUNTIME_FILES,
     Built,
+    CompilerUnusable,
     build,
     find_compiler,
+    no_compiler,
     sources,
 )
 from legdsl.ir.model import Model
@@ -97,9 +99,7 @@ _TRUSTED: dict[tuple[str, str], CLibrary] = {}  # the last library found for (na
 
 def available() -> str | None:
     """None when the C backend can run here, else why not (one line)."""
-    if find_compiler() is None:
-        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
-    return None
+    return no_compiler()
 
 
 def load_library(
@@ -133,6 +133,13 @@ def load_library(
                 raise  # e.g. a cache on a file system that may not map code (noexec)
             built = build(name, files_text)  # another process trimmed the cache meanwhile
             _LOADED[built.path] = CLibrary(built, model)
+        except (ValueError, AttributeError) as e:  # a symbol missing: not built as legdsl's C
+            built.path.unlink(missing_ok=True)  # so that no later run loads it again
+            by = getattr(find_compiler(), "path", "the C compiler")
+            raise CompilerUnusable(
+                f"the library {by} built lacks legdsl's symbols ({e}); "
+                "set LEGDSL_CC to a C compiler (gcc, clang)"
+            ) from None
     _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
     return _LOADED[built.path]
 

@@ -135,6 +135,7 @@ class SwitchingMachine:
         self.params_given = dict(params)
         self.by_controller = {k: dict(v) for k, v in (by_controller or {}).items()}
         self.commanded = dict(inputs)  # the latest command of every input, by name
+        self._commanded_at: dict[str, float] = {}  # the time each was commanded for (@T)
         self._pending = sorted(schedule, key=lambda c: c.t)
         self._paths = list(paths)  # as given; each controller takes those that concern it
         self._waiting = list(self.switches)
@@ -227,7 +228,10 @@ class SwitchingMachine:
         for change in [c for c in self._pending if c.t <= t + 1e-12]:
             if not self._with_switch(change) or (switch is not None and change.t == switch.t):
                 self._pending.remove(change)
-                self.commanded[change.name] = change.value
+                # a switch's command, held until it takes over, loses to one for a later time
+                if change.t >= self._commanded_at.get(change.name, -math.inf):
+                    self.commanded[change.name] = change.value
+                    self._commanded_at[change.name] = change.t
 
     def __call__(self, sim: Any) -> None:
         t = sim.t

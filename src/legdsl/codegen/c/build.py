@@ -20,6 +20,9 @@ the biped's dynamics; without it the runs stay identical with any ``-march``, fo
 vectorized) about 9% sooner (docs/runtime.md); a library built for one processor may not run
 on another, so the key of the cache names the processor features ``-march=native`` turns on.
 
+The compiler found must build a tiny library when a build fails (``probe``): one that cannot
+(not a compiler, no headers) is the user's to fix (``CompilerUnusable``), else the C is legdsl's.
+
 The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
 A library is named by the hash of its sources, the compiler's path and version, the flags and
 the processor's features,
@@ -39,6 +42,7 @@ import contextlib
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -67,8 +71,10 @@ FLAGS = (
     "-shared",
 )
 LIBS = ("-lm",)
+LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
+LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
 UNITS = (
     "dynamics.c",
@@ -88,6 +94,11 @@ class BuildFailed(Exception):
     """The C compiler refused the generated code (a legdsl bug: the message has its output)."""
 
 
+class CompilerUnusable(Exception):
+    """The compiler found cannot build even a tiny library (not a C compiler, or one without
+    its headers): the user's environment, not legdsl's code; the message says what to do."""
+
+
 @dataclass(frozen=True)
 class Compiler:
     path: str
@@ -102,10 +113,11 @@ class Built:
 
 
 def cache_dir() -> Path:
+    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
     if os.environ.get("LEGDSL_CACHE"):
-        return Path(os.environ["LEGDSL_CACHE"])
+        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "legdsl"
+    return Path(base).expanduser() / "legdsl"
 
 
 @lru_cache(maxsize=8)
@@ -128,6 +140,20 @@ def _compiler(wanted: str | None) -> Compiler | None:
 def find_compiler() -> Compiler | None:
     """The C compiler to build with, or None when there is none."""
     return _compiler(os.environ.get("LEGDSL_CC") or None)
+
+
+def no_compiler() -> str | None:
+    """None when a compiler is found, else why not, in one line that says what to do."""
+    if find_compiler() is not None:
+        return None
+    wanted = os.environ.get("LEGDSL_CC") or None
+    if wanted is None:
+        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
+    fix = "set LEGDSL_CC to a C compiler (gcc, clang) or unset it"
+    if shutil.which(wanted) is None:
+        alone = " (name the program alone, without options)" if " " in wanted.strip() else ""
+        return f"LEGDSL_CC={wanted}: no such program{alone}; {fix}"
+    return f"LEGDSL_CC={wanted}: '{wanted} --version' failed, not a C compiler; {fix}"
 
 
 def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str]:
@@ -170,7 +196,7 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
     for name in sorted(files):
         digest.update(f"{name}\0{len(files[name])}\0".encode())
         digest.update(files[name].encode())
-    given = " ".join(flags(compiler) + LIBS)
+    given = " ".join(flags(compiler) + LIBS + LANGUAGE)
     digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
     return digest.hexdigest()[:20]
 
@@ -179,7 +205,7 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
     """The shared library of ``files`` (compiled now unless the cache has it)."""
     compiler = compiler or find_compiler()
     if compiler is None:
-        raise NoCompiler("no C compiler found (looked for $LEGDSL_CC, cc, gcc, clang)")
+        raise NoCompiler(no_compiler() or "no C compiler found")
     root = cache_dir()
     root.mkdir(parents=True, exist_ok=True)
     final = root / f"{name}-{library_key(files, compiler)}.so"
@@ -190,6 +216,19 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
             return Built(final, cached=True, seconds=0.0)
         final.unlink(missing_ok=True)  # damaged: built again below
     start = time.perf_counter()
+    try:
+        _compile(name, files, compiler, root, final)
+    except BuildFailed as e:
+        why = probe(compiler, root)
+        if why is not None:  # the compiler, not the generated C: the user's to fix
+            raise CompilerUnusable(why) from e
+        raise
+    trim(root, keep=final)
+    return Built(final, cached=False, seconds=time.perf_counter() - start)
+
+
+def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, final: Path) -> None:
+    """Compile ``files`` into the library ``final``, through a temporary directory in ``root``."""
     with tempfile.TemporaryDirectory(dir=root, prefix=f".{name}-src-") as work:
         for file, text in files.items():
             (Path(work) / file).write_text(text)
@@ -201,19 +240,73 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
         started = []
         for unit in UNITS:
             source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
-            command = [compiler.path, *compile_flags, "-I", work, "-c", "-o", obj, source]
-            started.append((command, subprocess.Popen(command, stderr=subprocess.PIPE, text=True)))
+            command = [
+                compiler.path,
+                *compile_flags,
+                "-I",
+                work,
+                "-c",
+                "-o",
+                obj,
+                *LANGUAGE,
+                source,
+            ]
+            started.append((command, _start(command, compiler)))
         errors = [process.communicate()[1] for _, process in started]  # all, failed or not
         for (command, process), err in zip(started, errors, strict=True):
             _check(process.returncode, command, err, name, compiler)
         objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
         command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-        done = subprocess.run(command, capture_output=True, text=True)
-        _check(done.returncode, command, done.stderr, name, compiler)
+        done = _start(command, compiler)
+        err = done.communicate()[1]
+        _check(done.returncode, command, err, name, compiler)
+        if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
+            _check(1, command, "it wrote no shared library", name, compiler)
         seal(partial)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
-    trim(root, keep=final)
-    return Built(final, cached=False, seconds=time.perf_counter() - start)
+
+
+PROBE = (
+    "#include <float.h>\n#include <math.h>\n#include <stdint.h>\n#include <string.h>\n"
+    'double legdsl_probe(double x) { return sin(x) + (double)strlen("") + DBL_EPSILON; }\n'
+)
+
+
+def probe(compiler: Compiler, root: Path) -> str | None:
+    """None when ``compiler`` builds a tiny shared library with the headers the runtime uses,
+    else why not, in one line: after a failed build, this tells a broken or missing compiler
+    (the user's to fix) from C legdsl generated wrong (legdsl's bug)."""
+    with tempfile.TemporaryDirectory(dir=root, prefix=".probe-") as work:
+        source, out = Path(work) / "probe.c", Path(work) / "probe.so"
+        source.write_text(PROBE)
+        command = [compiler.path, "-std=c99", "-fPIC", "-shared", "-o", str(out), str(source)]
+        try:
+            done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        except (OSError, subprocess.SubprocessError) as e:
+            said = str(e)
+        else:
+            if done.returncode == 0 and _is_elf(out):
+                return None
+            lines = [line for line in done.stderr.splitlines() if line.strip()]
+            said = lines[0].strip() if lines else f"exit {done.returncode}, no library written"
+            said = said.replace(f"{work}{os.sep}", "")  # probe.c:1:19: error: ...
+    fix = "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
+    return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
+
+
+def _start(command: list[str], compiler: Compiler) -> subprocess.Popen[str]:
+    try:
+        return subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    except OSError as e:  # removed or made unrunnable since it was found
+        raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e})") from e
+
+
+def _is_elf(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            return f.read(4) == b"\x7fELF"
+    except OSError:
+        return False
 
 
 def seal(path: Path) -> None:
@@ -236,7 +329,12 @@ def sealed(path: Path) -> bool:
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
     """Remove the least recently used libraries while the cache holds more than ``most`` bytes.
     A process that has a removed library loaded keeps it (the file lives on until closed); one
-    about to load it builds it again (``legdsl.sim.c_library.load_library``)."""
+    about to load it builds it again (``legdsl.sim.c_library.load_library``). The sources of
+    a build killed outright (SIGKILL, a power cut) are removed after ``LEFTOVER_SECONDS``."""
+    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
+        with contextlib.suppress(OSError):  # another process's, just removed
+            if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
+                shutil.rmtree(work, ignore_errors=True)
     found = []
     for path in root.glob("*.so"):
         try:
@@ -249,11 +347,19 @@ def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
         if total <= most:
             break
         if path != keep:
-            path.unlink(missing_ok=True)
+            try:
+                path.unlink(missing_ok=True)
+            except OSError:  # another user's, in a shared cache: theirs to remove
+                continue
             total -= size
 
 
 def _check(code: int, command: list[str], stderr: str, name: str, compiler: Compiler) -> None:
+    if code == -signal.SIGKILL:  # the kernel's out-of-memory killer, most likely: not our C
+        raise CompilerUnusable(
+            f"{compiler.path} was killed (SIGKILL) building the C of {name}, most likely out "
+            "of memory; close other programs and run again"
+        )
     if code != 0:
         raise BuildFailed(
             f"{compiler.path} failed on the C of {name} ({' '.join(command)}):\n" + stderr[-4000:]

@@ -1,0 +1,203 @@
+"""A C compiler that is missing, is not a compiler, or cannot build: one line that says what to
+do, and the Python backend under ``--backend auto``; never a traceback, an exit 70 or a notice
+that blames the cache."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, GENERATED
+
+from legdsl.cli import main
+from legdsl.sim import c_library
+
+
+def _script(tmp_path: Path, name: str, text: str) -> str:
+    path = tmp_path / name
+    path.write_text("#!/bin/sh\n" + text)
+    path.chmod(0o755)
+    return str(path)
+
+
+def _run(tmp_path: Path, backend: str) -> list[str]:
+    return ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.05",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run"),
+            "--backend", backend]  # fmt: skip
+
+
+@pytest.fixture
+def fresh(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    for known in ("_LOADED", "_BY_STAT", "_TRUSTED"):  # as in a new process: nothing loaded yet
+        monkeypatch.setattr(c_library, known, {})
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+
+
+CASES = {
+    "missing": ("/nonexistent/cc", "LEGDSL_CC=/nonexistent/cc: no such program"),
+    "options": ("gcc -O0", "LEGDSL_CC=gcc -O0: no such program (name the program alone, "),
+    "false": ("/bin/false", "LEGDSL_CC=/bin/false: '/bin/false --version' failed"),
+    "true": ("/bin/true", "/bin/true cannot build a C library here (exit 0, no library written)"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_a_compiler_that_is_not_one_is_named_with_the_fix(
+    case: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    cc, said = CASES[case]
+    if not Path(cc).exists() and case not in ("missing", "options"):
+        pytest.skip(f"no {cc} here")
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert said in err and "running on the Python backend" in err, err
+    assert "LEGDSL_CC" in err and "cannot build or load the C library in" not in err
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert said in err and "use --backend python" in err and "Traceback" not in err, err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_a_compiler_that_fails_is_the_users_to_fix_not_an_internal_error(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """It answers --version but builds nothing (a licence server down, a broken wrapper)."""
+    cc = _script(
+        tmp_path, "cc", '[ "$1" = --version ] && echo "cc 1.0" && exit 0\n'
+        'echo "fatal: licence expired" >&2; exit 1\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert f"{cc} cannot build a C library here (fatal: licence expired)" in err, err
+    assert "running on the Python backend" in err
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert "fatal: licence expired" in err and "Traceback" not in err, err
+    assert [p.name for p in (tmp_path / "cache").iterdir()] == []  # no leftover probe or sources
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_without_its_headers_is_told_to_install_them(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    cc = _script(tmp_path, "cc", 'exec gcc -nostdinc "$@"\n')
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert f"{cc} cannot build a C library here (probe.c:1:" in err, err
+    assert "libc6-dev" in err and "Traceback" not in err
+
+
+@pytest.mark.skipif(shutil.which("g++") is None, reason="needs g++")
+def test_a_cpp_driver_compiles_the_library_as_c(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """g++ took the .c files for C++: mangled names, and an internal error on load."""
+    monkeypatch.setenv("LEGDSL_CC", "g++")
+    assert main(_run(tmp_path, "c")) == 0, capsys.readouterr().err
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_library_without_legdsls_symbols_is_refused_and_removed(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    import subprocess
+
+    from legdsl.codegen.c.build import Built
+
+    (tmp_path / "other.c").write_text("int something_else(void) { return 1; }\n")
+    other = tmp_path / "cache" / "other.so"
+    other.parent.mkdir()
+    subprocess.run(
+        ["gcc", "-shared", "-fPIC", "-o", str(other), str(tmp_path / "other.c")], check=True
+    )
+    monkeypatch.setattr(c_library, "build", lambda name, files: Built(other, True, 0.0))
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert "lacks legdsl's symbols" in err and "set LEGDSL_CC to a C compiler" in err, err
+    assert "internal error" not in err and not other.exists()
+
+
+def test_trimming_skips_what_it_cannot_remove(tmp_path: Path) -> None:
+    """A shared cache holds other users' libraries: one that cannot be removed is left, and
+    the build that trims does not fail for it (else its run fell back to Python)."""
+    import os
+
+    from legdsl.codegen.c.build import trim
+
+    (tmp_path / "stuck.so").mkdir()  # unlink() refuses it, as it refuses another's file
+    (tmp_path / "stuck.so" / "x").write_bytes(b"x" * 3000)
+    for k, name in enumerate(["old.so", "keep.so"]):
+        (tmp_path / name).write_bytes(b"x" * 1000)
+        os.utime(tmp_path / name, (1000 + k, 1000 + k))
+    os.utime(tmp_path / "stuck.so", (0, 0))  # the least recently used
+    trim(tmp_path, keep=tmp_path / "keep.so", most=10)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.so", "stuck.so"]
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_killed_out_of_memory_is_not_an_internal_error(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """The probe's tiny library builds; the big dynamics.c is what the kernel kills."""
+    cc = _script(
+        tmp_path, "cc", 'for a in "$@"; do case "$a" in *dynamics.c) kill -9 $$;; esac; done\n'
+        'exec gcc "$@"\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    assert main(_run(tmp_path, "auto")) == 0
+    err = capsys.readouterr().err
+    assert f"{cc} was killed (SIGKILL) building the C of hopper-hop, most likely out" in err, err
+    assert "running on the Python backend" in err
+
+
+def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """LEGDSL_CACHE=~/x from a settings file no shell expanded: not a folder '~' here."""
+    from legdsl.codegen.c.build import cache_dir
+
+    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.setenv("LEGDSL_CACHE", "~/legdsl-cache")
+    assert cache_dir() == tmp_path / "legdsl-cache"
+    monkeypatch.delenv("LEGDSL_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", "~/.cache")
+    assert cache_dir() == tmp_path / ".cache" / "legdsl"
+
+
+def test_the_sources_of_a_killed_build_are_removed_in_time(tmp_path: Path) -> None:
+    import os
+
+    from legdsl.codegen.c.build import LEFTOVER_SECONDS, trim
+
+    for name in (".hopper-src-abc", ".probe-xyz", ".kangaroo-src-new"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "dynamics.c").write_text("/* ... */")
+    old = os.stat(tmp_path).st_mtime - LEFTOVER_SECONDS - 60
+    for name in (".hopper-src-abc", ".probe-xyz"):
+        os.utime(tmp_path / name, (old, old))
+    (tmp_path / "keep.so").write_bytes(b"x")
+    trim(tmp_path, keep=tmp_path / "keep.so")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".kangaroo-src-new", "keep.so"]

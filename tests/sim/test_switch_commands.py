@@ -1,0 +1,31 @@
+"""A command given for a switch's time waits for the new controller to take over; one given
+for a later time before that takes over is the latest, and the new controller starts with
+it, not with the older one held for the switch (on both backends)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, GENERATED
+
+from legdsl.cli import main
+
+
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_a_later_command_is_not_undone_by_the_switchs_own(backend: str, tmp_path: Path) -> None:
+    if backend == "c":
+        from legdsl.sim.c_library import available
+
+        if available() is not None:
+            pytest.skip(f"needs a C compiler: {available()}")
+    out = tmp_path / "run"
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1.2",
+            "--generated", str(GENERATED), "--out", str(out), "--backend", backend,
+            "--switch", "0.05s=hop", "--set", "speed=1.5m/s@0.05s",
+            "--set", "speed=0.5m/s@0.06s"]  # fmt: skip
+    assert main(argv) == 0
+    segments = json.loads((out / "run.json").read_text())["segments"]
+    assert len(segments) == 2 and segments[1]["from"] > 0.06, segments
+    assert segments[1]["inputs"]["speed"] == 0.5, segments
