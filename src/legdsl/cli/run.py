@@ -117,7 +117,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
     check_run_options(options)
-    for note in too_late(settings, switches, options.duration):
+    for note in too_late(settings, options.duration):
         print(f"legdsl: note: {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = ProgressBar() if sys.stderr.isatty() else None

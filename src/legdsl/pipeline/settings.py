@@ -385,19 +385,17 @@ def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
     return Switch(given.value, name)
 
 
-def too_late(settings: Sequence[str], switches: Sequence[str], duration: float) -> list[str]:
-    """The timed changes (``--set NAME=V@T``, ``--switch T=NAME``, a scene's ``at T``) that
-    come after the run's end: notes for the user, since they will not happen."""
-    timed = [(text.rpartition("@")[2], f"--set {text}") for text in settings if "@" in text]
-    timed += [(text.partition("=")[0], f"--switch {text}") for text in switches]
+def too_late(settings: Sequence[str], duration: float) -> list[str]:
+    """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
+    run's end: notes for the user, since they will not happen (a switch that never took over
+    is told after the run, which knows whether it waited for a liftoff)."""
     notes = []
-    for when, text in timed:
+    for text in (text for text in settings if "@" in text):
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
-            at = parse_given(when, text).value
-            if at > duration:
+            if parse_given(text.rpartition("@")[2], text).value > duration:
                 notes.append(
-                    f"{text} comes after the run's end ({duration:g} s) and has no effect; "
-                    "give a longer --time to see it"
+                    f"--set {text} comes after the run's end ({duration:g} s) and has no "
+                    "effect; give a longer --time to see it"
                 )
     return notes
 
