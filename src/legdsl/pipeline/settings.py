@@ -392,7 +392,9 @@ def too_late(settings: Sequence[str], duration: float) -> list[str]:
     notes = []
     for text in (text for text in settings if "@" in text):
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
-            if parse_given(text.rpartition("@")[2], text).value > duration:
+            given = parse_given(text.rpartition("@")[2], text)
+            check_dimension(text, "", given, _TIME, "@{}")
+            if given.value > duration:
                 notes.append(
                     f"--set {text} comes after the run's end ({duration:g} s) and has no "
                     "effect; give a longer --time to see it"
