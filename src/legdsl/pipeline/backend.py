@@ -52,14 +52,18 @@ def make_simulation(
     from legdsl.codegen.c.build import BuildFailed, CompilerUnusable, NoCompiler
     from legdsl.sim.c_backend import CSimulation, available, load_library, python_version_note
 
-    missing = available()
-    if missing is not None:
+    def python_instead(why: str, fix: str = "") -> Simulation:
+        """Where C cannot run: an error with ``--backend c`` (``fix`` then says what to do
+        first), else the Python backend with a one-line notice."""
         if backend == "c":
-            fix = "" if missing.startswith("LEGDSL_CC") else "install gcc "  # it said what to do
-            raise UsageError(f"--backend c: {missing}; {fix}or use --backend python")
+            raise UsageError(f"--backend c: {why}; {fix}or use --backend python") from None
         if log is not None:
-            print(f"legdsl: {missing}: running on the Python backend", file=log)
+            print(f"legdsl: {why}: running on the Python backend", file=log)
         return Simulation(model, dynamics, options, controller)
+
+    missing = available()
+    if missing is not None:  # a LEGDSL_CC that is wrong is told what to do already
+        return python_instead(missing, "" if missing.startswith("LEGDSL_CC") else "install gcc ")
     from legdsl.sim.c_mirrors import step_matches
 
     if not step_matches():  # the Python runtime was edited since step.c was brought in line
@@ -86,23 +90,14 @@ def make_simulation(
         except NoCompiler as e:  # the compiler went away between the check and the build
             raise UsageError(f"--backend {backend}: {e}") from None
         except CompilerUnusable as e:  # LEGDSL_CC is no compiler, or one without its headers
-            if backend == "c":
-                raise UsageError(f"--backend c: {e}; or use --backend python") from None
-            if log is not None:
-                print(f"legdsl: {e}: running on the Python backend", file=log)
-            return Simulation(model, dynamics, options, controller)
+            return python_instead(str(e))
         except BuildFailed as e:
             raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
         except OSError as e:  # the cache is full, unwritable, or on a file system without exec
-            why = f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})"
-            if backend == "c":
-                raise UsageError(
-                    f"--backend c: {why}; free space there, set LEGDSL_CACHE to another "
-                    "directory, or use --backend python"
-                ) from None
-            if log is not None:
-                print(f"legdsl: {why}: running on the Python backend", file=log)
-            return Simulation(model, dynamics, options, controller)
+            return python_instead(
+                f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})",
+                "free space there, set LEGDSL_CACHE to another directory, ",
+            )
         if log is not None and not library.built.cached:
             print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
         libraries[name] = library
