@@ -1,14 +1,25 @@
-"""A switch the run ends before (given for after ``--time``, or still waiting for a liftoff)
-is said in one line, on both backends; a run whose switches were all made says nothing."""
+"""A switch that never takes over is said in one line, on both backends: one the run ends
+before (given for after ``--time``, or still waiting for a liftoff), and one still waiting
+when the next comes due (the later takes over); a run whose switches were all made says
+nothing. Two switches at one time are refused."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED
 
 from legdsl.cli import main
+
+
+def _needs_compiler() -> None:
+    from legdsl.sim.c_library import available
+
+    if available() is not None:
+        pytest.skip(f"needs a C compiler: {available()}")
 
 
 @pytest.mark.parametrize("backend", ["python", "c"])
@@ -16,10 +27,7 @@ def test_a_switch_after_the_end_is_said(
     backend: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     if backend == "c":
-        from legdsl.sim.c_library import available
-
-        if available() is not None:
-            pytest.skip(f"needs a C compiler: {available()}")
+        _needs_compiler()
     argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.2",
             "--generated", str(GENERATED), "--out", str(tmp_path / "run"), "--backend", backend,
             "--switch", "5s=hop", "--switch", "0.19s=hop"]  # fmt: skip
@@ -32,3 +40,53 @@ def test_a_switch_after_the_end_is_said(
     argv[argv.index("--time") + 1] = "1.2"  # the handover comes by 1.05 s at the latest
     assert main([*argv[:-4], "--switch", "0.05s=hop"]) == 0
     assert "before the switch" not in capsys.readouterr().err
+
+
+# a controller with no liftoff event: it takes over on the first tick its switch is due
+HOLD = """
+controller hold {
+  roles active = main
+  table {
+    state STAND on touchdown(active): free_hip(active)
+  }
+}
+"""
+
+
+def test_a_switch_still_waiting_when_the_next_is_due_gives_way(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Not two controller changes on one tick (the first a zero-length segment): the later
+    switch takes over, on the first tick it is due, the same on both backends."""
+    _needs_compiler()
+    leg = tmp_path / "hopper.leg"
+    leg.write_text((CREATURES / "hopper.leg").read_text() + HOLD)
+    runs = {}
+    for backend in ("python", "c"):
+        out = tmp_path / backend
+        argv = ["run", str(leg), "--controller", "hop", "--time", "0.4", "--backend", backend,
+                "--generated", str(tmp_path / "gen"), "--out", str(out),
+                "--switch", "0.19s=hop", "--switch", "0.25s=hold"]  # fmt: skip
+        assert main(argv) == 0
+        assert (
+            "legdsl: the switch to hop at 0.19 s was still waiting for a liftoff when the one to "
+            "hold at 0.25 s came due, and never took over"
+        ) in capsys.readouterr().err
+        info = json.loads((out / "run.json").read_text())
+        assert info["switches"][0]["superseded_by"] == {"t": 0.25, "controller": "hold"}
+        assert [(s["controller"], s["from"], s["to"]) for s in info["segments"]] == [
+            ("hop", 0.0, 0.25), ("hold", 0.25, 0.4),
+        ]  # fmt: skip
+        runs[backend] = np.load(out / "trajectory.npz")
+    python, c = runs["python"], runs["c"]
+    assert all(np.array_equal(python[k], c[k], equal_nan=True) for k in python.files)
+
+
+def test_two_switches_at_one_time_are_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1",
+            "--switch", "0.5s=hop", "--switch", "500ms=hop"]  # fmt: skip
+    assert main(argv) == 2
+    assert (
+        "--switch 0.5s=hop and --switch 0.5s=hop are at the same time: the run changes to one "
+        "controller at a time; keep one"
+    ) in capsys.readouterr().err

@@ -133,9 +133,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {os.path.join(out, '')} (trajectory.npz, trajectory.csv, run.json)")
-    late = _switches_not_made(run)
-    if late:
-        print(f"legdsl: {late}", file=sys.stderr)
+    for notice in _switches_not_made(run):
+        print(f"legdsl: {notice}", file=sys.stderr)
     if args.animate:
         from legdsl.export.animate import animate_result
 
@@ -157,25 +156,32 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _switches_not_made(run: Any) -> str:
-    """A one-line notice of the switches the run ended before (given for after its end, or
-    still waiting for a liftoff), else "": run.json lists them with the switches made."""
+def _switches_not_made(run: Any) -> list[str]:
+    """Notices of the switches that never took over: those still waiting for a
+    liftoff when the next came due, and those the run ended before (given for after its end,
+    or still waiting). run.json lists them with the switches made."""
     from legdsl.sim.switching import HANDOVER_WAIT, SwitchingMachine
 
     machine = run.machine
-    if not isinstance(machine, SwitchingMachine) or run.result.status != "ok":
-        return ""
-    made = len(machine.segment_info(run.result.sim_time)) - 1
-    left = machine.switches[made:]
-    if not left:
-        return ""
-    which = ", ".join(f"{w.controller} at {w.t:g} s" for w in left)
-    s = "es" if len(left) > 1 else ""
-    return (
-        f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
-        f"over (a switch waits up to {HANDOVER_WAIT:g} s for a liftoff); give a longer --time "
-        "to see it"
-    )
+    if not isinstance(machine, SwitchingMachine):
+        return []
+    lines = [
+        f"the switch to {gone.controller} at {gone.t:g} s was still waiting for a liftoff when "
+        f"the one to {by.controller} at {by.t:g} s came due, and never took over (a switch "
+        f"waits up to {HANDOVER_WAIT:g} s): give the later one a later time to see both"
+        for gone, by in machine.superseded
+    ]
+    over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
+    left = [w for w in machine.switches if id(w) not in over]
+    if left and run.result.status == "ok":
+        which = ", ".join(f"{w.controller} at {w.t:g} s" for w in left)
+        s = "es" if len(left) > 1 else ""
+        lines.append(
+            f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
+            f"over (a switch waits up to {HANDOVER_WAIT:g} s for a liftoff); give a longer "
+            "--time to see it"
+        )
+    return lines
 
 
 def add_run_parser(sub: Any) -> Command:

@@ -16,6 +16,7 @@ path reports of a run that followed paths.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -154,6 +155,12 @@ class RunSession:
         changes = [
             w if isinstance(w, Switch) else parse_switch(w, self.controllers) for w in switches
         ]
+        for a, b in itertools.pairwise(sorted(changes, key=lambda w: w.t)):
+            if abs(a.t - b.t) < 1e-9:
+                raise UsageError(
+                    f"--switch {a.t:g}s={a.controller} and --switch {b.t:g}s={b.controller} are "
+                    "at the same time: the run changes to one controller at a time; keep one"
+                )
         if changes and controller is None:
             raise UsageError("--switch: say which controller starts the run with --controller")
         if changes and scale is not None:
@@ -350,6 +357,9 @@ class Run:
             extra["path_reports"] = self.path_reports
             if isinstance(m, SwitchingMachine):
                 extra["switches"] = [{"t": w.t, "controller": w.controller} for w in m.switches]
+                for gone, by in m.superseded:  # it never took over: the later one came due
+                    entry = extra["switches"][m.switches.index(gone)]
+                    entry["superseded_by"] = {"t": by.t, "controller": by.controller}
                 extra["segments"] = m.segment_info(self.result.sim_time)
         result = self.result
         return {

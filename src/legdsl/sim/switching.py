@@ -139,6 +139,9 @@ class SwitchingMachine:
         self._pending = sorted(schedule, key=lambda c: c.t)
         self._paths = list(paths)  # as given; each controller takes those that concern it
         self._waiting = list(self.switches)
+        self.made: list[Switch] = []  # the switches that took over, in order
+        # a switch still waiting for a liftoff when the next came due, with the one that did
+        self.superseded: list[tuple[Switch, Switch]] = []
         self._pairs: dict[str, list[Pair]] = {}  # each controller's cycle, for the handover
         self.finished: list[tuple[str, StateMachine]] = []
         self.name = first
@@ -236,12 +239,17 @@ class SwitchingMachine:
     def __call__(self, sim: Any) -> None:
         t = sim.t
         self._command(t)
+        # a switch still waiting when the next comes due never takes over: the later one asked
+        # for is the one wanted now (else the run would change twice on one tick)
+        while len(self._waiting) > 1 and self._waiting[1].t <= t + 1e-12:
+            gone = self._waiting.pop(0)
+            self.superseded.append((gone, self._waiting[0]))
         while (
             self._waiting and self._waiting[0].t <= t + 1e-12 and self._ready(self._waiting[0], sim)
         ):
             switch = self._waiting[0]
             self._command(t, switch)
-            self._waiting.pop(0)
+            self.made.append(self._waiting.pop(0))
             self._switch(switch.controller, t)
             if abs(t - switch.t) > 1e-9:
                 self.segments[-1]["asked"] = switch.t
@@ -270,10 +278,11 @@ class SwitchingMachine:
     def own_ticks(self, has_ground: bool) -> tuple[float, float, float]:
         """Which ticks this machine must take itself, the current controller's machine taking
         the others alone (in C: ``switching_tick`` in step.c): those from the next command's
-        time on; from the next switch's time, those at a foot's liftoff until the third time
+        time on (or the time of the switch after the next, which supersedes it if it still
+        waits); from the next switch's time, those at a foot's liftoff until the third time
         (``_ready`` waits for one), then all."""
         commands = [c.t for c in self._pending if not self._with_switch(c)]
-        command_at = min(commands, default=math.inf)
+        command_at = min([*commands, *(w.t for w in self._waiting[1:2])], default=math.inf)
         if not self._waiting:
             return command_at, math.inf, math.inf
         switch = self._waiting[0]
