@@ -203,3 +203,42 @@ def test_the_sources_of_a_killed_build_are_removed_in_time(tmp_path: Path) -> No
     (tmp_path / "keep.so").write_bytes(b"x")
     trim(tmp_path, keep=tmp_path / "keep.so")
     assert sorted(p.name for p in tmp_path.iterdir()) == [".kangaroo-src-new", "keep.so"]
+
+
+def _edit(generated: Path, file: str, old: str, new: str) -> None:
+    """Edit a generated file by hand, and its checksum with it (so no compile is triggered)."""
+    import hashlib
+
+    path = generated / file
+    path.write_text(path.read_text().replace(old, new, 1))
+    sums = generated / "SHA256SUMS"
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    sums.write_text("".join(
+        f"{digest}  {file}\n" if line.endswith(f"  {file}") else line + "\n"
+        for line in sums.read_text().splitlines()
+    ))  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("new", "said"),
+    [("return @(", "error: stray '@' in program"), ("retrun (", "undefined symbol: retrun")],
+)
+def test_generated_c_edited_by_hand_that_cannot_build_is_the_users_to_fix(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fresh: None, new: str, said: str
+) -> None:
+    if c_library.available() is not None:
+        pytest.skip(f"needs a C compiler: {c_library.available()}")
+    generated = tmp_path / "gen"
+    shutil.copytree(GENERATED / "hopper", generated / "hopper")
+    _edit(generated / "hopper", "control_hop.c", "return (", new)
+    argv = _run(tmp_path, "c")
+    argv[argv.index("--generated") + 1] = str(generated)
+    assert main(argv) == 2
+    err = capsys.readouterr().err.replace("\u2018", "'").replace("\u2019", "'")
+    assert (
+        f"legdsl: the C library cannot be built from {generated}/hopper/control_hop.c, which "
+        f"differs from what legdsl generates from {CREATURES / 'hopper.leg'} (edited by hand?): "
+    ) in err, err
+    assert said in err and err.rstrip().endswith(
+        f"; run 'legdsl compile {CREATURES / 'hopper.leg'}' to write it again"
+    )

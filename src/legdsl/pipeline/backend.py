@@ -19,7 +19,7 @@ from legdsl.codegen.c.build import DYNAMICS_FILES, cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.generated import c_sources
+from legdsl.pipeline.generated import c_sources, edited_by_hand
 from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.simulate import Controller, Simulation
 
@@ -92,8 +92,10 @@ def make_simulation(
         except CompilerUnusable as e:  # LEGDSL_CC is no compiler, or one without its headers
             return python_instead(str(e))
         except BuildFailed as e:
-            raise RuntimeError(str(e)) from None  # legdsl's bug: exit 70 with the compiler's words
+            raise _build_failed(model, where, folder, name, e) from None
         except OSError as e:  # the cache is full, unwritable, or on a file system without exec
+            if "undefined symbol" in str(e):  # built, but calls a function nobody defines
+                raise _build_failed(model, where, folder, name, e) from None
             return python_instead(
                 f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})",
                 "free space there, set LEGDSL_CACHE to another directory, ",
@@ -102,6 +104,30 @@ def make_simulation(
             print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
         libraries[name] = library
     return CSimulation(model, dynamics, options, controller, libraries)
+
+
+def _build_failed(
+    model: Model,
+    where: tuple[Path, Path, ast.SourceFile | None],
+    folder: Path,
+    controller: str | None,
+    failure: Exception,
+) -> Exception:
+    """The C compiler refused generated C whose checksums match: the user's error when the
+    files are not what legdsl generates (edited by hand, SHA256SUMS with them), else legdsl's
+    bug (exit 70 with the compiler's words)."""
+    source, _, syntax = where
+    names = [*DYNAMICS_FILES] + ([f"control_{controller}.c"] if controller else [])
+    edited = edited_by_hand(model, source, folder, syntax, names)
+    if not edited:
+        return RuntimeError(str(failure))
+    lines = str(failure).splitlines()
+    said = next((line for line in lines[1:] if "error" in line), lines[0] if lines else "")
+    return UsageError(
+        f"the C library cannot be built from {folder / edited[0]}, which differs from what "
+        f"legdsl generates from {source} (edited by hand?){': ' + said.strip() if said else ''}; run "
+        f"'legdsl compile {source}' to write it again"
+    )
 
 
 # (model, controller, generated/) -> (the model, the stats of its C files when found fresh):

@@ -129,6 +129,27 @@ def c_sources(
     return folder
 
 
+def edited_by_hand(
+    model: Model, source: Path, folder: Path, syntax: ast.SourceFile | None, names: Sequence[str]
+) -> list[str]:
+    """Which of ``folder``'s files ``names`` differ from what legdsl generates for ``model``
+    now, below their first line (which names the .leg file as the compile that wrote them was
+    given it). It compiles again, which takes seconds: for a build that failed, to tell the
+    user's edit from legdsl's bug."""
+    compiled = (
+        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+    )
+    made = {name: text.partition("\n")[2] for name, text in compiled.files}
+    return [name for name in names if name in made and _body(folder / name) != made[name]]
+
+
+def _body(path: Path) -> str | None:
+    try:
+        return path.read_text(encoding="utf-8").partition("\n")[2]
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
 def _recompile(model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None) -> None:
     """Compile the creature again into ``generated/NAME/``; a tree that cannot be written (a
     read-only checkout, a shared install) is the user's to fix, and the message says how."""
