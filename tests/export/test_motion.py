@@ -242,3 +242,14 @@ def test_a_lifted_contacts_stale_force_is_not_drawn(tmp_path) -> None:
                 and (k + 1 >= len(tr.t) or lifted[k + 1, c])
             ):
                 assert np.all(motion.forces[f, c] == 0.0)
+
+
+def test_a_videos_frames_reach_the_end_of_the_run() -> None:
+    """Frames 1/fps apart from the start to the end, the last kept when the recorded end lies a
+    rounding error before it (as steps of dt add up); `animate --video` and `replay` both."""
+    from legdsl.export.motion import every_frame
+
+    assert len(every_frame(2.0, 30.0)) == 61
+    end = sum([0.001] * 2000)  # 1.9999999999998905: 2000 steps of 1 ms
+    assert end < 2.0 and every_frame(end, 30.0)[-1] == 2.0
+    assert len(every_frame(1.99, 30.0)) == 60 and len(every_frame(0.0, 30.0)) == 1

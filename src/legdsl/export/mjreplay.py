@@ -14,7 +14,6 @@ no OpenGL context can be had the command says so and why.
 
 from __future__ import annotations
 
-import math
 import os
 import time
 from collections.abc import Callable
@@ -23,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import interpolate_q, read_run
+from legdsl.export.motion import every_frame, interpolate_q, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model
@@ -66,7 +65,7 @@ def replay_frames(
     tr = run.trajectory
     # every frame 1/fps after the one before, as the mp4 plays them (the player's frame_times,
     # never denser than the samples, played a run recorded at 10 Hz three times too fast)
-    at = tr.t[0] + np.arange(int(math.floor(float(tr.t[-1] - tr.t[0]) * fps + 1e-9)) + 1) / fps
+    at = tr.t[0] + every_frame(float(tr.t[-1] - tr.t[0]), fps)
     q = interpolate_q(run.model, tr.t, tr.q, at)
     qpos = np.tile(mj.qpos0, (len(at), 1))
     qpos[:, qpos_map(run.model, mj)] = q

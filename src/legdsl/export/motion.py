@@ -254,6 +254,12 @@ def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
     return t[0] + step * np.arange(n)
 
 
+def every_frame(span: float, fps: float) -> np.ndarray:
+    """0, 1/fps, 2/fps, ... up to ``span`` (and one due within 1e-9 frame after it): a
+    video's frame times, each shown for 1/fps, from a run's start."""
+    return np.arange(int(math.floor(span * fps + 1e-9)) + 1) / fps
+
+
 def interpolate(t: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
     """Linear interpolation of ``values`` (N, ...) sampled at ``t`` (N,) to the times ``at``."""
     if len(t) == 1:

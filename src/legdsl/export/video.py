@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot
+from legdsl.export.motion import Motion, Snapshot, every_frame
 from legdsl.export.player import OVERLAYS
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.files import atomic_path
@@ -83,7 +83,7 @@ def render_video(
     )
     if motion.planar:
         ax.set_aspect("auto")
-    times = np.arange(0.0, motion.duration + 1e-9, 1.0 / fps)
+    times = every_frame(motion.duration, fps)
     frames = (_frame(fig, view, motion.at(float(t))) for t in times)
 
     def report(i: int) -> None:
