@@ -191,8 +191,10 @@ def test_a_switched_run_is_deterministic(session) -> None:
 
 
 def test_switch_mistakes_are_user_errors(session, capsys) -> None:
-    with pytest.raises(UsageError, match="controllers: run, gallop, gallop_human"):
+    with pytest.raises(UsageError, match=r"'biped' has no controller 'trot' \(it has run, gallop,"):
         session.run("run", switches=["2s=trot"])
+    with pytest.raises(UsageError, match="no controller 'galop'; did you mean 'gallop'"):
+        session.run("run", switches=["2s=galop"])
     with pytest.raises(UsageError, match="give its unit"):
         session.run("run", switches=["2=gallop"])
     with pytest.raises(UsageError, match="in seconds"):

@@ -152,9 +152,7 @@ class RunSession:
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
         switches = [switches] if isinstance(switches, str | Switch) else list(switches)
-        changes = [
-            w if isinstance(w, Switch) else parse_switch(w, self.controllers) for w in switches
-        ]
+        changes = [w if isinstance(w, Switch) else parse_switch(w, self.model) for w in switches]
         for a, b in itertools.pairwise(sorted(changes, key=lambda w: w.t)):
             if abs(a.t - b.t) < 1e-9:
                 raise UsageError(

@@ -364,7 +364,7 @@ def parse_path_option(text: str) -> PathSpec:
     return spec
 
 
-def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
+def parse_switch(text: str, model: Model) -> Switch:
     """``--switch 6s=gallop``: from 6 s on the run is driven by controller ``gallop``."""
     when, sep, name = text.partition("=")
     name = name.strip()
@@ -377,10 +377,11 @@ def parse_switch(text: str, controllers: Sequence[str]) -> Switch:
         raise UsageError(
             f"--switch {text}: a switch comes after the start (the first controller is --controller)"
         )
+    controllers = [c.name for c in model.controllers]
     if name not in controllers:
         raise UsageError(
-            f"--switch {text}: the creature has no controller {name!r} "
-            f"(controllers: {', '.join(controllers) or 'none'})"
+            f"--switch {text}: creature '{model.name}' has no controller {name!r}"
+            f"{did_you_mean(name, controllers)} (it has {', '.join(controllers) or 'none'})"
         )
     return Switch(given.value, name)
 
