@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -184,11 +185,30 @@ def scale_events(events: list[dict[str, Any]], scale: float) -> list[dict[str, A
     return [{**e, "t": round(e["t"] * tick, 9)} for e in events]
 
 
+# the fall message of ``Simulation._check``: its two heights are the unscaled model's
+_FELL_TO = re.compile(r"the root fell to (\S+) m above the ground \(the limit is (\S+) m\)")
+
+
+def scale_message(message: str, scale: float) -> str:
+    """The run's message with the heights of a fall as the scaled creature's (angles stay)."""
+    return _FELL_TO.sub(
+        lambda m: (
+            f"the root fell to {float(m[1]) * scale:.3g} m above the ground "
+            f"(the limit is {float(m[2]) * scale:.3g} m)"
+        ),
+        message,
+    )
+
+
 def scale_result(result: RunResult, model: Model, scale: float) -> RunResult:
     """A run of the unscaled model, its outputs scaled as the creature scaled by ``scale``."""
+    tick = math.sqrt(scale)
     return dataclasses.replace(
         result,
         trajectory=scale_trajectory(result.trajectory, model, scale),
         events=scale_events(result.events, scale),
-        sim_time=result.sim_time * math.sqrt(scale),
+        sim_time=result.sim_time * tick,
+        message=scale_message(result.message, scale),
+        cause=scale_message(result.cause, scale),
+        stop_time={dof: round(t * tick, 9) for dof, t in result.stop_time.items()},
     )

@@ -1,0 +1,68 @@
+"""What a ``legdsl run --scale L`` run reports beside its trajectory: its times and heights are
+the scaled creature's, as those of the file ``legdsl scale`` writes are."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES
+
+from legdsl.cli import main
+
+# a fixed-base planar arm whose servo drives its elbow into a stop (no contacts, no controller)
+ARM = """\
+creature arm {
+  planar
+  gravity 9.81 m/s^2
+  body base fixed at (0 m, 1 m) { mass 5 kg  inertia 0.1 kg*m^2 }
+  body upper on base via revolute shoulder at (0 m, 0 m) {
+    length 0.4 m  com 0.2 m  mass 1 kg  inertia 0.01 kg*m^2
+  }
+  body fore on upper via revolute elbow at tip {
+    length 0.3 m  com 0.15 m  mass 0.5 kg  inertia 0.005 kg*m^2
+    limits -90 deg to 90 deg
+    stop k = 2000 N*m/rad, b = 20 N*m*s/rad
+  }
+  actuator elbow_servo on elbow servo(kp = 100 N*m/rad, kv = 2 N*m*s/rad, setpoint = 150 deg, max = 10 N*m)
+}
+"""
+
+
+def _run_json(out: Path) -> dict:
+    return json.loads((out / "run.json").read_text(encoding="utf-8"))
+
+
+def test_the_time_on_joint_stops_of_a_scaled_run_is_the_scaled_creatures(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It was the unscaled model's: 1/sqrt(L) of the scaled file's run (0.398 s for 0.562 s)."""
+    source = tmp_path / "arm.leg"
+    source.write_text(ARM, encoding="utf-8")
+    scaled = tmp_path / "arm_x2.leg"
+    assert main(["scale", str(source), "--by", "2", "-o", str(scaled)]) == 0
+    common = ["--time", "1", "--generated", str(tmp_path / "gen"), "--backend", "python"]
+    assert main(["run", str(scaled), *common, "--out", str(tmp_path / "file")]) == 0
+    assert main(["run", str(source), *common, "--scale", "2", "--out", str(tmp_path / "run")]) == 0
+    by_file = _run_json(tmp_path / "file")["time_on_stops"]["elbow"]
+    by_run = _run_json(tmp_path / "run")["time_on_stops"]["elbow"]
+    assert by_file > 0.3
+    assert by_run == pytest.approx(by_file, abs=0.01)
+    assert f"elbow {by_file:.3f} s" in capsys.readouterr().out
+
+
+def test_a_scaled_run_that_falls_says_the_heights_of_the_scaled_creature(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--fall-height 5 at L = 2 said 'the limit is 2.5 m' (the unscaled model's, of its root
+    at 0.95 m) while the recorded root stands at 1.9 m."""
+    out = tmp_path / "run"
+    args = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1",
+            "--fall-height", "5", "--scale", "2", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 4
+    said = "the root fell to 1.9 m above the ground (the limit is 5 m)"
+    assert said in capsys.readouterr().err
+    info = _run_json(out)
+    assert info["message"] == info["cause"] == said
