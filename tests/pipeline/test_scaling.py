@@ -303,3 +303,26 @@ def test_a_file_with_a_byte_order_mark_and_its_own_use_scales_into_another_folde
     assert main(["scale", str(source), "--by", "2", "-o", str(out)]) == 0, capsys.readouterr().err
     assert 'use "../actions.leg"' in out.read_text()
     assert [m.name for m in check_file(out)] == ["hopper_x2"]
+
+
+def test_a_used_file_of_actions_scales_too(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/scaling.md says to scale a 'use'd file of one's own too; a file of actions alone
+    was refused ('no creature in this file')."""
+    good = CREATURES.parent / "tests" / "good"
+    (tmp_path / "actions.leg").write_text(
+        (good / "actions.leg").read_text().replace("+ amount", "+ amount + 2 cm")
+    )
+    (tmp_path / "hopper.leg").write_text((good / "hopper.leg").read_text())
+    lib = tmp_path / "actions_x2.leg"
+    assert main(["scale", str(tmp_path / "actions.leg"), "--by", "2", "-o", str(lib)]) == 0
+    assert "+ amount + 4 cm" in lib.read_text()
+    assert "point the scaled creature's 'use' at it" in capsys.readouterr().out
+    out = tmp_path / "hopper_x2.leg"
+    assert main(["scale", str(tmp_path / "hopper.leg"), "--by", "2", "-o", str(out)]) == 0
+    out.write_text(out.read_text().replace('use "actions.leg"', 'use "actions_x2.leg"'))
+    assert [m.name for m in check_file(out)] == ["hopper_x2"]
+    (tmp_path / "empty.leg").write_text("# nothing here\n")
+    assert main(["scale", str(tmp_path / "empty.leg"), "--by", "2", "-o", str(lib)]) == 2
+    assert "no creature in this file" in capsys.readouterr().err

@@ -33,9 +33,17 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
 def cmd_scale(args: argparse.Namespace) -> int:
     if not 0 < args.by < float("inf"):
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
-    check_file(args.file)
     out = Path(args.output)
-    _, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
+    tree, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
+    if not tree.creatures and (tree.actions or tree.shared):
+        # a file of actions and shared parts, for a scaled file to 'use': checked where used
+        write_atomic(out, scale_source(text, args.by, args.file, out))
+        print(
+            f"wrote {out} (the actions and shared parts of {args.file}, scaled by {args.by:g}); "
+            "point the scaled creature's 'use' at it"
+        )
+        return 0
+    check_file(args.file)
     write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
