@@ -326,3 +326,31 @@ def test_a_used_file_of_actions_scales_too(
     (tmp_path / "empty.leg").write_text("# nothing here\n")
     assert main(["scale", str(tmp_path / "empty.leg"), "--by", "2", "-o", str(lib)]) == 2
     assert "no creature in this file" in capsys.readouterr().err
+
+
+def test_a_scene_scales_with_its_creature(tmp_path: Path) -> None:
+    """A scene's times, commands and gait bands were left as written (the scaled biped switched
+    gait at 8 s, not 8 sqrt(L) s), and 'scene NAME for CREATURE' kept the old name, so the
+    scaled file of two creatures failed its own check."""
+    biped = scale_source((CREATURES / "biped.leg").read_text(encoding="utf-8"), 4.0)
+    for line in ("set speed = 4 m/s", "at 16 s switch gallop", "at 32 s set speed = 5 m/s",
+                 "time 52 s", "gait by speed { gallop to 3.2 m/s; run from 2.8 m/s }"):  # fmt: skip
+        assert f"  {line}\n" in biped
+    two = """\
+creature a { planar
+  body b free { mass 1 kg inertia 0.1 kg*m^2 initial z = 1 m }
+  contact c on b at (0 m, -0.1 m)
+}
+creature b { planar
+  body b free { mass 1 kg inertia 0.1 kg*m^2 initial z = 1 m }
+}
+controller idle for a { input speed = 1 m/s  table { state S on speed > 0 m/s: } }
+scene s for a { controller idle  set speed = 2 m/s  at 1 s set speed = 3 m/s  time 2 s }
+"""
+    out = tmp_path / "two_x4.leg"
+    out.write_text(scale_source(two, 4.0), encoding="utf-8")
+    assert (
+        "scene s for a_x4 { controller idle  set speed = 4 m/s  at 2 s set speed = 6 m/s  time 4 s }"
+        in out.read_text()
+    )
+    assert [m.name for m in check_file(out)] == ["a_x4", "b_x4"]

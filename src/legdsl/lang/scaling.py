@@ -149,7 +149,7 @@ def scale_source(
     edits: list[tuple[int, int, str]] = []  # (start, end, replacement)
 
     found: list[tuple[ast.Span, Dim]] = []
-    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared), None, found)
+    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
     beyond: list[Diagnostic] = []
     for span, dim in found:
         start = _offset(starts, span.line, span.col)
@@ -193,10 +193,12 @@ def scale_source(
                 assert text[end] == ")"
                 look = format_number(DEFAULT_LOOKAHEAD * scale)
                 edits.append((end, end, f", lookahead = {look} m"))
-        if controller.creature is not None and controller.creature.name in names:
-            ident = controller.creature
-            start = _offset(starts, ident.span.line, ident.span.col)
-            edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
+    # 'for NAME' of a controller or a scene follows the creature's new name
+    owners = [*(c.creature for c in tree.controllers), *(s.creature for s in tree.scenes)]
+    for owner in owners:
+        if owner is not None and owner.name in names:
+            start = _offset(starts, owner.span.line, owner.span.col)
+            edits.append((start, start + len(owner.name), scale_name(owner.name, scale)))
 
     out = text
     for start, end, new in sorted(edits, key=lambda e: e[0], reverse=True):
