@@ -66,3 +66,28 @@ def test_a_scaled_run_that_falls_says_the_heights_of_the_scaled_creature(
     assert said in capsys.readouterr().err
     info = _run_json(out)
     assert info["message"] == info["cause"] == said
+
+
+def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """run.json held the unscaled model's path (radius 5 m for the 10 m given at L = 2), so
+    'legdsl metrics' measured the scaled track against it: 0.25 m RMS off where the run itself
+    said 0.04 m."""
+    from legdsl.analysis.plot import run_paths
+    from legdsl.pipeline.measure import measure_run
+
+    out = tmp_path / "run"
+    shape = "circle(center = (0, 10) m, radius = 10 m, turn = left)"
+    args = ["run", str(CREATURES / "biped.leg"), "--controller", "run", "--path", shape,
+            "--time", "1.5", "--scale", "2", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    capsys.readouterr()
+    (spec,) = run_paths(out)
+    assert (spec.center, spec.radius, spec.lookahead) == ((0.0, 10.0), 10.0, 1.0)
+    (at_run,) = _run_json(out)["path_reports"]
+    _, (measured,) = measure_run(out, t_from=0.5, generated=generated)
+    assert measured["length"] == at_run["length"] == pytest.approx(20 * 3.141592653589793)
+    assert measured["progress"] == pytest.approx(at_run["progress"], rel=1e-9)
+    assert measured["lateral_rms"] < 0.1
