@@ -100,6 +100,8 @@ def plot_run(
                 ax.axvline(t_switch, color="tab:red", linewidth=1.2)
             height.text(t_switch, 1.0, f" {controller}", color="tab:red", fontsize=8,
                         va="bottom", transform=height.get_xaxis_transform())  # fmt: skip
+    if t[-1] > t[0]:  # the window's samples, not a stance begun before it or a --to past the end
+        height.set_xlim(t[0], t[-1])
     creature = run.name
     fig.suptitle(
         f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
@@ -135,7 +137,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     import matplotlib.pyplot as plt
 
     tr = Trajectory.load(run)
-    end = float(tr.t[-1]) if t_to is None else t_to
+    end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))  # as Figure 6's axis
     rows = footfall_bars(tr)
     fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
     for k, (_name, stances) in enumerate(rows):
