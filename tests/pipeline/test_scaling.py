@@ -354,3 +354,24 @@ scene s for a { controller idle  set speed = 2 m/s  at 1 s set speed = 3 m/s  ti
         in out.read_text()
     )
     assert [m.name for m in check_file(out)] == ["a_x4", "b_x4"]
+
+
+def test_the_output_may_not_be_the_file_or_a_file_it_uses(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'-o' naming FILE replaced the user's creature with the scaled one (and 'check passes');
+    naming the file of actions it uses replaced that."""
+    good = CREATURES.parent / "tests" / "good"
+    for name in ("hopper.leg", "actions.leg"):
+        (tmp_path / name).write_text((good / name).read_text())
+    before = {p.name: p.read_text() for p in tmp_path.iterdir()}
+    hopper = str(tmp_path / "hopper.leg")
+    for out in (hopper, str(tmp_path / "actions.leg"), str(tmp_path)):
+        assert main(["scale", hopper, "--by", "2", "-o", out]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert f"-o {hopper}: this is {hopper}, an input that writing would destroy" in err
+    assert "give another file name, such as hopper_x2.leg" in err
+    assert "actions.leg, an input that writing would destroy" in err
+    assert "this is a directory; give a file name" in err
+    assert {p.name: p.read_text() for p in tmp_path.iterdir()} == before
