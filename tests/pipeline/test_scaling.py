@@ -375,3 +375,32 @@ def test_the_output_may_not_be_the_file_or_a_file_it_uses(
     assert "actions.leg, an input that writing would destroy" in err
     assert "this is a directory; give a file name" in err
     assert {p.name: p.read_text() for p in tmp_path.iterdir()} == before
+
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        "  simulation { dt 0.2 ms }\n",
+        "  simulation {\n    record_rate 100 Hz\n  }\n",
+        "  simulation { dt 5 ms  record_rate 50 Hz }\n",
+    ],
+)
+def test_a_partial_simulation_block_is_completed_with_the_scaled_defaults(
+    block: str, tmp_path: Path
+) -> None:
+    """The entries a block leaves out were left out of OUT too, so the scaled file ran with the
+    runner's unscaled 2 ms and 200 Hz where --scale L runs with 2 ms sqrt(L) and 200 Hz / sqrt(L)."""
+    text = (
+        "creature slider {\n  planar\n  body mass free { mass 1 kg  inertia 0.01 kg*m^2 }\n"
+        f"{block}}}\n"
+    )
+    path = tmp_path / "slider.leg"
+    path.write_text(text, encoding="utf-8")
+    (model,) = check_file(path)
+    for by in (2.0, 0.3):
+        out = tmp_path / f"x{by}.leg"
+        out.write_text(scale_source(text, by), encoding="utf-8")
+        (scaled,) = check_file(out)
+        asked, written = run_options(model, by), run_options(scaled)
+        for key in ("dt", "control_dt", "record_rate"):
+            assert getattr(written, key) == pytest.approx(getattr(asked, key), rel=1e-13), key
