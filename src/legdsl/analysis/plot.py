@@ -37,6 +37,24 @@ def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
     return phases
 
 
+def samples_in_window(
+    tr: Trajectory, run: Path, t_from: float, t_to: float | None, verb: str
+) -> np.ndarray:
+    """Which samples lie in the window (a mask); ``UsageError`` when none does, as a window
+    past the end of the run: drawn, its panels were empty on axes matplotlib made up, and
+    measured, every row n/a."""
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from) & (tr.t <= end)
+    if not window.any():
+        last = float(tr.t[-1])
+        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
+                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
+        raise UsageError(
+            f"nothing of {run} to {verb}: {where}; give --from and --to within 0 to {last:g} s"
+        )
+    return window
+
+
 def plot_run(
     run: Path,
     out: Path,
@@ -51,15 +69,8 @@ def plot_run(
     import matplotlib.pyplot as plt
 
     tr = Trajectory.load(run)
+    window = samples_in_window(tr, run, t_from, t_to, "draw")
     end = tr.t[-1] if t_to is None else t_to
-    window = (tr.t >= t_from) & (tr.t <= end)
-    if not window.any():  # the panels would be empty, their axes made up by matplotlib
-        last = float(tr.t[-1])
-        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
-                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
-        raise UsageError(
-            f"nothing of {run} to draw: {where}; give --from and --to within 0 to {last:g} s"
-        )
     t = tr.t[window]
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
     height, pitch, speed, joints = axes
