@@ -91,3 +91,29 @@ def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(
     assert measured["length"] == at_run["length"] == pytest.approx(20 * 3.141592653589793)
     assert measured["progress"] == pytest.approx(at_run["progress"], rel=1e-9)
     assert measured["lateral_rms"] < 0.1
+
+
+def test_a_scaled_run_is_not_drawn_on_the_unscaled_bodies_and_a_damaged_scale_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'legdsl run --scale --animate' is refused (the player would draw the unscaled bodies with
+    the scaled motion), but 'legdsl animate DIR', export-motion and replay of that run drew just
+    that. A run.json whose 'scale' is not a positive number was an internal error in metrics."""
+    source = tmp_path / "arm.leg"
+    source.write_text(ARM, encoding="utf-8")
+    run = tmp_path / "run"
+    gen = ["--generated", str(tmp_path / "gen")]
+    args = ["run", str(source), "--time", "0.2", "--scale", "2", *gen, "--backend", "python"]
+    assert main([*args, "--out", str(run)]) == 0
+    for command in (["animate", str(run), "-o", str(tmp_path / "a.html"), *gen],
+                    ["export-motion", str(run), "--format", "bvh", "-o", str(tmp_path / "a.bvh")]):  # fmt: skip
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert f"{run} was run with --scale 2: drawn, its creature would be" in err
+        assert f"'legdsl scale {source} --by 2 -o OUT.leg', run OUT.leg and draw that run" in err
+    assert not (tmp_path / "a.html").exists() and not (tmp_path / "a.bvh").exists()
+    info = _run_json(run)
+    for damaged in ("abc", -2, [1], True, 0):
+        (run / "run.json").write_text(json.dumps({**info, "scale": damaged}), encoding="utf-8")
+        assert main(["metrics", str(run), *gen]) == 2
+        assert "run.json: 'scale' is not a positive number" in capsys.readouterr().err
