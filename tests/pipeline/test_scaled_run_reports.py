@@ -117,3 +117,26 @@ def test_a_scaled_run_is_not_drawn_on_the_unscaled_bodies_and_a_damaged_scale_is
         (run / "run.json").write_text(json.dumps({**info, "scale": damaged}), encoding="utf-8")
         assert main(["metrics", str(run), *gen]) == 2
         assert "run.json: 'scale' is not a positive number" in capsys.readouterr().err
+
+
+def test_a_scaled_run_that_diverges_or_is_interrupted_says_the_scaled_creatures_times(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """They said the unscaled model's time (0.285 s for 0.57 s at L = 4), and a divergence's
+    step and stiffness in its numbers without saying so."""
+    from legdsl.pipeline.scaled import scale_message
+
+    out = tmp_path / "run"
+    args = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1",
+            "--dt", "10ms", "--scale", "4", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 3
+    err = capsys.readouterr().err
+    assert (
+        "the simulation diverged at t = 0.5700 s (what follows is in the unscaled model's " in err
+    )
+    assert _run_json(out)["ended_at"] == pytest.approx(0.57)
+    said = "interrupted by SIGTERM at t = 0.5000 s of 1.5 s; what was recorded up to then is kept"
+    assert scale_message(said, 4.0) == (
+        "interrupted by SIGTERM at t = 1.0000 s of 3 s; what was recorded up to then is kept"
+    )

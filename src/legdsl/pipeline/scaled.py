@@ -185,16 +185,31 @@ def scale_events(events: list[dict[str, Any]], scale: float) -> list[dict[str, A
     return [{**e, "t": round(e["t"] * tick, 9)} for e in events]
 
 
-# the fall message of ``Simulation._check``: its two heights are the unscaled model's
+# the messages of ``Simulation``: a fall's heights, an interruption's times, a divergence's
 _FELL_TO = re.compile(r"the root fell to (\S+) m above the ground \(the limit is (\S+) m\)")
+_INTERRUPTED = re.compile(r"at t = (\S+) s of (\S+) s;")
+_DIVERGED = re.compile(r"^the simulation diverged at t = (\S+) s: ")
 
 
 def scale_message(message: str, scale: float) -> str:
-    """The run's message with the heights of a fall as the scaled creature's (angles stay)."""
-    return _FELL_TO.sub(
+    """The run's message with its heights and times as the scaled creature's (angles stay); a
+    divergence's cause, in the unscaled model's numbers, says so."""
+    tick = math.sqrt(scale)
+    message = _FELL_TO.sub(
         lambda m: (
             f"the root fell to {float(m[1]) * scale:.3g} m above the ground "
             f"(the limit is {float(m[2]) * scale:.3g} m)"
+        ),
+        message,
+    )
+    message = _INTERRUPTED.sub(
+        lambda m: f"at t = {float(m[1]) * tick:.4f} s of {float(m[2]) * tick:g} s;", message
+    )
+    return _DIVERGED.sub(
+        lambda m: (
+            f"the simulation diverged at t = {float(m[1]) * tick:.4f} s (what follows is in the "
+            f"unscaled model's numbers, which --scale {scale:g} ran with every input divided by "
+            "its Table 1 factor): "
         ),
         message,
     )
