@@ -624,3 +624,22 @@ def test_the_magnitude_of_a_sliding_joint_is_a_length(
     assert "--joint qw: a component of the root's orientation quaternion" in capsys.readouterr().err
     assert main(["metrics", str(where), "--joint", "z"]) == 0
     assert "magnitude of z (m)" in capsys.readouterr().out
+
+
+def test_cli_refuses_a_window_past_the_run_as_plot_does(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--from 5 --to 9 of a 3 s run printed every row n/a with exit 0 (and --from 5 alone said
+    'the window ends (3 s) before it starts'); plot said what to give."""
+    Hopper().run(3.0).save(tmp_path)
+    for window in (["--from", "5", "--to", "9"], ["--from", "5"]):
+        assert main(["metrics", str(tmp_path), *window]) == 2
+        err = capsys.readouterr().err
+        assert (
+            "nothing of" in err and "to measure: --from 5s is after its last sample, at 3 s" in err
+        )
+        assert "give --from and --to within 0 to 3 s" in err
+    assert main(["metrics", str(tmp_path), "--from", "1.0001", "--to", "1.0002"]) == 2
+    assert "none lies from 1.0001 to 1.0002 s" in capsys.readouterr().err
+    assert main(["metrics", str(tmp_path), "--from", "2", "--to", "9"]) == 0
+    assert not (tmp_path / "figure6.png").exists()

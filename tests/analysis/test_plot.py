@@ -116,3 +116,22 @@ def test_a_run_of_one_sample_draws_without_warnings(tmp_path: Path) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # matplotlib's "identical low and high xlims"
         assert main(["plot", str(tmp_path / "one")]) == 0
+
+
+def test_a_window_reaching_past_the_run_or_into_a_stance_draws_only_the_run_inside_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--from 0.3 --to 5 of a 1 s run: the footfall axis ran to 5 s (the feet seemingly in
+    the air from 1 s on) and Figure 6's to 0.25 s, where a stance begun before 0.3 s starts."""
+    from matplotlib.figure import Figure
+
+    limits: dict[str, tuple[float, float]] = {}
+
+    def keep(fig: Figure, out: Path, **_kw: object) -> None:
+        limits[Path(out).stem] = tuple(fig.axes[0].get_xlim())  # type: ignore[assignment]
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    run = _run(tmp_path)
+    assert main(["plot", str(run), "--from", "0.3", "--to", "5"]) == 0, capsys.readouterr().err
+    assert limits["figure6"] == pytest.approx((0.3, 1.0))
+    assert limits["footfall"] == pytest.approx((0.3, 1.0))

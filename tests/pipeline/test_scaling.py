@@ -303,3 +303,104 @@ def test_a_file_with_a_byte_order_mark_and_its_own_use_scales_into_another_folde
     assert main(["scale", str(source), "--by", "2", "-o", str(out)]) == 0, capsys.readouterr().err
     assert 'use "../actions.leg"' in out.read_text()
     assert [m.name for m in check_file(out)] == ["hopper_x2"]
+
+
+def test_a_used_file_of_actions_scales_too(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/scaling.md says to scale a 'use'd file of one's own too; a file of actions alone
+    was refused ('no creature in this file')."""
+    good = CREATURES.parent / "tests" / "good"
+    (tmp_path / "actions.leg").write_text(
+        (good / "actions.leg").read_text().replace("+ amount", "+ amount + 2 cm")
+    )
+    (tmp_path / "hopper.leg").write_text((good / "hopper.leg").read_text())
+    lib = tmp_path / "actions_x2.leg"
+    assert main(["scale", str(tmp_path / "actions.leg"), "--by", "2", "-o", str(lib)]) == 0
+    assert "+ amount + 4 cm" in lib.read_text()
+    assert "point the scaled creature's 'use' at it" in capsys.readouterr().out
+    out = tmp_path / "hopper_x2.leg"
+    assert main(["scale", str(tmp_path / "hopper.leg"), "--by", "2", "-o", str(out)]) == 0
+    out.write_text(out.read_text().replace('use "actions.leg"', 'use "actions_x2.leg"'))
+    assert [m.name for m in check_file(out)] == ["hopper_x2"]
+    (tmp_path / "empty.leg").write_text("# nothing here\n")
+    assert main(["scale", str(tmp_path / "empty.leg"), "--by", "2", "-o", str(lib)]) == 2
+    assert "no creature in this file" in capsys.readouterr().err
+
+
+def test_a_scene_scales_with_its_creature(tmp_path: Path) -> None:
+    """A scene's times, commands and gait bands were left as written (the scaled biped switched
+    gait at 8 s, not 8 sqrt(L) s), and 'scene NAME for CREATURE' kept the old name, so the
+    scaled file of two creatures failed its own check."""
+    biped = scale_source((CREATURES / "biped.leg").read_text(encoding="utf-8"), 4.0)
+    for line in ("set speed = 4 m/s", "at 16 s switch gallop", "at 32 s set speed = 5 m/s",
+                 "time 52 s", "gait by speed { gallop to 3.2 m/s; run from 2.8 m/s }"):  # fmt: skip
+        assert f"  {line}\n" in biped
+    two = """\
+creature a { planar
+  body b free { mass 1 kg inertia 0.1 kg*m^2 initial z = 1 m }
+  contact c on b at (0 m, -0.1 m)
+}
+creature b { planar
+  body b free { mass 1 kg inertia 0.1 kg*m^2 initial z = 1 m }
+}
+controller idle for a { input speed = 1 m/s  table { state S on speed > 0 m/s: } }
+scene s for a { controller idle  set speed = 2 m/s  at 1 s set speed = 3 m/s  time 2 s }
+"""
+    out = tmp_path / "two_x4.leg"
+    out.write_text(scale_source(two, 4.0), encoding="utf-8")
+    assert (
+        "scene s for a_x4 { controller idle  set speed = 4 m/s  at 2 s set speed = 6 m/s  time 4 s }"
+        in out.read_text()
+    )
+    assert [m.name for m in check_file(out)] == ["a_x4", "b_x4"]
+
+
+def test_the_output_may_not_be_the_file_or_a_file_it_uses(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'-o' naming FILE replaced the user's creature with the scaled one (and 'check passes');
+    naming the file of actions it uses replaced that."""
+    good = CREATURES.parent / "tests" / "good"
+    for name in ("hopper.leg", "actions.leg"):
+        (tmp_path / name).write_text((good / name).read_text())
+    before = {p.name: p.read_text() for p in tmp_path.iterdir()}
+    hopper = str(tmp_path / "hopper.leg")
+    for out in (hopper, str(tmp_path / "actions.leg"), str(tmp_path)):
+        assert main(["scale", hopper, "--by", "2", "-o", out]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert f"-o {hopper}: this is {hopper}, an input that writing would destroy" in err
+    assert "give another file name, such as hopper_x2.leg" in err
+    assert "actions.leg, an input that writing would destroy" in err
+    assert "this is a directory; give a file name" in err
+    assert {p.name: p.read_text() for p in tmp_path.iterdir()} == before
+
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        "  simulation { dt 0.2 ms }\n",
+        "  simulation {\n    record_rate 100 Hz\n  }\n",
+        "  simulation { dt 5 ms  record_rate 50 Hz }\n",
+    ],
+)
+def test_a_partial_simulation_block_is_completed_with_the_scaled_defaults(
+    block: str, tmp_path: Path
+) -> None:
+    """The entries a block leaves out were left out of OUT too, so the scaled file ran with the
+    runner's unscaled 2 ms and 200 Hz where --scale L runs with 2 ms sqrt(L) and 200 Hz / sqrt(L)."""
+    text = (
+        "creature slider {\n  planar\n  body mass free { mass 1 kg  inertia 0.01 kg*m^2 }\n"
+        f"{block}}}\n"
+    )
+    path = tmp_path / "slider.leg"
+    path.write_text(text, encoding="utf-8")
+    (model,) = check_file(path)
+    for by in (2.0, 0.3):
+        out = tmp_path / f"x{by}.leg"
+        out.write_text(scale_source(text, by), encoding="utf-8")
+        (scaled,) = check_file(out)
+        asked, written = run_options(model, by), run_options(scaled)
+        for key in ("dt", "control_dt", "record_rate"):
+            assert getattr(written, key) == pytest.approx(getattr(asked, key), rel=1e-13), key

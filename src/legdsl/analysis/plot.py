@@ -37,6 +37,24 @@ def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
     return phases
 
 
+def samples_in_window(
+    tr: Trajectory, run: Path, t_from: float, t_to: float | None, verb: str
+) -> np.ndarray:
+    """Which samples lie in the window (a mask); ``UsageError`` when none does, as a window
+    past the end of the run: drawn, its panels were empty on axes matplotlib made up, and
+    measured, every row n/a."""
+    end = tr.t[-1] if t_to is None else t_to
+    window = (tr.t >= t_from) & (tr.t <= end)
+    if not window.any():
+        last = float(tr.t[-1])
+        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
+                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
+        raise UsageError(
+            f"nothing of {run} to {verb}: {where}; give --from and --to within 0 to {last:g} s"
+        )
+    return window
+
+
 def plot_run(
     run: Path,
     out: Path,
@@ -51,15 +69,8 @@ def plot_run(
     import matplotlib.pyplot as plt
 
     tr = Trajectory.load(run)
+    window = samples_in_window(tr, run, t_from, t_to, "draw")
     end = tr.t[-1] if t_to is None else t_to
-    window = (tr.t >= t_from) & (tr.t <= end)
-    if not window.any():  # the panels would be empty, their axes made up by matplotlib
-        last = float(tr.t[-1])
-        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
-                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
-        raise UsageError(
-            f"nothing of {run} to draw: {where}; give --from and --to within 0 to {last:g} s"
-        )
     t = tr.t[window]
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
     height, pitch, speed, joints = axes
@@ -100,6 +111,8 @@ def plot_run(
                 ax.axvline(t_switch, color="tab:red", linewidth=1.2)
             height.text(t_switch, 1.0, f" {controller}", color="tab:red", fontsize=8,
                         va="bottom", transform=height.get_xaxis_transform())  # fmt: skip
+    if t[-1] > t[0]:  # the window's samples, not a stance begun before it or a --to past the end
+        height.set_xlim(t[0], t[-1])
     creature = run.name
     fig.suptitle(
         f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
@@ -135,7 +148,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     import matplotlib.pyplot as plt
 
     tr = Trajectory.load(run)
-    end = float(tr.t[-1]) if t_to is None else t_to
+    end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))  # as Figure 6's axis
     rows = footfall_bars(tr)
     fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
     for k, (_name, stances) in enumerate(rows):

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import every_frame, interpolate_q, read_run
+from legdsl.export.motion import drawable, every_frame, interpolate_q, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model
@@ -59,7 +59,7 @@ def replay_frames(
     mujoco = _mujoco()
     from legdsl.export.mjcf import model_to_mjcf
 
-    run = read_run(directory, source)
+    run = drawable(read_run(directory, source))
     mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model))
     data = mujoco.MjData(mj)
     tr = run.trajectory

@@ -181,6 +181,20 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
     return Run(directory, info, trajectory, model, source)
 
 
+def drawable(run: Run) -> Run:
+    """``run``, unless it was made with ``--scale L``: it holds the scaled creature's motion but
+    names the unscaled file, whose bodies would be drawn moving L times too far (``legdsl run
+    --scale --animate`` is refused for this)."""
+    scale = run.info.get("scale")
+    if scale is not None:
+        raise UsageError(
+            f"{run.directory} was run with --scale {scale:g}: drawn, its creature would be "
+            f"{run.source}'s unscaled bodies; write the scaled creature with 'legdsl scale "
+            f"{run.source} --by {scale:g} -o OUT.leg', run OUT.leg and draw that run"
+        )
+    return run
+
+
 def load_motion(
     directory: Path,
     fps: float = DEFAULT_FPS,
@@ -189,7 +203,7 @@ def load_motion(
     kinematics: Kinematics | None = None,
 ) -> Motion:
     """Read a run directory and resample it for drawing (see the module docstring)."""
-    run = read_run(directory, source)
+    run = drawable(read_run(directory, source))
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 

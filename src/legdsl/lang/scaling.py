@@ -131,6 +131,39 @@ def _has_block(creature: ast.CreatureDecl, name: str) -> bool:
     return any(isinstance(i, ast.BlockDecl) and i.name.name == name for i in creature.items)
 
 
+def _simulation_completed(
+    creature: ast.CreatureDecl, text: str, starts: list[int], scale: float
+) -> list[tuple[int, int, str]]:
+    """An edit writing into a ``simulation`` block what it leaves to the runner's defaults
+    (control interval, record rate, step), scaled: unwritten they stay unscaled in OUT."""
+    block = next(
+        i for i in creature.items if isinstance(i, ast.BlockDecl) and i.name.name == "simulation"
+    )
+    given = {p.key.name: p.value for p in block.props}
+    step = given.get("dt")
+    dt = (
+        step.value.quantity.value
+        if isinstance(step, ast.One) and isinstance(step.value, ast.Number)
+        else DEFAULT_DT
+    )
+    tick = math.sqrt(scale)
+    defaults = {
+        "dt": f"{format_number(DEFAULT_DT * 1e3 * tick)} ms",
+        "control_dt": f"{format_number(max(DEFAULT_CONTROL_DT, dt) * 1e3 * tick)} ms",
+        "record_rate": f"{format_number(DEFAULT_RECORD_RATE / tick)} Hz",
+    }
+    missing = [f"{key} {value}" for key, value in defaults.items() if key not in given]
+    if not missing:
+        return []
+    end = _offset(starts, block.span.end_line, block.span.end_col) - 1
+    assert text[end] == "}"
+    line = text.rfind("\n", 0, end) + 1
+    if text[line:end].strip():  # '}' after a property on its line: the rest beside it
+        return [(end, end, f" {'  '.join(missing)} ")]
+    indent = text[line:end] + "  "
+    return [(line, line, "".join(f"{indent}{m}  # scaled with it\n" for m in missing))]
+
+
 def scale_source(
     text: str, scale: float, file: str = "<string>", out: str | Path | None = None
 ) -> str:
@@ -149,7 +182,7 @@ def scale_source(
     edits: list[tuple[int, int, str]] = []  # (start, end, replacement)
 
     found: list[tuple[ast.Span, Dim]] = []
-    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared), None, found)
+    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
     beyond: list[Diagnostic] = []
     for span, dim in found:
         start = _offset(starts, span.line, span.col)
@@ -183,6 +216,8 @@ def scale_source(
             end = _offset(starts, creature.span.end_line, creature.span.end_col) - 1
             assert text[end] == "}"
             edits.append((end, end, block))
+        else:
+            edits += _simulation_completed(creature, text, starts, scale)
     for controller in tree.controllers:
         for path in (i for i in controller.items if isinstance(i, ast.PathDecl)):
             call = path.value
@@ -193,10 +228,12 @@ def scale_source(
                 assert text[end] == ")"
                 look = format_number(DEFAULT_LOOKAHEAD * scale)
                 edits.append((end, end, f", lookahead = {look} m"))
-        if controller.creature is not None and controller.creature.name in names:
-            ident = controller.creature
-            start = _offset(starts, ident.span.line, ident.span.col)
-            edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
+    # 'for NAME' of a controller or a scene follows the creature's new name
+    owners = [*(c.creature for c in tree.controllers), *(s.creature for s in tree.scenes)]
+    for owner in owners:
+        if owner is not None and owner.name in names:
+            start = _offset(starts, owner.span.line, owner.span.col)
+            edits.append((start, start + len(owner.name), scale_name(owner.name, scale)))
 
     out = text
     for start, end, new in sorted(edits, key=lambda e: e[0], reverse=True):

@@ -8,7 +8,7 @@ from typing import Any
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.path_report import PATH_FROM, path_report
-from legdsl.analysis.plot import run_paths
+from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
@@ -47,6 +47,8 @@ def measure_run(
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
+    if t_to is None or t_to >= t_from:  # else compute_metrics says the window is reversed
+        samples_in_window(trajectory, run, t_from, t_to, "measure")
     try:
         given = parse_groups(groups)
         if table2 is not None and not given and MEASURE.get(table2, {}).get("pairs"):

@@ -7,11 +7,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.source import check_file
+from legdsl.check.source import check_file, load_uses
 from legdsl.files import write_atomic
-from legdsl.lang.errors import UsageError
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, UsageError
 from legdsl.lang.parser import parse_file
-from legdsl.lang.scaling import scale_source
+from legdsl.lang.scaling import scale_name, scale_source
+from legdsl.pipeline.options import check_output_file
 
 
 def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
@@ -33,10 +35,31 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
 def cmd_scale(args: argparse.Namespace) -> int:
     if not 0 < args.by < float("inf"):
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
+    out = check_output_file(args.output, "-o")
+    tree, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
+    _not_an_input(out, tree, Path(args.file), args.by)
+    if not tree.creatures and (tree.actions or tree.shared):
+        # a file of actions and shared parts, for a scaled file to 'use': checked where used
+        write_atomic(out, scale_source(text, args.by, args.file, out))
+        print(
+            f"wrote {out} (the actions and shared parts of {args.file}, scaled by {args.by:g}); "
+            "point the scaled creature's 'use' at it"
+        )
+        return 0
     check_file(args.file)
-    out = Path(args.output)
-    _, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
     write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
     return 0
+
+
+def _not_an_input(out: Path, tree: ast.SourceFile, source: Path, scale: float) -> None:
+    """-o naming FILE or a file it uses is refused: the scaled text replaced the user's own."""
+    sources: dict[str, str] = {}
+    load_uses(tree, Diagnostics(sources), sources)  # a missing one is check_file's to report
+    for given in (source, *(Path(p) for p in sources)):
+        if out.exists() and given.exists() and out.samefile(given):
+            raise UsageError(
+                f"-o {out}: this is {given}, an input that writing would destroy; give another "
+                f"file name, such as {scale_name(source.stem, scale)}.leg"
+            )

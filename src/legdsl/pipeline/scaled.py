@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -184,11 +185,45 @@ def scale_events(events: list[dict[str, Any]], scale: float) -> list[dict[str, A
     return [{**e, "t": round(e["t"] * tick, 9)} for e in events]
 
 
+# the messages of ``Simulation``: a fall's heights, an interruption's times, a divergence's
+_FELL_TO = re.compile(r"the root fell to (\S+) m above the ground \(the limit is (\S+) m\)")
+_INTERRUPTED = re.compile(r"at t = (\S+) s of (\S+) s;")
+_DIVERGED = re.compile(r"^the simulation diverged at t = (\S+) s: ")
+
+
+def scale_message(message: str, scale: float) -> str:
+    """The run's message with its heights and times as the scaled creature's (angles stay); a
+    divergence's cause, in the unscaled model's numbers, says so."""
+    tick = math.sqrt(scale)
+    message = _FELL_TO.sub(
+        lambda m: (
+            f"the root fell to {float(m[1]) * scale:.3g} m above the ground "
+            f"(the limit is {float(m[2]) * scale:.3g} m)"
+        ),
+        message,
+    )
+    message = _INTERRUPTED.sub(
+        lambda m: f"at t = {float(m[1]) * tick:.4f} s of {float(m[2]) * tick:g} s;", message
+    )
+    return _DIVERGED.sub(
+        lambda m: (
+            f"the simulation diverged at t = {float(m[1]) * tick:.4f} s (what follows is in the "
+            f"unscaled model's numbers, which --scale {scale:g} ran with every input divided by "
+            "its Table 1 factor): "
+        ),
+        message,
+    )
+
+
 def scale_result(result: RunResult, model: Model, scale: float) -> RunResult:
     """A run of the unscaled model, its outputs scaled as the creature scaled by ``scale``."""
+    tick = math.sqrt(scale)
     return dataclasses.replace(
         result,
         trajectory=scale_trajectory(result.trajectory, model, scale),
         events=scale_events(result.events, scale),
-        sim_time=result.sim_time * math.sqrt(scale),
+        sim_time=result.sim_time * tick,
+        message=scale_message(result.message, scale),
+        cause=scale_message(result.cause, scale),
+        stop_time={dof: round(t * tick, 9) for dof, t in result.stop_time.items()},
     )

@@ -351,7 +351,10 @@ class Run:
             first = m.first if isinstance(m, SwitchingMachine) else m  # the run's start
             extra["inputs"] = first.initial_inputs
             extra["params"] = dict(zip(first.param_names, first.params, strict=True))
-            extra["paths"] = [p.as_json() for p in m.paths if p.shape != "none"]
+            given = [p for p in m.paths if p.shape != "none"]
+            if self.scale is not None:  # the scaled creature's, as the trajectory is
+                given = [scaled.scale_path(p, 1 / self.scale) for p in given]
+            extra["paths"] = [p.as_json() for p in given]
             extra["path_reports"] = self.path_reports
             if isinstance(m, SwitchingMachine):
                 extra["switches"] = [{"t": w.t, "controller": w.controller} for w in m.switches]

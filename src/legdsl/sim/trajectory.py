@@ -302,6 +302,11 @@ def load_run_info(directory: Path) -> dict[str, Any]:
     for key, kind in kinds.items():
         if key in info and (not isinstance(info[key], kind) or isinstance(info[key], bool)):
             raise UsageError(f"{path}: '{key}' has the wrong type{again}")
+    scale = info.get("scale")  # legdsl run --scale L: the factor the outputs were scaled by
+    if scale is not None and not (
+        isinstance(scale, int | float) and not isinstance(scale, bool) and 0 < scale < math.inf
+    ):
+        raise UsageError(f"{path}: 'scale' is not a positive number ({str(scale)[:20]}){again}")
     for event in info.get("events", []):
         if not (
             isinstance(event, dict)

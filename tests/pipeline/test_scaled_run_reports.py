@@ -1,0 +1,142 @@
+"""What a ``legdsl run --scale L`` run reports beside its trajectory: its times and heights are
+the scaled creature's, as those of the file ``legdsl scale`` writes are."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES
+
+from legdsl.cli import main
+
+# a fixed-base planar arm whose servo drives its elbow into a stop (no contacts, no controller)
+ARM = """\
+creature arm {
+  planar
+  gravity 9.81 m/s^2
+  body base fixed at (0 m, 1 m) { mass 5 kg  inertia 0.1 kg*m^2 }
+  body upper on base via revolute shoulder at (0 m, 0 m) {
+    length 0.4 m  com 0.2 m  mass 1 kg  inertia 0.01 kg*m^2
+  }
+  body fore on upper via revolute elbow at tip {
+    length 0.3 m  com 0.15 m  mass 0.5 kg  inertia 0.005 kg*m^2
+    limits -90 deg to 90 deg
+    stop k = 2000 N*m/rad, b = 20 N*m*s/rad
+  }
+  actuator elbow_servo on elbow servo(kp = 100 N*m/rad, kv = 2 N*m*s/rad, setpoint = 150 deg, max = 10 N*m)
+}
+"""
+
+
+def _run_json(out: Path) -> dict:
+    return json.loads((out / "run.json").read_text(encoding="utf-8"))
+
+
+def test_the_time_on_joint_stops_of_a_scaled_run_is_the_scaled_creatures(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It was the unscaled model's: 1/sqrt(L) of the scaled file's run (0.398 s for 0.562 s)."""
+    source = tmp_path / "arm.leg"
+    source.write_text(ARM, encoding="utf-8")
+    scaled = tmp_path / "arm_x2.leg"
+    assert main(["scale", str(source), "--by", "2", "-o", str(scaled)]) == 0
+    common = ["--time", "1", "--generated", str(tmp_path / "gen"), "--backend", "python"]
+    assert main(["run", str(scaled), *common, "--out", str(tmp_path / "file")]) == 0
+    assert main(["run", str(source), *common, "--scale", "2", "--out", str(tmp_path / "run")]) == 0
+    by_file = _run_json(tmp_path / "file")["time_on_stops"]["elbow"]
+    by_run = _run_json(tmp_path / "run")["time_on_stops"]["elbow"]
+    assert by_file > 0.3
+    assert by_run == pytest.approx(by_file, abs=0.01)
+    assert f"elbow {by_file:.3f} s" in capsys.readouterr().out
+
+
+def test_a_scaled_run_that_falls_says_the_heights_of_the_scaled_creature(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--fall-height 5 at L = 2 said 'the limit is 2.5 m' (the unscaled model's, of its root
+    at 0.95 m) while the recorded root stands at 1.9 m."""
+    out = tmp_path / "run"
+    args = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1",
+            "--fall-height", "5", "--scale", "2", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 4
+    said = "the root fell to 1.9 m above the ground (the limit is 5 m)"
+    assert said in capsys.readouterr().err
+    info = _run_json(out)
+    assert info["message"] == info["cause"] == said
+
+
+def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """run.json held the unscaled model's path (radius 5 m for the 10 m given at L = 2), so
+    'legdsl metrics' measured the scaled track against it: 0.25 m RMS off where the run itself
+    said 0.04 m."""
+    from legdsl.analysis.plot import run_paths
+    from legdsl.pipeline.measure import measure_run
+
+    out = tmp_path / "run"
+    shape = "circle(center = (0, 10) m, radius = 10 m, turn = left)"
+    args = ["run", str(CREATURES / "biped.leg"), "--controller", "run", "--path", shape,
+            "--time", "1.5", "--scale", "2", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    capsys.readouterr()
+    (spec,) = run_paths(out)
+    assert (spec.center, spec.radius, spec.lookahead) == ((0.0, 10.0), 10.0, 1.0)
+    (at_run,) = _run_json(out)["path_reports"]
+    _, (measured,) = measure_run(out, t_from=0.5, generated=generated)
+    assert measured["length"] == at_run["length"] == pytest.approx(20 * 3.141592653589793)
+    assert measured["progress"] == pytest.approx(at_run["progress"], rel=1e-9)
+    assert measured["lateral_rms"] < 0.1
+
+
+def test_a_scaled_run_is_not_drawn_on_the_unscaled_bodies_and_a_damaged_scale_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'legdsl run --scale --animate' is refused (the player would draw the unscaled bodies with
+    the scaled motion), but 'legdsl animate DIR', export-motion and replay of that run drew just
+    that. A run.json whose 'scale' is not a positive number was an internal error in metrics."""
+    source = tmp_path / "arm.leg"
+    source.write_text(ARM, encoding="utf-8")
+    run = tmp_path / "run"
+    gen = ["--generated", str(tmp_path / "gen")]
+    args = ["run", str(source), "--time", "0.2", "--scale", "2", *gen, "--backend", "python"]
+    assert main([*args, "--out", str(run)]) == 0
+    for command in (["animate", str(run), "-o", str(tmp_path / "a.html"), *gen],
+                    ["export-motion", str(run), "--format", "bvh", "-o", str(tmp_path / "a.bvh")]):  # fmt: skip
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert f"{run} was run with --scale 2: drawn, its creature would be" in err
+        assert f"'legdsl scale {source} --by 2 -o OUT.leg', run OUT.leg and draw that run" in err
+    assert not (tmp_path / "a.html").exists() and not (tmp_path / "a.bvh").exists()
+    info = _run_json(run)
+    for damaged in ("abc", -2, [1], True, 0):
+        (run / "run.json").write_text(json.dumps({**info, "scale": damaged}), encoding="utf-8")
+        assert main(["metrics", str(run), *gen]) == 2
+        assert "run.json: 'scale' is not a positive number" in capsys.readouterr().err
+
+
+def test_a_scaled_run_that_diverges_or_is_interrupted_says_the_scaled_creatures_times(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """They said the unscaled model's time (0.285 s for 0.57 s at L = 4), and a divergence's
+    step and stiffness in its numbers without saying so."""
+    from legdsl.pipeline.scaled import scale_message
+
+    out = tmp_path / "run"
+    args = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "1",
+            "--dt", "10ms", "--scale", "4", "--generated", str(generated),
+            "--backend", "python", "--out", str(out)]  # fmt: skip
+    assert main(args) == 3
+    err = capsys.readouterr().err
+    assert (
+        "the simulation diverged at t = 0.5700 s (what follows is in the unscaled model's " in err
+    )
+    assert _run_json(out)["ended_at"] == pytest.approx(0.57)
+    said = "interrupted by SIGTERM at t = 0.5000 s of 1.5 s; what was recorded up to then is kept"
+    assert scale_message(said, 4.0) == (
+        "interrupted by SIGTERM at t = 1.0000 s of 3 s; what was recorded up to then is kept"
+    )
