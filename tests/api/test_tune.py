@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -117,3 +118,71 @@ def test_a_damaged_or_foreign_journal_starts_the_tune_afresh(tmp_path: Path, tex
     journal.add([[0.5]], [0.25], [{"outcome": "ok"}])
     again = Journal.open(tmp_path, {"seed": 1})
     assert again.start == journal.start and again.generations == journal.generations
+
+
+NO_PARAMS = """creature arm {
+  planar
+  gravity 9.81 m/s^2
+  body base fixed at (0 m, 1 m) { mass 5 kg  inertia 0.1 kg*m^2 }
+  body upper on base via revolute shoulder at (0 m, 0 m) {
+    length 0.4 m  com 0.2 m  mass 1 kg  inertia 0.02 kg*m^2
+  }
+  actuator s on shoulder servo(kp = 50 N*m/rad, kv = 2 N*m*s/rad)
+}
+controller hold {
+  input speed = 1 m/s
+  table {
+    state A on time_in_state > 0.2 s: s.setpoint = 30 deg
+    state B on time_in_state > 0.2 s: s.setpoint = -30 deg
+  }
+}
+"""
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--popsize", "1"], r"--popsize 1: CMA-ES needs at least 2 candidates"),
+        (["--popsize", "0"], r"--popsize 0: CMA-ES needs at least 2 candidates"),
+        (["--speeds", "1,0"], r"--speeds 1,0: a speed of 0 has no relative speed error"),
+        (["--speeds", "1kg"], r"--speeds 1kg: speed is velocity"),
+        (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
+        (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
+        (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
+        (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
+        (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
+    ],
+)  # fmt: skip
+def test_a_tune_that_cannot_search_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    """A population of 0 or 1 was an internal error inside cma (exit 70), a speed of 0 a
+    division by zero, a --param given twice or a NaN weight was taken without a word, and a
+    wrong --speeds was reported as a --grid."""
+    args = ["tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
+            "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1", "--jobs",
+            "1", "--out", str(tmp_path / "t"), "--generated", str(tmp_path / "generated")]  # fmt: skip
+    if "--speeds" in extra:
+        args[args.index("--speeds") : args.index("--speeds") + 2] = []
+    assert main([*args, *extra]) == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert not (tmp_path / "t" / "tune.json").exists()
+
+
+def test_a_controller_with_no_parameters_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "arm.leg").write_text(NO_PARAMS)
+    code = main(["tune", str(tmp_path / "arm.leg"), "--controller", "hold", "--param",
+                 "amp=10deg:40deg", "--speeds", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "controller 'hold' has no parameters to tune" in capsys.readouterr().err
+
+
+def test_a_backward_speed_scores_its_error_as_a_forward_one() -> None:
+    """Relative to a command of -1 m/s, running at -1.2 m/s scored -0.2: better than
+    perfect, so CMA-ES was drawn to the worst candidates."""
+    row = {"outcome": "ok", "running_speed": -1.2, "simulated": 10.0, "by_label": {}}
+    backward = Objective(speeds=(-1.0,), duration=10.0, start=3.0)
+    assert score([row], backward) == pytest.approx(0.2)

@@ -77,7 +77,8 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
             total += 2.0 + (objective.duration - float(row["simulated"])) / objective.duration
             continue
         measured = float(row["running_speed"])
-        term = abs(measured - speed) / speed if math.isfinite(measured) else 2.0
+        # relative to the command's size: a backward command (< 0) is no negative error
+        term = abs(measured - speed) / abs(speed) if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
             term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
         cot = float(row.get("cost_of_transport", math.nan))
