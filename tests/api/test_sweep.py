@@ -250,3 +250,33 @@ def test_time_and_from_take_a_unit_as_for_legdsl_run(
            "--out", str(tmp_path / "t")]  # fmt: skip
     assert main(bad) == 2
     assert "--time is a time (s), but 2kg is a mass" in capsys.readouterr().err
+
+
+def test_an_actuator_setting_is_swept_as_set_takes_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--grid leg_spring.k=... was refused ("not an input or parameter") although every run
+    takes it as --set leg_spring.k=..."""
+    out = tmp_path / "springs"
+    code = main(["sweep", str(HOPPER), "--controller", "hop", "--grid",
+                 "leg_spring.k=2500N/m,3500N/m", "--time", "1.5", "--from", "0.5", "--jobs", "1",
+                 "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    table = sorted(rows(out), key=lambda r: r["run"])
+    assert [float(r["leg_spring.k"]) for r in table] == [2500.0, 3500.0]
+    assert table[0]["stride_duration"] != table[1]["stride_duration"]  # the spring took effect
+    code = main(["sweep", str(HOPPER), "--controller", "hop", "--grid", "hip_servo.kp=-1:1:2",
+                 "--out", str(tmp_path / "negative")])  # fmt: skip
+    assert code == 2
+    assert "--grid hip_servo.kp: must not be negative" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("setting", ["speed=1m/s", "k_speed = 0.05s"])
+def test_a_fixed_setting_of_a_swept_name_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], setting: str
+) -> None:
+    """--set speed=1m/s beside --grid speed=... ran every row at 1 m/s, each row naming its
+    swept speed."""
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", setting) == 2
+    assert "is swept, and this would set it in every run" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "sweep.csv").exists()

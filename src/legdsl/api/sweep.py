@@ -34,8 +34,9 @@ import numpy as np
 
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_path
+from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import Dim, UnitError, describe, parse_unit
+from legdsl.lang.units import KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
 from legdsl.pipeline.settings import named_si_unit
@@ -73,8 +74,12 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     if not eq or not name:
         raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI{':N' if kind == 'grid' else ''}")
     if name not in dims:
-        known = ", ".join(dims) or "none"
-        raise UsageError(f"--{kind} {name}: not an input or parameter of the controller ({known})")
+        known = ", ".join(n for n in dims if "." not in n) or "none"
+        settings = [n for n in dims if "." in n]
+        also = f"; or an actuator setting, ACTUATOR.KEY ({', '.join(settings)})" if settings else ""
+        raise UsageError(
+            f"--{kind} {name}: not an input or parameter of the controller ({known}){also}"
+        )
     want = dims[name]
     if kind == "grid" and ("," in spec or ":" not in spec):
         return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
@@ -327,6 +332,23 @@ def iter_jobs(
     for i, values in enumerate(combos):
         keep = str(runs_dir / f"{i:04d}") if runs_dir is not None else None
         yield Job(index=i, values=values, keep=keep, **base)
+
+
+def actuator_settings(model: Model) -> dict[str, Dim]:
+    """Each actuator setting a run takes (``--set ACTUATOR.KEY``), by its dimension."""
+    return {
+        f"{a.name}.{key}": KINDS[setting_kind(key, a.rotary)][0]
+        for a in model.actuators
+        for key in SETTABLE[a.kind]
+    }
+
+
+def check_not_negative(axes: Sequence[Axis]) -> None:
+    """An actuator's gain, damping or stiffness swept below 0 (refused by the .leg checker and
+    by ``--set``), refused before any run rather than by the first run that takes it."""
+    for a in axes:
+        if "." in a.name and a.name.partition(".")[2] in NON_NEGATIVE and min(a.values) < 0:
+            raise UsageError(f"--{a.kind} {a.name}: must not be negative (as in the .leg file)")
 
 
 def units_of(dims: dict[str, Dim]) -> dict[str, str]:

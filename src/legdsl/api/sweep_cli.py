@@ -15,6 +15,8 @@ from legdsl.analysis.sweep_plot import plot_sweep
 from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
+    actuator_settings,
+    check_not_negative,
     iter_jobs,
     parse_axis,
     points,
@@ -51,8 +53,8 @@ def add_sweep_parser(sub: Any) -> Command:
     p.add_argument("--creature", help="which creature, if the file has several")
     p.add_argument("--controller", required=True, metavar="NAME", help="the controller to run")
     p.add_argument("--grid", action="append", default=[], metavar="NAME=LO:HI:N",
-                   help="N values from LO to HI, or NAME=A,B,C (a unit may follow each number; "
-                   "a bare number is in SI units)")  # fmt: skip
+                   help="N values from LO to HI, or NAME=A,B,C; NAME an input, a parameter or "
+                   "ACTUATOR.KEY (a unit may follow each number; a bare number is in SI units)")  # fmt: skip
     p.add_argument("--random", action="append", default=[], metavar="NAME=LO:HI",
                    help="--samples uniform draws from LO to HI")  # fmt: skip
     p.add_argument("--lhs", action="append", default=[], metavar="NAME=LO:HI",
@@ -82,12 +84,21 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
     dims: dict[str, Dim] = {c.name: c.dim for c in (*controller.inputs, *controller.params)}
+    dims |= actuator_settings(model)
     axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")
             for text in getattr(args, kind)]  # fmt: skip
+    check_not_negative(axes)
     if not axes:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")
     if len({a.name for a in axes}) != len(axes):
         raise UsageError("sweep: each name is swept once")
+    for text in args.set:  # a fixed value would override the swept one in every run
+        name, _, value = text.partition("=")
+        if name.strip() in {a.name for a in axes} and "@" not in value:
+            raise UsageError(
+                f"--set {text}: {name.strip()} is swept, and this would set it in every run; "
+                f"leave out the --set (a change during the run is --set {name.strip()}=VALUE@T)"
+            )
     args.time = seconds("--time", args.time)
     if args.t_from is not None:
         args.t_from = seconds("--from", args.t_from, "nonnegative")
