@@ -186,3 +186,21 @@ def test_a_backward_speed_scores_its_error_as_a_forward_one() -> None:
     row = {"outcome": "ok", "running_speed": -1.2, "simulated": 10.0, "by_label": {}}
     backward = Objective(speeds=(-1.0,), duration=10.0, start=3.0)
     assert score([row], backward) == pytest.approx(0.2)
+
+
+def test_a_parameter_of_another_file_is_refused_before_the_tune(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A gain from a shared part of a used file could not be written into the tuned file: that
+    was found only after the whole tune had run, and nothing was kept."""
+    (tmp_path / "gains.leg").write_text("shared gains {\n  param k_speed = 0.06 s\n}\n")
+    text = HOPPER.read_text().replace("  param k_speed = 0.06 s       # eq. (3) gain\n", "")
+    text = text.replace("controller hop {\n", "controller hop {\n  include gains\n")
+    (tmp_path / "uses.leg").write_text('use "gains.leg"\n' + text)
+    code = main(["tune", str(tmp_path / "uses.leg"), "--controller", "hop", "--param",
+                 "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--generations", "1", "--popsize", "2", "--jobs", "1", "--out",
+                 str(tmp_path / "t"), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "'k_speed' is declared in" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()  # refused before anything ran

@@ -27,7 +27,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -217,15 +217,7 @@ def tune(
 def write_tuned(source: Path, controller: Controller, values: dict[str, float], out: Path) -> Path:
     """The ``.leg`` file with only the tuned parameters' values changed (in their own units)."""
     tree, text = parse_file(source)
-    spans = {}
-    for c in controller.params:
-        if c.name in values:
-            if c.span.file != str(source):
-                raise UsageError(
-                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
-                    "parameter of the file itself"
-                )
-            spans[c.name] = c.span
+    spans = declared_in(source, controller, values)
     edits = []
     found = set()
     # a parameter is declared by the controller, or by a shared part it includes
@@ -248,6 +240,22 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         lines[line - 1] = row[: col - 1] + new + rest
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> dict[str, Any]:
+    """Where each named parameter is declared, or a ``UsageError`` for one declared in another
+    file (the tuned file is ``source`` with its own values changed: checked before a tune)."""
+    names = set(names)
+    spans = {}
+    for c in controller.params:
+        if c.name in names:
+            if c.span.file != str(source):
+                raise UsageError(
+                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
+                    f"parameter of the file itself (or declare {c.name} in {source})"
+                )
+            spans[c.name] = c.span
+    return spans
 
 
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:

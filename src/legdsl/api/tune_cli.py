@@ -12,7 +12,16 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.api.sweep import Job, parse_axis, seconds, units_of
-from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
+from legdsl.api.tune import (
+    Bound,
+    Objective,
+    declared_in,
+    dump,
+    plot_history,
+    report,
+    tune,
+    write_tuned,
+)
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
@@ -101,6 +110,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
                 f"--param {text}: the file's value {start:g} is outside the bounds; widen them"
             )
         bounds.append(Bound(axis.name, low, high, start))
+    declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
     inputs = {c.name: c for c in controller.inputs}
     if "speed" not in inputs:
         raise UsageError(f"tune: controller '{args.controller}' has no input 'speed' to command")
