@@ -280,3 +280,23 @@ def test_a_fixed_setting_of_a_swept_name_is_refused(
     assert sweep(tmp_path / "out", tmp_path / "generated", "--set", setting) == 2
     assert "is swept, and this would set it in every run" in capsys.readouterr().err
     assert not (tmp_path / "out" / "sweep.csv").exists()
+
+
+def test_a_sweep_of_an_edited_file_is_not_resumed_into_the_old_rows(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The plan named the file, not what it says: after the creature was edited the same
+    command appended rows of the new creature to the old one's table."""
+    source = tmp_path / "hopper.leg"
+    source.write_text(HOPPER.read_text())
+    command = ["sweep", str(source), "--controller", "hop", "--grid", "speed=1,1.5", "--time",
+               "0.5", "--from", "0.1", "--jobs", "1", "--out", str(tmp_path / "out"),
+               "--generated", str(tmp_path / "generated")]  # fmt: skip
+    assert main(command) == 0
+    lines = (tmp_path / "out" / "sweep.csv").read_text().splitlines(keepends=True)
+    (tmp_path / "out" / "sweep.csv").write_text("".join(lines[:2]))  # interrupted after a row
+    source.write_text(HOPPER.read_text().replace("mass 10 kg", "mass 12 kg"))
+    capsys.readouterr()
+    assert main(command) == 2
+    assert "the .leg file's creature or controller has changed" in capsys.readouterr().err
+    assert len(rows(tmp_path / "out")) == 1

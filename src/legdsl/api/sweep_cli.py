@@ -27,6 +27,7 @@ from legdsl.api.sweep import (
     units_of,
 )
 from legdsl.check.source import check_model
+from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
@@ -119,12 +120,20 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     lock = _writer_lock(out)  # held until the sweep is done (two would append the same rows)
     plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
-            "from": args.t_from, "set": args.set, "runs": combos}  # fmt: skip
+            "from": args.t_from, "set": args.set, "runs": combos,
+            # what the file says, so that rows of an edited file are not mixed with the new
+            "creature_digest": creature_fingerprint(model),
+            "controller_digest": controller_fingerprint(model, controller)}  # fmt: skip
     plan_file = out / "sweep.json"
-    if plan_file.is_file() and _plan_in(plan_file) != plan:
-        raise UsageError(
-            f"{out} holds another sweep (its sweep.json differs, or is damaged); choose another --out or remove it"
+    before_plan = _plan_in(plan_file) if plan_file.is_file() else plan
+    if before_plan != plan:
+        digests = ("creature_digest", "controller_digest")
+        edited = isinstance(before_plan, dict) and all(
+            before_plan.get(k) == v for k, v in plan.items() if k not in digests
         )
+        why = ("the .leg file's creature or controller has changed since its rows were run"
+               if edited else "its sweep.json differs, or is damaged")  # fmt: skip
+        raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
     write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     base = {
         "source": str(args.file),
