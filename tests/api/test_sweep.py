@@ -300,3 +300,11 @@ def test_a_sweep_of_an_edited_file_is_not_resumed_into_the_old_rows(
     assert main(command) == 2
     assert "the .leg file's creature or controller has changed" in capsys.readouterr().err
     assert len(rows(tmp_path / "out")) == 1
+
+
+def test_one_value_from_lo_to_hi_is_refused_not_cut_to_lo() -> None:
+    """--grid speed=1:2:1 ran speed 1 alone, without a word about the 2."""
+    with pytest.raises(UsageError, match=r"1 value from LO to HI is LO alone; write speed=1m/s"):
+        parse_axis("grid", "speed=1m/s:2m/s:1", DIMS)
+    assert parse_axis("grid", "speed=1:1:1", DIMS).values == (1.0,)
+    assert parse_axis("grid", "speed=1", DIMS).values == (1.0,)

@@ -89,6 +89,11 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
             raise UsageError(f"--grid {text!r}: write NAME=LO:HI:N (N values) or NAME=A,B,C")
         _at_most(int(parts[2]), f"--grid {text}")
         lo, hi = (_number(v, want, kind, name) for v in parts[:2])
+        if int(parts[2]) == 1 and lo != hi:  # linspace would keep LO and drop HI unsaid
+            raise UsageError(
+                f"--grid {text!r}: 1 value from LO to HI is LO alone; write {name}={parts[0].strip()} for "
+                "one value, or give N of 2 or more"
+            )
         return Axis(name, kind, tuple(float(v) for v in np.linspace(lo, hi, int(parts[2]))))
     if len(parts) != 2:
         raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI")
