@@ -204,3 +204,20 @@ def test_a_parameter_of_another_file_is_refused_before_the_tune(
     assert code == 2
     assert "'k_speed' is declared in" in capsys.readouterr().err
     assert not (tmp_path / "t").exists()  # refused before anything ran
+
+
+def test_a_search_that_stops_early_says_why(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A hopper tipped over at the start falls at once whatever its gains: CMA-ES stopped after
+    one of three generations, and the report gave one generation without a word."""
+    source = tmp_path / "tipped.leg"
+    source.write_text(HOPPER.read_text().replace("pitch = 0 deg", "pitch = 75 deg"))
+    code = main(["tune", str(source), "--controller", "hop", "--param", "kp=100:200",
+                 "--speeds", "1", "--time", "1", "--from", "0.1", "--generations", "3",
+                 "--popsize", "3", "--jobs", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "CMA-ES stopped after generation 1 of 3: the candidates' objectives no longer" in out
+    assert json.loads((tmp_path / "t" / "tune.json").read_text())["start"]["objective"] == 3.0

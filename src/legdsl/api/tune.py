@@ -198,6 +198,9 @@ def tune(
                 left = spent / (done - replayed) * (generations - done)
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
                     f"{best[0]:.4g} ({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
+            if len(history) < generations:  # else the report's few generations are unexplained
+                say(f"CMA-ES stopped after generation {len(history)} of {generations}: "
+                    f"{why_stopped(es.stop())}")  # fmt: skip
     except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
         if begun is None:  # not even the file's own values measured: nothing to keep
             raise
@@ -212,6 +215,21 @@ def tune(
         "history": history,
         "ended": ended,
     }
+
+
+FLAT = ("tolfun", "tolflatfitness", "tolfunhist", "tolstagnation")
+
+
+def why_stopped(conditions: dict[str, Any]) -> str:
+    """CMA-ES's termination conditions in words."""
+    if any(c in conditions for c in FLAT):
+        return (
+            "the candidates' objectives no longer differ (if every run falls alike, what "
+            "makes it fall is not what is tuned: tune other parameters, or widen the bounds)"
+        )
+    if "tolx" in conditions or "tolupsigma" in conditions:
+        return "its steps have shrunk to nothing: the search has converged"
+    return ", ".join(conditions) or "no reason given"
 
 
 def write_tuned(source: Path, controller: Controller, values: dict[str, float], out: Path) -> Path:
