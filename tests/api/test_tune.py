@@ -151,14 +151,15 @@ controller hold {
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
+        (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),
     ],
 )  # fmt: skip
 def test_a_tune_that_cannot_search_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
 ) -> None:
     """A population of 0 or 1 was an internal error inside cma (exit 70), a speed of 0 a
-    division by zero, a --param given twice or a NaN weight was taken without a word, and a
-    wrong --speeds was reported as a --grid."""
+    division by zero, a --param given twice, a NaN weight or a --from at the runs' end (no
+    speed measured) was taken without a word, and a wrong --speeds was reported as a --grid."""
     args = ["tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
             "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1", "--jobs",
             "1", "--out", str(tmp_path / "t"), "--generated", str(tmp_path / "generated")]  # fmt: skip

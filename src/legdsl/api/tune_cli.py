@@ -125,6 +125,12 @@ def cmd_tune(args: argparse.Namespace) -> int:
     args.t_from = seconds("--from", args.t_from, "nonnegative")
     if args.generations < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("tune: --generations, --jobs and --time must be positive")
+    if not args.t_from < args.time:  # no speed measured: every candidate would score alike
+        raise UsageError(
+            f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
+            "so no candidate's speed would be measured; give --from from 0 to before --time "
+            "(seconds; --from is 3 unless given)"
+        )
     if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
         raise UsageError(
             f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
