@@ -308,3 +308,14 @@ def test_one_value_from_lo_to_hi_is_refused_not_cut_to_lo() -> None:
         parse_axis("grid", "speed=1m/s:2m/s:1", DIMS)
     assert parse_axis("grid", "speed=1:1:1", DIMS).values == (1.0,)
     assert parse_axis("grid", "speed=1", DIMS).values == (1.0,)
+
+
+def test_a_wrong_fixed_setting_is_refused_before_the_plan_is_recorded(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A --set without its unit was refused by the runs, after sweep.json had recorded it: the
+    corrected command was then refused as another sweep."""
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", "k_trim=0.4kg") == 2
+    assert "--set k_trim" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "sweep.json").exists()
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", "k_trim=0.4") == 0

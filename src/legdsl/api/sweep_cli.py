@@ -31,7 +31,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
-from legdsl.pipeline.settings import require_controller
+from legdsl.pipeline.settings import require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -116,6 +116,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             "before --time (seconds)"
         )
     combos = points(axes, args.samples, args.seed)
+    # a wrong --set is refused here, before sweep.json records it (the corrected command
+    # would be refused as another sweep), not by every run
+    sort_settings(args.set, model, args.controller)
+    # compile once here, so that the workers never race to write generated/NAME/
+    from legdsl.api import load
+
+    load(args.file, args.creature, args.generated).session.control(args.controller)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     lock = _writer_lock(out)  # held until the sweep is done (two would append the same rows)
@@ -128,8 +135,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     before_plan = _plan_in(plan_file) if plan_file.is_file() else plan
     if before_plan != plan:
         digests = ("creature_digest", "controller_digest")
-        edited = isinstance(before_plan, dict) and all(
-            before_plan.get(k) == v for k, v in plan.items() if k not in digests
+        edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
+            isinstance(before_plan, dict)
+            and all(k in before_plan for k in digests)
+            and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
         )
         why = ("the .leg file's creature or controller has changed since its rows were run"
                if edited else "its sweep.json differs, or is damaged")  # fmt: skip
@@ -146,10 +155,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         "generated": args.generated,
     }
     jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-    # compile once here, so that the workers never race to write generated/NAME/
-    from legdsl.api import load
-
-    load(args.file, args.creature, args.generated).session.control(args.controller)
     before = len(read_table(out / "sweep.csv"))
     bar = progress_bar if sys.stderr.isatty() else None
     try:
