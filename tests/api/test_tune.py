@@ -152,6 +152,8 @@ controller hold {
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
         (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),
+        (["--param", "stroke=1cm:2cm"],
+         r"the file's value 0.03 m is outside the bounds \(0.01 to 0.02 m\); widen them"),
     ],
 )  # fmt: skip
 def test_a_tune_that_cannot_search_is_refused(

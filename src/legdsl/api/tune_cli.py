@@ -106,8 +106,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
         low, high = axis.values
         start = params[axis.name].value
         if not low <= start <= high:
+            unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
             raise UsageError(
-                f"--param {text}: the file's value {start:g} is outside the bounds; widen them"
+                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
+                f"({low:g} to {high:g} {unit}); widen them"
             )
         bounds.append(Bound(axis.name, low, high, start))
     declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
