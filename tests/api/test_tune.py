@@ -152,6 +152,9 @@ controller hold {
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
         (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),
+        (["--seed", "0"], r"--seed 0: give a whole number from 1 to 4294967295"),
+        (["--seed", "-1"], r"--seed -1: give a whole number from 1 to 4294967295"),
+        (["--seed", str(2**32)], r"--seed 4294967296: give a whole number from 1"),
         (["--param", "stroke=1cm:2cm"],
          r"the file's value 0.03 m is outside the bounds \(0.01 to 0.02 m\); widen them"),
     ],
@@ -161,7 +164,9 @@ def test_a_tune_that_cannot_search_is_refused(
 ) -> None:
     """A population of 0 or 1 was an internal error inside cma (exit 70), a speed of 0 a
     division by zero, a --param given twice, a NaN weight or a --from at the runs' end (no
-    speed measured) was taken without a word, and a wrong --speeds was reported as a --grid."""
+    speed measured) was taken without a word, a wrong --speeds was reported as a --grid, a
+    --seed of 0 gave another search each time (cma's seed from the clock) and one below 0 or
+    from 2**32 on was an internal error."""
     args = ["tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
             "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1", "--jobs",
             "1", "--out", str(tmp_path / "t"), "--generated", str(tmp_path / "generated")]  # fmt: skip

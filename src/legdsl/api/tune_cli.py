@@ -133,6 +133,11 @@ def cmd_tune(args: argparse.Namespace) -> int:
             "so no candidate's speed would be measured; give --from from 0 to before --time "
             "(seconds; --from is 3 unless given)"
         )
+    if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
+        raise UsageError(
+            f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
+            "0 as a seed from the clock, and the tune could not be repeated or resumed)"
+        )
     if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
         raise UsageError(
             f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
