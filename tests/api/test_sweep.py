@@ -271,12 +271,12 @@ def test_an_actuator_setting_is_swept_as_set_takes_it(
     assert "--grid hip_servo.kp: must not be negative" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("setting", ["speed=1m/s", "k_speed = 0.05s"])
+@pytest.mark.parametrize("setting", ["speed=1m/s", "k_speed = 0.05s", "hop.k_speed=0.05s"])
 def test_a_fixed_setting_of_a_swept_name_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], setting: str
 ) -> None:
     """--set speed=1m/s beside --grid speed=... ran every row at 1 m/s, each row naming its
-    swept speed."""
+    swept speed (and --set hop.k_speed=... every row at that k_speed)."""
     assert sweep(tmp_path / "out", tmp_path / "generated", "--set", setting) == 2
     assert "is swept, and this would set it in every run" in capsys.readouterr().err
     assert not (tmp_path / "out" / "sweep.csv").exists()

@@ -95,10 +95,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError("sweep: each name is swept once")
     for text in args.set:  # a fixed value would override the swept one in every run
         name, _, value = text.partition("=")
-        if name.strip() in {a.name for a in axes} and "@" not in value:
+        name = name.strip().removeprefix(f"{args.controller}.")  # its own value: the same
+        if name in {a.name for a in axes} and "@" not in value:
             raise UsageError(
-                f"--set {text}: {name.strip()} is swept, and this would set it in every run; "
-                f"leave out the --set (a change during the run is --set {name.strip()}=VALUE@T)"
+                f"--set {text}: {name} is swept, and this would set it in every run; "
+                f"leave out the --set (a change during the run is --set {name}=VALUE@T)"
             )
     args.time = seconds("--time", args.time)
     if args.t_from is not None:
