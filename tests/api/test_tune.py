@@ -229,3 +229,19 @@ def test_a_search_that_stops_early_says_why(
     out = capsys.readouterr().out
     assert "CMA-ES stopped after generation 1 of 3: the candidates' objectives no longer" in out
     assert json.loads((tmp_path / "t" / "tune.json").read_text())["start"]["objective"] == 3.0
+
+
+def test_a_speed_that_is_no_running_speed_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An input 'speed' in rad/s was commanded in m/s by every run: each refused it after the
+    compile, as a --set the user never wrote."""
+    text = NO_PARAMS.replace("input speed = 1 m/s", "input speed = 1 rad/s\n  param amp = 30 deg")
+    (tmp_path / "arm.leg").write_text(text.replace("= 30 deg\n    state B", "= amp\n    state B"))
+    code = main(["tune", str(tmp_path / "arm.leg"), "--controller", "hold", "--param",
+                 "amp=10deg:40deg", "--speeds", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "input 'speed' of controller 'hold' is angular velocity (rad/s), not a running" in (
+        capsys.readouterr().err
+    )

@@ -26,7 +26,7 @@ from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import Dim
+from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -116,6 +116,12 @@ def cmd_tune(args: argparse.Namespace) -> int:
     inputs = {c.name: c for c in controller.inputs}
     if "speed" not in inputs:
         raise UsageError(f"tune: controller '{args.controller}' has no input 'speed' to command")
+    if inputs["speed"].dim != KINDS["velocity"][0]:  # the objective is the running speed's error
+        raise UsageError(
+            f"tune: the input 'speed' of controller '{args.controller}' is "
+            f"{describe(inputs['speed'].dim)}, not a running speed (m/s), and the objective is "
+            "the running speed's error; tune a controller whose speed is in m/s"
+        )
     speeds = _speeds(args.speeds, inputs["speed"].dim)
     if args.table2 is not None and args.table2 not in TABLE2:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
