@@ -245,3 +245,20 @@ def test_a_speed_that_is_no_running_speed_is_refused(
     assert "input 'speed' of controller 'hold' is angular velocity (rad/s), not a running" in (
         capsys.readouterr().err
     )
+
+
+def test_a_parameter_of_the_controller_extended_is_overridden_not_changed(tmp_path: Path) -> None:
+    """Tuning tripod_fast (extends tripod) changed kp in tripod's declaration: the tuned file's
+    tripod changed too, unsaid."""
+    source = ROOT / "tests" / "good" / "outside" / "hexapod.leg"
+    fast = check_model(source).controller("tripod_fast")
+    out = write_tuned(source, fast, {"kp": 150.0, "k_speed": 0.08}, tmp_path / "h.leg")
+    tuned = check_model(out)
+    values = {
+        c: {p.name: p.value for p in tuned.controller(c).params} for c in ("tripod", "tripod_fast")
+    }
+    assert values["tripod_fast"]["kp"] == pytest.approx(150.0)
+    assert values["tripod_fast"]["k_speed"] == pytest.approx(0.08)
+    before = {p.name: p.value for p in check_model(source).controller("tripod").params}
+    assert values["tripod"] == before  # the controller extended is as it was
+    assert "  param kp = 150 N*m/rad\n  input speed = 1 m/s" in out.read_text()

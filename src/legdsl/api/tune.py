@@ -237,18 +237,38 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     tree, text = parse_file(source)
     spans = declared_in(source, controller, values)
     edits = []
+    overrides: list[str] = []  # declarations added to the tuned controller itself
     found = set()
-    # a parameter is declared by the controller, or by a shared part it includes
-    declared: list[ast.ControllerItem | ast.SharedItem] = [
-        item for decl in tree.controllers for item in decl.items
-    ] + [item for part in tree.shared for item in part.items]
-    for item in declared:
+    own = next((d for d in tree.controllers if d.name.name == controller.name), None)
+    # a parameter is declared by the controller, a controller it extends, or a shared part
+    declared: list[tuple[object, ast.ControllerItem | ast.SharedItem]] = [
+        (decl, item) for decl in tree.controllers for item in decl.items
+    ] + [(part, item) for part in tree.shared for item in part.items]
+    for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
-            edits.append(_value_edit(item, values[item.name.name]))
+            line, col, end, new = _value_edit(item, values[item.name.name])
+            inherited = isinstance(decl, ast.ControllerDecl) and decl is not own
+            if (
+                inherited
+                and own is not None
+                and own.items
+                and own.items[0].span.line > own.span.line
+            ):
+                # declared by the controller it extends: overridden in the tuned one, so the
+                # other controller keeps its value
+                overrides.append(f"param {item.name.name} = {new}")
+            else:
+                edits.append((line, col, end, new))
             found.add(item.name.name)
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
+    if overrides and own is not None:
+        first = own.items[0].span
+        indent = lines[first.line - 1][: first.col - 1]
+        lines[first.line - 1 : first.line - 1] = [indent + o for o in overrides]
+        shift = len(overrides)  # the lines from the first item on move down
+        edits = [(ln + shift * (ln >= first.line), c, e, n) for ln, c, e, n in edits]
     for line, col, end, new in sorted(edits, reverse=True):
         row = lines[line - 1]
         rest = row[end - 1 :]
