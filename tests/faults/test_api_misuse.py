@@ -111,7 +111,9 @@ def test_a_wrong_option_is_a_usage_error(
         hopper.run(**{"controller": "hop", "time": 0.05, **kwargs})
 
 
-def test_wrong_arguments_beside_a_run_are_usage_errors(hopper: legdsl.Creature) -> None:
+def test_wrong_arguments_beside_a_run_are_usage_errors(
+    hopper: legdsl.Creature, tmp_path: Path
+) -> None:
     """Each was a TypeError (expected str, bytes or os.PathLike; 'int' is not iterable)."""
     source = ROOT / "creatures" / "hopper.leg"
     with pytest.raises(UsageError, match="creature= is the name of a creature"):
@@ -126,3 +128,7 @@ def test_wrong_arguments_beside_a_run_are_usage_errors(hopper: legdsl.Creature) 
     for call in (run.save, run.plot, run.animate):
         with pytest.raises(UsageError, match=r"give a path \(a text or a pathlib.Path\)"):
             call(3)  # type: ignore[operator]
+    with pytest.raises(UsageError, match=r"open_run\(\): give a path"):
+        legdsl.open_run(run.save(tmp_path / "run"), source=3)  # type: ignore[arg-type]
+    with pytest.raises(UsageError, match="progress= is a function"):
+        hopper.run_copies(2, "hop", time=0.05, progress=3)  # type: ignore[arg-type]

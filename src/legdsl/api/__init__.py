@@ -165,6 +165,9 @@ class Creature:
                 "run_copies(): the copies run one controller, and this run switches "
                 f"({', '.join(plan['switches'])}); run them with run_many() instead"
             )
+        if progress is not None and not callable(progress):
+            raise UsageError(f"run_copies(): progress= is a function called with (done, n, "
+                             f"seconds_left), or None; not {progress!r}")  # fmt: skip
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
@@ -502,6 +505,6 @@ def open_run(directory: str | Path, source: str | Path | None = None) -> Run:
     """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``)."""
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
-    found = read_run(Path(directory), Path(source) if source is not None else None)
+    found = read_run(Path(directory), _a_path("open_run()", source) if source is not None else None)
     dynamics = load_dynamics(found.model, found.source, Path("generated"))
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))
