@@ -319,3 +319,21 @@ def test_a_wrong_fixed_setting_is_refused_before_the_plan_is_recorded(
     assert "--set k_trim" in capsys.readouterr().err
     assert not (tmp_path / "out" / "sweep.json").exists()
     assert sweep(tmp_path / "out", tmp_path / "generated", "--set", "k_trim=0.4") == 0
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [(b"run,speed\n\xff\xfe,1\n", "is damaged"), (b"run,speed\nx,1\n", "is damaged"),
+     (b"run,speed\n7,1\n", "has rows of runs this sweep has not")],
+    ids=["not text", "no run number", "another run"],
+)  # fmt: skip
+def test_a_damaged_table_is_a_usage_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], table: bytes, message: str
+) -> None:
+    """A table that was not a sweep's was an internal error (exit 70), and a row of a run the
+    plan has not was counted among its rows."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "sweep.csv").write_bytes(table)
+    assert sweep(out, tmp_path / "generated") == 2
+    assert f"sweep.csv {message}" in capsys.readouterr().err

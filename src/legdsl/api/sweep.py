@@ -264,6 +264,10 @@ def run_sweep(
     ``workers`` local processes or a Dask cluster (``legdsl.api.workers``)."""
     done = read_table(table)
     finished = {int(r["run"]) for r in done}
+    if not finished <= {j.index for j in jobs}:  # rows of runs the plan has not
+        raise UsageError(
+            f"{table} has rows of runs this sweep has not; remove it to run the sweep again"
+        )
     todo = [j for j in jobs if j.index not in finished]
     if not todo:
         return done
@@ -301,11 +305,19 @@ def read_table(table: Path) -> list[dict[str, Any]]:
     """The rows of a sweep table (a half-written last line, from a kill, is dropped)."""
     if not table.is_file():
         return []
-    with table.open(newline="") as f:
-        rows = list(csv.DictReader(f))
+    damaged = (
+        f"{table} is damaged (edited, or not a sweep's table); remove it to run the sweep again"
+    )
+    try:
+        with table.open(newline="", encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+    except (UnicodeDecodeError, csv.Error):
+        raise UsageError(damaged) from None
     if rows and (None in rows[-1].values() or None in rows[-1]):
         rows.pop()
     typed = [{k: _typed(v) for k, v in r.items()} for r in rows]
+    if not all(isinstance(r.get("run"), int) and r["run"] >= 0 for r in typed):
+        raise UsageError(damaged)
     return sorted(typed, key=lambda r: int(r["run"]))
 
 
