@@ -262,3 +262,18 @@ def test_a_parameter_of_the_controller_extended_is_overridden_not_changed(tmp_pa
     before = {p.name: p.value for p in check_model(source).controller("tripod").params}
     assert values["tripod"] == before  # the controller extended is as it was
     assert "  param kp = 150 N*m/rad\n  input speed = 1 m/s" in out.read_text()
+
+
+def test_an_out_that_would_replace_the_file_itself_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out at the file's own directory wrote the tuned file over the one tuned."""
+    source = tmp_path / "hopper.leg"
+    source.write_text(HOPPER.read_text())
+    code = main(["tune", str(source), "--controller", "hop", "--param", "kp=100:200",
+                 "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1",
+                 "--popsize", "2", "--jobs", "1", "--out", str(tmp_path / "." ),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "would replace" in capsys.readouterr().err
+    assert source.read_text() == HOPPER.read_text()

@@ -150,6 +150,11 @@ def cmd_tune(args: argparse.Namespace) -> int:
             "give --popsize 2 or more (or leave it out for CMA-ES's own)"
         )
     out = Path(args.out)
+    if (out / source.name).resolve() == source.resolve():
+        raise UsageError(
+            f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
+            "own values with it); choose another --out"
+        )
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
