@@ -337,3 +337,25 @@ def test_a_damaged_table_is_a_usage_error(
     (out / "sweep.csv").write_bytes(table)
     assert sweep(out, tmp_path / "generated") == 2
     assert f"sweep.csv {message}" in capsys.readouterr().err
+
+
+def _killed_by_the_system(k: int) -> int:
+    """A worker's job that the out-of-memory killer ends (SIGKILL) when it is number 1."""
+    import os
+    import signal
+    import time
+
+    if k == 1:
+        os.kill(os.getpid(), signal.SIGKILL)
+    time.sleep(0.3)
+    return k
+
+
+def test_a_worker_killed_by_the_system_is_said_so_not_a_bug() -> None:
+    """A worker killed by SIGKILL (out of memory) was an internal error, 'a bug in legdsl'
+    (BrokenProcessPool), saying nothing of what was kept or what to do."""
+    from legdsl.api.workers import Workers
+
+    killed = r"killed \(SIGKILL: out of memory\?\).*fewer --jobs"
+    with pytest.raises(UsageError, match=killed), Workers(2) as pool:
+        list(pool.as_completed(_killed_by_the_system, [0, 1, 2]))
