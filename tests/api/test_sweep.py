@@ -250,3 +250,112 @@ def test_time_and_from_take_a_unit_as_for_legdsl_run(
            "--out", str(tmp_path / "t")]  # fmt: skip
     assert main(bad) == 2
     assert "--time is a time (s), but 2kg is a mass" in capsys.readouterr().err
+
+
+def test_an_actuator_setting_is_swept_as_set_takes_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--grid leg_spring.k=... was refused ("not an input or parameter") although every run
+    takes it as --set leg_spring.k=..."""
+    out = tmp_path / "springs"
+    code = main(["sweep", str(HOPPER), "--controller", "hop", "--grid",
+                 "leg_spring.k=2500N/m,3500N/m", "--time", "1.5", "--from", "0.5", "--jobs", "1",
+                 "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    table = sorted(rows(out), key=lambda r: r["run"])
+    assert [float(r["leg_spring.k"]) for r in table] == [2500.0, 3500.0]
+    assert table[0]["stride_duration"] != table[1]["stride_duration"]  # the spring took effect
+    code = main(["sweep", str(HOPPER), "--controller", "hop", "--grid", "hip_servo.kp=-1:1:2",
+                 "--out", str(tmp_path / "negative")])  # fmt: skip
+    assert code == 2
+    assert "--grid hip_servo.kp: must not be negative" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("setting", ["speed=1m/s", "k_speed = 0.05s", "hop.k_speed=0.05s"])
+def test_a_fixed_setting_of_a_swept_name_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], setting: str
+) -> None:
+    """--set speed=1m/s beside --grid speed=... ran every row at 1 m/s, each row naming its
+    swept speed (and --set hop.k_speed=... every row at that k_speed)."""
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", setting) == 2
+    assert "is swept, and this would set it in every run" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "sweep.csv").exists()
+
+
+def test_a_sweep_of_an_edited_file_is_not_resumed_into_the_old_rows(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The plan named the file, not what it says: after the creature was edited the same
+    command appended rows of the new creature to the old one's table."""
+    source = tmp_path / "hopper.leg"
+    source.write_text(HOPPER.read_text())
+    command = ["sweep", str(source), "--controller", "hop", "--grid", "speed=1,1.5", "--time",
+               "0.5", "--from", "0.1", "--jobs", "1", "--out", str(tmp_path / "out"),
+               "--generated", str(tmp_path / "generated")]  # fmt: skip
+    assert main(command) == 0
+    lines = (tmp_path / "out" / "sweep.csv").read_text().splitlines(keepends=True)
+    (tmp_path / "out" / "sweep.csv").write_text("".join(lines[:2]))  # interrupted after a row
+    source.write_text(HOPPER.read_text().replace("mass 10 kg", "mass 12 kg"))
+    capsys.readouterr()
+    assert main(command) == 2
+    assert "the .leg file's creature or controller has changed" in capsys.readouterr().err
+    assert len(rows(tmp_path / "out")) == 1
+
+
+def test_one_value_from_lo_to_hi_is_refused_not_cut_to_lo() -> None:
+    """--grid speed=1:2:1 ran speed 1 alone, without a word about the 2."""
+    with pytest.raises(UsageError, match=r"1 value from LO to HI is LO alone; write speed=1m/s"):
+        parse_axis("grid", "speed=1m/s:2m/s:1", DIMS)
+    assert parse_axis("grid", "speed=1:1:1", DIMS).values == (1.0,)
+    assert parse_axis("grid", "speed=1", DIMS).values == (1.0,)
+
+
+def test_a_wrong_fixed_setting_is_refused_before_the_plan_is_recorded(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A --set without its unit was refused by the runs, after sweep.json had recorded it: the
+    corrected command was then refused as another sweep."""
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", "k_trim=0.4kg") == 2
+    assert "--set k_trim" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "sweep.json").exists()
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--set", "k_trim=0.4") == 0
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [(b"run,speed\n\xff\xfe,1\n", "is damaged"), (b"run,speed\nx,1\n", "is damaged"),
+     (b"run,speed\n7,1\n", "has rows of runs this sweep has not")],
+    ids=["not text", "no run number", "another run"],
+)  # fmt: skip
+def test_a_damaged_table_is_a_usage_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], table: bytes, message: str
+) -> None:
+    """A table that was not a sweep's was an internal error (exit 70), and a row of a run the
+    plan has not was counted among its rows."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "sweep.csv").write_bytes(table)
+    assert sweep(out, tmp_path / "generated") == 2
+    assert f"sweep.csv {message}" in capsys.readouterr().err
+
+
+def _killed_by_the_system(k: int) -> int:
+    """A worker's job that the out-of-memory killer ends (SIGKILL) when it is number 1."""
+    import os
+    import signal
+    import time
+
+    if k == 1:
+        os.kill(os.getpid(), signal.SIGKILL)
+    time.sleep(0.3)
+    return k
+
+
+def test_a_worker_killed_by_the_system_is_said_so_not_a_bug() -> None:
+    """A worker killed by SIGKILL (out of memory) was an internal error, 'a bug in legdsl'
+    (BrokenProcessPool), saying nothing of what was kept or what to do."""
+    from legdsl.api.workers import Workers
+
+    killed = r"killed \(SIGKILL: out of memory\?\).*fewer --jobs"
+    with pytest.raises(UsageError, match=killed), Workers(2) as pool:
+        list(pool.as_completed(_killed_by_the_system, [0, 1, 2]))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -117,3 +118,162 @@ def test_a_damaged_or_foreign_journal_starts_the_tune_afresh(tmp_path: Path, tex
     journal.add([[0.5]], [0.25], [{"outcome": "ok"}])
     again = Journal.open(tmp_path, {"seed": 1})
     assert again.start == journal.start and again.generations == journal.generations
+
+
+NO_PARAMS = """creature arm {
+  planar
+  gravity 9.81 m/s^2
+  body base fixed at (0 m, 1 m) { mass 5 kg  inertia 0.1 kg*m^2 }
+  body upper on base via revolute shoulder at (0 m, 0 m) {
+    length 0.4 m  com 0.2 m  mass 1 kg  inertia 0.02 kg*m^2
+  }
+  actuator s on shoulder servo(kp = 50 N*m/rad, kv = 2 N*m*s/rad)
+}
+controller hold {
+  input speed = 1 m/s
+  table {
+    state A on time_in_state > 0.2 s: s.setpoint = 30 deg
+    state B on time_in_state > 0.2 s: s.setpoint = -30 deg
+  }
+}
+"""
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--popsize", "1"], r"--popsize 1: CMA-ES needs at least 2 candidates"),
+        (["--popsize", "0"], r"--popsize 0: CMA-ES needs at least 2 candidates"),
+        (["--speeds", "1,0"], r"--speeds 1,0: a speed of 0 has no relative speed error"),
+        (["--speeds", "1kg"], r"--speeds 1kg: speed is velocity"),
+        (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
+        (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
+        (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
+        (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
+        (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
+        (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),
+        (["--seed", "0"], r"--seed 0: give a whole number from 1 to 4294967295"),
+        (["--seed", "-1"], r"--seed -1: give a whole number from 1 to 4294967295"),
+        (["--seed", str(2**32)], r"--seed 4294967296: give a whole number from 1"),
+        (["--param", "stroke=1cm:2cm"],
+         r"the file's value 0.03 m is outside the bounds \(0.01 to 0.02 m\); widen them"),
+    ],
+)  # fmt: skip
+def test_a_tune_that_cannot_search_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    """A population of 0 or 1 was an internal error inside cma (exit 70), a speed of 0 a
+    division by zero, a --param given twice, a NaN weight or a --from at the runs' end (no
+    speed measured) was taken without a word, a wrong --speeds was reported as a --grid, a
+    --seed of 0 gave another search each time (cma's seed from the clock) and one below 0 or
+    from 2**32 on was an internal error."""
+    args = ["tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
+            "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1", "--jobs",
+            "1", "--out", str(tmp_path / "t"), "--generated", str(tmp_path / "generated")]  # fmt: skip
+    if "--speeds" in extra:
+        args[args.index("--speeds") : args.index("--speeds") + 2] = []
+    assert main([*args, *extra]) == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert not (tmp_path / "t" / "tune.json").exists()
+
+
+def test_a_controller_with_no_parameters_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "arm.leg").write_text(NO_PARAMS)
+    code = main(["tune", str(tmp_path / "arm.leg"), "--controller", "hold", "--param",
+                 "amp=10deg:40deg", "--speeds", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "controller 'hold' has no parameters to tune" in capsys.readouterr().err
+
+
+def test_a_backward_speed_scores_its_error_as_a_forward_one() -> None:
+    """Relative to a command of -1 m/s, running at -1.2 m/s scored -0.2: better than
+    perfect, so CMA-ES was drawn to the worst candidates."""
+    row = {"outcome": "ok", "running_speed": -1.2, "simulated": 10.0, "by_label": {}}
+    backward = Objective(speeds=(-1.0,), duration=10.0, start=3.0)
+    assert score([row], backward) == pytest.approx(0.2)
+
+
+def test_a_parameter_of_another_file_is_refused_before_the_tune(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A gain from a shared part of a used file could not be written into the tuned file: that
+    was found only after the whole tune had run, and nothing was kept."""
+    (tmp_path / "gains.leg").write_text("shared gains {\n  param k_speed = 0.06 s\n}\n")
+    text = HOPPER.read_text().replace("  param k_speed = 0.06 s       # eq. (3) gain\n", "")
+    text = text.replace("controller hop {\n", "controller hop {\n  include gains\n")
+    (tmp_path / "uses.leg").write_text('use "gains.leg"\n' + text)
+    code = main(["tune", str(tmp_path / "uses.leg"), "--controller", "hop", "--param",
+                 "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--generations", "1", "--popsize", "2", "--jobs", "1", "--out",
+                 str(tmp_path / "t"), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "'k_speed' is declared in" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()  # refused before anything ran
+
+
+def test_a_search_that_stops_early_says_why(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A hopper tipped over at the start falls at once whatever its gains: CMA-ES stopped after
+    one of three generations, and the report gave one generation without a word."""
+    source = tmp_path / "tipped.leg"
+    source.write_text(HOPPER.read_text().replace("pitch = 0 deg", "pitch = 75 deg"))
+    code = main(["tune", str(source), "--controller", "hop", "--param", "kp=100:200",
+                 "--speeds", "1", "--time", "1", "--from", "0.1", "--generations", "3",
+                 "--popsize", "3", "--jobs", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "CMA-ES stopped after generation 1 of 3: the candidates' objectives no longer" in out
+    assert json.loads((tmp_path / "t" / "tune.json").read_text())["start"]["objective"] == 3.0
+
+
+def test_a_speed_that_is_no_running_speed_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An input 'speed' in rad/s was commanded in m/s by every run: each refused it after the
+    compile, as a --set the user never wrote."""
+    text = NO_PARAMS.replace("input speed = 1 m/s", "input speed = 1 rad/s\n  param amp = 30 deg")
+    (tmp_path / "arm.leg").write_text(text.replace("= 30 deg\n    state B", "= amp\n    state B"))
+    code = main(["tune", str(tmp_path / "arm.leg"), "--controller", "hold", "--param",
+                 "amp=10deg:40deg", "--speeds", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "input 'speed' of controller 'hold' is angular velocity (rad/s), not a running" in (
+        capsys.readouterr().err
+    )
+
+
+def test_a_parameter_of_the_controller_extended_is_overridden_not_changed(tmp_path: Path) -> None:
+    """Tuning tripod_fast (extends tripod) changed kp in tripod's declaration: the tuned file's
+    tripod changed too, unsaid."""
+    source = ROOT / "tests" / "good" / "outside" / "hexapod.leg"
+    fast = check_model(source).controller("tripod_fast")
+    out = write_tuned(source, fast, {"kp": 150.0, "k_speed": 0.08}, tmp_path / "h.leg")
+    tuned = check_model(out)
+    values = {
+        c: {p.name: p.value for p in tuned.controller(c).params} for c in ("tripod", "tripod_fast")
+    }
+    assert values["tripod_fast"]["kp"] == pytest.approx(150.0)
+    assert values["tripod_fast"]["k_speed"] == pytest.approx(0.08)
+    before = {p.name: p.value for p in check_model(source).controller("tripod").params}
+    assert values["tripod"] == before  # the controller extended is as it was
+    assert "  param kp = 150 N*m/rad\n  input speed = 1 m/s" in out.read_text()
+
+
+def test_an_out_that_would_replace_the_file_itself_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out at the file's own directory wrote the tuned file over the one tuned."""
+    source = tmp_path / "hopper.leg"
+    source.write_text(HOPPER.read_text())
+    code = main(["tune", str(source), "--controller", "hop", "--param", "kp=100:200",
+                 "--speeds", "1", "--time", "1", "--from", "0.2", "--generations", "1",
+                 "--popsize", "2", "--jobs", "1", "--out", str(tmp_path / "." ),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert "would replace" in capsys.readouterr().err
+    assert source.read_text() == HOPPER.read_text()

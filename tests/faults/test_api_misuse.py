@@ -85,3 +85,50 @@ def test_a_metrics_window_before_the_run_is_a_usage_error(
         run.metrics(start=start, end=end)
     with pytest.raises(MetricsError, match="give a time of 0 s or more"):  # beneath the API
         compute_metrics(run.trajectory, t_from=start, t_to=end)
+
+
+OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
+    ({"record_rate": "100 Hz"}, r"--record-rate '100 Hz': must be a finite number"),
+    ({"drop": "1 cm"}, r"--drop '1 cm': must be a finite number"),
+    ({"fall_height": "0.3"}, r"--fall-height '0.3': must be a finite number"),
+    ({"fall_tilt": "30 deg"}, r"--fall-tilt '30 deg': must be a number of radians"),
+    ({"fall_tilt": True}, r"--fall-tilt True: must be a number of radians"),
+    ({"dt": True}, r"--dt True: must be a finite number more than zero"),
+    ({"switch": {1: "hop"}}, r"switch= maps times to controllers"),
+    ({"controler": "hop"}, r"no option 'controler'.*did you mean 'controller'\?"),
+    ({"sett": {"speed": "1 m/s"}}, r"did you mean 'set'\?"),
+]
+
+
+@pytest.mark.parametrize(("kwargs", "message"), OPTION_MISTAKES,
+                         ids=[str(k) for k, _ in OPTION_MISTAKES])  # fmt: skip
+def test_a_wrong_option_is_a_usage_error(
+    hopper: legdsl.Creature, kwargs: dict[str, Any], message: str
+) -> None:
+    """A text for a number option was a TypeError from math.isfinite, an int time in switch=
+    an AttributeError, and a typo of controller= was taken for control_dt."""
+    with pytest.raises(UsageError, match=message):
+        hopper.run(**{"controller": "hop", "time": 0.05, **kwargs})
+
+
+def test_wrong_arguments_beside_a_run_are_usage_errors(
+    hopper: legdsl.Creature, tmp_path: Path
+) -> None:
+    """Each was a TypeError (expected str, bytes or os.PathLike; 'int' is not iterable)."""
+    source = ROOT / "creatures" / "hopper.leg"
+    with pytest.raises(UsageError, match="creature= is the name of a creature"):
+        legdsl.load(source, creature=3)  # type: ignore[arg-type]
+    with pytest.raises(UsageError, match="generated= is the directory"):
+        legdsl.load(source, generated=3)  # type: ignore[arg-type]
+    run = hopper.run(controller="hop", time=0.05)
+    with pytest.raises(UsageError, match=r"groups= is a list of texts NAME=LEG,LEG"):
+        run.metrics(groups=3)  # type: ignore[arg-type]
+    with pytest.raises(UsageError, match="leg= is the name of a leg"):
+        run.metrics(leg=3)  # type: ignore[arg-type]
+    for call in (run.save, run.plot, run.animate):
+        with pytest.raises(UsageError, match=r"give a path \(a text or a pathlib.Path\)"):
+            call(3)  # type: ignore[operator]
+    with pytest.raises(UsageError, match=r"open_run\(\): give a path"):
+        legdsl.open_run(run.save(tmp_path / "run"), source=3)  # type: ignore[arg-type]
+    with pytest.raises(UsageError, match="progress= is a function"):
+        hopper.run_copies(2, "hop", time=0.05, progress=3)  # type: ignore[arg-type]

@@ -165,6 +165,9 @@ class Creature:
                 "run_copies(): the copies run one controller, and this run switches "
                 f"({', '.join(plan['switches'])}); run them with run_many() instead"
             )
+        if progress is not None and not callable(progress):
+            raise UsageError(f"run_copies(): progress= is a function called with (done, n, "
+                             f"seconds_left), or None; not {progress!r}")  # fmt: skip
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
@@ -186,7 +189,9 @@ class Creature:
         for name, value in (("controller", controller), ("path", path), ("scene", scene)):
             if value is not None and not isinstance(value, str):
                 raise UsageError(f"run(): {name}= takes a text, not {value!r}")
-        if switch is not None and not isinstance(switch, Mapping):
+        if switch is not None and (
+            not isinstance(switch, Mapping) or not all(isinstance(k, str) for k in switch)
+        ):
             raise UsageError(f"run(): switch= maps times to controllers, e.g. {{'6 s': "
                              f"'gallop'}}, not {switch!r}")  # fmt: skip
         if set is not None and not isinstance(set, Mapping):
@@ -207,11 +212,13 @@ class Creature:
         if "control_dt" not in options and isinstance(step, int | float):  # never below it
             options["control_dt"] = default_control_dt(step)
         known = [f.name for f in fields(RunOptions) if f.name != "duration"]
+        arguments = ["controller", "set", "time", "path", "switch", "scene"]  # a typo of one
         for key in options:  # else RunOptions' own TypeError, which names no way out
             if key not in known:
                 where = " (the backend is $LEGDSL_BACKEND's: c or python)" * (key == "backend")
                 raise UsageError(f"run(): no option '{key}'{where}; the options are "
-                                 f"{', '.join(known)}{did_you_mean(key, known)}")  # fmt: skip
+                                 f"{', '.join(known)}"
+                                 f"{did_you_mean(key, [*arguments, *known])}")  # fmt: skip
         run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
         return {
             "controller": controller,
@@ -238,6 +245,12 @@ def _seconds(time: object) -> float:
         raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
                          f"not {time!r}")  # fmt: skip
     return float(time)
+
+
+def _a_path(call: str, path: object) -> Path:
+    if not isinstance(path, str | Path):
+        raise UsageError(f"{call}: give a path (a text or a pathlib.Path), not {path!r}")
+    return Path(path)
 
 
 def _threads(threads: object) -> int | None:
@@ -386,6 +399,13 @@ class Run:
         t_to = None if end is None else _window_time("end", end)
         if isinstance(groups, str):
             groups = (groups,)
+        if isinstance(groups, Iterable):
+            groups = tuple(groups)
+        if not (isinstance(groups, tuple) and all(isinstance(g, str) for g in groups)):
+            raise UsageError(f"metrics(): groups= is a list of texts NAME=LEG,LEG, e.g. "
+                             f"['front=fl,fr'], not {groups!r}")  # fmt: skip
+        if leg is not None and not isinstance(leg, str):
+            raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
         try:
             return compute_metrics(
                 self.trajectory, t_from=t_from, t_to=t_to, leg=leg, groups=parse_groups(groups)
@@ -397,7 +417,7 @@ class Run:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
         from legdsl.pipeline.options import check_output_dir
 
-        out = check_output_dir(directory, "save()")
+        out = check_output_dir(_a_path("save()", directory), "save()")
         if self._session_run is not None:
             self._session_run.write(out)
         else:
@@ -416,14 +436,16 @@ class Run:
 
         t_from = _window_time("start", start)
         directory = self._directory()
-        out = Path(path) if path is not None else directory / "figure6.png"
+        out = _a_path("plot()", path) if path is not None else directory / "figure6.png"
         return plot_run(directory, out, first_leg_angles(directory), t_from, None)
 
     def animate(self, path: str | Path | None = None) -> Path:
         """The self-contained HTML player of this run (in the run's directory by default)."""
         from legdsl.export.player import write_player
 
-        out = Path(path) if path is not None else self._directory() / "animation.html"
+        out = (
+            _a_path("animate()", path) if path is not None else self._directory() / "animation.html"
+        )
         write_player(self._motion(), out)
         return out
 
@@ -469,6 +491,13 @@ def load(
     compiling its generated code into ``generated/`` when missing or stale."""
     if not isinstance(path, str | Path):
         raise UsageError(f"load(): give the path of a .leg file, not {path!r}")
+    if creature is not None and not isinstance(creature, str):
+        raise UsageError(
+            f"load(): creature= is the name of a creature in the file, not {creature!r}"
+        )
+    if not isinstance(generated, str | Path):
+        raise UsageError(f"load(): generated= is the directory of the generated code, not "
+                         f"{generated!r}")  # fmt: skip
     return Creature(RunSession.from_file(path, creature, generated))
 
 
@@ -476,6 +505,6 @@ def open_run(directory: str | Path, source: str | Path | None = None) -> Run:
     """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``)."""
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
-    found = read_run(Path(directory), Path(source) if source is not None else None)
+    found = read_run(Path(directory), _a_path("open_run()", source) if source is not None else None)
     dynamics = load_dynamics(found.model, found.source, Path("generated"))
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

@@ -34,8 +34,9 @@ import numpy as np
 
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_path
+from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import Dim, UnitError, describe, parse_unit
+from legdsl.lang.units import KINDS, Dim, UnitError, describe, parse_unit
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
 from legdsl.pipeline.settings import named_si_unit
@@ -73,8 +74,12 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     if not eq or not name:
         raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI{':N' if kind == 'grid' else ''}")
     if name not in dims:
-        known = ", ".join(dims) or "none"
-        raise UsageError(f"--{kind} {name}: not an input or parameter of the controller ({known})")
+        known = ", ".join(n for n in dims if "." not in n) or "none"
+        settings = [n for n in dims if "." in n]
+        also = f"; or an actuator setting, ACTUATOR.KEY ({', '.join(settings)})" if settings else ""
+        raise UsageError(
+            f"--{kind} {name}: not an input or parameter of the controller ({known}){also}"
+        )
     want = dims[name]
     if kind == "grid" and ("," in spec or ":" not in spec):
         return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
@@ -84,6 +89,11 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
             raise UsageError(f"--grid {text!r}: write NAME=LO:HI:N (N values) or NAME=A,B,C")
         _at_most(int(parts[2]), f"--grid {text}")
         lo, hi = (_number(v, want, kind, name) for v in parts[:2])
+        if int(parts[2]) == 1 and lo != hi:  # linspace would keep LO and drop HI unsaid
+            raise UsageError(
+                f"--grid {text!r}: 1 value from LO to HI is LO alone; write {name}={parts[0].strip()} for "
+                "one value, or give N of 2 or more"
+            )
         return Axis(name, kind, tuple(float(v) for v in np.linspace(lo, hi, int(parts[2]))))
     if len(parts) != 2:
         raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI")
@@ -254,6 +264,10 @@ def run_sweep(
     ``workers`` local processes or a Dask cluster (``legdsl.api.workers``)."""
     done = read_table(table)
     finished = {int(r["run"]) for r in done}
+    if not finished <= {j.index for j in jobs}:  # rows of runs the plan has not
+        raise UsageError(
+            f"{table} has rows of runs this sweep has not; remove it to run the sweep again"
+        )
     todo = [j for j in jobs if j.index not in finished]
     if not todo:
         return done
@@ -291,11 +305,19 @@ def read_table(table: Path) -> list[dict[str, Any]]:
     """The rows of a sweep table (a half-written last line, from a kill, is dropped)."""
     if not table.is_file():
         return []
-    with table.open(newline="") as f:
-        rows = list(csv.DictReader(f))
+    damaged = (
+        f"{table} is damaged (edited, or not a sweep's table); remove it to run the sweep again"
+    )
+    try:
+        with table.open(newline="", encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+    except (UnicodeDecodeError, csv.Error):
+        raise UsageError(damaged) from None
     if rows and (None in rows[-1].values() or None in rows[-1]):
         rows.pop()
     typed = [{k: _typed(v) for k, v in r.items()} for r in rows]
+    if not all(isinstance(r.get("run"), int) and r["run"] >= 0 for r in typed):
+        raise UsageError(damaged)
     return sorted(typed, key=lambda r: int(r["run"]))
 
 
@@ -327,6 +349,23 @@ def iter_jobs(
     for i, values in enumerate(combos):
         keep = str(runs_dir / f"{i:04d}") if runs_dir is not None else None
         yield Job(index=i, values=values, keep=keep, **base)
+
+
+def actuator_settings(model: Model) -> dict[str, Dim]:
+    """Each actuator setting a run takes (``--set ACTUATOR.KEY``), by its dimension."""
+    return {
+        f"{a.name}.{key}": KINDS[setting_kind(key, a.rotary)][0]
+        for a in model.actuators
+        for key in SETTABLE[a.kind]
+    }
+
+
+def check_not_negative(axes: Sequence[Axis]) -> None:
+    """An actuator's gain, damping or stiffness swept below 0 (refused by the .leg checker and
+    by ``--set``), refused before any run rather than by the first run that takes it."""
+    for a in axes:
+        if "." in a.name and a.name.partition(".")[2] in NON_NEGATIVE and min(a.values) < 0:
+            raise UsageError(f"--{a.kind} {a.name}: must not be negative (as in the .leg file)")
 
 
 def units_of(dims: dict[str, Dim]) -> dict[str, str]:

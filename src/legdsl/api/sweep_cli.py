@@ -15,6 +15,8 @@ from legdsl.analysis.sweep_plot import plot_sweep
 from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
+    actuator_settings,
+    check_not_negative,
     iter_jobs,
     parse_axis,
     points,
@@ -25,10 +27,11 @@ from legdsl.api.sweep import (
     units_of,
 )
 from legdsl.check.source import check_model
+from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
-from legdsl.pipeline.settings import require_controller
+from legdsl.pipeline.settings import require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -51,8 +54,8 @@ def add_sweep_parser(sub: Any) -> Command:
     p.add_argument("--creature", help="which creature, if the file has several")
     p.add_argument("--controller", required=True, metavar="NAME", help="the controller to run")
     p.add_argument("--grid", action="append", default=[], metavar="NAME=LO:HI:N",
-                   help="N values from LO to HI, or NAME=A,B,C (a unit may follow each number; "
-                   "a bare number is in SI units)")  # fmt: skip
+                   help="N values from LO to HI, or NAME=A,B,C; NAME an input, a parameter or "
+                   "ACTUATOR.KEY (a unit may follow each number; a bare number is in SI units)")  # fmt: skip
     p.add_argument("--random", action="append", default=[], metavar="NAME=LO:HI",
                    help="--samples uniform draws from LO to HI")  # fmt: skip
     p.add_argument("--lhs", action="append", default=[], metavar="NAME=LO:HI",
@@ -82,12 +85,22 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
     dims: dict[str, Dim] = {c.name: c.dim for c in (*controller.inputs, *controller.params)}
+    dims |= actuator_settings(model)
     axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")
             for text in getattr(args, kind)]  # fmt: skip
+    check_not_negative(axes)
     if not axes:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")
     if len({a.name for a in axes}) != len(axes):
         raise UsageError("sweep: each name is swept once")
+    for text in args.set:  # a fixed value would override the swept one in every run
+        name, _, value = text.partition("=")
+        name = name.strip().removeprefix(f"{args.controller}.")  # its own value: the same
+        if name in {a.name for a in axes} and "@" not in value:
+            raise UsageError(
+                f"--set {text}: {name} is swept, and this would set it in every run; "
+                f"leave out the --set (a change during the run is --set {name}=VALUE@T)"
+            )
     args.time = seconds("--time", args.time)
     if args.t_from is not None:
         args.t_from = seconds("--from", args.t_from, "nonnegative")
@@ -104,16 +117,33 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             "before --time (seconds)"
         )
     combos = points(axes, args.samples, args.seed)
+    # a wrong --set is refused here, before sweep.json records it (the corrected command
+    # would be refused as another sweep), not by every run
+    sort_settings(args.set, model, args.controller)
+    # compile once here, so that the workers never race to write generated/NAME/
+    from legdsl.api import load
+
+    load(args.file, args.creature, args.generated).session.control(args.controller)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     lock = _writer_lock(out)  # held until the sweep is done (two would append the same rows)
     plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
-            "from": args.t_from, "set": args.set, "runs": combos}  # fmt: skip
+            "from": args.t_from, "set": args.set, "runs": combos,
+            # what the file says, so that rows of an edited file are not mixed with the new
+            "creature_digest": creature_fingerprint(model),
+            "controller_digest": controller_fingerprint(model, controller)}  # fmt: skip
     plan_file = out / "sweep.json"
-    if plan_file.is_file() and _plan_in(plan_file) != plan:
-        raise UsageError(
-            f"{out} holds another sweep (its sweep.json differs, or is damaged); choose another --out or remove it"
+    before_plan = _plan_in(plan_file) if plan_file.is_file() else plan
+    if before_plan != plan:
+        digests = ("creature_digest", "controller_digest")
+        edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
+            isinstance(before_plan, dict)
+            and all(k in before_plan for k in digests)
+            and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
         )
+        why = ("the .leg file's creature or controller has changed since its rows were run"
+               if edited else "its sweep.json differs, or is damaged")  # fmt: skip
+        raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
     write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     base = {
         "source": str(args.file),
@@ -126,10 +156,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         "generated": args.generated,
     }
     jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-    # compile once here, so that the workers never race to write generated/NAME/
-    from legdsl.api import load
-
-    load(args.file, args.creature, args.generated).session.control(args.controller)
     before = len(read_table(out / "sweep.csv"))
     bar = progress_bar if sys.stderr.isatty() else None
     try:

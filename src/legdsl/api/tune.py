@@ -27,7 +27,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -77,7 +77,8 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
             total += 2.0 + (objective.duration - float(row["simulated"])) / objective.duration
             continue
         measured = float(row["running_speed"])
-        term = abs(measured - speed) / speed if math.isfinite(measured) else 2.0
+        # relative to the command's size: a backward command (< 0) is no negative error
+        term = abs(measured - speed) / abs(speed) if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
             term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
         cot = float(row.get("cost_of_transport", math.nan))
@@ -197,6 +198,9 @@ def tune(
                 left = spent / (done - replayed) * (generations - done)
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
                     f"{best[0]:.4g} ({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
+            if len(history) < generations:  # else the report's few generations are unexplained
+                say(f"CMA-ES stopped after generation {len(history)} of {generations}: "
+                    f"{why_stopped(es.stop())}")  # fmt: skip
     except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
         if begun is None:  # not even the file's own values measured: nothing to keep
             raise
@@ -213,31 +217,58 @@ def tune(
     }
 
 
+FLAT = ("tolfun", "tolflatfitness", "tolfunhist", "tolstagnation")
+
+
+def why_stopped(conditions: dict[str, Any]) -> str:
+    """CMA-ES's termination conditions in words."""
+    if any(c in conditions for c in FLAT):
+        return (
+            "the candidates' objectives no longer differ (if every run falls alike, what "
+            "makes it fall is not what is tuned: tune other parameters, or widen the bounds)"
+        )
+    if "tolx" in conditions or "tolupsigma" in conditions:
+        return "its steps have shrunk to nothing: the search has converged"
+    return ", ".join(conditions) or "no reason given"
+
+
 def write_tuned(source: Path, controller: Controller, values: dict[str, float], out: Path) -> Path:
     """The ``.leg`` file with only the tuned parameters' values changed (in their own units)."""
     tree, text = parse_file(source)
-    spans = {}
-    for c in controller.params:
-        if c.name in values:
-            if c.span.file != str(source):
-                raise UsageError(
-                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
-                    "parameter of the file itself"
-                )
-            spans[c.name] = c.span
+    spans = declared_in(source, controller, values)
     edits = []
+    overrides: list[str] = []  # declarations added to the tuned controller itself
     found = set()
-    # a parameter is declared by the controller, or by a shared part it includes
-    declared: list[ast.ControllerItem | ast.SharedItem] = [
-        item for decl in tree.controllers for item in decl.items
-    ] + [item for part in tree.shared for item in part.items]
-    for item in declared:
+    own = next((d for d in tree.controllers if d.name.name == controller.name), None)
+    # a parameter is declared by the controller, a controller it extends, or a shared part
+    declared: list[tuple[object, ast.ControllerItem | ast.SharedItem]] = [
+        (decl, item) for decl in tree.controllers for item in decl.items
+    ] + [(part, item) for part in tree.shared for item in part.items]
+    for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
-            edits.append(_value_edit(item, values[item.name.name]))
+            line, col, end, new = _value_edit(item, values[item.name.name])
+            inherited = isinstance(decl, ast.ControllerDecl) and decl is not own
+            if (
+                inherited
+                and own is not None
+                and own.items
+                and own.items[0].span.line > own.span.line
+            ):
+                # declared by the controller it extends: overridden in the tuned one, so the
+                # other controller keeps its value
+                overrides.append(f"param {item.name.name} = {new}")
+            else:
+                edits.append((line, col, end, new))
             found.add(item.name.name)
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
+    if overrides and own is not None:
+        first = own.items[0].span
+        indent = lines[first.line - 1][: first.col - 1]
+        lines[first.line - 1 : first.line - 1] = [indent + o for o in overrides]
+        shift = len(overrides)  # the lines from the first item on move down
+        edits = [(ln + shift * (ln >= first.line), c, e, n) for ln, c, e, n in edits]
     for line, col, end, new in sorted(edits, reverse=True):
         row = lines[line - 1]
         rest = row[end - 1 :]
@@ -247,6 +278,22 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         lines[line - 1] = row[: col - 1] + new + rest
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> dict[str, Any]:
+    """Where each named parameter is declared, or a ``UsageError`` for one declared in another
+    file (the tuned file is ``source`` with its own values changed: checked before a tune)."""
+    names = set(names)
+    spans = {}
+    for c in controller.params:
+        if c.name in names:
+            if c.span.file != str(source):
+                raise UsageError(
+                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
+                    f"parameter of the file itself (or declare {c.name} in {source})"
+                )
+            spans[c.name] = c.span
+    return spans
 
 
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:

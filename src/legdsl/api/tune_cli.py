@@ -12,11 +12,21 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.api.sweep import Job, parse_axis, seconds, units_of
-from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, write_tuned
+from legdsl.api.tune import (
+    Bound,
+    Objective,
+    declared_in,
+    dump,
+    plot_history,
+    report,
+    tune,
+    write_tuned,
+)
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -77,29 +87,74 @@ def cmd_tune(args: argparse.Namespace) -> int:
     params = {c.name: c for c in controller.params}
     if not args.param:
         raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
-    bounds = []
+    if not params:
+        raise UsageError(
+            f"tune: controller '{args.controller}' has no parameters to tune; declare them in "
+            "it (param NAME = VALUE UNIT) or tune another controller"
+        )
+    bounds: list[Bound] = []
     for text in args.param:
+        name = text.partition("=")[0].strip()
+        if name in {c.name for c in controller.inputs}:
+            raise UsageError(
+                f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
+                "tune its parameters (commanded speeds are --speeds)"
+            )
         axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
+        if any(b.name == axis.name for b in bounds):
+            raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
         low, high = axis.values
         start = params[axis.name].value
         if not low <= start <= high:
+            unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
             raise UsageError(
-                f"--param {text}: the file's value {start:g} is outside the bounds; widen them"
+                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
+                f"({low:g} to {high:g} {unit}); widen them"
             )
         bounds.append(Bound(axis.name, low, high, start))
+    declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
     inputs = {c.name: c for c in controller.inputs}
     if "speed" not in inputs:
         raise UsageError(f"tune: controller '{args.controller}' has no input 'speed' to command")
-    speeds = parse_axis("grid", f"speed={args.speeds}", {"speed": inputs["speed"].dim}).values
+    if inputs["speed"].dim != KINDS["velocity"][0]:  # the objective is the running speed's error
+        raise UsageError(
+            f"tune: the input 'speed' of controller '{args.controller}' is "
+            f"{describe(inputs['speed'].dim)}, not a running speed (m/s), and the objective is "
+            "the running speed's error; tune a controller whose speed is in m/s"
+        )
+    speeds = _speeds(args.speeds, inputs["speed"].dim)
     if args.table2 is not None and args.table2 not in TABLE2:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
-    if not (math.isfinite(args.energy_weight) and args.energy_weight >= 0):
-        raise UsageError(f"--energy-weight {args.energy_weight:g}: give a weight of 0 or more")
+    for flag, weight in (("--energy-weight", args.energy_weight),
+                         ("--table2-weight", args.table2_weight)):  # fmt: skip
+        if not (math.isfinite(weight) and weight >= 0):
+            raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
     args.time = seconds("--time", args.time)
     args.t_from = seconds("--from", args.t_from, "nonnegative")
     if args.generations < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("tune: --generations, --jobs and --time must be positive")
+    if not args.t_from < args.time:  # no speed measured: every candidate would score alike
+        raise UsageError(
+            f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
+            "so no candidate's speed would be measured; give --from from 0 to before --time "
+            "(seconds; --from is 3 unless given)"
+        )
+    if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
+        raise UsageError(
+            f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
+            "0 as a seed from the clock, and the tune could not be repeated or resumed)"
+        )
+    if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
+        raise UsageError(
+            f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
+            "give --popsize 2 or more (or leave it out for CMA-ES's own)"
+        )
     out = Path(args.out)
+    if (out / source.name).resolve() == source.resolve():
+        raise UsageError(
+            f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
+            "own values with it); choose another --out"
+        )
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
@@ -134,3 +189,21 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if result["ended"] == "terminated":
         raise Interrupted("SIGTERM")
     return 0
+
+
+def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
+    """``--speeds V,V,...`` in m/s: each a commanded speed, not zero (the speed error is
+    relative to it); a negative one commands running backwards."""
+    try:
+        speeds = parse_axis("grid", f"speed={text}", {"speed": dim}).values
+    except UsageError as e:  # it names --grid, the option it was written for
+        why = str(e).partition(": ")[2]
+        if "write NAME" in why:
+            why = "write the speeds as V,V,... (m/s, or each with its unit: 2m/s,3m/s)"
+        raise UsageError(f"--speeds {text}: {why}") from None
+    if 0.0 in speeds:
+        raise UsageError(
+            f"--speeds {text}: a speed of 0 has no relative speed error to tune against; "
+            "give speeds other than 0 (m/s)"
+        )
+    return speeds

@@ -15,6 +15,7 @@ from __future__ import annotations
 import signal
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
 from legdsl.lang.errors import UsageError
@@ -30,6 +31,7 @@ class Workers:
         self._pool: ProcessPoolExecutor | None = None
         self._client: Any = None
         self._cluster: Any = None
+        self._started: set[Any] = set()  # the local processes, to read how one ended
 
     def __enter__(self) -> Workers:
         if self.dask is None:
@@ -80,15 +82,33 @@ class Workers:
             if self._pool is None:
                 self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
             pending = {self._pool.submit(fn, item) for item in items}
+            # kept here: the executor forgets a process that died before its exit code is read
+            self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
             while pending:
                 ready, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for future in ready:
-                    yield future.result()
+                    try:
+                        result = future.result()
+                    except BrokenProcessPool:
+                        self._killed()
+                        raise
+                    yield result
             return
         from distributed import as_completed
 
         for future in as_completed(self._client.map(fn, list(items), pure=False)):
             yield future.result()
+
+    def _killed(self) -> None:
+        """A worker killed from outside (SIGKILL: the system's out-of-memory killer, most
+        often) is no bug of legdsl's: say so, and what to do (a crash is left as it is)."""
+        codes = {p.exitcode for p in self._started if p.exitcode is not None}  # the dead ones
+        if -signal.SIGKILL in codes:
+            raise UsageError(
+                f"a worker process was killed (SIGKILL: out of memory?); what was done is kept, "
+                f"and the same command again goes on from there: give fewer --jobs than "
+                f"{self.workers}, or free memory"
+            ) from None
 
 
 def _worker() -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import numbers
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -71,12 +72,17 @@ def read_seconds(flag: str, text: str, least: str = "positive") -> float:
     return read_numeric(flag, text.replace(" ", ""), Numeric("time", "s", least))
 
 
+def _real(value: object) -> bool:
+    """A number (the API's options arrive as any Python value; True is no number here)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
 def check_run_options(options: RunOptions) -> None:
     """Raise ``UsageError`` for options no run can use (the API's path to the same rules)."""
     positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}
     for field, flag in positive.items():
         value = getattr(options, field)
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+        if not (_real(value) and math.isfinite(value) and value > 0):
             raise UsageError(f"{flag} {value!r}: must be a finite number more than zero")
     checks = {
         "record_rate": ("--record-rate", options.record_rate),
@@ -84,7 +90,7 @@ def check_run_options(options: RunOptions) -> None:
         "fall_height": ("--fall-height", options.fall_height),
     }
     for flag, value in checks.values():
-        if value is not None and not (math.isfinite(value) and value >= 0):
+        if value is not None and not (_real(value) and math.isfinite(value) and value >= 0):
             raise UsageError(f"{flag} {value!r}: must be a finite number, zero or more")
     rate = options.record_rate
     if rate is not None and rate > 0 and rate * options.duration < 1.0 - 1e-9:
@@ -94,6 +100,8 @@ def check_run_options(options: RunOptions) -> None:
             f"give --record-rate {1.0 / options.duration:.3g}Hz or more, or 0 to record every step"
         )
     tilt = options.fall_tilt
+    if not _real(tilt):
+        raise UsageError(f"--fall-tilt {tilt!r}: must be a number of radians more than zero")
     if not (math.isfinite(tilt) and tilt > 0):
         raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
     if options.integrator not in ("euler", "rk4"):
