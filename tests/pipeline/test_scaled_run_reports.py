@@ -140,3 +140,47 @@ def test_a_scaled_run_that_diverges_or_is_interrupted_says_the_scaled_creatures_
     assert scale_message(said, 4.0) == (
         "interrupted by SIGTERM at t = 1.0000 s of 3 s; what was recorded up to then is kept"
     )
+
+
+SCENES = """
+scene faster {
+  controller hop
+  set speed = 0.5 m/s
+  at 0.3 s set speed = 1 m/s
+  time 0.6 s
+}
+
+scene switching {
+  controller hop
+  at 0.3 s switch hop
+}
+"""
+
+
+def test_a_scene_run_with_scale_is_the_scaled_files_scene(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The scene is the file's creature's; run with --scale L it is the scene of the file
+    'legdsl scale' writes (values and times scaled), not its values divided by their factors."""
+    import numpy as np
+
+    leg = tmp_path / "hopper.leg"
+    leg.write_text((CREATURES / "hopper.leg").read_text(encoding="utf-8") + SCENES)
+    scaled = tmp_path / "hopper4.leg"
+    assert main(["scale", str(leg), "--by", "4", "-o", str(scaled)]) == 0
+    common = ["--scene", "faster", "--backend", "python", "--generated", str(tmp_path / "gen")]
+    assert main(["run", str(scaled), *common, "--out", str(tmp_path / "file")]) == 0
+    assert main(["run", str(leg), *common, "--scale", "4", "--out", str(tmp_path / "flag")]) == 0
+    by_file = np.load(tmp_path / "file" / "trajectory.npz")
+    by_flag = np.load(tmp_path / "flag" / "trajectory.npz")
+    assert _run_json(tmp_path / "flag")["sim_time"] == pytest.approx(1.2)  # 0.6 s times sqrt 4
+    assert np.allclose(by_flag["t"], by_file["t"])
+    assert np.allclose(by_flag["speed_command"], by_file["speed_command"])  # 1 m/s, then 2
+    assert set(np.round(by_flag["speed_command"], 9)) == {1.0, 2.0}
+    assert np.allclose(by_flag["q"], by_file["q"], atol=1e-6)
+    capsys.readouterr()
+    argv = ["run", str(leg), "--scene", "switching", "--scale", "4", "--out", str(tmp_path / "s")]
+    assert main(argv) == 2
+    assert "--scene switching switches controllers, which --scale does not support" in (
+        capsys.readouterr().err
+    )

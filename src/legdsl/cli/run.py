@@ -113,7 +113,18 @@ def cmd_run(args: argparse.Namespace) -> int:
                 f"--scene {scene.name} starts with controller {scene.controller}; "
                 "leave out --controller (or change the scene)"
             )
+        if args.scale is not None:  # the scene as the scaled file has it, for the scaled creature
+            from legdsl.pipeline.scaled import check_scale, scale_scene
+
+            check_scale(args.scale)
+            scene = scale_scene(scene, session.model, args.scale)
         controller, settings, switches = scene_plan(scene, session.model, settings, switches)
+        if args.scale is not None and switches:
+            raise UsageError(
+                f"--scene {scene.name} switches controllers, which --scale does not support: "
+                f"write the scaled file with 'legdsl scale {args.file} --by {args.scale:g} -o "
+                "OUT.leg' and run its scene"
+            )
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
     check_run_options(options)

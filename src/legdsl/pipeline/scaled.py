@@ -21,6 +21,7 @@ import numpy as np
 
 from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
+from legdsl.ir.scene import Scene
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim
@@ -106,6 +107,35 @@ def scale_settings(
         schedule=[
             InputChange(c.t / tick, c.name, down(c.name, c.value)) for c in settings.schedule
         ],
+    )
+
+
+def scale_scene(scene: Scene, model: Model, scale: float) -> Scene:
+    """The file's scene as the scaled file's (``legdsl scale``): its values times their Table 1
+    factors, its times times sqrt L, so that a ``--scale`` run of it, whose inputs are the
+    scaled creature's, is the run of that file's scene."""
+    tick = math.sqrt(scale)
+    dims = {
+        c.name: c.dim
+        for name in dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)])
+        for c in model.controller(name).inputs
+    }
+    by = factor(dims[scene.band_input], scale) if scene.bands else 1.0
+
+    def up(value: float | None, f: float) -> float | None:
+        return None if value is None else value * f
+
+    return dataclasses.replace(
+        scene,
+        values=tuple(
+            dataclasses.replace(v, value=v.value * factor(v.dim, scale), at=up(v.at, tick))
+            for v in scene.values
+        ),
+        switches=tuple(dataclasses.replace(w, t=w.t * tick) for w in scene.switches),
+        duration=up(scene.duration, tick),
+        bands=tuple(
+            dataclasses.replace(b, low=up(b.low, by), high=up(b.high, by)) for b in scene.bands
+        ),
     )
 
 
