@@ -119,7 +119,7 @@ def test_the_window_work_per_metre_and_cost_of_transport() -> None:
     tr.work_positive[:, 0] = 1.5 * tr.t
     tr.work_positive[:, 1] = 0.5 * tr.t
     tr.work_negative[:, 0] = -0.25 * tr.t
-    tr.com[:, 0] = 0.5 * tr.t
+    tr.com[:, 0] = tr.root_pos[:, 0] = 0.5 * tr.t
     rows = {r.key: r for r in energy_rows(tr, 1.0, 3.0)}
     assert rows["positive_work"].value == pytest.approx(4.0)
     assert rows["positive_work_a"].value == pytest.approx(3.0)
@@ -135,6 +135,10 @@ def test_the_window_work_per_metre_and_cost_of_transport() -> None:
     standing.t[:] = tr.t
     still = {r.key: r.value for r in energy_rows(standing, 1.0, 3.0)}
     assert still["distance"] == 0.0 and math.isnan(still["energy_per_metre"])
+    tr.root_pos[:] = 0.0  # welded to the world: the centre of mass moves, the creature does not
+    rig = {r.key: r.value for r in energy_rows(tr, 1.0, 3.0)}
+    assert rig["distance"] == pytest.approx(1.0) and rig["positive_work"] == pytest.approx(4.0)
+    assert math.isnan(rig["energy_per_metre"]) and math.isnan(rig["cost_of_transport"])
 
 
 def test_a_run_reports_its_energy_and_an_older_run_loads_without(tmp_path: Path) -> None:

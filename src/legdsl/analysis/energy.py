@@ -12,7 +12,9 @@ the metrics window, from its first sample to its last:
 - **distance** ``d`` (m): the length of the path of the centre of mass in the horizontal
   plane, sample to sample (a path that turns counts its length, not its chord).
 - **energy per metre** ``W / d`` (J/m), and the dimensionless **cost of transport**
-  ``W / (m g d)`` with ``m`` the creature's mass and ``g`` gravity.
+  ``W / (m g d)`` with ``m`` the creature's mass and ``g`` gravity; n/a for a creature whose
+  root body never moves over the ground (welded to the world: a test rig's centre of mass
+  sways with its limbs, but it goes nowhere).
 
 A spring actuator's ``tau * qd`` is the power at its joint, so its positive work includes the
 recoil of the spring, which a real spring returns for free: for the air-spring legs of the
@@ -64,7 +66,8 @@ def energy_rows(tr: Trajectory, t_from: float, t_to: float) -> list[Summary]:
 
     work = float(np.sum(positive))
     distance = horizontal_distance(tr, t_from, t_to)
-    per_metre = work / distance if distance > 0 else math.nan
+    anchored = len(tr) > 0 and not np.any(np.ptp(tr.root_pos[:, :2], axis=0))
+    per_metre = work / distance if distance > 0 and not anchored else math.nan
     weight = tr.total_mass * tr.gravity
     rows = [
         total("positive_work", "positive actuator work (J)", work),

@@ -160,7 +160,10 @@ class RunSession:
                     "at the same time: the run changes to one controller at a time; keep one"
                 )
         if changes and controller is None:
-            raise UsageError("--switch: say which controller starts the run with --controller")
+            raise UsageError(
+                "--switch: say which controller starts the run with --controller (controller= in "
+                "Python)"
+            )
         if changes and scale is not None:
             raise UsageError(
                 "--switch with --scale: not supported; run the file 'legdsl scale' writes instead"
@@ -177,7 +180,8 @@ class RunSession:
             specs = [scaled.scale_path(p, scale) for p in specs]
         if specs and control is None:
             raise UsageError(
-                "--path: a path is followed by a controller; choose one with --controller"
+                "--path: a path is followed by a controller; choose one with --controller "
+                "(controller= in Python)"
             )
         machine: StateMachine | SwitchingMachine | None = None
         if control is not None and controller is not None and changes:

@@ -231,7 +231,8 @@ def sort_settings(
             continue
         if ir is None:
             raise UsageError(
-                f"--set {name}: '{name}' is a controller input; choose a controller with --controller"
+                f"--set {name}: '{name}' is a controller input; choose a controller with "
+                "--controller (controller= in Python)"
             )
         if name in inputs:
             _check_named(where, name, given, inputs[name].dim)
