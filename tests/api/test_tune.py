@@ -149,6 +149,7 @@ controller hold {
         (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
+        (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller \(k_speed,"),
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
         (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),

@@ -77,9 +77,8 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
         known = ", ".join(n for n in dims if "." not in n) or "none"
         settings = [n for n in dims if "." in n]
         also = f"; or an actuator setting, ACTUATOR.KEY ({', '.join(settings)})" if settings else ""
-        raise UsageError(
-            f"--{kind} {name}: not an input or parameter of the controller ({known}){also}"
-        )
+        what = "a parameter" if kind == "param" else "an input or parameter"  # tune: parameters
+        raise UsageError(f"--{kind} {name}: not {what} of the controller ({known}){also}")
     want = dims[name]
     if kind == "grid" and ("," in spec or ":" not in spec):
         return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
