@@ -47,11 +47,14 @@ def samples_in_window(
     window = (tr.t >= t_from) & (tr.t <= end)
     if not window.any():
         last = float(tr.t[-1])
-        where = (f"--from {t_from:g}s is after its last sample, at {last:g} s" if t_from > last
-                 else f"none lies from {t_from:g} to {end:g} s")  # fmt: skip
-        raise UsageError(
-            f"nothing of {run} to {verb}: {where}; give --from and --to within 0 to {last:g} s"
-        )
+        if t_from > last:
+            where = f"--from {t_from:g}s is after its last sample, at {last:g} s"
+        else:
+            where = f"none lies from {t_from:g} to {end:g} s"
+        fix = f"give --from and --to within 0 to {last:g} s"
+        if len(tr) > 1 and tr.t[0] <= t_from <= end <= last:  # between two samples
+            fix = f"widen the window: the run was recorded every {last / (len(tr) - 1):.3g} s"
+        raise UsageError(f"nothing of {run} to {verb}: {where}; {fix}")
     return window
 
 

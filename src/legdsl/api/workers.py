@@ -102,6 +102,8 @@ class Workers:
     def _killed(self) -> None:
         """A worker killed from outside (SIGKILL: the system's out-of-memory killer, most
         often) is no bug of legdsl's: say so, and what to do (a crash is left as it is)."""
+        for process in self._started:  # a process is reaped a moment after its pipes close,
+            process.join(timeout=1.0)  # which is when the pool sees it is gone; the others end
         codes = {p.exitcode for p in self._started if p.exitcode is not None}  # the dead ones
         if -signal.SIGKILL in codes:
             raise UsageError(
