@@ -237,6 +237,8 @@ def test_the_biped_follows_an_l_shaped_path(
     assert report["lateral_rms"] < 0.15
     assert report["lateral_max"] < 0.3
     assert report["progress"] > 8.0  # round the corner and 3 m up the second leg
+    assert not report["closed"]  # an open path is covered in part, not in laps:
+    assert f"({report['laps']:.3f} of its 15.000 m)" in printed
     tr = Trajectory.load(out)
     assert abs(tr.com[-1, 0] - 5.0) < 0.3 and tr.com[-1, 1] > 3.0
     assert math.degrees(tr.root_rpy[-1, 2]) == pytest.approx(90, abs=15)  # heading +y

@@ -38,9 +38,11 @@ def path_report(
     prog = np.asarray(progress)
     end = tr.t[-1] if t_to is None else t_to
     window = (tr.t >= t_from - EPS_T) & (tr.t <= end + EPS_T)
-    length = PathGeometry(spec).length
+    geometry = PathGeometry(spec)
+    length = geometry.length
     out: dict[str, Any] = {
         "path": spec.describe(),
+        "closed": bool(geometry.closed),  # else "laps" is the fraction of the path covered
         "from": float(t_from),
         "to": float(end),
         "samples": int(window.sum()),
@@ -70,6 +72,7 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
         return "n/a" if v is None else f"{v:.3f}{unit}"
 
     window = f"from {report['from']:g} s"
+    covered = "laps of" if report.get("closed", True) else "of its"  # open: the fraction covered
     return [
         ("path", str(report["path"])),
         (f"lateral deviation RMS ({window})", num("lateral_rms", " m")),
@@ -79,7 +82,7 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
         ),
         (
             "progress along the path",
-            f"{num('progress', ' m')} ({num('laps', '')} laps of {num('length', ' m')})",
+            f"{num('progress', ' m')} ({num('laps', '')} {covered} {num('length', ' m')})",
         ),
         (f"speed along the path ({window})", num("path_speed", " m/s")),
     ]
