@@ -25,6 +25,7 @@ from legdsl.api.tune import (
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
+from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.sim.run_loop import Interrupted
@@ -76,8 +77,6 @@ def add_tune_parser(sub: Any) -> Command:
 
 
 def cmd_tune(args: argparse.Namespace) -> int:
-    from legdsl.analysis.table2 import TABLE2
-
     source = Path(args.file)
     model = check_model(source, args.creature)
     names = [c.name for c in model.controllers]
@@ -85,70 +84,9 @@ def cmd_tune(args: argparse.Namespace) -> int:
         raise UsageError(f"--controller {args.controller}: '{model.name}' has {', '.join(names)}")
     controller = model.controller(args.controller)
     params = {c.name: c for c in controller.params}
-    if not args.param:
-        raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
-    if not params:
-        raise UsageError(
-            f"tune: controller '{args.controller}' has no parameters to tune; declare them in "
-            "it (param NAME = VALUE UNIT) or tune another controller"
-        )
-    bounds: list[Bound] = []
-    for text in args.param:
-        name = text.partition("=")[0].strip()
-        if name in {c.name for c in controller.inputs}:
-            raise UsageError(
-                f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
-                "tune its parameters (commanded speeds are --speeds)"
-            )
-        axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
-        if any(b.name == axis.name for b in bounds):
-            raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
-        low, high = axis.values
-        start = params[axis.name].value
-        if not low <= start <= high:
-            unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
-            raise UsageError(
-                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them"
-            )
-        bounds.append(Bound(axis.name, low, high, start))
-    declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
-    inputs = {c.name: c for c in controller.inputs}
-    if "speed" not in inputs:
-        raise UsageError(f"tune: controller '{args.controller}' has no input 'speed' to command")
-    if inputs["speed"].dim != KINDS["velocity"][0]:  # the objective is the running speed's error
-        raise UsageError(
-            f"tune: the input 'speed' of controller '{args.controller}' is "
-            f"{describe(inputs['speed'].dim)}, not a running speed (m/s), and the objective is "
-            "the running speed's error; tune a controller whose speed is in m/s"
-        )
-    speeds = _speeds(args.speeds, inputs["speed"].dim)
-    if args.table2 is not None and args.table2 not in TABLE2:
-        raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
-    for flag, weight in (("--energy-weight", args.energy_weight),
-                         ("--table2-weight", args.table2_weight)):  # fmt: skip
-        if not (math.isfinite(weight) and weight >= 0):
-            raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
-    args.time = seconds("--time", args.time)
-    args.t_from = seconds("--from", args.t_from, "nonnegative")
-    if args.generations < 1 or args.jobs < 1 or args.time <= 0:
-        raise UsageError("tune: --generations, --jobs and --time must be positive")
-    if not args.t_from < args.time:  # no speed measured: every candidate would score alike
-        raise UsageError(
-            f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
-            "so no candidate's speed would be measured; give --from from 0 to before --time "
-            "(seconds; --from is 3 unless given)"
-        )
-    if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
-        raise UsageError(
-            f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
-            "0 as a seed from the clock, and the tune could not be repeated or resumed)"
-        )
-    if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
-        raise UsageError(
-            f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
-            "give --popsize 2 or more (or leave it out for CMA-ES's own)"
-        )
+    bounds = _bounds(args, controller, source)
+    speeds = _speeds(args.speeds, _speed_input(args.controller, controller).dim)
+    _check_search(args)
     out = Path(args.out)
     if (out / source.name).resolve() == source.resolve():
         raise UsageError(
@@ -189,6 +127,88 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if result["ended"] == "terminated":
         raise Interrupted("SIGTERM")
     return 0
+
+
+def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
+    """``--param NAME=LO:HI`` of each parameter to tune: a parameter the controller declares
+    in ``source`` itself, given once, its file value within the bounds."""
+    params = {c.name: c for c in controller.params}
+    if not args.param:
+        raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
+    if not params:
+        raise UsageError(
+            f"tune: controller '{args.controller}' has no parameters to tune; declare them in "
+            "it (param NAME = VALUE UNIT) or tune another controller"
+        )
+    bounds: list[Bound] = []
+    for text in args.param:
+        name = text.partition("=")[0].strip()
+        if name in {c.name for c in controller.inputs}:
+            raise UsageError(
+                f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
+                "tune its parameters (commanded speeds are --speeds)"
+            )
+        axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
+        if any(b.name == axis.name for b in bounds):
+            raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
+        low, high = axis.values
+        start = params[axis.name].value
+        if not low <= start <= high:
+            unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
+            raise UsageError(
+                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
+                f"({low:g} to {high:g} {unit}); widen them"
+            )
+        bounds.append(Bound(axis.name, low, high, start))
+    declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
+    return bounds
+
+
+def _speed_input(name: str, controller: Controller) -> Constant:
+    """The controller's input ``speed``, a running speed: the objective is its error."""
+    speed = next((c for c in controller.inputs if c.name == "speed"), None)
+    if speed is None:
+        raise UsageError(f"tune: controller '{name}' has no input 'speed' to command")
+    if speed.dim != KINDS["velocity"][0]:
+        raise UsageError(
+            f"tune: the input 'speed' of controller '{name}' is {describe(speed.dim)}, not a "
+            "running speed (m/s), and the objective is the running speed's error; tune a "
+            "controller whose speed is in m/s"
+        )
+    return speed
+
+
+def _check_search(args: argparse.Namespace) -> None:
+    """The objective's weights, the runs' times and CMA-ES's options (``args.time`` and
+    ``args.t_from`` become seconds)."""
+    from legdsl.analysis.table2 import TABLE2
+
+    if args.table2 is not None and args.table2 not in TABLE2:
+        raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
+    for flag, weight in (("--energy-weight", args.energy_weight),
+                         ("--table2-weight", args.table2_weight)):  # fmt: skip
+        if not (math.isfinite(weight) and weight >= 0):
+            raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
+    args.time = seconds("--time", args.time)
+    args.t_from = seconds("--from", args.t_from, "nonnegative")
+    if args.generations < 1 or args.jobs < 1 or args.time <= 0:
+        raise UsageError("tune: --generations, --jobs and --time must be positive")
+    if not args.t_from < args.time:  # no speed measured: every candidate would score alike
+        raise UsageError(
+            f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
+            "so no candidate's speed would be measured; give --from from 0 to before --time "
+            "(seconds; --from is 3 unless given)"
+        )
+    if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
+        raise UsageError(
+            f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
+            "0 as a seed from the clock, and the tune could not be repeated or resumed)"
+        )
+    if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
+        raise UsageError(
+            f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
+            "give --popsize 2 or more (or leave it out for CMA-ES's own)"
+        )
 
 
 def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
