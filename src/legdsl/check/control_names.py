@@ -86,6 +86,7 @@ class NameResolver:
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._planar_sites: set[Span] = set()
+        self._reported_at_call: set[tuple[Span, str]] = set()
         self.each_count = 0  # names each `each` block, in the order they are checked
 
     # ------------------------------------------------------------ errors
@@ -95,6 +96,9 @@ class NameResolver:
         if site is None or span.file == self.scope.user_file:
             self.diag.error(span, message)
             return
+        if (site.span, message) in self._reported_at_call:
+            return  # one library action reading the same wrong thing in several places
+        self._reported_at_call.add((site.span, message))
         action = self.calls[-1][1]
         self.diag.error(
             site.span, f"{message} (in action '{action.name.name}', {place_of(span)}, called here)"
@@ -169,14 +173,12 @@ class NameResolver:
             if members is None:
                 return None
             if name not in members:
-                word = (
-                    f"a {kind} actuator"
-                    if kind == "actuator"
-                    else f"a {KIND_WORDS.get(kind, kind)}"
-                )
+                if kind == "actuator":
+                    self.err(attr.span, self.no_actuator_member(base, name, list(members)))
+                    return None
                 self.err(
                     attr.span,
-                    f"{word} has no {'member ' if kind != 'actuator' else ''}'{name}'; it has "
+                    f"a {KIND_WORDS.get(kind, kind)} has no member '{name}'; it has "
                     f"{', '.join(members)}{did_you_mean(name, members)}",
                 )
                 return None
@@ -186,6 +188,23 @@ class NameResolver:
             return self.constant(base, name, read.type, attr.span)
         self.err(attr.span, f"a number has no member '{name}'")
         return None
+
+    def no_actuator_member(self, base: ir.Part | ir.Alias, name: str, members: list[str]) -> str:
+        """An actuator lacks ``name``; through a leg's alias (a library action's
+        ``leg.spring.k``) the fix is the alias, naming an actuator of a kind that has it."""
+        kind = (self.actuator_of(base) or ("force", False))[0]
+        if isinstance(base, ir.Alias):
+            kinds = [k for k, (set_, read) in ir.ACTUATOR_MEMBERS.items() if name in set_ + read]
+            wanted = " or ".join(f"a {k}" for k in kinds) if kinds else "another"
+            return (
+                f"'{base.alias}' names '{self.part_of(base).name}', a {kind} actuator, which has "
+                f"no '{name}' (it has {', '.join(members)}); make the leg's alias "
+                f"'{base.alias}' name {wanted} actuator"
+            )
+        return (
+            f"a {kind} actuator has no '{name}'; it has "
+            f"{', '.join(members)}{did_you_mean(name, members)}"
+        )
 
     def read(self, thing: ir.Thing, name: str, dim: Dim, span: Span) -> ir.Read | None:
         if self.scope.model.planar and name in ir.SPATIAL_MEMBERS:

@@ -98,6 +98,7 @@ class Elaborator(ExprChecker):
         if actuator is None:
             self.err(key.span, _cannot_set(text))
             return []
+        assert isinstance(target, ir.Part | ir.Alias)  # actuator_of found an actuator
         kind, rotary = actuator
         settable = ir.ACTUATOR_MEMBERS[kind][0]
         if key.name not in settable:
@@ -106,8 +107,7 @@ class Elaborator(ExprChecker):
                 key.span,
                 _cannot_set(text)
                 if key.name in readable
-                else f"a {kind} actuator has no '{key.name}'; it has "
-                f"{', '.join(settable + readable)}{did_you_mean(key.name, settable + readable)}",
+                else self.no_actuator_member(target, key.name, list(settable + readable)),
             )
             return []
         want = KINDS[setting_kind(key.name, rotary)][0]
@@ -216,6 +216,9 @@ class Elaborator(ExprChecker):
                 ok = False
                 continue
             assert isinstance(servo, ir.Part | ir.Alias)
+            if isinstance(legs, ir.Legs) and not self.servo_moves_foot(legs, servo, path):
+                ok = False
+                continue
             servos.append(servo)
         if len(s.servos) != len(s.goals):
             self.err(
@@ -227,6 +230,40 @@ class Elaborator(ExprChecker):
             return None
         axes_given = tuple(name.name for name, _ in s.goals)
         return ir.Place(legs, axes_given, tuple(goals), tuple(servos), s.span)
+
+    def servo_moves_foot(
+        self, legs: ir.Legs, servo: ir.Part | ir.Alias, path: tuple[ast.Ident, ...]
+    ) -> bool:
+        """A servo of ``place`` turns one of the leg's own joints: the solve moves only those
+        (one above the hip moves the hip point too, one elsewhere not the foot at all)."""
+        root = legs.root()
+        names = [root.leg] if root.leg else list(self.scope.roles.get(root.role or "", ()))
+        for name in names:
+            if isinstance(servo, ir.Alias):
+                actuator_name = self.scope.aliases[name].get(servo.alias)
+            else:
+                actuator_name = servo.name
+            leg = next((g for g in self.scope.model.legs if g.name == name), None)
+            actuator = next(
+                (a for a in self.scope.model.actuators if a.name == actuator_name), None
+            )
+            if leg is None or actuator is None:
+                continue
+            joint = next(d.joint for d in self.scope.model.dofs if d.name == actuator.dof)
+            if joint not in leg.joints:
+                fix = (
+                    f"make the alias '{servo.alias}' of leg '{name}' name a servo on one of them"
+                    if isinstance(servo, ir.Alias)
+                    else "name a servo on one of them"
+                )
+                self.err(
+                    path[-1].span,
+                    f"'place' moves the foot of leg '{name}' with the servo '{actuator.name}', "
+                    f"but it is on joint '{joint}', not one of the leg's joints "
+                    f"({', '.join(leg.joints)}); {fix}",
+                )
+                return False
+        return True
 
     def role(self, ident: ast.Ident, local: dict[str, Value]) -> str | None:
         found = self.lookup(ident, local, report=False)
