@@ -36,6 +36,7 @@ class LegChecker(CreaturePart):
         leg_joints: list[str] = []
         foot = None
         aliases: list[tuple[str, str]] = []
+        alias_at: dict[str, ast.Ident] = {}  # each alias's target, where it is written
         seen: set[str] = set()
         for p in decl.props:
             key = p.key.name
@@ -108,6 +109,7 @@ class LegChecker(CreaturePart):
                         )
                         continue
                     aliases.append((item.target.name, target.name))
+                    alias_at[item.target.name] = target
         if "joints" not in seen:
             self.err(
                 decl.name.span, f"leg '{decl.name.name}' needs 'joints' (from the hip outwards)"
@@ -131,4 +133,33 @@ class LegChecker(CreaturePart):
                 f"'{leg_joints[0]}': list the joints from the body down to the foot "
                 f"(the joints above '{contact_by[foot].body}': {', '.join(reversed(chain)) or 'none'})",
             )
+        if leg_joints[0] in chain:
+            own = chain[: chain.index(leg_joints[0]) + 1]  # from the foot up to the hip
+            self._own_aliases(decl.name.name, own, aliases, alias_at, joints, actuators)
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
+
+    def _own_aliases(
+        self,
+        leg: str,
+        own: list[str],
+        aliases: list[tuple[str, str]],
+        alias_at: dict[str, ast.Ident],
+        joints: list[Joint],
+        actuators: list[Actuator],
+    ) -> None:
+        """An alias for an actuator, joint or coordinate names one on the leg, between its first
+        joint and its foot: a controller reaching another leg's spring or the tail's motor
+        through this leg (``active.spring``) would drive the wrong thing without a word."""
+        joint_of = {d.name: j.name for j in joints for d in j.dofs}
+        joint_of |= {j.name: j.name for j in joints}
+        joint_of |= {a.name: joint_of.get(a.dof, "") for a in actuators}
+        for name, target in aliases:
+            on = joint_of.get(target)
+            if on and on not in own:
+                self.err(
+                    alias_at[name].span,
+                    f"alias '{name}' of leg '{leg}' names '{target}', on joint '{on}', which is "
+                    f"not on the leg (its joints from the hip to the foot: "
+                    f"{', '.join(reversed(own))}); alias it in the leg it belongs to, or reach "
+                    f"it by its own name",
+                )
