@@ -186,9 +186,9 @@ def extend_bases(
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
     that extends an unknown controller, or itself through a chain, is reported and left out."""
     written = list(decls)
-    by_name: dict[str, ast.ControllerDecl] = {}
-    for d in written:  # a base is the first of its name (a second is 'defined twice' later)
-        by_name.setdefault(d.name.name, d)
+    by_name: dict[str, list[ast.ControllerDecl]] = {}
+    for d in written:  # two of one name: each for its creature, or one 'defined twice' later
+        by_name.setdefault(d.name.name, []).append(d)
     # each declaration resolved once, by itself: two of one name (each for its creature, or
     # one defined twice) are two controllers
     done: dict[int, ast.ControllerDecl | None] = {}
@@ -210,13 +210,17 @@ def extend_bases(
             )
             done[id(decl)] = None
             return None
-        written_base = by_name.get(base_name)
-        if written_base is None:
+        candidates = by_name.get(base_name)
+        if candidates is None:
             diag.error(
                 decl.base.span,
                 f"unknown controller '{base_name}' to extend; write 'controller {base_name} "
                 f"{{ ... }}' in this file{did_you_mean(base_name, by_name)}",
             )
+            done[id(decl)] = None
+            return None
+        written_base = _base_for(decl, candidates, diag)
+        if written_base is None:
             done[id(decl)] = None
             return None
         base = resolve(written_base, (*chain, name))
@@ -225,6 +229,28 @@ def extend_bases(
 
     resolved = [resolve(d, ()) for d in written]
     return [d for d in resolved if d is not None]
+
+
+def _base_for(
+    decl: ast.ControllerDecl, candidates: list[ast.ControllerDecl], diag: Diagnostics
+) -> ast.ControllerDecl | None:
+    """The controller ``decl`` extends among those of its base's name: with several (one per
+    creature), the one for ``decl``'s own creature; without ``for``, which one is ambiguous."""
+    creatures = {c.creature.name for c in candidates if c.creature is not None}
+    if len(creatures) < 2:
+        return candidates[0]
+    if decl.creature is not None:
+        for c in candidates:
+            if c.creature is not None and c.creature.name == decl.creature.name:
+                return c
+    assert decl.base is not None
+    diag.error(
+        decl.base.span,
+        f"creatures {', '.join(sorted(creatures))} each have a controller '{decl.base.name}'; "
+        f"say which one to extend with 'controller {decl.name.name} for CREATURE extends "
+        f"{decl.base.name}'",
+    )
+    return None
 
 
 def _merged(
