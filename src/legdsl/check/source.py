@@ -27,7 +27,9 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     sources = {str(path): text}
     diag = Diagnostics(sources)
     diag.items.extend(tree.pending)
+    before = len(diag.items)
     library, shared = load_uses(tree, diag, sources)
+    unread = diag.items[before:]  # used files missing or not read whole
     models = []
     # legs declared with a mistake reported there: a controller's role on one is not an error
     broken: dict[str, set[str]] = {}
@@ -54,8 +56,15 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     models = check_controllers(tree, models, library, shared, diag, broken)
     models = check_scenes(tree, models, diag)
     diag.items = _without_echoes(diag.items, tree.pending)
+    if unread:  # what a used file would have defined is unknown: its absence is no news
+        diag.items = [d for d in diag.items if d in unread or not _undefined(d.message)]
     diag.raise_if_any()
     return models
+
+
+def _undefined(message: str) -> bool:
+    """A mistake that a used file which could not be read may be the cause of."""
+    return message.startswith(("unknown action '", "unknown shared part '"))
 
 
 def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:
