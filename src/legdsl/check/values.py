@@ -101,7 +101,8 @@ def owning_creature(
     if models:
         diag.error(
             decl.name.span,
-            f"this file has several creatures: say which one, as in '{example} for biped {{ ... }}'",
+            f"this file has several creatures ({', '.join(m.name for m in models)}): say which "
+            f"one, as in '{example.split()[0]} {decl.name.name} for {models[0].name} {{ ... }}'",
         )
     return None
 
