@@ -136,3 +136,15 @@ def test_a_base_of_two_creatures_without_for_is_ambiguous(tmp_path: Path) -> Non
         "creatures a, z each have a controller 'c'; say which one to extend with "
         "'controller d for CREATURE extends c'"
     ]
+
+
+def test_the_base_for_its_creature_is_preferred_to_one_for_none(tmp_path: Path) -> None:
+    """'c' without 'for' (a mistake in a file of two creatures) is not z's 'c': d's table is
+    z's c's, in cm, not the other's in degrees (a unit mistake on z's slide)."""
+    path = tmp_path / "two.leg"
+    text = TWO_CREATURES.replace("controller c for a", "controller c")
+    path.write_text(text + "controller d for z extends c { }\n")
+    with pytest.raises(LegError) as info:
+        check_file(path)
+    (only,) = info.value.diagnostics
+    assert only.message.startswith("this file has several creatures (a, z)")

@@ -236,13 +236,13 @@ def _base_for(
 ) -> ast.ControllerDecl | None:
     """The controller ``decl`` extends among those of its base's name: with several (one per
     creature), the one for ``decl``'s own creature; without ``for``, which one is ambiguous."""
-    creatures = {c.creature.name for c in candidates if c.creature is not None}
-    if len(creatures) < 2:
-        return candidates[0]
     if decl.creature is not None:
         for c in candidates:
             if c.creature is not None and c.creature.name == decl.creature.name:
                 return c
+    creatures = {c.creature.name for c in candidates if c.creature is not None}
+    if len(creatures) < 2:
+        return candidates[0]
     assert decl.base is not None
     diag.error(
         decl.base.span,
