@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from legdsl.check.source import check_file, check_model
+from legdsl.codegen.python.dynamics import _clean
 from legdsl.ir.controller import Controller
 from legdsl.lang.errors import LegError
 
@@ -29,9 +31,8 @@ HOP = """controller hop {
 def _same(a: Controller, b: Controller) -> bool:
     """Equal but for the name and where each part was written."""
 
-    def bare(c: Controller) -> str:
-        text = repr(dataclasses.replace(c, name="x"))
-        return "".join(part.split(")", 1)[-1] for part in text.split("Span("))
+    def bare(c: Controller) -> Any:
+        return _clean(dataclasses.replace(c, name="x"))  # without its spans
 
     return bare(a) == bare(b)
 

@@ -192,6 +192,7 @@ def extend_bases(
     # each declaration resolved once, by itself: two of one name (each for its creature, or
     # one defined twice) are two controllers
     done: dict[int, ast.ControllerDecl | None] = {}
+    origin: dict[int, str] = {}  # an inherited item -> the controller that wrote it
 
     def resolve(decl: ast.ControllerDecl, chain: tuple[str, ...]) -> ast.ControllerDecl | None:
         name = decl.name.name
@@ -224,11 +225,27 @@ def extend_bases(
             done[id(decl)] = None
             return None
         base = resolve(written_base, (*chain, name))
-        done[id(decl)] = None if base is None else _merged(decl, base, diag)
+        done[id(decl)] = None if base is None else _merged(decl, base, diag, origin)
         return done[id(decl)]
 
     resolved = [resolve(d, ()) for d in written]
     return [d for d in resolved if d is not None]
+
+
+def _inherited(
+    item: ast.ControllerItem,
+    decl: ast.ControllerDecl,
+    base: ast.ControllerDecl,
+    origin: dict[int, str],
+) -> ast.ControllerItem:
+    """A base's item in ``decl``: a mistake in it (a table, an action checked against
+    ``decl``'s names) names ``decl`` and the controller that wrote it."""
+    if isinstance(item, Declared):
+        return item  # the same value everywhere: reported once, with its writer
+    writer = origin.get(id(item), base.name.name)
+    moved = respan(item, f" (in controller '{decl.name.name}', from controller '{writer}')")
+    origin[id(moved)] = writer
+    return moved
 
 
 def _base_for(
@@ -254,7 +271,10 @@ def _base_for(
 
 
 def _merged(
-    decl: ast.ControllerDecl, base: ast.ControllerDecl, diag: Diagnostics
+    decl: ast.ControllerDecl,
+    base: ast.ControllerDecl,
+    diag: Diagnostics,
+    origin: dict[int, str],
 ) -> ast.ControllerDecl:
     own: dict[tuple[str, ...], ast.ControllerItem] = {}
     for item in decl.items:
@@ -264,7 +284,7 @@ def _merged(
     for item in base.items:
         override = own.get(_key(item))
         if override is None:
-            items.append(item)
+            items.append(_inherited(item, decl, base, origin))
             continue
         used.add(id(override))
         if (
