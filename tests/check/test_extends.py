@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from legdsl.check.source import check_file, check_model
+from legdsl.codegen.python.dynamics import _clean
 from legdsl.ir.controller import Controller
 from legdsl.lang.errors import LegError
 
@@ -29,9 +31,8 @@ HOP = """controller hop {
 def _same(a: Controller, b: Controller) -> bool:
     """Equal but for the name and where each part was written."""
 
-    def bare(c: Controller) -> str:
-        text = repr(dataclasses.replace(c, name="x"))
-        return "".join(part.split(")", 1)[-1] for part in text.split("Span("))
+    def bare(c: Controller) -> Any:
+        return _clean(dataclasses.replace(c, name="x"))  # without its spans
 
     return bare(a) == bare(b)
 
@@ -112,3 +113,39 @@ def test_a_controller_defined_twice_is_reported_at_the_second(tmp_path: Path) ->
     messages = [(d.span.line, d.message) for d in info.value.diagnostics]
     first = f"{path}:{CREATURE.count(chr(10)) + 1}:12"
     assert (second, f"controller 'hop' is defined twice (first at {first})") in messages
+
+
+def test_a_controller_extends_the_base_of_its_own_creature(tmp_path: Path) -> None:
+    """With a controller 'c' for each creature, 'd for z extends c' is z's c (it took a's)."""
+    path = tmp_path / "two.leg"
+    path.write_text(
+        TWO_CREATURES.replace("1 deg } }", "1 deg } param k = 1 s }").replace(
+            "1 cm } }", "1 cm } param k = 2 s }"
+        )
+        + "controller d for z extends c { param extra = 1 m }\n"
+    )
+    d = {m.name: m for m in check_file(path)}["z"].controller("d")
+    assert [(p.name, p.value) for p in d.params] == [("k", 2.0), ("extra", 1.0)]
+
+
+def test_a_base_of_two_creatures_without_for_is_ambiguous(tmp_path: Path) -> None:
+    path = tmp_path / "two.leg"
+    path.write_text(TWO_CREATURES + "controller d extends c { }\n")
+    with pytest.raises(LegError) as info:
+        check_file(path)
+    assert [d.message for d in info.value.diagnostics] == [
+        "creatures a, z each have a controller 'c'; say which one to extend with "
+        "'controller d for CREATURE extends c'"
+    ]
+
+
+def test_the_base_for_its_creature_is_preferred_to_one_for_none(tmp_path: Path) -> None:
+    """'c' without 'for' (a mistake in a file of two creatures) is not z's 'c': d's table is
+    z's c's, in cm, not the other's in degrees (a unit mistake on z's slide)."""
+    path = tmp_path / "two.leg"
+    text = TWO_CREATURES.replace("controller c for a", "controller c")
+    path.write_text(text + "controller d for z extends c { }\n")
+    with pytest.raises(LegError) as info:
+        check_file(path)
+    (only,) = info.value.diagnostics
+    assert only.message.startswith("this file has several creatures (a, z)")

@@ -150,3 +150,26 @@ def test_the_quadrupeds_scenes_are_the_issues_transition_run() -> None:
     by_speed = model.scene("by_speed")
     controller, _, planned = scene_plan(by_speed, model, [], [])
     assert (controller, planned) == ("trot", switches)
+
+
+def test_a_scene_for_one_of_several_creatures_runs_without_creature(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The scene's 'for' says which creature (legdsl run asked for --creature as well)."""
+    path = tmp_path / "two.leg"
+    path.write_text(
+        "creature a { planar body b free { mass 1 kg inertia 1 kg*m^2 } }\n"
+        "creature z { planar body b fixed { mass 1 kg inertia 1 kg*m^2 }\n"
+        "  body c on b via revolute j { mass 1 kg inertia 1 kg*m^2 }\n"
+        "  actuator s on j servo(kp = 1 N*m/rad) }\n"
+        "controller hold for z { table { state A on time > 0 s: s.setpoint = 1 deg } }\n"
+        "scene still for z { controller hold; time 0.05 s }\n"
+    )
+    out, generated = tmp_path / "run", tmp_path / "generated"
+    args = ["run", str(path), "--out", str(out), "--generated", str(generated)]
+    assert main([*args, "--scene", "still"]) == 0
+    assert json.loads((out / "run.json").read_text())["creature"] == "z"
+    assert main([*args, "--controller", "hold", "--time", "0.05"]) == 0
+    capsys.readouterr()
+    assert main([*args, "--time", "0.05"]) == 2  # nothing says which
+    assert "choose a creature with --creature" in capsys.readouterr().err

@@ -167,3 +167,30 @@ def test_a_part_outside_the_instance_at_the_tip_of_a_mirrored_body(tmp_path: Pat
     knuckle = next(c for c in model.contacts if c.name == "knuckle")
     assert knuckle.point == model.body("lower_r").tip
     assert model.body("upper_r").tip[1] < 0  # the left arm's leans to +y
+
+
+def test_a_mirrored_instance_at_the_tip_of_a_body_of_another(tmp_path: Path) -> None:
+    """A mirrored hand on the mirrored arm's tip is at that tip (it was reflected twice, back
+    to where the unmirrored arm's tip is), and one on an unmirrored body's tip stays there."""
+    text = (GOOD / "mirror_template.leg").read_text(encoding="utf-8")
+    extra = (
+        "  template palm(S, ON) {\n"
+        "    body palm_S on ON via revolute wrist_S at tip {"
+        " axis (0, 1, 0)  length 0.1 m  direction (0.2, 0.5, -1)  com 0.05 m"
+        "  mass 0.1 kg  inertia (0.001, 0.001, 0.001) kg*m^2 }\n"
+        "    contact pad_S on ON at tip\n"
+        "  }\n"
+        "  instance pl = palm(S = l, ON = upper_l)\n"
+        "  instance pr = palm(S = r, ON = upper_r) mirror sagittal\n"
+        "  instance pb = palm(S = b, ON = lower_l) mirror sagittal\n}\n"
+    )
+    path = tmp_path / "hands.leg"
+    path.write_text(text.removesuffix("}\n") + extra, encoding="utf-8")
+    model = check_model(path)
+    pads = {c.name: c.point for c in model.contacts}
+    for side in "lr":
+        assert model.joint(f"wrist_{side}").origin == model.body(f"upper_{side}").tip
+        assert pads[f"pad_{side}"] == model.body(f"upper_{side}").tip
+    assert model.joint("wrist_b").origin == pads["pad_b"] == model.body("lower_l").tip
+    left, right = model.body("palm_l").direction, model.body("palm_r").direction
+    assert right == (left[0], -left[1], left[2])  # the palm itself is mirrored

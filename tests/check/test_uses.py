@@ -63,6 +63,24 @@ def test_a_files_own_action_overrides_a_used_one(tmp_path: Path) -> None:
     assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
 
 
+def test_a_file_used_directly_wins_over_one_used_through_another(tmp_path: Path) -> None:
+    """near.leg is used by main.leg itself, far.leg only through middle.leg (read after
+    near.leg, its action was taken): near's lengthen is the one called."""
+    (tmp_path / "near.leg").write_text("action lengthen(leg, by) { leg.spring.rest = by }\n")
+    (tmp_path / "middle.leg").write_text('use "far.leg"\n')
+    (tmp_path / "far.leg").write_text("action lengthen(leg, by) { leg.spring.rest = 2 * by }\n")
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "near.leg"\nuse "middle.leg"\n' + CREATURE + "controller hop {\n  table {\n"
+        "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
+    )
+    (flight,) = check_model(main).controller("hop").states
+    (do,) = flight.body
+    assert isinstance(do, ir.Do)
+    (assign,) = do.body
+    assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
+
+
 def test_a_missing_file_deep_down_is_reported_at_the_users_use(tmp_path: Path) -> None:
     (tmp_path / "lib.leg").write_text('use "gone.leg"\n')
     main = tmp_path / "main.leg"
@@ -72,3 +90,23 @@ def test_a_missing_file_deep_down_is_reported_at_the_users_use(tmp_path: Path) -
     (d,) = e.value.diagnostics
     assert (Path(d.span.file).name, d.span.line) == ("main.leg", 1)
     assert "cannot find 'gone.leg' to use (asked for in lib.leg)" in d.message
+
+
+def test_a_used_file_that_cannot_be_read_is_the_only_news(tmp_path: Path) -> None:
+    """Its mistake, not also 'unknown action' at each call of what it would have defined."""
+    (tmp_path / "lib.leg").write_text("action lengthen(leg, by) { leg.spring.rest = by\n")
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "lib.leg"\n' + CREATURE + "controller hop {\n  table {\n"
+        "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
+    )
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert (Path(d.span.file).name, d.span.line) == ("lib.leg", 1)
+    assert "a '}' is missing" in d.message
+    (tmp_path / "lib.leg").unlink()
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert d.message.startswith("cannot find 'lib.leg' to use")

@@ -214,6 +214,7 @@ class ExprChecker(NameResolver):
                     spans[0].col,
                     spans[-1].end_line,
                     spans[-1].end_col,
+                    spans[0].within,  # a shared part's line: whose controller it is
                 )
                 dims = " and ".join(
                     dict.fromkeys(describe_type(v.type) for v in values if v.type is not None)

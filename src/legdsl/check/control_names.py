@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from legdsl.check.values import did_you_mean, place_of
+from legdsl.check.values import did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import BOOL, ONE, Type
@@ -100,8 +100,13 @@ class NameResolver:
             return  # one library action reading the same wrong thing in several places
         self._reported_at_call.add((site.span, message))
         action = self.calls[-1][1]
+        # the calls between, written in the user's other files: the mistake may be one of them
+        after = next(i for i, (c, _) in enumerate(self.calls) if c is site) + 1
+        between = [c for c, _ in self.calls[after:] if stdlib_name(c.span.file) is None]
+        via = "".join(f", called at {place_of(c.span)}" for c in reversed(between))
         self.diag.error(
-            site.span, f"{message} (in action '{action.name.name}', {place_of(span)}, called here)"
+            site.span,
+            f"{message} (in action '{action.name.name}', {place_of(span)}{via}, called here)",
         )
 
     def planar_error(self, span: Span, message: str, hint: str) -> None:

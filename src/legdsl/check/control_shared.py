@@ -186,12 +186,13 @@ def extend_bases(
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
     that extends an unknown controller, or itself through a chain, is reported and left out."""
     written = list(decls)
-    by_name: dict[str, ast.ControllerDecl] = {}
-    for d in written:  # a base is the first of its name (a second is 'defined twice' later)
-        by_name.setdefault(d.name.name, d)
+    by_name: dict[str, list[ast.ControllerDecl]] = {}
+    for d in written:  # two of one name: each for its creature, or one 'defined twice' later
+        by_name.setdefault(d.name.name, []).append(d)
     # each declaration resolved once, by itself: two of one name (each for its creature, or
     # one defined twice) are two controllers
     done: dict[int, ast.ControllerDecl | None] = {}
+    origin: dict[int, str] = {}  # an inherited item -> the controller that wrote it
 
     def resolve(decl: ast.ControllerDecl, chain: tuple[str, ...]) -> ast.ControllerDecl | None:
         name = decl.name.name
@@ -210,8 +211,8 @@ def extend_bases(
             )
             done[id(decl)] = None
             return None
-        written_base = by_name.get(base_name)
-        if written_base is None:
+        candidates = by_name.get(base_name)
+        if candidates is None:
             diag.error(
                 decl.base.span,
                 f"unknown controller '{base_name}' to extend; write 'controller {base_name} "
@@ -219,16 +220,61 @@ def extend_bases(
             )
             done[id(decl)] = None
             return None
+        written_base = _base_for(decl, candidates, diag)
+        if written_base is None:
+            done[id(decl)] = None
+            return None
         base = resolve(written_base, (*chain, name))
-        done[id(decl)] = None if base is None else _merged(decl, base, diag)
+        done[id(decl)] = None if base is None else _merged(decl, base, diag, origin)
         return done[id(decl)]
 
     resolved = [resolve(d, ()) for d in written]
     return [d for d in resolved if d is not None]
 
 
+def _inherited(
+    item: ast.ControllerItem,
+    decl: ast.ControllerDecl,
+    base: ast.ControllerDecl,
+    origin: dict[int, str],
+) -> ast.ControllerItem:
+    """A base's item in ``decl``: a mistake in it (a table, an action checked against
+    ``decl``'s names) names ``decl`` and the controller that wrote it."""
+    if isinstance(item, Declared):
+        return item  # the same value everywhere: reported once, with its writer
+    writer = origin.get(id(item), base.name.name)
+    moved = respan(item, f" (in controller '{decl.name.name}', from controller '{writer}')")
+    origin[id(moved)] = writer
+    return moved
+
+
+def _base_for(
+    decl: ast.ControllerDecl, candidates: list[ast.ControllerDecl], diag: Diagnostics
+) -> ast.ControllerDecl | None:
+    """The controller ``decl`` extends among those of its base's name: with several (one per
+    creature), the one for ``decl``'s own creature; without ``for``, which one is ambiguous."""
+    if decl.creature is not None:
+        for c in candidates:
+            if c.creature is not None and c.creature.name == decl.creature.name:
+                return c
+    creatures = {c.creature.name for c in candidates if c.creature is not None}
+    if len(creatures) < 2:
+        return candidates[0]
+    assert decl.base is not None
+    diag.error(
+        decl.base.span,
+        f"creatures {', '.join(sorted(creatures))} each have a controller '{decl.base.name}'; "
+        f"say which one to extend with 'controller {decl.name.name} for CREATURE extends "
+        f"{decl.base.name}'",
+    )
+    return None
+
+
 def _merged(
-    decl: ast.ControllerDecl, base: ast.ControllerDecl, diag: Diagnostics
+    decl: ast.ControllerDecl,
+    base: ast.ControllerDecl,
+    diag: Diagnostics,
+    origin: dict[int, str],
 ) -> ast.ControllerDecl:
     own: dict[tuple[str, ...], ast.ControllerItem] = {}
     for item in decl.items:
@@ -238,7 +284,7 @@ def _merged(
     for item in base.items:
         override = own.get(_key(item))
         if override is None:
-            items.append(item)
+            items.append(_inherited(item, decl, base, origin))
             continue
         used.add(id(override))
         if (

@@ -11,7 +11,9 @@ of the instance's springs and servos on it), which is how a mirror is written by
 the right hip's roll is about +x like the left's, with its angle's sign flipped.
 Reflections keep lengths and angles, so a valid part stays valid. A body or contact
 outside the instance that is placed ``at tip`` of one of its bodies is at the mirrored
-tip; one placed at a point is where it is written, in the mirrored body's frame.
+tip; one placed at a point is where it is written, in the mirrored body's frame. A part of
+the instance placed ``at tip`` of a body outside it is at that body's tip, mirrored (once)
+only by the instance that holds that body.
 """
 
 from __future__ import annotations
@@ -70,7 +72,9 @@ class Mirror:
             return replace(j, origin=self.point(j.origin))
         if j.child not in self.part.bodies:
             return j
-        return replace(j, origin=self.point(j.origin), dofs=tuple(self.dof(d) for d in j.dofs))
+        # at the tip of a body outside the instance: where that body's tip is
+        origin = j.origin if j.name in self.part.on_outer_tips else self.point(j.origin)
+        return replace(j, origin=origin, dofs=tuple(self.dof(d) for d in j.dofs))
 
     def dof(self, d: Dof) -> Dof:
         image = self.point(d.axis)
@@ -87,6 +91,8 @@ class Mirror:
 
     def contact(self, c: Contact) -> Contact:
         if c.name not in self.part.contacts and c.name not in self.part.at_tips:
+            return c
+        if c.name in self.part.on_outer_tips:
             return c
         return replace(c, point=self.point(c.point))
 

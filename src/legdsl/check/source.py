@@ -27,7 +27,9 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     sources = {str(path): text}
     diag = Diagnostics(sources)
     diag.items.extend(tree.pending)
+    before = len(diag.items)
     library, shared = load_uses(tree, diag, sources)
+    unread = diag.items[before:]  # used files missing or not read whole
     models = []
     # legs declared with a mistake reported there: a controller's role on one is not an error
     broken: dict[str, set[str]] = {}
@@ -54,8 +56,15 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     models = check_controllers(tree, models, library, shared, diag, broken)
     models = check_scenes(tree, models, diag)
     diag.items = _without_echoes(diag.items, tree.pending)
+    if unread:  # what a used file would have defined is unknown: its absence is no news
+        diag.items = [d for d in diag.items if d in unread or not _undefined(d.message)]
     diag.raise_if_any()
     return models
+
+
+def _undefined(message: str) -> bool:
+    """A mistake that a used file which could not be read may be the cause of."""
+    return message.startswith(("unknown action '", "unknown shared part '"))
 
 
 def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:
@@ -84,12 +93,13 @@ def load_uses(
     ``use raibert`` names a file of the standard library, ``use "lib/gaits.leg"`` a file
     relative to the one that says it. Each file is read once however often it is used; a
     file that uses itself, directly or through others, is an error naming the chain. The
-    nearer file wins: a file's own actions override those of the files it uses.
+    nearer file wins (the fewest 'use's away): a file's own actions override those of the
+    files it uses, and those of a file it uses override those of a file used through another.
     """
-    found: list[ast.ActionDef] = []
-    parts: list[ast.SharedDecl] = []
     root = Path(tree.path).resolve()
     loaded = {root}
+    files: dict[Path, ast.SourceFile] = {}  # each used file, in the order it was read
+    edges: dict[Path, list[Path]] = {root: []}  # what each file uses
 
     def name(path: Path) -> str:
         """A file in a chain: the stdlib's by name, others relative to the first file's folder."""
@@ -104,6 +114,8 @@ def load_uses(
     def visit(current: ast.SourceFile, chain: tuple[Path, ...], first: ast.UseDecl | None) -> None:
         for use in current.uses:
             path = _use_path(current, use)
+            if path.is_file():
+                edges[chain[-1]].append(path.resolve())
             at = first or use  # a mistake in a used file is reported at the user's own 'use'
             if path.is_file() and path.resolve() in chain:
                 names = [name(p) for p in (*chain, path.resolve())]
@@ -132,13 +144,28 @@ def load_uses(
                 sources.update(e.sources)
                 continue
             loaded.add(path.resolve())
+            edges[path.resolve()] = []
             sources[lib.path] = text
             diag.items.extend(lib.pending)
             visit(lib, (*chain, path.resolve()), at)
-            found.extend(lib.actions)
-            parts.extend(lib.shared)
+            files[path.resolve()] = lib
 
     visit(tree, (root,), None)
+    # the nearer file wins: the farthest files' definitions come first, to be replaced
+    # (how many 'use's away, the fewest), the same-distance ones in the order they were read
+    depth = {root: 0}
+    frontier = [root]
+    while frontier:
+        following = []
+        for f in frontier:
+            for u in edges.get(f, []):
+                if u not in depth:
+                    depth[u] = depth[f] + 1
+                    following.append(u)
+        frontier = following
+    order = sorted(files, key=lambda f: -depth[f])
+    found = [a for f in order for a in files[f].actions]
+    parts = [p for f in order for p in files[f].shared]
     return [*found, *tree.actions], [*parts, *tree.shared]
 
 

@@ -43,6 +43,9 @@ class MirrorPart:
     # joints and contacts outside the instance placed 'at tip' of one of its bodies:
     # at the mirrored tip
     at_tips: frozenset[str] = frozenset()
+    # its own joints and contacts placed 'at tip' of a body outside it: where that tip is
+    # (mirrored only by the instance that holds that body, if one is)
+    on_outer_tips: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -62,21 +65,27 @@ def _by_kind(actuators: list[ast.ActuatorDecl]) -> list[ast.ActuatorDecl]:
 
 
 def _at_tips(part: MirrorPart, items: list[ast.CreatureItem]) -> MirrorPart:
-    """``part`` with the joints and contacts outside it that are 'at tip' of its bodies."""
+    """``part`` with the joints and contacts 'at tip' of a body on the other side of its
+    border: outside it on its bodies, and its own on bodies outside it."""
     found: set[str] = set()
+    outer: set[str] = set()
     for i in items:
-        if isinstance(i, ast.BodyDecl) and i.name.name not in part.bodies:
+        if isinstance(i, ast.BodyDecl):
             a = i.attach
-            if isinstance(a, ast.AttachJoint) and a.parent.name in part.bodies and _tip(a.at):
+            if not isinstance(a, ast.AttachJoint) or not _tip(a.at):
+                continue
+            inside, parent_inside = i.name.name in part.bodies, a.parent.name in part.bodies
+            if parent_inside and not inside:
                 found.add(a.joint.name)
-        elif (
-            isinstance(i, ast.ContactDecl)
-            and i.name.name not in part.contacts
-            and i.body.name in part.bodies
-            and _tip(i.at)
-        ):
-            found.add(i.name.name)
-    return replace(part, at_tips=frozenset(found))
+            elif inside and not parent_inside:
+                outer.add(a.joint.name)
+        elif isinstance(i, ast.ContactDecl) and _tip(i.at):
+            inside, body_inside = i.name.name in part.contacts, i.body.name in part.bodies
+            if body_inside and not inside:
+                found.add(i.name.name)
+            elif inside and not body_inside:
+                outer.add(i.name.name)
+    return replace(part, at_tips=frozenset(found), on_outer_tips=frozenset(outer))
 
 
 def _tip(value: ast.Value | None) -> bool:

@@ -88,17 +88,21 @@ def owning_creature(
         model = by_name.get(decl.creature.name)
         written = {c.name.name for c in tree.creatures}
         if model is None and tree.creatures and decl.creature.name not in written:
-            diag.error(
-                decl.creature.span,
-                f"unknown creature '{decl.creature.name}'{did_you_mean(decl.creature.name, by_name)}",
-            )
+            advice = did_you_mean(decl.creature.name, by_name)
+            if not advice and tree.uses:  # a creature of a used file is not brought in
+                advice = (
+                    f": a {example.split()[0]} belongs to a creature of its own file ('use' "
+                    "brings in actions and shared parts, not creatures)"
+                )
+            diag.error(decl.creature.span, f"unknown creature '{decl.creature.name}'{advice}")
         return model
     if len(models) == 1:
         return models[0]
     if models:
         diag.error(
             decl.name.span,
-            f"this file has several creatures: say which one, as in '{example} for biped {{ ... }}'",
+            f"this file has several creatures ({', '.join(m.name for m in models)}): say which "
+            f"one, as in '{example.split()[0]} {decl.name.name} for {models[0].name} {{ ... }}'",
         )
     return None
 

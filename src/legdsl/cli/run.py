@@ -94,7 +94,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         tilt = math.radians(tilt)  # the default, in degrees
     if args.out:  # checked before anything is compiled or simulated
         check_output_dir(args.out, "--out")
-    session = RunSession.from_file(args.file, args.creature, args.generated, log=sys.stderr)
+    session = RunSession.from_file(
+        args.file, args.creature, args.generated, sys.stderr, args.scene, args.controller
+    )
     if args.scale is not None and args.animate:  # its run.json names the unscaled creature
         raise UsageError(
             "--animate draws the file's creature: animate the run of 'legdsl scale's file"
@@ -208,7 +210,11 @@ def add_run_parser(sub: Any) -> Command:
         epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
-    r.add_argument("--creature", help="which creature, if the file has several")
+    r.add_argument(
+        "--creature",
+        help="which creature, if the file has several (not needed when only one has the "
+        "--scene, or the --controller, asked for)",
+    )
     r.add_argument("--controller", metavar="NAME", help="run this controller of the creature")
     r.add_argument(
         "--set",

@@ -54,6 +54,17 @@ DERIVED_FILES = ("figure6.png", "top.png", "footfall.png", "animation.html", "me
                  "mujoco.mp4")  # fmt: skip
 
 
+def _only_owner(models: list[Model], scene: str | None, controller: str | None) -> str | None:
+    """The one creature that has the scene (or else the controller) asked for, if only one has."""
+    if scene is not None:
+        owners = [m.name for m in models if any(s.name == scene for s in m.scenes)]
+    elif controller is not None:
+        owners = [m.name for m in models if any(c.name == controller for c in m.controllers)]
+    else:
+        return None
+    return owners[0] if len(owners) == 1 else None
+
+
 class RunSession:
     """One creature, checked, with its generated dynamics loaded (compiled first if stale)."""
 
@@ -83,11 +94,18 @@ class RunSession:
         creature: str | None = None,
         generated: str | Path = "generated",
         log: Any = None,
+        scene: str | None = None,
+        controller: str | None = None,
     ) -> RunSession:
-        """Parse and check ``path`` (once), pick the creature, load or compile its dynamics."""
+        """Parse and check ``path`` (once), pick the creature, load or compile its dynamics.
+        Of several creatures, with no ``creature`` named, the only one that has ``scene`` (or
+        else ``controller``) is picked: the scene's ``for`` says which."""
         source = Path(path)
         syntax, text = parse_file(source, recover=True)
-        model = choose(check_tree(syntax, text, source), creature, source)
+        models = check_tree(syntax, text, source)
+        if creature is None and len(models) > 1:
+            creature = _only_owner(models, scene, controller)
+        model = choose(models, creature, source)
         dynamics = load_dynamics(model, source, Path(generated), log, syntax)
         return cls(model, source, dynamics, generated, syntax, log)
 
