@@ -29,7 +29,8 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import out_of_range
+from legdsl.lang.syntax_errors import unknown_unit
+from legdsl.lang.units import UnitError, out_of_range, parse_unit
 
 # What a controller's own declarations are called in messages.
 _DECLARED_KIND: dict[type, str] = {
@@ -356,6 +357,10 @@ class ControllerChecker:
         if isinstance(node, ast.EQuantity):
             q = node.quantity
             return Constant(name.name, sign * q.value, q.dim, name.span)
+        unit = _misspelt_unit(node)
+        if unit is not None:  # '1 N*m/rdd' reads as 1 N*m divided by a name
+            self.err(unit.span, unknown_unit(unit.name))
+            return None
         self.err(
             expr.span,
             "an input or parameter is a number with its unit, e.g. '1.5 m/s'; use a 'signal' for an expression",
@@ -466,3 +471,24 @@ def check_controllers(
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]
+
+
+def _misspelt_unit(node: ast.Expr) -> ast.Ident | None:
+    """In a constant written as a quantity whose unit goes on with a name that is no unit
+    (``1 N*m/rdd``, read as 1 N*m over a name ``rdd``: joined without spaces, as a unit is
+    written), that name."""
+    if not (isinstance(node, ast.EBinary) and node.op in ("*", "/")):
+        return None
+    left, right = node.left, node.right
+    joined = (
+        isinstance(left, ast.EQuantity | ast.EBinary)
+        and isinstance(right, ast.EName)
+        and left.span.end_line == right.span.line
+        and right.span.col == left.span.end_col + 1  # the operator alone between them
+    )
+    if joined and isinstance(right, ast.EName):
+        try:
+            parse_unit(right.ident.name)
+        except UnitError:
+            return _misspelt_unit(left) or right.ident
+    return _misspelt_unit(left)

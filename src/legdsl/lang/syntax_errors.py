@@ -210,6 +210,8 @@ def _open_brace(text: str) -> bool:
 
 
 # A number and the word written after it on the same line, as '5 kgs' or '2 m/sec'.
+# the start of a controller's input or parameter, whose number a unit must follow
+_CONSTANT_DECL = re.compile(r"\s*(?:param|input)\s+[A-Za-z_]\w*\s*=\s*-?\s*")
 _NUMBER_AND_WORD = re.compile(
     r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_][^\s,;:(){}\[\]=<>!#\"]*)"
 )
@@ -251,6 +253,17 @@ def _looks_like_unit(word: str) -> bool:
         or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
         for p in parts
     )
+
+
+def unknown_unit(word: str) -> str:
+    """The message for a word written as a unit that is none."""
+    symbols = ", ".join(UNITS)
+    message = (
+        f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
+        f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
+    )
+    suggestion = _suggest_unit(word)
+    return message + (f"; did you mean '{suggestion}'?" if suggestion else "")
 
 
 def _suggest_unit(word: str) -> str | None:
@@ -310,7 +323,11 @@ def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     try:
         parse_unit(word)
     except UnitError:
-        return (word, start) if _looks_like_unit(word) else None
+        line = text[text.rfind("\n", 0, found.start()) + 1 : found.start()]
+        declared = (
+            _CONSTANT_DECL.fullmatch(line) is not None
+        )  # its value's unit, whatever it looks like
+        return (word, start) if declared or _looks_like_unit(word) else None
     return None
 
 
@@ -428,14 +445,7 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif unit is not None:
         word, start = unit
         span = offset_span(file, text, start, len(word))
-        symbols = ", ".join(UNITS)
-        message = (
-            f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
-            f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
-        )
-        suggestion = _suggest_unit(word)
-        if suggestion:
-            message += f"; did you mean '{suggestion}'?"
+        message = unknown_unit(word)
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
     elif spelt is not None:
