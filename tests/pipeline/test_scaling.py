@@ -321,6 +321,10 @@ def test_a_used_file_of_actions_scales_too(
     assert "point the scaled creature's 'use' at it" in capsys.readouterr().out
     out = tmp_path / "hopper_x2.leg"
     assert main(["scale", str(tmp_path / "hopper.leg"), "--by", "2", "-o", str(out)]) == 0
+    assert (  # the used file is left as it is, and said so (its 2 cm would not scale)
+        f"legdsl: note: {tmp_path / 'actions.leg'}, which it uses, is not scaled and has "
+        f"numbers with units: scale it too (legdsl scale {tmp_path / 'actions.leg'} --by 2"
+    ) in capsys.readouterr().err
     out.write_text(out.read_text().replace('use "actions.leg"', 'use "actions_x2.leg"'))
     assert [m.name for m in check_file(out)] == ["hopper_x2"]
     (tmp_path / "empty.leg").write_text("# nothing here\n")

@@ -101,6 +101,15 @@ def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> N
                 _walk(getattr(node, f.name), unit_dim, out)
 
 
+def scales_anything(text: str, file: str = "<string>") -> bool:
+    """Whether a file holds a number that scaling changes (one whose unit is not an angle's
+    or none): a used file that does is left as written by ``scale_source``."""
+    tree = parse(text, file)
+    found: list[tuple[ast.Span, Dim]] = []
+    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
+    return any(exponent(dim) != 0 for _, dim in found)
+
+
 def _beyond(value: float, dim: Dim, scale: float) -> str:
     """Why a scaled number cannot be written: it is past a double, or nearer 0 than one."""
     size = "past a double" if not math.isfinite(value) else "nearer 0 than a double holds"

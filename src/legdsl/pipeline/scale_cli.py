@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from legdsl.check.source import check_file, load_uses
+from legdsl.check.values import stdlib_name
 from legdsl.files import write_atomic
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, UsageError
 from legdsl.lang.parser import parse_file
-from legdsl.lang.scaling import scale_name, scale_source
+from legdsl.lang.scaling import scale_name, scale_source, scales_anything
 from legdsl.pipeline.options import check_output_file
 
 
@@ -50,7 +52,28 @@ def cmd_scale(args: argparse.Namespace) -> int:
     write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
+    for used in _unscaled_uses(tree):
+        print(
+            f"legdsl: note: {used}, which it uses, is not scaled and has numbers with units: "
+            f"scale it too (legdsl scale {used} --by {args.by:g} -o OUT.leg) and point the "
+            "'use' at it, unless its numbers are meant for any size",
+            file=sys.stderr,
+        )
     return 0
+
+
+def _unscaled_uses(tree: ast.SourceFile) -> list[str]:
+    """The files of the user's own that the file uses, directly or not, holding numbers
+    that scaling would change (the standard library's hold none)."""
+    sources: dict[str, str] = {}
+    load_uses(tree, Diagnostics(sources), sources)
+    return [
+        path
+        for path, text in sources.items()
+        if stdlib_name(Path(path)) is None
+        and Path(path).resolve() != Path(tree.path).resolve()
+        and scales_anything(text, path)
+    ]
 
 
 def _not_an_input(out: Path, tree: ast.SourceFile, source: Path, scale: float) -> None:
