@@ -25,8 +25,8 @@ class Scope:
     diag: Diagnostics
     planar: bool
     names: dict[str, tuple[str, Span]]  # name -> (what it names, where it was declared)
-    # Joints whose kind was wrong and could not be guessed: their coordinates are unknown,
-    # so a name on them is not reported again as unknown.
+    # Joints whose kind was wrong and could not be guessed, or of a body declared twice: their
+    # coordinates are unknown, so a name on them is not reported again as unknown.
     unsettled: set[str] = field(default_factory=set)
 
 
@@ -67,7 +67,8 @@ class CreaturePart(ValueChecker):
         if prior is not None:
             self.err(
                 ident.span,
-                f"the name '{ident.name}' is already used by the {prior[0]} at {prior[1]}; "
+                f"the name '{ident.name}' is already used by the {prior[0]} at {prior[1]}"
+                f"{prior[1].within}; "
                 "names in a creature must be unique",
             )
             return False

@@ -28,8 +28,10 @@ class TreeChecker(CreaturePart):
                 self.err(
                     b.name.span,
                     f"body '{b.name.name}' is declared twice (a body has one parent); "
-                    f"the first is at {first.name.span}",
+                    f"the first is at {first.name.span}{first.name.span.within}",
                 )
+                if isinstance(b.attach, ast.AttachJoint):  # what is on its joint: not told again
+                    self.unsettled.add(b.attach.joint.name)
                 continue
             by_name[b.name.name] = b
         roots = [b for b in by_name.values() if not isinstance(b.attach, ast.AttachJoint)]
