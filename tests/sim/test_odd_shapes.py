@@ -36,3 +36,18 @@ def test_a_creature_with_no_degrees_of_freedom_runs_and_is_measured(tmp_path: Pa
     assert main(["run", str(leg), "--backend", "c", "--generated", str(tmp_path / "gen"),
                  "--time", "0.05", "--out", str(out)]) == 0  # fmt: skip
     assert main(["metrics", str(out)]) == 0  # was: exit 70 on an empty q
+
+
+def test_the_energy_of_a_giant_is_printed_in_powers_of_ten(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    leg = tmp_path / "giant.leg"
+    leg.write_text(
+        "creature giant {\n  planar\n  body b free { mass 1e200 kg  inertia 1e200 kg*m^2 "
+        " initial x = 0 m, z = 1 m, pitch = 0 deg }\n}\n",
+        encoding="utf-8",
+    )
+    argv = ["run", str(leg), "--backend", "python", "--generated", str(tmp_path / "gen")]
+    assert main([*argv, "--time", "0.01", "--out", str(tmp_path / "run")]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if "total energy" in x)
+    assert "9.81e+200 J ->" in line and len(line) < 100  # was: 200 digits and '.000'
