@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TypeAlias
 
-from sympy import Expr, Float, Integer, Symbol, nan, oo, zoo
+from sympy import Add, Expr, Float, Integer, Symbol, nan, oo, zoo
 
 from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError
@@ -222,10 +222,12 @@ def _rows(cols: list[Vec]) -> list[list[Expr]]:
 
 
 def _times(cols: list[Vec], v: list[Symbol], tree: Tree) -> Vec:
-    total: Vec = ZERO
-    for c, vi in zip(cols, v, strict=True):
-        total = add(total, scale(vi, c))
-    return let_vec(tree.block, total)
+    # one sum of all the terms: adding them one by one re-sorts the growing sum each time
+    terms = [scale(vi, c) for c, vi in zip(cols, v, strict=True)]
+    return let_vec(
+        tree.block,
+        (Add(*(t[0] for t in terms)), Add(*(t[1] for t in terms)), Add(*(t[2] for t in terms))),
+    )
 
 
 def _world_point(tree: Tree, i: int, point: Vec) -> Vec:
