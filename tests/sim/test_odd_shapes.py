@@ -6,10 +6,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from conftest import CREATURES, GENERATED
 from runtime_helpers import assert_same
 
 from legdsl.cli import main
+from legdsl.codegen.c import build
 from legdsl.pipeline.session import RunSession
+from legdsl.sim import c_library
 from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
@@ -51,3 +54,42 @@ def test_the_energy_of_a_giant_is_printed_in_powers_of_ten(
     assert main([*argv, "--time", "0.01", "--out", str(tmp_path / "run")]) == 0
     line = next(x for x in capsys.readouterr().out.splitlines() if "total energy" in x)
     assert "9.81e+200 J ->" in line and len(line) < 100  # was: 200 digits and '.000'
+
+
+@pytest.mark.skipif(available() is not None, reason=f"needs a C compiler: {available()}")
+def test_a_long_unit_compiles_at_o1_and_runs_bit_for_bit(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """gcc -O3 took 200 s and 1.5 GB on an 82-DOF chain's dynamics.c: a unit that long builds
+    at -O1, which must give the same doubles (the hopper's units made 'long' here)."""
+    for known in ("_LOADED", "_BY_STAT", "_TRUSTED"):  # as in a new process: nothing loaded
+        monkeypatch.setattr(c_library, known, {})
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(build, "LARGE_UNIT", 20_000)
+    commands: list[list[str]] = []
+    start = build._start
+    monkeypatch.setattr(build, "_start", lambda c, cc: commands.append(c) or start(c, cc))
+    sess = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
+    opts = RunOptions(duration=0.3)
+    c = sess.run("hop", ["speed=1m/s"], options=opts, backend="c").result
+    python = sess.run("hop", ["speed=1m/s"], options=opts, backend="python").result
+    assert_same(python, c)
+    levels = {Path(cmd[-1]).name: cmd[1] for cmd in commands if "-c" in cmd}
+    assert levels["dynamics.c"] == "-O1" and levels["dynamics_some.c"] == "-O3", levels
+
+
+@pytest.mark.skipif(available() is not None, reason=f"needs a C compiler: {available()}")
+def test_a_creature_with_a_ground_and_no_contacts_runs_on_both_backends(tmp_path: Path) -> None:
+    leg = tmp_path / "nocon.leg"
+    leg.write_text(
+        "creature nocon {\n  planar\n  body b free { mass 1 kg  inertia 0.01 kg*m^2 "
+        " initial x = 0 m, z = 1 m, pitch = 0 deg }\n"
+        "  ground { normal spring(k = 3e4 N/m)  tangent spring(k = 2e4 N/m) }\n}\n",
+        encoding="utf-8",
+    )
+    sess = RunSession.from_file(leg, generated=tmp_path / "gen")
+    opts = RunOptions(duration=0.05)
+    python = sess.run(None, [], options=opts, backend="python").result
+    c = sess.run(None, [], options=opts, backend="c").result
+    assert python.status == "ok", python.message  # was: diverged at t = 0 recording no forces
+    assert_same(python, c)
