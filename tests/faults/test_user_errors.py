@@ -312,3 +312,18 @@ def test_a_reader_output_that_cannot_be_written_is_a_user_error(
     code, err = _run(capsys, argv)
     assert code == 2, err
     assert str(target) in err
+
+
+def test_a_creature_without_contacts_cannot_be_dropped(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """--drop places the lowest contact: without contacts it was ignored without a word."""
+    leg = tmp_path / "ball.leg"
+    leg.write_text(
+        "creature ball {\n  planar\n  body b free { mass 1 kg  inertia 0.01 kg*m^2 "
+        " initial x = 0 m, z = 1 m, pitch = 0 deg }\n}\n"
+    )
+    argv = ["run", str(leg), "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "r")]
+    code, err = _run(capsys, [*argv, "--time", "0.05", "--drop", "0.1", "--backend", "python"])
+    assert code == 2
+    assert "creature 'ball' has no contacts: to start it higher" in err

@@ -488,12 +488,16 @@ def _common_subexpressions(body: list[Assign | Comment]) -> list[Assign | Commen
     for s, e in reversed(pieces):
         for used in e.free_symbols & first_use.keys():
             first_use[used] = min(first_use[used], first_use[s])
+    # grouped by where each goes first (a scan of every piece at every line was quadratic)
+    pieces_at: dict[int, list[Assign]] = {}
+    for s, e in pieces:
+        pieces_at.setdefault(first_use[s], []).append(Assign(s, e))
     out: list[Assign | Comment] = []
     for i, st in enumerate(body):
         if isinstance(st, Comment):
             out.append(st)
             continue
-        out += [Assign(s, e) for s, e in pieces if first_use[s] == i]
+        out += pieces_at.get(i, [])
         if value_at[i] != st.target:  # not already assigned as a piece
             out.append(Assign(st.target, value_at[i]))
     return out

@@ -9,13 +9,15 @@ does that with ``printer``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+import math
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TypeAlias
 
-from sympy import Expr, Integer, Symbol
+from sympy import Add, Expr, Float, Integer, Symbol, nan, oo, zoo
 
 from legdsl.ir.model import Model
+from legdsl.lang.errors import LegError
 from legdsl.lower import recursions
 from legdsl.lower.linktree import RESERVED, Node, Tree, build_nodes, rigid_inertia, vec
 from legdsl.lower.names import output_names
@@ -33,7 +35,7 @@ from legdsl.lower.spatial import (
     scale,
     sub,
 )
-from legdsl.lower.straightline import Block, Statement, num
+from legdsl.lower.straightline import Assign, Block, Statement, num
 
 
 @dataclass(frozen=True)
@@ -99,6 +101,7 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
         names = output_names(model, name)
         assert not names or len(names) == len(leaves), name
         program = block.finish(leaves, cse=cse, names=names or None)
+        _refuse_overflow(model, program.statements, program.outputs)
         outputs = iter(program.outputs)
         functions.append(
             Function(
@@ -111,6 +114,36 @@ def lower(model: Model, cse: bool = True) -> SymbolicSystem:
             )
         )
     return SymbolicSystem(model, nodes, tuple(functions))
+
+
+def _refuse_overflow(
+    model: Model, statements: Iterable[Statement], outputs: Iterable[Expr]
+) -> None:
+    """An error at the body to blame where the dynamics hold a constant past a double (a mass
+    times a length squared over 1.8e308): the printed code would read ``inf``, a name that is
+    not defined in Python and not in C."""
+    values = [s.value for s in statements if isinstance(s, Assign)] + list(outputs)
+    if all(_finite(v) for v in values):
+        return
+    span = model.span
+    for body in model.bodies:
+        reach = math.hypot(*body.com) + (body.length or 0.0)
+        moments = [body.mass * reach * reach, *(x for row in body.inertia for x in row)]
+        if not all(math.isfinite(x) for x in moments):
+            span = body.span
+            break
+    raise LegError.at(
+        span,
+        f"creature '{model.name}' gives its dynamics numbers past a double (1.8e308), such as "
+        "a mass times a length squared; write it on a smaller scale (lengths and masses "
+        "nearer 1 m and 1 kg: 'legdsl scale FILE --by L' rescales it whole)",
+    )
+
+
+def _finite(value: Expr) -> bool:
+    if value.has(zoo, oo, -oo, nan):
+        return False
+    return all(math.isfinite(float(f)) for f in value.atoms(Float))
 
 
 def _leaves(result: Nested) -> Iterator[Expr]:
@@ -189,10 +222,12 @@ def _rows(cols: list[Vec]) -> list[list[Expr]]:
 
 
 def _times(cols: list[Vec], v: list[Symbol], tree: Tree) -> Vec:
-    total: Vec = ZERO
-    for c, vi in zip(cols, v, strict=True):
-        total = add(total, scale(vi, c))
-    return let_vec(tree.block, total)
+    # one sum of all the terms: adding them one by one re-sorts the growing sum each time
+    terms = [scale(vi, c) for c, vi in zip(cols, v, strict=True)]
+    return let_vec(
+        tree.block,
+        (Add(*(t[0] for t in terms)), Add(*(t[1] for t in terms)), Add(*(t[2] for t in terms))),
+    )
 
 
 def _world_point(tree: Tree, i: int, point: Vec) -> Vec:

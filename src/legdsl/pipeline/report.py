@@ -65,10 +65,16 @@ def summary(model: Model, result: RunResult) -> str:
         rows += [
             ("final root position", "(" + ", ".join(f"{x:.3f}" for x in tr.root_pos[-1]) + ") m"),
             ("mean speed along x, start to end", f"{_mean_speed(tr):.3f} m/s"),
-            ("total energy start -> end", f"{energy0:.3f} J -> {energy1:.3f} J"),
+            ("total energy start -> end", f"{_joules(energy0)} J -> {_joules(energy1)} J"),
         ]
     width = max(len(r[0]) for r in rows)
     return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def _joules(x: float) -> str:
+    """Millijoules for a creature of ordinary size; a giant's (1e200 kg) in powers of ten, not
+    two hundred digits."""
+    return f"{x:.3f}" if abs(x) < 1e9 else f"{x:.4g}"
 
 
 def _mean_speed(tr: Any) -> float:

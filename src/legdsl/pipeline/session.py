@@ -165,6 +165,12 @@ class RunSession:
                 f"world (its root body '{self._welded()}' is 'fixed'): to start it higher, "
                 "move the point after 'fixed at' in the .leg file"
             )
+        if asked.drop is not None and not self.model.contacts:
+            raise UsageError(  # it lifts the lowest contact: without one it would do nothing
+                f"--drop lifts the creature until its lowest contact is H above the ground, but "
+                f"creature '{self.model.name}' has no contacts: to start it higher, give its "
+                "root a larger 'initial z = ...' in the .leg file"
+            )
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)

@@ -61,7 +61,7 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
     traj.t[row] = sim.t
     traj.q[row] = q
     traj.v[row] = v
-    if sim.ground is not None:
+    if sim.ground is not None and sim.contact_names:  # [] is no (0, 3) array
         traj.contact[row] = sim.ground.touching
         traj.force[row] = sim.contact_force
     traj.com[row] = dyn.center_of_mass(q)

@@ -328,7 +328,7 @@ class Simulation:
         """None while healthy; otherwise 'fell' (with self.message) or raises Divergence."""
         if not all(math.isfinite(x) for x in self.v) or not all(math.isfinite(x) for x in self.q):
             raise Divergence("the state is no longer finite (NaN or infinity)")
-        fastest = max(abs(x) for x in self.v)
+        fastest = max((abs(x) for x in self.v), default=0.0)  # a welded creature has no v
         if fastest > 1e3:
             raise Divergence(f"a velocity reached {fastest:.3g} (m/s or rad/s)")
         pos, rot = self._root_pose()

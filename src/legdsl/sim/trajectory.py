@@ -214,7 +214,8 @@ class Trajectory:
         # the exports write times and positions as float32: a recorded run (which stops past
         # 1000 m/s) stays far inside its range
         for name in ("t", "q", "com", "root_pos"):
-            if np.max(np.abs(getattr(self, name))) >= FLOAT32_MAX:
+            a = getattr(self, name)
+            if a.size and np.max(np.abs(a)) >= FLOAT32_MAX:  # a welded creature has no q
                 raise UsageError(f"{path}: the array {name} holds values too large{again}")
         if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
             raise UsageError(f"{path}: q or v does not match its coordinate names{again}")

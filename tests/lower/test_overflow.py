@@ -1,0 +1,36 @@
+"""A creature whose numbers pass the checker but whose dynamics overflow a double (a mass
+times a length squared past 1.8e308) is refused at its body, not printed as ``inf``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from legdsl.lang.errors import LegError
+from legdsl.pipeline.compile import compile_model
+
+LONG = """
+creature longl {
+  planar
+  body t free { mass 1 kg  inertia 0.01 kg*m^2  initial x = 0 m, z = 1 m, pitch = 0 deg }
+  body s on t via revolute hip { mass 1 kg  inertia 0.01 kg*m^2  length 1e200 m  com 0 m }
+  body u on s via revolute knee at tip { mass 1 kg  inertia 0.01 kg*m^2 }
+}
+"""
+
+
+def test_dynamics_past_a_double_are_refused_at_the_body(tmp_path: Path) -> None:
+    leg = tmp_path / "longl.leg"
+    leg.write_text(LONG, encoding="utf-8")
+    with pytest.raises(LegError) as caught:
+        compile_model(leg)  # was: dynamics.py and dynamics.c reading the undefined name inf
+    (diagnostic,) = caught.value.diagnostics
+    assert diagnostic.span.line == 5
+    assert "past a double" in diagnostic.message and "legdsl scale" in diagnostic.message
+
+
+def test_large_numbers_that_stay_finite_still_compile(tmp_path: Path) -> None:
+    leg = tmp_path / "heavy.leg"
+    leg.write_text(LONG.replace("1e200 m", "100 m").replace("1 kg", "1e6 kg"), encoding="utf-8")
+    assert compile_model(leg).name == "longl"
