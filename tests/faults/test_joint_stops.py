@@ -98,3 +98,22 @@ def test_the_mjcf_export_carries_the_stop(tmp_path: Path) -> None:
     )
     (plain,) = check_file(ROOT / "creatures" / "hopper.leg")
     assert "solreflimit" not in model_to_mjcf(plain)
+
+
+def test_a_stop_too_stiff_for_the_step_is_warned_of_before_the_run(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A stop of 1e12 N/m ran, and diverged only when reached; an actuator as stiff is refused
+    before the run. A stop acts only once its limit is reached, so it gets a warning, at its
+    line, with the bound (a stop the step can hold, above, gets none)."""
+    text = HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 1e12 N/m\n")
+    path = _hopper(tmp_path, text)
+    _run(path, generated, tmp_path / "run")
+    err = capsys.readouterr().err
+    assert (
+        f"legdsl: warning: {path}:29:5: the stop of joint coordinate leg is too stiff for " in err
+    )
+    assert "use k below" in err and "a run that reaches it diverges there" in err
+    _run(_hopper(tmp_path, HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 2e4 N/m\n"),
+                 "ok.leg"), generated, tmp_path / "ok")  # fmt: skip
+    assert "warning" not in capsys.readouterr().err

@@ -43,7 +43,13 @@ from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, 
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
 from legdsl.sim.simulate import Simulation
-from legdsl.sim.stability import TooStiff, inverse_inertia_diagonal, too_stiff
+from legdsl.sim.stability import (
+    TooStiff,
+    inverse_inertia_diagonal,
+    stop_message,
+    stops_too_stiff,
+    too_stiff,
+)
 from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
@@ -293,6 +299,11 @@ class RunSession:
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
         for f in held:  # saturating actuators past the bound: they chatter, a warning
             print(f"legdsl: warning: {f.message(opts.dt, unit(f), True)}", file=self.log)
+        # a stop acts only once its limit is reached, which a run may never do: a warning
+        at = {st.dof: st.span for st in self.model.stops}
+        for f in stops_too_stiff(self.model.stops, inverse, opts.dt, opts.integrator):
+            print(f"legdsl: warning: {at[f.actuator]}: {stop_message(f)}; a run that reaches "
+                  "it diverges there", file=self.log)  # fmt: skip
 
 
 def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) -> dict[str, Any]:

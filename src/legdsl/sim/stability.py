@@ -140,17 +140,28 @@ def stiff_now(
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
             f"{f.setting} below {below(f.limit)}, or --dt below {below(f.dt_limit * 1e3)} ms"
         )
-    # a stop pushes like a spring while its coordinate is past the limit
+    return causes + [
+        stop_message(f) for f in stops_too_stiff(stops, inverse_inertia, dt, integrator)
+    ]
+
+
+def stops_too_stiff(
+    stops: Iterable[Stop], inverse_inertia: Sequence[float], dt: float, integrator: str
+) -> list[TooStiff]:
+    """The joint stops too stiff or too damped for the step (``TooStiff.actuator`` is the
+    stop's coordinate): a stop pushes like a spring while its coordinate is past the limit."""
     pushing = [ActuatorState(st.dof, "spring", st.q_index, st.v_index, st.k, st.b, 0.0, 0.0, None)
                for st in stops]  # fmt: skip
-    for f in too_stiff(pushing, inverse_inertia, dt, integrator, set()):
-        causes.append(
-            f"the stop of joint coordinate {f.actuator} is too "
-            f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
-            f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or --dt below "
-            f"{below(f.dt_limit * 1e3)} ms"
-        )
-    return causes
+    return too_stiff(pushing, inverse_inertia, dt, integrator, set())
+
+
+def stop_message(f: TooStiff) -> str:
+    return (
+        f"the stop of joint coordinate {f.actuator} is too "
+        f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
+        f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or --dt below "
+        f"{below(f.dt_limit * 1e3)} ms"
+    )
 
 
 def likely_cause(
