@@ -643,3 +643,25 @@ def test_cli_refuses_a_window_past_the_run_as_plot_does(
     assert "none lies from 1.0001 to 1.0002 s" in capsys.readouterr().err
     assert main(["metrics", str(tmp_path), "--from", "2", "--to", "9"]) == 0
     assert not (tmp_path / "figure6.png").exists()
+
+
+def test_cli_says_which_rows_a_run_whose_leg_file_is_gone_goes_without(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The foot clearance, touchdown speed and terrain rows need the creature: with its .leg
+    file gone they were left out without a word."""
+    root = Path(__file__).resolve().parents[2]
+    leg = tmp_path / "hopper.leg"
+    leg.write_text((root / "creatures" / "hopper.leg").read_text(encoding="utf-8"))
+    run = tmp_path / "run"
+    argv = ["run", str(leg), "--controller", "hop", "--time", "1", "--backend", "python",
+            "--generated", str(root / "generated"), "--out", str(run)]  # fmt: skip
+    assert main(argv) == 0
+    assert main(["metrics", str(run)]) == 0
+    out, err = capsys.readouterr()
+    assert "foot clearance at the apex" in out and "note" not in err
+    leg.unlink()
+    assert main(["metrics", str(run)]) == 0
+    out, err = capsys.readouterr()
+    assert f"legdsl: note: the file '{leg}' that {run}/run.json names is gone, so the rows " in err
+    assert "foot clearance" not in out

@@ -87,7 +87,7 @@ def _read_window(args: argparse.Namespace) -> None:
 def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.analysis.segments import segment_table
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
-    from legdsl.pipeline.measure import measure_run, run_segments
+    from legdsl.pipeline.measure import measure_run, run_segments, unmeasured_without_source
     from legdsl.pipeline.report import path_summary
 
     try:
@@ -103,6 +103,8 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     segments = run_segments(args.dir)
+    if note := unmeasured_without_source(args.dir):
+        print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:
         data = metrics.to_dict()
         if reports:

@@ -83,6 +83,20 @@ def measure_run(
     return metrics, reports
 
 
+def unmeasured_without_source(run: str | Path) -> str:
+    """A note when the run's ``.leg`` file is gone: the rows measured on the creature's own
+    geometry are then left out of its metrics (else "")."""
+    run = Path(run)
+    info = load_run_info(run)
+    if run_source(run, info) is not None:
+        return ""
+    return (
+        f"the file {info.get('source', '')!r} that {run}/run.json names is gone, so the rows "
+        "measured on the creature's geometry (foot clearance at the apex, touchdown speed, "
+        "margins to the terrain) are left out; put it back to have them"
+    )
+
+
 def run_segments(run: str | Path) -> list[dict[str, Any]]:
     """The controller segments of a run that switched controllers (none for other runs),
     each measured (``legdsl.analysis.segments``)."""
