@@ -278,3 +278,19 @@ def test_an_out_that_would_replace_the_file_itself_is_refused(
     assert code == 2
     assert "would replace" in capsys.readouterr().err
     assert source.read_text() == HOPPER.read_text()
+
+
+def test_a_parameter_of_a_shared_part_is_said_to_change_for_every_includer(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Tuning the kangaroo's kp, declared in its shared part kangaroo_hop, changes it for every
+    controller that includes the part (documented, but not said); a controller's own is not."""
+    kangaroo = HOPPER.parent / "kangaroo.leg"
+    args = ["--speeds", "3", "--seed", "0", "--out", str(tmp_path)]  # refused after the note
+    assert main(["tune", str(kangaroo), "--controller", "hop", "--param", "kp=30:300", *args]) == 2
+    assert (
+        "legdsl: note: kp is declared in shared part 'kangaroo_hop': the tuned file changes it "
+        "for every controller that includes 'kangaroo_hop'"
+    ) in capsys.readouterr().err
+    assert main(["tune", str(HOPPER), "--controller", "hop", "--param", "kp=30:300", *args]) == 2
+    assert "note" not in capsys.readouterr().err

@@ -296,6 +296,19 @@ def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> d
     return spans
 
 
+def shared_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
+    """Of the parameters declared at ``spans`` (``declared_in``), those declared in a shared
+    part of ``source``, with its name: the tuned file changes them for every controller that
+    includes the part."""
+    tree, _ = parse_file(source)
+    return {
+        item.name.name: part.name.name
+        for part in tree.shared
+        for item in part.items
+        if isinstance(item, ast.ParamDecl) and spans.get(item.name.name) == item.name.span
+    }
+
+
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     """(line, column, end column, new text) of a parameter's value, kept in its unit."""
     node = item.value

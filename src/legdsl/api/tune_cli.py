@@ -6,6 +6,7 @@ import argparse
 import json
 import math
 import os
+import sys
 from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
@@ -19,6 +20,7 @@ from legdsl.api.tune import (
     dump,
     plot_history,
     report,
+    shared_owners,
     tune,
     write_tuned,
 )
@@ -160,7 +162,10 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
                 f"({low:g} to {high:g} {unit}); widen them"
             )
         bounds.append(Bound(axis.name, low, high, start))
-    declared_in(source, controller, [b.name for b in bounds])  # else found only after the tune
+    spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune
+    for name, part in shared_owners(source, spans).items():
+        print(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
+              f"changes it for every controller that includes '{part}'", file=sys.stderr)  # fmt: skip
     return bounds
 
 
