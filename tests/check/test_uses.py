@@ -47,6 +47,15 @@ def test_nested_uses_resolve_relative_to_each_file_and_once(tmp_path: Path) -> N
     assert called(flight) == ["thrust", "lengthen", "relax"]
 
 
+def _calls_lengthen_by_itself(main: Path) -> None:
+    """The controller hop of ``main`` calls the ``lengthen`` that sets ``by``, not ``2 * by``."""
+    (flight,) = check_model(main).controller("hop").states
+    (do,) = flight.body
+    assert isinstance(do, ir.Do)
+    (assign,) = do.body
+    assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
+
+
 def test_a_files_own_action_overrides_a_used_one(tmp_path: Path) -> None:
     (tmp_path / "lib.leg").write_text("action lengthen(leg, by) { leg.spring.rest = 2 * by }\n")
     main = tmp_path / "main.leg"
@@ -56,11 +65,7 @@ def test_a_files_own_action_overrides_a_used_one(tmp_path: Path) -> None:
         + "controller hop {\n  table {\n"
         "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
     )
-    (flight,) = check_model(main).controller("hop").states
-    (do,) = flight.body
-    assert isinstance(do, ir.Do)
-    (assign,) = do.body
-    assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
+    _calls_lengthen_by_itself(main)
 
 
 def test_a_file_used_directly_wins_over_one_used_through_another(tmp_path: Path) -> None:
@@ -74,11 +79,7 @@ def test_a_file_used_directly_wins_over_one_used_through_another(tmp_path: Path)
         'use "near.leg"\nuse "middle.leg"\n' + CREATURE + "controller hop {\n  table {\n"
         "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
     )
-    (flight,) = check_model(main).controller("hop").states
-    (do,) = flight.body
-    assert isinstance(do, ir.Do)
-    (assign,) = do.body
-    assert isinstance(assign, ir.Assign) and isinstance(assign.value, ir.Num)  # not 2 * by
+    _calls_lengthen_by_itself(main)
 
 
 def test_a_missing_file_deep_down_is_reported_at_the_users_use(tmp_path: Path) -> None:
