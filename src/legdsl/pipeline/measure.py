@@ -87,6 +87,8 @@ def unmeasured_without_source(run: str | Path) -> str:
     """A note when the run's ``.leg`` file is gone: the rows measured on the creature's own
     geometry are then left out of its metrics (else "")."""
     run = Path(run)
+    if not (run / "run.json").is_file():  # a trajectory alone names no creature
+        return ""
     info = load_run_info(run)
     if run_source(run, info) is not None:
         return ""
