@@ -101,13 +101,17 @@ def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> N
                 _walk(getattr(node, f.name), unit_dim, out)
 
 
+def _quantities(tree: ast.SourceFile) -> list[tuple[ast.Span, Dim]]:
+    """(span, dimension) of every number with a unit in a file."""
+    found: list[tuple[ast.Span, Dim]] = []
+    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
+    return found
+
+
 def scales_anything(text: str, file: str = "<string>") -> bool:
     """Whether a file holds a number that scaling changes (one whose unit is not an angle's
     or none): a used file that does is left as written by ``scale_source``."""
-    tree = parse(text, file)
-    found: list[tuple[ast.Span, Dim]] = []
-    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
-    return any(exponent(dim) != 0 for _, dim in found)
+    return any(exponent(dim) != 0 for _, dim in _quantities(parse(text, file)))
 
 
 def _beyond(value: float, dim: Dim, scale: float) -> str:
@@ -140,6 +144,17 @@ def _has_block(creature: ast.CreatureDecl, name: str) -> bool:
     return any(isinstance(i, ast.BlockDecl) and i.name.name == name for i in creature.items)
 
 
+def _scaled_defaults(dt: float, scale: float) -> dict[str, str]:
+    """The runner's defaults for a creature integrated at ``dt`` (the control interval is
+    never below it), scaled, as the entries of a ``simulation`` block."""
+    tick = math.sqrt(scale)
+    return {
+        "dt": f"{format_number(DEFAULT_DT * 1e3 * tick)} ms",
+        "control_dt": f"{format_number(max(DEFAULT_CONTROL_DT, dt) * 1e3 * tick)} ms",
+        "record_rate": f"{format_number(DEFAULT_RECORD_RATE / tick)} Hz",
+    }
+
+
 def _simulation_completed(
     creature: ast.CreatureDecl, text: str, starts: list[int], scale: float
 ) -> list[tuple[int, int, str]]:
@@ -155,12 +170,7 @@ def _simulation_completed(
         if isinstance(step, ast.One) and isinstance(step.value, ast.Number)
         else DEFAULT_DT
     )
-    tick = math.sqrt(scale)
-    defaults = {
-        "dt": f"{format_number(DEFAULT_DT * 1e3 * tick)} ms",
-        "control_dt": f"{format_number(max(DEFAULT_CONTROL_DT, dt) * 1e3 * tick)} ms",
-        "record_rate": f"{format_number(DEFAULT_RECORD_RATE / tick)} Hz",
-    }
+    defaults = _scaled_defaults(dt, scale)
     missing = [f"{key} {value}" for key, value in defaults.items() if key not in given]
     if not missing:
         return []
@@ -190,10 +200,8 @@ def scale_source(
         starts.append(starts[-1] + len(line))
     edits: list[tuple[int, int, str]] = []  # (start, end, replacement)
 
-    found: list[tuple[ast.Span, Dim]] = []
-    _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
     beyond: list[Diagnostic] = []
-    for span, dim in found:
+    for span, dim in _quantities(tree):
         start = _offset(starts, span.line, span.col)
         match = _NUMBER.match(text, start)
         assert match is not None, f"no number at {span}"
@@ -215,12 +223,12 @@ def scale_source(
         start = _offset(starts, ident.span.line, ident.span.col)
         edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
         if not _has_block(creature, "simulation"):
-            tick = math.sqrt(scale)
+            entries = "".join(
+                f"    {k} {v}\n" for k, v in _scaled_defaults(DEFAULT_DT, scale).items()
+            )
             block = (
                 "\n  # the integration step, control interval and record rate scaled with it\n"
-                f"  simulation {{\n    dt {format_number(DEFAULT_DT * 1e3 * tick)} ms\n"
-                f"    control_dt {format_number(DEFAULT_CONTROL_DT * 1e3 * tick)} ms\n"
-                f"    record_rate {format_number(DEFAULT_RECORD_RATE / tick)} Hz\n  }}\n"
+                f"  simulation {{\n{entries}  }}\n"
             )
             end = _offset(starts, creature.span.end_line, creature.span.end_col) - 1
             assert text[end] == "}"

@@ -136,9 +136,7 @@ def edited_by_hand(
     now, below their first line (which names the .leg file as the compile that wrote them was
     given it). It compiles again, which takes seconds: for a build that failed, to tell the
     user's edit from legdsl's bug."""
-    compiled = (
-        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
-    )
+    compiled = _compiled(model, source, syntax)
     made = {name: text.partition("\n")[2] for name, text in compiled.files}
     return [name for name in names if name in made and _body(folder / name) != made[name]]
 
@@ -150,12 +148,15 @@ def _body(path: Path) -> str | None:
         return None
 
 
+def _compiled(model: Model, source: Path, syntax: ast.SourceFile | None) -> Compiled:
+    """The creature compiled again (from its checked syntax tree when at hand)."""
+    return compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+
+
 def _recompile(model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None) -> None:
     """Compile the creature again into ``generated/NAME/``; a tree that cannot be written (a
     read-only checkout, a shared install) is the user's to fix, and the message says how."""
-    compiled = (
-        compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
-    )
+    compiled = _compiled(model, source, syntax)
     try:
         write_generated(compiled, generated)
     except OSError as e:

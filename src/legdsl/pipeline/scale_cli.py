@@ -11,7 +11,6 @@ from typing import Any
 from legdsl.check.source import check_file, load_uses
 from legdsl.check.values import stdlib_name
 from legdsl.files import write_atomic
-from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
@@ -39,7 +38,9 @@ def cmd_scale(args: argparse.Namespace) -> int:
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
     out = check_output_file(args.output, "-o")
     tree, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
-    _not_an_input(out, tree, Path(args.file), args.by)
+    used: dict[str, str] = {}  # the files it uses, by path (a missing one is check_file's)
+    load_uses(tree, Diagnostics(used), used)
+    _not_an_input(out, [Path(p) for p in used], Path(args.file), args.by)
     if not tree.creatures and (tree.actions or tree.shared):
         # a file of actions and shared parts, for a scaled file to 'use': checked where used
         write_atomic(out, scale_source(text, args.by, args.file, out))
@@ -52,35 +53,31 @@ def cmd_scale(args: argparse.Namespace) -> int:
     write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
-    for used in _unscaled_uses(tree):
+    for path in _unscaled(used, Path(args.file)):
         print(
-            f"legdsl: note: {used}, which it uses, is not scaled and has numbers with units: "
-            f"scale it too (legdsl scale {used} --by {args.by:g} -o OUT.leg) and point the "
+            f"legdsl: note: {path}, which it uses, is not scaled and has numbers with units: "
+            f"scale it too (legdsl scale {path} --by {args.by:g} -o OUT.leg) and point the "
             "'use' at it, unless its numbers are meant for any size",
             file=sys.stderr,
         )
     return 0
 
 
-def _unscaled_uses(tree: ast.SourceFile) -> list[str]:
-    """The files of the user's own that the file uses, directly or not, holding numbers
-    that scaling would change (the standard library's hold none)."""
-    sources: dict[str, str] = {}
-    load_uses(tree, Diagnostics(sources), sources)
+def _unscaled(used: dict[str, str], source: Path) -> list[str]:
+    """The files of the user's own among those used (by path, with their text), holding
+    numbers that scaling would change (the standard library's hold none)."""
     return [
         path
-        for path, text in sources.items()
+        for path, text in used.items()
         if stdlib_name(Path(path)) is None
-        and Path(path).resolve() != Path(tree.path).resolve()
+        and Path(path).resolve() != source.resolve()
         and scales_anything(text, path)
     ]
 
 
-def _not_an_input(out: Path, tree: ast.SourceFile, source: Path, scale: float) -> None:
+def _not_an_input(out: Path, used: list[Path], source: Path, scale: float) -> None:
     """-o naming FILE or a file it uses is refused: the scaled text replaced the user's own."""
-    sources: dict[str, str] = {}
-    load_uses(tree, Diagnostics(sources), sources)  # a missing one is check_file's to report
-    for given in (source, *(Path(p) for p in sources)):
+    for given in (source, *used):
         if out.exists() and given.exists() and out.samefile(given):
             raise UsageError(
                 f"-o {out}: this is {given}, an input that writing would destroy; give another "
