@@ -10,6 +10,7 @@ import numpy as np
 
 from legdsl.analysis.results import jsonable
 from legdsl.analysis.strides import EPS_T
+from legdsl.figures import figure
 from legdsl.sim.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -69,7 +70,7 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
 
     def num(key: str, unit: str) -> str:
         v = report.get(key)
-        return "n/a" if v is None else f"{v:.3f}{unit}"
+        return "n/a" if v is None else f"{figure(v)}{unit}"
 
     window = f"from {report['from']:g} s"
     covered = "laps of" if report.get("closed", True) else "of its"  # open: the fraction covered

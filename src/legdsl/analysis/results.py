@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.figures import figure
 from legdsl.files import write_atomic
 
 FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a stance
@@ -139,19 +140,16 @@ class GaitMetrics:
         lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
         for s in self.summaries:
             spread = {"max": "(peak)", "min": "(least)", "total": "(window)"}.get(
-                s.how, num_text(s.std)
+                s.how,
+                figure(s.std, s.value),  # to the value's decimals
             )
-            lines.append(f"{s.label:<{width}}  {num_text(s.value):>10}  {spread:>10}  {s.n:>4}")
+            lines.append(f"{s.label:<{width}}  {figure(s.value):>10}  {spread:>10}  {s.n:>4}")
         return "\n".join(lines) + "\n"
 
 
 def write_json(metrics: GaitMetrics, path: Path) -> None:
     """Write ``metrics.to_dict()`` to ``path`` whole or not at all."""
     write_atomic(path, json.dumps(metrics.to_dict(), indent=2, allow_nan=False) + "\n")
-
-
-def num_text(x: float) -> str:
-    return "n/a" if not math.isfinite(x) else f"{x:.3f}"
 
 
 def jsonable(x: Any) -> Any:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.strides import EPS_T
+from legdsl.figures import figure
 from legdsl.sim.trajectory import Trajectory
 
 SETTLE = 3.0  # s after a switch (or the start) before its speed is measured
@@ -58,7 +59,7 @@ def segment_table(report: Sequence[dict[str, Any]]) -> str:
         if r["speed"] is None:
             lines.append(f"{where}  too short to measure")
             continue
-        cmd = "" if r["command"] is None else f", command {r['command']:.3f} m/s"
+        cmd = "" if r["command"] is None else f", command {figure(r['command'])} m/s"
         err = "" if r["error_percent"] is None else f" ({r['error_percent']:+.1f}%)"
-        lines.append(f"{where}  speed {r['speed']:.3f} m/s{cmd}{err}")
+        lines.append(f"{where}  speed {figure(r['speed'])} m/s{cmd}{err}")
     return "\n".join(lines) + "\n"

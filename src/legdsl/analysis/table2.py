@@ -13,7 +13,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from legdsl.analysis.pairs import hip_positions, pair_groups
-from legdsl.analysis.results import GaitMetrics, num_text
+from legdsl.analysis.results import GaitMetrics
+from legdsl.figures import figure
 from legdsl.ir.model import Model
 
 
@@ -65,9 +66,9 @@ def compare_table(
     lines = [f"{'quantity':<{width}}  {'this run':>17}  " + "  ".join(cols)]
     for name, refs in reference_rows.items():
         s = by_name.get(name, by_name.get(alias.get(name, "")))
-        run = "n/a" if s is None else num_text(s.value)
+        run = "n/a" if s is None else figure(s.value)
         if s is not None and math.isfinite(s.std):
-            run += f" +/- {num_text(s.std)}"
+            run += f" +/- {figure(s.std, s.value)}"
         ref = "  ".join(f"{'n/a' if r is None else f'{r:g}':>15}" for r in refs)
         lines.append(f"{name:<{width}}  {run:>17}  {ref}")
     return "\n".join(lines) + "\n"

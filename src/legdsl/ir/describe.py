@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 
+from legdsl.figures import figure, figures
 from legdsl.ir.model import Model, Pad, Vec3
 
 
 def _vec(v: Vec3, planar: bool) -> str:
     parts = (v[0], v[2]) if planar else v
-    return "(" + ", ".join(f"{c:.3f}" for c in parts) + ") m"
+    return f"{figures(parts)} m"
 
 
 def _joint_text(model: Model, body_name: str) -> str:
@@ -30,7 +31,7 @@ def describe_model(model: Model) -> str:
     g = -model.gravity[2]
     lines = [
         f"creature {model.name} ({kind}) from {model.source}",
-        f"  {model.nv} DOF, total mass {model.total_mass:.3f} kg, gravity {g:.3f} m/s^2",
+        f"  {model.nv} DOF, total mass {figure(model.total_mass)} kg, gravity {figure(g)} m/s^2",
         "",
         "link tree:",
     ]
@@ -41,9 +42,9 @@ def describe_model(model: Model) -> str:
     def walk(name: str, prefix: str, last: bool, root: bool) -> None:
         body = model.body(name)
         branch = "" if root else ("`-- " if last else "|-- ")
-        length = f", length {body.length:.3f} m" if body.length else ""
+        length = f", length {figure(body.length)} m" if body.length else ""
         lines.append(
-            f"  {prefix}{branch}{name}  {_joint_text(model, name)}  {body.mass:.3f} kg{length}"
+            f"  {prefix}{branch}{name}  {_joint_text(model, name)}  {figure(body.mass)} kg{length}"
         )
         kids = children.get(name, [])
         for i, kid in enumerate(kids):

@@ -6,6 +6,7 @@ import sys
 import time
 from typing import Any
 
+from legdsl.figures import figure, figures
 from legdsl.ir.model import Model
 from legdsl.sim.run_loop import RunResult
 
@@ -63,18 +64,12 @@ def summary(model: Model, result: RunResult) -> str:
         energy0 = tr.kinetic[0] + tr.potential[0] + tr.elastic[0]
         energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]
         rows += [
-            ("final root position", "(" + ", ".join(f"{x:.3f}" for x in tr.root_pos[-1]) + ") m"),
-            ("mean speed along x, start to end", f"{_mean_speed(tr):.3f} m/s"),
-            ("total energy start -> end", f"{_joules(energy0)} J -> {_joules(energy1)} J"),
+            ("final root position", f"{figures(tr.root_pos[-1].tolist())} m"),
+            ("mean speed along x, start to end", f"{figure(_mean_speed(tr))} m/s"),
+            ("total energy start -> end", f"{figure(energy0)} J -> {figure(energy1)} J"),
         ]
     width = max(len(r[0]) for r in rows)
     return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
-
-
-def _joules(x: float) -> str:
-    """Millijoules for a creature of ordinary size; a giant's (1e200 kg) in powers of ten, not
-    two hundred digits."""
-    return f"{x:.3f}" if abs(x) < 1e9 else f"{x:.4g}"
 
 
 def _mean_speed(tr: Any) -> float:
