@@ -59,3 +59,17 @@ def test_a_hopper_of_a_millimetre_reports_its_figures(
                   "elastic energy stored per step (J)"):  # fmt: skip
         row = next(line for line in table.splitlines() if line.startswith(label))
         assert float(row[len(label) :].split()[0]) > 0, row
+
+
+def test_the_top_views_title_says_laps_only_of_a_closed_path() -> None:
+    """An open path's title said '0.66 laps' where the summary says '0.663 of its 15.000 m'."""
+    from legdsl.analysis.plot import path_title
+
+    report = {"lateral_rms": 0.0424, "lateral_max": 0.131, "from": 3.0, "laps": 0.663,
+              "length": 15.0, "closed": False}  # fmt: skip
+    assert path_title("route", report) == (
+        "route: lateral deviation 0.042 m RMS, 0.131 m max (from 3 s), 0.66 of its 15.000 m"
+    )
+    tiny = report | {"closed": True, "lateral_rms": 0.00042}
+    assert path_title("loop", tiny).startswith("loop: lateral deviation 0.00042 m RMS")
+    assert path_title("loop", tiny).endswith("0.66 laps")

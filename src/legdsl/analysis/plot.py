@@ -8,10 +8,11 @@ bracketed by vertical dashed lines, as in the paper.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
@@ -226,6 +227,18 @@ def run_paths(run: Path) -> list[PathSpec]:
         raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
 
 
+def path_title(name: str, report: dict[str, Any]) -> str:
+    """The top view's title for a path (``path_report``): an open path's share, a closed
+    one's laps."""
+    closed = report.get("closed", True)
+    covered = "laps" if closed else f"of its {figure(report['length'])} m"
+    return (
+        f"{name}: lateral deviation {figure(report['lateral_rms'])} m RMS, "
+        f"{figure(report['lateral_max'])} m max (from {report['from']:g} s), "
+        f"{report['laps']:.2f} {covered}"
+    )
+
+
 def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
     """A top view: the path(s) the run followed and the track of the centre of mass."""
     import matplotlib
@@ -249,12 +262,8 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
             pts = np.vstack([pts, pts[:1]])
         ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, label=f"path {spec.name}")
         report = path_report(tr, spec, max(t_from, PATH_FROM), t_to)
-        rms, worst = report["lateral_rms"], report["lateral_max"]
-        if rms is not None:
-            titles.append(
-                f"{spec.name}: lateral deviation {rms:.3f} m RMS, {worst:.3f} m max "
-                f"(from {report['from']:g} s), {report['laps']:.2f} laps"
-            )
+        if report["lateral_rms"] is not None:
+            titles.append(path_title(spec.name, report))
     ax.plot(tr.com[window, 0], tr.com[window, 1], color="k", linewidth=1, label="centre of mass")
     ax.plot(tr.com[window, 0][:1], tr.com[window, 1][:1], "o", color="k", label="start")
     ax.set_aspect("equal")
