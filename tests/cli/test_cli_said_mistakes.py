@@ -52,3 +52,23 @@ def test_a_switch_to_the_controller_asked_for_is_kept_with_a_note(
     ) in err, err
     assert main(_run(tmp_path)) == 0
     assert "note" not in capsys.readouterr().err
+
+
+def test_a_drop_too_high_for_doubles_to_hold_the_creature_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from legdsl.pipeline.options import DROP_RESOLUTION
+
+    # the hopper's shortest link, its thigh, is 0.3 m: doubles near H are up to H * 2^-52 apart
+    highest = DROP_RESOLUTION * 0.3 / 2.0**-52
+    session = RunSession.from_file(HOPPER, generated=GENERATED)
+    plan = session.prepare("hop", options=RunOptions(0.2, drop=highest * 0.99), backend="python")
+    assert plan.sim.q[plan.model.q_names.index("z")] > highest * 0.98
+    with pytest.raises(UsageError, match=r"give --drop 1\.35e\+09m or less"):
+        session.prepare("hop", options=RunOptions(0.2, drop=highest * 1.01), backend="python")
+    assert main(_run(tmp_path, "--drop", "1e300")) == 2
+    assert (
+        "legdsl: --drop 1e+300m: doubles near that height are up to 2.22e+284 m apart, more than "
+        "1e-06 of the creature's shortest link (thigh, 0.3 m), so its geometry would be lost in "
+        "rounding; give --drop 1.35e+09m or less"
+    ) in capsys.readouterr().err

@@ -37,7 +37,7 @@ from legdsl.lang.units import KINDS
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
-from legdsl.pipeline.options import check_run_options
+from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
 from legdsl.sim.machine import StateMachine
@@ -177,6 +177,8 @@ class RunSession:
                 f"creature '{self.model.name}' has no contacts: to start it higher, give its "
                 "root a larger 'initial z = ...' in the .leg file"
             )
+        if asked.drop is not None:
+            check_drop(asked.drop, self.model, scale)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
