@@ -165,6 +165,21 @@ def load_uses(
         frontier = following
     order = sorted(files, key=lambda f: -depth[f])
     found = [a for f in order for a in files[f].actions]
+    # two files the same distance away that define one action: neither wins
+    definers: dict[str, list[Path]] = {}
+    for f in sorted(files, key=lambda f: depth[f]):
+        for a in files[f].actions:
+            near = definers.setdefault(a.name.name, [])
+            if f not in near and (not near or depth[near[0]] == depth[f]):
+                near.append(f)
+    last = {a.name.name: i for i, a in enumerate(found)}  # the one that would win
+    for action, near in definers.items():
+        if len(near) > 1:
+            a = found[last[action]]
+            names = tuple(name(f) for f in near)
+            found[last[action]] = ast.AmbiguousAction(
+                a.name, a.params, a.body, a.span, names, depth[near[0]]
+            )
     parts = [p for f in order for p in files[f].shared]
     return [*found, *tree.actions], [*parts, *tree.shared]
 
