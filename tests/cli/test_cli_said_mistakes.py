@@ -72,3 +72,16 @@ def test_a_drop_too_high_for_doubles_to_hold_the_creature_is_refused(
         "1e-06 of the creature's shortest link (thigh, 0.3 m), so its geometry would be lost in "
         "rounding; give --drop 1.35e+09m or less"
     ) in capsys.readouterr().err
+
+
+def test_a_drop_whose_fall_outlasts_the_run_is_said_in_a_note(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(_run(tmp_path, "--drop", "30cm")) == 0  # 0.247 s at 9.81 m/s^2
+    err = capsys.readouterr().err
+    assert (
+        "legdsl: note: --drop 0.3m: the fall alone takes 0.247 s, longer than the run (0.2 s), "
+        "which ends with the creature in the air; give --time 0.247s or more, or a lower --drop"
+    ) in err, err
+    assert main(_run(tmp_path, "--drop", "10cm")) == 0
+    assert "note" not in capsys.readouterr().err
