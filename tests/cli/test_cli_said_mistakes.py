@@ -85,3 +85,18 @@ def test_a_drop_whose_fall_outlasts_the_run_is_said_in_a_note(
     ) in err, err
     assert main(_run(tmp_path, "--drop", "10cm")) == 0
     assert "note" not in capsys.readouterr().err
+
+
+def test_a_scenes_switch_to_the_controller_asked_for_is_kept_with_a_note(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "hopper.leg"
+    path.write_text(
+        HOPPER.read_text() + "scene again { controller hop; at 0.05 s switch hop; time 0.2 s }\n"
+    )
+    argv = ["run", str(path), "--scene", "again", "--backend", "python",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    assert "note: the switch to hop at 0.05 s is to the controller already asked for" in (
+        capsys.readouterr().err
+    )
