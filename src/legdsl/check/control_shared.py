@@ -102,6 +102,15 @@ def _expanded(
                     f"{did_you_mean(ident.name, parts)}",
                 )
                 continue
+            if isinstance(part, ast.AmbiguousShared):
+                uses = "uses" if part.distance > 1 else "use"
+                diag.error(
+                    ident.span,
+                    f"shared part '{ident.name}' is defined by both {' and '.join(part.files)}, "
+                    f"each {part.distance} '{uses}' away, so neither wins; rename it in one of "
+                    "them, or leave out the 'use' of the one you do not mean",
+                )
+                continue
             if ident.name in chain:
                 loop = " -> ".join((*chain[chain.index(ident.name) :], ident.name))
                 diag.error(

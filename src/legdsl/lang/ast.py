@@ -453,6 +453,15 @@ class SharedDecl:
 
 
 @dataclass(frozen=True)
+class AmbiguousShared(SharedDecl):
+    """A shared part that two used files, the same number of 'use's away, both define:
+    neither wins (an error where it is included)."""
+
+    files: tuple[str, ...] = ()
+    distance: int = 1
+
+
+@dataclass(frozen=True)
 class ControllerDecl:
     name: Ident
     creature: Ident | None
