@@ -149,3 +149,23 @@ def test_the_base_for_its_creature_is_preferred_to_one_for_none(tmp_path: Path) 
         check_file(path)
     (only,) = info.value.diagnostics
     assert only.message.startswith("this file has several creatures (a, z)")
+
+
+def test_a_derived_controllers_include_beats_its_base_and_its_own_items_beat_both(
+    tmp_path: Path,
+) -> None:
+    """``controller e extends hop { include more }``: the include is e's own text, so more's
+    kp replaces hop's (in the include's place); a kp e writes itself beats both."""
+    path = tmp_path / "derived.leg"
+    more = "shared more {\n  param kp = 70 N*m/rad\n  param extra = 1 s\n}\n"
+    path.write_text(
+        CREATURE + HOP + more + "controller e extends hop {\n  include more\n}\n"
+        "controller f extends hop {\n  include more\n  param kp = 90 N*m/rad\n}\n"
+    )
+    models = check_model(path)
+    params = {c: [(p.name, p.value) for p in models.controller(c).params] for c in "ef"}
+    assert params["e"] == [("kv", 2.0), ("kp", 70.0), ("extra", 1.0)]
+    assert params["f"] == [("kv", 2.0), ("kp", 90.0), ("extra", 1.0)]
+    assert [(p.name, p.value) for p in models.controller("hop").params] == [
+        ("kp", 50.0), ("kv", 2.0),
+    ]  # fmt: skip

@@ -173,3 +173,20 @@ def test_a_scene_for_one_of_several_creatures_runs_without_creature(
     capsys.readouterr()
     assert main([*args, "--time", "0.05"]) == 2  # nothing says which
     assert "choose a creature with --creature" in capsys.readouterr().err
+
+
+def test_two_commands_for_one_input_at_one_time_in_a_scene_are_refused(tmp_path: Path) -> None:
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene twice {\n  controller run\n  at 1 s set speed = 1 m/s\n"
+        "  at 1000 ms set speed = 2 m/s\n  at 1 s set height = 0.8 m\n}\n"
+    )
+    with pytest.raises(LegError) as caught:
+        check_model(path)
+    lines = len(BIPED.read_text().splitlines())
+    assert (
+        f"biped.leg:{lines + 4}:3: error: two commands for speed at 1 s (the other at line "
+        f"{lines + 3}); an input takes one command at a time: keep one"
+    ) in caught.value.render()

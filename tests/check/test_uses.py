@@ -111,3 +111,59 @@ def test_a_used_file_that_cannot_be_read_is_the_only_news(tmp_path: Path) -> Non
         check_model(main)
     (d,) = e.value.diagnostics
     assert d.message.startswith("cannot find 'lib.leg' to use")
+
+
+def test_two_files_the_same_distance_away_defining_one_action_is_an_error_at_the_call(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "a.leg").write_text("action lengthen(leg, by) { leg.spring.rest = by }\n")
+    (tmp_path / "b.leg").write_text("action lengthen(leg, by) { leg.spring.rest = 2 * by }\n")
+    main = tmp_path / "main.leg"
+    body = (
+        CREATURE + "controller hop {\n  table {\n"
+        "    state FLIGHT on liftoff(main): lengthen(main, 1 cm)\n  }\n}\n"
+    )
+    main.write_text('use "a.leg"\nuse "b.leg"\n' + body)
+    with pytest.raises(LegError) as caught:
+        check_model(main)
+    line = 2 + body.split("\n").index("    state FLIGHT on liftoff(main): lengthen(main, 1 cm)") + 1
+    assert (
+        f"main.leg:{line}:36: error: action 'lengthen' is defined by both a.leg and b.leg, each "
+        "1 'use' away, so neither wins; rename it in one of them, or leave out the 'use' of "
+        "the one you do not mean"
+    ) in caught.value.render()
+    # one of its own, or one file nearer, wins; an action nobody calls is no error
+    main.write_text('use "a.leg"\nuse "b.leg"\naction lengthen(leg, by) { leg.spring.rest = by }\n'
+                    + body)  # fmt: skip
+    _calls_lengthen_by_itself(main)
+    (tmp_path / "middle.leg").write_text('use "b.leg"\n')
+    main.write_text('use "a.leg"\nuse "middle.leg"\n' + body)
+    _calls_lengthen_by_itself(main)
+    uncalled = body.replace("lengthen(main, 1 cm)", "relax(main, 0 m)")
+    main.write_text('use "a.leg"\nuse "b.leg"\nuse raibert\n' + uncalled)
+    (flight,) = check_model(main).controller("hop").states
+    assert called(flight) == ["relax"]
+
+
+def test_two_files_the_same_distance_away_sharing_one_part_is_an_error_at_the_include(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "a.leg").write_text("shared gains { param kp = 1 N*m/rad }\n")
+    (tmp_path / "b.leg").write_text("shared gains { param kp = 2 N*m/rad }\n")
+    main = tmp_path / "main.leg"
+    body = (
+        CREATURE + "controller hop {\n  include gains\n  table {\n"
+        "    state FLIGHT on liftoff(main): hip_servo.kp = kp\n  }\n}\n"
+    )
+    main.write_text('use "a.leg"\nuse "b.leg"\n' + body)
+    with pytest.raises(LegError) as caught:
+        check_model(main)
+    line = 2 + body.split("\n").index("  include gains") + 1
+    assert (
+        f"main.leg:{line}:11: error: shared part 'gains' is defined by both a.leg and b.leg, "
+        "each 1 'use' away, so neither wins; rename it in one of them, or leave out the 'use' "
+        "of the one you do not mean"
+    ) in caught.value.render()
+    (tmp_path / "middle.leg").write_text('use "b.leg"\n')
+    main.write_text('use "a.leg"\nuse "middle.leg"\n' + body)  # a.leg is nearer: its kp
+    assert [p.value for p in check_model(main).controller("hop").params] == [1.0]

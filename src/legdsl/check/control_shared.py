@@ -11,7 +11,9 @@ Two included parts may not declare one name, nor may one part declare a name twi
 ``controller pace extends trot { ... }`` starts from trot's items (its includes too) and puts
 each of its own declarations, roles, start, table and actions in the place of trot's of the
 same name (or kind), the rest after them; so pace states only what differs, and the order of
-its inputs and parameters, which run.json and the generated code follow, stays trot's.
+its inputs and parameters, which run.json and the generated code follow, stays trot's. The
+parts pace includes are its own text too: they replace trot's items of their names (in the
+include's place), and pace's own items replace theirs.
 """
 
 from __future__ import annotations
@@ -100,6 +102,15 @@ def _expanded(
                     f"{did_you_mean(ident.name, parts)}",
                 )
                 continue
+            if isinstance(part, ast.AmbiguousShared):
+                uses = "uses" if part.distance > 1 else "use"
+                diag.error(
+                    ident.span,
+                    f"shared part '{ident.name}' is defined by both {' and '.join(part.files)}, "
+                    f"each {part.distance} '{uses}' away, so neither wins; rename it in one of "
+                    "them, or leave out the 'use' of the one you do not mean",
+                )
+                continue
             if ident.name in chain:
                 loop = " -> ".join((*chain[chain.index(ident.name) :], ident.name))
                 diag.error(
@@ -181,10 +192,13 @@ def _key(item: ast.ControllerItem) -> tuple[str, ...]:
 
 
 def extend_bases(
-    decls: Iterable[ast.ControllerDecl], diag: Diagnostics
+    decls: Iterable[ast.ControllerDecl],
+    diag: Diagnostics,
+    parts: dict[str, ast.SharedDecl] | None = None,
 ) -> list[ast.ControllerDecl]:
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
-    that extends an unknown controller, or itself through a chain, is reported and left out."""
+    that extends an unknown controller, or itself through a chain, is reported and left out.
+    A derived controller's own items beat the parts it includes, which beat its base's."""
     written = list(decls)
     by_name: dict[str, list[ast.ControllerDecl]] = {}
     for d in written:  # two of one name: each for its creature, or one 'defined twice' later
@@ -225,11 +239,33 @@ def extend_bases(
             done[id(decl)] = None
             return None
         base = resolve(written_base, (*chain, name))
-        done[id(decl)] = None if base is None else _merged(decl, base, diag, origin)
+        given = _included_keys(decl.items, parts or {})
+        done[id(decl)] = None if base is None else _merged(decl, base, diag, origin, given)
         return done[id(decl)]
 
     resolved = [resolve(d, ()) for d in written]
     return [d for d in resolved if d is not None]
+
+
+def _included_keys(
+    items: Iterable[ast.ControllerItem],
+    parts: dict[str, ast.SharedDecl],
+    seen: frozenset = frozenset(),
+) -> set[tuple[str, ...]]:
+    """What the parts ``items`` include (and the parts they include) declare: a derived
+    controller's includes replace its base's items of these (mistakes are reported later)."""
+    keys: set[tuple[str, ...]] = set()
+    for item in items:
+        if not isinstance(item, ast.IncludeDecl):
+            continue
+        for ident in item.names:
+            part = parts.get(ident.name)
+            if part is None or ident.name in seen:
+                continue
+            keys |= _included_keys(part.items, parts, seen | {ident.name})
+            keys |= {_key(i) for i in part.items
+                     if not isinstance(i, ast.IncludeDecl | ast.ActionDef | ast.OwnDecl)}  # fmt: skip
+    return keys
 
 
 def _inherited(
@@ -275,6 +311,7 @@ def _merged(
     base: ast.ControllerDecl,
     diag: Diagnostics,
     origin: dict[int, str],
+    included: set[tuple[str, ...]],
 ) -> ast.ControllerDecl:
     own: dict[tuple[str, ...], ast.ControllerItem] = {}
     for item in decl.items:
@@ -283,6 +320,8 @@ def _merged(
     items: list[ast.ControllerItem] = []
     for item in base.items:
         override = own.get(_key(item))
+        if override is None and _key(item) in included:
+            continue  # the derived controller's include gives it, in the include's place
         if override is None:
             items.append(_inherited(item, decl, base, origin))
             continue

@@ -134,6 +134,16 @@ class Elaborator(ExprChecker):
                 f"{library_advice(s.action.name) or did_you_mean(s.action.name, self.scope.actions)}",
             )
             return None
+        if isinstance(action, ast.AmbiguousAction):
+            files = " and ".join(action.files)
+            uses = "uses" if action.distance > 1 else "use"
+            self.err(
+                s.action.span,
+                f"action '{s.action.name}' is defined by both {files}, each {action.distance} "
+                f"'{uses}' away, so neither wins; rename it in one of them, or leave out the "
+                "'use' of the one you do not mean",
+            )
+            return None
         if len(s.args) != len(action.params):
             self.err(
                 s.span,

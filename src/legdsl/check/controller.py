@@ -454,7 +454,7 @@ def check_controllers(
         lib[a.name.name] = a
     attached: dict[str, list[ir.Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
-    for decl in extend_bases(tree.controllers, diag):
+    for decl in extend_bases(tree.controllers, diag, parts):
         model = owning_creature(decl, "controller run", tree, models, diag)
         if model is None:
             continue

@@ -130,6 +130,7 @@ class _SceneChecker:
         used = [self.controllers[n] for n in dict.fromkeys(names) if n in self.controllers]
         values = [v for item in decl.items if isinstance(item, ast.SceneSet)
                   for v in [self._value(item, used)] if v is not None]  # fmt: skip
+        self._two_commands(values)
         duration = self._duration()
         if not ok or bands is None:
             return None
@@ -171,6 +172,21 @@ class _SceneChecker:
                 seen[t] = item.span
                 switches.append(SceneSwitch(t, item.controller.name, item.span))
         return switches
+
+    def _two_commands(self, values: list[SceneValue]) -> None:
+        """Two ``at T set`` lines for one input at one time: the run would keep the later."""
+        seen: dict[tuple[str, float], Span] = {}
+        for v in values:
+            if v.at is None:
+                continue
+            if (v.name, v.at) in seen:
+                self.diag.error(
+                    v.span,
+                    f"two commands for {v.name} at {v.at:g} s (the other at line "
+                    f"{seen[v.name, v.at].line}); an input takes one command at a time: keep one",
+                )
+            else:
+                seen[v.name, v.at] = v.span
 
     def _duration(self) -> float | None:
         diag = self.diag

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol, TypeVar
 
@@ -13,6 +14,8 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, Diagnostics, LegError, Span
 from legdsl.lang.parser import parse_file
+
+Def = TypeVar("Def", ast.ActionDef, ast.SharedDecl)  # what a used file defines by name
 
 
 def check_file(path: str | Path) -> list[Model]:
@@ -166,7 +169,37 @@ def load_uses(
     order = sorted(files, key=lambda f: -depth[f])
     found = [a for f in order for a in files[f].actions]
     parts = [p for f in order for p in files[f].shared]
+    # two files the same distance away that define one action or part: neither wins
+    actions = {f: files[f].actions for f in files}
+    found = _mark_ties(found, actions, depth, name, lambda a, n, d: ast.AmbiguousAction(
+        a.name, a.params, a.body, a.span, n, d))  # fmt: skip
+    shared = {f: files[f].shared for f in files}
+    parts = _mark_ties(parts, shared, depth, name, lambda p, n, d: ast.AmbiguousShared(
+        p.name, p.items, p.span, n, d))  # fmt: skip
     return [*found, *tree.actions], [*parts, *tree.shared]
+
+
+def _mark_ties(
+    found: list[Def],
+    per_file: dict[Path, tuple[Def, ...]],
+    depth: dict[Path, int],
+    name: Callable[[Path], str],
+    mark: Callable[[Def, tuple[str, ...], int], Def],
+) -> list[Def]:
+    """``found`` (farthest first, so the last of a name wins) with the winner of each name
+    that files the same fewest 'use's away define replaced by ``mark``'s (files, distance)."""
+    definers: dict[str, list[Path]] = {}
+    for f in sorted(per_file, key=lambda f: depth[f]):
+        for d in per_file[f]:
+            near = definers.setdefault(d.name.name, [])
+            if f not in near and (not near or depth[near[0]] == depth[f]):
+                near.append(f)
+    last = {d.name.name: i for i, d in enumerate(found)}  # the one that would win
+    out = list(found)
+    for key, near in definers.items():
+        if len(near) > 1:
+            out[last[key]] = mark(out[last[key]], tuple(name(f) for f in near), depth[near[0]])
+    return out
 
 
 def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:

@@ -132,6 +132,14 @@ def cmd_run(args: argparse.Namespace) -> int:
     check_run_options(options)
     for note in too_late(settings, options.duration):
         print(f"legdsl: note: {note}", file=sys.stderr)
+    fall = _fall_time(options.drop, session.model)
+    if fall is not None and fall > options.duration:
+        print(
+            f"legdsl: note: --drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer "
+            f"than the run ({options.duration:g} s), which ends with the creature in the air; "
+            f"give --time {fall:.3g}s or more, or a lower --drop",
+            file=sys.stderr,
+        )
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
@@ -167,6 +175,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
+
+
+def _fall_time(drop: float | None, model: Any) -> float | None:
+    """How long the lowest foot takes to fall ``drop`` from rest (None: no ground, no fall)."""
+    g = -model.gravity[2]
+    if drop is None or model.ground is None or not g > 0:
+        return None
+    return (2.0 * drop / g) ** 0.5
 
 
 def _switches_not_made(run: Any) -> list[str]:

@@ -388,6 +388,15 @@ class ActionDef:
 
 
 @dataclass(frozen=True)
+class AmbiguousAction(ActionDef):
+    """An action that two used files, the same number of 'use's away, both define: neither
+    is nearer, so neither wins (an error where it is called)."""
+
+    files: tuple[str, ...] = ()
+    distance: int = 1
+
+
+@dataclass(frozen=True)
 class Row:
     state: Ident
     event: Expr
@@ -441,6 +450,15 @@ class SharedDecl:
     name: Ident
     items: tuple[SharedItem, ...]
     span: Span
+
+
+@dataclass(frozen=True)
+class AmbiguousShared(SharedDecl):
+    """A shared part that two used files, the same number of 'use's away, both define:
+    neither wins (an error where it is included)."""
+
+    files: tuple[str, ...] = ()
+    distance: int = 1
 
 
 @dataclass(frozen=True)

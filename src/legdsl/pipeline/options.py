@@ -12,10 +12,12 @@ from __future__ import annotations
 import contextlib
 import math
 import numbers
+import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given
@@ -116,6 +118,30 @@ def check_run_options(options: RunOptions) -> None:
             f"--control-dt {options.control_dt:g}s is shorter than the integration step "
             f"(--dt {options.dt:g}s), and the controller runs at most once a step; give "
             f"--control-dt {options.dt:g}s or more, or a --dt of {options.control_dt:g}s or less"
+        )
+
+
+# A drop is refused where doubles at its height are further apart than this fraction of
+# the creature's shortest link: its geometry, added to the height, would be lost in rounding.
+DROP_RESOLUTION = 1e-6
+
+
+def check_drop(drop: float, model: Model, scale: float | None = None) -> None:
+    """``--drop H`` with H * eps (the spacing of doubles near H, at most) more than
+    ``DROP_RESOLUTION`` of the shortest link (of the creature scaled by ``scale``): refused."""
+    links = [(b.length, b.name) for b in model.bodies if b.length]
+    if not links:
+        return
+    length, name = min(links)
+    length *= scale or 1.0
+    highest = DROP_RESOLUTION * length / sys.float_info.epsilon
+    if drop > highest:
+        spacing = drop * sys.float_info.epsilon
+        raise UsageError(
+            f"--drop {drop:g}m: doubles near that height are up to {spacing:.3g} m "
+            f"apart, more than {DROP_RESOLUTION:g} of the creature's shortest link ({name}, "
+            f"{length:g} m), so its geometry would be lost in rounding; give --drop "
+            f"{highest:.3g}m or less"
         )
 
 

@@ -37,7 +37,7 @@ from legdsl.lang.units import KINDS
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
-from legdsl.pipeline.options import check_run_options
+from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
 from legdsl.sim.machine import StateMachine
@@ -177,6 +177,8 @@ class RunSession:
                 f"creature '{self.model.name}' has no contacts: to start it higher, give its "
                 "root a larger 'initial z = ...' in the .leg file"
             )
+        if asked.drop is not None:
+            check_drop(asked.drop, self.model, scale)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
@@ -200,6 +202,10 @@ class RunSession:
             )
         later = [w.controller for w in changes]
         sorted_settings = sort_settings(settings, self.model, controller, later)
+        _refuse_two_commands(settings, sorted_settings)
+        if controller is not None and self.log is not None:
+            for note in _switches_to_the_running(controller, changes):
+                print(f"legdsl: note: {note}", file=self.log)
         if controller is not None and not changes:  # one controller: its own values are the run's
             s = sorted_settings
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
@@ -304,6 +310,37 @@ class RunSession:
         for f in stops_too_stiff(self.model.stops, inverse, opts.dt, opts.integrator):
             print(f"legdsl: warning: {at[f.actuator]}: {stop_message(f)}; a run that reaches "
                   "it diverges there", file=self.log)  # fmt: skip
+
+
+def _refuse_two_commands(texts: Sequence[str], settings: Settings) -> None:
+    """Two commands for one input at one time: the run would keep the later one silently."""
+    timed = [text for text in texts if "@" in text]  # in order, one per scheduled change
+    seen: dict[tuple[str, float], str] = {}
+    for text, change in zip(timed, settings.schedule, strict=True):
+        other = next((o for (n, t), o in seen.items()
+                      if n == change.name and abs(t - change.t) < 1e-9), None)  # fmt: skip
+        if other is not None:
+            raise UsageError(
+                f"--set {other} and --set {text} command {change.name} at the same time "
+                f"({change.t:g} s): an input takes one command at a time; keep one"
+            )
+        seen[(change.name, change.t)] = text
+
+
+def _switches_to_the_running(first: str, switches: Sequence[Switch]) -> list[str]:
+    """Notes for a switch to the controller the switch before it (or the start) asked for:
+    not nothing, a restart of its state machine (docs/runtime.md#changing-controllers)."""
+    notes, running, since = [], first, "the start"
+    for w in sorted(switches, key=lambda w: w.t):
+        if w.controller == running:
+            notes.append(
+                f"the switch to {w.controller} at {w.t:g} s is to the controller already asked "
+                f"for (since {since}): it restarts {w.controller}'s state machine at the next "
+                "liftoff (the state that matches the feet down, its 'own' records from 0); "
+                "leave it out to keep the run as it is"
+            )
+        running, since = w.controller, f"{w.t:g} s"
+    return notes
 
 
 def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) -> dict[str, Any]:

@@ -1,0 +1,102 @@
+"""What a user may get wrong in a run's options is said: two commands for one input at one
+time are refused (on the command line, in the API and in a scene), a switch to the controller
+already asked for is kept with a note (it restarts that controller's state machine)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES, GENERATED
+
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import RunOptions
+
+HOPPER = CREATURES / "hopper.leg"
+
+
+def _run(tmp_path: Path, *extra: str) -> list[str]:
+    return ["run", str(HOPPER), "--controller", "hop", "--time", "0.2", "--backend", "python",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run"), *extra]  # fmt: skip
+
+
+def test_two_commands_for_one_input_at_one_time_are_refused_naming_both(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = _run(tmp_path, "--set", "speed=1m/s@0.1s", "--set", "speed=2m/s@100ms")
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert (
+        "legdsl: --set speed=1m/s@0.1s and --set speed=2m/s@100ms command speed at the same "
+        "time (0.1 s): an input takes one command at a time; keep one"
+    ) in err, err
+    assert not (tmp_path / "run").exists()
+    session = RunSession.from_file(HOPPER, generated=GENERATED)
+    with pytest.raises(UsageError, match="at the same time"):
+        session.prepare("hop", ["speed=1m/s@0.1s", "speed=1m/s@0.1s"], options=RunOptions(0.2))
+    # one input at two times, or two inputs at one time, are two commands
+    assert main(_run(tmp_path, "--set", "speed=1m/s@0.1s", "--set", "speed=2m/s@0.15s")) == 0
+    assert main(_run(tmp_path, "--set", "speed=1m/s@0.1s", "--set", "height=1.1m@0.1s")) == 0
+
+
+def test_a_switch_to_the_controller_asked_for_is_kept_with_a_note(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(_run(tmp_path, "--switch", "0.05s=hop", "--backend", "python")) == 0
+    err = capsys.readouterr().err
+    assert (
+        "legdsl: note: the switch to hop at 0.05 s is to the controller already asked for "
+        "(since the start): it restarts hop's state machine at the next liftoff"
+    ) in err, err
+    assert main(_run(tmp_path)) == 0
+    assert "note" not in capsys.readouterr().err
+
+
+def test_a_drop_too_high_for_doubles_to_hold_the_creature_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from legdsl.pipeline.options import DROP_RESOLUTION
+
+    # the hopper's shortest link, its thigh, is 0.3 m: doubles near H are up to H * 2^-52 apart
+    highest = DROP_RESOLUTION * 0.3 / 2.0**-52
+    session = RunSession.from_file(HOPPER, generated=GENERATED)
+    plan = session.prepare("hop", options=RunOptions(0.2, drop=highest * 0.99), backend="python")
+    assert plan.sim.q[plan.model.q_names.index("z")] > highest * 0.98
+    with pytest.raises(UsageError, match=r"give --drop 1\.35e\+09m or less"):
+        session.prepare("hop", options=RunOptions(0.2, drop=highest * 1.01), backend="python")
+    assert main(_run(tmp_path, "--drop", "1e300")) == 2
+    assert (
+        "legdsl: --drop 1e+300m: doubles near that height are up to 2.22e+284 m apart, more than "
+        "1e-06 of the creature's shortest link (thigh, 0.3 m), so its geometry would be lost in "
+        "rounding; give --drop 1.35e+09m or less"
+    ) in capsys.readouterr().err
+
+
+def test_a_drop_whose_fall_outlasts_the_run_is_said_in_a_note(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(_run(tmp_path, "--drop", "30cm")) == 0  # 0.247 s at 9.81 m/s^2
+    err = capsys.readouterr().err
+    assert (
+        "legdsl: note: --drop 0.3m: the fall alone takes 0.247 s, longer than the run (0.2 s), "
+        "which ends with the creature in the air; give --time 0.247s or more, or a lower --drop"
+    ) in err, err
+    assert main(_run(tmp_path, "--drop", "10cm")) == 0
+    assert "note" not in capsys.readouterr().err
+
+
+def test_a_scenes_switch_to_the_controller_asked_for_is_kept_with_a_note(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "hopper.leg"
+    path.write_text(
+        HOPPER.read_text() + "scene again { controller hop; at 0.05 s switch hop; time 0.2 s }\n"
+    )
+    argv = ["run", str(path), "--scene", "again", "--backend", "python",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    assert "note: the switch to hop at 0.05 s is to the controller already asked for" in (
+        capsys.readouterr().err
+    )
