@@ -100,3 +100,22 @@ def test_a_scenes_switch_to_the_controller_asked_for_is_kept_with_a_note(
     assert "note: the switch to hop at 0.05 s is to the controller already asked for" in (
         capsys.readouterr().err
     )
+
+
+def test_the_command_line_overrides_a_scenes_line_at_the_same_time() -> None:
+    """The scene's line cannot be left out from the command line, so a --set or --switch at
+    its time replaces it (as an untimed --set replaces the scene's value), not 'keep one'."""
+    from legdsl.pipeline.settings import find_scene, scene_plan
+    from legdsl.sim.run_loop import RunOptions
+
+    session = RunSession.from_file(CREATURES / "biped.leg", generated=GENERATED)
+    scene = find_scene(session.model, "run_gallop_run")
+    _, sets, switches = scene_plan(scene, session.model, ["speed=2m/s@8000ms"], ["8s=run"])
+    assert not any(s.startswith("speed=1.5") for s in sets)
+    assert "speed=2m/s@8000ms" in sets and "speed=2.5m/s@16.0s" in sets
+    assert switches == ["16.0s=run", "8s=run"]
+    plan = session.prepare("run", sets, options=RunOptions(0.1), switches=switches)
+    assert [(c.t, c.value) for c in plan.settings.schedule] == [(16.0, 2.5), (8.0, 2.0)]
+    _, clashing, _ = scene_plan(scene, session.model, ["speed=2m/s@8s", "speed=3m/s@8s"], [])
+    with pytest.raises(UsageError, match="at the same time"):  # two of the user's own still clash
+        session.prepare("run", clashing, options=RunOptions(0.1), switches=switches)

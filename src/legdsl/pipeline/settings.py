@@ -426,6 +426,45 @@ def find_scene(model: Model, name: str) -> Scene:
     return model.scene(name)
 
 
+def _not_overridden(
+    scene: Scene,
+    model: Model,
+    sets: list[str],
+    changes: list[str],
+    settings: Sequence[str],
+    switches: Sequence[str],
+) -> tuple[list[str], list[str]]:
+    """The scene's ``set`` and ``switch`` texts less those the command line overrides: a
+    ``--set NAME=V@T`` replaces the scene's command for NAME at T, a ``--switch T=C`` its
+    switch at T (two at one time would be refused, and the scene's line cannot be left out
+    from the command line). Its untimed ``--set`` already wins, as the later value."""
+    timed: set[tuple[str, float]] = set()
+    for text in settings:
+        if "@" in text:
+            setting, _, when = text.rpartition("@")
+            with contextlib.suppress(UsageError):  # a malformed one is told by sort_settings
+                timed.add((setting.partition("=")[0].strip(), parse_given(when, text).value))
+    times = set()
+    for text in switches:
+        with contextlib.suppress(UsageError):
+            times.add(parse_switch(text, model).t)
+    kept_sets = [
+        text
+        for text, v in zip(sets, scene.values, strict=True)
+        if v.at is None or not any(n == v.name and _same_time(t, v.at) for n, t in timed)
+    ]
+    kept_changes = [
+        text
+        for text, w in zip(changes, scene.switches, strict=True)
+        if not any(_same_time(t, w.t) for t in times)
+    ]
+    return kept_sets, kept_changes
+
+
+def _same_time(a: float, b: float) -> bool:
+    return abs(a - b) < 1e-9
+
+
 def scene_plan(
     scene: Scene, model: Model, settings: Sequence[str], switches: Sequence[str]
 ) -> tuple[str, list[str], list[str]]:
@@ -434,6 +473,7 @@ def scene_plan(
     gait table (``gait by speed { ... }``) gets its switches from the final speed commands
     (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``."""
     sets, changes = scene_texts(scene)
+    sets, changes = _not_overridden(scene, model, sets, changes, settings, switches)
     texts = sets + list(settings)
     if not scene.bands:
         return scene.controller, texts, changes + list(switches)
