@@ -119,3 +119,22 @@ def test_the_command_line_overrides_a_scenes_line_at_the_same_time() -> None:
     _, clashing, _ = scene_plan(scene, session.model, ["speed=2m/s@8s", "speed=3m/s@8s"], [])
     with pytest.raises(UsageError, match="at the same time"):  # two of the user's own still clash
         session.prepare("run", clashing, options=RunOptions(0.1), switches=switches)
+
+
+def test_one_name_set_twice_on_the_command_line_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--set speed=1m/s --set speed=2m/s ran at 2 m/s without a word; a scene's value is still
+    the command line's to override."""
+    assert main(_run(tmp_path, "--set", "speed=1m/s", "--set", "speed = 2m/s")) == 2
+    assert "--set speed=1m/s and --set speed = 2m/s both set speed: keep one" in (
+        capsys.readouterr().err
+    )
+    sweep = ["sweep", str(HOPPER), "--controller", "hop", "--grid", "height=0.8m:1m:2",
+             "--set", "speed=1m/s", "--set", "speed=2m/s", "--out", str(tmp_path / "sweep")]  # fmt: skip
+    assert main(sweep) == 2
+    assert "both set speed" in capsys.readouterr().err
+    biped = ["run", str(CREATURES / "biped.leg"), "--scene", "run_gallop_run", "--time", "0.05",
+             "--set", "speed=2.2m/s", "--generated", str(GENERATED), "--backend", "python",
+             "--out", str(tmp_path / "biped")]  # fmt: skip
+    assert main(biped) == 0

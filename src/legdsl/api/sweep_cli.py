@@ -31,7 +31,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
-from legdsl.pipeline.settings import require_controller, sort_settings
+from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -119,6 +119,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     combos = points(axes, args.samples, args.seed)
     # a wrong --set is refused here, before sweep.json records it (the corrected command
     # would be refused as another sweep), not by every run
+    refuse_repeated(args.set)
     sort_settings(args.set, model, args.controller)
     # compile once here, so that the workers never race to write generated/NAME/
     from legdsl.api import load

@@ -83,7 +83,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
     from legdsl.pipeline.session import RunSession
-    from legdsl.pipeline.settings import too_late
+    from legdsl.pipeline.settings import refuse_repeated, too_late
 
     values = {
         field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
@@ -106,6 +106,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
     )
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
+    refuse_repeated(settings)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
         from legdsl.pipeline.settings import find_scene, scene_plan
 

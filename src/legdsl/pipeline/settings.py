@@ -426,6 +426,19 @@ def find_scene(model: Model, name: str) -> Scene:
     return model.scene(name)
 
 
+def refuse_repeated(texts: Sequence[str]) -> None:
+    """The command line's own ``--set NAME=V`` twice for one name: the later would win
+    silently (a scene's value is the command line's to override, and is not among these)."""
+    seen: dict[str, str] = {}
+    for text in texts:
+        if "@" in text or "=" not in text:
+            continue  # a command at a time is refused by the session; a malformed one is told
+        name = text.partition("=")[0].strip()
+        if name in seen:
+            raise UsageError(f"--set {seen[name]} and --set {text} both set {name}: keep one")
+        seen[name] = text
+
+
 def _not_overridden(
     scene: Scene,
     model: Model,
