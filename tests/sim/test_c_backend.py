@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED, ROOT
 from runtime_helpers import assert_same
@@ -193,6 +194,7 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
         ("hexapod", "tripod", ["1s=tripod_fast"], 2.0),
         ("pogo", "bounce", [], 4.0),
         ("knee_runner", "run", [], 5.0),
+        ("tail_hopper", "hop", [], 5.0),
     ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
@@ -208,7 +210,8 @@ def test_creatures_written_outside_the_team_run_the_same(
     sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box; a
     hexapod from a mirrored template whose virtual legs have three feet, switching gait; a
     pogo stick whose leg is a slide and nothing else; a planar runner on two knee-spring legs
-    that take turns (active and idle swapped at each liftoff, the idle one tucked)."""
+    that take turns (active and idle swapped at each liftoff, the idle one tucked); a 3D hopper
+    with a tail that swings against its leg, starting rolled and drifting sideways."""
     generated = tmp_path_factory.mktemp("outside")
     sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
     opts = RunOptions(duration=seconds)
@@ -233,6 +236,13 @@ def test_creatures_written_outside_the_team_run_the_same(
         for leg in (0, 1):  # each leg compresses in its stance and tucks for the other's
             length = python.trajectory.leg_length[:, leg]
             assert length.max() - length.min() > 0.15
+    if name == "tail_hopper":  # it hops at about 1 m/s, levels its roll, and its tail swings
+        x = python.trajectory.com[:, 0]
+        assert 0.85 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 1.15
+        roll = python.trajectory.root_rpy[:, 0]
+        assert abs(roll[0]) > 0.04 and np.abs(roll[-100:]).max() < 0.01  # 3 deg, then level
+        tail = python.trajectory.q[:, python.trajectory.q_names.index("tail_base")]
+        assert tail.max() - tail.min() > 0.2
 
 
 def test_a_divergence_stops_the_same() -> None:
