@@ -12,7 +12,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from legdsl.api.sweep import Job, parse_axis, seconds, units_of
+from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.tune import (
     Bound,
     Objective,
@@ -30,7 +30,6 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
-from legdsl.pipeline.settings import unit_for
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -160,7 +159,7 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
             raise UsageError(
                 f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them{_bare_in_si(text, axis.name, unit, params[axis.name].dim)}"
+                f"({low:g} to {high:g} {unit}); widen them{bare_in_si(text, axis.name, params[axis.name].dim)}"
             )
         bounds.append(Bound(axis.name, low, high, start))
     spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune
@@ -168,20 +167,6 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
         print(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
               f"changes it for every controller that includes '{part}'", file=sys.stderr)  # fmt: skip
     return bounds
-
-
-def _bare_in_si(text: str, name: str, unit: str, dim: Dim) -> str:
-    """Bounds written without a unit are in SI units: for an angle (``stand=-50:-30``,
-    meant in degrees) say so, and how to write them in the usual unit."""
-    spec = text.partition("=")[2]
-    usual = unit_for(dim)
-    if any(c.isalpha() for c in spec) or usual in ("", unit):
-        return ""
-    low, _, high = spec.partition(":")
-    return (
-        f"; a bare number is in {unit}: to give them in {usual}, write "
-        f"{name}={low.strip()}{usual}:{high.strip()}{usual}"
-    )
 
 
 def _speed_input(name: str, controller: Controller) -> Constant:
