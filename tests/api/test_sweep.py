@@ -82,6 +82,22 @@ def test_axes_take_units_and_check_them() -> None:
         parse_axis("lhs", "k_trim=0.5:0.1", DIMS)
 
 
+def test_bare_numbers_for_an_angle_get_a_note_that_they_are_radians(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--grid stand=-50:-30:3 for a parameter declared in degrees swept -50 to -30 radians
+    without a word; a note now says so and how to write degrees (the sweep here stops at a
+    later mistake, a name swept twice, before any run)."""
+    source = ROOT / "tests" / "good" / "outside" / "knee_runner.leg"
+    argv = ["sweep", str(source), "--controller", "run", "--grid", "stand=-50:-30:3",
+            "--grid", "speed=1:2:2", "--grid", "speed=1:2:2", "--out", str(tmp_path / "s")]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "note: --grid stand=-50:-30:3: a bare number is in rad: to give them in deg, " in err
+    assert "write stand=-50deg:-30deg:3" in err
+    assert "--grid speed" not in err  # m/s is the usual unit of a speed: nothing to say
+
+
 def test_latin_hypercube_draws_fill_every_stratum_once() -> None:
     axes = [Axis("speed", "grid", (1.0, 2.0)), Axis("k_trim", "lhs", (0.0, 1.0))]
     drawn = points(axes, 10, seed=3)

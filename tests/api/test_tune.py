@@ -178,6 +178,25 @@ def test_a_tune_that_cannot_search_is_refused(
     assert not (tmp_path / "t" / "tune.json").exists()
 
 
+def test_bounds_without_a_unit_for_an_angle_say_they_are_radians(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """stand = -40 deg tuned with --param stand=-50:-30 (meant in degrees, read in radians)
+    was told only to widen the bounds; now it is told how to write them in degrees."""
+    source = ROOT / "tests" / "good" / "outside" / "knee_runner.leg"
+    code = main(["tune", str(source), "--controller", "run", "--param", "stand=-50:-30",
+                 "--speeds", "1", "--time", "1", "--from", "0.2", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "(-50 to -30 rad); widen them; a bare number is in rad: to give them in deg" in err
+    assert "stand=-50deg:-30deg" in err
+    assert main(["tune", str(source), "--controller", "run", "--param", "stand=-1:-0.5",
+                 "--param", "k_speed=1:2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--out", str(tmp_path / "t")]) == 2  # fmt: skip
+    assert "bare number" not in capsys.readouterr().err  # seconds: the usual unit is SI
+
+
 def test_a_controller_with_no_parameters_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -98,13 +98,15 @@ def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
         (["animate", "{run}", "--video", "x.gif", "--size", "big"], "WIDTHxHEIGHT"),
         (["animate", "{run}", "--video", "x.webm"], ".mp4 or a .gif"),
         (["animate", "{run}", "--fps", "0"], "--fps must be positive"),
+        (["animate", "{run}", "-o", "{tmp}/x.gif"], "HTML player; render a video with --video"),
+        (["animate", "{run}", "-o", "{tmp}/x.png"], "-o writes the HTML player; name it x.html"),
         (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),
     ],
 )
 def test_mistakes_are_reported_with_status_2(
     run_dir: Path, tmp_path: Path, capsys, args: list[str], message: str
 ) -> None:
-    argv = [a.format(run=run_dir, missing=tmp_path / "missing") for a in args]
+    argv = [a.format(run=run_dir, missing=tmp_path / "missing", tmp=tmp_path) for a in args]
     assert main(argv + gen()) == 2
     assert message in capsys.readouterr().err
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -216,6 +217,15 @@ def test_a_passive_session_run_has_no_controller_fields(generated: Path) -> None
     info = run.info()
     assert info["controller"] is None and run.machine is None
     assert not {"inputs", "params", "paths", "path_reports"} & set(info)
+    # its summary says no controller ran, and how to choose one (a newcomer's run without
+    # --controller fell with no word why)
+    assert re.search(
+        r"controller +none, a passive run: choose one with --controller hop", run.summary()
+    )
+    controlled = RunSession.from_file(HOPPER, generated=generated).run(
+        "hop", options=RunOptions(duration=0.05)
+    )
+    assert "passive" not in controlled.summary()
 
 
 def test_a_long_step_without_a_control_interval_runs_the_controller_every_step(

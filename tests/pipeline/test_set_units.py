@@ -121,6 +121,22 @@ def test_a_parameter_does_not_change_during_a_run() -> None:
         sort_settings(["k_trim=0.2@1s"], shipped_model("kangaroo"), "hop")
 
 
+def test_a_setting_without_a_controller_names_the_controllers_that_have_it() -> None:
+    """Without --controller, a name some controller declares says which one to choose; a
+    misspelt name is not called a controller input, but corrected."""
+    quadruped = shipped_model("quadruped")
+    with pytest.raises(UsageError, match=r"'speed' is a controller input \(of trot, pace"):
+        sort_settings(["speed=1m/s"], quadruped, None)
+    with pytest.raises(UsageError, match=r"'kp_roll' is a controller parameter .* --controller"):
+        sort_settings(["kp_roll=400N*m/rad"], quadruped, None)
+    with pytest.raises(
+        UsageError,
+        match="no controller of creature 'quadruped' has an input or parameter 'sped'; "
+        "did you mean 'speed'",
+    ):
+        sort_settings(["sped=1m/s"], quadruped, None)
+
+
 def test_units_are_converted_to_si() -> None:
     got = sort_settings(["height=46cm", "speed=3.6km/s@500ms"], shipped_model("kangaroo"), "hop")
     assert got.inputs["height"] == pytest.approx(0.46)

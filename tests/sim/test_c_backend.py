@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED, ROOT
 from runtime_helpers import assert_same
@@ -192,6 +193,8 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
         ("rig", "stomp", [], 2.0),
         ("hexapod", "tripod", ["1s=tripod_fast"], 2.0),
         ("pogo", "bounce", [], 4.0),
+        ("knee_runner", "run", [], 5.0),
+        ("tail_hopper", "hop", [], 5.0),
     ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
@@ -206,7 +209,9 @@ def test_creatures_written_outside_the_team_run_the_same(
     posture control); a rig welded to the world with a welded bracket, an oblique gimbal, a
     sliding shin on a joint stop, a force actuator, a ball joint and a paw pad on a box; a
     hexapod from a mirrored template whose virtual legs have three feet, switching gait; a
-    pogo stick whose leg is a slide and nothing else."""
+    pogo stick whose leg is a slide and nothing else; a planar runner on two knee-spring legs
+    that take turns (active and idle swapped at each liftoff, the idle one tucked); a 3D hopper
+    with a tail that swings against its leg, starting rolled and drifting sideways."""
     generated = tmp_path_factory.mktemp("outside")
     sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
     opts = RunOptions(duration=seconds)
@@ -225,6 +230,19 @@ def test_creatures_written_outside_the_team_run_the_same(
         z = python.trajectory.root_pos[:, 2]
         apexes = [z[i] for i in range(1, len(z) - 1) if z[i - 1] < z[i] >= z[i + 1]]
         assert len(apexes) >= 6 and all(0.78 < a < 0.86 for a in apexes[2:])  # commanded 0.8 m
+    if name == "knee_runner":  # each leg bears its own stances, at about its commanded 1 m/s
+        x = python.trajectory.com[:, 0]
+        assert 0.75 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 1.1
+        for leg in (0, 1):  # each leg compresses in its stance and tucks for the other's
+            length = python.trajectory.leg_length[:, leg]
+            assert length.max() - length.min() > 0.15
+    if name == "tail_hopper":  # it hops at about 1 m/s, levels its roll, and its tail swings
+        x = python.trajectory.com[:, 0]
+        assert 0.85 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 1.15
+        roll = python.trajectory.root_rpy[:, 0]
+        assert abs(roll[0]) > 0.04 and np.abs(roll[-100:]).max() < 0.01  # 3 deg, then level
+        tail = python.trajectory.q[:, python.trajectory.q_names.index("tail_base")]
+        assert tail.max() - tail.min() > 0.2
 
 
 def test_a_divergence_stops_the_same() -> None:

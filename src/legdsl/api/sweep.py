@@ -67,6 +67,22 @@ class Axis:
     values: tuple[float, ...] = ()  # grid: the values; random and lhs: (low, high)
 
 
+def bare_in_si(text: str, name: str, dim: Dim) -> str:
+    """``NAME=LO:HI`` (or a grid) written without units is in SI units: for a quantity whose
+    usual unit is not SI (an angle: ``stand=-50:-30`` meant in degrees is radians) say so, and
+    how to write it in the usual unit; "" otherwise."""
+    from legdsl.pipeline.settings import unit_for
+
+    spec = text.partition("=")[2]
+    si, usual = units_of({name: dim})[name], unit_for(dim)
+    if any(c.isalpha() for c in spec) or usual in ("", si):
+        return ""
+    numbers = re.split(r"([:,])", spec)
+    last = len(numbers) - 1 if ":" in spec and spec.count(":") == 2 else len(numbers)  # a grid's N
+    written = "".join(p + usual if i % 2 == 0 and i < last else p for i, p in enumerate(numbers))
+    return f"; a bare number is in {si}: to give them in {usual}, write {name}={written.replace(' ', '')}"
+
+
 def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     """``NAME=LO:HI:N``, ``NAME=A,B,C`` (grid) or ``NAME=LO:HI`` (random, lhs), in SI units."""
     name, eq, spec = text.partition("=")

@@ -16,6 +16,7 @@ from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
     actuator_settings,
+    bare_in_si,
     check_not_negative,
     iter_jobs,
     parse_axis,
@@ -88,6 +89,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     dims |= actuator_settings(model)
     axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")
             for text in getattr(args, kind)]  # fmt: skip
+    for kind in ("grid", "random", "lhs"):  # bare numbers are SI: an angle's are radians
+        for text in getattr(args, kind):
+            name = text.partition("=")[0].strip()
+            if note := bare_in_si(text, name, dims[name]):
+                print(f"legdsl: note: --{kind} {text}: {note.removeprefix('; ')}", file=sys.stderr)
     check_not_negative(axes)
     if not axes:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")

@@ -12,7 +12,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from legdsl.api.sweep import Job, parse_axis, seconds, units_of
+from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.tune import (
     Bound,
     Objective,
@@ -159,7 +159,7 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
             raise UsageError(
                 f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them"
+                f"({low:g} to {high:g} {unit}); widen them{bare_in_si(text, axis.name, params[axis.name].dim)}"
             )
         bounds.append(Bound(axis.name, low, high, start))
     spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune

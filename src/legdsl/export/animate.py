@@ -89,7 +89,22 @@ def _load(args: argparse.Namespace, fps: float) -> Any:
 # ---------------------------------------------------------------- legdsl animate
 
 
+def _player_name(output: str | None) -> None:
+    """``-o`` names the HTML player: a video's or another format's name would hold HTML."""
+    suffix = Path(output).suffix.lower() if output else ""
+    if suffix in ("", ".html", ".htm"):
+        return
+    if suffix in (".mp4", ".gif"):
+        raise UsageError(
+            f"-o {output}: -o writes the HTML player; render a video with --video {output}"
+        )
+    raise UsageError(
+        f"-o {output}: -o writes the HTML player; name it {Path(output or '').stem}.html"
+    )
+
+
 def _cmd_animate(args: argparse.Namespace) -> int:
+    _player_name(args.output)
     overlays = parse_overlays(args.overlays)
     _positive(args.fps, "--fps")
     run = Path(args.run)

@@ -51,6 +51,7 @@ def summary(model: Model, result: RunResult) -> str:
     liftoffs = sum(1 for e in result.events if e["kind"] == "liftoff")
     rows = [
         ("creature", f"{model.name} ({model.nv} DOF)"),
+        *_no_controller(model, result),
         ("status", result.status + (f": {result.message}" if result.message else "")),
         ("simulated", f"{result.sim_time:.3f} s in {result.steps} steps"),
         ("wall time", f"{result.wall_time:.2f} s (real-time factor {result.real_time_factor:.2f})"),
@@ -70,6 +71,16 @@ def summary(model: Model, result: RunResult) -> str:
         ]
     width = max(len(r[0]) for r in rows)
     return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def _no_controller(model: Model, result: RunResult) -> list[tuple[str, str]]:
+    """A passive run of a creature that has controllers: ``legdsl run`` without
+    ``--controller`` drops it, and a newcomer sees it fall without knowing why."""
+    names = [c.name for c in model.controllers]
+    if result.trajectory.state_names or not names:
+        return []
+    return [("controller", f"none, a passive run: choose one with --controller {names[0]} "
+                           f"(the file has {', '.join(names)})")]  # fmt: skip
 
 
 def _mean_speed(tr: Any) -> float:

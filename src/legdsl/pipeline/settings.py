@@ -192,6 +192,29 @@ def require_controller(model: Model, controller: str) -> None:
         )
 
 
+def _no_controller_chosen(model: Model, name: str) -> None:
+    """``--set NAME=V`` without ``--controller``: say which controllers declare NAME, or that
+    none does (a misspelt name is not a controller input)."""
+    inputs = [c.name for c in model.controllers if name in {n.name for n in c.inputs}]
+    owners = inputs or [c.name for c in model.controllers if name in {n.name for n in c.params}]
+    if owners:
+        kind = "input" if inputs else "parameter"
+        raise UsageError(
+            f"--set {name}: '{name}' is a controller {kind} (of {', '.join(owners)}); choose a "
+            f"controller with --controller {owners[0]} (controller= in Python)"
+        )
+    known = list(dict.fromkeys(n.name for c in model.controllers for n in (*c.inputs, *c.params)))
+    if not known:
+        raise UsageError(
+            f"--set {name}: creature '{model.name}' has no controllers, so no inputs or parameters;"
+            " --set ACTUATOR.SETTING=VALUE sets an actuator"
+        )
+    raise UsageError(
+        f"--set {name}: no controller of creature '{model.name}' has an input or parameter "
+        f"{name!r}{did_you_mean(name, known)} (they have {', '.join(known)})"
+    )
+
+
 def sort_settings(
     texts: list[str], model: Model, controller: str | None, later: Sequence[str] = ()
 ) -> Settings:
@@ -230,10 +253,7 @@ def sort_settings(
             out.actuators[name] = given.value
             continue
         if ir is None:
-            raise UsageError(
-                f"--set {name}: '{name}' is a controller input; choose a controller with "
-                "--controller (controller= in Python)"
-            )
+            _no_controller_chosen(model, name)
         if name in inputs:
             _check_named(where, name, given, inputs[name].dim)
             if at is None:
