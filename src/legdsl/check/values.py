@@ -147,7 +147,8 @@ class ValueChecker:
             if kind != "dimensionless" and q.value != 0.0:
                 self.err(
                     node.span,
-                    f"{what} needs a unit: write e.g. '{node.text} {unit_hint(kind)}'",
+                    f"{what} needs a unit: write e.g. "
+                    f"'{'-' if sign < 0 else ''}{node.text} {unit_hint(kind)}'",
                 )
                 return None
             return sign * q.value

@@ -406,6 +406,27 @@ def _spaced_unit(text: str, token: Token) -> bool:
     )
 
 
+# 'x = 0 m z': an assignment, then a name with no comma between (the '=' after it is the error)
+_ASSIGNED_THEN_NAME = re.compile(r"\b\w+[ \t]*=[ \t]*[^,=\s{}()][^,={}()\n]*?[ \t]+(\w+)[ \t]*$")
+
+
+def _missing_comma(text: str, token: Token) -> tuple[str, int, str] | None:
+    """A property's assignments with a comma left out, as 'initial x = 0 m z = 0.9 m': the
+    parser reads 'z' as the next property, and '=' is the error. (the name, its offset, the
+    assignment before it)"""
+    if token.type != "EQUAL" or token.start_pos is None:
+        return None
+    before = mask(text)[: token.start_pos]
+    line = before[before.rfind("\n") + 1 :]
+    found = _ASSIGNED_THEN_NAME.search(line)
+    if found is None:
+        return None
+    before_name = text[token.start_pos - len(line) + found.start() :][
+        : found.start(1) - found.start()
+    ]
+    return found.group(1), token.start_pos - len(line) + found.start(1), before_name.strip()
+
+
 def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     """The user's syntax error as a ``LegError``: where, and in the friendliest words we have."""
     at_end = isinstance(err, UnexpectedEOF) or (
@@ -433,6 +454,14 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     not_a_number = _not_a_number(text, pos) if pos is not None else None
     slip = _slip(text, pos) if pos is not None else None
     spelt = unit_spelling(text, pos) if pos is not None else None
+    # the parser sees 'x = 0 m z = 1 m' as a property 'z' written with '=': say the comma
+    comma = (
+        _missing_comma(text, err.token)
+        if friendly is not None
+        and friendly.startswith("properties take no '='")
+        and isinstance(err, UnexpectedToken)
+        else None
+    )
     if slip is not None:
         message = slip
     elif not_a_number is not None:
@@ -451,6 +480,13 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif spelt is not None:
         span = offset_span(file, text, spelt.start, len(spelt.written))
         message = spelt.message
+    elif comma is not None:
+        name, start, previous = comma
+        span = offset_span(file, text, start, len(name))
+        message = (
+            f"a ',' is missing before '{name}': separate the assignments with commas, "
+            f"as in '{previous}, {name} = ...'"
+        )
     elif friendly is not None:
         message = friendly
     elif isinstance(err, UnexpectedToken):
