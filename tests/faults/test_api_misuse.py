@@ -3,9 +3,11 @@ is a UsageError raised before anything runs"), not a TypeError from deep inside.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 import legdsl
@@ -88,10 +90,11 @@ def test_a_metrics_window_before_the_run_is_a_usage_error(
 
 
 OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
-    ({"record_rate": "100 Hz"}, r"--record-rate '100 Hz': must be a finite number"),
-    ({"drop": "1 cm"}, r"--drop '1 cm': must be a finite number"),
-    ({"fall_height": "0.3"}, r"--fall-height '0.3': must be a finite number"),
-    ({"fall_tilt": "30 deg"}, r"--fall-tilt '30 deg': must be a number of radians"),
+    ({"record_rate": "100 m"}, r"--record-rate is a frequency .*, but 100m is a length"),
+    ({"drop": "1 s"}, r"--drop is a length .*, but 1s is a time"),
+    ({"fall_height": "0.3 kg"}, r"--fall-height is a length .*, but 0.3kg is a mass"),
+    ({"fall_tilt": "30 m"}, r"--fall-tilt is an angle .*, but 30m is a length"),
+    ({"fall_tilt": 60}, r"60 rad\) is past upside down .* write fall_tilt='60 deg'"),
     ({"fall_tilt": True}, r"--fall-tilt True: must be a number of radians"),
     ({"dt": True}, r"--dt True: must be a finite number more than zero"),
     ({"switch": {1: "hop"}}, r"switch= maps times to controllers"),
@@ -109,6 +112,19 @@ def test_a_wrong_option_is_a_usage_error(
     an AttributeError, and a typo of controller= was taken for control_dt."""
     with pytest.raises(UsageError, match=message):
         hopper.run(**{"controller": "hop", "time": 0.05, **kwargs})
+
+
+def test_options_written_with_their_units_are_read_as_legdsl_run_reads_them(
+    hopper: legdsl.Creature,
+) -> None:
+    """fall_tilt=60 ran with a limit of 60 rad (never reached) and fall_tilt="60 deg" was
+    refused, while time="500 ms" was taken."""
+    with_units = hopper.run(controller="hop", time="0.1 s", dt="0.4 ms", fall_tilt="60 deg",
+                            record_rate="1 kHz", drop="1 cm")  # fmt: skip
+    in_si = hopper.run(controller="hop", time=0.1, dt=4e-4, fall_tilt=math.radians(60),
+                       record_rate=1000.0, drop=0.01)  # fmt: skip
+    assert np.array_equal(with_units.trajectory.q, in_si.trajectory.q)
+    assert len(in_si.trajectory.q) > 80  # recorded at 1 kHz (every third 0.4 ms step)
 
 
 def test_wrong_arguments_beside_a_run_are_usage_errors(

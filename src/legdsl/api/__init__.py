@@ -208,6 +208,7 @@ class Creature:
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
             if time is None and plan.duration is not None:
                 time = plan.duration
+        options = _with_units(options)
         step = options.get("dt")
         if "control_dt" not in options and isinstance(step, int | float):  # never below it
             options["control_dt"] = default_control_dt(step)
@@ -245,6 +246,19 @@ def _seconds(time: object) -> float:
         raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
                          f"not {time!r}")  # fmt: skip
     return float(time)
+
+
+def _with_units(options: dict[str, Any]) -> dict[str, Any]:
+    """Options written as text with their unit, as ``legdsl run`` takes them (``dt="0.4 ms"``,
+    ``fall_tilt="60 deg"``), in SI; a number is SI already (``fall_tilt`` in radians)."""
+    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
+
+    out = dict(options)
+    for key, value in options.items():
+        if key in RUN_NUMERIC and isinstance(value, str):
+            flag, spec = RUN_NUMERIC[key]
+            out[key] = read_numeric(flag, value.replace(" ", ""), spec)
+    return out
 
 
 def _a_path(call: str, path: object) -> Path:

@@ -106,6 +106,12 @@ def check_run_options(options: RunOptions) -> None:
         raise UsageError(f"--fall-tilt {tilt!r}: must be a number of radians more than zero")
     if not (math.isfinite(tilt) and tilt > 0):
         raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
+    if tilt > math.pi * (1 + 1e-12):  # fall_tilt=60 in Python is 60 rad, not 60 degrees
+        raise UsageError(
+            f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
+            "(180 deg), so no tilt would stop the run; give at most 180deg (in Python a number "
+            "is radians: write fall_tilt='60 deg')"
+        )
     if options.integrator not in ("euler", "rk4"):
         raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
     if options.dt > options.duration:
