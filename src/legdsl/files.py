@@ -10,6 +10,10 @@ whole, where the temporary name would pass the file system's 255 bytes), so two 
 writing the same target at the same moment never share one; leftovers of a killed writer are
 recognised by ``is_leftover`` and ``leftovers``. A writer of several files into one directory
 (a run directory) holds ``writing_alone``'s lock meanwhile.
+
+A write the system refuses for want of room (a full disk, a quota, a file too large, an I/O
+error) raises an ``OSError`` that names the target, not its temporary name, and says what to
+free (``refused``); the temporary file is removed and an older file at the target is kept.
 """
 
 from __future__ import annotations
@@ -37,6 +41,35 @@ NAME_MAX = 255
 # what a temporary name adds to its target's: two dots, the tag, a pid, 8 hex digits, dashes
 _ADDED = len("..old--") + len(str(2**32)) + 8
 _SUFFIX_MAX = 16  # a longer "suffix" is no format's extension: the temporary name drops it
+
+
+# errors of a write the disk refused, and what the user can do about each
+REFUSED_WRITES = {
+    errno.ENOSPC: "the disk is full: free some space on it",
+    errno.EDQUOT: "your disk quota is used up: remove some of your files on that disk",
+    errno.EFBIG: "the file is larger than that file system allows",
+    errno.EIO: "the disk reported an input/output error: check the disk",
+}
+
+
+def refused(e: OSError, path: str | Path) -> OSError:
+    """``e``, a write of ``path`` the disk refused, as an ``OSError`` naming ``path`` that says
+    why and what to free; other errors (a permission, a missing folder) as they are."""
+    if e.errno not in REFUSED_WRITES:
+        return e
+    why = e.strerror or os.strerror(e.errno)
+    if REFUSED_WRITES[e.errno] not in why:  # not said already
+        why = f"{why} ({REFUSED_WRITES[e.errno]})"
+    return OSError(e.errno, why, str(path))
+
+
+def refused_in(said: str) -> int | None:
+    """The errno of a refused write that another program (ffmpeg, a C compiler) reports in
+    the text ``said``, or None: those tools say ``No space left on device``, as strerror does."""
+    for number in REFUSED_WRITES:
+        if os.strerror(number).lower() in said.lower():
+            return number
+    return None
 
 
 def temp_sibling(path: str | Path, tag: str = "tmp", suffix: str | None = None) -> Path:
@@ -119,12 +152,17 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_sibling(path, suffix=suffix)
     try:
-        yield tmp
+        try:
+            yield tmp
+        except OSError as e:  # a write of tmp (no file named, or tmp) that the disk refused
+            if e.filename is not None and str(e.filename) != str(tmp) and e.errno != errno.ENOSPC:
+                raise  # another file's (an input that cannot be read): as it is
+            raise refused(e, path) from None
         instant(f"wrote {tmp.name}")
         try:
             os.replace(tmp, path)
         except OSError as e:  # name the file the user knows (a directory in its place...)
-            raise type(e)(e.errno, e.strerror, str(path)) from None
+            raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise

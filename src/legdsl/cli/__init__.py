@@ -29,6 +29,7 @@ from legdsl.cli.common import (
 )
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
 from legdsl.cli.run import add_run_parser
+from legdsl.files import REFUSED_WRITES, refused
 from legdsl.lang.errors import LegError, UsageError
 
 _COMMANDS: dict[str, Command] = {}
@@ -484,6 +485,11 @@ def _main(argv: Sequence[str] | None) -> int:
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
             traceback.print_exc()
+        if e.errno in REFUSED_WRITES:  # a full disk, a quota: what to free, not a permission
+            where = f"cannot write {e.filename}: " if e.filename else ""
+            why = refused(e, e.filename or "").strerror
+            print(f"legdsl: {where}{why}; or give another place to write", file=sys.stderr)
+            return EXIT_USER_ERROR
         where = f" ({e.filename})" if e.filename else ""
         print(
             f"legdsl: {e.strerror or e}{where}; check the path and its permissions",

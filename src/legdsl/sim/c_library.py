@@ -10,6 +10,7 @@ simulations on it.
 from __future__ import annotations
 
 import ctypes
+import os
 import re
 from pathlib import Path
 from typing import Any
@@ -20,13 +21,16 @@ from legdsl.codegen.c.build import (
     DYNAMICS_FILES,
     RUNTIME,
     RUNTIME_FILES,
+    BuildFailed,
     Built,
     CompilerUnusable,
     build,
+    cache_dir,
     find_compiler,
     no_compiler,
     sources,
 )
+from legdsl.files import refused_in
 from legdsl.ir.model import Model
 
 # Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
@@ -124,14 +128,14 @@ def load_library(
         _TRUSTED[trusted] = _BY_STAT[key]
         return _BY_STAT[key]
     files_text = sources(generated_dir, controller)
-    built = build(name, files_text)
+    built = _build(name, files_text)
     if built.path not in _LOADED:
         try:
             _LOADED[built.path] = CLibrary(built, model)
         except OSError:
             if built.path.exists():
                 raise  # e.g. a cache on a file system that may not map code (noexec)
-            built = build(name, files_text)  # another process trimmed the cache meanwhile
+            built = _build(name, files_text)  # another process trimmed the cache meanwhile
             _LOADED[built.path] = CLibrary(built, model)
         except (ValueError, AttributeError) as e:  # a symbol missing: not built as legdsl's C
             built.path.unlink(missing_ok=True)  # so that no later run loads it again
@@ -142,6 +146,19 @@ def load_library(
             ) from None
     _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
     return _LOADED[built.path]
+
+
+def _build(name: str, files: dict[str, str]) -> Built:
+    """``build``, with a compiler that failed for want of room in the cache (it says "No space
+    left on device") as the ``OSError`` of a full cache: legdsl's cause to say what to free,
+    not a bug in its C (nor a compiler to install)."""
+    try:
+        return build(name, files)
+    except (BuildFailed, CompilerUnusable) as e:
+        disk = refused_in(str(e))
+        if disk is None:
+            raise
+        raise OSError(disk, os.strerror(disk), str(cache_dir())) from e
 
 
 def address(array: np.ndarray) -> int:
