@@ -152,20 +152,52 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_sibling(path, suffix=suffix)
     try:
-        try:
+        with _refusals_of(tmp, path):
             yield tmp
-        except OSError as e:  # a write of tmp (no file named, or tmp) that the disk refused
-            if e.filename is not None and str(e.filename) != str(tmp) and e.errno != errno.ENOSPC:
-                raise  # another file's (an input that cannot be read): as it is
-            raise refused(e, path) from None
         instant(f"wrote {tmp.name}")
-        try:
-            os.replace(tmp, path)
-        except OSError as e:  # name the file the user knows (a directory in its place...)
-            raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
+        _rename(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+@contextlib.contextmanager
+def atomic_same_name(path: str | Path) -> Iterator[Path]:
+    """``atomic_path`` for a writer that names what it writes after its file (the plots): the
+    temporary file has ``path``'s own name, in a hidden sibling directory. A writer that wrote
+    nothing leaves ``path`` as it was."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    folder = temp_sibling(path, suffix="")
+    try:
+        inner = folder / path.name
+        with _refusals_of(folder, path):
+            folder.mkdir()
+        with _refusals_of(inner, path):
+            yield inner
+        if inner.exists():
+            _rename(inner, path)
+    finally:
+        remove(folder)
+
+
+@contextlib.contextmanager
+def _refusals_of(tmp: Path, path: Path) -> Iterator[None]:
+    """A write of ``tmp`` (an error naming no file, or ``tmp``) that the disk refused, raised
+    as ``refused`` of ``path``, the file the user knows."""
+    try:
+        yield
+    except OSError as e:
+        if e.filename is not None and str(e.filename) != str(tmp) and e.errno != errno.ENOSPC:
+            raise  # another file's (an input that cannot be read): as it is
+        raise refused(e, path) from None
+
+
+def _rename(tmp: Path, path: Path) -> None:
+    try:
+        os.replace(tmp, path)
+    except OSError as e:  # name the file the user knows (a directory in its place...)
+        raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
 
 
 @contextlib.contextmanager

@@ -233,3 +233,25 @@ def test_a_c_cache_on_a_full_disk_falls_back_or_says_what_to_free(
     assert code == 2 and "No space left on device" in err and "free space there" in err, err
     code, err = _run(capsys, [*argv, "--backend", "auto", "--out", str(tmp_path / "auto")])
     assert code == 0 and "running on the Python backend" in err, err
+
+
+def test_a_plot_on_a_full_disk_keeps_the_old_picture(
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    a_run: Path,
+) -> None:
+    from matplotlib.figure import Figure
+
+    def half(self: Figure, fname: str | Path, **kwargs: object) -> None:
+        Path(fname).write_bytes(b"\x89PNG")  # matplotlib writes in place, then the disk fills
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(Figure, "savefig", half)
+    target = tmp_path / "out" / "figure.png"
+    target.parent.mkdir()
+    target.write_text("old")
+    code, err = _run(capsys, ["plot", str(a_run), "-o", str(target)])
+    assert code == 2 and str(target) in err and "disk is full" in err, err
+    assert target.read_text() == "old"
+    _only(target.parent, "figure.png")
