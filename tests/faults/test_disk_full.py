@@ -235,19 +235,24 @@ def test_a_c_cache_on_a_full_disk_falls_back_or_says_what_to_free(
     assert code == 0 and "running on the Python backend" in err, err
 
 
+def _half_pictures(monkeypatch: pytest.MonkeyPatch) -> None:
+    """matplotlib writes its PNG in place, and the disk fills after the first bytes."""
+    from matplotlib.figure import Figure
+
+    def half(self: Figure, fname: str | Path, **kwargs: object) -> None:
+        Path(fname).write_bytes(b"\x89PNG")
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(Figure, "savefig", half)
+
+
 def test_a_plot_on_a_full_disk_keeps_the_old_picture(
     capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
     tmp_path: Path,
     a_run: Path,
 ) -> None:
-    from matplotlib.figure import Figure
-
-    def half(self: Figure, fname: str | Path, **kwargs: object) -> None:
-        Path(fname).write_bytes(b"\x89PNG")  # matplotlib writes in place, then the disk fills
-        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-
-    monkeypatch.setattr(Figure, "savefig", half)
+    _half_pictures(monkeypatch)
     target = tmp_path / "out" / "figure.png"
     target.parent.mkdir()
     target.write_text("old")
@@ -255,3 +260,28 @@ def test_a_plot_on_a_full_disk_keeps_the_old_picture(
     assert code == 2 and str(target) in err and "disk is full" in err, err
     assert target.read_text() == "old"
     _only(target.parent, "figure.png")
+
+
+@pytest.mark.parametrize("command", ["sweep", "tune"])
+def test_the_picture_of_a_sweep_or_tune_on_a_full_disk_is_not_left_half(
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    generated: Path,
+    command: str,
+) -> None:
+    out = tmp_path / command
+    out.mkdir()
+    picture = out / f"{command}.png"
+    picture.write_text("old")
+    _half_pictures(monkeypatch)
+    short = ["--controller", "hop", "--time", "0.3s", "--from", "0.1", "--out", str(out)]
+    given = {
+        "sweep": ["--grid", "k_speed=0.04:0.08:2", "--generated", str(generated)],
+        "tune": ["--param", "k_speed=0.04:0.08", "--speeds", "0.5", "--generations", "1",
+                 "--popsize", "2", "--generated", str(generated)],
+    }[command]  # fmt: skip
+    code, err = _run(capsys, [command, HOPPER, *short, *given])
+    assert code == 2 and str(picture) in err and "disk is full" in err, err
+    assert picture.read_text() == "old"
+    assert not any(is_leftover(p) for p in out.iterdir())
