@@ -27,6 +27,7 @@ import re
 import secrets
 import shutil
 import signal
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -144,11 +145,25 @@ def _normal_mode(path: Path) -> None:
     os.chmod(path, 0o666 & ~umask)  # mkstemp makes it private; give it a normal file's mode
 
 
+def is_device(path: Path) -> bool:
+    """Whether ``path`` is a device or a pipe (/dev/null, /dev/stdout, a FIFO): written in
+    place, since renaming a file over it would replace the device itself (as root, in /dev)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     """A temporary path to write (ending in ``suffix``, by default ``path``'s own); renamed
     over ``path`` when the block ends without error, removed if it raises. Parents are made."""
     path = Path(path)
+    if is_device(path):
+        with _refusals_of(path, path):
+            yield path
+        return
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_sibling(path, suffix=suffix)
     try:
@@ -167,6 +182,10 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
     temporary file has ``path``'s own name, in a hidden sibling directory. A writer that wrote
     nothing leaves ``path`` as it was."""
     path = Path(path)
+    if is_device(path):
+        with _refusals_of(path, path):
+            yield path
+        return
     path.parent.mkdir(parents=True, exist_ok=True)
     folder = temp_sibling(path, suffix="")
     try:
@@ -218,6 +237,10 @@ def write_atomic(path: str | Path, data: str | bytes) -> None:
     if not isinstance(data, str | bytes):
         raise TypeError(f"write_atomic writes str or bytes, not {type(data).__name__}")
     raw = data.encode("utf-8") if isinstance(data, str) else data
+    if is_device(Path(path)):
+        with atomic_path(path) as device, open(device, "wb") as f:
+            f.write(raw)
+        return
     with atomic_path(path) as tmp:
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
         with os.fdopen(fd, "wb") as f:

@@ -285,3 +285,27 @@ def test_the_picture_of_a_sweep_or_tune_on_a_full_disk_is_not_left_half(
     assert code == 2 and str(picture) in err and "disk is full" in err, err
     assert picture.read_text() == "old"
     assert not any(is_leftover(p) for p in out.iterdir())
+
+
+def test_an_export_to_a_pipe_writes_into_it_and_leaves_it_a_pipe(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A device or a pipe (-o /dev/null, /dev/full, a FIFO) is written in place: a file renamed
+    over it replaced the device itself (as root, /dev/null became a regular file), and a
+    full device's refusal went unseen."""
+    import threading
+
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
+    reader.start()
+    code, err = _run(capsys, ["export", HOPPER, "--format", "urdf", "-o", str(pipe)])
+    if code != 0:  # unblock the reader before failing
+        with open(pipe, "wb"):
+            pass
+    reader.join(timeout=30)
+    assert code == 0, err
+    assert stat.S_ISFIFO(os.stat(pipe).st_mode)
+    assert got and got[0].startswith(b"<robot")
+    _only(tmp_path, "pipe")
