@@ -309,3 +309,30 @@ def test_an_export_to_a_pipe_writes_into_it_and_leaves_it_a_pipe(
     assert stat.S_ISFIFO(os.stat(pipe).st_mode)
     assert got and got[0].startswith(b"<robot")
     _only(tmp_path, "pipe")
+
+
+def test_a_sweep_row_the_full_disk_refused_is_not_left_half_in_the_table(
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    generated: Path,
+) -> None:
+    out = tmp_path / "sweep"
+    table = out / "sweep.csv"
+    real_fsync = os.fsync
+
+    def table_full(fd: int) -> None:  # the row reached the file, then the disk filled
+        if table.exists() and os.path.samestat(os.fstat(fd), os.stat(table)):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real_fsync(fd)
+
+    monkeypatch.setattr(os, "fsync", table_full)
+    argv = ["sweep", HOPPER, "--controller", "hop", "--grid", "k_speed=0.04:0.08:2",
+            "--time", "0.3s", "--from", "0.1", "--out", str(out), "--generated", str(generated)]  # fmt: skip
+    code, err = _run(capsys, argv)
+    assert code == 2 and str(table) in err and "disk is full" in err, err
+    assert not table.exists()  # no half row (nor a header alone) for a resume to trip on
+    monkeypatch.setattr(os, "fsync", real_fsync)  # room again: the same command resumes
+    code, err = _run(capsys, argv)
+    assert code == 0, err
+    assert len(table.read_text().splitlines()) == 3
