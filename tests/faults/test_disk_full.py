@@ -336,3 +336,33 @@ def test_a_sweep_row_the_full_disk_refused_is_not_left_half_in_the_table(
     code, err = _run(capsys, argv)
     assert code == 0, err
     assert len(table.read_text().splitlines()) == 3
+
+
+def test_a_stale_module_that_a_full_disk_cannot_rewrite_says_free_space_not_permissions(
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    generated: Path,
+) -> None:
+    import shutil
+
+    source = tmp_path / "hopper.leg"
+    source.write_text(Path(HOPPER).read_text().replace("mass 10 kg", "mass 11 kg"))
+    out = tmp_path / "gen"
+    shutil.copytree(generated / "hopper", out / "hopper")
+    before = {p.name: p.read_bytes() for p in (out / "hopper").iterdir()}
+    _refuse(monkeypatch)
+    argv = [
+        "run",
+        str(source),
+        "--time",
+        "0.1",
+        "--generated",
+        str(out),
+        "--out",
+        str(tmp_path / "r"),
+    ]
+    code, err = _run(capsys, argv)
+    assert code == 2 and "free some space there" in err and "writable" not in err, err
+    assert {p.name: p.read_bytes() for p in (out / "hopper").iterdir()} == before
+    _only(out, "hopper")
