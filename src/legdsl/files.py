@@ -14,6 +14,7 @@ recognised by ``is_leftover`` and ``leftovers``. A writer of several files into 
 A write the system refuses for want of room (a full disk, a quota, a file too large, an I/O
 error) raises an ``OSError`` that names the target, not its temporary name, and says what to
 free (``refused``); the temporary file is removed and an older file at the target is kept.
+A target that is a device or a pipe (``/dev/null``, a FIFO) is written in place (``is_device``).
 """
 
 from __future__ import annotations
@@ -209,7 +210,7 @@ def _refusals_of(tmp: Path, path: Path) -> Iterator[None]:
     except OSError as e:
         if e.filename is not None and str(e.filename) != str(tmp) and e.errno != errno.ENOSPC:
             raise  # another file's (an input that cannot be read): as it is
-        raise refused(e, path) from None
+        raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
 
 
 def _rename(tmp: Path, path: Path) -> None:

@@ -366,3 +366,10 @@ def test_a_stale_module_that_a_full_disk_cannot_rewrite_says_free_space_not_perm
     assert code == 2 and "free some space there" in err and "writable" not in err, err
     assert {p.name: p.read_bytes() for p in (out / "hopper").iterdir()} == before
     _only(out, "hopper")
+
+
+def test_any_refusal_of_the_temporary_file_names_the_target(tmp_path: Path) -> None:
+    target = tmp_path / "out.bin"
+    with pytest.raises(PermissionError) as caught, atomic_path(target) as tmp:
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(tmp))
+    assert caught.value.filename == str(target)  # not the hidden temporary name
