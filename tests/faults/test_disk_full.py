@@ -373,3 +373,22 @@ def test_any_refusal_of_the_temporary_file_names_the_target(tmp_path: Path) -> N
     with pytest.raises(PermissionError) as caught, atomic_path(target) as tmp:
         raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(tmp))
     assert caught.value.filename == str(target)  # not the hidden temporary name
+
+
+def test_a_full_temporary_folder_of_the_compiler_is_named_not_the_cache(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import tempfile
+
+    import legdsl.sim.c_library as c_library
+    from legdsl.codegen.c.build import BuildFailed
+
+    def full(name: str, files: dict[str, str]) -> None:
+        raise BuildFailed(f"{tempfile.gettempdir()}/cc1.s: Fatal error: No space left on device")
+
+    monkeypatch.setattr(c_library, "build", full)
+    monkeypatch.setattr(c_library, "_room", lambda f: f != Path(tempfile.gettempdir()))
+    with pytest.raises(OSError) as caught:
+        c_library._build("hopper", {})
+    assert caught.value.errno == errno.ENOSPC
+    assert f"in {tempfile.gettempdir()}, where the compiler" in caught.value.strerror

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ctypes
 import os
 import re
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -158,7 +159,19 @@ def _build(name: str, files: dict[str, str]) -> Built:
         disk = refused_in(str(e))
         if disk is None:
             raise
-        raise OSError(disk, os.strerror(disk), str(cache_dir())) from e
+        why = os.strerror(disk)
+        if _room(cache_dir()) and not _room(Path(tempfile.gettempdir())):
+            why += f" in {tempfile.gettempdir()}, where the compiler writes its temporary files"
+        raise OSError(disk, why, str(cache_dir())) from e
+
+
+def _room(folder: Path) -> bool:
+    """Whether ``folder``'s disk has a megabyte free (or cannot say)."""
+    try:
+        found = os.statvfs(folder)
+    except OSError:
+        return True
+    return found.f_bavail * found.f_frsize >= 1 << 20
 
 
 def address(array: np.ndarray) -> int:
