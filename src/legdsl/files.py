@@ -10,6 +10,11 @@ whole, where the temporary name would pass the file system's 255 bytes), so two 
 writing the same target at the same moment never share one; leftovers of a killed writer are
 recognised by ``is_leftover`` and ``leftovers``. A writer of several files into one directory
 (a run directory) holds ``writing_alone``'s lock meanwhile.
+
+A write the system refuses for want of room (a full disk, a quota, a file too large, an I/O
+error) raises an ``OSError`` that names the target, not its temporary name, and says what to
+free (``refused``); the temporary file is removed and an older file at the target is kept.
+A target that is a device or a pipe (``/dev/null``, a FIFO) is written in place (``is_device``).
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ import re
 import secrets
 import shutil
 import signal
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -37,6 +43,35 @@ NAME_MAX = 255
 # what a temporary name adds to its target's: two dots, the tag, a pid, 8 hex digits, dashes
 _ADDED = len("..old--") + len(str(2**32)) + 8
 _SUFFIX_MAX = 16  # a longer "suffix" is no format's extension: the temporary name drops it
+
+
+# errors of a write the disk refused, and what the user can do about each
+REFUSED_WRITES = {
+    errno.ENOSPC: "the disk is full: free some space on it",
+    errno.EDQUOT: "your disk quota is used up: remove some of your files on that disk",
+    errno.EFBIG: "the file is larger than that file system allows",
+    errno.EIO: "the disk reported an input/output error: check the disk",
+}
+
+
+def refused(e: OSError, path: str | Path) -> OSError:
+    """``e``, a write of ``path`` the disk refused, as an ``OSError`` naming ``path`` that says
+    why and what to free; other errors (a permission, a missing folder) as they are."""
+    if e.errno not in REFUSED_WRITES:
+        return e
+    why = e.strerror or os.strerror(e.errno)
+    if REFUSED_WRITES[e.errno] not in why:  # not said already
+        why = f"{why} ({REFUSED_WRITES[e.errno]})"
+    return OSError(e.errno, why, str(path))
+
+
+def refused_in(said: str) -> int | None:
+    """The errno of a refused write that another program (ffmpeg, a C compiler) reports in
+    the text ``said``, or None: those tools say ``No space left on device``, as strerror does."""
+    for number in REFUSED_WRITES:
+        if os.strerror(number).lower() in said.lower():
+            return number
+    return None
 
 
 def temp_sibling(path: str | Path, tag: str = "tmp", suffix: str | None = None) -> Path:
@@ -111,23 +146,78 @@ def _normal_mode(path: Path) -> None:
     os.chmod(path, 0o666 & ~umask)  # mkstemp makes it private; give it a normal file's mode
 
 
+def is_device(path: Path) -> bool:
+    """Whether ``path`` is a device or a pipe (/dev/null, /dev/stdout, a FIFO): written in
+    place, since renaming a file over it would replace the device itself (as root, in /dev)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     """A temporary path to write (ending in ``suffix``, by default ``path``'s own); renamed
     over ``path`` when the block ends without error, removed if it raises. Parents are made."""
     path = Path(path)
+    if is_device(path):
+        with _refusals_of(path, path):
+            yield path
+        return
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_sibling(path, suffix=suffix)
     try:
-        yield tmp
+        with _refusals_of(tmp, path):
+            yield tmp
         instant(f"wrote {tmp.name}")
-        try:
-            os.replace(tmp, path)
-        except OSError as e:  # name the file the user knows (a directory in its place...)
-            raise type(e)(e.errno, e.strerror, str(path)) from None
+        _rename(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+@contextlib.contextmanager
+def atomic_same_name(path: str | Path) -> Iterator[Path]:
+    """``atomic_path`` for a writer that names what it writes after its file (the plots): the
+    temporary file has ``path``'s own name, in a hidden sibling directory. A writer that wrote
+    nothing leaves ``path`` as it was."""
+    path = Path(path)
+    if is_device(path):
+        with _refusals_of(path, path):
+            yield path
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    folder = temp_sibling(path, suffix="")
+    try:
+        inner = folder / path.name
+        with _refusals_of(folder, path):
+            folder.mkdir()
+        with _refusals_of(inner, path):
+            yield inner
+        if inner.exists():
+            _rename(inner, path)
+    finally:
+        remove(folder)
+
+
+@contextlib.contextmanager
+def _refusals_of(tmp: Path, path: Path) -> Iterator[None]:
+    """A write of ``tmp`` (an error naming no file, or ``tmp``) that the disk refused, raised
+    as ``refused`` of ``path``, the file the user knows."""
+    try:
+        yield
+    except OSError as e:
+        if e.filename is not None and str(e.filename) != str(tmp) and e.errno != errno.ENOSPC:
+            raise  # another file's (an input that cannot be read): as it is
+        raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
+
+
+def _rename(tmp: Path, path: Path) -> None:
+    try:
+        os.replace(tmp, path)
+    except OSError as e:  # name the file the user knows (a directory in its place...)
+        raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
 
 
 @contextlib.contextmanager
@@ -148,6 +238,10 @@ def write_atomic(path: str | Path, data: str | bytes) -> None:
     if not isinstance(data, str | bytes):
         raise TypeError(f"write_atomic writes str or bytes, not {type(data).__name__}")
     raw = data.encode("utf-8") if isinstance(data, str) else data
+    if is_device(Path(path)):
+        with atomic_path(path) as device, open(device, "wb") as f:
+            f.write(raw)
+        return
     with atomic_path(path) as tmp:
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
         with os.fdopen(fd, "wb") as f:

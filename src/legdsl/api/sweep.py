@@ -19,6 +19,7 @@ The table is drawn into ``OUT/sweep.png``: a heat map over two swept names, line
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import itertools
 import math
@@ -33,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.api.workers import Workers
-from legdsl.files import atomic_path
+from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, UnitError, describe, parse_unit
@@ -306,14 +307,23 @@ def run_sweep(
 
 
 def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:
-    new = not table.exists() or table.stat().st_size == 0
-    with table.open("a", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=columns)
-        if new:
-            writer.writeheader()
-        writer.writerow({c: row.get(c, "") for c in columns})
-        f.flush()
-        os.fsync(f.fileno())
+    existed = table.exists()
+    size = table.stat().st_size if existed else 0
+    try:
+        with table.open("a", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=columns)
+            if size == 0:
+                writer.writeheader()
+            writer.writerow({c: row.get(c, "") for c in columns})
+            f.flush()
+            os.fsync(f.fileno())
+    except OSError as e:  # a full disk: no half row left, and the table named
+        with contextlib.suppress(OSError):
+            if existed:
+                os.truncate(table, size)
+            else:
+                table.unlink()
+        raise refused(OSError(e.errno, e.strerror, str(table)), table) from None
 
 
 def read_table(table: Path) -> list[dict[str, Any]]:

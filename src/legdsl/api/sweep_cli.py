@@ -29,7 +29,7 @@ from legdsl.api.sweep import (
 )
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
-from legdsl.files import write_atomic
+from legdsl.files import atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
@@ -176,7 +176,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     _parquet(rows, out / "sweep.parquet")
     metric = args.plot or "speed_error"
     units = {**base["units"], **METRIC_UNITS}
-    picture = plot_sweep(rows, [a.name for a in axes][:2], metric, out / "sweep.png", units)
+    picture = out / "sweep.png"
+    with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
+        plot_sweep(rows, [a.name for a in axes][:2], metric, drawn, units)
     fell = sum(1 for r in rows if r["outcome"] != "ok")
     resumed = f", {before} of them from before" if before else ""
     print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")

@@ -36,7 +36,7 @@ from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
 from legdsl.api.workers import Workers
-from legdsl.files import write_atomic
+from legdsl.files import atomic_same_name, write_atomic
 from legdsl.ir.controller import Controller
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -339,7 +339,8 @@ def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | No
     ax.set_yscale("log")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(out)
+    with atomic_same_name(out) as drawn:  # matplotlib writes in place: no half PNG
+        fig.savefig(drawn)
     plt.close(fig)
     return out
 

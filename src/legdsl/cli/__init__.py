@@ -29,6 +29,7 @@ from legdsl.cli.common import (
 )
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
 from legdsl.cli.run import add_run_parser
+from legdsl.files import REFUSED_WRITES, atomic_same_name, refused
 from legdsl.lang.errors import LegError, UsageError
 
 _COMMANDS: dict[str, Command] = {}
@@ -185,7 +186,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     run = Path(args.dir)
     Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
     out = check_output_file(args.output or run / "figure6.png", "--output")
-    plot_run(run, out, first_leg_angles(run), args.t_from, args.t_to)
+    with atomic_same_name(out) as tmp:  # matplotlib writes in place: a full disk left half a PNG
+        plot_run(run, tmp, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}")
 
     # Beside --output the other pictures take its name (fig.png: fig-footfall.png), so that
@@ -194,11 +196,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         return out.with_name(f"{out.stem}-{kind}.png") if args.output else run / f"{kind}.png"
 
     footfall = beside("footfall")
-    plot_footfall(run, footfall, args.t_from, args.t_to)
+    with atomic_same_name(footfall) as tmp:
+        plot_footfall(run, tmp, args.t_from, args.t_to)
     print(f"wrote {footfall} (footfall diagram)")
     if args.top or run_paths(run):
         top = beside("top")
-        plot_top(run, top, args.t_from, args.t_to)
+        with atomic_same_name(top) as tmp:
+            plot_top(run, tmp, args.t_from, args.t_to)
         print(f"wrote {top} (top view)")
     return 0
 
@@ -484,6 +488,11 @@ def _main(argv: Sequence[str] | None) -> int:
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
             traceback.print_exc()
+        if e.errno in REFUSED_WRITES:  # a full disk, a quota: what to free, not a permission
+            where = f"cannot write {e.filename}: " if e.filename else ""
+            why = refused(e, e.filename or "").strerror
+            print(f"legdsl: {where}{why}, or give another place to write", file=sys.stderr)
+            return EXIT_USER_ERROR
         where = f" ({e.filename})" if e.filename else ""
         print(
             f"legdsl: {e.strerror or e}{where}; check the path and its permissions",

@@ -14,6 +14,8 @@ are meshes under ``/CREATURE/ground``. Time codes are frame numbers from 0:
 
 from __future__ import annotations
 
+import errno
+import os
 import re
 from pathlib import Path
 from typing import Any
@@ -24,7 +26,7 @@ from legdsl import __version__
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
-from legdsl.files import atomic_path
+from legdsl.files import atomic_path, refused_in
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("usd", "usda")
@@ -113,8 +115,37 @@ def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
     # The layer's format follows its extension: write under the right one, then rename.
+    from pxr import Tf
+
     with atomic_path(path, suffix=f".{fmt}") as tmp:
-        stage = build_stage(motion, tmp)
-        stage.GetRootLayer().Save()
+        try:  # USD creates the file at once, and writes it whole at the save
+            stage = build_stage(motion, tmp)
+            stage.GetRootLayer().Save()
+        except Tf.ErrorException as e:  # the file system refused it (USD gives no errno)
+            raise _unwritten(tmp, path, str(e)) from None
         del stage
     return path.stat().st_size
+
+
+# free space below which a refused save is taken for a full disk (USD gives no errno)
+_NEARLY_FULL = 1 << 20
+
+
+def _unwritten(tmp: Path, path: Path, said: str) -> Exception:
+    """Why USD could not save ``tmp`` (``path`` to the user): a full disk as an ``OSError``
+    (``legdsl.files`` says what to free), else what USD said."""
+    disk = refused_in(said)
+    if disk is None:
+        try:
+            room = os.statvfs(tmp.parent)
+            disk = errno.ENOSPC if room.f_bavail * room.f_frsize < _NEARLY_FULL else None
+        except OSError:
+            disk = None
+    if disk is not None:
+        return OSError(disk, os.strerror(disk), str(tmp))
+    lines = [line.strip() for line in said.splitlines() if line.strip()]
+    first = lines[0][-200:] if lines else "no reason given"
+    return UsageError(
+        f"cannot write {path}: the USD library failed to save it ({first}); "
+        "check that disk, or write elsewhere"
+    )

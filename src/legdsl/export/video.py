@@ -8,6 +8,7 @@ ones, the camera following the mass centre, with the player's overlays.
 from __future__ import annotations
 
 import importlib.util
+import os
 import shutil
 import subprocess
 import sys
@@ -22,7 +23,7 @@ import numpy as np
 from legdsl.export.motion import Motion, Snapshot, every_frame
 from legdsl.export.player import OVERLAYS
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
-from legdsl.files import atomic_path
+from legdsl.files import atomic_path, refused_in
 from legdsl.lang.errors import UsageError
 
 FFMPEG_HINT = (
@@ -129,7 +130,7 @@ def _write_mp4(
     if exe is None:
         raise UsageError(FFMPEG_HINT)
     command = [
-        exe, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+        exe, "-y", "-xerror", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
         "-s", f"{width}x{height}", "-r", f"{fps:g}", "-i", "-", "-an", "-c:v", "libx264",
         "-pix_fmt", "yuv420p", "-crf", "20", "-threads", "1", "-movflags", "+faststart",
         "-f", "mp4", str(path),
@@ -148,7 +149,12 @@ def _write_mp4(
         proc.wait()
         raise
     error = proc.stderr.read().decode(errors="replace")
-    if proc.wait() != 0:
+    code = proc.wait()
+    # a full disk: ffmpeg says so (and, without -xerror, exits 0 leaving a file with no index)
+    disk = refused_in(error)
+    if disk is not None:
+        raise OSError(disk, os.strerror(disk), str(path))
+    if code != 0:
         raise RuntimeError(f"ffmpeg failed (exit {proc.returncode}): {error.strip()}")
 
 

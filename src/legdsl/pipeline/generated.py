@@ -19,7 +19,15 @@ from types import ModuleType
 from typing import Any
 
 from legdsl.codegen.python.dynamics import controller_fingerprint, model_fingerprint
-from legdsl.files import instant, recover_dir, remove, replace_dir, temp_sibling, write_atomic
+from legdsl.files import (
+    REFUSED_WRITES,
+    instant,
+    recover_dir,
+    remove,
+    replace_dir,
+    temp_sibling,
+    write_atomic,
+)
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
@@ -160,9 +168,10 @@ def _recompile(model: Model, source: Path, generated: Path, syntax: ast.SourceFi
     try:
         write_generated(compiled, generated)
     except OSError as e:
+        fix = "free some space there" if e.errno in REFUSED_WRITES else "make it writable"
         raise UsageError(
             f"the generated modules of {model.name} in {generated} are out of date and cannot "
-            f"be written there ({_why(e)}); make it writable, or give --generated a directory "
+            f"be written there ({_why(e)}); {fix}, or give --generated a directory "
             "you can write"
         ) from None
 

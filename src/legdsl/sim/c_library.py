@@ -10,7 +10,9 @@ simulations on it.
 from __future__ import annotations
 
 import ctypes
+import os
 import re
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -20,13 +22,16 @@ from legdsl.codegen.c.build import (
     DYNAMICS_FILES,
     RUNTIME,
     RUNTIME_FILES,
+    BuildFailed,
     Built,
     CompilerUnusable,
     build,
+    cache_dir,
     find_compiler,
     no_compiler,
     sources,
 )
+from legdsl.files import refused_in
 from legdsl.ir.model import Model
 
 # Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
@@ -124,14 +129,14 @@ def load_library(
         _TRUSTED[trusted] = _BY_STAT[key]
         return _BY_STAT[key]
     files_text = sources(generated_dir, controller)
-    built = build(name, files_text)
+    built = _build(name, files_text)
     if built.path not in _LOADED:
         try:
             _LOADED[built.path] = CLibrary(built, model)
         except OSError:
             if built.path.exists():
                 raise  # e.g. a cache on a file system that may not map code (noexec)
-            built = build(name, files_text)  # another process trimmed the cache meanwhile
+            built = _build(name, files_text)  # another process trimmed the cache meanwhile
             _LOADED[built.path] = CLibrary(built, model)
         except (ValueError, AttributeError) as e:  # a symbol missing: not built as legdsl's C
             built.path.unlink(missing_ok=True)  # so that no later run loads it again
@@ -142,6 +147,31 @@ def load_library(
             ) from None
     _BY_STAT[key] = _TRUSTED[trusted] = _LOADED[built.path]
     return _LOADED[built.path]
+
+
+def _build(name: str, files: dict[str, str]) -> Built:
+    """``build``, with a compiler that failed for want of room in the cache (it says "No space
+    left on device") as the ``OSError`` of a full cache: legdsl's cause to say what to free,
+    not a bug in its C (nor a compiler to install)."""
+    try:
+        return build(name, files)
+    except (BuildFailed, CompilerUnusable) as e:
+        disk = refused_in(str(e))
+        if disk is None:
+            raise
+        why = os.strerror(disk)
+        if _room(cache_dir()) and not _room(Path(tempfile.gettempdir())):
+            why += f" in {tempfile.gettempdir()}, where the compiler writes its temporary files"
+        raise OSError(disk, why, str(cache_dir())) from e
+
+
+def _room(folder: Path) -> bool:
+    """Whether ``folder``'s disk has a megabyte free (or cannot say)."""
+    try:
+        found = os.statvfs(folder)
+    except OSError:
+        return True
+    return found.f_bavail * found.f_frsize >= 1 << 20
 
 
 def address(array: np.ndarray) -> int:
