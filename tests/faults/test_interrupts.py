@@ -215,3 +215,19 @@ def test_an_interrupted_usd_export_leaves_no_layer(
     with pytest.raises(KeyboardInterrupt):
         usd.write_usd(None, tmp_path / "m.usda", "usda")  # type: ignore[arg-type]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_directory_whose_write_was_cut_short_is_not_read(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its trajectory.npz may be the older run's (a full disk refused the new one): metrics
+    and animate measured and drew it without a word."""
+    out = tmp_path / "run"
+    assert main(["run", str(ROOT / HOPPER), "--time", "0.1", "--generated", str(generated),
+                 "--out", str(out)]) == 0  # fmt: skip
+    info = json.loads((out / "run.json").read_text())
+    (out / "run.json").write_text(json.dumps(dict(info, status="incomplete")))
+    for argv in (["metrics", str(out)], ["export-motion", str(out), "-o", str(tmp_path / "m.bvh")]):
+        assert main(argv) == 2
+        assert "was still being written when it stopped" in capsys.readouterr().err
+    assert not (tmp_path / "m.bvh").exists()

@@ -130,6 +130,7 @@ class Trajectory:
                 "(legdsl run FILE.leg --out DIR)"
             )
         again = "; run the creature again (legdsl run FILE.leg --out DIR)"
+        _refuse_incomplete(Path(directory), again)
         try:
             with np.load(path, allow_pickle=False) as data:
                 missing = [k for k in (*ARRAYS, "meta") if k not in data.files and k not in LATER]
@@ -275,6 +276,21 @@ class Trajectory:
         for row in range(len(self)):
             writer.writerow([_fmt(c[1][row]) for c in cols])
         return buf.getvalue()
+
+
+def _refuse_incomplete(directory: Path, again: str) -> None:
+    """A run directory whose writing was cut short (a kill, a full disk) has its run.json
+    marked ``incomplete`` and may hold an older run's trajectory.npz, which would be measured
+    and drawn without a word."""
+    try:
+        status = json.loads((directory / "run.json").read_bytes()).get("status")
+    except (OSError, ValueError, AttributeError, RecursionError):
+        return  # none, or damaged: the readers of run.json say so
+    if status == "incomplete":
+        raise UsageError(
+            f"{directory}/run.json says the run was still being written when it stopped "
+            f"(killed, or the disk refused it), so its trajectory.npz may be an older run's{again}"
+        )
 
 
 def load_run_info(directory: Path) -> dict[str, Any]:
