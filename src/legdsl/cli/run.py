@@ -76,6 +76,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     from legdsl.pipeline.options import (
         RUN_NUMERIC,
+        check_free_space,
         check_output_dir,
         check_run_options,
         os_error,
@@ -142,6 +143,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
+    check_free_space(out, "--out", options, session.model)
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
     with _Interrupts(out).installed() as interrupts:

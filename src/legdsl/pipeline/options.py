@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import math
 import numbers
+import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -21,7 +22,8 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given
-from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.recorder import sample_bytes
+from legdsl.sim.run_loop import RunOptions, run_samples
 
 
 @dataclass(frozen=True)
@@ -179,6 +181,27 @@ def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = Non
             f"{given}: cannot write in {probe} ({_why(e)}); give a directory you can write"
         ) from None
     return path
+
+
+def check_free_space(path: Path, flag: str, options: RunOptions, model: Model) -> None:
+    """Refuse, before the run, an output whose disk cannot hold about the run's recording
+    (its samples in memory: trajectory.npz and .csv take about as much): a full disk would
+    refuse it only after the whole run, which is then lost. Refused at under half of it,
+    since the files' sizes vary with what they hold."""
+    need = run_samples(options) * sample_bytes(model)
+    probe = path
+    while not probe.exists() and probe.parent != probe:
+        probe = probe.parent
+    try:
+        free = shutil.disk_usage(probe).free
+    except OSError:
+        return  # the system does not say: the write will tell
+    if free < need / 2:
+        raise UsageError(
+            f"{flag} {path}: the disk there has {free / 1e6:.3g} MB free, and this run's "
+            f"recording takes about {need / 1e6:.3g} MB; free some space there, give another "
+            f"{flag}, or record less (a shorter --time or a lower --record-rate)"
+        )
 
 
 def check_output_file(path: str | Path, flag: str) -> Path:
