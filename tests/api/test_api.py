@@ -5,6 +5,7 @@ from __future__ import annotations
 import doctest
 import filecmp
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -145,3 +146,23 @@ def test_a_metrics_window_takes_a_unit(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(ROOT)
     run = legdsl.load("creatures/hopper.leg").run(controller="hop", time=2)
     assert run.metrics(start="500 ms").t_from == run.metrics(start=0.5).t_from == 0.5
+
+
+def test_open_run_compiles_where_it_is_told(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """open_run wrote generated/NAME/ under the current directory, with no way to say where."""
+    from conftest import CREATURES, GENERATED
+
+    from legdsl.lang.errors import UsageError
+
+    run = legdsl.load(CREATURES / "hopper.leg", generated=GENERATED).run(controller="hop", time=0.1)
+    where = run.save(tmp_path / "run")
+    monkeypatch.chdir(tmp_path)
+    shutil.copytree(GENERATED / "hopper", tmp_path / "elsewhere" / "hopper")  # fresh: no compile
+    again = legdsl.open_run(where, generated=tmp_path / "elsewhere")
+    assert len(again.trajectory.t) == len(run.trajectory.t)
+    assert (tmp_path / "elsewhere" / "hopper" / "dynamics.py").is_file()
+    assert not (tmp_path / "generated").exists()
+    with pytest.raises(UsageError, match="generated= is the directory"):
+        legdsl.open_run(where, generated=3)  # type: ignore[arg-type]

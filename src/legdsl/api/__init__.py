@@ -515,10 +515,17 @@ def load(
     return Creature(RunSession.from_file(path, creature, generated))
 
 
-def open_run(directory: str | Path, source: str | Path | None = None) -> Run:
-    """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``)."""
+def open_run(
+    directory: str | Path, source: str | Path | None = None, generated: str | Path = "generated"
+) -> Run:
+    """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``);
+    the creature's kinematics come from ``generated/``, compiled there when missing or stale
+    (as ``load`` does)."""
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
+    if not isinstance(generated, str | Path):
+        raise UsageError(f"open_run(): generated= is the directory of the generated code, not "
+                         f"{generated!r}")  # fmt: skip
     found = read_run(Path(directory), _a_path("open_run()", source) if source is not None else None)
-    dynamics = load_dynamics(found.model, found.source, Path("generated"))
+    dynamics = load_dynamics(found.model, found.source, Path(generated))
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))
