@@ -10,7 +10,7 @@ import pytest
 from legdsl.check.source import check_model
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.settings import find_scene, scene_plan, scene_texts
+from legdsl.pipeline.scenes import find_scene, scene_plan, scene_texts
 
 ROOT = Path(__file__).resolve().parents[2]
 BIPED = ROOT / "creatures" / "biped.leg"

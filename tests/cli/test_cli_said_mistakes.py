@@ -105,7 +105,7 @@ def test_a_scenes_switch_to_the_controller_asked_for_is_kept_with_a_note(
 def test_the_command_line_overrides_a_scenes_line_at_the_same_time() -> None:
     """The scene's line cannot be left out from the command line, so a --set or --switch at
     its time replaces it (as an untimed --set replaces the scene's value), not 'keep one'."""
-    from legdsl.pipeline.settings import find_scene, scene_plan
+    from legdsl.pipeline.scenes import find_scene, scene_plan
     from legdsl.sim.run_loop import RunOptions
 
     session = RunSession.from_file(CREATURES / "biped.leg", generated=GENERATED)

@@ -212,7 +212,7 @@ def test_a_change_after_the_end_of_the_run_is_noted(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
     """An input change timed after --time happened never, silently."""
-    from legdsl.pipeline.settings import too_late
+    from legdsl.pipeline.scenes import too_late
 
     notes = too_late(["speed=2m/s@5s", "speed=1m/s@500ms", "k=2"], 2.0)
     assert notes == [

@@ -27,6 +27,14 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.api.arguments import (
+    a_path,
+    seconds,
+    setting_text,
+    thread_count,
+    window_time,
+    with_units,
+)
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import write_atomic, writing_alone
@@ -134,7 +142,7 @@ class Creature:
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [self._session_args(**r) for r in runs]
-        for i, done in iter_batch(self.session, plans, _threads(threads)):
+        for i, done in iter_batch(self.session, plans, thread_count(threads)):
             yield i, self._wrap(done)
 
     def run_copies(
@@ -173,7 +181,7 @@ class Creature:
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
-        return Copies(self, batch.run(_threads(threads), progress))
+        return Copies(self, batch.run(thread_count(threads), progress))
 
     def _session_args(
         self,
@@ -197,10 +205,10 @@ class Creature:
         if set is not None and not isinstance(set, Mapping):
             raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
                              f"not {set!r}")  # fmt: skip
-        settings = [_setting(name, value) for name, value in (set or {}).items()]
+        settings = [setting_text(name, value) for name, value in (set or {}).items()]
         switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
         if scene is not None:
-            from legdsl.pipeline.settings import find_scene, scene_plan
+            from legdsl.pipeline.scenes import find_scene, scene_plan
 
             plan = find_scene(self.model, scene)
             if controller is not None and (controller != plan.controller or plan.starts_by_band):
@@ -208,7 +216,7 @@ class Creature:
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
             if time is None and plan.duration is not None:
                 time = plan.duration
-        options = _with_units(options)
+        options = with_units(options)
         step = options.get("dt")
         if "control_dt" not in options and isinstance(step, int | float):  # never below it
             options["control_dt"] = default_control_dt(step)
@@ -220,7 +228,7 @@ class Creature:
                 raise UsageError(f"run(): no option '{key}'{where}; the options are "
                                  f"{', '.join(known)}"
                                  f"{did_you_mean(key, [*arguments, *known])}")  # fmt: skip
-        run_options = RunOptions(duration=_seconds(5.0 if time is None else time), **options)
+        run_options = RunOptions(duration=seconds(5.0 if time is None else time), **options)
         return {
             "controller": controller,
             "settings": settings,
@@ -234,77 +242,6 @@ class Creature:
 
     def __repr__(self) -> str:
         return f"<legdsl creature '{self.name}': {self.model.nv} DOF, controllers {list(self.controllers)}>"
-
-
-def _seconds(time: object) -> float:
-    """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``)."""
-    from legdsl.pipeline.options import read_seconds
-
-    if isinstance(time, str):
-        return read_seconds("--time", time)
-    if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
-        raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
-                         f"not {time!r}")  # fmt: skip
-    return float(time)
-
-
-def _with_units(options: dict[str, Any]) -> dict[str, Any]:
-    """Options written as text with their unit, as ``legdsl run`` takes them (``dt="0.4 ms"``,
-    ``fall_tilt="60 deg"``), in SI; a number is SI already (``fall_tilt`` in radians)."""
-    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
-
-    out = dict(options)
-    for key, value in options.items():
-        if key in RUN_NUMERIC and isinstance(value, str):
-            flag, spec = RUN_NUMERIC[key]
-            out[key] = read_numeric(flag, value.replace(" ", ""), spec)
-    return out
-
-
-def _a_path(call: str, path: object) -> Path:
-    if not isinstance(path, str | Path):
-        raise UsageError(f"{call}: give a path (a text or a pathlib.Path), not {path!r}")
-    return Path(path)
-
-
-def _threads(threads: object) -> int | None:
-    """``threads=``: None (one per core) or a whole number, 1 or more."""
-    if threads is not None and (
-        isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1
-    ):
-        raise UsageError(f"threads= is how many threads run at once, a whole number, 1 or "
-                         f"more (or None: one per core), not {threads!r}")  # fmt: skip
-    return None if threads is None else int(threads)
-
-
-def _window_time(name: str, value: object) -> float:
-    """``start=``, ``end=``: seconds from the run's start (0 or more), or a text with its unit
-    as ``--from`` takes it (``"3 s"``)."""
-    from legdsl.pipeline.options import read_seconds
-
-    if isinstance(value, str):
-        return read_seconds(f"{name}=", value, "nonnegative")
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float | np.integer | np.floating)
-        or not (math.isfinite(value) and value >= 0)
-    ):
-        raise UsageError(f"{name}= is seconds from the run's start, a number 0 or more (or a "
-                         f"text like '3 s'), not {value!r}")  # fmt: skip
-    return float(value)
-
-
-def _setting(name: str, value: str | float) -> str:
-    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
-    if not isinstance(name, str) or not (
-        isinstance(value, str | int | float | np.integer | np.floating)
-        and not isinstance(value, bool)
-    ):
-        raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
-                         f"{{'speed': '2 m/s'}}, not {value!r}")  # fmt: skip
-    key, at, when = name.partition("@")
-    text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
-    return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
 
 
 class Copies:
@@ -409,8 +346,8 @@ class Run:
         groups: tuple[str, ...] = (),
     ) -> GaitMetrics:
         """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``)."""
-        t_from = _window_time("start", start)
-        t_to = None if end is None else _window_time("end", end)
+        t_from = window_time("start", start)
+        t_to = None if end is None else window_time("end", end)
         if isinstance(groups, str):
             groups = (groups,)
         if isinstance(groups, Iterable):
@@ -431,7 +368,7 @@ class Run:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
         from legdsl.pipeline.options import check_output_dir
 
-        out = check_output_dir(_a_path("save()", directory), "save()")
+        out = check_output_dir(a_path("save()", directory), "save()")
         if self._session_run is not None:
             self._session_run.write(out)
         else:
@@ -448,9 +385,9 @@ class Run:
         """Figure 6 of the paper for this run, as a PNG (in the run's directory by default)."""
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
-        t_from = _window_time("start", start)
+        t_from = window_time("start", start)
         directory = self._directory()
-        out = _a_path("plot()", path) if path is not None else directory / "figure6.png"
+        out = a_path("plot()", path) if path is not None else directory / "figure6.png"
         return plot_run(directory, out, first_leg_angles(directory), t_from, None)
 
     def animate(self, path: str | Path | None = None) -> Path:
@@ -458,7 +395,7 @@ class Run:
         from legdsl.export.player import write_player
 
         out = (
-            _a_path("animate()", path) if path is not None else self._directory() / "animation.html"
+            a_path("animate()", path) if path is not None else self._directory() / "animation.html"
         )
         write_player(self._motion(), out)
         return out
@@ -526,6 +463,6 @@ def open_run(
     if not isinstance(generated, str | Path):
         raise UsageError(f"open_run(): generated= is the directory of the generated code, not "
                          f"{generated!r}")  # fmt: skip
-    found = read_run(Path(directory), _a_path("open_run()", source) if source is not None else None)
+    found = read_run(Path(directory), a_path("open_run()", source) if source is not None else None)
     dynamics = load_dynamics(found.model, found.source, Path(generated))
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

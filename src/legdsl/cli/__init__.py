@@ -26,10 +26,11 @@ from legdsl.cli.common import (
     file_read_as_option,
     negative_values_joined,
     numeric,
+    os_refusal,
 )
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
 from legdsl.cli.run import add_run_parser
-from legdsl.files import REFUSED_WRITES, atomic_same_name, refused
+from legdsl.files import atomic_same_name
 from legdsl.lang.errors import LegError, UsageError
 
 _COMMANDS: dict[str, Command] = {}
@@ -488,16 +489,7 @@ def _main(argv: Sequence[str] | None) -> int:
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
             traceback.print_exc()
-        if e.errno in REFUSED_WRITES:  # a full disk, a quota: what to free, not a permission
-            where = f"cannot write {e.filename}: " if e.filename else ""
-            why = refused(e, e.filename or "").strerror
-            print(f"legdsl: {where}{why}, or give another place to write", file=sys.stderr)
-            return EXIT_USER_ERROR
-        where = f" ({e.filename})" if e.filename else ""
-        print(
-            f"legdsl: {e.strerror or e}{where}; check the path and its permissions",
-            file=sys.stderr,
-        )
+        print(f"legdsl: {os_refusal(e)}", file=sys.stderr)
         return EXIT_USER_ERROR
     except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
         if args.debug:

@@ -70,3 +70,15 @@ def _options_with_a_value(parser: argparse.ArgumentParser) -> set[str]:
         elif action.nargs is None:
             found.update(o for o in action.option_strings if o.startswith("--"))
     return found
+
+
+def os_refusal(e: OSError) -> str:
+    """What the file system's refusal ``e`` means for the user: a full disk or a quota says
+    what to free; anything else is a path or a permission."""
+    from legdsl.files import REFUSED_WRITES, refused
+
+    if e.errno in REFUSED_WRITES:
+        where = f"cannot write {e.filename}: " if e.filename else ""
+        return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"
+    where = f" ({e.filename})" if e.filename else ""
+    return f"{e.strerror or e}{where}; check the path and its permissions"

@@ -83,8 +83,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     )
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
+    from legdsl.pipeline.scenes import too_late
     from legdsl.pipeline.session import RunSession
-    from legdsl.pipeline.settings import refuse_repeated, too_late
+    from legdsl.pipeline.settings import refuse_repeated
 
     values = {
         field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
@@ -109,7 +110,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
     refuse_repeated(settings)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
-        from legdsl.pipeline.settings import find_scene, scene_plan
+        from legdsl.pipeline.scenes import find_scene, scene_plan
 
         scene = find_scene(session.model, args.scene)
         if controller is not None and (controller != scene.controller or scene.starts_by_band):

@@ -39,7 +39,8 @@ from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.settings import Settings, parse_path_option, parse_switch, sort_settings
+from legdsl.pipeline.scenes import parse_switch
+from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
 from legdsl.sim.simulate import Simulation

@@ -1,0 +1,84 @@
+"""The Python API's arguments checked and read as ``legdsl run``'s options are: times and
+options with their units, paths, thread counts, ``set=`` entries. A wrong one is a
+``UsageError`` that names the argument."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legdsl.lang.errors import UsageError
+
+
+def seconds(time: object) -> float:
+    """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``)."""
+    from legdsl.pipeline.options import read_seconds
+
+    if isinstance(time, str):
+        return read_seconds("--time", time)
+    if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
+        raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
+                         f"not {time!r}")  # fmt: skip
+    return float(time)
+
+
+def with_units(options: dict[str, Any]) -> dict[str, Any]:
+    """Options written as text with their unit, as ``legdsl run`` takes them (``dt="0.4 ms"``,
+    ``fall_tilt="60 deg"``), in SI; a number is SI already (``fall_tilt`` in radians)."""
+    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
+
+    out = dict(options)
+    for key, value in options.items():
+        if key in RUN_NUMERIC and isinstance(value, str):
+            flag, spec = RUN_NUMERIC[key]
+            out[key] = read_numeric(flag, value.replace(" ", ""), spec)
+    return out
+
+
+def a_path(call: str, path: object) -> Path:
+    if not isinstance(path, str | Path):
+        raise UsageError(f"{call}: give a path (a text or a pathlib.Path), not {path!r}")
+    return Path(path)
+
+
+def thread_count(threads: object) -> int | None:
+    """``threads=``: None (one per core) or a whole number, 1 or more."""
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1
+    ):
+        raise UsageError(f"threads= is how many threads run at once, a whole number, 1 or "
+                         f"more (or None: one per core), not {threads!r}")  # fmt: skip
+    return None if threads is None else int(threads)
+
+
+def window_time(name: str, value: object) -> float:
+    """``start=``, ``end=``: seconds from the run's start (0 or more), or a text with its unit
+    as ``--from`` takes it (``"3 s"``)."""
+    from legdsl.pipeline.options import read_seconds
+
+    if isinstance(value, str):
+        return read_seconds(f"{name}=", value, "nonnegative")
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float | np.integer | np.floating)
+        or not (math.isfinite(value) and value >= 0)
+    ):
+        raise UsageError(f"{name}= is seconds from the run's start, a number 0 or more (or a "
+                         f"text like '3 s'), not {value!r}")  # fmt: skip
+    return float(value)
+
+
+def setting_text(name: str, value: str | float) -> str:
+    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
+    if not isinstance(name, str) or not (
+        isinstance(value, str | int | float | np.integer | np.floating)
+        and not isinstance(value, bool)
+    ):
+        raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
+                         f"{{'speed': '2 m/s'}}, not {value!r}")  # fmt: skip
+    key, at, when = name.partition("@")
+    text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
+    return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")

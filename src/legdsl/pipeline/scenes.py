@@ -1,0 +1,151 @@
+"""A run's controllers and timed commands: ``--switch``, a scene's lines and the command
+line's added to them (``scene_plan``), and the notes on commands after the run's end."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Sequence
+
+from legdsl.check.values import did_you_mean
+from legdsl.ir.model import Model
+from legdsl.ir.scene import Scene, choose_gaits
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS, Dim
+from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
+from legdsl.sim.switching import Switch
+
+_TIME: Dim = KINDS["time"][0]
+
+
+def parse_switch(text: str, model: Model) -> Switch:
+    """``--switch 6s=gallop``: from 6 s on the run is driven by controller ``gallop``."""
+    when, sep, name = text.partition("=")
+    name = name.strip()
+    if not sep or not when.strip() or not name:
+        raise UsageError(f"--switch {text!r}: write TIME=CONTROLLER, e.g. --switch 6s=gallop")
+    given = parse_given(when, f"--switch {text}")
+    check_dimension(f"--switch {text}", "the time before '=' is in seconds", given, _TIME,
+                    "--switch {}=" + name)  # fmt: skip
+    if not given.value > 0:
+        raise UsageError(
+            f"--switch {text}: a switch comes after the start (the first controller is --controller)"
+        )
+    controllers = [c.name for c in model.controllers]
+    if name not in controllers:
+        raise UsageError(
+            f"--switch {text}: creature '{model.name}' has no controller {name!r}"
+            f"{did_you_mean(name, controllers)} (it has {', '.join(controllers) or 'none'})"
+        )
+    return Switch(given.value, name)
+
+
+def too_late(settings: Sequence[str], duration: float) -> list[str]:
+    """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
+    run's end: notes for the user, since they will not happen (a switch that never took over
+    is told after the run, which knows whether it waited for a liftoff)."""
+    notes = []
+    for text in (text for text in settings if "@" in text):
+        with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
+            given = parse_given(text.rpartition("@")[2], text)
+            check_dimension(text, "", given, _TIME, "@{}")
+            if given.value > duration:
+                notes.append(
+                    f"--set {text} comes after the run's end ({duration:g} s) and has no "
+                    "effect; give a longer --time to see it"
+                )
+    return notes
+
+
+def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
+    """A scene's ``set`` and ``at T switch`` lines as the ``--set`` and ``--switch`` texts
+    they stand for (SI values with their SI units, exact: ``repr`` of each float)."""
+    sets = [
+        f"{v.name}={v.value!r}{si_unit(v.dim)}" + (f"@{v.at!r}s" if v.at is not None else "")
+        for v in scene.values
+    ]
+    switches = [f"{w.t!r}s={w.controller}" for w in scene.switches]
+    return sets, switches
+
+
+def find_scene(model: Model, name: str) -> Scene:
+    """``--scene NAME``: the creature's scene of that name, or a ``UsageError`` naming them."""
+    names = [s.name for s in model.scenes]
+    if name not in names:
+        raise UsageError(
+            f"--scene {name}: creature '{model.name}' has no scene {name!r} "
+            f"(scenes: {', '.join(names) or 'none; write one: scene NAME { controller ...; }'})"
+        )
+    return model.scene(name)
+
+
+def _not_overridden(
+    scene: Scene,
+    model: Model,
+    sets: list[str],
+    changes: list[str],
+    settings: Sequence[str],
+    switches: Sequence[str],
+) -> tuple[list[str], list[str]]:
+    """The scene's ``set`` and ``switch`` texts less those the command line overrides: a
+    ``--set NAME=V@T`` replaces the scene's command for NAME at T, a ``--switch T=C`` its
+    switch at T (two at one time would be refused, and the scene's line cannot be left out
+    from the command line). Its untimed ``--set`` already wins, as the later value."""
+    timed: set[tuple[str, float]] = set()
+    for text in settings:
+        if "@" in text:
+            setting, _, when = text.rpartition("@")
+            with contextlib.suppress(UsageError):  # a malformed one is told by sort_settings
+                timed.add((setting.partition("=")[0].strip(), parse_given(when, text).value))
+    times = set()
+    for text in switches:
+        with contextlib.suppress(UsageError):
+            times.add(parse_switch(text, model).t)
+    kept_sets = [
+        text
+        for text, v in zip(sets, scene.values, strict=True)
+        if v.at is None or not any(n == v.name and _same_time(t, v.at) for n, t in timed)
+    ]
+    kept_changes = [
+        text
+        for text, w in zip(changes, scene.switches, strict=True)
+        if not any(_same_time(t, w.t) for t in times)
+    ]
+    return kept_sets, kept_changes
+
+
+def _same_time(a: float, b: float) -> bool:
+    return abs(a - b) < 1e-9
+
+
+def scene_plan(
+    scene: Scene, model: Model, settings: Sequence[str], switches: Sequence[str]
+) -> tuple[str, list[str], list[str]]:
+    """The controller, ``--set`` and ``--switch`` texts of a run of ``scene`` with the command
+    line's own ``settings`` and ``switches`` added after the scene's lines. A scene with a
+    gait table (``gait by speed { ... }``) gets its switches from the final speed commands
+    (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``."""
+    sets, changes = scene_texts(scene)
+    sets, changes = _not_overridden(scene, model, sets, changes, settings, switches)
+    texts = sets + list(settings)
+    if not scene.bands:
+        return scene.controller, texts, changes + list(switches)
+    if switches:
+        raise UsageError(f"--switch: scene {scene.name} chooses its controllers by its gait table")
+    names = list(dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)]))
+    given = sort_settings(texts, model, names[0], names[1:])
+    by = scene.band_input
+    default = next(
+        (c.value for n in names for c in model.controller(n).inputs if c.name == by), 0.0
+    )
+    initial = given.inputs.get(by, default)
+    commands = [(c.t, c.value) for c in given.schedule if c.name == by]
+    start = None if scene.starts_by_band else scene.controller
+    first, planned, lost = choose_gaits(scene.bands, start, initial, commands)
+    if lost:
+        bands = "; ".join(b.text() for b in scene.bands)
+        t, v = lost[0]
+        raise UsageError(
+            f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
+            f"(bands, SI: {bands})"
+        )
+    return first, texts, [f"{t!r}s={name}" for t, name in planned]
