@@ -313,3 +313,20 @@ def test_a_parameter_of_a_shared_part_is_said_to_change_for_every_includer(
     ) in capsys.readouterr().err
     assert main(["tune", str(HOPPER), "--controller", "hop", "--param", "kp=30:300", *args]) == 2
     assert "note" not in capsys.readouterr().err
+
+
+def test_the_tuned_file_elsewhere_still_finds_the_files_it_uses(tmp_path: Path) -> None:
+    """A creature that uses a file of its own by a relative path, tuned into another folder:
+    the tuned file's 'use' is pointed at the same file from there (it could not be found, and
+    every name of the used file's shared parts was then unknown)."""
+    (tmp_path / "mine" / "parts").mkdir(parents=True)
+    (tmp_path / "mine" / "parts" / "extra.leg").write_text(
+        "use raibert\naction settle_leg(leg) { relax(leg, 0 m) }\n"
+    )
+    source = tmp_path / "mine" / "hopper.leg"
+    source.write_text(HOPPER.read_text() + '\nuse "parts/extra.leg"  # mine\n')
+    hop = check_model(source).controller("hop")
+    out = write_tuned(source, hop, {"kp": 212.5}, tmp_path / "tuned" / "hopper.leg")
+    assert 'use "../mine/parts/extra.leg" # mine' in out.read_text()
+    tuned = {p.name: p.value for p in check_model(out).controller("hop").params}
+    assert tuned["kp"] == pytest.approx(212.5)

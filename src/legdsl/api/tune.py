@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -263,6 +264,7 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
+    edits += _uses_moved(tree, lines, source, out)
     if overrides and own is not None:
         first = own.items[0].span
         indent = lines[first.line - 1][: first.col - 1]
@@ -278,6 +280,25 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         lines[line - 1] = row[: col - 1] + new + rest
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def _uses_moved(
+    tree: ast.SourceFile, lines: list[str], source: Path, out: Path
+) -> list[tuple[int, int, int, str]]:
+    """Edits pointing each ``use "path"`` at the same file from ``out``'s folder: a path is
+    relative to the file that says it, so the tuned file elsewhere would lose the shared parts
+    and actions it uses (the standard library's, named bare, stay)."""
+    edits = []
+    for use in tree.uses:
+        if not (use.target.endswith(".leg") or "/" in use.target):
+            continue
+        moved = Path(os.path.relpath(source.parent / use.target, out.parent)).as_posix()
+        row = lines[use.span.line - 1]
+        quote = row.find('"', use.span.col - 1)
+        if moved != use.target and quote >= 0:
+            end = quote + len(use.target) + 2  # past the closing quote
+            edits.append((use.span.line, quote + 1, end + 1, f'"{moved}"'))
+    return edits
 
 
 def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> dict[str, Any]:
