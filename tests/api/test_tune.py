@@ -197,6 +197,20 @@ def test_bounds_without_a_unit_for_an_angle_say_they_are_radians(
     assert "bare number" not in capsys.readouterr().err  # seconds: the usual unit is SI
 
 
+def test_bounds_without_a_unit_say_the_unit_the_file_writes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The hopper's stroke = 3 cm tuned with --param stroke=1:5 (meant in centimetres, read in
+    metres) was told only to widen the bounds, though they were the file's own unit away."""
+    code = main(["tune", str(HOPPER), "--controller", "hop", "--param", "stroke=1:5",
+                 "--speeds", "1", "--time", "1", "--from", "0.2", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "(1 to 5 m); widen them; a bare number is in m: to give them in cm" in err
+    assert "write stroke=1cm:5cm" in err
+
+
 def test_a_controller_with_no_parameters_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -330,6 +330,26 @@ def shared_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
     }
 
 
+def written_unit(source: Path, controller: Controller, name: str) -> str | None:
+    """The unit the file writes parameter ``name`` in ("cm" for ``param stroke = 1.5 cm``,
+    "" for a bare number), or None where it is not declared in ``source`` itself."""
+    span = next((c.span for c in controller.params if c.name == name), None)
+    if span is None or span.file != str(source):
+        return None
+    tree, _ = parse_file(source)
+    items = [i for d in tree.controllers for i in d.items] + [
+        i for part in tree.shared for i in part.items
+    ]
+    for item in items:
+        if isinstance(item, ast.ParamDecl) and item.name.span == span:
+            node = item.value
+            while isinstance(node, ast.EUnary) and node.op == "-":
+                node = node.operand
+            if isinstance(node, ast.EQuantity):
+                return node.text.partition(" ")[2].replace(" ", "")
+    return None
+
+
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     """(line, column, end column, new text) of a parameter's value, kept in its unit."""
     node = item.value
