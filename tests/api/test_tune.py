@@ -197,6 +197,20 @@ def test_bounds_without_a_unit_for_an_angle_say_they_are_radians(
     assert "bare number" not in capsys.readouterr().err  # seconds: the usual unit is SI
 
 
+def test_bounds_without_a_unit_say_the_unit_the_file_writes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The hopper's stroke = 3 cm tuned with --param stroke=1:5 (meant in centimetres, read in
+    metres) was told only to widen the bounds, though they were the file's own unit away."""
+    code = main(["tune", str(HOPPER), "--controller", "hop", "--param", "stroke=1:5",
+                 "--speeds", "1", "--time", "1", "--from", "0.2", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "(1 to 5 m); widen them; a bare number is in m: to give them in cm" in err
+    assert "write stroke=1cm:5cm" in err
+
+
 def test_a_controller_with_no_parameters_is_refused(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -313,3 +327,20 @@ def test_a_parameter_of_a_shared_part_is_said_to_change_for_every_includer(
     ) in capsys.readouterr().err
     assert main(["tune", str(HOPPER), "--controller", "hop", "--param", "kp=30:300", *args]) == 2
     assert "note" not in capsys.readouterr().err
+
+
+def test_the_tuned_file_elsewhere_still_finds_the_files_it_uses(tmp_path: Path) -> None:
+    """A creature that uses a file of its own by a relative path, tuned into another folder:
+    the tuned file's 'use' is pointed at the same file from there (it could not be found, and
+    every name of the used file's shared parts was then unknown)."""
+    (tmp_path / "mine" / "parts").mkdir(parents=True)
+    (tmp_path / "mine" / "parts" / "extra.leg").write_text(
+        "use raibert\naction settle_leg(leg) { relax(leg, 0 m) }\n"
+    )
+    source = tmp_path / "mine" / "hopper.leg"
+    source.write_text(HOPPER.read_text() + '\nuse "parts/extra.leg"  # mine\n')
+    hop = check_model(source).controller("hop")
+    out = write_tuned(source, hop, {"kp": 212.5}, tmp_path / "tuned" / "hopper.leg")
+    assert 'use "../mine/parts/extra.leg" # mine' in out.read_text()
+    tuned = {p.name: p.value for p in check_model(out).controller("hop").params}
+    assert tuned["kp"] == pytest.approx(212.5)

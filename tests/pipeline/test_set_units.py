@@ -50,6 +50,16 @@ def _run(argv: list[str], generated: Path, out: Path) -> list[str]:
         ("stroke=10", "stroke is an angle (deg); give its unit, e.g. stroke=10deg"),
         ("hip_servo.setpoint=10kg", "hip_servo.setpoint is an angle (deg), but 10kg is a mass"),
         ("hip_servo.setpoint=10", "hip_servo.setpoint is an angle (deg); give its unit"),
+        # the user's unit per second, not rad/s (57 times as fast)
+        (
+            "ramp=60deg",
+            "ramp is an angular velocity (rad/s), but 60deg is an angle (deg); write e.g. ramp=60deg/s",
+        ),
+        ("speed=2cm", "speed is a velocity (m/s), but 2cm is a length (m); write e.g. speed=2cm/s"),
+        (
+            "accel=2m/s",
+            "accel is an acceleration (m/s^2), but 2m/s is a velocity (m/s); write e.g. accel=2m/s^2",
+        ),
     ],
 )
 def test_a_value_in_the_wrong_unit_exits_2_naming_the_unit(

@@ -195,6 +195,7 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
         ("pogo", "bounce", [], 4.0),
         ("knee_runner", "run", [], 5.0),
         ("tail_hopper", "hop", [], 5.0),
+        ("dachs", "trot", ["2.5s=bound"], 5.0),
     ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
@@ -211,7 +212,9 @@ def test_creatures_written_outside_the_team_run_the_same(
     hexapod from a mirrored template whose virtual legs have three feet, switching gait; a
     pogo stick whose leg is a slide and nothing else; a planar runner on two knee-spring legs
     that take turns (active and idle swapped at each liftoff, the idle one tucked); a 3D hopper
-    with a tail that swings against its leg, starting rolled and drifting sideways."""
+    with a tail that swings against its leg, starting rolled and drifting sideways; a long,
+    short-legged quadruped whose trot and bound take the shipped quadruped's shared parts
+    through 'use', switching from the trot to the bound."""
     generated = tmp_path_factory.mktemp("outside")
     sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
     opts = RunOptions(duration=seconds)
@@ -236,6 +239,8 @@ def test_creatures_written_outside_the_team_run_the_same(
         for leg in (0, 1):  # each leg compresses in its stance and tucks for the other's
             length = python.trajectory.leg_length[:, leg]
             assert length.max() - length.min() > 0.15
+    if name == "dachs":  # diagonal pairs, then front and rear pairs, at about 1 m/s
+        _assert_dachs_trots_then_bounds(python)
     if name == "tail_hopper":  # it hops at about 1 m/s, levels its roll, and its tail swings
         x = python.trajectory.com[:, 0]
         assert 0.85 < (x[-1] - x[len(x) // 2]) / (seconds / 2) < 1.15
@@ -606,3 +611,24 @@ def test_a_switching_run_runs_the_same_its_machines_in_c(
     # Python took the ticks of a command and of a liftoff while a switch waits for one
     ticks = c.result.steps // 5 + 1
     assert 0 < len(in_python) < ticks // 20
+
+
+def _assert_dachs_trots_then_bounds(run: RunResult) -> None:
+    """Before the switch at 2.5 s the diagonal feet are down together and the front ones
+    never; after it the front feet together and a front with a rear one never; forward at
+    about the commanded 1 m/s in each."""
+    tr = run.trajectory
+    down = {n: tr.contact[:, i].astype(bool) for i, n in enumerate(tr.contact_names)}
+
+    def together(a: str, b: str, lo: float, hi: float) -> float:
+        window = (tr.t > lo) & (tr.t < hi)
+        either = (down[a] | down[b])[window].sum()
+        return float((down[a] & down[b])[window].sum() / max(either, 1))
+
+    assert together("toe_fl", "toe_rr", 1.0, 2.5) > 0.9
+    assert together("toe_fl", "toe_fr", 1.0, 2.5) < 0.1
+    assert together("toe_fl", "toe_fr", 3.2, 5.0) > 0.9
+    assert together("toe_fl", "toe_rl", 3.2, 5.0) < 0.1
+    for lo, hi in ((1.0, 2.5), (3.2, 5.0)):
+        i, j = np.searchsorted(tr.t, lo), np.searchsorted(tr.t, hi) - 1
+        assert 0.6 < (tr.com[j, 0] - tr.com[i, 0]) / (tr.t[j] - tr.t[i]) < 1.6

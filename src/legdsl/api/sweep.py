@@ -68,14 +68,15 @@ class Axis:
     values: tuple[float, ...] = ()  # grid: the values; random and lhs: (low, high)
 
 
-def bare_in_si(text: str, name: str, dim: Dim) -> str:
+def bare_in_si(text: str, name: str, dim: Dim, written: str | None = None) -> str:
     """``NAME=LO:HI`` (or a grid) written without units is in SI units: for a quantity whose
-    usual unit is not SI (an angle: ``stand=-50:-30`` meant in degrees is radians) say so, and
-    how to write it in the usual unit; "" otherwise."""
+    usual unit (or the unit the file ``written`` it in: ``stroke = 1.5 cm``) is not SI (an
+    angle: ``stand=-50:-30`` meant in degrees is radians) say so, and how to write it in that
+    unit; "" otherwise."""
     from legdsl.pipeline.settings import unit_for
 
     spec = text.partition("=")[2]
-    si, usual = units_of({name: dim})[name], unit_for(dim)
+    si, usual = units_of({name: dim})[name], written or unit_for(dim)
     if any(c.isalpha() for c in spec) or usual in ("", si):
         return ""
     numbers = re.split(r"([:,])", spec)

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -263,6 +264,7 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
+    edits += _uses_moved(tree, lines, source, out)
     if overrides and own is not None:
         first = own.items[0].span
         indent = lines[first.line - 1][: first.col - 1]
@@ -278,6 +280,25 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         lines[line - 1] = row[: col - 1] + new + rest
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def _uses_moved(
+    tree: ast.SourceFile, lines: list[str], source: Path, out: Path
+) -> list[tuple[int, int, int, str]]:
+    """Edits pointing each ``use "path"`` at the same file from ``out``'s folder: a path is
+    relative to the file that says it, so the tuned file elsewhere would lose the shared parts
+    and actions it uses (the standard library's, named bare, stay)."""
+    edits = []
+    for use in tree.uses:
+        if not (use.target.endswith(".leg") or "/" in use.target):
+            continue
+        moved = Path(os.path.relpath(source.parent / use.target, out.parent)).as_posix()
+        row = lines[use.span.line - 1]
+        quote = row.find('"', use.span.col - 1)
+        if moved != use.target and quote >= 0:
+            end = quote + len(use.target) + 2  # past the closing quote
+            edits.append((use.span.line, quote + 1, end + 1, f'"{moved}"'))
+    return edits
 
 
 def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> dict[str, Any]:
@@ -307,6 +328,26 @@ def shared_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
         for item in part.items
         if isinstance(item, ast.ParamDecl) and spans.get(item.name.name) == item.name.span
     }
+
+
+def written_unit(source: Path, controller: Controller, name: str) -> str | None:
+    """The unit the file writes parameter ``name`` in ("cm" for ``param stroke = 1.5 cm``,
+    "" for a bare number), or None where it is not declared in ``source`` itself."""
+    span = next((c.span for c in controller.params if c.name == name), None)
+    if span is None or span.file != str(source):
+        return None
+    tree, _ = parse_file(source)
+    items = [i for d in tree.controllers for i in d.items] + [
+        i for part in tree.shared for i in part.items
+    ]
+    for item in items:
+        if isinstance(item, ast.ParamDecl) and item.name.span == span:
+            node = item.value
+            while isinstance(node, ast.EUnary) and node.op == "-":
+                node = node.operand
+            if isinstance(node, ast.EQuantity):
+                return node.text.partition(" ")[2].replace(" ", "")
+    return None
 
 
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:

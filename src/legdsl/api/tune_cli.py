@@ -23,6 +23,7 @@ from legdsl.api.tune import (
     shared_owners,
     tune,
     write_tuned,
+    written_unit,
 )
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
@@ -157,9 +158,11 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
         start = params[axis.name].value
         if not low <= start <= high:
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
+            written = written_unit(source, controller, axis.name)  # the file's own ("cm")
             raise UsageError(
                 f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them{bare_in_si(text, axis.name, params[axis.name].dim)}"
+                f"({low:g} to {high:g} {unit}); widen them"
+                + bare_in_si(text, axis.name, params[axis.name].dim, written)
             )
         bounds.append(Bound(axis.name, low, high, start))
     spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune

@@ -26,6 +26,37 @@ def _joint_text(model: Model, body_name: str) -> str:
     return f"via {joint.kind} {joint.name} [{coords}] ({joint.nv} DOF)"
 
 
+def _hip_points(model: Model) -> dict[str, Vec3]:
+    """Each leg's hip point in the root body's frame (its first joint's origin and those of
+    the joints between it and the root, at zero angles)."""
+    joints = {j.name: j for j in model.joints}
+    bodies = {b.name: b for b in model.bodies}
+    out = {}
+    for leg in model.legs:
+        joint = joints[leg.joints[0]]
+        point = list(joint.origin)
+        while joint.parent is not None and bodies[joint.parent].parent is not None:
+            joint = joints[bodies[joint.parent].joint]
+            point = [a + b for a, b in zip(point, joint.origin, strict=True)]
+        out[leg.name] = (point[0], point[1], point[2])
+    return out
+
+
+def _same_hips(hips: dict[str, Vec3]) -> list[str]:
+    """A note for each set of legs of a spatial creature hanging from one point: a mirrored
+    instance given the other side's point (mirror sagittal flips y: its HIP is written as for
+    the left leg)."""
+    at: dict[tuple[float, ...], list[str]] = {}
+    for name, point in hips.items():
+        at.setdefault(tuple(round(c, 9) for c in point), []).append(name)
+    return [
+        f"  note: legs {', '.join(names)} hang from the same point; a mirrored instance's "
+        "point is written unmirrored ('mirror sagittal' turns y into -y)"
+        for names in at.values()
+        if len(names) > 1
+    ]
+
+
 def describe_model(model: Model) -> str:
     kind = "planar" if model.planar else "spatial"
     g = -model.gravity[2]
@@ -63,14 +94,19 @@ def describe_model(model: Model) -> str:
     if model.q_names != model.v_names:
         lines.append("  v = (" + ", ".join(model.v_names) + ")")
     if model.legs:
-        lines += ["", "legs:"]
+        lines += ["", "legs (each hip's point in the root body's frame):"]
+        hips = _hip_points(model)
         for leg in model.legs:
             alias = (
                 "; aliases " + ", ".join(f"{a} = {t}" for a, t in leg.aliases)
                 if leg.aliases
                 else ""
             )
-            lines.append(f"  {leg.name}: joints {', '.join(leg.joints)}; foot {leg.foot}{alias}")
+            hip = f"; hip at {_vec(hips[leg.name], model.planar)}"
+            lines.append(
+                f"  {leg.name}: joints {', '.join(leg.joints)}; foot {leg.foot}{hip}{alias}"
+            )
+        lines += [] if model.planar else _same_hips(hips)  # a planar creature's legs overlap
     if model.contacts:
         lines += ["", "contacts:"]
         for c in model.contacts:

@@ -131,7 +131,7 @@ def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) 
     ``what`` says what is wanted ("speed is a velocity (m/s)"), ``write`` how to write the
     value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example.
     """
-    example = write.format(given.number + unit_for(want))
+    example = write.format(given.number + _unit_to_write(given, want))
     if want == DIMENSIONLESS:
         if given.dim is not None and given.dim != DIMENSIONLESS:
             raise UsageError(
@@ -147,6 +147,18 @@ def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) 
         raise UsageError(
             f"{where}: {what}, but {given.text} is {a_kind(given.dim)}; write e.g. {example}"
         )
+
+
+def _unit_to_write(given: Given, want: Dim) -> str:
+    """The user's own unit per second where that is wanted and scales unlike the wanted
+    kind's unit (a turn rate given as '10deg' is '10deg/s', not '10rad/s', 57 times as
+    fast), else the wanted kind's unit."""
+    usual = unit_for(want)
+    with contextlib.suppress(UnitError):
+        factor, dim = parse_unit(f"{given.unit}/s")
+        if given.unit and dim == want and factor != parse_unit(usual)[0]:
+            return f"{given.unit}/s"
+    return usual
 
 
 def _check_named(where: str, name: str, given: Given, want: Dim) -> None:
