@@ -76,10 +76,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     from legdsl.pipeline.options import (
         RUN_NUMERIC,
-        check_free_space,
         check_output_dir,
         check_run_options,
         os_error,
+        space_note,
     )
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
@@ -144,7 +144,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
-    check_free_space(out, "--out", options, session.model)
+    if (cramped := space_note(out, "--out", options, session.model)) is not None:
+        print(f"legdsl: note: {cramped}", file=sys.stderr)
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
     with _Interrupts(out).installed() as interrupts:

@@ -22,7 +22,7 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given
-from legdsl.sim.recorder import sample_bytes
+from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
 
 
@@ -183,25 +183,30 @@ def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = Non
     return path
 
 
-def check_free_space(path: Path, flag: str, options: RunOptions, model: Model) -> None:
-    """Refuse, before the run, an output whose disk cannot hold about the run's recording
-    (its samples in memory: trajectory.npz and .csv take about as much): a full disk would
-    refuse it only after the whole run, which is then lost. Refused at under half of it,
-    since the files' sizes vary with what they hold."""
+def space_note(path: Path, flag: str, options: RunOptions, model: Model) -> str | None:
+    """A note before the run when the disk under ``path`` may not hold its recording (its
+    samples in memory, at most the half of the machine's memory a recording may fill;
+    trajectory.npz and .csv take about as much): a full disk refuses it only after the run.
+    A note, not a refusal: a long run may be meant to be stopped early, and what it
+    recorded by then may fit. Said at under half of it free, since the files' sizes vary."""
     need = run_samples(options) * sample_bytes(model)
+    budget = recording_budget()
+    need = min(need, budget) if budget is not None else need
     probe = path
     while not probe.exists() and probe.parent != probe:
         probe = probe.parent
     try:
         free = shutil.disk_usage(probe).free
     except OSError:
-        return  # the system does not say: the write will tell
-    if free < need / 2:
-        raise UsageError(
-            f"{flag} {path}: the disk there has {free / 1e6:.3g} MB free, and this run's "
-            f"recording takes about {need / 1e6:.3g} MB; free some space there, give another "
-            f"{flag}, or record less (a shorter --time or a lower --record-rate)"
-        )
+        return None  # the system does not say: the write will tell
+    if free >= need / 2:
+        return None
+    return (
+        f"{flag} {path}: the disk there has {free / 1e6:.3g} MB free, and this run's "
+        f"recording may take about {need / 1e6:.3g} MB, which a full disk refuses only after "
+        f"the run; free some space there, give another {flag}, or record less (a shorter "
+        "--time or a lower --record-rate)"
+    )
 
 
 def check_output_file(path: str | Path, flag: str) -> Path:

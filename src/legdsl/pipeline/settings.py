@@ -13,6 +13,7 @@ always was for actuator settings. Values are stored in SI units.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import re
 from collections.abc import Sequence
