@@ -108,25 +108,37 @@ class ArgumentProbe(NameResolver):
         for i, value in enumerate(args):
             if not isinstance(value, ir.Expr) or not isinstance(value.type, tuple):
                 continue  # a leg, a body, a condition, or a bare 0 (which fits any unit)
-            fits = []
-            for dim in candidates(value.type):
-                trial = list(args)
-                trial[i] = retyped(value, dim)
-                saved = self.snapshot()
-                self.probing = True
-                try:
-                    with self.captured() as diag:
-                        check(trial)
-                finally:
-                    self.restore(saved)
-                if not diag.items:
-                    fits.append(dim)
+            if not self.fits_with(args, i, None, check):
+                continue  # not even a value of any unit would do: not this argument
+            fits = [d for d in candidates(value.type) if self.fits_with(args, i, d, check)]
             if fits:  # a plain number last: sin() takes one, but an angle is meant
                 fits.sort(key=lambda d: d == ONE)
                 found.append(Blame(i, value, tuple(fits), used_at))
         if len(found) > 1:  # several would do: the one meant as a named kind (a length...)
             found = [b for b in found if any(d in _KIND_DIMS for d in b.fits)]
         return found[0] if len(found) == 1 else None
+
+    def fits_with(
+        self,
+        args: list[Value],
+        index: int,
+        dim: Dim | None,
+        check: Callable[[list[Value]], object],
+    ) -> bool:
+        """Whether the call checks clean with argument ``index`` of dimension ``dim``
+        (None: of any dimension)."""
+        trial = list(args)
+        value = trial[index]
+        assert isinstance(value, ir.Expr)
+        trial[index] = ir.Named("opaque", "argument", None) if dim is None else retyped(value, dim)
+        saved = self.snapshot()
+        self.probing = True
+        try:
+            with self.captured() as diag:
+                check(trial)
+        finally:
+            self.restore(saved)
+        return not diag.items
 
     def report_blame(self, s: ast.InvokeStmt, action: ast.ActionDef, blame: Blame) -> None:
         """At the argument: its name and place in the signature, and the dimension it needs."""
