@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from legdsl.check.control_names import NameResolver, Value, describe_type
 from legdsl.check.values import place_of
@@ -60,6 +60,8 @@ class Blame:
     given: ir.Expr
     fits: tuple[Dim, ...]
     used_at: Span
+    # the actuators read, whether they are rotary, and what would fit were they the other motion
+    otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
 
 
 class ArgumentProbe(NameResolver):
@@ -116,7 +118,37 @@ class ArgumentProbe(NameResolver):
                 found.append(Blame(i, value, tuple(fits), used_at))
         if len(found) > 1:  # several would do: the one meant as a named kind (a length...)
             found = [b for b in found if any(d in _KIND_DIMS for d in b.fits)]
-        return found[0] if len(found) == 1 else None
+        if len(found) != 1:
+            return None
+        return self.with_other_motion(found[0], args, check)
+
+    def with_other_motion(
+        self, blame: Blame, args: list[Value], check: Callable[[list[Value]], object]
+    ) -> Blame:
+        """``blame`` with the dimensions the argument would need where it is used, were the
+        actuators the call reads of the other motion (hop_apex's sweep: 1 rad for a rotary
+        leg spring, 1 for a sliding one); none if that makes no difference."""
+        self.motions_read = {}
+        self.fits_with(args, blame.index, blame.fits[0], check)
+        if len(set(self.motions_read.values())) != 1:
+            return blame  # no actuator read, or both kinds: nothing to tell
+        names = tuple(self.motions_read)
+        rotary = self.motions_read[names[0]]
+        own = blame.given.type
+        assert isinstance(own, tuple)  # blame() tries numbers with a dimension only
+        self.other_motion = True
+        try:
+            other = [
+                d
+                for d in [own, *candidates(own)]  # as given may be right for the other
+                if self.fits_with(args, blame.index, d, check, only_at=blame.used_at)
+            ]
+        finally:
+            self.other_motion = False
+        if not other or set(other) == set(blame.fits):
+            return blame
+        other.sort(key=lambda d: d == ONE)
+        return replace(blame, otherwise=(names, rotary, tuple(other)))
 
     def fits_with(
         self,
@@ -124,9 +156,11 @@ class ArgumentProbe(NameResolver):
         index: int,
         dim: Dim | None,
         check: Callable[[list[Value]], object],
+        only_at: Span | None = None,
     ) -> bool:
         """Whether the call checks clean with argument ``index`` of dimension ``dim``
-        (None: of any dimension)."""
+        (None: of any dimension); with ``only_at``, clean there."""
+        first = len(self.error_spans)
         trial = list(args)
         value = trial[index]
         assert isinstance(value, ir.Expr)
@@ -138,6 +172,8 @@ class ArgumentProbe(NameResolver):
                 check(trial)
         finally:
             self.restore(saved)
+        if only_at is not None:
+            return only_at not in self.error_spans[first:]
         return not diag.items
 
     def report_blame(self, s: ast.InvokeStmt, action: ast.ActionDef, blame: Blame) -> None:
@@ -145,6 +181,15 @@ class ArgumentProbe(NameResolver):
         arg = s.args[blame.index]
         text = _text(self.diag.sources, arg.span)
         needed = " or ".join(describe_type(d) for d in blame.fits)
+        if blame.otherwise is not None:
+            names, rotary, fits = blame.otherwise
+            this, other = ("rotary", "sliding") if rotary else ("sliding", "rotary")
+            which = " and ".join(f"'{n}'" for n in names)
+            are = "is" if len(names) == 1 else "are"
+            needed += (
+                f" since {which} {are} {this} (were {'it' if len(names) == 1 else 'they'} "
+                f"{other}: {' or '.join(describe_type(d) for d in fits)})"
+            )
         where = place_of(blame.used_at)
         shown = f"'{text}', " if len(text) <= _SHOWN else ""
         self.err(

@@ -95,6 +95,9 @@ class NameResolver:
         self._reported_at_call: set[tuple[Span, str]] = set()
         self.each_count = 0  # names each `each` block, in the order they are checked
         self.error_spans: list[Span] = []  # where each mistake was found, before any move
+        # control_args: whether actuators read as rotary or sliding (True: read as the other)
+        self.other_motion = False
+        self.motions_read: dict[str, bool] = {}  # actuator -> rotary, as read
 
     # ------------------------------------------------------------ errors
     def err(self, span: Span, message: str) -> None:
@@ -275,7 +278,8 @@ class NameResolver:
         if not isinstance(thing, ir.Part | ir.Alias) or thing.kind != "actuator":
             return None
         actuator = next(a for a in self.scope.model.actuators if a.name == self.part_of(thing).name)
-        return actuator.kind, actuator.rotary
+        self.motions_read[actuator.name] = actuator.rotary
+        return actuator.kind, actuator.rotary != self.other_motion
 
     def members_of(self, thing: ir.Part | ir.Alias) -> dict[str, Dim] | None:
         part = self.part_of(thing)
