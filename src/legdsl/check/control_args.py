@@ -145,8 +145,8 @@ class ArgumentProbe(NameResolver):
             ]
         finally:
             self.other_motion = False
-        if not other or set(other) == set(blame.fits):
-            return blame
+        if not other or len(other) > 2 or set(other) == set(blame.fits):
+            return blame  # the same, or the other motion spoils more than this argument
         other.sort(key=lambda d: d == ONE)
         return replace(blame, otherwise=(names, rotary, tuple(other)))
 
@@ -184,10 +184,10 @@ class ArgumentProbe(NameResolver):
         if blame.otherwise is not None:
             names, rotary, fits = blame.otherwise
             this, other = ("rotary", "sliding") if rotary else ("sliding", "rotary")
-            which = " and ".join(f"'{n}'" for n in names)
-            are = "is" if len(names) == 1 else "are"
+            one = len(names) == 1
+            which = f"'{names[0]}' is" if one else "the actuators it reads are"
             needed += (
-                f" since {which} {are} {this} (were {'it' if len(names) == 1 else 'they'} "
+                f" since {which} {this} (were {'it' if one else 'they'} "
                 f"{other}: {' or '.join(describe_type(d) for d in fits)})"
             )
         where = place_of(blame.used_at)
