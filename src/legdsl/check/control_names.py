@@ -11,6 +11,7 @@ action from another file are reported at the user's call.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from legdsl.check.values import did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
@@ -20,6 +21,9 @@ from legdsl.ir.model import Model, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe
+
+if TYPE_CHECKING:
+    from legdsl.check.control_args import Blame
 
 KIND_WORDS = {
     "coord": "joint coordinate", "path": "path", "com": "centre of mass",
@@ -60,6 +64,8 @@ class Scope:
     records: dict[str, Type]  # record -> its type as far as known
     user_file: str  # the controller's file: errors elsewhere are reported at its calls
     aliases: dict[str, dict[str, str]] = field(init=False)
+    # a call's argument at fault (control_args), by the call, its arguments and the records
+    blames: dict[tuple[Span, str, str], Blame | None] = field(init=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         self.aliases = {leg.name: dict(leg.aliases) for leg in self.model.legs}
@@ -88,10 +94,15 @@ class NameResolver:
         self._planar_sites: set[Span] = set()
         self._reported_at_call: set[tuple[Span, str]] = set()
         self.each_count = 0  # names each `each` block, in the order they are checked
+        self.error_spans: list[Span] = []  # where each mistake was found, before any move
+        # control_args: whether actuators read as rotary or sliding (True: read as the other)
+        self.other_motion = False
+        self.motions_read: dict[str, bool] = {}  # actuator -> rotary, as read
 
     # ------------------------------------------------------------ errors
     def err(self, span: Span, message: str) -> None:
         """Report at ``span``, or, inside an action from another file, at the user's call."""
+        self.error_spans.append(span)
         site = self._user_site()
         if site is None or span.file == self.scope.user_file:
             self.diag.error(span, message)
@@ -267,7 +278,8 @@ class NameResolver:
         if not isinstance(thing, ir.Part | ir.Alias) or thing.kind != "actuator":
             return None
         actuator = next(a for a in self.scope.model.actuators if a.name == self.part_of(thing).name)
-        return actuator.kind, actuator.rotary
+        self.motions_read[actuator.name] = actuator.rotary
+        return actuator.kind, actuator.rotary != self.other_motion
 
     def members_of(self, thing: ir.Part | ir.Alias) -> dict[str, Dim] | None:
         part = self.part_of(thing)

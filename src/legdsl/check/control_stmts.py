@@ -7,6 +7,7 @@ The top layer of the controller checker (on ``control_exprs`` and ``control_name
 
 from __future__ import annotations
 
+from legdsl.check.control_args import ArgumentProbe, retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
 from legdsl.check.values import did_you_mean, stdlib_actions
@@ -16,7 +17,7 @@ from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
 
-class Elaborator(ExprChecker):
+class Elaborator(ExprChecker, ArgumentProbe):
     """Turns a controller's syntax into IR nodes under one ``Scope``; mistakes go to ``diag``."""
 
     def stmts(self, stmts: tuple[ast.Stmt, ...], local: dict[str, Value]) -> list[ir.Stmt]:
@@ -153,15 +154,41 @@ class Elaborator(ExprChecker):
         if any(a is action for _, a in self.calls):
             self.err(s.action.span, f"action '{s.action.name}' calls itself")
             return None
-        bound: dict[str, Value] = {}
-        for param, arg, value in zip(action.params, s.args, args, strict=True):
-            bound[param.name] = value if value is not None else Opaque(expression_text(arg))
-        self.calls.append((s, action))
-        try:
-            body = self.stmts(action.body, bound)
-        finally:
-            self.calls.pop()
-        return ir.Do(s.action.name, tuple(body), s.span)
+        given = [
+            v if v is not None else Opaque(expression_text(a))
+            for a, v in zip(s.args, args, strict=True)
+        ]
+
+        def check(values: list[Value]) -> list[ir.Stmt]:
+            bound = {param.name: value for param, value in zip(action.params, values, strict=True)}
+            self.calls.append((s, action))
+            try:
+                return self.stmts(action.body, bound)
+            finally:
+                self.calls.pop()
+
+        if self.probing:  # an outer call's argument is being tried: no blame within
+            return ir.Do(s.action.name, tuple(check(given)), s.span)
+        saved, first = self.snapshot(), len(self.error_spans)
+        with self.captured() as found:
+            body = check(given)
+        if not found.items:
+            return ir.Do(s.action.name, tuple(body), s.span)
+        checked = self.snapshot()
+        self.restore(saved)  # each trial starts where this call did
+        key = (s.span, repr(given), repr(sorted(self.scope.records.items())))
+        if key not in self.scope.blames:  # the passes that settle records repeat each call
+            self.scope.blames[key] = self.blame(given, check, self.error_spans[first])
+        blame = self.scope.blames[key]
+        if blame is None:
+            self.restore(checked)
+            self.diag.items += found.items
+            return ir.Do(s.action.name, tuple(body), s.span)
+        # the argument is at fault: said at it, and the body checked as if it were right
+        self.report_blame(s, action, blame)
+        given[blame.index] = retyped(blame.given, blame.fits[0])
+        check(given)
+        return None
 
     def place(self, s: ast.PlaceStmt, local: dict[str, Value]) -> ir.Place | None:
         """``place LEG at (x = .., z = ..) using SERVO, ..``: a leg, known axes, one servo per goal."""

@@ -1,0 +1,240 @@
+"""Which argument of an action call a dimension mistake in the action's body comes from.
+
+An action's parameters declare no dimension: the body is checked with what each call
+gives. When that check fails, the body is checked again, silently, with one numeric
+argument at a time given another dimension; if exactly one argument makes the body agree,
+and only with certain dimensions, the mistake is that argument's and is reported at it,
+named, instead of at an expression deep inside the action.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, replace
+
+from legdsl.check.control_names import NameResolver, Value, describe_type
+from legdsl.check.values import place_of
+from legdsl.ir import controller as ir
+from legdsl.ir.controller import ONE
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.units import KINDS, Dim, describe
+
+_ANGLE: Dim = KINDS["angle"][0]
+_SHOWN = 30  # the longest argument quoted in the message
+# Dimensions tried for an argument: the named kinds, each also per and times an angle
+# (a rotary spring's energy is in N*m*rad, a gain may be per radian), and the argument's
+# own dimension times or per each base unit.
+_KIND_DIMS: tuple[Dim, ...] = tuple(dim for dim, _ in KINDS.values())
+
+
+_BASES: tuple[Dim, ...] = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
+
+
+def _times(a: Dim, b: Dim, sign: int = 1) -> Dim:
+    return tuple(x + sign * y for x, y in zip(a, b, strict=True))  # type: ignore[return-value]
+
+
+_CANDIDATES: tuple[Dim, ...] = tuple(
+    dict.fromkeys(
+        [
+            *_KIND_DIMS,
+            *(_times(d, _ANGLE, s) for d in _KIND_DIMS for s in (1, -1)),
+            *(_times(ONE, b, -1) for b in _BASES),  # a gain per metre, say
+        ]
+    )
+)
+
+
+def candidates(own: Dim) -> list[Dim]:
+    near = [_times(own, base, s) for base in _BASES for s in (1, -1)]
+    return [d for d in dict.fromkeys([*_CANDIDATES, *near]) if d != own]
+
+
+@dataclass(frozen=True)
+class Blame:
+    """The argument at fault: its position, the dimensions that would fit, where it is used."""
+
+    index: int
+    given: ir.Expr
+    fits: tuple[Dim, ...]
+    used_at: Span
+    # the actuators read, whether they are rotary, and what would fit were they the other motion
+    otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
+
+
+class ArgumentProbe(NameResolver):
+    """Mixin state and helpers for ``Elaborator.invoke``."""
+
+    probing = False  # inside a probe: nested calls check their bodies plainly
+    error_spans: list[Span]  # where each error was found, before it is moved to a call
+
+    @contextmanager
+    def captured(self) -> Iterator[Diagnostics]:
+        """Errors go to a fresh ``Diagnostics`` for the duration (replayed or dropped after)."""
+        real, self.diag = self.diag, Diagnostics(self.diag.sources)
+        try:
+            yield self.diag
+        finally:
+            self.diag = real
+
+    def snapshot(self) -> tuple[object, ...]:
+        """What a check records (record types, aliases read, signals), to be put back."""
+        return (
+            {k: list(v) for k, v in self.record_types.items()},
+            list(self.alias_uses),
+            dict(self.signal_ir),
+            set(self._planar_sites),
+            set(self._reported_at_call),
+            self.each_count,
+            self.probing,
+        )
+
+    def restore(self, saved: tuple[object, ...]) -> None:
+        (
+            self.record_types,
+            self.alias_uses,
+            self.signal_ir,
+            self._planar_sites,
+            self._reported_at_call,
+            self.each_count,
+            self.probing,
+        ) = saved  # type: ignore[assignment]
+
+    def blame(
+        self, args: list[Value], check: Callable[[list[Value]], object], used_at: Span
+    ) -> Blame | None:
+        """The one numeric argument that, given another dimension, makes ``check`` clean."""
+        found: list[Blame] = []
+        for i, value in enumerate(args):
+            if not isinstance(value, ir.Expr) or not isinstance(value.type, tuple):
+                continue  # a leg, a body, a condition, or a bare 0 (which fits any unit)
+            if not self.fits_with(args, i, None, check):
+                continue  # not even a value of any unit would do: not this argument
+            fits = [d for d in candidates(value.type) if self.fits_with(args, i, d, check)]
+            if fits:  # a plain number last: sin() takes one, but an angle is meant
+                fits.sort(key=lambda d: d == ONE)
+                found.append(Blame(i, value, tuple(fits), used_at))
+        if len(found) > 1:  # several would do: the one meant as a named kind (a length...)
+            found = [b for b in found if any(d in _KIND_DIMS for d in b.fits)]
+        if len(found) != 1:
+            return None
+        return self.with_other_motion(found[0], args, check)
+
+    def with_other_motion(
+        self, blame: Blame, args: list[Value], check: Callable[[list[Value]], object]
+    ) -> Blame:
+        """``blame`` with the dimensions the argument would need where it is used, were the
+        actuators the call reads of the other motion (hop_apex's sweep: 1 rad for a rotary
+        leg spring, 1 for a sliding one); none if that makes no difference."""
+        self.motions_read = {}
+        self.fits_with(args, blame.index, blame.fits[0], check)
+        if len(set(self.motions_read.values())) != 1:
+            return blame  # no actuator read, or both kinds: nothing to tell
+        names = tuple(self.motions_read)
+        rotary = self.motions_read[names[0]]
+        own = blame.given.type
+        assert isinstance(own, tuple)  # blame() tries numbers with a dimension only
+        self.other_motion = True
+        try:
+            other = [
+                d
+                for d in [own, *candidates(own)]  # as given may be right for the other
+                if self.fits_with(args, blame.index, d, check, only_at=blame.used_at)
+            ]
+        finally:
+            self.other_motion = False
+        if not other or len(other) > 2 or set(other) == set(blame.fits):
+            return blame  # the same, or the other motion spoils more than this argument
+        other.sort(key=lambda d: d == ONE)
+        return replace(blame, otherwise=(names, rotary, tuple(other)))
+
+    def fits_with(
+        self,
+        args: list[Value],
+        index: int,
+        dim: Dim | None,
+        check: Callable[[list[Value]], object],
+        only_at: Span | None = None,
+    ) -> bool:
+        """Whether the call checks clean with argument ``index`` of dimension ``dim``
+        (None: of any dimension); with ``only_at``, clean there."""
+        first = len(self.error_spans)
+        trial = list(args)
+        value = trial[index]
+        assert isinstance(value, ir.Expr)
+        trial[index] = ir.Named("opaque", "argument", None) if dim is None else retyped(value, dim)
+        saved = self.snapshot()
+        self.probing = True
+        try:
+            with self.captured() as diag:
+                check(trial)
+        finally:
+            self.restore(saved)
+        if only_at is not None:
+            return only_at not in self.error_spans[first:]
+        return not diag.items
+
+    def report_blame(self, s: ast.InvokeStmt, action: ast.ActionDef, blame: Blame) -> None:
+        """At the argument: its name and place in the signature, and the dimension it needs."""
+        arg = s.args[blame.index]
+        text = _text(self.diag.sources, arg.span)
+        needed = " or ".join(describe_type(d) for d in blame.fits)
+        if blame.otherwise is not None:
+            names, rotary, fits = blame.otherwise
+            this, other = ("rotary", "sliding") if rotary else ("sliding", "rotary")
+            one = len(names) == 1
+            which = f"'{names[0]}' is" if one else "the actuators it reads are"
+            needed += (
+                f" since {which} {this} (were {'it' if one else 'they'} "
+                f"{other}: {' or '.join(describe_type(d) for d in fits)})"
+            )
+        where = place_of(blame.used_at)
+        shown = f"'{text}', " if len(text) <= _SHOWN else ""
+        self.err(
+            arg.span,
+            f"argument '{action.params[blame.index].name}' ({_ordinal(blame.index + 1)}) of "
+            f"action '{action.name.name}' is {shown}{describe_type(blame.given.type)}, but the "
+            f"action uses it as {needed} ({where}){_advice(text, arg, blame.fits[0])}",
+        )
+
+
+def retyped(value: ir.Expr, dim: Dim) -> ir.Expr:
+    """The argument with another dimension: a constant keeps its value (for the checks of
+    constants), anything else becomes a name of that dimension."""
+    if isinstance(value, ir.Num):
+        return ir.Num(value.value, dim)
+    return ir.Named("opaque", "argument", dim)
+
+
+def _advice(text: str, arg: ast.Expr, dim: Dim) -> str:
+    if dim == ONE:
+        return "; give it no unit"
+    if isinstance(arg, ast.EQuantity) and arg.quantity.unitless:
+        return f": write e.g. '{text} {_unit(dim)}'"
+    return f"; write it with a unit of {describe(dim)}"
+
+
+def _unit(dim: Dim) -> str:
+    """A unit to write for ``dim``: the kind's own, in radians for angles (where a gain or
+    a sweep of 1 is meant, 1 deg would be another number)."""
+    if dim == _ANGLE:
+        return "rad"
+    for kind_dim, example in KINDS.values():
+        if kind_dim == dim:
+            return example
+    symbols = zip(("kg", "m", "s", "rad"), dim, strict=True)
+    return "*".join(s if p == 1 else f"{s}^{p}" for s, p in symbols if p)
+
+
+def _ordinal(n: int) -> str:
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def _text(sources: dict[str, str], span: Span) -> str:
+    lines = sources.get(span.file, "").split("\n")
+    if span.line != span.end_line or span.line > len(lines):
+        return "this"
+    return lines[span.line - 1][span.col - 1 : span.end_col - 1]
