@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import re
 
-from legdsl.check.values import did_you_mean, owning_creature
+from legdsl.check.values import did_you_mean, owning_creature, per_second, written_unit
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
@@ -75,10 +75,11 @@ def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float 
             return None
         return 0.0
     if q.dim != want:
+        unit = per_second(written_unit(value.text), want) or _example(want)
         diag.error(
             value.span,
             f"{what} is {_kind(want)}, but {value.text} is {_kind(q.dim)}; write e.g. "
-            f"{_digits(value.text)} {_example(want)}".rstrip(),
+            f"{_digits(value.text)} {unit}".rstrip(),
         )
         return None
     return number

@@ -224,8 +224,29 @@ def takes_one_value(prop: ast.Prop) -> str:
     return said
 
 
+def written_unit(text: str) -> str:
+    """The unit of a number as written ('deg' of '20 deg'), empty for a bare number."""
+    match = re.match(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", text)
+    return text[match.end() :].strip() if match else text.strip()
+
+
+def per_second(unit: str, want: Dim) -> str | None:
+    """The unit as written per second where that is wanted and scales unlike the wanted
+    kind's own unit: a turn rate written '20 deg' is meant as '20 deg/s', and '20 rad/s'
+    would turn 57 times as fast."""
+    if not unit:
+        return None
+    with contextlib.suppress(ValueError):
+        factor, dim = parse_unit(f"{unit}/s")
+        usual = next((u for d, u in KINDS.values() if d == want), None)
+        if dim == want and (usual is None or factor != parse_unit(usual)[0]):
+            return f"{unit}/s"
+    return None
+
+
 def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
-    """'mass is a mass (kg), but '3 m' is a length (m)'."""
+    """'mass is a mass (kg), but '3 m' is a length (m)'; a rate written in the unit of
+    what it is a rate of is told that unit per second."""
     for name, (kind_dim, example) in KINDS.items():
         if kind_dim == dim:
             found = (
@@ -238,7 +259,12 @@ def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
         found = f"in {describe(dim)}"
     if kind == "dimensionless":
         return f"{what} takes no unit, but '{written}' is {found}"
-    return f"{what} is {article(kind)} {kind} ({unit_hint(kind)}), but '{written}' is {found}"
+    told = f"{what} is {article(kind)} {kind} ({unit_hint(kind)}), but '{written}' is {found}"
+    rate = per_second(written_unit(written), KINDS[kind][0])
+    if rate is not None:
+        number = written[: len(written) - len(written_unit(written))].strip()
+        told += f"; write e.g. '{number} {rate}'" if number else f"; write e.g. '{rate}'"
+    return told
 
 
 def example_vector(n: int, kind: str) -> str:
