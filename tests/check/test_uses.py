@@ -167,3 +167,30 @@ def test_two_files_the_same_distance_away_sharing_one_part_is_an_error_at_the_in
     (tmp_path / "middle.leg").write_text('use "b.leg"\n')
     main.write_text('use "a.leg"\nuse "middle.leg"\n' + body)  # a.leg is nearer: its kp
     assert [p.value for p in check_model(main).controller("hop").params] == [1.0]
+
+
+def test_names_a_missing_files_shared_part_would_declare_are_not_reported_unknown(
+    tmp_path: Path,
+) -> None:
+    """One error at the 'use', not one per name the part declares, per controller that
+    includes it or extends one that does, per scene that sets it; a name misspelt in a
+    controller that includes nothing from it is still reported."""
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "gone.leg"\n' + CREATURE + "shared mine {\n  include gains\n}\n"
+        "controller hop {\n  include mine\n  table {\n"
+        "    state FLIGHT on liftoff(main): hip_servo.kp = kp\n"
+        "    state STANCE on touchdown(main): hip_servo.kv = kv * kp\n  }\n}\n"
+        "controller skip extends hop {\n  param k = 1\n  signal s = kp * k\n}\n"
+        "controller stand {\n  table {\n"
+        "    state STAND on touchdown(main): hip_servo.kp = kpp\n  }\n}\n"
+        "scene demo {\n  controller hop\n  set kp = 3 N*m/rad\n}\n"
+    )
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    found = [(d.span.line, d.message.split(";")[0].split(":")[0]) for d in e.value.diagnostics]
+    stand = main.read_text().split("\n").index("controller stand {") + 3
+    assert found == [
+        (1, "cannot find 'gone.leg' to use"),
+        (stand, "unknown name 'kpp'"),
+    ]

@@ -60,7 +60,10 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     models = check_scenes(tree, models, diag)
     diag.items = _without_echoes(diag.items, tree.pending)
     if unread:  # what a used file would have defined is unknown: its absence is no news
-        diag.items = [d for d in diag.items if d in unread or not _undefined(d.message)]
+        blind = _blind_spans(tree, shared)
+        diag.items = [
+            d for d in diag.items if d in unread or not (_undefined(d.message) or _unseen(d, blind))
+        ]
     diag.raise_if_any()
     return models
 
@@ -68,6 +71,53 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
 def _undefined(message: str) -> bool:
     """A mistake that a used file which could not be read may be the cause of."""
     return message.startswith(("unknown action '", "unknown shared part '"))
+
+
+def _blind_spans(tree: ast.SourceFile, shared: list[ast.SharedDecl]) -> list[Span]:
+    """The file's controllers and shared parts that include a shared part no file read
+    defines (a missing used file's, say), directly or through another part or a base
+    controller: the names they use may be that part's declarations."""
+    defined = {part.name.name for part in shared}
+    parts = {p.name.name: _included(p.items) for p in tree.shared}
+    controllers = {c.name.name: _included(c.items) for c in tree.controllers}
+    blind_parts = {n for names in (*parts.values(), *controllers.values()) for n in names}
+    blind_parts -= defined
+    if not blind_parts:
+        return []
+    blind_controllers: set[str] = set()
+    bases = {c.name.name: c.base.name for c in tree.controllers if c.base is not None}
+    while True:  # parts including blind parts, controllers extending blind ones
+        more = {n for n, names in parts.items() if names & blind_parts} - blind_parts
+        more_controllers = {
+            n
+            for n, names in controllers.items()
+            if names & blind_parts or bases.get(n) in blind_controllers
+        } - blind_controllers
+        if not more and not more_controllers:
+            break
+        blind_parts |= more
+        blind_controllers |= more_controllers
+    spans = [c.span for c in tree.controllers if c.name.name in blind_controllers]
+    spans += [p.span for p in tree.shared if p.name.name in blind_parts]
+    if blind_controllers:  # a scene's set may name what such a controller would declare
+        spans += [scene.span for scene in tree.scenes]
+    return spans
+
+
+def _included(items: tuple[object, ...]) -> set[str]:
+    return {
+        ident.name for item in items if isinstance(item, ast.IncludeDecl) for ident in item.names
+    }
+
+
+def _unseen(found: Diagnostic, blind: list[Span]) -> bool:
+    """A name reported unknown where it may be declared by a shared part never read."""
+    if not found.message.startswith(
+        ("unknown name '", "no controller of this scene has an input or parameter '")
+    ):
+        return False
+    span = found.span
+    return any(b.file == span.file and b.line <= span.line <= b.end_line for b in blind)
 
 
 def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:
