@@ -10,8 +10,8 @@ action from another file are reported at the user's call.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field, fields, is_dataclass
+from typing import TYPE_CHECKING, Any
 
 from legdsl.check.values import did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
@@ -66,6 +66,8 @@ class Scope:
     aliases: dict[str, dict[str, str]] = field(init=False)
     # a call's argument at fault (control_args), by the call, its arguments and the records
     blames: dict[tuple[Span, str, str], Blame | None] = field(init=False, default_factory=dict)
+    # name -> the members read of it (``route.lateral``), to tell what an unknown name is
+    dotted: dict[str, set[str]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.aliases = {leg.name: dict(leg.aliases) for leg in self.model.legs}
@@ -151,16 +153,34 @@ class NameResolver:
         found = self.scope.names.get(ident.name)
         if found is None:
             if report:
-                names = [*self.scope.names, *self.scope.signals, *local]
-                advice = did_you_mean(ident.name, names) or (
-                    ": not a part of the creature, nor an input, parameter, signal, role, path "
-                    f"or record of the controller; declare it, as in 'param {ident.name} = ...'"
-                )
-                self.err(ident.span, f"unknown name '{ident.name}'{advice}")
+                self.err(ident.span, self.unknown_name(ident.name, local))
             return None
         if isinstance(found, ir.Named) and found.kind == "record":
             return ir.Named("record", found.name, self.scope.records.get(found.name))
         return found
+
+    def unknown_name(self, name: str, local: dict[str, Value]) -> str:
+        """An unknown name, with the declaration its use asks for: a path's members ask for
+        'path NAME', a body's for a body of the creature, anything else for a param."""
+        members = self.scope.dotted.get(name, set())
+        if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):
+            member = sorted(set(members) - set(ir.BODY_MEMBERS))[0]
+            return (
+                f"unknown name '{name}': '{name}.{member}' reads a path, declared with "
+                f"'path {name}'"
+            )
+        if members and members <= set(ir.BODY_MEMBERS):
+            bodies = [b.name for b in self.scope.model.bodies]
+            return (
+                f"creature '{self.scope.model.name}' has no body '{name}' (its bodies: "
+                f"{', '.join(bodies)}){did_you_mean(name, bodies)}"
+            )
+        names = [*self.scope.names, *self.scope.signals, *local]
+        advice = did_you_mean(name, names) or (
+            ": not a part of the creature, nor an input, parameter, signal, role, path "
+            f"or record of the controller; declare it, as in 'param {name} = ...'"
+        )
+        return f"unknown name '{name}'{advice}"
 
     def path(self, idents: tuple[ast.Ident, ...], local: dict[str, Value]) -> Value | None:
         found = self.lookup(idents[0], local)
@@ -366,3 +386,20 @@ def expression_text(e: ast.Expr) -> str:
     if isinstance(e, ast.EAttr):
         return f"{expression_text(e.base)}.{e.attr.name}"
     return "this"
+
+
+def dotted_members(node: Any, found: dict[str, set[str]] | None = None) -> dict[str, set[str]]:
+    """Each name read with a member in ``node`` (``trunk.yaw``, ``route.lateral``), and its
+    members."""
+    found = {} if found is None else found
+    if isinstance(node, ast.EAttr) and isinstance(node.base, ast.EName):
+        found.setdefault(node.base.ident.name, set()).add(node.attr.name)
+    if isinstance(node, tuple) and len(node) > 1 and all(isinstance(i, ast.Ident) for i in node):
+        found.setdefault(node[0].name, set()).add(node[1].name)  # a target: trunk.x = ...
+    if isinstance(node, tuple | list):
+        for item in node:
+            dotted_members(item, found)
+    elif is_dataclass(node) and not isinstance(node, type) and not isinstance(node, Span):
+        for f in fields(node):
+            dotted_members(getattr(node, f.name), found)
+    return found

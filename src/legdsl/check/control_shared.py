@@ -73,7 +73,7 @@ def expand_includes(
     # a part's table (or roles...) is checked against each includer's names: say whose
     return tuple(
         respan(item, f" (in controller '{decl.name.name}', from shared part '{source[id(item)]}')")
-        if id(item) in source and not isinstance(item, Declared)
+        if id(item) in source and not isinstance(item, ast.InputDecl | ast.ParamDecl)
         else item
         for item in items
     )

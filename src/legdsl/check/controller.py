@@ -17,6 +17,7 @@ from legdsl.check.control_names import (
     Scope,
     Value,
     describe_type,
+    dotted_members,
 )
 from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
@@ -219,6 +220,7 @@ class ControllerChecker:
                 continue
             seen_states[row.state.name] = row
         scope = Scope(self.model, names, self.roles, self.actions, signals, {}, d.span.file)
+        scope.dotted = dotted_members((self.items, tuple(self.actions.values())))
         elaborated = self.elaborate(scope, rows, records)
         self.check_unreached(scope, reachable, shadowed)
         if not rows:
@@ -329,6 +331,7 @@ class ControllerChecker:
         loose = Scope(
             self.model, names, scope.roles, scope.actions, scope.signals, {}, scope.user_file
         )
+        loose.dotted = scope.dotted
         for action in [*shadowed, *self.actions.values()]:
             called = action.name.name in reachable and action is self.actions[action.name.name]
             if called or id(action) not in own:

@@ -58,7 +58,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
     models = check_controllers(tree, models, library, shared, diag, broken)
     models = check_scenes(tree, models, diag)
-    diag.items = _without_echoes(diag.items, tree.pending)
+    diag.items = _once_per_place(_without_echoes(diag.items, tree.pending))
     if unread:  # what a used file would have defined is unknown: its absence is no news
         blind = _blind_spans(tree, shared)
         diag.items = [
@@ -118,6 +118,21 @@ def _unseen(found: Diagnostic, blind: list[Span]) -> bool:
         return False
     span = found.span
     return any(b.file == span.file and b.line <= span.line <= b.end_line for b in blind)
+
+
+def _once_per_place(found: list[Diagnostic]) -> list[Diagnostic]:
+    """A body the creature lacks is the same mistake in every controller that reads it
+    (the same line of a shared part or a base controller): told once at each place."""
+    seen: set[tuple[Span, str]] = set()  # a span's equality leaves out the controller
+    kept = []
+    for d in found:
+        if d.message.startswith("creature '") and "' has no body '" in d.message:
+            key = (d.span, d.message.removesuffix(d.span.within))
+            if key in seen:
+                continue
+            seen.add(key)
+        kept.append(d)
+    return kept
 
 
 def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:
