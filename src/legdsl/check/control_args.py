@@ -14,7 +14,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
 from legdsl.check.control_names import NameResolver, Value, describe_type
-from legdsl.check.values import place_of
+from legdsl.check.values import per_second, place_of, written_unit
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import ONE
 from legdsl.lang import ast
@@ -213,6 +213,9 @@ def _advice(text: str, arg: ast.Expr, dim: Dim) -> str:
         return "; give it no unit"
     if isinstance(arg, ast.EQuantity) and arg.quantity.unitless:
         return f": write e.g. '{text} {_unit(dim)}'"
+    rate = per_second(written_unit(text), dim) if isinstance(arg, ast.EQuantity) else None
+    if rate is not None:  # '20 deg' for a turn rate is '20 deg/s', not '20 rad/s'
+        return f"; write e.g. '{text[: len(text) - len(written_unit(text))].strip()} {rate}'"
     return f"; write it with a unit of {describe(dim)}"
 
 
