@@ -161,7 +161,7 @@ class NameResolver:
 
     def unknown_name(self, name: str, local: dict[str, Value]) -> str:
         """An unknown name, with the declaration its use asks for: a path's members ask for
-        'path NAME', a body's for a body of the creature, anything else for a param."""
+        'path NAME', a body's or a contact's for one of the creature, anything else for a param."""
         members = self.scope.dotted.get(name, set())
         if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):
             member = sorted(set(members) - set(ir.BODY_MEMBERS))[0]
@@ -169,11 +169,24 @@ class NameResolver:
                 f"unknown name '{name}': '{name}.{member}' reads a path, declared with "
                 f"'path {name}'"
             )
+        model = self.scope.model
+        bodies = [b.name for b in model.bodies]
+        contacts = [c.name for c in model.contacts]
+        if members and members <= set(ir.BODY_MEMBERS) and members <= set(ir.CONTACT_MEMBERS):
+            return (  # x, y, z and velocities: a body's or a contact's
+                f"creature '{model.name}' has no body or contact '{name}' (its bodies: "
+                f"{', '.join(bodies)}; contacts: {', '.join(contacts) or 'none'})"
+                f"{did_you_mean(name, [*bodies, *contacts])}"
+            )
         if members and members <= set(ir.BODY_MEMBERS):
-            bodies = [b.name for b in self.scope.model.bodies]
             return (
-                f"creature '{self.scope.model.name}' has no body '{name}' (its bodies: "
+                f"creature '{model.name}' has no body '{name}' (its bodies: "
                 f"{', '.join(bodies)}){did_you_mean(name, bodies)}"
+            )
+        if members and members <= set(ir.CONTACT_MEMBERS):
+            return (
+                f"creature '{model.name}' has no contact '{name}' (its contacts: "
+                f"{', '.join(contacts) or 'none'}){did_you_mean(name, contacts)}"
             )
         names = [*self.scope.names, *self.scope.signals, *local]
         advice = did_you_mean(name, names) or (

@@ -121,12 +121,12 @@ def _unseen(found: Diagnostic, blind: list[Span]) -> bool:
 
 
 def _once_per_place(found: list[Diagnostic]) -> list[Diagnostic]:
-    """A body the creature lacks is the same mistake in every controller that reads it
+    """A body or contact the creature lacks is the same mistake in every controller that reads it
     (the same line of a shared part or a base controller): told once at each place."""
     seen: set[tuple[Span, str]] = set()  # a span's equality leaves out the controller
     kept = []
     for d in found:
-        if d.message.startswith("creature '") and "' has no body '" in d.message:
+        if d.message.startswith("creature '") and "' has no " in d.message:
             key = (d.span, d.message.removesuffix(d.span.within))
             if key in seen:
                 continue
