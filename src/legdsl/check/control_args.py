@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
-from legdsl.check.control_names import NameResolver, Value, describe_type
+from legdsl.check.control_names import Blame, NameResolver, Value, describe_type
 from legdsl.check.values import per_second, place_of, written_unit
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import ONE
@@ -50,18 +50,6 @@ _CANDIDATES: tuple[Dim, ...] = tuple(
 def candidates(own: Dim) -> list[Dim]:
     near = [_times(own, base, s) for base in _BASES for s in (1, -1)]
     return [d for d in dict.fromkeys([*_CANDIDATES, *near]) if d != own]
-
-
-@dataclass(frozen=True)
-class Blame:
-    """The argument at fault: its position, the dimensions that would fit, where it is used."""
-
-    index: int
-    given: ir.Expr
-    fits: tuple[Dim, ...]
-    used_at: Span
-    # the actuators read, whether they are rotary, and what would fit were they the other motion
-    otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
 
 
 class ArgumentProbe(NameResolver):

@@ -11,7 +11,7 @@ action from another file are reported at the user's call.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, is_dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from legdsl.check.values import did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
@@ -21,9 +21,6 @@ from legdsl.ir.model import Model, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, Dim, describe
-
-if TYPE_CHECKING:
-    from legdsl.check.control_args import Blame
 
 KIND_WORDS = {
     "coord": "joint coordinate", "path": "path", "com": "centre of mass",
@@ -50,6 +47,18 @@ class Opaque:
 
 
 Value = ir.Expr | ir.Thing | Opaque
+
+
+@dataclass(frozen=True)
+class Blame:
+    """The argument at fault: its position, the dimensions that would fit, where it is used."""
+
+    index: int
+    given: ir.Expr
+    fits: tuple[Dim, ...]
+    used_at: Span
+    # the actuators read, whether they are rotary, and what would fit were they the other motion
+    otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
 
 
 @dataclass
