@@ -88,3 +88,19 @@ def test_a_base_two_used_files_the_same_distance_away_define_is_an_error(
     (tmp_path / "middle.leg").write_text('use "b.leg"\n')
     main.write_text(main.read_text().replace('use "b.leg"', 'use "middle.leg"'))
     assert [p.value for p in check_model(main).controller("hop").params][0] == 70.0
+
+
+def test_a_base_of_its_own_name_while_the_used_file_is_missing_is_no_second_error(
+    tmp_path: Path,
+) -> None:
+    main = tmp_path / "main.leg"
+    main.write_text('use "gone.leg"\n' + CREATURE + "controller hop extends hop {\n}\n")
+    with pytest.raises(LegError) as caught:
+        check_model(main)
+    assert [d.message.split(":")[0] for d in caught.value.diagnostics] == [
+        "cannot find 'gone.leg' to use"
+    ]
+    main.write_text(CREATURE + "controller hop extends hop {\n}\n")  # nothing used: told
+    with pytest.raises(LegError) as caught:
+        check_model(main)
+    assert "extend another controller, or 'use' a file that has it" in caught.value.render()

@@ -265,7 +265,7 @@ def extend_bases(
             diag.error(
                 decl.base.span,
                 f"controller '{name}' extends itself ({name} -> {name}); extend another "
-                f"controller, or 'use' a file that has a controller '{name}'",
+                "controller, or 'use' a file that has it",
             )
             return None
         if not candidates:

@@ -71,7 +71,9 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
 
 def _undefined(message: str) -> bool:
     """A mistake that a used file which could not be read may be the cause of."""
-    return message.startswith(("unknown action '", "unknown shared part '", "unknown controller '"))
+    known = ("unknown action '", "unknown shared part '", "unknown controller '")
+    # a controller extending a used one of its own name: 'extends itself' while unread
+    return message.startswith(known) or message.endswith("or 'use' a file that has it")
 
 
 def _blind_spans(tree: ast.SourceFile, shared: list[ast.SharedDecl]) -> list[Span]:
