@@ -20,8 +20,10 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterable
+from pathlib import Path
 
 from legdsl.check.templates import respan
+from legdsl.check.used_controllers import Tie, UsedControllers
 from legdsl.check.values import did_you_mean
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
@@ -195,56 +197,96 @@ def extend_bases(
     decls: Iterable[ast.ControllerDecl],
     diag: Diagnostics,
     parts: dict[str, ast.SharedDecl] | None = None,
+    used: UsedControllers | None = None,
 ) -> list[ast.ControllerDecl]:
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
     that extends an unknown controller, or itself through a chain, is reported and left out.
-    A derived controller's own items beat the parts it includes, which beat its base's."""
+    A derived controller's own items beat the parts it includes, which beat its base's.
+    A base not in the controller's own file is the nearest used file's (``used``)."""
     written = list(decls)
-    by_name: dict[str, list[ast.ControllerDecl]] = {}
-    for d in written:  # two of one name: each for its creature, or one 'defined twice' later
-        by_name.setdefault(d.name.name, []).append(d)
+    here = written[0].span.file if written else ""
     # each declaration resolved once, by itself: two of one name (each for its creature, or
     # one defined twice) are two controllers
     done: dict[int, ast.ControllerDecl | None] = {}
     origin: dict[int, str] = {}  # an inherited item -> the controller that wrote it
 
-    def resolve(decl: ast.ControllerDecl, chain: tuple[str, ...]) -> ast.ControllerDecl | None:
+    def local(file: str) -> dict[str, list[ast.ControllerDecl]]:
+        """The controllers of ``file`` by name (two of one name: each for its creature, or
+        one 'defined twice' later)."""
+        by_name: dict[str, list[ast.ControllerDecl]] = {}
+        for d in written if file == here or used is None else used.own(file):
+            by_name.setdefault(d.name.name, []).append(d)
+        return by_name
+
+    def resolve(
+        decl: ast.ControllerDecl, chain: tuple[tuple[str, str], ...]
+    ) -> ast.ControllerDecl | None:
+        if id(decl) not in done:
+            done[id(decl)] = None  # a loop through other files ends here
+            done[id(decl)] = resolved(decl, chain)
+        return done[id(decl)]
+
+    def resolved(
+        decl: ast.ControllerDecl, chain: tuple[tuple[str, str], ...]
+    ) -> ast.ControllerDecl | None:
         name = decl.name.name
-        if id(decl) in done:
-            return done[id(decl)]
         if decl.base is None:
-            done[id(decl)] = decl
             return decl
+        file = decl.span.file
         base_name = decl.base.name
-        if base_name == name or base_name in chain:
-            loop = (*chain[chain.index(base_name) :], name) if base_name in chain else (name,)
+        by_name = local(file)
+        candidates = [c for c in by_name.get(base_name, []) if c is not decl]
+        names = [n for f, n in chain if f == file]
+        if (base_name == name and candidates) or (candidates and base_name in names):
+            loop = (*names[names.index(base_name) :], name) if base_name in names else (name,)
             diag.error(
                 decl.base.span,
                 f"controller '{name}' extends itself ({' -> '.join((*loop, base_name))}); "
                 "break the loop: one of them must extend none of the others",
             )
-            done[id(decl)] = None
             return None
-        candidates = by_name.get(base_name)
-        if candidates is None:
+        writer = ""  # the base's file, when it is a used one
+        if not candidates and used is not None:
+            found = used.find(file, base_name)
+            if isinstance(found, Tie):
+                uses = "uses" if found.distance > 1 else "use"
+                diag.error(
+                    decl.base.span,
+                    f"controller '{base_name}' to extend is defined by both "
+                    f"{' and '.join(found.files)}, each {found.distance} '{uses}' away, so "
+                    "neither wins; rename it in one of them, or leave out the 'use' of the one "
+                    "you do not mean",
+                )
+                return None
+            if found:
+                candidates = found
+                writer = used.name(Path(found[0].span.file).resolve())
+        if not candidates and base_name == name:
+            diag.error(
+                decl.base.span,
+                f"controller '{name}' extends itself ({name} -> {name}); extend another "
+                "controller, or 'use' a file that has it",
+            )
+            return None
+        if not candidates:
             diag.error(
                 decl.base.span,
                 f"unknown controller '{base_name}' to extend; write 'controller {base_name} "
-                f"{{ ... }}' in this file{did_you_mean(base_name, by_name)}",
+                f"{{ ... }}' in this file"
+                f"{did_you_mean(base_name, by_name)}",
             )
-            done[id(decl)] = None
             return None
         written_base = _base_for(decl, candidates, diag)
         if written_base is None:
-            done[id(decl)] = None
             return None
-        base = resolve(written_base, (*chain, name))
+        base = resolve(written_base, (*chain, (file, name)))
+        if base is None:
+            return None
         given = _included_keys(decl.items, parts or {})
-        done[id(decl)] = None if base is None else _merged(decl, base, diag, origin, given)
-        return done[id(decl)]
+        return _merged(decl, base, diag, origin, given, writer)
 
-    resolved = [resolve(d, ()) for d in written]
-    return [d for d in resolved if d is not None]
+    resolved_all = [resolve(d, ()) for d in written]
+    return [d for d in resolved_all if d is not None]
 
 
 def _included_keys(
@@ -273,13 +315,15 @@ def _inherited(
     decl: ast.ControllerDecl,
     base: ast.ControllerDecl,
     origin: dict[int, str],
+    file: str,
 ) -> ast.ControllerItem:
     """A base's item in ``decl``: a mistake in it (a table, an action checked against
-    ``decl``'s names) names ``decl`` and the controller that wrote it."""
+    ``decl``'s names) names ``decl`` and the controller that wrote it (and its file, a
+    used one)."""
     if isinstance(item, Declared):
         return item  # the same value everywhere: reported once, with its writer
-    writer = origin.get(id(item), base.name.name)
-    moved = respan(item, f" (in controller '{decl.name.name}', from controller '{writer}')")
+    writer = origin.get(id(item), f"'{base.name.name}'" + (f" of {file}" if file else ""))
+    moved = respan(item, f" (in controller '{decl.name.name}', from controller {writer})")
     origin[id(moved)] = writer
     return moved
 
@@ -312,6 +356,7 @@ def _merged(
     diag: Diagnostics,
     origin: dict[int, str],
     included: set[tuple[str, ...]],
+    file: str = "",
 ) -> ast.ControllerDecl:
     own: dict[tuple[str, ...], ast.ControllerItem] = {}
     for item in decl.items:
@@ -323,7 +368,7 @@ def _merged(
         if override is None and _key(item) in included:
             continue  # the derived controller's include gives it, in the include's place
         if override is None:
-            items.append(_inherited(item, decl, base, origin))
+            items.append(_inherited(item, decl, base, origin, file))
             continue
         used.add(id(override))
         if (
@@ -341,5 +386,6 @@ def _merged(
             continue
         items.append(override)
     items += [item for item in decl.items if id(item) not in used]
-    creature = decl.creature if decl.creature is not None else base.creature
+    # a used file's controller is extended for this file's creature, never for its own
+    creature = decl.creature if decl.creature is not None or file else base.creature
     return dataclasses.replace(decl, creature=creature, items=tuple(items))

@@ -23,6 +23,7 @@ from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
+from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import Constant, Type
@@ -441,6 +442,7 @@ def check_controllers(
     shared: list[ast.SharedDecl],
     diag: Diagnostics,
     broken_legs: dict[str, set[str]] | None = None,
+    used: UsedControllers | None = None,
 ) -> list[Model]:
     """Attach each controller of the file to its creature (``broken_legs``: per creature, the
     legs it declares with a mistake already reported, which its controllers may name)."""
@@ -457,7 +459,7 @@ def check_controllers(
         lib[a.name.name] = a
     attached: dict[str, list[ir.Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
-    for decl in extend_bases(tree.controllers, diag, parts):
+    for decl in extend_bases(tree.controllers, diag, parts, used):
         model = owning_creature(decl, "controller run", tree, models, diag)
         if model is None:
             continue

@@ -9,6 +9,7 @@ from typing import Protocol, TypeVar
 from legdsl.check.controller import check_controllers
 from legdsl.check.creature import CreatureChecker
 from legdsl.check.scene import check_scenes
+from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import STDLIB, stdlib_name
 from legdsl.ir.model import Model
 from legdsl.lang import ast
@@ -31,7 +32,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     diag = Diagnostics(sources)
     diag.items.extend(tree.pending)
     before = len(diag.items)
-    library, shared = load_uses(tree, diag, sources)
+    library, shared, used = load_uses(tree, diag, sources)
     unread = diag.items[before:]  # used files missing or not read whole
     models = []
     # legs declared with a mistake reported there: a controller's role on one is not an error
@@ -56,7 +57,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
             }
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
-    models = check_controllers(tree, models, library, shared, diag, broken)
+    models = check_controllers(tree, models, library, shared, diag, broken, used)
     models = check_scenes(tree, models, diag)
     diag.items = _once_per_place(_without_echoes(diag.items, tree.pending))
     if unread:  # what a used file would have defined is unknown: its absence is no news
@@ -70,7 +71,9 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
 
 def _undefined(message: str) -> bool:
     """A mistake that a used file which could not be read may be the cause of."""
-    return message.startswith(("unknown action '", "unknown shared part '"))
+    known = ("unknown action '", "unknown shared part '", "unknown controller '")
+    # a controller extending a used one of its own name: 'extends itself' while unread
+    return message.startswith(known) or message.endswith("or 'use' a file that has it")
 
 
 def _blind_spans(tree: ast.SourceFile, shared: list[ast.SharedDecl]) -> list[Span]:
@@ -154,9 +157,10 @@ def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -
 
 def load_uses(
     tree: ast.SourceFile, diag: Diagnostics, sources: dict[str, str]
-) -> tuple[list[ast.ActionDef], list[ast.SharedDecl]]:
+) -> tuple[list[ast.ActionDef], list[ast.SharedDecl], UsedControllers]:
     """Named actions and shared controller parts from the file itself and the files it
-    ``use``s, and the files those use.
+    ``use``s, and the files those use; and those files' controllers, which a controller
+    may extend.
 
     ``use raibert`` names a file of the standard library, ``use "lib/gaits.leg"`` a file
     relative to the one that says it. Each file is read once however often it is used; a
@@ -241,7 +245,8 @@ def load_uses(
     shared = {f: files[f].shared for f in files}
     parts = _mark_ties(parts, shared, depth, name, lambda p, n, d: ast.AmbiguousShared(
         p.name, p.items, p.span, n, d))  # fmt: skip
-    return [*found, *tree.actions], [*parts, *tree.shared]
+    used = UsedControllers({root: tree, **files}, edges, name)
+    return [*found, *tree.actions], [*parts, *tree.shared], used
 
 
 def _mark_ties(
