@@ -124,12 +124,14 @@ def _unseen(found: Diagnostic, blind: list[Span]) -> bool:
 
 
 def _once_per_place(found: list[Diagnostic]) -> list[Diagnostic]:
-    """A body or contact the creature lacks is the same mistake in every controller that reads it
-    (the same line of a shared part or a base controller): told once at each place."""
+    """A body or contact the creature lacks, or a path no controller declares, is the same
+    mistake in every controller that reads it (the same line of a shared part or a base
+    controller): told once at each place."""
     seen: set[tuple[Span, str]] = set()  # a span's equality leaves out the controller
     kept = []
     for d in found:
-        if d.message.startswith("creature '") and "' has no " in d.message:
+        lacking = d.message.startswith("creature '") and "' has no " in d.message
+        if lacking or "reads a path, declared with 'path " in d.message:
             key = (d.span, d.message.removesuffix(d.span.within))
             if key in seen:
                 continue
