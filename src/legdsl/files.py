@@ -74,6 +74,18 @@ def refused_in(said: str) -> int | None:
     return None
 
 
+def free_bytes(path: str | Path) -> int | None:
+    """The bytes free on the disk ``path`` would be written to (its nearest existing
+    folder's), or None where the system does not say."""
+    probe = Path(path)
+    while not probe.exists() and probe.parent != probe:
+        probe = probe.parent
+    try:
+        return shutil.disk_usage(probe).free
+    except OSError:
+        return None
+
+
 def temp_sibling(path: str | Path, tag: str = "tmp", suffix: str | None = None) -> Path:
     """A fresh hidden name beside ``path``: ``.NAME.TAG-PID-RANDOM`` plus its suffix (or
     ``suffix``), NAME shortened where the whole would pass the file system's limit."""

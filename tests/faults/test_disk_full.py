@@ -405,16 +405,14 @@ def test_a_run_whose_recording_the_disk_may_not_hold_is_told_before_it_runs(
     a long run may be meant to be stopped early."""
     import shutil
 
-    from legdsl.pipeline import options
-
     usage = shutil.disk_usage(tmp_path)
-    monkeypatch.setattr(options.shutil, "disk_usage", lambda p: usage._replace(free=20_000))
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage._replace(free=20_000))
     argv = ["run", HOPPER, "--time", "1", "--generated", str(generated),
             "--out", str(tmp_path / "run")]  # fmt: skip
     code, err = _run(capsys, argv)
     assert code == 0, err
     assert "note: --out" in err and "the disk there has 0.02 MB free, and this run's" in err
     assert "recording may take about" in err and "--record-rate" in err
-    monkeypatch.setattr(options.shutil, "disk_usage", lambda p: usage._replace(free=10**9))
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage._replace(free=10**9))
     code, err = _run(capsys, argv)
     assert code == 0 and "note" not in err, err

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -37,11 +36,13 @@ from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
 from legdsl.api.workers import Workers
+from legdsl.check.values import written_unit as written_unit_of
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.ir.controller import Controller
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.lang.parser import parse_file
+from legdsl.lang.scaling import moved_use
 from legdsl.lang.units import parse_unit
 from legdsl.sim.run_loop import Interrupted
 
@@ -290,12 +291,10 @@ def _uses_moved(
     and actions it uses (the standard library's, named bare, stay)."""
     edits = []
     for use in tree.uses:
-        if not (use.target.endswith(".leg") or "/" in use.target):
-            continue
-        moved = Path(os.path.relpath(source.parent / use.target, out.parent)).as_posix()
+        moved = moved_use(use, source, out)
         row = lines[use.span.line - 1]
         quote = row.find('"', use.span.col - 1)
-        if moved != use.target and quote >= 0:
+        if moved is not None and quote >= 0:
             end = quote + len(use.target) + 2  # past the closing quote
             edits.append((use.span.line, quote + 1, end + 1, f'"{moved}"'))
     return edits
@@ -346,7 +345,7 @@ def written_unit(source: Path, controller: Controller, name: str) -> str | None:
             while isinstance(node, ast.EUnary) and node.op == "-":
                 node = node.operand
             if isinstance(node, ast.EQuantity):
-                return node.text.partition(" ")[2].replace(" ", "")
+                return written_unit_of(node.text).replace(" ", "")
     return None
 
 

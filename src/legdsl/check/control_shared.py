@@ -24,7 +24,7 @@ from pathlib import Path
 
 from legdsl.check.templates import respan
 from legdsl.check.used_controllers import Tie, UsedControllers
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import defined_by_both, did_you_mean
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 
@@ -105,13 +105,8 @@ def _expanded(
                 )
                 continue
             if isinstance(part, ast.AmbiguousShared):
-                uses = "uses" if part.distance > 1 else "use"
-                diag.error(
-                    ident.span,
-                    f"shared part '{ident.name}' is defined by both {' and '.join(part.files)}, "
-                    f"each {part.distance} '{uses}' away, so neither wins; rename it in one of "
-                    "them, or leave out the 'use' of the one you do not mean",
-                )
+                what = f"shared part '{ident.name}'"
+                diag.error(ident.span, defined_by_both(what, part.files, part.distance))
                 continue
             if ident.name in chain:
                 loop = " -> ".join((*chain[chain.index(ident.name) :], ident.name))
@@ -249,14 +244,8 @@ def extend_bases(
         if not candidates and used is not None:
             found = used.find(file, base_name)
             if isinstance(found, Tie):
-                uses = "uses" if found.distance > 1 else "use"
-                diag.error(
-                    decl.base.span,
-                    f"controller '{base_name}' to extend is defined by both "
-                    f"{' and '.join(found.files)}, each {found.distance} '{uses}' away, so "
-                    "neither wins; rename it in one of them, or leave out the 'use' of the one "
-                    "you do not mean",
-                )
+                what = f"controller '{base_name}' to extend"
+                diag.error(decl.base.span, defined_by_both(what, found.files, found.distance))
                 return None
             if found:
                 candidates = found

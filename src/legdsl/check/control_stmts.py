@@ -10,7 +10,7 @@ from __future__ import annotations
 from legdsl.check.control_args import ArgumentProbe, retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
-from legdsl.check.values import did_you_mean, stdlib_actions
+from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
 from legdsl.ir.model import setting_kind
 from legdsl.lang import ast
@@ -136,14 +136,8 @@ class Elaborator(ExprChecker, ArgumentProbe):
             )
             return None
         if isinstance(action, ast.AmbiguousAction):
-            files = " and ".join(action.files)
-            uses = "uses" if action.distance > 1 else "use"
-            self.err(
-                s.action.span,
-                f"action '{s.action.name}' is defined by both {files}, each {action.distance} "
-                f"'{uses}' away, so neither wins; rename it in one of them, or leave out the "
-                "'use' of the one you do not mean",
-            )
+            what = f"action '{s.action.name}'"
+            self.err(s.action.span, defined_by_both(what, action.files, action.distance))
             return None
         if len(s.args) != len(action.params):
             self.err(

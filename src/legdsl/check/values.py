@@ -8,7 +8,7 @@ import difflib
 import functools
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -228,6 +228,17 @@ def written_unit(text: str) -> str:
     """The unit of a number as written ('deg' of '20 deg'), empty for a bare number."""
     match = re.match(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", text)
     return text[match.end() :].strip() if match else text.strip()
+
+
+def defined_by_both(what: str, files: Sequence[str], distance: int) -> str:
+    """Two used files the same distance away that both define ``what`` ("action 'x'"):
+    neither wins, and the message says how to choose."""
+    uses = "uses" if distance > 1 else "use"
+    return (
+        f"{what} is defined by both {' and '.join(files)}, each {distance} '{uses}' away, so "
+        "neither wins; rename it in one of them, or leave out the 'use' of the one you do not "
+        "mean"
+    )
 
 
 def per_second(unit: str, want: Dim) -> str | None:

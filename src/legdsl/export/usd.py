@@ -26,7 +26,7 @@ from legdsl import __version__
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
-from legdsl.files import atomic_path, refused_in
+from legdsl.files import atomic_path, free_bytes, refused_in
 from legdsl.lang.errors import UsageError
 
 FORMATS = ("usd", "usda")
@@ -136,11 +136,8 @@ def _unwritten(tmp: Path, path: Path, said: str) -> Exception:
     (``legdsl.files`` says what to free), else what USD said."""
     disk = refused_in(said)
     if disk is None:
-        try:
-            room = os.statvfs(tmp.parent)
-            disk = errno.ENOSPC if room.f_bavail * room.f_frsize < _NEARLY_FULL else None
-        except OSError:
-            disk = None
+        free = free_bytes(tmp.parent)
+        disk = errno.ENOSPC if free is not None and free < _NEARLY_FULL else None
     if disk is not None:
         return OSError(disk, os.strerror(disk), str(tmp))
     lines = [line.strip() for line in said.splitlines() if line.strip()]

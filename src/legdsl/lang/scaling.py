@@ -123,19 +123,26 @@ def _beyond(value: float, dim: Dim, scale: float) -> str:
     )
 
 
+def moved_use(use: ast.UseDecl, file: str | Path, out: Path) -> str | None:
+    """The path of a ``use "path"`` of ``file`` as ``out``, written elsewhere, must say it to
+    reach the same file (a path is relative to the file that says it); None where it stays
+    (the standard library's, named bare, or a folder of the same place)."""
+    if not (use.target.endswith(".leg") or "/" in use.target):
+        return None
+    moved = Path(os.path.relpath(Path(file).parent / use.target, out.parent)).as_posix()
+    return moved if moved != use.target else None
+
+
 def _uses_from(
     tree: ast.SourceFile, text: str, starts: list[int], file: str, out: Path
 ) -> list[tuple[int, int, str]]:
     """Edits that point each ``use "path"`` of the file at the same file from ``out``'s
-    folder (it is relative to the file that says it); the standard library's stay."""
+    folder (``moved_use``)."""
     edits = []
     for use in tree.uses:
-        if not (use.target.endswith(".leg") or "/" in use.target):
-            continue
-        used = Path(file).parent / use.target
-        moved = Path(os.path.relpath(used, out.parent)).as_posix()
-        start = text.index('"', _offset(starts, use.span.line, use.span.col))
-        if moved != use.target:
+        moved = moved_use(use, file, out)
+        if moved is not None:
+            start = text.index('"', _offset(starts, use.span.line, use.span.col))
             edits.append((start, start + len(use.target) + 2, f'"{moved}"'))
     return edits
 

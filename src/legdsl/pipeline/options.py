@@ -12,12 +12,12 @@ from __future__ import annotations
 import contextlib
 import math
 import numbers
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from legdsl.files import free_bytes
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
@@ -192,14 +192,8 @@ def space_note(path: Path, flag: str, options: RunOptions, model: Model) -> str 
     need = run_samples(options) * sample_bytes(model)
     budget = recording_budget()
     need = min(need, budget) if budget is not None else need
-    probe = path
-    while not probe.exists() and probe.parent != probe:
-        probe = probe.parent
-    try:
-        free = shutil.disk_usage(probe).free
-    except OSError:
-        return None  # the system does not say: the write will tell
-    if free >= need / 2:
+    free = free_bytes(path)
+    if free is None or free >= need / 2:  # None: the system does not say; the write will tell
         return None
     return (
         f"{flag} {path}: the disk there has {free / 1e6:.3g} MB free, and this run's "

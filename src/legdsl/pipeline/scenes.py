@@ -103,17 +103,18 @@ def _not_overridden(
     kept_sets = [
         text
         for text, v in zip(sets, scene.values, strict=True)
-        if v.at is None or not any(n == v.name and _same_time(t, v.at) for n, t in timed)
+        if v.at is None or not any(n == v.name and same_time(t, v.at) for n, t in timed)
     ]
     kept_changes = [
         text
         for text, w in zip(changes, scene.switches, strict=True)
-        if not any(_same_time(t, w.t) for t in times)
+        if not any(same_time(t, w.t) for t in times)
     ]
     return kept_sets, kept_changes
 
 
-def _same_time(a: float, b: float) -> bool:
+def same_time(a: float, b: float) -> bool:
+    """Two times of a run's commands or switches that are one (written apart: 8s, 8000ms)."""
     return abs(a - b) < 1e-9
 
 

@@ -39,7 +39,7 @@ from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.scenes import parse_switch
+from legdsl.pipeline.scenes import parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
@@ -187,7 +187,7 @@ class RunSession:
         switches = [switches] if isinstance(switches, str | Switch) else list(switches)
         changes = [w if isinstance(w, Switch) else parse_switch(w, self.model) for w in switches]
         for a, b in itertools.pairwise(sorted(changes, key=lambda w: w.t)):
-            if abs(a.t - b.t) < 1e-9:
+            if same_time(a.t, b.t):
                 raise UsageError(
                     f"--switch {a.t:g}s={a.controller} and --switch {b.t:g}s={b.controller} are "
                     "at the same time: the run changes to one controller at a time; keep one"
@@ -319,7 +319,7 @@ def _refuse_two_commands(texts: Sequence[str], settings: Settings) -> None:
     seen: dict[tuple[str, float], str] = {}
     for text, change in zip(timed, settings.schedule, strict=True):
         other = next((o for (n, t), o in seen.items()
-                      if n == change.name and abs(t - change.t) < 1e-9), None)  # fmt: skip
+                      if n == change.name and same_time(t, change.t)), None)  # fmt: skip
         if other is not None:
             raise UsageError(
                 f"--set {other} and --set {text} command {change.name} at the same time "

@@ -13,7 +13,6 @@ always was for actuator settings. Values are stored in SI units.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import re
 from collections.abc import Sequence
@@ -21,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, per_second
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
@@ -154,12 +153,7 @@ def _unit_to_write(given: Given, want: Dim) -> str:
     """The user's own unit per second where that is wanted and scales unlike the wanted
     kind's unit (a turn rate given as '10deg' is '10deg/s', not '10rad/s', 57 times as
     fast), else the wanted kind's unit."""
-    usual = unit_for(want)
-    with contextlib.suppress(UnitError):
-        factor, dim = parse_unit(f"{given.unit}/s")
-        if given.unit and dim == want and factor != parse_unit(usual)[0]:
-            return f"{given.unit}/s"
-    return usual
+    return per_second(given.unit, want) or unit_for(want)
 
 
 def _check_named(where: str, name: str, given: Given, want: Dim) -> None:

@@ -31,7 +31,7 @@ from legdsl.codegen.c.build import (
     no_compiler,
     sources,
 )
-from legdsl.files import refused_in
+from legdsl.files import free_bytes, refused_in
 from legdsl.ir.model import Model
 
 # Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed
@@ -167,11 +167,8 @@ def _build(name: str, files: dict[str, str]) -> Built:
 
 def _room(folder: Path) -> bool:
     """Whether ``folder``'s disk has a megabyte free (or cannot say)."""
-    try:
-        found = os.statvfs(folder)
-    except OSError:
-        return True
-    return found.f_bavail * found.f_frsize >= 1 << 20
+    free = free_bytes(folder)
+    return free is None or free >= 1 << 20
 
 
 def address(array: np.ndarray) -> int:
