@@ -56,6 +56,7 @@ class ArgumentProbe(NameResolver):
     """Mixin state and helpers for ``Elaborator.invoke``."""
 
     probing = False  # inside a probe: nested calls check their bodies plainly
+    blamed = 0  # mistakes told at a call's argument (record_readers counts the others)
     error_spans: list[Span]  # where each error was found, before it is moved to a call
 
     @contextmanager
@@ -179,6 +180,7 @@ class ArgumentProbe(NameResolver):
                 f"{other}: {' or '.join(describe_type(d) for d in fits)})"
             )
         where = place_of(blame.used_at)
+        self.blamed += 1
         shown = f"'{text}', " if len(text) <= _SHOWN else ""
         self.err(
             arg.span,

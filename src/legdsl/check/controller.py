@@ -23,6 +23,7 @@ from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
+from legdsl.check.record_readers import settle_by_readers
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
 from legdsl.ir import controller as ir
@@ -271,6 +272,9 @@ class ControllerChecker:
             if settled == scope.records:
                 break
             scope.records = settled
+        settle_by_readers(
+            scope, lambda d: self.elaborate_pass(scope, rows, d)[0], self.diag.sources
+        )
         el, states = self.elaborate_pass(scope, rows, self.diag)
         self.record_types(el, records, report=True)
         self.last_alias_uses = el.alias_uses
