@@ -10,6 +10,7 @@ from __future__ import annotations
 from legdsl.check.control_args import ArgumentProbe, retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
+from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
 from legdsl.ir.model import setting_kind
@@ -167,6 +168,7 @@ class Elaborator(ExprChecker, ArgumentProbe):
         with self.captured() as found:
             body = check(given)
         if not found.items:
+            self.misaimed(s, given, tuple(body))
             return ir.Do(s.action.name, tuple(body), s.span)
         checked = self.snapshot()
         self.restore(saved)  # each trial starts where this call did
@@ -183,6 +185,15 @@ class Elaborator(ExprChecker, ArgumentProbe):
         given[blame.index] = retyped(blame.given, blame.fits[0])
         check(given)
         return None
+
+    def misaimed(self, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]) -> None:
+        """A body argument that a hip the call drives cannot hold (hip_holds), told once."""
+        if s.span.file != self.scope.user_file:
+            return
+        for span, message in misaimed_bodies(self.scope, s, given, body):
+            if (span, message) not in self._reported_at_call:
+                self._reported_at_call.add((span, message))
+                self.err(span, message)
 
     def place(self, s: ast.PlaceStmt, local: dict[str, Value]) -> ir.Place | None:
         """``place LEG at (x = .., z = ..) using SERVO, ..``: a leg, known axes, one servo per goal."""

@@ -1,0 +1,122 @@
+"""A servo that turns a body through a leg's hip must be given the body the hip holds.
+
+A hip actuator's torque acts between the leg and the body the leg hangs from (the parent
+of the leg's first joint, with whatever is welded to it). An action that sets it from a
+body's orientation (``servo_pitch(leg, body, ...)``: the torque from ``body.pitch``) is
+eq. (4) only for that body: given another (the leg's own thigh), the torque turns the
+trunk while reading a body it cannot hold, and no run of it can be right. So a call whose
+statements set a hip actuator from the orientation of a body given as an argument is told
+at that argument, with the body the hip holds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from legdsl.check.control_names import Scope, Value
+from legdsl.ir import controller as ir
+from legdsl.ir.model import Model
+from legdsl.lang import ast
+from legdsl.lang.errors import Span
+
+# What a body's orientation is read as (the posture and heading servos read these).
+_ORIENTATION = {"pitch", "roll", "yaw", "pitch_rate", "roll_rate", "yaw_rate"}
+
+
+def misaimed_bodies(
+    scope: Scope, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]
+) -> Iterator[tuple[Span, str]]:
+    """Each argument of the call ``s`` that is a body a hip it drives cannot hold: where,
+    and what to say."""
+    model = scope.model
+    for arg, value in zip(s.args, given, strict=True):
+        if not (isinstance(value, ir.Part) and value.kind == "body"):
+            continue
+        for leg, held in _hips_driven_from(scope, body, value.name):
+            if value.name in _welded(model, held):
+                continue
+            yield (
+                arg.span,
+                f"action '{s.action.name}' sets the hip's torque from the orientation of "
+                f"'{value.name}', which that torque cannot hold: the hip of leg '{leg}' holds "
+                f"body '{held}'; did you mean '{held}'?",
+            )
+            break
+
+
+def _hips_driven_from(
+    scope: Scope, stmts: tuple[ir.Stmt, ...], name: str
+) -> Iterator[tuple[str, str]]:
+    """(leg, the body its hip hangs from) for each hip actuator set from ``name``'s orientation."""
+    model = scope.model
+    hip_of = {leg.name: leg.joints[0] for leg in model.legs if leg.joints}
+    parent = {j.name: j.parent for j in model.joints}
+    for assign in _assigns(stmts):
+        if not _reads_orientation(assign.value, name):
+            continue
+        for leg, joint in _joints_of(scope, assign.actuator):
+            hip = hip_of.get(leg)
+            held = parent.get(hip) if hip is not None else None
+            if joint == hip and held is not None:
+                yield leg, held
+
+
+def _assigns(stmts: tuple[ir.Stmt, ...]) -> Iterator[ir.Assign]:
+    for s in stmts:
+        if isinstance(s, ir.Assign):
+            yield s
+        elif isinstance(s, ir.Do | ir.Each):
+            yield from _assigns(s.body)
+
+
+def _reads_orientation(e: object, name: str) -> bool:
+    if isinstance(e, ir.Read):
+        thing = e.thing
+        return isinstance(thing, ir.Part) and thing.name == name and e.member in _ORIENTATION
+    if isinstance(e, ir.Unary):
+        return _reads_orientation(e.operand, name)
+    if isinstance(e, ir.Binary):
+        return _reads_orientation(e.left, name) or _reads_orientation(e.right, name)
+    if isinstance(e, ir.Call):
+        return any(_reads_orientation(a, name) for a in e.args)
+    return False
+
+
+def _joints_of(scope: Scope, actuator: ir.Part | ir.Alias) -> Iterator[tuple[str, str]]:
+    """(leg, joint) of the actuator on each leg it can stand for."""
+    model = scope.model
+    joint_of_dof = {d.name: d.joint for d in model.dofs}
+    joint_of = {a.name: joint_of_dof.get(a.dof) for a in model.actuators}
+    if isinstance(actuator, ir.Part):
+        joint = joint_of.get(actuator.name)
+        for one in model.legs:
+            if joint is not None and joint in one.joints:
+                yield one.name, joint
+        return
+    for leg in _legs(scope, actuator.legs):
+        joint = joint_of.get(scope.aliases.get(leg, {}).get(actuator.alias, ""))
+        if joint is not None:
+            yield leg, joint
+
+
+def _legs(scope: Scope, legs: ir.Legs) -> tuple[str, ...]:
+    root = legs.root()
+    if root.leg is not None:
+        return (root.leg,)
+    if root.role is not None:  # every leg a role is bound to by its first binding
+        return scope.roles.get(root.role, ())
+    return ()
+
+
+def _welded(model: Model, body: str) -> set[str]:
+    """``body`` and the bodies welded to it, rigidly one with it."""
+    group = {body}
+    welds = [(j.parent, j.child) for j in model.joints if j.kind == "weld"]
+    grew = True
+    while grew:
+        grew = False
+        for a, b in welds:
+            if (a in group) != (b in group) and a is not None:
+                group |= {a, b}
+                grew = True
+    return group
