@@ -51,8 +51,8 @@ def _hips_driven_from(
     model = scope.model
     hip_of = {leg.name: leg.joints[0] for leg in model.legs if leg.joints}
     parent = {j.name: j.parent for j in model.joints}
-    for assign in _assigns(stmts):
-        if not _reads_orientation(assign.value, name):
+    for assign in assigns(stmts):
+        if not reads_orientation(assign.value, name):
             continue
         for leg, joint in _joints_of(scope, assign.actuator):
             hip = hip_of.get(leg)
@@ -61,24 +61,24 @@ def _hips_driven_from(
                 yield leg, held
 
 
-def _assigns(stmts: tuple[ir.Stmt, ...]) -> Iterator[ir.Assign]:
+def assigns(stmts: tuple[ir.Stmt, ...]) -> Iterator[ir.Assign]:
     for s in stmts:
         if isinstance(s, ir.Assign):
             yield s
         elif isinstance(s, ir.Do | ir.Each):
-            yield from _assigns(s.body)
+            yield from assigns(s.body)
 
 
-def _reads_orientation(e: object, name: str) -> bool:
+def reads_orientation(e: object, name: str) -> bool:
     if isinstance(e, ir.Read):
         thing = e.thing
         return isinstance(thing, ir.Part) and thing.name == name and e.member in _ORIENTATION
     if isinstance(e, ir.Unary):
-        return _reads_orientation(e.operand, name)
+        return reads_orientation(e.operand, name)
     if isinstance(e, ir.Binary):
-        return _reads_orientation(e.left, name) or _reads_orientation(e.right, name)
+        return reads_orientation(e.left, name) or reads_orientation(e.right, name)
     if isinstance(e, ir.Call):
-        return any(_reads_orientation(a, name) for a in e.args)
+        return any(reads_orientation(a, name) for a in e.args)
     return False
 
 

@@ -1,0 +1,58 @@
+"""A single-leg library action given a group role: each member would apply the whole torque.
+
+Assigning through a group role sets every member's actuator (docs/language.md, "Virtual
+legs"), which is right for a spring's rest or a servo's gains but not for a posture
+torque computed from a body's orientation: ``servo_pitch(pair, trunk, ...)`` has each of
+the pair's hips apply eq. (4)'s whole torque, so the trunk feels it once per member (the
+gains silently multiplied). The virtual-leg actions share it (``each`` member applies a
+part); a library statement that sets a ``force`` through the group itself is told at the
+argument that gave the group.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from legdsl.check.control_names import Scope, Value
+from legdsl.check.hip_holds import assigns, reads_orientation
+from legdsl.ir import controller as ir
+from legdsl.lang import ast
+from legdsl.lang.errors import Span
+
+
+def whole_torque_per_member(
+    scope: Scope, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]
+) -> Iterator[tuple[Span, str]]:
+    """Each group-role argument of ``s`` through which a library statement sets a torque
+    from a body's orientation: where, and what to say."""
+    bodies = {v.name for v in given if isinstance(v, ir.Part) and v.kind == "body"}
+    for arg, value in zip(s.args, given, strict=True):
+        if not isinstance(value, ir.Legs) or value.each is not None or value.role is None:
+            continue
+        legs = scope.roles.get(value.role, ())
+        if len(legs) < 2:
+            continue
+        torque = next(
+            (
+                a
+                for a in assigns(body)
+                if a.key == "force"
+                and a.span.file != scope.user_file
+                and isinstance(a.actuator, ir.Alias)
+                and a.actuator.legs == value
+                and any(reads_orientation(a.value, b) for b in bodies)
+            ),
+            None,
+        )
+        if torque is None:
+            continue
+        assert isinstance(torque.actuator, ir.Alias)
+        role, n = value.role, len(legs)
+        yield (
+            arg.span,
+            f"action '{s.action.name}' is for one leg, but '{role}' is a group of {n} legs "
+            f"({', '.join(legs)}): each member's '{torque.actuator.alias}' would apply the "
+            f"whole torque, {n} times what is meant; share it: 'each m in {role} "
+            f"{{ {s.action.name}(m, ...) }}' with the gains divided by "
+            f"'max({role}.feet_down, 1)' (as servo_posture_virtual does)",
+        )
