@@ -27,6 +27,7 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.api import notes
 from legdsl.api.arguments import (
     a_path,
     seconds,
@@ -35,6 +36,7 @@ from legdsl.api.arguments import (
     window_time,
     with_units,
 )
+from legdsl.api.notes import LegdslWarning
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import write_atomic, writing_alone
@@ -47,7 +49,7 @@ from legdsl.pipeline.settings import named_si_unit
 from legdsl.sim.run_loop import RunOptions, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
-__all__ = ["Copies", "Creature", "Quantity", "Run", "load", "open_run"]
+__all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
 
 
 @dataclass(frozen=True)
@@ -83,6 +85,8 @@ class Creature:
 
     def __init__(self, session: RunSession):
         self.session = session
+        if session.log is None:  # its notes about a run: LegdslWarning (legdsl.api.notes)
+            session.note = notes.warn
 
     @property
     def name(self) -> str:
@@ -120,7 +124,10 @@ class Creature:
         ``integrator``, ``control_dt``, ``record_rate``, ``fall_height``, ``fall_tilt`` in
         radians, ``drop``)."""
         plan = self._session_args(controller, set, time, path, switch, scene, **options)
-        return self._wrap(self.session.run(**plan))
+        self._before(plan)
+        done = self.session.run(**plan)
+        self._after(done)
+        return self._wrap(done)
 
     def run_many(
         self, runs: Sequence[Mapping[str, Any]], threads: int | None = None
@@ -142,7 +149,10 @@ class Creature:
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [self._session_args(**r) for r in runs]
+        for plan in plans:
+            self._before(plan)
         for i, done in iter_batch(self.session, plans, thread_count(threads)):
+            self._after(done)
             yield i, self._wrap(done)
 
     def run_copies(
@@ -179,6 +189,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
+        self._before(plan)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(thread_count(threads), progress))
@@ -236,6 +247,14 @@ class Creature:
             "options": run_options,
             "switches": switches,
         }
+
+    def _before(self, plan: dict[str, Any]) -> None:
+        if self.session.note is not None:
+            notes.before_run(self.model, plan)
+
+    def _after(self, done: Any) -> None:
+        if self.session.note is not None:
+            notes.after_run(done)
 
     def _wrap(self, done: Any) -> Run:
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
