@@ -14,6 +14,7 @@ import pytest
 import legdsl
 from legdsl.api import Creature, LegdslWarning
 from legdsl.cli import main
+from legdsl.lang.errors import UsageError
 from legdsl.pipeline.session import RunSession
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -91,3 +92,11 @@ def test_a_session_with_a_log_prints_the_notes_there_and_does_not_warn(generated
     creature = Creature(RunSession.from_file(HOPPER, None, generated, log))
     caught = _warned(lambda: creature.run(controller="hop", time=0.3, switch={"0.1 s": "hop"}))
     assert caught == [] and "legdsl: note: the switch to hop at 0.1 s" in log.getvalue()
+
+
+@pytest.mark.parametrize("drop", [-1.0, float("nan")])
+def test_a_wrong_drop_is_still_a_usage_error(generated: Path, drop: float) -> None:
+    """The note of a fall outlasting the run took the root of a negative drop: a TypeError."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    with pytest.raises(UsageError, match="--drop"):
+        hopper.run(controller="hop", time=0.1, drop=drop)

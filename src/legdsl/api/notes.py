@@ -35,9 +35,11 @@ def warn(text: str) -> None:
 
 def before_run(model: Model, plan: dict[str, Any]) -> None:
     """What ``legdsl run`` notes before a run (the session notes the rest as it prepares)."""
+    from legdsl.pipeline.options import check_run_options
     from legdsl.pipeline.scenes import too_late
 
     options = plan["options"]
+    check_run_options(options)  # a mistake in them is told first, as legdsl run does
     for note in too_late(plan["settings"], options.duration):
         warn(note)
     fall = fall_time(options.drop, model)
@@ -62,6 +64,6 @@ def after_run(done: Any) -> None:
 def fall_time(drop: float | None, model: Model) -> float | None:
     """How long the lowest foot takes to fall ``drop`` from rest (None: no ground, no fall)."""
     g = -model.gravity[2]
-    if drop is None or model.ground is None or not g > 0:
+    if drop is None or not drop > 0 or model.ground is None or not g > 0:
         return None
     return float((2.0 * drop / g) ** 0.5)
