@@ -30,6 +30,7 @@ from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.api import notes
 from legdsl.api.arguments import (
     a_path,
+    an_output,
     seconds,
     setting_text,
     thread_count,
@@ -39,7 +40,7 @@ from legdsl.api.arguments import (
 from legdsl.api.notes import LegdslWarning
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
-from legdsl.files import write_atomic, writing_alone
+from legdsl.files import atomic_same_name, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
@@ -338,9 +339,9 @@ class Run:
 
     def __getitem__(self, name: str) -> np.ndarray:
         samples = self.samples
+        if not isinstance(name, str):  # did_you_mean would fail on it
+            raise KeyError(f"no series {name!r}: a series is named by a text, e.g. run['com.x']")
         if name not in samples:
-            from legdsl.check.values import did_you_mean
-
             raise KeyError(f"no series '{name}'{did_you_mean(name, samples)}")
         return samples[name]
 
@@ -405,16 +406,22 @@ class Run:
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
         t_from = window_time("start", start)
+        out = an_output("plot()", path, (".png",), "a PNG") if path is not None else None
         directory = self._directory()
-        out = a_path("plot()", path) if path is not None else directory / "figure6.png"
-        return plot_run(directory, out, first_leg_angles(directory), t_from, None)
+        out = out or directory / "figure6.png"
+        with atomic_same_name(out) as drawn:  # no half PNG under its name
+            plot_run(directory, drawn, first_leg_angles(directory), t_from, None)
+        return out
 
     def animate(self, path: str | Path | None = None) -> Path:
         """The self-contained HTML player of this run (in the run's directory by default)."""
         from legdsl.export.player import write_player
 
+        player = "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"
         out = (
-            a_path("animate()", path) if path is not None else self._directory() / "animation.html"
+            an_output("animate()", path, (".html", ".htm"), player)
+            if path is not None
+            else self._directory() / "animation.html"
         )
         write_player(self._motion(), out)
         return out
@@ -447,8 +454,12 @@ class Run:
         )
 
     def _directory(self) -> Path:
-        """Where the run is saved; a fresh run is saved to a temporary directory first."""
-        if self.directory is None:
+        """Where the run is saved; a fresh run, or one whose directory was since deleted, is
+        saved to a temporary directory first."""
+        saved = self.directory is not None and all(
+            (self.directory / name).is_file() for name in ("run.json", "trajectory.npz")
+        )
+        if not saved:
             self.save(Path(tempfile.mkdtemp(prefix=f"legdsl-{self.model.name}-")))
         assert self.directory is not None
         return self.directory
