@@ -100,3 +100,12 @@ def test_a_wrong_drop_is_still_a_usage_error(generated: Path, drop: float) -> No
     hopper = legdsl.load(HOPPER, generated=generated)
     with pytest.raises(UsageError, match="--drop"):
         hopper.run(controller="hop", time=0.1, drop=drop)
+
+
+def test_run_many_in_threads_warns_at_the_callers_line(generated: Path) -> None:
+    """A note made in a batch's thread pointed at concurrent/futures/thread.py."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    runs = [{"controller": "hop", "time": 0.3, "switch": {"0.1 s": "hop"}}] * 2
+    caught = _warned(lambda: list(hopper.run_many(runs, threads=2)))
+    restarts = [w for w in caught if "restarts hop's state machine" in str(w.message)]
+    assert len(restarts) == 2 and all(Path(w.filename) == Path(__file__) for w in caught)

@@ -152,9 +152,11 @@ class Creature:
         plans = [self._session_args(**r) for r in runs]
         for plan in plans:
             self._before(plan)
-        for i, done in iter_batch(self.session, plans, thread_count(threads)):
-            self._after(done)
-            yield i, self._wrap(done)
+        with notes.from_threads(self.session) as flush:
+            for i, done in iter_batch(self.session, plans, thread_count(threads)):
+                flush()
+                self._after(done)
+                yield i, self._wrap(done)
 
     def run_copies(
         self,

@@ -9,8 +9,11 @@ there instead, never both.
 
 from __future__ import annotations
 
+import contextlib
 import sys
+import threading
 import warnings
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +34,26 @@ def warn(text: str) -> None:
     while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
         frame, level = frame.f_back, level + 1  # type: ignore[assignment]
     warnings.warn(text, LegdslWarning, stacklevel=level)
+
+
+@contextlib.contextmanager
+def from_threads(session: Any) -> Iterator[Callable[[], None]]:
+    """While a batch runs in threads, their notes wait for the caller's thread (``flush``):
+    warned of in a thread, they would point at the thread pool, not the caller's line."""
+    hook, caller, pending = session.note, threading.get_ident(), []
+
+    def note(text: str) -> None:
+        warn(text) if threading.get_ident() == caller else pending.append(text)
+
+    def flush() -> None:
+        while pending:
+            warn(pending.pop(0))
+
+    session.note = note if hook is not None else None
+    try:
+        yield flush
+    finally:
+        session.note = hook
 
 
 def before_run(model: Model, plan: dict[str, Any]) -> None:
