@@ -66,3 +66,16 @@ def test_a_run_whose_directory_was_deleted_is_drawn_from_a_new_one(
 def test_a_series_asked_for_by_a_number_is_a_key_error(run: legdsl.api.Run) -> None:
     with pytest.raises(KeyError, match="named by a text"):
         run[0]  # type: ignore[index]
+
+
+def test_a_series_is_read_only_so_the_run_stays_as_recorded(run: legdsl.api.Run) -> None:
+    """``t = run["t"]; t += 100`` shifted the run's own times (its plots, metrics, save)."""
+    start, first_x = float(run["t"][0]), float(run["q.x"][0])
+    for name in ("t", "q.x", "state", "energy.kinetic"):
+        with pytest.raises(ValueError, match="read-only"):
+            run[name][0] = 100.0
+    assert float(run["t"][0]) == start and float(run["q.x"][0]) == first_x
+    assert run.trajectory.t.flags.writeable and run.trajectory.state.flags.writeable
+    shifted = run["t"].copy()
+    shifted += 1
+    assert run.to_pandas().index[0] == start

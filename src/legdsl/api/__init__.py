@@ -311,7 +311,8 @@ class Run:
         ``com_vel.x``..., ``root.x``..., ``root.roll``..., ``contact.NAME`` (1 touching),
         ``force.NAME.x``..., ``leg_length.LEG``, ``state`` (an index into ``state_names``),
         ``speed_command``, ``energy.kinetic``..., ``work_positive.ACTUATOR`` and
-        ``work_negative.ACTUATOR`` (each actuator's work since the start) (SI units)."""
+        ``work_negative.ACTUATOR`` (each actuator's work since the start) (SI units), read-only
+        (``.copy()`` one to change it)."""
         tr = self.trajectory
         out: dict[str, np.ndarray] = {"t": tr.t}
         out |= {f"q.{n}": tr.q[:, i] for i, n in enumerate(tr.q_names)}
@@ -333,6 +334,9 @@ class Run:
         for i, n in enumerate(tr.actuator_names):
             out[f"work_positive.{n}"] = tr.work_positive[:, i]
             out[f"work_negative.{n}"] = tr.work_negative[:, i]
+        for name, series in out.items():  # the run's own arrays: changed, they changed it
+            out[name] = series.view()
+            out[name].flags.writeable = False
         return out
 
     @property
