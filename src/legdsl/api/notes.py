@@ -19,7 +19,8 @@ from typing import Any
 
 from legdsl.ir.model import Model
 
-_PACKAGE = str(Path(__file__).resolve().parent.parent)
+# legdsl's folder as its modules' code names it (as imported, and with its links resolved)
+_PACKAGE = tuple({str(Path(__file__).parent.parent), str(Path(__file__).resolve().parent.parent)})
 
 
 class LegdslWarning(UserWarning):
