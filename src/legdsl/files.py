@@ -14,7 +14,10 @@ recognised by ``is_leftover`` and ``leftovers``. A writer of several files into 
 A write the system refuses for want of room (a full disk, a quota, a file too large, an I/O
 error) raises an ``OSError`` that names the target, not its temporary name, and says what to
 free (``refused``); the temporary file is removed and an older file at the target is kept.
-A target that is a device or a pipe (``/dev/null``, a FIFO) is written in place (``is_device``).
+A target that is a device or a pipe (``/dev/null``, a FIFO) is written in place (``is_device``),
+as is one of this process's open files (``/dev/stdout`` with stdout sent to a file: through
+the descriptor, so that what is printed after it follows it); a symbolic link to a file has
+that file replaced, and stays a link.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import secrets
 import shutil
 import signal
 import stat
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -168,22 +172,63 @@ def is_device(path: Path) -> bool:
     return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
+# a descriptor of this process by its name: /dev/stdout -> /proc/self/fd/1, /dev/fd/2
+_FD_NAME = re.compile(r"^/(?:proc/(?P<pid>self|thread-self|\d+)/fd|dev/fd)/(?P<fd>\d+)$")
+
+
+def process_fd(path: Path) -> int | None:
+    """The descriptor of this process that ``path`` names (through its symbolic links:
+    ``/dev/stdout``, ``/dev/fd/N``, ``/proc/self/fd/N``), or None. Such a file is written in
+    place: replaced by a rename, the link itself would go (as root, ``/dev/stdout``), or the
+    file the shell sent stdout to would be swapped under the open descriptor."""
+    name = os.path.abspath(path)
+    for _ in range(40):  # the system's own limit of links followed
+        m = _FD_NAME.match(name)
+        if m and m.group("pid") in (None, "self", "thread-self", str(os.getpid())):
+            return int(m.group("fd"))
+        try:
+            link = os.readlink(name)
+        except OSError:
+            return None
+        name = os.path.normpath(os.path.join(os.path.dirname(name), link))
+    return None
+
+
+def _replaced(path: Path) -> Path:
+    """The file a write of ``path`` replaces: a symbolic link's target, so the link stays."""
+    return Path(os.path.realpath(path)) if path.is_symlink() else path
+
+
+@contextlib.contextmanager
+def _in_place(path: Path) -> Iterator[Path]:
+    """``path`` itself to write (a device, a pipe, a descriptor's file); a descriptor of this
+    process is then moved past what was written, for what is printed next to follow it."""
+    fd = process_fd(path)
+    with _refusals_of(path, path):
+        yield path
+    if fd is not None:
+        with contextlib.suppress(OSError):  # a pipe or a terminal: nothing to move
+            os.lseek(fd, 0, os.SEEK_END)
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     """A temporary path to write (ending in ``suffix``, by default ``path``'s own); renamed
-    over ``path`` when the block ends without error, removed if it raises. Parents are made."""
+    over ``path`` (a link's target) when the block ends without error, removed if it raises.
+    Parents are made."""
     path = Path(path)
-    if is_device(path):
-        with _refusals_of(path, path):
-            yield path
+    if is_device(path) or process_fd(path) is not None:
+        with _in_place(path) as same:
+            yield same
         return
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = temp_sibling(path, suffix=suffix)
+    target = _replaced(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = temp_sibling(target, suffix=suffix)
     try:
         with _refusals_of(tmp, path):
             yield tmp
         instant(f"wrote {tmp.name}")
-        _rename(tmp, path)
+        _rename(tmp, target, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -195,12 +240,13 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
     temporary file has ``path``'s own name, in a hidden sibling directory. A writer that wrote
     nothing leaves ``path`` as it was."""
     path = Path(path)
-    if is_device(path):
-        with _refusals_of(path, path):
-            yield path
+    if is_device(path) or process_fd(path) is not None:
+        with _in_place(path) as same:
+            yield same
         return
-    path.parent.mkdir(parents=True, exist_ok=True)
-    folder = temp_sibling(path, suffix="")
+    target = _replaced(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    folder = temp_sibling(target, suffix="")
     try:
         inner = folder / path.name
         with _refusals_of(folder, path):
@@ -208,7 +254,7 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
         with _refusals_of(inner, path):
             yield inner
         if inner.exists():
-            _rename(inner, path)
+            _rename(inner, target, path)
     finally:
         remove(folder)
 
@@ -225,9 +271,9 @@ def _refusals_of(tmp: Path, path: Path) -> Iterator[None]:
         raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
 
 
-def _rename(tmp: Path, path: Path) -> None:
+def _rename(tmp: Path, target: Path, path: Path) -> None:
     try:
-        os.replace(tmp, path)
+        os.replace(tmp, target)
     except OSError as e:  # name the file the user knows (a directory in its place...)
         raise refused(type(e)(e.errno, e.strerror, str(path)), path) from None
 
@@ -250,6 +296,14 @@ def write_atomic(path: str | Path, data: str | bytes) -> None:
     if not isinstance(data, str | bytes):
         raise TypeError(f"write_atomic writes str or bytes, not {type(data).__name__}")
     raw = data.encode("utf-8") if isinstance(data, str) else data
+    fd = process_fd(Path(path))
+    if fd is not None:  # through the descriptor, at its place: what it printed stays before
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        with _refusals_of(Path(path), Path(path)), open(fd, "wb", closefd=False) as f:
+            f.write(raw)
+        return
     if is_device(Path(path)):
         with atomic_path(path) as device, open(device, "wb") as f:
             f.write(raw)

@@ -27,17 +27,20 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.api import notes
 from legdsl.api.arguments import (
     a_path,
+    an_output,
     seconds,
     setting_text,
     thread_count,
     window_time,
     with_units,
 )
+from legdsl.api.notes import LegdslWarning
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
-from legdsl.files import write_atomic, writing_alone
+from legdsl.files import atomic_same_name, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
@@ -47,7 +50,7 @@ from legdsl.pipeline.settings import named_si_unit
 from legdsl.sim.run_loop import RunOptions, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
-__all__ = ["Copies", "Creature", "Quantity", "Run", "load", "open_run"]
+__all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
 
 
 @dataclass(frozen=True)
@@ -83,6 +86,8 @@ class Creature:
 
     def __init__(self, session: RunSession):
         self.session = session
+        if session.log is None:  # its notes about a run: LegdslWarning (legdsl.api.notes)
+            session.note = notes.warn
 
     @property
     def name(self) -> str:
@@ -120,7 +125,10 @@ class Creature:
         ``integrator``, ``control_dt``, ``record_rate``, ``fall_height``, ``fall_tilt`` in
         radians, ``drop``)."""
         plan = self._session_args(controller, set, time, path, switch, scene, **options)
-        return self._wrap(self.session.run(**plan))
+        self._before(plan)
+        done = self.session.run(**plan)
+        self._after(done)
+        return self._wrap(done)
 
     def run_many(
         self, runs: Sequence[Mapping[str, Any]], threads: int | None = None
@@ -142,8 +150,13 @@ class Creature:
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [self._session_args(**r) for r in runs]
-        for i, done in iter_batch(self.session, plans, thread_count(threads)):
-            yield i, self._wrap(done)
+        for plan in plans:
+            self._before(plan)
+        with notes.from_threads(self.session) as flush:
+            for i, done in iter_batch(self.session, plans, thread_count(threads)):
+                flush()
+                self._after(done)
+                yield i, self._wrap(done)
 
     def run_copies(
         self,
@@ -179,6 +192,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
+        self._before(plan)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(thread_count(threads), progress))
@@ -237,6 +251,14 @@ class Creature:
             "switches": switches,
         }
 
+    def _before(self, plan: dict[str, Any]) -> None:
+        if self.session.note is not None:
+            notes.before_run(self.model, plan)
+
+    def _after(self, done: Any) -> None:
+        if self.session.note is not None:
+            notes.after_run(done)
+
     def _wrap(self, done: Any) -> Run:
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
 
@@ -289,7 +311,8 @@ class Run:
         ``com_vel.x``..., ``root.x``..., ``root.roll``..., ``contact.NAME`` (1 touching),
         ``force.NAME.x``..., ``leg_length.LEG``, ``state`` (an index into ``state_names``),
         ``speed_command``, ``energy.kinetic``..., ``work_positive.ACTUATOR`` and
-        ``work_negative.ACTUATOR`` (each actuator's work since the start) (SI units)."""
+        ``work_negative.ACTUATOR`` (each actuator's work since the start) (SI units), read-only
+        (``.copy()`` one to change it)."""
         tr = self.trajectory
         out: dict[str, np.ndarray] = {"t": tr.t}
         out |= {f"q.{n}": tr.q[:, i] for i, n in enumerate(tr.q_names)}
@@ -311,6 +334,9 @@ class Run:
         for i, n in enumerate(tr.actuator_names):
             out[f"work_positive.{n}"] = tr.work_positive[:, i]
             out[f"work_negative.{n}"] = tr.work_negative[:, i]
+        for name, series in out.items():  # the run's own arrays: changed, they changed it
+            out[name] = series.view()
+            out[name].flags.writeable = False
         return out
 
     @property
@@ -319,9 +345,9 @@ class Run:
 
     def __getitem__(self, name: str) -> np.ndarray:
         samples = self.samples
+        if not isinstance(name, str):  # did_you_mean would fail on it
+            raise KeyError(f"no series {name!r}: a series is named by a text, e.g. run['com.x']")
         if name not in samples:
-            from legdsl.check.values import did_you_mean
-
             raise KeyError(f"no series '{name}'{did_you_mean(name, samples)}")
         return samples[name]
 
@@ -386,16 +412,22 @@ class Run:
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
         t_from = window_time("start", start)
+        out = an_output("plot()", path, (".png",), "a PNG") if path is not None else None
         directory = self._directory()
-        out = a_path("plot()", path) if path is not None else directory / "figure6.png"
-        return plot_run(directory, out, first_leg_angles(directory), t_from, None)
+        out = out or directory / "figure6.png"
+        with atomic_same_name(out) as drawn:  # no half PNG under its name
+            plot_run(directory, drawn, first_leg_angles(directory), t_from, None)
+        return out
 
     def animate(self, path: str | Path | None = None) -> Path:
         """The self-contained HTML player of this run (in the run's directory by default)."""
         from legdsl.export.player import write_player
 
+        player = "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"
         out = (
-            a_path("animate()", path) if path is not None else self._directory() / "animation.html"
+            an_output("animate()", path, (".html", ".htm"), player)
+            if path is not None
+            else self._directory() / "animation.html"
         )
         write_player(self._motion(), out)
         return out
@@ -428,8 +460,12 @@ class Run:
         )
 
     def _directory(self) -> Path:
-        """Where the run is saved; a fresh run is saved to a temporary directory first."""
-        if self.directory is None:
+        """Where the run is saved; a fresh run, or one whose directory was since deleted, is
+        saved to a temporary directory first."""
+        saved = self.directory is not None and all(
+            (self.directory / name).is_file() for name in ("run.json", "trajectory.npz")
+        )
+        if not saved:
             self.save(Path(tempfile.mkdtemp(prefix=f"legdsl-{self.model.name}-")))
         assert self.directory is not None
         return self.directory

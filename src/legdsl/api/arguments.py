@@ -82,3 +82,14 @@ def setting_text(name: str, value: str | float) -> str:
     key, at, when = name.partition("@")
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
+
+
+def an_output(call: str, path: object, suffixes: tuple[str, ...], what: str) -> Path:
+    """``plot()``'s and ``animate()``'s ``path=``: a file, not a directory, named for what is
+    written into it (a PNG named ``.mp4``, or a player named ``.mp4``, misleads)."""
+    from legdsl.pipeline.options import check_output_file
+
+    out = check_output_file(a_path(call, path), call)
+    if out.suffix.lower() not in suffixes:
+        raise UsageError(f"{call} {out}: this writes {what}; give a name ending in {suffixes[0]}")
+    return out

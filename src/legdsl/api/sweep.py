@@ -202,6 +202,7 @@ def _creature(job: Job) -> Any:
     key = (job.source, job.creature, job.generated)
     if key not in _CREATURES:
         _CREATURES[key] = load(job.source, job.creature, job.generated)
+        _CREATURES[key].session.note = None  # a row says how its run went: no warning per run
     return _CREATURES[key]
 
 

@@ -90,6 +90,8 @@ class RunSession:
         self.generated = Path(generated)
         self.syntax = syntax
         self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
+        # without a log, where the notes and warnings about a run go (the API's warnings)
+        self.note: Callable[[str], None] | None = None
         self._controls: dict[str, ModuleType] = {}
         # diag(M^-1) at a start state: a batch's runs mostly share theirs (RunSession.run)
         self._inverse_inertia: dict[tuple[ModuleType, tuple[float, ...]], list[float]] = {}
@@ -204,9 +206,9 @@ class RunSession:
         later = [w.controller for w in changes]
         sorted_settings = sort_settings(settings, self.model, controller, later)
         _refuse_two_commands(settings, sorted_settings)
-        if controller is not None and self.log is not None:
+        if controller is not None:
             for note in _switches_to_the_running(controller, changes):
-                print(f"legdsl: note: {note}", file=self.log)
+                self._tell("note", note)
         if controller is not None and not changes:  # one controller: its own values are the run's
             s = sorted_settings
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
@@ -301,16 +303,24 @@ class RunSession:
                 [Diagnostic(spans[f.actuator], f.message(opts.dt, unit(f))) for f in found],
                 {file: Path(file).read_text(encoding="utf-8") for file in files},
             )
-        if self.log is None:
+        if self.log is None and self.note is None:
             return
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
         for f in held:  # saturating actuators past the bound: they chatter, a warning
-            print(f"legdsl: warning: {f.message(opts.dt, unit(f), True)}", file=self.log)
+            self._tell("warning", f.message(opts.dt, unit(f), True))
         # a stop acts only once its limit is reached, which a run may never do: a warning
         at = {st.dof: st.span for st in self.model.stops}
         for f in stops_too_stiff(self.model.stops, inverse, opts.dt, opts.integrator):
-            print(f"legdsl: warning: {at[f.actuator]}: {stop_message(f)}; a run that reaches "
-                  "it diverges there", file=self.log)  # fmt: skip
+            self._tell("warning", f"{at[f.actuator]}: {stop_message(f)}; a run that reaches it "
+                       "diverges there")  # fmt: skip
+
+    def _tell(self, kind: str, text: str) -> None:
+        """A note or warning about a run: printed to the log (``legdsl run``'s stderr), or
+        else given to ``note`` (the API's ``LegdslWarning``), never both."""
+        if self.log is not None:
+            print(f"legdsl: {kind}: {text}", file=self.log)
+        elif self.note is not None:
+            self.note(text)
 
 
 def _refuse_two_commands(texts: Sequence[str], settings: Settings) -> None:

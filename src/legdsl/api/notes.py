@@ -1,0 +1,93 @@
+"""The notes ``legdsl run`` prints about a run, as Python warnings for the API's callers.
+
+Each is a ``LegdslWarning`` (a ``UserWarning``) with the text the command line prints after
+``legdsl: note:`` or ``legdsl: warning:``, reported at the caller's line: shown once by
+default, silenced with ``warnings.filterwarnings("ignore", category=LegdslWarning)``, an
+error under ``pytest -W error``. A session with a log (the command line's) prints them
+there instead, never both.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+import threading
+import warnings
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+from legdsl.ir.model import Model
+
+# legdsl's folder as its modules' code names it (as imported, and with its links resolved)
+_PACKAGE = tuple({str(Path(__file__).parent.parent), str(Path(__file__).resolve().parent.parent)})
+
+
+class LegdslWarning(UserWarning):
+    """A note about a run that does not stop it: a switch to the controller already running,
+    an actuator that chatters at its bound, a change asked for after the run's end, a drop
+    whose fall outlasts the run, a passive run of a creature that has controllers..."""
+
+
+def warn(text: str) -> None:
+    """``text`` as a ``LegdslWarning`` at the first caller outside legdsl (its own line)."""
+    frame, level = sys._getframe(0), 1
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1  # type: ignore[assignment]
+    warnings.warn(text, LegdslWarning, stacklevel=level)
+
+
+@contextlib.contextmanager
+def from_threads(session: Any) -> Iterator[Callable[[], None]]:
+    """While a batch runs in threads, their notes wait for the caller's thread (``flush``):
+    warned of in a thread, they would point at the thread pool, not the caller's line."""
+    hook, caller, pending = session.note, threading.get_ident(), []
+
+    def note(text: str) -> None:
+        warn(text) if threading.get_ident() == caller else pending.append(text)
+
+    def flush() -> None:
+        while pending:
+            warn(pending.pop(0))
+
+    session.note = note if hook is not None else None
+    try:
+        yield flush
+    finally:
+        session.note = hook
+
+
+def before_run(model: Model, plan: dict[str, Any]) -> None:
+    """What ``legdsl run`` notes before a run (the session notes the rest as it prepares)."""
+    from legdsl.pipeline.options import check_run_options
+    from legdsl.pipeline.scenes import too_late
+
+    options = plan["options"]
+    check_run_options(options)  # a mistake in them is told first, as legdsl run does
+    for note in too_late(plan["settings"], options.duration):
+        warn(note)
+    fall = fall_time(options.drop, model)
+    if fall is not None and fall > options.duration:
+        warn(f"--drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer than the run "
+             f"({options.duration:g} s), which ends with the creature in the air; give "
+             f"--time {fall:.3g}s or more, or a lower --drop")  # fmt: skip
+    names = [c.name for c in model.controllers]
+    if plan["controller"] is None and names:  # legdsl run's summary says it, after the run
+        warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "
+             f"(the file has {', '.join(names)})")  # fmt: skip
+
+
+def after_run(done: Any) -> None:
+    """What ``legdsl run`` notes after a run: the switches that never took over."""
+    from legdsl.cli.run import _switches_not_made
+
+    for notice in _switches_not_made(done):
+        warn(notice)
+
+
+def fall_time(drop: float | None, model: Model) -> float | None:
+    """How long the lowest foot takes to fall ``drop`` from rest (None: no ground, no fall)."""
+    g = -model.gravity[2]
+    if drop is None or not drop > 0 or model.ground is None or not g > 0:
+        return None
+    return float((2.0 * drop / g) ** 0.5)

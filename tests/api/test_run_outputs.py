@@ -1,0 +1,81 @@
+"""A run's pictures and player as a Python user asks for them: a directory or a misleading
+name for ``path=`` is a ``UsageError`` (a directory was an IsADirectoryError, and a player
+named ``run.mp4`` was written as HTML); a run whose directory was deleted is saved again to a
+temporary one (``plot()`` said its run.json was missing); a series asked for by a number is a
+``KeyError`` (it was a TypeError)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+import legdsl
+from legdsl.lang.errors import UsageError
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def run(generated: Path) -> legdsl.api.Run:
+    return legdsl.load(ROOT / "creatures" / "hopper.leg", generated=generated).run(
+        controller="hop", time=0.3
+    )
+
+
+@pytest.mark.parametrize(
+    ("call", "name", "message"),
+    [
+        ("plot", "", "this is a directory; give a file name"),
+        ("animate", "", "this is a directory; give a file name"),
+        ("plot", "fig", "this writes a PNG; give a name ending in .png"),
+        ("plot", "fig.pdf", "this writes a PNG; give a name ending in .png"),
+        ("animate", "run.mp4", "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"),
+    ],
+)
+def test_a_path_that_is_a_directory_or_misnamed_is_refused(
+    run: legdsl.api.Run, tmp_path: Path, call: str, name: str, message: str
+) -> None:
+    with pytest.raises(
+        UsageError, match=f"^{call}\\(\\) .*{message.replace('(', '.').replace(')', '.')}"
+    ):
+        getattr(run, call)(path=tmp_path / name if name else tmp_path)
+    assert (
+        list(tmp_path.iterdir()) == [] and not (tmp_path.parent / f"{tmp_path.name}.png").exists()
+    )
+
+
+def test_plot_and_animate_write_the_names_asked_for(run: legdsl.api.Run, tmp_path: Path) -> None:
+    assert run.plot(path=tmp_path / "a" / "fig.png").is_file()
+    assert run.animate(path=tmp_path / "run.html").is_file()
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["a", "fig.png", "run.html"]
+
+
+def test_a_run_whose_directory_was_deleted_is_drawn_from_a_new_one(
+    run: legdsl.api.Run, tmp_path: Path
+) -> None:
+    saved = run.save(tmp_path / "r")
+    shutil.rmtree(saved)
+    figure = run.plot()
+    assert figure.is_file() and figure.parent != saved and not saved.exists()
+    assert run.directory == figure.parent and (run.directory / "run.json").is_file()
+    assert run.animate().parent == run.directory
+
+
+def test_a_series_asked_for_by_a_number_is_a_key_error(run: legdsl.api.Run) -> None:
+    with pytest.raises(KeyError, match="named by a text"):
+        run[0]  # type: ignore[index]
+
+
+def test_a_series_is_read_only_so_the_run_stays_as_recorded(run: legdsl.api.Run) -> None:
+    """``t = run["t"]; t += 100`` shifted the run's own times (its plots, metrics, save)."""
+    start, first_x = float(run["t"][0]), float(run["q.x"][0])
+    for name in ("t", "q.x", "state", "energy.kinetic"):
+        with pytest.raises(ValueError, match="read-only"):
+            run[name][0] = 100.0
+    assert float(run["t"][0]) == start and float(run["q.x"][0]) == first_x
+    assert run.trajectory.t.flags.writeable and run.trajectory.state.flags.writeable
+    shifted = run["t"].copy()
+    shifted += 1
+    assert run.to_pandas().index[0] == start

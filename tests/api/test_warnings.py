@@ -1,0 +1,111 @@
+"""The notes ``legdsl run`` prints about a run reach the API's callers as ``LegdslWarning``s
+(a ``UserWarning``: shown once by default, filterable, an error under ``pytest -W error``),
+with the command line's text, at the caller's line; a session with a log prints them there
+instead, never both."""
+
+from __future__ import annotations
+
+import io
+import warnings
+from pathlib import Path
+
+import pytest
+
+import legdsl
+from legdsl.api import Creature, LegdslWarning
+from legdsl.cli import main
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.session import RunSession
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = ROOT / "creatures" / "hopper.leg"
+
+
+def _warned(call: object) -> list[warnings.WarningMessage]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        call()  # type: ignore[operator]
+    return [w for w in caught if issubclass(w.category, LegdslWarning)]
+
+
+def _cli_notes(capsys: pytest.CaptureFixture[str], args: list[str]) -> list[str]:
+    capsys.readouterr()
+    main(["run", *args])
+    err = capsys.readouterr().err
+    return [line.partition(": ")[2].partition(": ")[2] for line in err.splitlines()
+            if line.startswith(("legdsl: note: ", "legdsl: warning: "))]  # fmt: skip
+
+
+def test_a_switch_to_the_running_controller_and_a_late_change_are_warned_as_the_cli_notes(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Before, the API said nothing of either (its session had no log)."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    capsys.readouterr()
+    caught = _warned(lambda: hopper.run(controller="hop", time=0.5, switch={"0.2 s": "hop"},
+                                        set={"speed@3s": "1 m/s"}))  # fmt: skip
+    assert "legdsl: note" not in capsys.readouterr().err  # not printed as well
+    assert all(Path(w.filename) == Path(__file__) for w in caught)  # the caller's line
+    said = _cli_notes(capsys, [str(HOPPER), "--controller", "hop", "--time", "0.5", "--switch",
+                               "0.2s=hop", "--set", "speed=1m/s@3s", "--generated",
+                               str(generated), "--out", str(tmp_path / "run")])  # fmt: skip
+    assert len(said) == 2 and [str(w.message) for w in caught] == said
+
+
+def test_a_drop_outlasting_the_run_and_a_passive_run_are_warned(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    hopper = legdsl.load(HOPPER, generated=generated)
+    caught = [str(w.message) for w in _warned(lambda: hopper.run(time=0.2, drop=0.5))]
+    said = _cli_notes(capsys, [str(HOPPER), "--time", "0.2", "--drop", "0.5", "--generated",
+                               str(generated), "--out", str(tmp_path / "run")])  # fmt: skip
+    assert caught[0] == said[0] and "the fall alone takes 0.319 s" in caught[0]
+    assert caught[1].startswith("controller: none, a passive run: choose one with controller=")
+    assert _warned(lambda: hopper.run(controller="hop", time=0.2)) == []
+
+
+def test_a_stop_too_stiff_is_warned_and_an_error_under_W_error(
+    generated: Path, tmp_path: Path
+) -> None:
+    limits = "    limits -0.25 m to 0.1 m\n"
+    path = tmp_path / "hopper.leg"
+    path.write_text(HOPPER.read_text().replace(limits, limits + "    stop k = 1e12 N/m\n"))
+    stiff = legdsl.load(path, generated=generated)
+    caught = _warned(lambda: stiff.run(controller="hop", time=0.1))
+    assert len(caught) == 1 and "a run that reaches it diverges there" in str(caught[0].message)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LegdslWarning)
+        with pytest.raises(LegdslWarning, match="too stiff"):
+            stiff.run(controller="hop", time=0.1)
+    assert issubclass(LegdslWarning, UserWarning)
+
+
+def test_run_many_warns_for_each_run(generated: Path) -> None:
+    hopper = legdsl.load(HOPPER, generated=generated)
+    runs = [{"controller": "hop", "time": 0.3, "set": {"speed@1s": "1 m/s"}}] * 2
+    caught = _warned(lambda: list(hopper.run_many(runs, threads=1)))
+    assert len(caught) == 2 and "comes after the run's end" in str(caught[0].message)
+
+
+def test_a_session_with_a_log_prints_the_notes_there_and_does_not_warn(generated: Path) -> None:
+    log = io.StringIO()
+    creature = Creature(RunSession.from_file(HOPPER, None, generated, log))
+    caught = _warned(lambda: creature.run(controller="hop", time=0.3, switch={"0.1 s": "hop"}))
+    assert caught == [] and "legdsl: note: the switch to hop at 0.1 s" in log.getvalue()
+
+
+@pytest.mark.parametrize("drop", [-1.0, float("nan")])
+def test_a_wrong_drop_is_still_a_usage_error(generated: Path, drop: float) -> None:
+    """The note of a fall outlasting the run took the root of a negative drop: a TypeError."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    with pytest.raises(UsageError, match="--drop"):
+        hopper.run(controller="hop", time=0.1, drop=drop)
+
+
+def test_run_many_in_threads_warns_at_the_callers_line(generated: Path) -> None:
+    """A note made in a batch's thread pointed at concurrent/futures/thread.py."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    runs = [{"controller": "hop", "time": 0.3, "switch": {"0.1 s": "hop"}}] * 2
+    caught = _warned(lambda: list(hopper.run_many(runs, threads=2)))
+    restarts = [w for w in caught if "restarts hop's state machine" in str(w.message)]
+    assert len(restarts) == 2 and all(Path(w.filename) == Path(__file__) for w in caught)
