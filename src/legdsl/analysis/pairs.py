@@ -57,7 +57,8 @@ def pair_groups(positions: Mapping[str, tuple[float, float]], pairing: str) -> d
     legs = list(positions)
     if len(legs) != 4:
         raise MetricsError(
-            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} legs"
+            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} legs "
+            f"({', '.join(legs)}): give its virtual legs with --group NAME=LEG,LEG for each"
         )
     mx = float(np.mean([p[0] for p in positions.values()]))
     my = float(np.mean([p[1] for p in positions.values()]))

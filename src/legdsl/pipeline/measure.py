@@ -51,8 +51,12 @@ def measure_run(
         samples_in_window(trajectory, run, t_from, t_to, "measure")
     try:
         given = parse_groups(groups)
-        if table2 is not None and not given and MEASURE.get(table2, {}).get("pairs"):
-            given, first = virtual_legs(table2, run_model(run, table2))
+        if table2 is not None and MEASURE.get(table2, {}).get("pairs"):
+            if given:  # pairs by hand replace the ones found: strides start at the gait's
+                pair = MEASURE[table2].get("reference")  # reference pair, else the first
+                first: str | None = pair if pair in given else next(iter(given))
+            else:
+                given, first = virtual_legs(table2, run_model(run, table2))
             leg = leg if leg is not None else first
         metrics = compute_metrics(
             trajectory,
@@ -92,10 +96,18 @@ def unmeasured_without_source(run: str | Path) -> str:
     info = load_run_info(run)
     if run_source(run, info) is not None:
         return ""
+    named = str(info.get("source", ""))
+    rows = (
+        "the rows measured on the creature's geometry (foot clearance at the apex, touchdown "
+        "speed, margins to the terrain) are left out"
+    )
+    if not Path(named).is_absolute():  # named from the folder the run was made in
+        return (
+            f"the file {named!r} that {run}/run.json names is not found from here, so {rows}; "
+            f"run legdsl metrics from the folder the run was made in, or copy the file into {run}"
+        )
     return (
-        f"the file {info.get('source', '')!r} that {run}/run.json names is gone, so the rows "
-        "measured on the creature's geometry (foot clearance at the apex, touchdown speed, "
-        "margins to the terrain) are left out; put it back to have them"
+        f"the file {named!r} that {run}/run.json names is gone, so {rows}; put it back to have them"
     )
 
 
