@@ -28,20 +28,25 @@ pytestmark = pytest.mark.skipif(
 
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One generated tree for the module: the creature is compiled once."""
+    return tmp_path_factory.mktemp("hexapod_generated")
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory: pytest.TempPathFactory, generated: Path) -> Path:
     """The tripod at 1 m/s for 3 s, in C, written as ``legdsl run`` writes it."""
-    tmp = tmp_path_factory.mktemp("hexapod")
-    out = tmp / "run"
+    out = tmp_path_factory.mktemp("hexapod") / "run"
     argv = ["run", str(LEG), "--controller", "tripod", "--set", "speed=1m/s", "--time", "3",
-            "--backend", "c", "--generated", str(tmp / "generated"), "--out", str(out)]  # fmt: skip
+            "--backend", "c", "--generated", str(generated), "--out", str(out)]  # fmt: skip
     assert main(argv) == 0
     return out
 
 
 def test_the_hexapod_runs_the_same_on_both_backends_and_keeps_its_trunk_up(
-    tmp_path: Path,
+    run_dir: Path, generated: Path
 ) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path / "generated")
+    sess = RunSession.from_file(LEG, generated=generated)
     opts = RunOptions(duration=2.5)
     python = sess.run("tripod", ["speed=1m/s"], options=opts, backend="python").result
     c = sess.run("tripod", ["speed=1m/s"], options=opts, backend="c").result
@@ -80,3 +85,17 @@ def test_table2_on_six_legs_says_to_give_the_pairs(
     err = capsys.readouterr().err
     assert "this creature has 6 legs" in err and "--group NAME=LEG,LEG" in err
     assert "Traceback" not in err
+
+
+def test_table2_bound_says_to_name_the_pairs_front_and_rear(
+    run_dir: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The bound's rows read groups named front and rear: others gave n/a rows without a word."""
+    argv = ["metrics", str(run_dir), "--table2", "quadruped bound"]
+    assert main([*argv, "--group", "a=fl,mr,rl", "--group", "b=fr,ml,rr"]) == 2
+    err = capsys.readouterr().err
+    assert "no --group is named front or rear" in err
+    assert "--group front=LEG,LEG --group rear=LEG,LEG" in err
+    assert main(argv) == 2  # six legs: found pairs none, and it says how to name them
+    assert "--group front=LEG,LEG --group rear=LEG,LEG" in capsys.readouterr().err
+    assert main([*argv, "--group", "front=fl,fr", "--group", "rear=rl,rr"]) == 0

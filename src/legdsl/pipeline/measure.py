@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.pairs import PAIR_NAMES, group_hint
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
@@ -53,6 +54,7 @@ def measure_run(
         given = parse_groups(groups)
         if table2 is not None and MEASURE.get(table2, {}).get("pairs"):
             if given:  # pairs by hand replace the ones found: strides start at the gait's
+                _rows_can_read(table2, given)
                 pair = MEASURE[table2].get("reference")  # reference pair, else the first
                 first: str | None = pair if pair in given else next(iter(given))
             else:
@@ -85,6 +87,18 @@ def measure_run(
     start = t_from if t_from > 0 else PATH_FROM
     reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
     return metrics, reports
+
+
+def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
+    """Pairs given by hand for a gait whose rows read pairs by name (the bound's front and
+    rear) must have those names: else the rows came out n/a without a word."""
+    pairing = MEASURE[table2]["pairs"]
+    missing = [n for n in PAIR_NAMES.get(pairing, ()) if n not in given]
+    if missing:
+        raise UsageError(
+            f"--table2 {table2!r} measures groups named {' and '.join(PAIR_NAMES[pairing])}, "
+            f"and no --group is named {' or '.join(missing)}: give {group_hint(pairing)}"
+        )
 
 
 def unmeasured_without_source(run: str | Path) -> str:
@@ -150,6 +164,7 @@ def run_model(run: Path, why: str) -> Model:
     if source is None:
         raise UsageError(
             f"{why}: its pairs of legs are found from the creature, but {run}/run.json names "
-            f"the file {str(named)!r}, which is not there; give the pairs with --group NAME=LEG,LEG"
+            f"the file {str(named)!r}, which is not there; give the pairs with "
+            f"{group_hint(MEASURE.get(why, {}).get('pairs', ''))}"
         )
     return check_model(source, info.get("creature"))
