@@ -69,7 +69,9 @@ def parse_groups(specs: Sequence[str]) -> dict[str, list[str]]:
         if not eq or not name.strip() or not legs:
             raise MetricsError(f"a group is written NAME=LEG,LEG (got {spec!r})")
         if name.strip() in groups:
-            raise MetricsError(f"group {name.strip()!r} is given twice")
+            raise MetricsError(
+                f"group {name.strip()!r} is given twice: give each --group a name of its own"
+            )
         groups[name.strip()] = legs
     return groups
 

@@ -30,6 +30,18 @@ from legdsl.ir.model import Model
 from legdsl.sim.trajectory import Trajectory
 
 PAIRINGS = ("front/rear", "diagonal", "lateral")
+PAIR_NAMES = {"front/rear": ("front", "rear"), "lateral": ("left", "right")}  # rows read these
+
+
+def group_hint(pairing: str) -> str:
+    """How to give a ``pairing``'s virtual legs by hand."""
+    names = PAIR_NAMES.get(pairing)
+    given = " ".join(f"--group {n}=LEG,LEG" for n in names) if names else ""
+    return "--group NAME=LEG,LEG for each" + (
+        f", named as its rows read them: {given}" if names else ""
+    )
+
+
 UNISON = 0.010  # s: members that touch down this close together strike in unison
 
 
@@ -57,7 +69,8 @@ def pair_groups(positions: Mapping[str, tuple[float, float]], pairing: str) -> d
     legs = list(positions)
     if len(legs) != 4:
         raise MetricsError(
-            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} legs"
+            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} legs "
+            f"({', '.join(legs)}): give its virtual legs with {group_hint(pairing)}"
         )
     mx = float(np.mean([p[0] for p in positions.values()]))
     my = float(np.mean([p[1] for p in positions.values()]))

@@ -46,7 +46,10 @@ def stance_units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[Unit]
                 f"group {name!r}: no leg named {', '.join(unknown)} (legs: {', '.join(legs) or 'none'})"
             )
         if name in taken:
-            raise MetricsError(f"group {name!r} has the name of a leg")
+            raise MetricsError(
+                f"group {name!r} has the name of a leg: give it a name of its own (--group "
+                f"{name}_group={','.join(members)})"
+            )
         idx = tuple(legs.index(m) for m in members)
         units.append(Unit(name, "group", sum((foot_contacts(tr, i) for i in idx), ()), idx))
     return units

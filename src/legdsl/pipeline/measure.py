@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.pairs import PAIR_NAMES, group_hint
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
@@ -51,8 +52,13 @@ def measure_run(
         samples_in_window(trajectory, run, t_from, t_to, "measure")
     try:
         given = parse_groups(groups)
-        if table2 is not None and not given and MEASURE.get(table2, {}).get("pairs"):
-            given, first = virtual_legs(table2, run_model(run, table2))
+        if table2 is not None and MEASURE.get(table2, {}).get("pairs"):
+            if given:  # pairs by hand replace the ones found: strides start at the gait's
+                _rows_can_read(table2, given)
+                pair = MEASURE[table2].get("reference")  # reference pair, else the first
+                first: str | None = pair if pair in given else next(iter(given))
+            else:
+                given, first = virtual_legs(table2, run_model(run, table2))
             leg = leg if leg is not None else first
         metrics = compute_metrics(
             trajectory,
@@ -83,6 +89,18 @@ def measure_run(
     return metrics, reports
 
 
+def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
+    """Pairs given by hand for a gait whose rows read pairs by name (the bound's front and
+    rear) must have those names: else the rows came out n/a without a word."""
+    pairing = MEASURE[table2]["pairs"]
+    missing = [n for n in PAIR_NAMES.get(pairing, ()) if n not in given]
+    if missing:
+        raise UsageError(
+            f"--table2 {table2!r} measures groups named {' and '.join(PAIR_NAMES[pairing])}, "
+            f"and no --group is named {' or '.join(missing)}: give {group_hint(pairing)}"
+        )
+
+
 def unmeasured_without_source(run: str | Path) -> str:
     """A note when the run's ``.leg`` file is gone: the rows measured on the creature's own
     geometry are then left out of its metrics (else "")."""
@@ -92,10 +110,18 @@ def unmeasured_without_source(run: str | Path) -> str:
     info = load_run_info(run)
     if run_source(run, info) is not None:
         return ""
+    named = str(info.get("source", ""))
+    rows = (
+        "the rows measured on the creature's geometry (foot clearance at the apex, touchdown "
+        "speed, margins to the terrain) are left out"
+    )
+    if not Path(named).is_absolute():  # named from the folder the run was made in
+        return (
+            f"the file {named!r} that {run}/run.json names is not found from here, so {rows}; "
+            f"run legdsl metrics from the folder the run was made in, or copy the file into {run}"
+        )
     return (
-        f"the file {info.get('source', '')!r} that {run}/run.json names is gone, so the rows "
-        "measured on the creature's geometry (foot clearance at the apex, touchdown speed, "
-        "margins to the terrain) are left out; put it back to have them"
+        f"the file {named!r} that {run}/run.json names is gone, so {rows}; put it back to have them"
     )
 
 
@@ -138,6 +164,7 @@ def run_model(run: Path, why: str) -> Model:
     if source is None:
         raise UsageError(
             f"{why}: its pairs of legs are found from the creature, but {run}/run.json names "
-            f"the file {str(named)!r}, which is not there; give the pairs with --group NAME=LEG,LEG"
+            f"the file {str(named)!r}, which is not there; give the pairs with "
+            f"{group_hint(MEASURE.get(why, {}).get('pairs', ''))}"
         )
     return check_model(source, info.get("creature"))
