@@ -59,18 +59,15 @@ def from_threads(session: Any) -> Iterator[Callable[[], None]]:
 
 def before_run(model: Model, plan: dict[str, Any]) -> None:
     """What ``legdsl run`` notes before a run (the session notes the rest as it prepares)."""
-    from legdsl.pipeline.options import check_run_options
+    from legdsl.pipeline.options import check_run_options, fall_note
     from legdsl.pipeline.scenes import too_late
 
     options = plan["options"]
     check_run_options(options)  # a mistake in them is told first, as legdsl run does
     for note in too_late(plan["settings"], options.duration):
         warn(note)
-    fall = fall_time(options.drop, model)
-    if fall is not None and fall > options.duration:
-        warn(f"--drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer than the run "
-             f"({options.duration:g} s), which ends with the creature in the air; give "
-             f"--time {fall:.3g}s or more, or a lower --drop")  # fmt: skip
+    if (falling := fall_note(options, model)) is not None:
+        warn(falling)
     names = [c.name for c in model.controllers]
     if plan["controller"] is None and names:  # legdsl run's summary says it, after the run
         warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "
@@ -79,15 +76,7 @@ def before_run(model: Model, plan: dict[str, Any]) -> None:
 
 def after_run(done: Any) -> None:
     """What ``legdsl run`` notes after a run: the switches that never took over."""
-    from legdsl.cli.run import _switches_not_made
+    from legdsl.pipeline.scenes import switches_not_made
 
-    for notice in _switches_not_made(done):
+    for notice in switches_not_made(done):
         warn(notice)
-
-
-def fall_time(drop: float | None, model: Model) -> float | None:
-    """How long the lowest foot takes to fall ``drop`` from rest (None: no ground, no fall)."""
-    g = -model.gravity[2]
-    if drop is None or not drop > 0 or model.ground is None or not g > 0:
-        return None
-    return float((2.0 * drop / g) ** 0.5)

@@ -78,12 +78,13 @@ def cmd_run(args: argparse.Namespace) -> int:
         RUN_NUMERIC,
         check_output_dir,
         check_run_options,
+        fall_note,
         os_error,
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
-    from legdsl.pipeline.scenes import too_late
+    from legdsl.pipeline.scenes import switches_not_made, too_late
     from legdsl.pipeline.session import RunSession
     from legdsl.pipeline.settings import refuse_repeated
 
@@ -135,14 +136,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     check_run_options(options)
     for note in too_late(settings, options.duration):
         print(f"legdsl: note: {note}", file=sys.stderr)
-    fall = _fall_time(options.drop, session.model)
-    if fall is not None and fall > options.duration:
-        print(
-            f"legdsl: note: --drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer "
-            f"than the run ({options.duration:g} s), which ends with the creature in the air; "
-            f"give --time {fall:.3g}s or more, or a lower --drop",
-            file=sys.stderr,
-        )
+    if (falling := fall_note(options, session.model)) is not None:
+        print(f"legdsl: note: {falling}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:
         print(f"legdsl: note: {cramped}", file=sys.stderr)
@@ -159,7 +154,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {os.path.join(out, '')} (trajectory.npz, trajectory.csv, run.json)")
-    for notice in _switches_not_made(run):
+    for notice in switches_not_made(run):
         print(f"legdsl: {notice}", file=sys.stderr)
     if args.animate:
         from legdsl.export.animate import animate_result
@@ -180,42 +175,6 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
-
-
-def _fall_time(drop: float | None, model: Any) -> float | None:
-    """How long the lowest foot takes to fall ``drop`` from rest (None: no ground, no fall)."""
-    g = -model.gravity[2]
-    if drop is None or model.ground is None or not g > 0:
-        return None
-    return (2.0 * drop / g) ** 0.5
-
-
-def _switches_not_made(run: Any) -> list[str]:
-    """Notices of the switches that never took over: those still waiting for a
-    liftoff when the next came due, and those the run ended before (given for after its end,
-    or still waiting). run.json lists them with the switches made."""
-    from legdsl.sim.switching import HANDOVER_WAIT, SwitchingMachine
-
-    machine = run.machine
-    if not isinstance(machine, SwitchingMachine):
-        return []
-    lines = [
-        f"the switch to {gone.controller} at {gone.t:g} s was still waiting for a liftoff when "
-        f"the one to {by.controller} at {by.t:g} s came due, and never took over (a switch "
-        f"waits up to {HANDOVER_WAIT:g} s): give the later one a later time to see both"
-        for gone, by in machine.superseded
-    ]
-    over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
-    left = [w for w in machine.switches if id(w) not in over]
-    if left and run.result.status == "ok":
-        which = ", ".join(f"{w.controller} at {w.t:g} s" for w in left)
-        s = "es" if len(left) > 1 else ""
-        lines.append(
-            f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
-            f"over (a switch waits up to {HANDOVER_WAIT:g} s for a liftoff); give a longer "
-            "--time to see it"
-        )
-    return lines
 
 
 def add_run_parser(sub: Any) -> Command:

@@ -157,6 +157,20 @@ def _why(e: OSError) -> str:
     return e.strerror or str(e)
 
 
+def fall_note(options: RunOptions, model: Model) -> str | None:
+    """The note of a ``--drop`` whose fall from rest alone outlasts the run (None: it does not,
+    or there is no ground or no gravity to fall by)."""
+    g = -model.gravity[2]
+    if options.drop is None or not options.drop > 0 or model.ground is None or not g > 0:
+        return None
+    fall = float((2.0 * options.drop / g) ** 0.5)
+    if not fall > options.duration:
+        return None
+    return (f"--drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer than the run "
+            f"({options.duration:g} s), which ends with the creature in the air; give "
+            f"--time {fall:.3g}s or more, or a lower --drop")  # fmt: skip
+
+
 def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = None) -> Path:
     """A directory we may write (made later if missing): not a file, not under a file, and
     writable where it would be made. Raise ``UsageError`` otherwise."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Sequence
+from typing import Any
 
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
@@ -12,7 +13,7 @@ from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
-from legdsl.sim.switching import Switch
+from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 
 _TIME: Dim = KINDS["time"][0]
 
@@ -150,3 +151,29 @@ def scene_plan(
             f"(bands, SI: {bands})"
         )
     return first, texts, [f"{t!r}s={name}" for t, name in planned]
+
+
+def switches_not_made(run: Any) -> list[str]:
+    """Notices of the switches that never took over: those still waiting for a
+    liftoff when the next came due, and those the run ended before (given for after its end,
+    or still waiting). run.json lists them with the switches made."""
+    machine = run.machine
+    if not isinstance(machine, SwitchingMachine):
+        return []
+    lines = [
+        f"the switch to {gone.controller} at {gone.t:g} s was still waiting for a liftoff when "
+        f"the one to {by.controller} at {by.t:g} s came due, and never took over (a switch "
+        f"waits up to {HANDOVER_WAIT:g} s): give the later one a later time to see both"
+        for gone, by in machine.superseded
+    ]
+    over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
+    left = [w for w in machine.switches if id(w) not in over]
+    if left and run.result.status == "ok":
+        which = ", ".join(f"{w.controller} at {w.t:g} s" for w in left)
+        s = "es" if len(left) > 1 else ""
+        lines.append(
+            f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
+            f"over (a switch waits up to {HANDOVER_WAIT:g} s for a liftoff); give a longer "
+            "--time to see it"
+        )
+    return lines
