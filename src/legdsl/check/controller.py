@@ -24,6 +24,7 @@ from legdsl.check.control_shared import expand_includes, extend_bases, shared_pa
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.paths import check_path
 from legdsl.check.record_readers import settle_by_readers
+from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
 from legdsl.ir import controller as ir
@@ -130,6 +131,7 @@ class ControllerChecker:
                     del names[item.name.name]  # signals are resolved lazily, by the elaborator
                     signals[item.name.name] = item
             elif isinstance(item, ast.RolesDecl):
+                check_one_role_per_leg(item, [leg.name for leg in self.model.legs], self.err)
                 for role in item.roles:
                     define(role.name, ir.Legs(role=role.name.name))
                     legs = []
