@@ -35,3 +35,21 @@ def test_a_body_of_the_leg_is_told_at_the_argument(tmp_path: Path) -> None:
     (d,) = caught.value.diagnostics
     assert (d.span.line, d.span.col) == (18, 56)
     assert "the hip of leg 'main' holds body 'trunk'; did you mean 'trunk'?" in d.message
+
+
+def test_a_neck_may_level_the_head_from_the_heads_own_pitch(tmp_path: Path) -> None:
+    """The rule is the hips': a hip holds the body its leg hangs from because the foot is
+    planted, but a neck or a tail holds its free end, so a neck motor reading the head it
+    turns is right (run 8 s, this kangaroo's head stays within 5 deg of level, as the
+    shipped neck servo keeps it)."""
+    text = (ROOT / "creatures" / "kangaroo.leg").read_text(encoding="utf-8")
+    servo = "  actuator neck_servo on neck servo("
+    level = "    neck_servo.setpoint = -trunk.pitch\n"
+    assert servo in text and level in text
+    text = text.replace(servo, "  actuator neck_motor on neck torque(max = 5 N*m)\n" + servo)
+    text = text.replace(
+        level,
+        "    neck_servo.kp = 0 N*m/rad; neck_servo.kv = 0 N*m*s/rad;\n"
+        "    neck_motor.force = -10 N*m/rad * head.pitch - 0.3 N*m*s/rad * head.pitch_rate\n",
+    )
+    _check(tmp_path, text)
