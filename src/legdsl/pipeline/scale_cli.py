@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -53,7 +54,7 @@ def cmd_scale(args: argparse.Namespace) -> int:
     write_atomic(out, scale_source(text, args.by, args.file, out))
     names = ", ".join(m.name for m in check_file(out))
     print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
-    for path in _unscaled(used, Path(args.file)):
+    for path in map(_readable, _unscaled(used, Path(args.file))):
         print(
             f"legdsl: note: {path}, which it uses, is not scaled and has numbers with units: "
             f"scale it too (legdsl scale {path} --by {args.by:g} -o OUT.leg) and point the "
@@ -73,6 +74,17 @@ def _unscaled(used: dict[str, str], source: Path) -> list[str]:
         and Path(path).resolve() != source.resolve()
         and scales_anything(text, path)
     ]
+
+
+def _readable(path: str) -> str:
+    """A used file as a user reads it: ``a/b/../../c.leg`` (a 'use' followed from another
+    folder) resolved, relative to the current directory when that is shorter."""
+    full = Path(path).resolve()
+    try:
+        relative = os.path.relpath(full, Path.cwd().resolve())
+    except ValueError:  # another drive
+        return str(full)
+    return relative if len(relative) < len(str(full)) else str(full)
 
 
 def _not_an_input(out: Path, used: list[Path], source: Path, scale: float) -> None:
