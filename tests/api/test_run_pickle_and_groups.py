@@ -67,3 +67,9 @@ def test_groups_are_a_dict_of_legs_or_texts(run: legdsl.api.Run) -> None:
 def test_a_wrong_groups_shows_both_forms(run: legdsl.api.Run, groups: object) -> None:
     with pytest.raises(UsageError, match=r"\{'front': \['fl', 'fr'\]\} or .*\['front=fl,fr'\]"):
         run.metrics(groups=groups)  # type: ignore[arg-type]
+
+
+def test_plot_writes_the_format_its_name_says(run: legdsl.api.Run, tmp_path: Path) -> None:
+    assert run.plot(tmp_path / "f.svg").read_text().lstrip().startswith("<?xml")
+    with pytest.raises(UsageError, match="PNG, SVG or PDF; give a name ending in .png"):
+        run.plot(tmp_path / "f")

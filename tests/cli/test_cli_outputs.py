@@ -108,3 +108,9 @@ def test_a_urdf_may_be_named_xml(tmp_path: Path, capsys) -> None:
     assert main(["export", HOPPER, "--format", "urdf", "-o", str(tmp_path / "hop.xml")]) == 0
     assert (tmp_path / "hop.xml").read_text().startswith("<robot")
     assert f"wrote {tmp_path / 'hop.xml'}" in capsys.readouterr().out
+
+
+def test_a_plot_to_stdout_is_exactly_the_picture(run_dir: Path, tmp_path: Path) -> None:
+    content, err = _to_stdout(["plot", str(run_dir), "-o", "/dev/stdout"], tmp_path)
+    assert content.startswith(b"\x89PNG\r\n") and b"wrote" not in content
+    assert "wrote /dev/stdout" in err and f"wrote {run_dir / 'footfall.png'}" in err

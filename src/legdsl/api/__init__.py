@@ -404,11 +404,13 @@ class Run:
         return out
 
     def plot(self, path: str | Path | None = None, start: float = 0.0) -> Path:
-        """Figure 6 of the paper for this run, as a PNG (in the run's directory by default)."""
+        """Figure 6 of the paper for this run, as a PNG, SVG or PDF as ``path``'s name says (a
+        PNG in the run's directory by default)."""
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
         t_from = window_time("start", start)
-        out = an_output("plot()", path, (".png",), "a PNG") if path is not None else None
+        picture = (".png", ".svg", ".pdf")  # as legdsl plot -o
+        out = None if path is None else an_output("plot()", path, picture, "a PNG, SVG or PDF")
         directory = self._directory()
         out = out or directory / "figure6.png"
         with atomic_same_name(out) as drawn:  # no half PNG under its name
