@@ -29,8 +29,8 @@ def run(generated: Path) -> legdsl.api.Run:
     [
         ("plot", "", "this is a directory; give a file name"),
         ("animate", "", "this is a directory; give a file name"),
-        ("plot", "fig", "this writes a PNG; give a name ending in .png"),
-        ("plot", "fig.pdf", "this writes a PNG; give a name ending in .png"),
+        ("plot", "fig", "this writes a PNG, SVG or PDF; give a name ending in .png"),
+        ("plot", "fig.jpg", "this writes a PNG, SVG or PDF; give a name ending in .png"),
         ("animate", "run.mp4", "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"),
     ],
 )

@@ -59,6 +59,12 @@ def samples_in_window(
     return window
 
 
+def picture_format(out: Path) -> str:
+    """The format ``out``'s name says, else PNG: given to matplotlib, which would otherwise
+    write ``fig.png`` when asked for ``fig`` (or ``/dev/stdout.png`` for ``/dev/stdout``)."""
+    return Path(out).suffix[1:].lower() or "png"
+
+
 def plot_run(
     run: Path,
     out: Path,
@@ -125,7 +131,7 @@ def plot_run(
     )
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100)
+    fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
     return out
 
@@ -174,7 +180,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     ax.grid(True, axis="x", color="0.9")
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100)
+    fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
     return out
 
@@ -278,6 +284,6 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     )
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=100)
+    fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
     return out

@@ -27,10 +27,11 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
-from legdsl.api import notes
+from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
     a_path,
     an_output,
+    metrics_groups,
     seconds,
     setting_text,
     thread_count,
@@ -369,18 +370,13 @@ class Run:
         start: float = 0.0,
         end: float | None = None,
         leg: str | None = None,
-        groups: tuple[str, ...] = (),
+        groups: Mapping[str, Sequence[str]] | Sequence[str] = (),
     ) -> GaitMetrics:
-        """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``)."""
+        """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``);
+        ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together."""
         t_from = window_time("start", start)
         t_to = None if end is None else window_time("end", end)
-        if isinstance(groups, str):
-            groups = (groups,)
-        if isinstance(groups, Iterable):
-            groups = tuple(groups)
-        if not (isinstance(groups, tuple) and all(isinstance(g, str) for g in groups)):
-            raise UsageError(f"metrics(): groups= is a list of texts NAME=LEG,LEG, e.g. "
-                             f"['front=fl,fr'], not {groups!r}")  # fmt: skip
+        groups = metrics_groups(groups)
         if leg is not None and not isinstance(leg, str):
             raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
         try:
@@ -408,11 +404,13 @@ class Run:
         return out
 
     def plot(self, path: str | Path | None = None, start: float = 0.0) -> Path:
-        """Figure 6 of the paper for this run, as a PNG (in the run's directory by default)."""
+        """Figure 6 of the paper for this run, as a PNG, SVG or PDF as ``path``'s name says (a
+        PNG in the run's directory by default)."""
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
         t_from = window_time("start", start)
-        out = an_output("plot()", path, (".png",), "a PNG") if path is not None else None
+        picture = (".png", ".svg", ".pdf")  # as legdsl plot -o
+        out = None if path is None else an_output("plot()", path, picture, "a PNG, SVG or PDF")
         directory = self._directory()
         out = out or directory / "figure6.png"
         with atomic_same_name(out) as drawn:  # no half PNG under its name
@@ -449,7 +447,12 @@ class Run:
         end = float(t[-1]) if len(t) else math.nan
         return f"<legdsl run of '{self.model.name}': {self.status}, {len(self)} samples to {end:.3f} s>"
 
+    def __getstate__(self) -> dict[str, Any]:  # pickle: the module goes as its file
+        return pickling.picklable(self.__dict__)
+
     def _motion(self) -> Any:
+        if self._dynamics is None:  # came through pickle
+            self._dynamics = pickling.dynamics_again(self.model, self.__dict__["_dynamics_file"])
         return motion_from(
             self.model,
             self.trajectory,

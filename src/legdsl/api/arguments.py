@@ -5,6 +5,7 @@ options with their units, paths, thread counts, ``set=`` entries. A wrong one is
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -93,3 +94,29 @@ def an_output(call: str, path: object, suffixes: tuple[str, ...], what: str) -> 
     if out.suffix.lower() not in suffixes:
         raise UsageError(f"{call} {out}: this writes {what}; give a name ending in {suffixes[0]}")
     return out
+
+
+GROUP_FORMS = "a dict {'front': ['fl', 'fr']} or a list of texts ['front=fl,fr']"
+
+
+def metrics_groups(groups: object) -> tuple[str, ...]:
+    """``metrics()``'s ``groups=``: a dict of name -> legs, or texts ``NAME=LEG,LEG`` (one
+    text alone too), as the texts ``legdsl metrics --group`` takes."""
+    if isinstance(groups, str):
+        groups = (groups,)
+    if isinstance(groups, Mapping):
+        texts = []
+        for name, legs in groups.items():
+            legs = [legs] if isinstance(legs, str) else legs
+            legs = list(legs) if isinstance(legs, Iterable) else None
+            if not (isinstance(name, str) and "=" not in name and legs
+                    and all(isinstance(leg, str) and leg.strip() for leg in legs)):  # fmt: skip
+                raise UsageError(f"metrics(): groups= is {GROUP_FORMS}; the group "
+                                 f"{name!r}: {groups[name]!r} is not a name and its legs")  # fmt: skip
+            texts.append(f"{name}={','.join(legs)}")
+        return tuple(texts)
+    if isinstance(groups, Iterable):
+        groups = tuple(groups)
+        if all(isinstance(g, str) and "=" in g for g in groups):
+            return groups
+    raise UsageError(f"metrics(): groups= is {GROUP_FORMS}, not {groups!r}")

@@ -25,12 +25,12 @@ from legdsl.cli.common import (
     Command,
     file_read_as_option,
     negative_values_joined,
-    numeric,
     os_refusal,
+    read_window,
 )
+from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
 from legdsl.cli.run import add_run_parser
-from legdsl.files import atomic_same_name
 from legdsl.lang.errors import LegError, UsageError
 
 _COMMANDS: dict[str, Command] = {}
@@ -76,16 +76,6 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
-def _read_window(args: argparse.Namespace) -> None:
-    """--from and --to as seconds (a unit is welcome: 3s, 500ms); the end after the start."""
-    from legdsl.pipeline.options import WINDOW
-
-    args.t_from = numeric(args, "t_from", "--from", WINDOW)
-    args.t_to = numeric(args, "t_to", "--to", WINDOW)
-    if args.t_to is not None and args.t_to <= args.t_from:
-        raise UsageError(f"--to {args.t_to:g}s must come after --from {args.t_from:g}s")
-
-
 def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.analysis.segments import segment_table
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
@@ -93,7 +83,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import path_summary
 
     try:
-        _read_window(args)
+        read_window(args)
         if args.table2 is not None and args.table2 not in TABLE2:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
@@ -170,70 +160,6 @@ def _cmd_compile(args: argparse.Namespace) -> int:
                 raise os_error("the generated modules of", Path(args.out) / c.name, e) from None
             progress(f"{c.name}: wrote {where}/ ({time.perf_counter() - start:.2f} s in all)")
     return EXIT_USER_ERROR if failed else 0
-
-
-def _cmd_plot(args: argparse.Namespace) -> int:
-    from legdsl.analysis.plot import (
-        first_leg_angles,
-        plot_footfall,
-        plot_run,
-        plot_top,
-        run_paths,
-    )
-    from legdsl.pipeline.options import check_output_file
-    from legdsl.sim.trajectory import Trajectory
-
-    _read_window(args)
-    run = Path(args.dir)
-    Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
-    out = check_output_file(args.output or run / "figure6.png", "--output")
-    with atomic_same_name(out) as tmp:  # matplotlib writes in place: a full disk left half a PNG
-        plot_run(run, tmp, first_leg_angles(run), args.t_from, args.t_to)
-    print(f"wrote {out}")
-
-    # Beside --output the other pictures take its name (fig.png: fig-footfall.png), so that
-    # plotting several runs into one folder overwrites none of them.
-    def beside(kind: str) -> Path:
-        return out.with_name(f"{out.stem}-{kind}.png") if args.output else run / f"{kind}.png"
-
-    footfall = beside("footfall")
-    with atomic_same_name(footfall) as tmp:
-        plot_footfall(run, tmp, args.t_from, args.t_to)
-    print(f"wrote {footfall} (footfall diagram)")
-    if args.top or run_paths(run):
-        top = beside("top")
-        with atomic_same_name(top) as tmp:
-            plot_top(run, tmp, args.t_from, args.t_to)
-        print(f"wrote {top} (top view)")
-    return 0
-
-
-def _cmd_export(args: argparse.Namespace) -> int:
-    from legdsl.check.source import check_model
-    from legdsl.export.formats import default_path, export_text, write_atomic
-    from legdsl.pipeline.options import check_output_file, not_an_input, os_error
-
-    if args.output not in (None, "-"):
-        check_output_file(args.output, "-o")
-        not_an_input(args.output, "-o", [Path(args.file)])
-    model = check_model(args.file, args.creature)
-    if args.format != "urdf" and (args.base != "world" or args.link_mass):
-        raise UsageError("--base and --link-mass are URDF options (--format urdf)")
-    if args.format != "mjcf" and args.anchor_pads is not None:
-        raise UsageError("--anchor-pads and --no-anchor-pads are MJCF options (--format mjcf)")
-    if not args.link_mass >= 0:
-        raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
-    text = export_text(model, args.format, args.base, args.link_mass, args.anchor_pads is not False)
-    if args.output == "-":
-        sys.stdout.write(text)
-        return 0
-    out = check_output_file(args.output or default_path(model, args.format), "-o")
-    try:
-        write_atomic(out, text)
-    except OSError as e:
-        raise os_error("the export", out, e) from None
-    print(f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)")
-    return 0
 
 
 # legdsl run's numeric simulation options (RunOptions): flag, default, metavar, help
@@ -369,7 +295,7 @@ def _parser() -> argparse.ArgumentParser:
         help="also draw a top view (top.png: the centre of mass's track); "
         "it is drawn anyway, with the path, for a run that followed a path",
     )
-    _COMMANDS["plot"] = _cmd_plot
+    _COMMANDS["plot"] = cmd_plot
 
     from legdsl.export.animate import (
         add_animate_parser,
@@ -430,7 +356,7 @@ def _parser() -> argparse.ArgumentParser:
         "ground's tangential spring (the default); --no-anchor-pads writes exactly the model's "
         "link tree, for comparing dynamics (docs/export.md)",
     )
-    _COMMANDS["export"] = _cmd_export
+    _COMMANDS["export"] = cmd_export
 
     from legdsl.pipeline.scale_cli import add_scale_parser
 

@@ -9,6 +9,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from legdsl.lang.errors import UsageError
+
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
 EXIT_FELL = 4
@@ -82,3 +84,13 @@ def os_refusal(e: OSError) -> str:
         return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"
     where = f" ({e.filename})" if e.filename else ""
     return f"{e.strerror or e}{where}; check the path and its permissions"
+
+
+def read_window(args: argparse.Namespace) -> None:
+    """--from and --to as seconds (a unit is welcome: 3s, 500ms); the end after the start."""
+    from legdsl.pipeline.options import WINDOW
+
+    args.t_from = numeric(args, "t_from", "--from", WINDOW)
+    args.t_to = numeric(args, "t_to", "--to", WINDOW)
+    if args.t_to is not None and args.t_to <= args.t_from:
+        raise UsageError(f"--to {args.t_to:g}s must come after --from {args.t_from:g}s")

@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from legdsl.export.outputs import messages_for, named_as
 from legdsl.lang.errors import UsageError
 
 OVERLAY_NAMES = ("state", "speed", "forces", "footprints", "com")
@@ -92,15 +93,12 @@ def _load(args: argparse.Namespace, fps: float) -> Any:
 def _player_name(output: str | None) -> None:
     """``-o`` names the HTML player: a video's or another format's name would hold HTML."""
     suffix = Path(output).suffix.lower() if output else ""
-    if suffix in ("", ".html", ".htm"):
-        return
     if suffix in (".mp4", ".gif"):
         raise UsageError(
             f"-o {output}: -o writes the HTML player; render a video with --video {output}"
         )
-    raise UsageError(
-        f"-o {output}: -o writes the HTML player; name it {Path(output or '').stem}.html"
-    )
+    if output:
+        named_as(output, "-o", (".html", ".htm"), "the HTML player")
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
@@ -114,14 +112,16 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         video = Path(args.video)
         # GIFs compress poorly (every frame moves with the camera): smaller by default.
         size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
-        if video.suffix.lower() not in (".mp4", ".gif"):
-            raise UsageError(f"--video {video}: write an .mp4 or a .gif")
+        if video.suffix.lower() not in (".mp4", ".gif"):  # ffmpeg's format is the name's
+            better = video.with_suffix(".mp4") if video.suffix else f"{video}.mp4"
+            raise UsageError(f"--video {video}: write an .mp4 or a .gif (e.g. {better})")
         fps = video_fps(args.fps, 30.0, video.suffix.lower() == ".gif")
         motion = _load(args, max(fps, 60.0))
         result = render_video(motion, video, fps, size, overlays, progress=stderr_progress())
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} frames at "
-            f"{fps:g} fps, {motion.duration:.2f} s of motion) in {result.seconds:.1f} s"
+            f"{fps:g} fps, {motion.duration:.2f} s of motion) in {result.seconds:.1f} s",
+            file=messages_for(args.output, args.video),
         )
         if not args.output:
             return 0
@@ -134,7 +134,8 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     size_bytes = write_player(motion, out, overlays)
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
-        f"{motion.duration:.2f} s); open it in a web browser"
+        f"{motion.duration:.2f} s); open it in a web browser",
+        file=messages_for(args.output),
     )
     return 0
 
@@ -219,6 +220,8 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     _positive(args.fps, "--fps")
     args.format = motion_format(args.format, args.output)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
+    named = (".usd", ".usda") if args.format == "usda" else (f".{args.format}",)
+    named_as(out, "-o", named, f"{args.format.upper()} (or choose it with --format)")
     if args.skin and args.format not in ("glb", "gltf"):
         raise UsageError(f"--skin is for glTF (--format glb or gltf), not {args.format}")
     motion = _load(args, args.fps)
@@ -237,7 +240,8 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
-        f"{motion.frames} keyframes over {motion.duration:.2f} s)"
+        f"{motion.frames} keyframes over {motion.duration:.2f} s)",
+        file=messages_for(args.output),
     )
     return 0
 
@@ -300,8 +304,9 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         mjreplay.view(run, video_fps(args.fps, 60.0), source)
         return 0
     out = Path(args.output) if args.output else run / "mujoco.mp4"
-    if out.suffix.lower() != ".mp4":
-        raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4")
+    if out.suffix.lower() != ".mp4":  # ffmpeg's format is the name's
+        better = out.with_suffix(".mp4") if out.suffix else f"{out}.mp4"
+        raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4; name it {better}")
     if args.output is None:
         print(
             "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
@@ -309,7 +314,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     frames = mjreplay.render_mp4(
         run, out, video_fps(args.fps, 30.0), parse_size(args.size or "960x540"), source
     )
-    print(f"legdsl: wrote {out} ({frames} frames, MuJoCo's renderer)")
+    print(f"legdsl: wrote {out} ({frames} frames, MuJoCo's renderer)", file=messages_for(out))
     return 0
 
 

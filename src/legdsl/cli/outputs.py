@@ -1,0 +1,95 @@
+"""``legdsl plot`` and ``legdsl export``: the commands that write a file named by ``-o``.
+
+Both keep the rule of ``legdsl.export.outputs``: a name ends in the suffix of what is written
+(else it is refused, saying the name to write), and with standard output as the file, the
+messages go to standard error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from legdsl.cli.common import read_window
+from legdsl.export.outputs import is_stream, messages_for, named_as
+from legdsl.files import atomic_same_name
+from legdsl.lang.errors import UsageError
+
+PICTURES = (".png", ".svg", ".pdf")  # what matplotlib writes as the name says
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from legdsl.analysis.plot import (
+        first_leg_angles,
+        plot_footfall,
+        plot_run,
+        plot_top,
+        run_paths,
+    )
+    from legdsl.pipeline.options import check_output_file
+    from legdsl.sim.trajectory import Trajectory
+
+    read_window(args)
+    run = Path(args.dir)
+    if args.output:
+        named_as(args.output, "--output", PICTURES, "a PNG picture (or .svg, .pdf)")
+    Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
+    out = check_output_file(args.output or run / "figure6.png", "--output")
+    say = messages_for(args.output)
+    with atomic_same_name(out) as tmp:  # matplotlib writes in place: a full disk left half a PNG
+        plot_run(run, tmp, first_leg_angles(run), args.t_from, args.t_to)
+    print(f"wrote {out}", file=say)
+
+    # Beside --output the other pictures take its name (fig.png: fig-footfall.png), so that
+    # plotting several runs into one folder overwrites none of them; beside a stream (a pipe,
+    # /dev/stdout) they go to the run directory.
+    def beside(kind: str) -> Path:
+        if args.output and not is_stream(out):
+            return out.with_name(f"{out.stem}-{kind}{out.suffix}")
+        return run / f"{kind}.png"
+
+    footfall = beside("footfall")
+    with atomic_same_name(footfall) as tmp:
+        plot_footfall(run, tmp, args.t_from, args.t_to)
+    print(f"wrote {footfall} (footfall diagram)", file=say)
+    if args.top or run_paths(run):
+        top = beside("top")
+        with atomic_same_name(top) as tmp:
+            plot_top(run, tmp, args.t_from, args.t_to)
+        print(f"wrote {top} (top view)", file=say)
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from legdsl.check.source import check_model
+    from legdsl.export.formats import FORMATS, default_path, export_text, write_atomic
+    from legdsl.pipeline.options import check_output_file, not_an_input, os_error
+
+    if args.output not in (None, "-"):
+        check_output_file(args.output, "-o")
+        not_an_input(args.output, "-o", [Path(args.file)])
+        suffix = FORMATS[args.format][1]
+        named = (suffix, ".xml") if args.format == "urdf" else (suffix,)  # URDF is XML too
+        named_as(args.output, "-o", named, f"{args.format.upper()} ({suffix})")
+    model = check_model(args.file, args.creature)
+    if args.format != "urdf" and (args.base != "world" or args.link_mass):
+        raise UsageError("--base and --link-mass are URDF options (--format urdf)")
+    if args.format != "mjcf" and args.anchor_pads is not None:
+        raise UsageError("--anchor-pads and --no-anchor-pads are MJCF options (--format mjcf)")
+    if not args.link_mass >= 0:
+        raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
+    text = export_text(model, args.format, args.base, args.link_mass, args.anchor_pads is not False)
+    if args.output == "-":
+        sys.stdout.write(text)
+        return 0
+    out = check_output_file(args.output or default_path(model, args.format), "-o")
+    try:
+        write_atomic(out, text)
+    except OSError as e:
+        raise os_error("the export", out, e) from None
+    print(
+        f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)",
+        file=messages_for(out),
+    )
+    return 0
