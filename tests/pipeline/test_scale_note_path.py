@@ -35,3 +35,20 @@ def test_relative_to_the_current_folder_when_shorter(
     note = _note(tmp_path, capsys, "outside/tripod_hexapod.leg")
     assert note.startswith("legdsl: note: ../../creatures/quadruped.leg, which it uses,")
     assert "outside" not in note  # not the path as the use was written from its file
+
+
+@pytest.mark.parametrize(
+    ("given", "said"),
+    [
+        ("/dev/stdout", "legdsl scale writes a .leg file and checks it there"),
+        ("scaled", "this writes a .leg file; name it"),
+    ],
+)
+def test_the_output_is_a_leg_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], given: str, said: str
+) -> None:
+    # a stream cannot be read back to check, and a name without .leg is not a .leg file
+    target = given if given.startswith("/dev") else str(tmp_path / given)
+    assert main(["scale", str(ROOT / "creatures" / "hopper.leg"), "--by", "2", "-o", target]) == 2
+    assert said in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []

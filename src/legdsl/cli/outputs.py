@@ -1,6 +1,6 @@
 """``legdsl plot`` and ``legdsl export``: the commands that write a file named by ``-o``.
 
-Both keep the rule of ``legdsl.export.outputs``: a name ends in the suffix of what is written
+Both keep the rule of ``legdsl.pipeline.outputs``: a name ends in the suffix of what is written
 (else it is refused, saying the name to write), and with standard output as the file, the
 messages go to standard error.
 """
@@ -12,9 +12,9 @@ import sys
 from pathlib import Path
 
 from legdsl.cli.common import read_window
-from legdsl.export.outputs import is_stream, messages_for, named_as
 from legdsl.files import atomic_same_name
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.outputs import is_stream, messages_for, named_as
 
 PICTURES = (".png", ".svg", ".pdf")  # what matplotlib writes as the name says
 

@@ -19,8 +19,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from legdsl.export.outputs import messages_for, named_as
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.outputs import messages_for, named_as
 
 OVERLAY_NAMES = ("state", "speed", "forces", "footprints", "com")
 Command = Callable[[argparse.Namespace], int]

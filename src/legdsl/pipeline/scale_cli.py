@@ -16,6 +16,7 @@ from legdsl.lang.errors import Diagnostics, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
 from legdsl.pipeline.options import check_output_file
+from legdsl.pipeline.outputs import is_stream, named_as
 
 
 def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
@@ -37,7 +38,10 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
 def cmd_scale(args: argparse.Namespace) -> int:
     if not 0 < args.by < float("inf"):
         raise UsageError(f"--by {args.by}: the scale factor is a positive number")
-    out = check_output_file(args.output, "-o")
+    if is_stream(args.output):  # the scaled file is checked where it is written, uses and all
+        raise UsageError(f"-o {args.output}: legdsl scale writes a .leg file and checks it there "
+                         "(its 'use' paths are relative to it); name a file, e.g. -o scaled.leg")  # fmt: skip
+    out = check_output_file(named_as(args.output, "-o", (".leg",), "a .leg file"), "-o")
     tree, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
     used: dict[str, str] = {}  # the files it uses, by path (a missing one is check_file's)
     load_uses(tree, Diagnostics(used), used)
