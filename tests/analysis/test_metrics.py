@@ -618,7 +618,7 @@ def test_the_magnitude_of_a_sliding_joint_is_a_length(
     assert main(["metrics", str(where), "--joint", "hip"]) == 0
     assert "magnitude of hip (deg)" in capsys.readouterr().out
 
-    quadruped = legdsl.load("creatures/quadruped.leg").run(time=0.2, drop=0.05)
+    quadruped = legdsl.load("creatures/quadruped.leg").run(controller=None, time=0.2, drop=0.05)
     where = quadruped.save(tmp_path / "quadruped")
     assert main(["metrics", str(where), "--joint", "qw"]) == 2
     assert "--joint qw: a component of the root's orientation quaternion" in capsys.readouterr().err

@@ -47,7 +47,7 @@ def test_an_api_run_is_the_cli_run(tmp_path: Path, monkeypatch: pytest.MonkeyPat
 def test_samples_and_pandas(monkeypatch: pytest.MonkeyPatch) -> None:
     pd = pytest.importorskip("pandas")
     monkeypatch.chdir(ROOT)
-    run = legdsl.load("creatures/hopper.leg").run(time=0.2, drop=0.1)  # a passive drop
+    run = legdsl.load("creatures/hopper.leg").run(controller=None, time=0.2, drop=0.1)  # passive
     frame = run.to_pandas()
     assert isinstance(frame, pd.DataFrame) and len(frame) == len(run)
     assert frame.index.name == "t" and "com.z" in frame.columns and "t" not in frame.columns
@@ -106,8 +106,14 @@ def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPat
         (lambda c: c.run(controller="hop", switch=["1s=hop"], time=0.1), "switch= maps times"),
         (lambda c: list(c.run_many(5)), "runs= is a list of run"),
         (lambda c: list(c.run_many(["x"])), "each run is a dict"),
-        (lambda c: list(c.run_many([{"time": 0.1}], threads=-1)), "threads= is how many"),
-        (lambda c: list(c.run_many([{"time": 0.1}], threads="2")), "threads= is how many"),
+        (
+            lambda c: list(c.run_many([{"controller": None, "time": 0.1}], threads=-1)),
+            "threads= is how many",
+        ),
+        (
+            lambda c: list(c.run_many([{"controller": None, "time": 0.1}], threads="2")),
+            "threads= is how many",
+        ),
         (lambda c: c.run_copies(2, "hop", time=0.1, threads=0), "threads= is how many"),
         (lambda c: c.run_copies(2, "hop", time=0.1, switch={"0.05 s": "hop"}), "run_many"),
         (lambda c: c.run(time=0.1, backend="python"), "no option 'backend' .*LEGDSL_BACKEND"),
@@ -121,12 +127,15 @@ def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPat
         (lambda c: c.run_copies(1, "hop", time=0.1, vary=[("speed", ([1], "m/s"))]), "vary= maps"),
         (lambda c: c.run_copies(1, "hop", time=0.1, q0=[["a"] * 5]), "q0: its values are not"),
         (lambda c: c.run_copies(1, "hop", time=0.1, v0=[["x"] * 5]), "v0: its values are not"),
-        (lambda c: c.run(time=0.1).metrics(start=float("nan")), "start= is seconds"),
-        (lambda c: c.run(time=0.1).metrics(start=-1), "start= is seconds"),
-        (lambda c: c.run(time=0.1).metrics(end=float("inf")), "end= is seconds"),
-        (lambda c: c.run(time=0.1).metrics(start="1 kg"), "start= 1kg"),
-        (lambda c: c.run(time=0.1).plot(start=None), "start= is seconds"),
-        (lambda c: c.run(time=0.1).save(ROOT / "README.md"), "this is a file"),
+        (
+            lambda c: c.run(controller=None, time=0.1).metrics(start=float("nan")),
+            "start= is seconds",
+        ),
+        (lambda c: c.run(controller=None, time=0.1).metrics(start=-1), "start= is seconds"),
+        (lambda c: c.run(controller=None, time=0.1).metrics(end=float("inf")), "end= is seconds"),
+        (lambda c: c.run(controller=None, time=0.1).metrics(start="1 kg"), "start= 1kg"),
+        (lambda c: c.run(controller=None, time=0.1).plot(start=None), "start= is seconds"),
+        (lambda c: c.run(controller=None, time=0.1).save(ROOT / "README.md"), "this is a file"),
         (lambda c: legdsl.load(None), "load.*: give the path of a .leg file, not None"),
         (lambda c: legdsl.open_run(3), "give the path of a run directory, not 3"),
     ],

@@ -64,6 +64,16 @@ def test_a_drop_outlasting_the_run_and_a_passive_run_are_warned(
     assert _warned(lambda: hopper.run(controller="hop", time=0.2)) == []
 
 
+def test_a_passive_run_asked_for_with_controller_none_is_not_warned_of(generated: Path) -> None:
+    """Before, every deliberate passive drop warned that it was passive."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    assert _warned(lambda: hopper.run(controller=None, time=0.2, drop=0.05)) == []
+    assert _warned(lambda: hopper.run_copies(2, controller=None, time=0.05)) == []
+    many = _warned(lambda: list(hopper.run_many([{"controller": None, "time": 0.05},
+                                                 {"time": 0.05}])))  # fmt: skip
+    assert [str(w.message).split(":")[0] for w in many] == ["controller"]  # the second only
+
+
 def test_a_stop_too_stiff_is_warned_and_an_error_under_W_error(
     generated: Path, tmp_path: Path
 ) -> None:

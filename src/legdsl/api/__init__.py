@@ -109,7 +109,7 @@ class Creature:
 
     def run(
         self,
-        controller: str | None = None,
+        controller: str | None = notes.NOT_GIVEN,
         set: Mapping[str, str | float] | None = None,  # noqa: A002  (the CLI's --set)
         time: float | None = None,
         path: str | None = None,
@@ -124,9 +124,12 @@ class Creature:
         ``--switch 6s=gallop``); ``scene`` runs the file's scene of that name (``--scene``), with
         ``set`` and ``switch`` added to it. ``options`` are those of ``legdsl run`` (``dt``,
         ``integrator``, ``control_dt``, ``record_rate``, ``fall_height``, ``fall_tilt`` in
-        radians, ``drop``)."""
-        plan = self._session_args(controller, set, time, path, switch, scene, **options)
-        self._before(plan)
+        radians, ``drop``). Without ``controller`` (nor ``scene``) the run is passive and says
+        so in a ``LegdslWarning``; ``controller=None`` asks for a passive run, without it."""
+        asked = controller is not notes.NOT_GIVEN
+        plan = self._session_args(controller if asked else None, set, time, path, switch, scene,
+                                  **options)  # fmt: skip
+        self._before(plan, asked)
         done = self.session.run(**plan)
         self._after(done)
         return self._wrap(done)
@@ -151,8 +154,8 @@ class Creature:
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [self._session_args(**r) for r in runs]
-        for plan in plans:
-            self._before(plan)
+        for r, plan in zip(runs, plans, strict=True):
+            self._before(plan, "controller" in r)
         with notes.from_threads(self.session) as flush:
             for i, done in iter_batch(self.session, plans, thread_count(threads)):
                 flush()
@@ -162,7 +165,7 @@ class Creature:
     def run_copies(
         self,
         n: int,
-        controller: str | None = None,
+        controller: str | None = notes.NOT_GIVEN,
         set: Mapping[str, str | float] | None = None,  # noqa: A002
         vary: Mapping[str, tuple[Sequence[float], str]] | None = None,
         time: float | None = None,
@@ -181,7 +184,8 @@ class Creature:
         Ctrl-C the copies stop and the ones cut short say ``interrupted``."""
         from legdsl.pipeline.batch import Batch
 
-        plan = self._session_args(controller, set, time, **options)
+        asked = controller is not notes.NOT_GIVEN
+        plan = self._session_args(controller if asked else None, set, time, **options)
         if plan["switches"]:  # a batch runs one controller: a switch would be left out
             raise UsageError(
                 "run_copies(): the copies run one controller, and this run switches "
@@ -193,7 +197,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
-        self._before(plan)
+        self._before(plan, asked)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(thread_count(threads), progress))
@@ -252,9 +256,9 @@ class Creature:
             "switches": switches,
         }
 
-    def _before(self, plan: dict[str, Any]) -> None:
+    def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
         if self.session.note is not None:
-            notes.before_run(self.model, plan)
+            notes.before_run(self.model, plan, passive_asked)
 
     def _after(self, done: Any) -> None:
         if self.session.note is not None:

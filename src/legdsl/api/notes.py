@@ -57,8 +57,18 @@ def from_threads(session: Any) -> Iterator[Callable[[], None]]:
         session.note = hook
 
 
-def before_run(model: Model, plan: dict[str, Any]) -> None:
-    """What ``legdsl run`` notes before a run (the session notes the rest as it prepares)."""
+class _NotGiven:
+    def __repr__(self) -> str:
+        return "NOT_GIVEN"
+
+
+# controller= left out: a passive run, with a warning (controller=None asks for one, without)
+NOT_GIVEN: Any = _NotGiven()
+
+
+def before_run(model: Model, plan: dict[str, Any], passive_asked: bool = False) -> None:
+    """What ``legdsl run`` notes before a run (the session notes the rest as it prepares);
+    ``passive_asked``: the caller wrote controller=None, so a passive run is not news."""
     from legdsl.pipeline.options import check_run_options, fall_note
     from legdsl.pipeline.scenes import too_late
 
@@ -69,9 +79,9 @@ def before_run(model: Model, plan: dict[str, Any]) -> None:
     if (falling := fall_note(options, model)) is not None:
         warn(falling)
     names = [c.name for c in model.controllers]
-    if plan["controller"] is None and names:  # legdsl run's summary says it, after the run
+    if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it
         warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "
-             f"(the file has {', '.join(names)})")  # fmt: skip
+             f"(the file has {', '.join(names)}), or controller=None for a passive run")  # fmt: skip
 
 
 def after_run(done: Any) -> None:
