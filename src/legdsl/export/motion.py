@@ -263,7 +263,9 @@ def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
     if len(t) < 2 or span <= 0:
         return t[:1].copy()
     recorded_fps = (len(t) - 1) / span
-    step = 1.0 / min(fps, recorded_fps * (1 + 1e-9))
+    # asked for as many frames as were recorded or more: the samples' own times (a step of
+    # 1/(recorded rate (1 + 1e-9)) left the frames 1e-9 off them and the rate 100.0000001)
+    step = 1.0 / fps if fps < recorded_fps * (1 - 1e-9) else span / (len(t) - 1)
     n = int(math.floor(span / step + 1e-9)) + 1
     return t[0] + step * np.arange(n)
 
