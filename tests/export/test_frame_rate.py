@@ -24,3 +24,10 @@ def test_a_rate_below_the_recorded_one_is_kept() -> None:
     frames = frame_times(t, 60.0)
     assert np.allclose(np.diff(frames), 1 / 60, rtol=1e-12, atol=0)
     assert frames[-1] <= t[-1] < frames[-1] + 1 / 60
+
+
+def test_the_rate_is_the_asked_one_whatever_the_rounding_of_the_frame_times() -> None:
+    for samples in (12, 132, 221):  # 60 fps over these gave 60.00000000000001
+        frames = frame_times(np.arange(samples * 4) * 0.0025, 60.0)[:samples]
+        motion = SimpleNamespace(frames=len(frames), duration=float(frames[-1] - frames[0]))
+        assert frame_rate(motion) == 60.0, samples  # type: ignore[arg-type]

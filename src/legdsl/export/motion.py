@@ -459,5 +459,8 @@ def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.nda
 
 
 def frame_rate(motion: Motion) -> float:
-    """Frames per second of ``motion`` (its frames are evenly spaced)."""
-    return (motion.frames - 1) / motion.duration if motion.frames > 1 and motion.duration else 1.0
+    """Frames per second of ``motion`` (its frames are evenly spaced), to 12 digits: the frame
+    times' rounding would otherwise give 60.00000000000001 for 60 (written into USD and glTF)."""
+    if motion.frames < 2 or not motion.duration:
+        return 1.0
+    return float(f"{(motion.frames - 1) / motion.duration:.12g}")
