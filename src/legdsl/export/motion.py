@@ -464,3 +464,14 @@ def frame_rate(motion: Motion) -> float:
     if motion.frames < 2 or not motion.duration:
         return 1.0
     return float(f"{(motion.frames - 1) / motion.duration:.12g}")
+
+
+def free_name(name: str, taken: set[str]) -> str:
+    """``name``, or ``name_1``, ``name_2``... if ``taken`` (the links' names) has it: an export's
+    own node or prim (the ground, a link's mesh) named as a link would be confused with it
+    (in USD the same prim: the floor moved with a link called ``ground``)."""
+    candidate, n = name, 0
+    while candidate in taken:
+        n += 1
+        candidate = f"{name}_{n}"
+    return candidate

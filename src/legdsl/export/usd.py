@@ -24,7 +24,7 @@ import numpy as np
 
 from legdsl import __version__
 from legdsl.export.gltf import local_poses
-from legdsl.export.motion import Motion, frame_rate, ground_area
+from legdsl.export.motion import Motion, frame_rate, free_name, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
 from legdsl.files import atomic_path, free_bytes, refused_in
 from legdsl.lang.errors import UsageError
@@ -106,17 +106,6 @@ def build_stage(motion: Motion, path: Path) -> Any:
 def children_of(parent: str, paths: list[str]) -> set[str]:
     """The names of the link prims right under ``parent``."""
     return {p.rsplit("/", 1)[1] for p in paths if p.rsplit("/", 1)[0] == parent}
-
-
-def free_name(name: str, taken: set[str]) -> str:
-    """``name``, or ``name_1``, ``name_2``... if a link's prim beside it has that name: a link
-    called ``ground`` (or a child link called ``shape``) would otherwise be the same prim as the
-    ground (or its parent's mesh), and the floor would move with the link."""
-    candidate, n = name, 0
-    while candidate in taken:
-        n += 1
-        candidate = f"{name}_{n}"
-    return candidate
 
 
 def link_paths(motion: Motion) -> list[str]:

@@ -1,4 +1,5 @@
-"""Links named like the prims the USD export adds (``ground``, ``shape``) keep them apart."""
+"""Links named like the nodes and prims an export adds (``ground``, ``shape``, ``floor``, the
+creature's name) keep them apart."""
 
 from __future__ import annotations
 
@@ -7,8 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_gltf import read_glb
 
 from legdsl.check.source import check_model
+from legdsl.export.gltf import write_gltf
 from legdsl.export.motion import motion_from
 from legdsl.export.usd import link_paths, write_usd
 from legdsl.sim.trajectory import empty
@@ -48,9 +51,9 @@ class ClashKinematics:
         return []
 
 
-def test_a_link_called_ground_does_not_carry_the_floor(tmp_path: Path) -> None:
+def clashing_motion(tmp_path: Path, text: str = CLASHING):
     source = tmp_path / "clash.leg"
-    source.write_text(CLASHING)
+    source.write_text(text)
     model = check_model(source)
     times = np.linspace(0.0, 1.0, 11)
     tr = empty(
@@ -59,7 +62,11 @@ def test_a_link_called_ground_does_not_carry_the_floor(tmp_path: Path) -> None:
     )  # fmt: skip
     tr.t[:] = times
     tr.q[:] = np.column_stack([0.5 * times, 0.6 + 0.4 * times, 0.3 * times, 0.5 * times])
-    motion = motion_from(model, tr, ClashKinematics(), fps=10)
+    return motion_from(model, tr, ClashKinematics(), fps=10)
+
+
+def test_a_link_called_ground_does_not_carry_the_floor(tmp_path: Path) -> None:
+    motion = clashing_motion(tmp_path)
     path = tmp_path / "clash.usda"
     write_usd(motion, path, "usda")
     stage = Usd.Stage.Open(str(path))
@@ -81,3 +88,17 @@ def test_a_link_called_ground_does_not_carry_the_floor(tmp_path: Path) -> None:
         assert len(meshes) == 1, link
         world = cache.GetLocalToWorldTransform(prim).ExtractTranslation()
         assert np.allclose(world, motion.positions[-1, b], atol=1e-9), link
+
+
+def test_gltf_link_nodes_keep_their_names(tmp_path: Path) -> None:
+    # links called as the creature, the ground node and the floor: every node's name is unique
+    # (tools rename duplicates, Blender the later node), and the links have theirs
+    text = CLASHING.replace("body ground", "body clash").replace("on ground", "on clash")
+    motion = clashing_motion(tmp_path, text.replace("body shape", "body floor"))
+    for skin in (False, True):
+        path = tmp_path / f"clash{int(skin)}.glb"
+        write_gltf(motion, path, skin=skin)
+        names = [n.get("name") for n in read_glb(path)[0]["nodes"]]
+        assert len(names) == len(set(names)), names
+        assert {"clash", "floor"} <= set(names)
+        assert names.index("clash") == 1 + [b.name for b in motion.bodies].index("clash")
