@@ -13,7 +13,9 @@
   has ``Zrotation Xrotation Yrotation``; a joint with a slide also has the
   three position channels, which hold the slide's displacement added to the
   offset. Rotations are in degrees, applied in the listed order (the
-  joint's local rotation is Rz Rx Ry), relative to the parent joint.
+  joint's local rotation is Rz Rx Ry), relative to the parent joint; each
+  frame's angles are the solution nearest the frame before's (whole turns
+  added), so that a channel never jumps by a turn between frames.
 * ``Frame Time`` is one over the frame rate (``--fps``).
 """
 
@@ -44,6 +46,22 @@ def euler_zxy(m: np.ndarray) -> tuple[float, float, float]:
         z = math.atan2(m[1, 0], m[0, 0])
         y = 0.0
     return math.degrees(z), math.degrees(x), math.degrees(y)
+
+
+def nearest_euler(angles: tuple[float, float, float], previous: np.ndarray) -> np.ndarray:
+    """The (z, x, y) angles of the same turn as ``angles`` nearest to ``previous``: of its two
+    solutions, (z, x, y) and (z + 180, 180 - x, y + 180), each angle moved by whole turns.
+    Tools interpolate the channels (and resample them to their own frame rate), so an angle
+    that wrapped from 179 to -179 degrees would spin the joint a whole turn between frames."""
+    z, x, y = angles
+    best = np.array(angles)
+    best_distance = math.inf
+    for candidate in (np.array([z, x, y]), np.array([z + 180.0, 180.0 - x, y + 180.0])):
+        candidate = candidate - 360.0 * np.round((candidate - previous) / 360.0)
+        distance = float(np.abs(candidate - previous).sum())
+        if distance < best_distance:
+            best, best_distance = candidate, distance
+    return best
 
 
 def bvh_text(motion: Motion) -> str:
@@ -95,6 +113,7 @@ def bvh_text(motion: Motion) -> str:
     lines.append("MOTION")
     lines.append(f"Frames: {motion.frames}")
     lines.append(f"Frame Time: {1.0 / frame_rate(motion):.9f}")
+    previous = np.zeros((nb, 3))  # each joint's angles at the frame before (the rest pose first)
     for f in range(motion.frames):
         row: list[float] = []
         for b in order:
@@ -103,7 +122,8 @@ def bvh_text(motion: Motion) -> str:
                 row.extend(Z_UP_TO_Y_UP @ translations[f, b])
             elif slides[b]:
                 row.extend(Z_UP_TO_Y_UP @ (translations[f, b] - offsets[b]))
-            row.extend(euler_zxy(r))
+            previous[b] = nearest_euler(euler_zxy(r), previous[b])
+            row.extend(previous[b])
         lines.append(" ".join(f"{x:.6f}" for x in row))
     return "\n".join(lines) + "\n"
 

@@ -19,7 +19,13 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.motion import Motion, frame_rate, ground_area, quaternion_to_matrix
+from legdsl.export.motion import (
+    Motion,
+    frame_rate,
+    free_name,
+    ground_area,
+    quaternion_to_matrix,
+)
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
@@ -144,7 +150,15 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         scenes=[lib.Scene(name=motion.creature, nodes=[0])],
     )
     blob = _Blob(gltf, lib)
-    gltf.nodes.append(lib.Node(name=motion.creature, rotation=Z_UP_TO_Y_UP, children=[]))
+    # the export's own nodes take names no link has (tools key nodes by name and rename
+    # duplicates: a link called like the creature would have been the one renamed)
+    taken = {b.name for b in motion.bodies}
+
+    def own_name(name: str) -> str:
+        taken.add(free := free_name(name, taken))
+        return free
+
+    gltf.nodes.append(lib.Node(name=own_name(motion.creature), rotation=Z_UP_TO_Y_UP, children=[]))
 
     materials: dict[str, int] = {}
     lo, hi = ground_area(motion)
@@ -191,14 +205,14 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
 
     if skin:
-        _skin(gltf, lib, blob, motion, colors, materials)
+        _skin(gltf, lib, blob, motion, colors, materials, own_name(f"{motion.creature}_skin"))
 
     # The ground and terrain: fixed meshes in world coordinates, beside the creature's root.
-    ground_node = lib.Node(name="ground", children=[])
+    ground_node = lib.Node(name=own_name("ground"), children=[])
     gltf.nodes.append(ground_node)
     gltf.nodes[0].children.append(len(gltf.nodes) - 1)
     for name, mesh, color in ground:
-        gltf.nodes.append(lib.Node(name=name, mesh=add_mesh(name, mesh, color)))
+        gltf.nodes.append(lib.Node(name=own_name(name), mesh=add_mesh(name, mesh, color)))
         ground_node.children.append(len(gltf.nodes) - 1)
 
     fps = frame_rate(motion)
@@ -242,7 +256,13 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
 
 
 def _skin(
-    gltf: Any, lib: Any, blob: _Blob, motion: Motion, colors: list[str], materials: dict[str, int]
+    gltf: Any,
+    lib: Any,
+    blob: _Blob,
+    motion: Motion,
+    colors: list[str],
+    materials: dict[str, int],
+    node_name: str,
 ) -> None:
     """A skinned mesh over the link nodes as joints, bound at the first frame (see build_gltf)."""
     top = np.eye(4)
@@ -290,7 +310,7 @@ def _skin(
     )
     # A skinned mesh's node is a root of the scene, with no transform of its own (glTF 2.0,
     # 5.29: the joints' transforms place it).
-    gltf.nodes.append(lib.Node(name=f"{motion.creature}_skin", mesh=len(gltf.meshes) - 1, skin=0))
+    gltf.nodes.append(lib.Node(name=node_name, mesh=len(gltf.meshes) - 1, skin=0))
     gltf.scenes[0].nodes.append(len(gltf.nodes) - 1)
 
 

@@ -263,7 +263,9 @@ def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
     if len(t) < 2 or span <= 0:
         return t[:1].copy()
     recorded_fps = (len(t) - 1) / span
-    step = 1.0 / min(fps, recorded_fps * (1 + 1e-9))
+    # asked for as many frames as were recorded or more: the samples' own times (a step of
+    # 1/(recorded rate (1 + 1e-9)) left the frames 1e-9 off them and the rate 100.0000001)
+    step = 1.0 / fps if fps < recorded_fps * (1 - 1e-9) else span / (len(t) - 1)
     n = int(math.floor(span / step + 1e-9)) + 1
     return t[0] + step * np.arange(n)
 
@@ -457,5 +459,19 @@ def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.nda
 
 
 def frame_rate(motion: Motion) -> float:
-    """Frames per second of ``motion`` (its frames are evenly spaced)."""
-    return (motion.frames - 1) / motion.duration if motion.frames > 1 and motion.duration else 1.0
+    """Frames per second of ``motion`` (its frames are evenly spaced), to 12 digits: the frame
+    times' rounding would otherwise give 60.00000000000001 for 60 (written into USD and glTF)."""
+    if motion.frames < 2 or not motion.duration:
+        return 1.0
+    return float(f"{(motion.frames - 1) / motion.duration:.12g}")
+
+
+def free_name(name: str, taken: set[str]) -> str:
+    """``name``, or ``name_1``, ``name_2``... if ``taken`` (the links' names) has it: an export's
+    own node or prim (the ground, a link's mesh) named as a link would be confused with it
+    (in USD the same prim: the floor moved with a link called ``ground``)."""
+    candidate, n = name, 0
+    while candidate in taken:
+        n += 1
+        candidate = f"{name}_{n}"
+    return candidate

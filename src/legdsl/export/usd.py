@@ -24,7 +24,7 @@ import numpy as np
 
 from legdsl import __version__
 from legdsl.export.gltf import local_poses
-from legdsl.export.motion import Motion, frame_rate, ground_area
+from legdsl.export.motion import Motion, frame_rate, free_name, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
 from legdsl.files import atomic_path, free_bytes, refused_in
 from legdsl.lang.errors import UsageError
@@ -84,7 +84,8 @@ def build_stage(motion: Motion, path: Path) -> Any:
     stage.SetDefaultPrim(root.GetPrim())
 
     translations, rotations = local_poses(motion)
-    for b, (body, path_b) in enumerate(zip(motion.bodies, link_paths(motion), strict=True)):
+    paths = link_paths(motion)
+    for b, (body, path_b) in enumerate(zip(motion.bodies, paths, strict=True)):
         xform = UsdGeom.Xform.Define(stage, path_b)
         translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
         orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble)
@@ -92,12 +93,19 @@ def build_stage(motion: Motion, path: Path) -> Any:
             x, y, z, w = (float(v) for v in rotations[f, b])
             translate.Set(Gf.Vec3d(*(float(v) for v in translations[f, b])), Usd.TimeCode(f))
             orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(f))
-        _mesh(stage, f"{path_b}/shape", body_mesh(body), (body.color or "#9a9a9a").lower())
+        shape = f"{path_b}/{free_name('shape', children_of(path_b, paths))}"
+        _mesh(stage, shape, body_mesh(body), (body.color or "#9a9a9a").lower())
 
-    UsdGeom.Xform.Define(stage, f"{top}/ground")
+    ground = f"{top}/{free_name('ground', children_of(top, paths))}"
+    UsdGeom.Xform.Define(stage, ground)
     for name, mesh, color in ground_meshes(motion.terrain, *ground_area(motion)):
-        _mesh(stage, f"{top}/ground/{prim_name(name)}", mesh, color)
+        _mesh(stage, f"{ground}/{prim_name(name)}", mesh, color)
     return stage
+
+
+def children_of(parent: str, paths: list[str]) -> set[str]:
+    """The names of the link prims right under ``parent``."""
+    return {p.rsplit("/", 1)[1] for p in paths if p.rsplit("/", 1)[0] == parent}
 
 
 def link_paths(motion: Motion) -> list[str]:
