@@ -137,7 +137,7 @@ def test_wrong_arguments_beside_a_run_are_usage_errors(
     with pytest.raises(UsageError, match="generated= is the directory"):
         legdsl.load(source, generated=3)  # type: ignore[arg-type]
     run = hopper.run(controller="hop", time=0.05)
-    with pytest.raises(UsageError, match=r"groups= is a list of texts NAME=LEG,LEG"):
+    with pytest.raises(UsageError, match=r"groups= is a dict .* or a list of texts"):
         run.metrics(groups=3)  # type: ignore[arg-type]
     with pytest.raises(UsageError, match="leg= is the name of a leg"):
         run.metrics(leg=3)  # type: ignore[arg-type]

@@ -306,7 +306,7 @@ def test_a_file_with_a_byte_order_mark_and_its_own_use_scales_into_another_folde
 
 
 def test_a_used_file_of_actions_scales_too(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """docs/scaling.md says to scale a 'use'd file of one's own too; a file of actions alone
     was refused ('no creature in this file')."""
@@ -320,10 +320,11 @@ def test_a_used_file_of_actions_scales_too(
     assert "+ amount + 4 cm" in lib.read_text()
     assert "point the scaled creature's 'use' at it" in capsys.readouterr().out
     out = tmp_path / "hopper_x2.leg"
+    monkeypatch.chdir(tmp_path)  # the note names the used file relative to here
     assert main(["scale", str(tmp_path / "hopper.leg"), "--by", "2", "-o", str(out)]) == 0
     assert (  # the used file is left as it is, and said so (its 2 cm would not scale)
-        f"legdsl: note: {tmp_path / 'actions.leg'}, which it uses, is not scaled and has "
-        f"numbers with units: scale it too (legdsl scale {tmp_path / 'actions.leg'} --by 2"
+        "legdsl: note: actions.leg, which it uses, is not scaled and has "
+        "numbers with units: scale it too (legdsl scale actions.leg --by 2"
     ) in capsys.readouterr().err
     out.write_text(out.read_text().replace('use "actions.leg"', 'use "actions_x2.leg"'))
     assert [m.name for m in check_file(out)] == ["hopper_x2"]

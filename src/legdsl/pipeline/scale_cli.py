@@ -41,7 +41,7 @@ def cmd_scale(args: argparse.Namespace) -> int:
     if is_stream(args.output):  # the scaled file is checked where it is written, uses and all
         raise UsageError(f"-o {args.output}: legdsl scale writes a .leg file and checks it there "
                          "(its 'use' paths are relative to it); name a file, e.g. -o scaled.leg")  # fmt: skip
-    out = check_output_file(named_as(args.output, "-o", (".leg",), "a .leg file"), "-o")
+    out = named_as(check_output_file(args.output, "-o"), "-o", (".leg",), "a .leg file")
     tree, text = parse_file(args.file)  # read as the checker reads it (a byte-order mark, CRLF)
     used: dict[str, str] = {}  # the files it uses, by path (a missing one is check_file's)
     load_uses(tree, Diagnostics(used), used)
