@@ -14,6 +14,9 @@ Definitions (docs/metrics.md has the long form):
   group of legs): the union of their contact. **Flight**: no contact at all
   touches. Stances and flights count when both their ends were seen inside the
   window (a run that starts in stance or ends mid-stance leaves those out).
+- **Touchdowns** with ``min_stance``: a contact shorter than it is none (it starts no
+  stride and is no stance); without it every contact counts, and ``scuff_note`` says which
+  look like scuffs.
 - **Peak vertical acceleration** of the centre of mass, in g, from the ground
   reaction: ``(sum(force[:, :, 2]) / total_mass - gravity) / gravity``.
 - **Friction coefficient needed**: ``|tangential force| / normal force`` during
@@ -35,6 +38,7 @@ is done in ``strides`` (strides, stances, flights), ``friction``, ``rows`` and `
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 from legdsl.analysis.energy import energy_rows
@@ -51,7 +55,9 @@ from legdsl.analysis.strides import (
     all_stances,
     coordinates,
     counted_strides,
+    debounced,
     reference,
+    scuff_note,
     stance_units,
     stride_series,
     touching,
@@ -88,11 +94,15 @@ def compute_metrics(
     edge: float = FRICTION_EDGE,
     min_normal_fraction: float = MIN_NORMAL_FRACTION,
     joint_slides: bool = False,
+    min_stance: float | None = None,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
     coordinate ``joint`` (in degrees, or in metres when ``joint_slides``: the trajectory does
     not say which) and its correlation with coordinate ``against``.
+
+    ``min_stance`` (s): a contact shorter than this is no touchdown (default None: every
+    contact is one, and ``GaitMetrics.scuff_note`` names those that look like scuffs).
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -105,7 +115,11 @@ def compute_metrics(
             raise MetricsError(f"the window {side} at {at:g} s; give a time of 0 s or more")
     if t_to < t_from:
         raise MetricsError(f"the window ends ({t_to:g} s) before it starts ({t_from:g} s)")
+    if min_stance is not None and not (math.isfinite(min_stance) and min_stance > 0):
+        raise MetricsError(f"--min-stance {min_stance!r}: give a time more than zero, e.g. 20ms")
     units = stance_units(tr, dict(groups or {}))
+    scuffs = scuff_note(tr, units, t_from, t_to) if min_stance is None else ""
+    tr = debounced(tr, min_stance)
     ref_name, ref_contacts = reference(tr, units, leg)
     cols = coordinates(tr, joint, against)
 
@@ -132,6 +146,7 @@ def compute_metrics(
         "against": against,
         "friction_edge_s": edge,
         "min_normal_fraction": min_normal_fraction,
+        "min_stance_s": min_stance,
     }
     return GaitMetrics(
         t_from=float(t_from),
@@ -153,4 +168,5 @@ def compute_metrics(
         + energy_rows(tr, t_from, t_to),
         note=note,
         options=options,
+        scuff_note=scuffs,
     )

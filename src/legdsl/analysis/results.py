@@ -95,6 +95,7 @@ class GaitMetrics:
     summaries: list[Summary]
     note: str = ""  # why there are no strides, when there are none
     options: dict[str, Any] = field(default_factory=dict)
+    scuff_note: str = ""  # touchdowns that look like scuffs, when no min_stance was given
 
     @property
     def n_strides(self) -> int:
@@ -116,6 +117,7 @@ class GaitMetrics:
             "reference": self.reference,
             "n_strides": self.n_strides,
             "note": self.note,
+            "scuff_note": self.scuff_note,
             "options": self.options,
             "summary": {
                 s.key: {k: v for k, v in asdict(s).items() if k != "key"} for s in self.summaries

@@ -3,7 +3,9 @@
 A touchdown is the first sample in contact and a liftoff the first sample out of contact,
 so a stance is the half-open sample range ``[touchdown, liftoff)``. Stances and flights
 count when both their ends were seen inside the window; strides when they lie wholly in
-it. Each counted stride also gets its series of values (duration, length, pitch and roll
+it. A contact shorter than ``min_stance`` (when one is given) is no touchdown at all
+(``debounced``); without it, contacts much shorter than the feet's usual stance are only
+pointed out (``scuff_note``). Each counted stride also gets its series of values (duration, length, pitch and roll
 magnitude, speed, peak vertical acceleration, external-energy fluctuation, and the
 magnitude and correlation of chosen coordinates).
 """
@@ -12,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -20,6 +22,9 @@ from legdsl.analysis.results import Flight, MetricsError, Stance
 from legdsl.sim.trajectory import Trajectory
 
 EPS_T = 1e-9  # s: slack for comparing sample times that went through floating point
+# A foot's contact under a third of the median stance of the feet looks like a scuff: a real
+# stance of a steady gait varies by tens of percent, a scuff lasts a step to a few samples.
+SCUFF_FRACTION = 1 / 3
 
 
 @dataclass(frozen=True)
@@ -266,3 +271,44 @@ def all_flights(
         before = "+".join(sorted({owner.get(int(c), tr.contact_names[c]) for c in landing}))
         out.append(Flight(float(tr.t[s]), float(tr.t[e]), before, _stride_of(s, starts, ends)))
     return out
+
+
+def debounced(tr: Trajectory, min_stance: float | None) -> Trajectory:
+    """``tr`` with every contact shorter than ``min_stance`` (touchdown to liftoff) taken out
+    of its flags, so that it neither starts a stride nor counts as a stance or a touch; a
+    contact whose start or end was not recorded is kept (its length is not known)."""
+    if min_stance is None:
+        return tr
+    contact = tr.contact.copy()
+    for c in range(contact.shape[1]):
+        a, b = runs(contact[:, c] != 0)
+        short = tr.t[b] - tr.t[a] < min_stance - EPS_T
+        for s, e in zip(a[short].tolist(), b[short].tolist(), strict=True):
+            contact[s:e, c] = 0
+    return replace(tr, contact=contact)
+
+
+def scuff_note(tr: Trajectory, units: list[Unit], lo: float, hi: float) -> str:
+    """Which feet's contacts in the window last under ``SCUFF_FRACTION`` of the median stance
+    of every foot there, and the ``--min-stance`` that would leave them out ("" if none)."""
+    feet = [(u.name, u.contacts[0]) for u in units if u.kind != "group" and u.contacts]
+    seen: list[tuple[float, str, float]] = []  # touchdown, foot, duration
+    for name, c in feet:
+        a, b = runs(tr.contact[:, c] != 0)
+        keep = in_window(tr.t, a, b, lo, hi)
+        ta, tb = tr.t[a[keep]], tr.t[b[keep]]
+        seen += [(float(x), name, float(y - x)) for x, y in zip(ta, tb, strict=True)]
+    if not seen:
+        return ""
+    usual = float(np.median([d for _, _, d in seen]))
+    scuffs = sorted(s for s in seen if s[2] < SCUFF_FRACTION * usual)
+    if not scuffs:
+        return ""
+    above_ms = math.floor(max(d for _, _, d in scuffs) * 1000 + 1e-6) + 1
+    listed = ", ".join(f"{name} at {t:.3f} s ({d:.3f} s)" for t, name, d in scuffs[:8])
+    more = f" and {len(scuffs) - 8} more" if len(scuffs) > 8 else ""
+    return (
+        f"{len(scuffs)} touchdown(s) look like scuffs, contacts under a third of the feet's "
+        f"median stance ({usual:.3f} s): {listed}{more}; each counts as a stance and, on the "
+        f"reference, starts a stride; --min-stance {above_ms}ms leaves them out"
+    )

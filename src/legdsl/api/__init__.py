@@ -32,6 +32,7 @@ from legdsl.api.arguments import (
     a_path,
     an_output,
     metrics_groups,
+    min_stance_time,
     seconds,
     setting_text,
     thread_count,
@@ -375,18 +376,19 @@ class Run:
         end: float | None = None,
         leg: str | None = None,
         groups: Mapping[str, Sequence[str]] | Sequence[str] = (),
+        min_stance: float | str | None = None,
     ) -> GaitMetrics:
         """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``);
-        ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together."""
+        ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together;
+        ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise)."""
         t_from = window_time("start", start)
         t_to = None if end is None else window_time("end", end)
-        groups = metrics_groups(groups)
+        groups, shortest = metrics_groups(groups), min_stance_time(min_stance)
         if leg is not None and not isinstance(leg, str):
             raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
         try:
-            return compute_metrics(
-                self.trajectory, t_from=t_from, t_to=t_to, leg=leg, groups=parse_groups(groups)
-            )
+            return compute_metrics(self.trajectory, t_from=t_from, t_to=t_to, leg=leg,
+                                   groups=parse_groups(groups), min_stance=shortest)  # fmt: skip
         except MetricsError as e:
             raise UsageError(str(e)) from None
 

@@ -72,6 +72,25 @@ def window_time(name: str, value: object) -> float:
     return float(value)
 
 
+def min_stance_time(value: object) -> float | None:
+    """``metrics()``'s ``min_stance=``: None, seconds more than zero, or a text with its unit
+    as ``--min-stance`` takes it (``"20 ms"``)."""
+    from legdsl.pipeline.options import read_seconds
+
+    if value is None:
+        return None
+    if isinstance(value, str):
+        return read_seconds("min_stance=", value)
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float | np.integer | np.floating)
+        or not (math.isfinite(value) and value > 0)
+    ):
+        raise UsageError(f"metrics(): min_stance= is seconds, a number more than zero (or a "
+                         f"text like '20 ms'), not {value!r}")  # fmt: skip
+    return float(value)
+
+
 def setting_text(name: str, value: str | float) -> str:
     """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
     if not isinstance(name, str) or not (

@@ -80,23 +80,28 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.analysis.segments import segment_table
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
     from legdsl.pipeline.measure import measure_run, run_segments, unmeasured_without_source
+    from legdsl.pipeline.options import read_seconds
     from legdsl.pipeline.report import path_summary
 
     try:
         read_window(args)
+        min_stance = (
+            None if args.min_stance is None else read_seconds("--min-stance", args.min_stance)
+        )
         if args.table2 is not None and args.table2 not in TABLE2:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
             args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
-            args.generated, args.table2,
+            args.generated, args.table2, min_stance,
         )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     segments = run_segments(args.dir)
-    if note := unmeasured_without_source(args.dir):
-        print(f"legdsl: note: {note}", file=sys.stderr)
+    for note in (unmeasured_without_source(args.dir), metrics.scuff_note):
+        if note:
+            print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:
         data = metrics.to_dict()
         if reports:
@@ -249,6 +254,12 @@ def _parser() -> argparse.ArgumentParser:
         "--against",
         metavar="NAME",
         help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
+    )
+    m.add_argument(
+        "--min-stance",
+        metavar="TIME",
+        help="a contact shorter than this (e.g. 20ms) is no touchdown: it starts no stride and "
+        "is no stance (default: every contact counts; a note names those that look like scuffs)",
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
     m.add_argument("--generated", default="generated", metavar="DIR",

@@ -33,6 +33,7 @@ def measure_run(
     against: str | None = None,
     generated: str | Path = "generated",
     table2: str | None = None,
+    min_stance: float | None = None,
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
     lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
@@ -44,7 +45,8 @@ def measure_run(
     on virtual legs, such as "quadruped bound") and no ``groups``, the gait's pairs are found
     from the creature's hips (``legdsl.analysis.table2.virtual_legs``) and, without ``leg``,
     strides start at its reference pair's touchdowns. A request the run cannot answer (no or a
-    damaged trajectory, an unknown leg, an empty window) raises ``UsageError``.
+    damaged trajectory, an unknown leg, an empty window) raises ``UsageError``. ``min_stance``
+    (s) is ``compute_metrics``'s: a shorter contact is no touchdown.
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
@@ -69,6 +71,7 @@ def measure_run(
             joint=joint,
             against=against,
             joint_slides=joint is not None and _slides(run, joint),
+            min_stance=min_stance,
         )
     except MetricsError as e:
         raise UsageError(str(e)) from None
