@@ -1,7 +1,7 @@
 """A 3D biped with knees written from the docs (tests/good/outside/knee_biped.leg): ball hips,
 a knee hinge whose rotary spring is the leg spring, and the shipped biped's `run` table with the
-rests as knee angles. It compiles, runs the same on both backends and keeps its trunk up for
-its first 1.5 s (it does not yet run 5 s: docs/biped.md, "A biped with knees")."""
+rests as knee angles. It compiles, runs the same on both backends, keeps its trunk up and level
+and runs forward (docs/biped.md, "A biped with knees", has its 5 and 10 s runs)."""
 
 from __future__ import annotations
 
@@ -34,6 +34,6 @@ def test_the_knee_biped_runs_the_same_on_both_backends_and_keeps_its_trunk_up(
     assert python.status == "ok", python.message
     assert_same(python, c)
     tr = python.trajectory
-    assert tr.root_pos[:, 2].min() > 0.5  # it starts with its trunk at 0.83 m
-    assert np.abs(tr.root_rpy[:, :2]).max() < np.radians(30)
-    assert tr.com[-1, 0] > 1.0  # running forward, at about 1 m/s
+    assert tr.root_pos[:, 2].min() > 0.6  # trunk from 0.83 m, runs at 0.64-0.79 m
+    assert np.abs(tr.root_rpy[:, :2]).max() < np.radians(8)  # within 3.5 deg in these 1.5 s
+    assert 1.0 < tr.com[-1, 0] < 1.5  # running forward from rest towards 1 m/s
