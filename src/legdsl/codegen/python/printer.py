@@ -13,6 +13,7 @@ for about a quarter of all x (docs/compiler.md).
 from __future__ import annotations
 
 from collections.abc import Mapping
+from functools import lru_cache
 
 from sympy import Expr, Float, Integer, Pow, Rational, Symbol
 from sympy.printing.precedence import PRECEDENCE
@@ -42,6 +43,12 @@ class LegPrinter(PythonCodePrinter):
         """One expression as Python source (fractions as floats: they run as floats anyway)."""
         fractions = {r: Float(r) for r in expr.atoms(Rational) if not r.is_Integer}
         return str(self.doprint(expr.xreplace(fractions) if fractions else expr))
+
+    def _as_ordered_terms(self, expr: Expr, order: str | None = None) -> list[Expr]:
+        order = order or self.order
+        if order in ("old", "none"):
+            return list(super()._as_ordered_terms(expr, order))
+        return list(_ordered_terms(expr, order))
 
     def _print_Symbol(self, expr: Symbol) -> str:
         name = self._names.get(expr)
@@ -110,6 +117,13 @@ class LegPrinter(PythonCodePrinter):
         silently at full deflection); the C printer does the same."""
         x = self._print(expr.args[0])
         return f"(0.0 if ({x}) == 0 else math.copysign(1.0, {x}) if ({x}) == ({x}) else math.nan)"
+
+
+# Each sum is printed several times (Python, C, the C slices) and sympy orders its terms anew
+# each time, a third of all printing: the order depends on the sum alone, so it is kept.
+@lru_cache(maxsize=1 << 16)
+def _ordered_terms(expr: Expr, order: str | None) -> tuple[Expr, ...]:
+    return tuple(expr.as_ordered_terms(order=order))
 
 
 def _is_half(exp: Expr) -> bool:
