@@ -54,6 +54,7 @@ def test_export_names_its_format(tmp_path: Path, capsys) -> None:
     assert main(["export", HOPPER, "--format", "mjcf", "-o", str(tmp_path / "hop.urdf")]) == 2
     assert f"name it {tmp_path / 'hop.xml'}" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+    assert main(["export", HOPPER, "--format", "mjcf", "-o", str(tmp_path / "hop.mjcf")]) == 0
 
 
 def test_plot_writes_the_names_it_says(run_dir: Path, tmp_path: Path, capsys) -> None:

@@ -40,7 +40,7 @@ def test_a_run_on_a_terminal_shows_the_time_left(generated: Path) -> None:
     """The bar is drawn only on a terminal: here a pseudo-terminal as standard error."""
     leader, follower = pty.openpty()
     cmd = [sys.executable, "-m", "legdsl", "run", "creatures/hopper.leg", "--controller", "hop",
-           "--backend", "python", "--time", "3", "--generated", str(generated),
+           "--backend", "python", "--time", "10", "--generated", str(generated),
            "--out", str(generated.parent / "progress-run")]  # fmt: skip
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     done = subprocess.run(cmd, cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=follower)

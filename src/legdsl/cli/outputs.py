@@ -70,7 +70,8 @@ def cmd_export(args: argparse.Namespace) -> int:
         check_output_file(args.output, "-o")
         not_an_input(args.output, "-o", [Path(args.file)])
         suffix = FORMATS[args.format][1]
-        named = (suffix, ".xml") if args.format == "urdf" else (suffix,)  # URDF is XML too
+        # both are XML; an MJCF file is also often named .mjcf, a URDF one .xml
+        named = {"urdf": (suffix, ".xml"), "mjcf": (suffix, ".mjcf")}.get(args.format, (suffix,))
         named_as(args.output, "-o", named, f"{args.format.upper()} ({suffix})")
     model = check_model(args.file, args.creature)
     if args.format != "urdf" and (args.base != "world" or args.link_mass):
