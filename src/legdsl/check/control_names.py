@@ -61,6 +61,17 @@ class Blame:
     otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
 
 
+@dataclass(frozen=True)
+class MotionBlame:
+    """A leg argument at fault (leg_motion): the action reads its ``alias``, the actuator
+    ``actuator``, as the other motion (rotary or sliding) than it is."""
+
+    index: int
+    alias: str
+    actuator: str
+    rotary: bool
+
+
 @dataclass
 class Scope:
     """What the names of one controller stand for (the creature's, then the controller's)."""
@@ -75,6 +86,10 @@ class Scope:
     aliases: dict[str, dict[str, str]] = field(init=False)
     # a call's argument at fault (control_args), by the call, its arguments and the records
     blames: dict[tuple[Span, str, str], Blame | None] = field(init=False, default_factory=dict)
+    # a call's leg argument whose actuator is of the other motion (leg_motion), the same way
+    motion_blames: dict[tuple[Span, str, str], MotionBlame | None] = field(
+        init=False, default_factory=dict
+    )
     # name -> the members read of it (``route.lateral``), to tell what an unknown name is
     dotted: dict[str, set[str]] = field(default_factory=dict)
 
@@ -109,6 +124,8 @@ class NameResolver:
         # control_args: whether actuators read as rotary or sliding (True: read as the other)
         self.other_motion = False
         self.motions_read: dict[str, bool] = {}  # actuator -> rotary, as read
+        self.flipped_motion: frozenset[str] = frozenset()  # leg_motion: these read as the other
+        self.motion_told: set[Span] = set()
 
     # ------------------------------------------------------------ errors
     def err(self, span: Span, message: str) -> None:
@@ -321,7 +338,8 @@ class NameResolver:
             return None
         actuator = next(a for a in self.scope.model.actuators if a.name == self.part_of(thing).name)
         self.motions_read[actuator.name] = actuator.rotary
-        return actuator.kind, actuator.rotary != self.other_motion
+        flipped = self.other_motion or actuator.name in self.flipped_motion
+        return actuator.kind, actuator.rotary != flipped
 
     def members_of(self, thing: ir.Part | ir.Alias) -> dict[str, Dim] | None:
         part = self.part_of(thing)

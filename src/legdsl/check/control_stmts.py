@@ -7,11 +7,12 @@ The top layer of the controller checker (on ``control_exprs`` and ``control_name
 
 from __future__ import annotations
 
-from legdsl.check.control_args import ArgumentProbe, retyped
+from legdsl.check.control_args import retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
 from legdsl.check.group_torque import whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
+from legdsl.check.leg_motion import LegMotionProbe
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
 from legdsl.ir.model import setting_kind
@@ -19,7 +20,7 @@ from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
 
-class Elaborator(ExprChecker, ArgumentProbe):
+class Elaborator(ExprChecker, LegMotionProbe):
     """Turns a controller's syntax into IR nodes under one ``Scope``; mistakes go to ``diag``."""
 
     def stmts(self, stmts: tuple[ast.Stmt, ...], local: dict[str, Value]) -> list[ir.Stmt]:
@@ -171,13 +172,15 @@ class Elaborator(ExprChecker, ArgumentProbe):
         if not found.items:
             self.misaimed(s, given, tuple(body))
             return ir.Do(s.action.name, tuple(body), s.span)
-        checked = self.snapshot()
+        checked, failed = self.snapshot(), self.error_spans[first:]
         self.restore(saved)  # each trial starts where this call did
         key = (s.span, repr(given), repr(sorted(self.scope.records.items())))
         if key not in self.scope.blames:  # the passes that settle records repeat each call
             self.scope.blames[key] = self.blame(given, check, self.error_spans[first])
         blame = self.scope.blames[key]
         if blame is None:
+            if self.told_motion(s, action, given, check, key, failed):
+                return None  # a leg of the other motion: said at it, the rest dropped
             self.restore(checked)
             self.diag.items += found.items
             return ir.Do(s.action.name, tuple(body), s.span)
