@@ -28,7 +28,7 @@ from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.python.dynamics import creature_fingerprint
 from legdsl.files import leftovers, remove, write_atomic, writing_alone
-from legdsl.ir.model import Model, setting_kind
+from legdsl.ir.model import Model, Pad, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, UsageError
@@ -247,10 +247,14 @@ class RunSession:
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is a mistake in the initial pose: the ground
-        spring would launch the body. Deeper than ``START_DEPTH`` is refused (exit 2)."""
+        spring would launch the body. Deeper than ``START_DEPTH`` is refused (exit 2), or than
+        half a paw pad's thickness: the pad's force grows without bound as a foot sinks
+        through it, so a small creature's thin pad throws it up from less than 1 cm."""
         if self.model.ground is None:
             return
-        under = [(name, -h) for name, h in sim.contact_heights() if h < -START_DEPTH]
+        normal = self.model.ground.normal
+        allowed = min(START_DEPTH, normal.thickness / 2) if isinstance(normal, Pad) else START_DEPTH
+        under = [(name, -h) for name, h in sim.contact_heights() if h < -allowed]
         if not under:
             return
         name, depth = max(under, key=lambda c: c[1])
