@@ -8,6 +8,7 @@ from pathlib import Path
 import bvh
 import numpy as np
 import pytest
+from standin import ModelKinematics
 
 from legdsl.check.source import check_model
 from legdsl.export.bvh import bvh_text
@@ -28,22 +29,6 @@ creature spinner {
 """
 
 
-def ry(a: float) -> tuple[float, ...]:
-    return (math.cos(a), 0.0, math.sin(a), 0.0, 1.0, 0.0, -math.sin(a), 0.0, math.cos(a))
-
-
-class SpinnerKinematics:
-    """q = (x, z, pitch, hip), written out."""
-
-    def body_poses(self, q: list[float]):
-        x, z, pitch, hip = q
-        hip_point = (x + 0.1 * math.cos(pitch), 0.0, z - 0.1 * math.sin(pitch))
-        return [((x, 0.0, z), ry(pitch)), (hip_point, ry(pitch + hip))]
-
-    def contact_positions(self, q: list[float]):
-        return []
-
-
 def test_angles_that_pass_half_a_turn_keep_turning(tmp_path: Path) -> None:
     source = tmp_path / "spinner.leg"
     source.write_text(SPINNER)
@@ -58,7 +43,7 @@ def test_angles_that_pass_half_a_turn_keep_turning(tmp_path: Path) -> None:
     tr.q[:] = np.column_stack(
         [0 * times, 0.6 + 0 * times, 4 * math.pi * times, -2 * math.pi * times]
     )
-    motion = motion_from(model, tr, SpinnerKinematics(), fps=50)
+    motion = motion_from(model, tr, ModelKinematics(model), fps=50)
     mocap = bvh.Bvh(bvh_text(motion))
     for name in ("trunk", "arm"):
         channels = [c for c in mocap.joint_channels(name) if c.endswith("rotation")]

@@ -3,11 +3,11 @@ creature's name) keep them apart."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from standin import ModelKinematics
 from test_gltf import read_glb
 
 from legdsl.check.source import check_model
@@ -35,22 +35,6 @@ creature clash {
 """
 
 
-def ry(a: float) -> tuple[float, ...]:
-    return (math.cos(a), 0.0, math.sin(a), 0.0, 1.0, 0.0, -math.sin(a), 0.0, math.cos(a))
-
-
-class ClashKinematics:
-    """q = (x, z, pitch, hip), written out."""
-
-    def body_poses(self, q: list[float]):
-        x, z, pitch, hip = q
-        hip_point = (x + 0.1 * math.cos(pitch), 0.0, z - 0.1 * math.sin(pitch))
-        return [((x, 0.0, z), ry(pitch)), (hip_point, ry(pitch + hip))]
-
-    def contact_positions(self, q: list[float]):
-        return []
-
-
 def clashing_motion(tmp_path: Path, text: str = CLASHING):
     source = tmp_path / "clash.leg"
     source.write_text(text)
@@ -62,7 +46,7 @@ def clashing_motion(tmp_path: Path, text: str = CLASHING):
     )  # fmt: skip
     tr.t[:] = times
     tr.q[:] = np.column_stack([0.5 * times, 0.6 + 0.4 * times, 0.3 * times, 0.5 * times])
-    return motion_from(model, tr, ClashKinematics(), fps=10)
+    return motion_from(model, tr, ModelKinematics(model), fps=10)
 
 
 def test_a_link_called_ground_does_not_carry_the_floor(tmp_path: Path) -> None:
