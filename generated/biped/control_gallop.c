@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "9e5c5145f63200db";
+const char legdsl_control_fingerprint[] = "016b9eb3084e58da";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -55,7 +55,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(second) */
-/*   event: creatures/biped.leg:208:5 */
+/*   event: creatures/biped.leg:211:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[36];
@@ -64,7 +64,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_1 (waiting under binding 0) when: touchdown(first) */
-/*   event: creatures/biped.leg:216:5 */
+/*   event: creatures/biped.leg:219:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[27];
@@ -73,7 +73,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 }
 
 /* Enter DOUBLE (waiting under binding 0) when: touchdown(second) */
-/*   event: creatures/biped.leg:223:5 */
+/*   event: creatures/biped.leg:226:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[36];
@@ -82,7 +82,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_2 (waiting under binding 0) when: liftoff(first) */
-/*   event: creatures/biped.leg:228:5 */
+/*   event: creatures/biped.leg:231:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[27];
@@ -91,13 +91,13 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at). */
-/*   record stance_2: creatures/biped.leg:209:7 */
-/*   record step_speed: creatures/biped.leg:210:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:210:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:210:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:210:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:210:7 > stdlib/raibert.leg:76:3 */
-/*   record extend_at: creatures/biped.leg:211:7 */
+/*   record stance_2: creatures/biped.leg:212:7 */
+/*   record step_speed: creatures/biped.leg:213:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:213:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:213:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:213:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3 */
+/*   record extend_at: creatures/biped.leg:214:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[7];
@@ -109,7 +109,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double extend_lead = p[16];
+    const double extend_lead = p[18];
     const double landed_1 = r[2];
     const double landed_2 = r[3];
     const double stance_1 = r[4];
@@ -147,26 +147,26 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place left (x, y), place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:212:7 > creatures/biped.leg:195:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:213:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:213:7 > creatures/biped.leg:101:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:213:7 > creatures/biped.leg:102:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:215:7 > creatures/biped.leg:256:5 > creatures/biped.leg:195:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:101:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:215:7 > creatures/biped.leg:257:5 > creatures/biped.leg:102:5 */
-/*   place left (x, y): creatures/biped.leg:214:7 > stdlib/raibert.leg:57:3 */
-/*   place right (x, y): creatures/biped.leg:215:7 > creatures/biped.leg:258:5 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:215:7 > creatures/biped.leg:198:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:216:7 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:216:7 > creatures/biped.leg:104:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:259:5 > creatures/biped.leg:198:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:104:5 */
+/*   place left (x, y): creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3 */
+/*   place right (x, y): creatures/biped.leg:218:7 > creatures/biped.leg:261:5 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[7];
@@ -182,9 +182,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double stance_guess = p[3];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double short_ = p[14];
-    const double slew = p[15];
-    const double stagger = p[17];
+    const double short_ = p[16];
+    const double slew = p[17];
+    const double stagger = p[19];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double stance_1 = r[4];
@@ -232,9 +232,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke). */
-/*   record landed_1: creatures/biped.leg:217:7 */
-/*   record predicted_apex: creatures/biped.leg:218:7 > stdlib/raibert.leg:215:3 */
-/*   record thrust_stroke: creatures/biped.leg:218:7 > stdlib/raibert.leg:216:3 */
+/*   record landed_1: creatures/biped.leg:220:7 */
+/*   record predicted_apex: creatures/biped.leg:221:7 > stdlib/raibert.leg:215:3 */
+/*   record thrust_stroke: creatures/biped.leg:221:7 > stdlib/raibert.leg:216:3 */
 static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -245,6 +245,8 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double height = u[3];
     const double stroke = p[12];
     const double k_height = p[13];
+    const double min_stroke = p[14];
+    const double max_stroke = p[15];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double landed_2 = r[3];
@@ -259,7 +261,7 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double held_pitch = r[13];
     const double held_roll = r[14];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + 0.0509683995922528*com_vz*com_vz + com_z;
-    const double new_thrust_stroke = leg_min(0.04, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
+    const double new_thrust_stroke = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     out[0] = stance_2;
     out[1] = extend_at;
     out[2] = time;
@@ -280,24 +282,24 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
 }
 
 /* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:218:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:219:7 > creatures/biped.leg:181:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:219:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:221:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:221:7 > creatures/biped.leg:101:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:221:7 > creatures/biped.leg:102:5 */
-/*   place right (x, y): creatures/biped.leg:222:7 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:221:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:222:7 > creatures/biped.leg:184:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:222:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:224:7 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:224:7 > creatures/biped.leg:104:5 */
+/*   place right (x, y): creatures/biped.leg:225:7 > stdlib/raibert.leg:57:3 */
 static void action_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -333,7 +335,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double pitch_lead = p[19];
+    const double pitch_lead = p[21];
     const double stance_2 = r[0];
     const double speed_trim = r[7];
     const double thrust_stroke = r[12];
@@ -373,7 +375,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 }
 
 /* The records on entering DOUBLE under binding 0 (changed: landed_2). */
-/*   record landed_2: creatures/biped.leg:224:7 */
+/*   record landed_2: creatures/biped.leg:227:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[37];
@@ -411,24 +413,24 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:225:7 > stdlib/raibert.leg:223:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:226:7 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:227:7 > creatures/biped.leg:186:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:187:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:227:7 > creatures/biped.leg:188:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:227:7 > creatures/biped.leg:190:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:228:7 > stdlib/raibert.leg:223:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:230:7 > creatures/biped.leg:190:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:230:7 > creatures/biped.leg:191:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:230:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:230:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3 */
 static void action_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -466,10 +468,10 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double kv_roll = p[7];
     const double kp_yaw = p[8];
     const double yaw_lead = p[9];
-    const double short_ = p[14];
-    const double slew = p[15];
-    const double double_time = p[18];
-    const double pitch_lead = p[19];
+    const double short_ = p[16];
+    const double slew = p[17];
+    const double double_time = p[20];
+    const double pitch_lead = p[21];
     const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0)) + (((double_time < tis)) ? (leg_max(short_, -slew*(-double_time + tis))) : (0.0));
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
@@ -508,10 +510,10 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, held_pitch, held_roll). */
-/*   record stance_1: creatures/biped.leg:229:7 */
-/*   record lifted_1: creatures/biped.leg:230:7 */
-/*   record held_pitch: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:199:5 */
-/*   record held_roll: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:200:5 */
+/*   record stance_1: creatures/biped.leg:232:7 */
+/*   record lifted_1: creatures/biped.leg:233:7 */
+/*   record held_pitch: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:202:5 */
+/*   record held_roll: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:203:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[15];
@@ -550,26 +552,26 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
 }
 
 /* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:231:7 > stdlib/raibert.leg:223:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:232:7 > creatures/biped.leg:180:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:232:7 > creatures/biped.leg:181:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:232:7 > creatures/biped.leg:182:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:201:5 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:101:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:202:5 > creatures/biped.leg:102:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:203:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:233:7 > creatures/biped.leg:261:26 > creatures/biped.leg:204:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:234:7 > stdlib/raibert.leg:223:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:235:7 > creatures/biped.leg:184:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:206:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:207:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[2];
@@ -599,9 +601,9 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double short_ = p[14];
-    const double slew = p[15];
-    const double pitch_lead = p[19];
+    const double short_ = p[16];
+    const double slew = p[17];
+    const double pitch_lead = p[21];
     const double thrust_stroke = r[12];
     const double held_pitch = r[13];
     const double held_roll = r[14];

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "39706e46062f7c2a";
+const char legdsl_control_fingerprint[] = "ae72996adb1be378";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -62,7 +62,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/biped.leg:148:5 */
+/*   event: creatures/biped.leg:150:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[31];
@@ -71,7 +71,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/biped.leg:156:5 */
+/*   event: creatures/biped.leg:158:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[31];
@@ -80,7 +80,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/biped.leg:157:5 */
+/*   event: creatures/biped.leg:159:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_rate = s[30];
@@ -89,7 +89,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/biped.leg:158:5 */
+/*   event: creatures/biped.leg:160:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_rate = s[30];
@@ -98,18 +98,18 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest */
-/*   event: creatures/biped.leg:159:5 */
+/*   event: creatures/biped.leg:161:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
     const double leg_left_length = s[29];
-    const double full = p[18];
+    const double full = p[20];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_length > act_leg_l_spring_rest + full);
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/biped.leg:148:5 */
+/*   event: creatures/biped.leg:150:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[40];
@@ -118,7 +118,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/biped.leg:156:5 */
+/*   event: creatures/biped.leg:158:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[40];
@@ -127,7 +127,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/biped.leg:157:5 */
+/*   event: creatures/biped.leg:159:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_rate = s[39];
@@ -136,7 +136,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 */
-/*   event: creatures/biped.leg:158:5 */
+/*   event: creatures/biped.leg:160:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_rate = s[39];
@@ -145,23 +145,23 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest */
-/*   event: creatures/biped.leg:159:5 */
+/*   event: creatures/biped.leg:161:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_r_spring_rest = s[5];
     const double leg_right_length = s[38];
-    const double full = p[18];
+    const double full = p[20];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_length > act_leg_r_spring_rest + full);
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record step_speed: creatures/biped.leg:152:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:152:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:152:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:152:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:152:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/biped.leg:153:7 */
+/*   record step_speed: creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/biped.leg:155:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[10];
@@ -195,26 +195,26 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:150:7 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:151:7 > creatures/biped.leg:101:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:151:7 > creatures/biped.leg:102:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:155:7 > creatures/biped.leg:133:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:135:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:136:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:137:5 */
-/*   place left (x, y): creatures/biped.leg:154:7 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:153:7 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:153:7 > creatures/biped.leg:104:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:157:7 > creatures/biped.leg:135:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:137:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:138:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:139:5 */
+/*   place left (x, y): creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[6];
@@ -232,11 +232,11 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double k_speed = p[0];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double balance = p[14];
-    const double lead = p[15];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double slew = p[19];
+    const double balance = p[16];
+    const double lead = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double slew = p[21];
     const double stance = r[0];
     const double speed_trim = r[3];
     const double t1 = slew*tis;
@@ -276,7 +276,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed). */
-/*   record landed: creatures/biped.leg:156:48 */
+/*   record landed: creatures/biped.leg:158:48 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[44];
@@ -300,30 +300,30 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   hip_l_pitch.kp: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_l_motor.force: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:156:70 > stdlib/raibert.leg:167:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:156:70 > stdlib/raibert.leg:168:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:156:70 > stdlib/raibert.leg:169:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:156:91 > creatures/biped.leg:133:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:135:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:136:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:137:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_l_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:158:91 > creatures/biped.leg:135:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:137:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:138:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:139:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[17];
     const double coord_hip_l_y_value = s[18];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
     const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
     out[0] = 0.0;
     out[1] = 0.0;
@@ -369,24 +369,24 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   hip_l_pitch.kp: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:157:48 > creatures/biped.leg:143:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:157:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:157:65 > creatures/biped.leg:133:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:135:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:136:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:137:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:159:48 > creatures/biped.leg:145:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:159:65 > creatures/biped.leg:135:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:137:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:138:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:139:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -420,10 +420,10 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double k_path = p[20];
-    const double turn_limit = p[21];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double k_path = p[22];
+    const double turn_limit = p[23];
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
@@ -454,7 +454,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/biped.leg:158:48 > stdlib/raibert.leg:191:3 */
+/*   record predicted_apex: creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -481,25 +481,25 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:158:48 > stdlib/raibert.leg:192:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:158:119 > creatures/biped.leg:143:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:158:119 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:158:136 > creatures/biped.leg:133:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:135:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:136:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:137:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:160:130 > creatures/biped.leg:145:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:160:147 > creatures/biped.leg:135:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:137:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:138:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:139:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -536,12 +536,14 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[11];
     const double stroke = p[12];
     const double k_height = p[13];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double k_path = p[20];
-    const double turn_limit = p[21];
+    const double min_stroke = p[14];
+    const double max_stroke = p[15];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double k_path = p[22];
+    const double turn_limit = p[23];
     const double predicted_apex = r[7];
-    const double leg_l_spring_rest = leg_min(0.06, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
+    const double leg_l_spring_rest = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
@@ -596,31 +598,31 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:160:7 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_l_motor.force: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:160:27 > stdlib/raibert.leg:167:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:160:27 > stdlib/raibert.leg:168:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:160:27 > stdlib/raibert.leg:169:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:160:48 > creatures/biped.leg:133:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:135:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:136:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:137:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_l_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:162:48 > creatures/biped.leg:135:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:137:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:138:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:139:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[17];
     const double coord_hip_l_y_value = s[18];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
     const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
     out[0] = 0.0;
     out[1] = 0.0;
@@ -644,12 +646,12 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record step_speed: creatures/biped.leg:152:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:152:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:152:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:152:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:152:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/biped.leg:153:7 */
+/*   record step_speed: creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/biped.leg:155:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[10];
@@ -683,26 +685,26 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y). */
-/*   leg_r_spring.rest: creatures/biped.leg:150:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:151:7 > creatures/biped.leg:101:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:151:7 > creatures/biped.leg:102:5 */
-/*   leg_l_spring.rest: creatures/biped.leg:155:7 > creatures/biped.leg:133:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:135:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:136:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:155:7 > creatures/biped.leg:137:5 */
-/*   place right (x, y): creatures/biped.leg:154:7 > stdlib/raibert.leg:57:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:153:7 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:153:7 > creatures/biped.leg:104:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:157:7 > creatures/biped.leg:135:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:137:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:138:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:139:5 */
+/*   place right (x, y): creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[6];
@@ -720,11 +722,11 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double k_speed = p[0];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double balance = p[14];
-    const double lead = p[15];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double slew = p[19];
+    const double balance = p[16];
+    const double lead = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double slew = p[21];
     const double stance = r[0];
     const double speed_trim = r[3];
     const double t1 = slew*tis;
@@ -764,7 +766,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed). */
-/*   record landed: creatures/biped.leg:156:48 */
+/*   record landed: creatures/biped.leg:158:48 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[44];
@@ -788,30 +790,30 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   hip_r_pitch.kp: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_r_motor.force: creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:156:70 > stdlib/raibert.leg:167:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:156:70 > stdlib/raibert.leg:168:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:156:70 > stdlib/raibert.leg:169:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:156:91 > creatures/biped.leg:133:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:135:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:136:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:156:91 > creatures/biped.leg:137:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_r_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:158:91 > creatures/biped.leg:135:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:137:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:138:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:139:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_r_x_value = s[20];
     const double coord_hip_r_y_value = s[21];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
     const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
     out[0] = 0.0;
     out[1] = 0.0;
@@ -857,24 +859,24 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   hip_r_pitch.kp: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:157:48 > creatures/biped.leg:143:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:157:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:157:65 > creatures/biped.leg:133:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:135:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:136:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:157:65 > creatures/biped.leg:137:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:159:48 > creatures/biped.leg:145:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:159:65 > creatures/biped.leg:135:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:137:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:138:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:139:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -908,10 +910,10 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double k_path = p[20];
-    const double turn_limit = p[21];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double k_path = p[22];
+    const double turn_limit = p[23];
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
@@ -942,7 +944,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 1 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/biped.leg:158:48 > stdlib/raibert.leg:191:3 */
+/*   record predicted_apex: creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3 */
 static void entry_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -969,25 +971,25 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:158:48 > stdlib/raibert.leg:192:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:158:119 > creatures/biped.leg:143:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:158:119 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:158:136 > creatures/biped.leg:133:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:135:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:136:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:158:136 > creatures/biped.leg:137:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:160:130 > creatures/biped.leg:145:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:160:147 > creatures/biped.leg:135:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:137:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:138:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:139:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -1024,12 +1026,14 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double swing_kv = p[11];
     const double stroke = p[12];
     const double k_height = p[13];
-    const double mirror = p[16];
-    const double short_ = p[17];
-    const double k_path = p[20];
-    const double turn_limit = p[21];
+    const double min_stroke = p[14];
+    const double max_stroke = p[15];
+    const double mirror = p[18];
+    const double short_ = p[19];
+    const double k_path = p[22];
+    const double turn_limit = p[23];
     const double predicted_apex = r[7];
-    const double leg_r_spring_rest = leg_min(0.06, leg_max(-0.04, k_height*(height - predicted_apex) + stroke));
+    const double leg_r_spring_rest = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
@@ -1084,31 +1088,31 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:160:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_r_motor.force: creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:160:27 > stdlib/raibert.leg:167:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:160:27 > stdlib/raibert.leg:168:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:160:27 > stdlib/raibert.leg:169:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:160:48 > creatures/biped.leg:133:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:135:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:136:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:160:48 > creatures/biped.leg:137:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_r_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:162:48 > creatures/biped.leg:135:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:137:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:138:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:139:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_r_x_value = s[20];
     const double coord_hip_r_y_value = s[21];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double mirror = p[16];
-    const double short_ = p[17];
+    const double mirror = p[18];
+    const double short_ = p[19];
     const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
     out[0] = 0.0;
     out[1] = 0.0;

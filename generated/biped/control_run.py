@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "39706e46062f7c2a"
+FINGERPRINT = "ae72996adb1be378"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -58,6 +58,8 @@ PARAMS = {
     "swing_kv": 10.0,
     "stroke": 0.01,
     "k_height": 0.5,
+    "min_stroke": -0.04,
+    "max_stroke": 0.06,
     "balance": 3.0,
     "lead": 0.1,
     "mirror": 1.0,
@@ -87,7 +89,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:148:5
+        event  creatures/biped.leg:150:5
     """
     leg_left_touching = s[31]
     return (leg_left_touching < 0.5)
@@ -97,7 +99,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:156:5
+        event  creatures/biped.leg:158:5
     """
     leg_left_touching = s[31]
     return (leg_left_touching > 0.5)
@@ -107,7 +109,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:157:5
+        event  creatures/biped.leg:159:5
     """
     leg_left_rate = s[30]
     return (leg_left_rate < 0.0)
@@ -117,7 +119,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:158:5
+        event  creatures/biped.leg:160:5
     """
     leg_left_rate = s[30]
     return (leg_left_rate > 0.0)
@@ -127,11 +129,11 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:159:5
+        event  creatures/biped.leg:161:5
     """
     act_leg_l_spring_rest = s[2]
     leg_left_length = s[29]
-    full = p[18]
+    full = p[20]
     return (leg_left_length > act_leg_l_spring_rest + full)
 
 
@@ -139,7 +141,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:148:5
+        event  creatures/biped.leg:150:5
     """
     leg_right_touching = s[40]
     return (leg_right_touching < 0.5)
@@ -149,7 +151,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:156:5
+        event  creatures/biped.leg:158:5
     """
     leg_right_touching = s[40]
     return (leg_right_touching > 0.5)
@@ -159,7 +161,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:157:5
+        event  creatures/biped.leg:159:5
     """
     leg_right_rate = s[39]
     return (leg_right_rate < 0.0)
@@ -169,7 +171,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:158:5
+        event  creatures/biped.leg:160:5
     """
     leg_right_rate = s[39]
     return (leg_right_rate > 0.0)
@@ -179,11 +181,11 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:159:5
+        event  creatures/biped.leg:161:5
     """
     act_leg_r_spring_rest = s[5]
     leg_right_length = s[38]
-    full = p[18]
+    full = p[20]
     return (leg_right_length > act_leg_r_spring_rest + full)
 
 
@@ -191,12 +193,12 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record step_speed  creatures/biped.leg:152:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:152:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:152:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:152:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:152:7 > stdlib/raibert.leg:76:3
-        record stance      creatures/biped.leg:153:7
+        record step_speed  creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:155:7
     """
     body_trunk_yaw = s[10]
     com_x = s[14]
@@ -223,26 +225,26 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:150:7 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:151:7 > creatures/biped.leg:101:5
-        hip_l_yaw.kp            creatures/biped.leg:151:7 > creatures/biped.leg:102:5
-        leg_r_spring.rest       creatures/biped.leg:155:7 > creatures/biped.leg:133:5
-        hip_r_pitch.kp          creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:155:7 > creatures/biped.leg:135:5
-        hip_r_roll.setpoint     creatures/biped.leg:155:7 > creatures/biped.leg:136:5
-        hip_r_yaw.setpoint      creatures/biped.leg:155:7 > creatures/biped.leg:137:5
-        place left (x, y)       creatures/biped.leg:154:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:153:7 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:153:7 > creatures/biped.leg:104:5
+        leg_r_spring.rest       creatures/biped.leg:157:7 > creatures/biped.leg:135:5
+        hip_r_pitch.kp          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:157:7 > creatures/biped.leg:137:5
+        hip_r_roll.setpoint     creatures/biped.leg:157:7 > creatures/biped.leg:138:5
+        hip_r_yaw.setpoint      creatures/biped.leg:157:7 > creatures/biped.leg:139:5
+        place left (x, y)       creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -259,11 +261,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     k_speed = p[0]
     swing_kp = p[10]
     swing_kv = p[11]
-    balance = p[14]
-    lead = p[15]
-    mirror = p[16]
-    short = p[17]
-    slew = p[19]
+    balance = p[16]
+    lead = p[17]
+    mirror = p[18]
+    short = p[19]
+    slew = p[21]
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
@@ -306,7 +308,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed).
 
     From the .leg file:
-        record landed  creatures/biped.leg:156:48
+        record landed  creatures/biped.leg:158:48
     """
     time = s[44]
     stance = r[0]
@@ -323,29 +325,29 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        hip_l_pitch.kp          creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_l_pitch.kv          creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_l_motor.force       creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_l_roll.kp           creatures/biped.leg:156:70 > stdlib/raibert.leg:167:3
-        hip_l_roll.kv           creatures/biped.leg:156:70 > stdlib/raibert.leg:168:3
-        hip_l_roll_motor.force  creatures/biped.leg:156:70 > stdlib/raibert.leg:169:3
-        leg_r_spring.rest       creatures/biped.leg:156:91 > creatures/biped.leg:133:5
-        hip_r_pitch.kp          creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:156:91 > creatures/biped.leg:135:5
-        hip_r_roll.setpoint     creatures/biped.leg:156:91 > creatures/biped.leg:136:5
-        hip_r_yaw.setpoint      creatures/biped.leg:156:91 > creatures/biped.leg:137:5
+        hip_l_pitch.kp          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:158:91 > creatures/biped.leg:135:5
+        hip_r_pitch.kp          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:158:91 > creatures/biped.leg:137:5
+        hip_r_roll.setpoint     creatures/biped.leg:158:91 > creatures/biped.leg:138:5
+        hip_r_yaw.setpoint      creatures/biped.leg:158:91 > creatures/biped.leg:139:5
     """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
+    mirror = p[18]
+    short = p[19]
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
         0.0,
@@ -384,24 +386,24 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        hip_l_pitch.kp          creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:157:48 > creatures/biped.leg:143:5
-        hip_l_yaw.setpoint      creatures/biped.leg:157:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:157:65 > creatures/biped.leg:133:5
-        hip_r_pitch.kp          creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:157:65 > creatures/biped.leg:135:5
-        hip_r_roll.setpoint     creatures/biped.leg:157:65 > creatures/biped.leg:136:5
-        hip_r_yaw.setpoint      creatures/biped.leg:157:65 > creatures/biped.leg:137:5
+        hip_l_pitch.kp          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:159:48 > creatures/biped.leg:145:5
+        hip_l_yaw.setpoint      creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:159:65 > creatures/biped.leg:135:5
+        hip_r_pitch.kp          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:159:65 > creatures/biped.leg:137:5
+        hip_r_roll.setpoint     creatures/biped.leg:159:65 > creatures/biped.leg:138:5
+        hip_r_yaw.setpoint      creatures/biped.leg:159:65 > creatures/biped.leg:139:5
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
@@ -434,10 +436,10 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
-    k_path = p[20]
-    turn_limit = p[21]
+    mirror = p[18]
+    short = p[19]
+    k_path = p[22]
+    turn_limit = p[23]
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
@@ -471,7 +473,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/biped.leg:158:48 > stdlib/raibert.leg:191:3
+        record predicted_apex  creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
@@ -491,25 +493,25 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:158:48 > stdlib/raibert.leg:192:3
-        hip_l_pitch.kp          creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:158:119 > creatures/biped.leg:143:5
-        hip_l_yaw.setpoint      creatures/biped.leg:158:119 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:158:136 > creatures/biped.leg:133:5
-        hip_r_pitch.kp          creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:158:136 > creatures/biped.leg:135:5
-        hip_r_roll.setpoint     creatures/biped.leg:158:136 > creatures/biped.leg:136:5
-        hip_r_yaw.setpoint      creatures/biped.leg:158:136 > creatures/biped.leg:137:5
+        leg_l_spring.rest       creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3
+        hip_l_pitch.kp          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:160:130 > creatures/biped.leg:145:5
+        hip_l_yaw.setpoint      creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:160:147 > creatures/biped.leg:135:5
+        hip_r_pitch.kp          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:160:147 > creatures/biped.leg:137:5
+        hip_r_roll.setpoint     creatures/biped.leg:160:147 > creatures/biped.leg:138:5
+        hip_r_yaw.setpoint      creatures/biped.leg:160:147 > creatures/biped.leg:139:5
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
@@ -545,12 +547,14 @@ def action_THRUST_0(s, u, p, r, tis):
     swing_kv = p[11]
     stroke = p[12]
     k_height = p[13]
-    mirror = p[16]
-    short = p[17]
-    k_path = p[20]
-    turn_limit = p[21]
+    min_stroke = p[14]
+    max_stroke = p[15]
+    mirror = p[18]
+    short = p[19]
+    k_path = p[22]
+    turn_limit = p[23]
     predicted_apex = r[7]
-    leg_l_spring_rest = minimum(0.06, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
+    leg_l_spring_rest = minimum(max_stroke, maximum(min_stroke, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
@@ -598,30 +602,30 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:160:7 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_l_pitch.kv          creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_l_motor.force       creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_l_roll.kp           creatures/biped.leg:160:27 > stdlib/raibert.leg:167:3
-        hip_l_roll.kv           creatures/biped.leg:160:27 > stdlib/raibert.leg:168:3
-        hip_l_roll_motor.force  creatures/biped.leg:160:27 > stdlib/raibert.leg:169:3
-        leg_r_spring.rest       creatures/biped.leg:160:48 > creatures/biped.leg:133:5
-        hip_r_pitch.kp          creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:160:48 > creatures/biped.leg:135:5
-        hip_r_roll.setpoint     creatures/biped.leg:160:48 > creatures/biped.leg:136:5
-        hip_r_yaw.setpoint      creatures/biped.leg:160:48 > creatures/biped.leg:137:5
+        leg_l_spring.rest       creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:162:48 > creatures/biped.leg:135:5
+        hip_r_pitch.kp          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:162:48 > creatures/biped.leg:137:5
+        hip_r_roll.setpoint     creatures/biped.leg:162:48 > creatures/biped.leg:138:5
+        hip_r_yaw.setpoint      creatures/biped.leg:162:48 > creatures/biped.leg:139:5
     """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
+    mirror = p[18]
+    short = p[19]
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
         0.0,
@@ -648,12 +652,12 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record step_speed  creatures/biped.leg:152:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:152:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:152:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:152:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:152:7 > stdlib/raibert.leg:76:3
-        record stance      creatures/biped.leg:153:7
+        record step_speed  creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:155:7
     """
     body_trunk_yaw = s[10]
     com_x = s[14]
@@ -680,26 +684,26 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y).
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:150:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:151:7 > creatures/biped.leg:100:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:151:7 > creatures/biped.leg:101:5
-        hip_r_yaw.kp            creatures/biped.leg:151:7 > creatures/biped.leg:102:5
-        leg_l_spring.rest       creatures/biped.leg:155:7 > creatures/biped.leg:133:5
-        hip_l_pitch.kp          creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:155:7 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:155:7 > creatures/biped.leg:135:5
-        hip_l_roll.setpoint     creatures/biped.leg:155:7 > creatures/biped.leg:136:5
-        hip_l_yaw.setpoint      creatures/biped.leg:155:7 > creatures/biped.leg:137:5
-        place right (x, y)      creatures/biped.leg:154:7 > stdlib/raibert.leg:57:3
+        leg_r_spring.rest       creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:153:7 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:153:7 > creatures/biped.leg:104:5
+        leg_l_spring.rest       creatures/biped.leg:157:7 > creatures/biped.leg:135:5
+        hip_l_pitch.kp          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:157:7 > creatures/biped.leg:137:5
+        hip_l_roll.setpoint     creatures/biped.leg:157:7 > creatures/biped.leg:138:5
+        hip_l_yaw.setpoint      creatures/biped.leg:157:7 > creatures/biped.leg:139:5
+        place right (x, y)      creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -716,11 +720,11 @@ def action_FLIGHT_1(s, u, p, r, tis):
     k_speed = p[0]
     swing_kp = p[10]
     swing_kv = p[11]
-    balance = p[14]
-    lead = p[15]
-    mirror = p[16]
-    short = p[17]
-    slew = p[19]
+    balance = p[16]
+    lead = p[17]
+    mirror = p[18]
+    short = p[19]
+    slew = p[21]
     stance = r[0]
     speed_trim = r[3]
     t1 = slew*tis
@@ -763,7 +767,7 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed).
 
     From the .leg file:
-        record landed  creatures/biped.leg:156:48
+        record landed  creatures/biped.leg:158:48
     """
     time = s[44]
     stance = r[0]
@@ -780,29 +784,29 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        hip_r_pitch.kp          creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_r_pitch.kv          creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_r_motor.force       creatures/biped.leg:156:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_r_roll.kp           creatures/biped.leg:156:70 > stdlib/raibert.leg:167:3
-        hip_r_roll.kv           creatures/biped.leg:156:70 > stdlib/raibert.leg:168:3
-        hip_r_roll_motor.force  creatures/biped.leg:156:70 > stdlib/raibert.leg:169:3
-        leg_l_spring.rest       creatures/biped.leg:156:91 > creatures/biped.leg:133:5
-        hip_l_pitch.kp          creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:156:91 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:156:91 > creatures/biped.leg:135:5
-        hip_l_roll.setpoint     creatures/biped.leg:156:91 > creatures/biped.leg:136:5
-        hip_l_yaw.setpoint      creatures/biped.leg:156:91 > creatures/biped.leg:137:5
+        hip_r_pitch.kp          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:158:91 > creatures/biped.leg:135:5
+        hip_l_pitch.kp          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:158:91 > creatures/biped.leg:137:5
+        hip_l_roll.setpoint     creatures/biped.leg:158:91 > creatures/biped.leg:138:5
+        hip_l_yaw.setpoint      creatures/biped.leg:158:91 > creatures/biped.leg:139:5
     """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
+    mirror = p[18]
+    short = p[19]
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
         0.0,
@@ -841,24 +845,24 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        hip_r_pitch.kp          creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:157:48 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:157:48 > creatures/biped.leg:143:5
-        hip_r_yaw.setpoint      creatures/biped.leg:157:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:157:65 > creatures/biped.leg:133:5
-        hip_l_pitch.kp          creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:157:65 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:157:65 > creatures/biped.leg:135:5
-        hip_l_roll.setpoint     creatures/biped.leg:157:65 > creatures/biped.leg:136:5
-        hip_l_yaw.setpoint      creatures/biped.leg:157:65 > creatures/biped.leg:137:5
+        hip_r_pitch.kp          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:159:48 > creatures/biped.leg:145:5
+        hip_r_yaw.setpoint      creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:159:65 > creatures/biped.leg:135:5
+        hip_l_pitch.kp          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:159:65 > creatures/biped.leg:137:5
+        hip_l_roll.setpoint     creatures/biped.leg:159:65 > creatures/biped.leg:138:5
+        hip_l_yaw.setpoint      creatures/biped.leg:159:65 > creatures/biped.leg:139:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
@@ -891,10 +895,10 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
-    k_path = p[20]
-    turn_limit = p[21]
+    mirror = p[18]
+    short = p[19]
+    k_path = p[22]
+    turn_limit = p[23]
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
@@ -928,7 +932,7 @@ def entry_THRUST_1(s, u, p, r, tis):
     """The records on entering THRUST under binding 1 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/biped.leg:158:48 > stdlib/raibert.leg:191:3
+        record predicted_apex  creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3
     """
     act_leg_r_spring_force = s[3]
     act_leg_r_spring_k = s[4]
@@ -948,25 +952,25 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:158:48 > stdlib/raibert.leg:192:3
-        hip_r_pitch.kp          creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:158:119 > creatures/biped.leg:142:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:158:119 > creatures/biped.leg:143:5
-        hip_r_yaw.setpoint      creatures/biped.leg:158:119 > creatures/biped.leg:144:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:158:136 > creatures/biped.leg:133:5
-        hip_l_pitch.kp          creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:158:136 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:158:136 > creatures/biped.leg:135:5
-        hip_l_roll.setpoint     creatures/biped.leg:158:136 > creatures/biped.leg:136:5
-        hip_l_yaw.setpoint      creatures/biped.leg:158:136 > creatures/biped.leg:137:5
+        leg_r_spring.rest       creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3
+        hip_r_pitch.kp          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:160:130 > creatures/biped.leg:145:5
+        hip_r_yaw.setpoint      creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:160:147 > creatures/biped.leg:135:5
+        hip_l_pitch.kp          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:160:147 > creatures/biped.leg:137:5
+        hip_l_roll.setpoint     creatures/biped.leg:160:147 > creatures/biped.leg:138:5
+        hip_l_yaw.setpoint      creatures/biped.leg:160:147 > creatures/biped.leg:139:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
@@ -1002,12 +1006,14 @@ def action_THRUST_1(s, u, p, r, tis):
     swing_kv = p[11]
     stroke = p[12]
     k_height = p[13]
-    mirror = p[16]
-    short = p[17]
-    k_path = p[20]
-    turn_limit = p[21]
+    min_stroke = p[14]
+    max_stroke = p[15]
+    mirror = p[18]
+    short = p[19]
+    k_path = p[22]
+    turn_limit = p[23]
     predicted_apex = r[7]
-    leg_r_spring_rest = minimum(0.06, maximum(-0.04, k_height*(height - predicted_apex) + stroke))
+    leg_r_spring_rest = minimum(max_stroke, maximum(min_stroke, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
@@ -1055,30 +1061,30 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:160:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_r_pitch.kv          creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_r_motor.force       creatures/biped.leg:160:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_r_roll.kp           creatures/biped.leg:160:27 > stdlib/raibert.leg:167:3
-        hip_r_roll.kv           creatures/biped.leg:160:27 > stdlib/raibert.leg:168:3
-        hip_r_roll_motor.force  creatures/biped.leg:160:27 > stdlib/raibert.leg:169:3
-        leg_l_spring.rest       creatures/biped.leg:160:48 > creatures/biped.leg:133:5
-        hip_l_pitch.kp          creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:160:48 > creatures/biped.leg:134:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:160:48 > creatures/biped.leg:135:5
-        hip_l_roll.setpoint     creatures/biped.leg:160:48 > creatures/biped.leg:136:5
-        hip_l_yaw.setpoint      creatures/biped.leg:160:48 > creatures/biped.leg:137:5
+        leg_r_spring.rest       creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:162:48 > creatures/biped.leg:135:5
+        hip_l_pitch.kp          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:162:48 > creatures/biped.leg:137:5
+        hip_l_roll.setpoint     creatures/biped.leg:162:48 > creatures/biped.leg:138:5
+        hip_l_yaw.setpoint      creatures/biped.leg:162:48 > creatures/biped.leg:139:5
     """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     swing_kp = p[10]
     swing_kv = p[11]
-    mirror = p[16]
-    short = p[17]
+    mirror = p[18]
+    short = p[19]
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
         0.0,

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "5330c500ac7d918e";
+const char legdsl_control_fingerprint[] = "92c722ee041238fa";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -29,7 +29,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/hopper.leg:68:5 */
+/*   event: creatures/hopper.leg:69:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -38,7 +38,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/hopper.leg:69:5 */
+/*   event: creatures/hopper.leg:70:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -47,7 +47,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/hopper.leg:70:5 */
+/*   event: creatures/hopper.leg:71:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -56,7 +56,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/hopper.leg:71:5 */
+/*   event: creatures/hopper.leg:72:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -65,19 +65,19 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full */
-/*   event: creatures/hopper.leg:72:5 */
+/*   event: creatures/hopper.leg:73:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_length = s[8];
-    const double full = p[10];
+    const double full = p[11];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_main_length > full);
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: speed_trim, apex_seen, apex_trim). */
-/*   record speed_trim: creatures/hopper.leg:68:104 > stdlib/raibert.leg:44:3 */
-/*   record apex_seen: creatures/hopper.leg:68:131 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/hopper.leg:68:131 > stdlib/raibert.leg:360:3 */
+/*   record speed_trim: creatures/hopper.leg:69:104 > stdlib/raibert.leg:44:3 */
+/*   record apex_seen: creatures/hopper.leg:69:131 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/hopper.leg:69:131 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -86,14 +86,15 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double speed = u[0];
     const double height = u[1];
     const double k_apex = p[8];
-    const double k_trim = p[9];
+    const double apex_limit = p[9];
+    const double k_trim = p[10];
     const double speed_trim = r[0];
     const double predicted_apex = r[1];
     const double thrust_stroke = r[2];
     const double apex_trim = r[4];
     const double new_speed_trim = k_trim*(-com_vx + speed) + speed_trim;
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
-    const double new_apex_trim = leg_min(0.5, leg_max(-0.5, apex_trim + k_apex*(height - new_apex_seen)));
+    const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
     out[0] = new_speed_trim;
     out[1] = predicted_apex;
     out[2] = thrust_stroke;
@@ -104,11 +105,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x). */
-/*   leg_spring.rest: creatures/hopper.leg:68:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:68:69 > stdlib/raibert.leg:144:3 */
-/*   hip_servo.kv: creatures/hopper.leg:68:69 > stdlib/raibert.leg:145:3 */
-/*   hip_motor.force: creatures/hopper.leg:68:69 > stdlib/raibert.leg:146:3 */
-/*   place main (x): creatures/hopper.leg:68:166 > stdlib/raibert.leg:20:3 */
+/*   leg_spring.rest: creatures/hopper.leg:69:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:69:69 > stdlib/raibert.leg:144:3 */
+/*   hip_servo.kv: creatures/hopper.leg:69:69 > stdlib/raibert.leg:145:3 */
+/*   hip_motor.force: creatures/hopper.leg:69:69 > stdlib/raibert.leg:146:3 */
+/*   place main (x): creatures/hopper.leg:69:171 > stdlib/raibert.leg:20:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -148,9 +149,9 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:69:49 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:69:49 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:69:49 > stdlib/raibert.leg:162:3 */
+/*   hip_servo.kp: creatures/hopper.leg:70:49 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:70:49 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:70:49 > stdlib/raibert.leg:162:3 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;
@@ -178,9 +179,9 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:70:49 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:70:49 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:70:49 > stdlib/raibert.leg:86:3 */
+/*   hip_servo.kp: creatures/hopper.leg:71:49 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:71:49 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:71:49 > stdlib/raibert.leg:86:3 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -196,8 +197,8 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke). */
-/*   record predicted_apex: creatures/hopper.leg:71:49 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/hopper.leg:71:49 > stdlib/raibert.leg:344:3 */
+/*   record predicted_apex: creatures/hopper.leg:72:49 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/hopper.leg:72:49 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_spring_force = s[0];
@@ -225,10 +226,10 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:71:49 > stdlib/raibert.leg:345:3 */
-/*   hip_servo.kp: creatures/hopper.leg:71:112 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:71:112 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:71:112 > stdlib/raibert.leg:86:3 */
+/*   leg_spring.rest: creatures/hopper.leg:72:49 > stdlib/raibert.leg:345:3 */
+/*   hip_servo.kp: creatures/hopper.leg:72:112 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:72:112 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:72:112 > stdlib/raibert.leg:86:3 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -263,10 +264,10 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:72:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:72:69 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:72:69 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:72:69 > stdlib/raibert.leg:162:3 */
+/*   leg_spring.rest: creatures/hopper.leg:73:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:73:69 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:73:69 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:73:69 > stdlib/raibert.leg:162:3 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;

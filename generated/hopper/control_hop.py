@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "5330c500ac7d918e"
+FINGERPRINT = "92c722ee041238fa"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
@@ -50,6 +50,7 @@ PARAMS = {
     "stroke": 0.03,
     "k_height": 0.3,
     "k_apex": 0.5,
+    "apex_limit": 0.5,
     "k_trim": 0.5,
     "full": 0.79,
 }
@@ -68,7 +69,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:68:5
+        event  creatures/hopper.leg:69:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching < 0.5)
@@ -78,7 +79,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:69:5
+        event  creatures/hopper.leg:70:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching > 0.5)
@@ -88,7 +89,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/hopper.leg:70:5
+        event  creatures/hopper.leg:71:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate < 0.0)
@@ -98,7 +99,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/hopper.leg:71:5
+        event  creatures/hopper.leg:72:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate > 0.0)
@@ -108,10 +109,10 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full
 
     From the .leg file:
-        event  creatures/hopper.leg:72:5
+        event  creatures/hopper.leg:73:5
     """
     leg_main_length = s[8]
-    full = p[10]
+    full = p[11]
     return (leg_main_length > full)
 
 
@@ -119,9 +120,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record speed_trim  creatures/hopper.leg:68:104 > stdlib/raibert.leg:44:3
-        record apex_seen   creatures/hopper.leg:68:131 > stdlib/raibert.leg:359:3
-        record apex_trim   creatures/hopper.leg:68:131 > stdlib/raibert.leg:360:3
+        record speed_trim  creatures/hopper.leg:69:104 > stdlib/raibert.leg:44:3
+        record apex_seen   creatures/hopper.leg:69:131 > stdlib/raibert.leg:359:3
+        record apex_trim   creatures/hopper.leg:69:131 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -129,14 +130,15 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     speed = u[0]
     height = u[1]
     k_apex = p[8]
-    k_trim = p[9]
+    apex_limit = p[9]
+    k_trim = p[10]
     speed_trim = r[0]
     predicted_apex = r[1]
     thrust_stroke = r[2]
     apex_trim = r[4]
     new_speed_trim = k_trim*(-com_vx + speed) + speed_trim
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
-    new_apex_trim = minimum(0.5, maximum(-0.5, apex_trim + k_apex*(height - new_apex_seen)))
+    new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
     return [new_speed_trim, predicted_apex, thrust_stroke, new_apex_seen, new_apex_trim]
 
 
@@ -144,11 +146,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x).
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:68:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:68:69 > stdlib/raibert.leg:144:3
-        hip_servo.kv     creatures/hopper.leg:68:69 > stdlib/raibert.leg:145:3
-        hip_motor.force  creatures/hopper.leg:68:69 > stdlib/raibert.leg:146:3
-        place main (x)   creatures/hopper.leg:68:166 > stdlib/raibert.leg:20:3
+        leg_spring.rest  creatures/hopper.leg:69:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:69:69 > stdlib/raibert.leg:144:3
+        hip_servo.kv     creatures/hopper.leg:69:69 > stdlib/raibert.leg:145:3
+        hip_motor.force  creatures/hopper.leg:69:69 > stdlib/raibert.leg:146:3
+        place main (x)   creatures/hopper.leg:69:171 > stdlib/raibert.leg:20:3
     """
     com_vx = s[4]
     leg_main_hip_x = s[7]
@@ -177,9 +179,9 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:69:49 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:69:49 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:69:49 > stdlib/raibert.leg:162:3
+        hip_servo.kp     creatures/hopper.leg:70:49 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:70:49 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:70:49 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0]
 
@@ -198,9 +200,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:70:49 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:70:49 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:70:49 > stdlib/raibert.leg:86:3
+        hip_servo.kp     creatures/hopper.leg:71:49 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:71:49 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:71:49 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -214,8 +216,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record predicted_apex  creatures/hopper.leg:71:49 > stdlib/raibert.leg:343:3
-        record thrust_stroke   creatures/hopper.leg:71:49 > stdlib/raibert.leg:344:3
+        record predicted_apex  creatures/hopper.leg:72:49 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/hopper.leg:72:49 > stdlib/raibert.leg:344:3
     """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
@@ -239,10 +241,10 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:71:49 > stdlib/raibert.leg:345:3
-        hip_servo.kp     creatures/hopper.leg:71:112 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:71:112 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:71:112 > stdlib/raibert.leg:86:3
+        leg_spring.rest  creatures/hopper.leg:72:49 > stdlib/raibert.leg:345:3
+        hip_servo.kp     creatures/hopper.leg:72:112 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:72:112 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:72:112 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -267,10 +269,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:72:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:72:69 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:72:69 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:72:69 > stdlib/raibert.leg:162:3
+        leg_spring.rest  creatures/hopper.leg:73:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:73:69 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:73:69 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:73:69 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0, 0.0]
 

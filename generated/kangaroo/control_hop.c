@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "1432f3be39422b9c";
+const char legdsl_control_fingerprint[] = "a5bf0f62e1a0d0e1";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -36,7 +36,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(main) */
-/*   event: creatures/kangaroo.leg:268:5 */
+/*   event: creatures/kangaroo.leg:269:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -45,7 +45,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(main) */
-/*   event: creatures/kangaroo.leg:269:5 */
+/*   event: creatures/kangaroo.leg:270:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -54,7 +54,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0 */
-/*   event: creatures/kangaroo.leg:270:5 */
+/*   event: creatures/kangaroo.leg:271:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -63,7 +63,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: ankle.rate > 0 */
-/*   event: creatures/kangaroo.leg:271:5 */
+/*   event: creatures/kangaroo.leg:272:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -72,22 +72,22 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main) */
-/*   event: creatures/kangaroo.leg:272:5 */
+/*   event: creatures/kangaroo.leg:273:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_value = s[8];
     const double leg_main_touching = s[16];
-    const double ankle_rest = p[15];
-    const double unload = p[27];
+    const double ankle_rest = p[16];
+    const double unload = p[28];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((coord_ankle_value > ankle_rest + unload)) || ((leg_main_touching < 0.5)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim). */
-/*   record desired_now: creatures/kangaroo.leg:268:65 > creatures/kangaroo.leg:229:5 */
-/*   record speed_trim: creatures/kangaroo.leg:268:92 > creatures/kangaroo.leg:234:5 */
-/*   record apex_seen: creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:360:3 */
+/*   record desired_now: creatures/kangaroo.leg:269:65 > creatures/kangaroo.leg:230:5 */
+/*   record speed_trim: creatures/kangaroo.leg:269:92 > creatures/kangaroo.leg:235:5 */
+/*   record apex_seen: creatures/kangaroo.leg:269:133 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/kangaroo.leg:269:133 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -100,15 +100,16 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[4];
     const double max_trim = p[6];
     const double accel = p[7];
-    const double k_apex = p[20];
-    const double apex_limit = p[21];
+    const double first_stride = p[8];
+    const double k_apex = p[21];
+    const double apex_limit = p[22];
     const double apex_trim = r[1];
     const double predicted_apex = r[2];
     const double desired_now = r[3];
     const double speed_trim = r[4];
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(0.5, leg_main_flight_time + leg_main_stance_time)) : (0.5));
+    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(first_stride, leg_main_flight_time + leg_main_stance_time)) : (first_stride));
     const double new_desired_now = desired_now + leg_min(t1, leg_max(-t1, -desired_now + speed));
     const double new_speed_trim = leg_min(max_trim, leg_max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim));
     out[0] = new_apex_seen;
@@ -121,20 +122,20 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:268:42 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:245:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:246:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:247:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:248:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:249:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
-/*   knee_servo.setpoint: creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
-/*   tail_spring.k: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:268:248 > creatures/kangaroo.leg:182:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:268:264 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:268:278 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:269:42 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:246:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:247:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:248:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:249:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:250:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
+/*   knee_servo.setpoint: creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
+/*   tail_spring.k: creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:269:248 > creatures/kangaroo.leg:183:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:269:264 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:269:278 > creatures/kangaroo.leg:194:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -156,21 +157,21 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double max_correction = p[2];
     const double stance_guess = p[3];
     const double speed_ff = p[5];
-    const double swing_kp = p[12];
-    const double swing_kv = p[13];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double reach = p[25];
-    const double tuck = p[26];
-    const double tail_up = p[28];
-    const double tail_b = p[30];
-    const double tail_stop = p[31];
-    const double tail_low = p[32];
-    const double tail_high = p[33];
-    const double tail_kp = p[34];
-    const double tail_kv = p[35];
+    const double swing_kp = p[13];
+    const double swing_kv = p[14];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double reach = p[26];
+    const double tuck = p[27];
+    const double tail_up = p[29];
+    const double tail_b = p[31];
+    const double tail_stop = p[32];
+    const double tail_low = p[33];
+    const double tail_high = p[34];
+    const double tail_kp = p[35];
+    const double tail_kv = p[36];
     const double desired_now = r[3];
     const double speed_trim = r[4];
     const double ankle_spring_rest = leg_min(ankle_rest, ramp*time + start_rest);
@@ -224,18 +225,18 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   hip_servo.kp: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:269:94 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:269:106 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:269:120 > creatures/kangaroo.leg:193:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:270:94 > creatures/kangaroo.leg:187:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:270:106 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:270:120 > creatures/kangaroo.leg:194:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -245,14 +246,14 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double leg_main_hip_x = s[13];
     const double leg_main_hip_z = s[14];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead);
     out[0] = hip_kp;
@@ -289,18 +290,18 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   hip_servo.kp: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:270:95 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:270:107 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:270:121 > creatures/kangaroo.leg:193:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:271:95 > creatures/kangaroo.leg:187:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:271:107 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:271:121 > creatures/kangaroo.leg:194:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -310,14 +311,14 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double leg_main_hip_x = s[13];
     const double leg_main_hip_z = s[14];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead);
     out[0] = hip_kp;
@@ -337,7 +338,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:220:5 */
+/*   record predicted_apex: creatures/kangaroo.leg:272:44 > creatures/kangaroo.leg:221:5 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_ankle_spring_force = s[0];
@@ -358,19 +359,19 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:221:5 */
-/*   hip_servo.kp: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:271:163 > creatures/kangaroo.leg:186:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:271:175 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:271:189 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:272:44 > creatures/kangaroo.leg:222:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:272:163 > creatures/kangaroo.leg:187:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:272:175 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:272:189 > creatures/kangaroo.leg:194:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -382,21 +383,21 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double time = s[18];
     const double height = u[1];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double stroke = p[16];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double k_height = p[19];
-    const double min_stroke = p[22];
-    const double max_stroke = p[23];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double stroke = p[17];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double k_height = p[20];
+    const double min_stroke = p[23];
+    const double max_stroke = p[24];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
     const double apex_trim = r[1];
     const double predicted_apex = r[2];
     const double ankle_spring_rest = leg_min(ankle_rest, ramp*time + start_rest) + leg_min(max_stroke, leg_max(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke));
@@ -437,18 +438,18 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:272:78 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:198:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:272:150 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:272:164 > creatures/kangaroo.leg:193:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:273:78 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:199:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:273:150 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:273:164 > creatures/kangaroo.leg:194:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -459,17 +460,17 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double leg_main_hip_z = s[14];
     const double time = s[18];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double pitch_lead = p[24];
-    const double tail_up = p[28];
-    const double tail_b = p[30];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double pitch_lead = p[25];
+    const double tail_up = p[29];
+    const double tail_b = p[31];
     const double ankle_spring_rest = leg_min(ankle_rest, ramp*time + start_rest);
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead);

@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "1432f3be39422b9c"
+FINGERPRINT = "a5bf0f62e1a0d0e1"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.height', 'time')
@@ -51,6 +51,7 @@ PARAMS = {
     "speed_ff": 0.13,
     "max_trim": 1.0,
     "accel": 2.0,
+    "first_stride": 0.5,
     "kp": 145.0,
     "kv": 10.0,
     "hip_kp": 400.0,
@@ -95,7 +96,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:268:5
+        event  creatures/kangaroo.leg:269:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
@@ -105,7 +106,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:269:5
+        event  creatures/kangaroo.leg:270:5
     """
     leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
@@ -115,7 +116,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:270:5
+        event  creatures/kangaroo.leg:271:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate < 0.0)
@@ -125,7 +126,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:271:5
+        event  creatures/kangaroo.leg:272:5
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate > 0.0)
@@ -135,12 +136,12 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:272:5
+        event  creatures/kangaroo.leg:273:5
     """
     coord_ankle_value = s[8]
     leg_main_touching = s[16]
-    ankle_rest = p[15]
-    unload = p[27]
+    ankle_rest = p[16]
+    unload = p[28]
     return (coord_ankle_value > ankle_rest + unload) or (leg_main_touching < 0.5)
 
 
@@ -148,10 +149,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: desired_now, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record desired_now  creatures/kangaroo.leg:268:65 > creatures/kangaroo.leg:229:5
-        record speed_trim   creatures/kangaroo.leg:268:92 > creatures/kangaroo.leg:234:5
-        record apex_seen    creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:359:3
-        record apex_trim    creatures/kangaroo.leg:268:133 > stdlib/raibert.leg:360:3
+        record desired_now  creatures/kangaroo.leg:269:65 > creatures/kangaroo.leg:230:5
+        record speed_trim   creatures/kangaroo.leg:269:92 > creatures/kangaroo.leg:235:5
+        record apex_seen    creatures/kangaroo.leg:269:133 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:269:133 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -163,15 +164,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[4]
     max_trim = p[6]
     accel = p[7]
-    k_apex = p[20]
-    apex_limit = p[21]
+    first_stride = p[8]
+    k_apex = p[21]
+    apex_limit = p[22]
     apex_trim = r[1]
     predicted_apex = r[2]
     desired_now = r[3]
     speed_trim = r[4]
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
     new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
-    t1 = accel*((minimum(0.5, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (0.5))
+    t1 = accel*((minimum(first_stride, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (first_stride))
     new_desired_now = desired_now + minimum(t1, maximum(-t1, -desired_now + speed))
     new_speed_trim = minimum(max_trim, maximum(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
     return [new_apex_seen, new_apex_trim, predicted_apex, new_desired_now, new_speed_trim]
@@ -181,20 +183,20 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:268:42 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:245:5
-        hip_servo.kv         creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:246:5
-        knee_servo.kp        creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:247:5
-        knee_servo.kv        creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:248:5
-        knee_motor.force     creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:249:5
-        hip_servo.setpoint   creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:268:173 > creatures/kangaroo.leg:237:5 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
-        tail_spring.k        creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:268:233 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:268:248 > creatures/kangaroo.leg:182:5
-        neck_servo.setpoint  creatures/kangaroo.leg:268:264 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:268:278 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:269:42 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:246:5
+        hip_servo.kv         creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:247:5
+        knee_servo.kp        creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:248:5
+        knee_servo.kv        creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:249:5
+        knee_motor.force     creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:250:5
+        hip_servo.setpoint   creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:269:173 > creatures/kangaroo.leg:238:5 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:269:233 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:269:248 > creatures/kangaroo.leg:183:5
+        neck_servo.setpoint  creatures/kangaroo.leg:269:264 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:269:278 > creatures/kangaroo.leg:194:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -215,21 +217,21 @@ def action_FLIGHT_0(s, u, p, r, tis):
     max_correction = p[2]
     stance_guess = p[3]
     speed_ff = p[5]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    reach = p[25]
-    tuck = p[26]
-    tail_up = p[28]
-    tail_b = p[30]
-    tail_stop = p[31]
-    tail_low = p[32]
-    tail_high = p[33]
-    tail_kp = p[34]
-    tail_kv = p[35]
+    swing_kp = p[13]
+    swing_kv = p[14]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    start_rest = p[18]
+    ramp = p[19]
+    reach = p[26]
+    tuck = p[27]
+    tail_up = p[29]
+    tail_b = p[31]
+    tail_stop = p[32]
+    tail_low = p[33]
+    tail_high = p[34]
+    tail_kp = p[35]
+    tail_kv = p[36]
     desired_now = r[3]
     speed_trim = r[4]
     ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
@@ -279,18 +281,18 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:269:43 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:269:77 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:269:94 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:269:106 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:269:120 > creatures/kangaroo.leg:193:5
+        hip_servo.kp         creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:270:43 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:270:77 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:270:94 > creatures/kangaroo.leg:187:5
+        neck_servo.setpoint  creatures/kangaroo.leg:270:106 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:270:120 > creatures/kangaroo.leg:194:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -299,14 +301,14 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -339,18 +341,18 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:270:44 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:270:78 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:270:95 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:270:107 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:270:121 > creatures/kangaroo.leg:193:5
+        hip_servo.kp         creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:271:78 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:271:95 > creatures/kangaroo.leg:187:5
+        neck_servo.setpoint  creatures/kangaroo.leg:271:107 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:271:121 > creatures/kangaroo.leg:194:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -359,14 +361,14 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_x = s[13]
     leg_main_hip_z = s[14]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     return [
@@ -389,7 +391,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:220:5
+        record predicted_apex  creatures/kangaroo.leg:272:44 > creatures/kangaroo.leg:221:5
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
@@ -406,19 +408,19 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:271:44 > creatures/kangaroo.leg:221:5
-        hip_servo.kp         creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:271:112 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:271:146 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:271:163 > creatures/kangaroo.leg:186:5
-        neck_servo.setpoint  creatures/kangaroo.leg:271:175 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:271:189 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:272:44 > creatures/kangaroo.leg:222:5
+        hip_servo.kp         creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:272:112 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:272:146 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:272:163 > creatures/kangaroo.leg:187:5
+        neck_servo.setpoint  creatures/kangaroo.leg:272:175 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:272:189 > creatures/kangaroo.leg:194:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -429,21 +431,21 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[18]
     height = u[1]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    stroke = p[16]
-    start_rest = p[17]
-    ramp = p[18]
-    k_height = p[19]
-    min_stroke = p[22]
-    max_stroke = p[23]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    stroke = p[17]
+    start_rest = p[18]
+    ramp = p[19]
+    k_height = p[20]
+    min_stroke = p[23]
+    max_stroke = p[24]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
     apex_trim = r[1]
     predicted_apex = r[2]
     ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest) + minimum(max_stroke, maximum(min_stroke, k_height*(apex_trim + height - predicted_apex) + stroke))
@@ -480,18 +482,18 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:272:78 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:272:101 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:272:135 > creatures/kangaroo.leg:198:5
-        neck_servo.setpoint  creatures/kangaroo.leg:272:150 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:272:164 > creatures/kangaroo.leg:193:5
+        ankle_spring.rest    creatures/kangaroo.leg:273:78 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:273:101 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:273:135 > creatures/kangaroo.leg:199:5
+        neck_servo.setpoint  creatures/kangaroo.leg:273:150 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:273:164 > creatures/kangaroo.leg:194:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -501,17 +503,17 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[14]
     time = s[18]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    pitch_lead = p[24]
-    tail_up = p[28]
-    tail_b = p[30]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    start_rest = p[18]
+    ramp = p[19]
+    pitch_lead = p[25]
+    tail_up = p[29]
+    tail_b = p[31]
     ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)

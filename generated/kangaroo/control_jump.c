@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "f9c121da87007241";
+const char legdsl_control_fingerprint[] = "10b421e2b2d6607f";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -41,7 +41,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(main) */
-/*   event: creatures/kangaroo.leg:388:5 */
+/*   event: creatures/kangaroo.leg:392:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[17];
@@ -50,7 +50,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(main) */
-/*   event: creatures/kangaroo.leg:389:5 */
+/*   event: creatures/kangaroo.leg:393:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[17];
@@ -59,7 +59,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0 */
-/*   event: creatures/kangaroo.leg:390:5 */
+/*   event: creatures/kangaroo.leg:394:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[8];
@@ -68,7 +68,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: ankle.rate > 0 */
-/*   event: creatures/kangaroo.leg:391:5 */
+/*   event: creatures/kangaroo.leg:395:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[8];
@@ -77,27 +77,27 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload + select(takeoff > 0, jump_unload, 0 deg) or liftoff(main) */
-/*   event: creatures/kangaroo.leg:392:5 */
+/*   event: creatures/kangaroo.leg:396:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_value = s[9];
     const double leg_main_touching = s[17];
-    const double ankle_rest = p[15];
-    const double unload = p[27];
-    const double jump_unload = p[48];
+    const double ankle_rest = p[16];
+    const double unload = p[28];
+    const double jump_unload = p[50];
     const double takeoff = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((coord_ankle_value > ankle_rest + unload + (((takeoff > 0.0)) ? (jump_unload) : (0.0)))) || ((leg_main_touching < 0.5)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: jump_flight, jumps, clear_x, desired_now, speed_trim, apex_seen, apex_trim). */
-/*   record jump_flight: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:355:5 */
-/*   record jumps: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:356:5 */
-/*   record clear_x: creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:357:5 */
-/*   record desired_now: creatures/kangaroo.leg:388:81 > creatures/kangaroo.leg:229:5 */
-/*   record speed_trim: creatures/kangaroo.leg:388:108 > creatures/kangaroo.leg:234:5 */
-/*   record apex_seen: creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:360:3 */
+/*   record jump_flight: creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:359:5 */
+/*   record jumps: creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:360:5 */
+/*   record clear_x: creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:361:5 */
+/*   record desired_now: creatures/kangaroo.leg:392:81 > creatures/kangaroo.leg:230:5 */
+/*   record speed_trim: creatures/kangaroo.leg:392:108 > creatures/kangaroo.leg:235:5 */
+/*   record apex_seen: creatures/kangaroo.leg:392:149 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/kangaroo.leg:392:149 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -114,9 +114,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[4];
     const double max_trim = p[6];
     const double accel = p[7];
-    const double k_apex = p[20];
-    const double apex_limit = p[21];
-    const double jump_past = p[52];
+    const double first_stride = p[8];
+    const double k_apex = p[21];
+    const double apex_limit = p[22];
+    const double jump_past = p[54];
+    const double animator_clear = p[55];
     const double predicted_apex = r[0];
     const double thrust_stroke = r[1];
     const double apex_trim = r[3];
@@ -128,11 +130,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double hop_predicted = r[11];
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(0.5, leg_main_flight_time + leg_main_stance_time)) : (0.5));
+    const double t1 = accel*(((leg_main_flight_time > 0.0)) ? (leg_min(first_stride, leg_main_flight_time + leg_main_stance_time)) : (first_stride));
     const double new_desired_now = desired_now + leg_min(t1, leg_max(-t1, -desired_now + speed));
     const double new_speed_trim = leg_min(max_trim, leg_max(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim));
     const double new_jumps = jumps + takeoff;
-    const double new_clear_x = jump_past + (((terrain_ahead_given > 0.0)) ? (com_x + terrain_ahead_depth + terrain_ahead_distance) : (com_x + 0.5));
+    const double new_clear_x = jump_past + (((terrain_ahead_given > 0.0)) ? (com_x + terrain_ahead_depth + terrain_ahead_distance) : (animator_clear + com_x));
     out[0] = predicted_apex;
     out[1] = thrust_stroke;
     out[2] = new_apex_seen;
@@ -150,23 +152,23 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_spring.k, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:388:58 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:245:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:246:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:247:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:248:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:249:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
-/*   knee_servo.setpoint: creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
-/*   tail_spring.k: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:198:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:380:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:381:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:388:558 > creatures/kangaroo.leg:384:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:388:571 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:360:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:361:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:392:58 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:246:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:247:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:248:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:249:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:250:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3 */
+/*   knee_servo.setpoint: creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3 */
+/*   tail_spring.k: creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:199:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:384:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:385:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:392:558 > creatures/kangaroo.leg:388:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:392:571 > creatures/kangaroo.leg:194:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:392:585 > creatures/kangaroo.leg:364:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:392:585 > creatures/kangaroo.leg:365:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -190,32 +192,33 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double max_correction = p[2];
     const double stance_guess = p[3];
     const double speed_ff = p[5];
-    const double swing_kp = p[12];
-    const double swing_kv = p[13];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double reach = p[25];
-    const double tuck = p[26];
-    const double tail_up = p[28];
-    const double tail_b = p[30];
-    const double tail_stop = p[31];
-    const double tail_low = p[32];
-    const double tail_high = p[33];
-    const double tail_kp = p[34];
-    const double tail_kv = p[35];
-    const double jump_k = p[44];
-    const double land_k = p[45];
-    const double land_b = p[46];
-    const double jump_tuck = p[51];
-    const double leg_kp = p[53];
-    const double leg_kv = p[54];
-    const double jump_toe_x = p[55];
-    const double tail_jump = p[56];
-    const double jump_tail_k = p[57];
-    const double jump_tail_on = p[58];
-    const double head_look = p[59];
+    const double swing_kp = p[13];
+    const double swing_kv = p[14];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double reach = p[26];
+    const double tuck = p[27];
+    const double tail_up = p[29];
+    const double tail_b = p[31];
+    const double tail_stop = p[32];
+    const double tail_low = p[33];
+    const double tail_high = p[34];
+    const double tail_kp = p[35];
+    const double tail_kv = p[36];
+    const double jump_k = p[45];
+    const double land_k = p[46];
+    const double land_b = p[47];
+    const double ankle_b = p[48];
+    const double jump_tuck = p[53];
+    const double leg_kp = p[56];
+    const double leg_kv = p[57];
+    const double jump_toe_x = p[58];
+    const double tail_jump = p[59];
+    const double jump_tail_k = p[60];
+    const double jump_tail_on = p[61];
+    const double head_look = p[62];
     const double desired_now = r[4];
     const double speed_trim = r[5];
     const double takeoff = r[6];
@@ -246,7 +249,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double neck_servo_setpoint = -body_trunk_pitch + ((((t1) && ((com_vz < 0.0)))) ? (head_look) : (0.0));
     const double t16 = (landing > 0.0);
     const double ankle_spring_k = (((takeoff > 0.0)) ? (jump_k) : (((t16) ? (land_k) : (ankle_k))));
-    const double ankle_spring_b = ((t16) ? (land_b) : (0.4));
+    const double ankle_spring_b = ((t16) ? (land_b) : (ankle_b));
     out[0] = ankle_spring_rest;
     out[1] = swing_kp;
     out[2] = swing_kv;
@@ -269,8 +272,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: takeoff, landing). */
-/*   record takeoff: creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:350:5 */
-/*   record landing: creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:351:5 */
+/*   record takeoff: creatures/kangaroo.leg:393:43 > creatures/kangaroo.leg:354:5 */
+/*   record landing: creatures/kangaroo.leg:393:43 > creatures/kangaroo.leg:355:5 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -283,8 +286,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double time = s[23];
     const double jump_at = u[4];
     const double jump_time = u[5];
-    const double lead = p[36];
-    const double min_obstacle = p[40];
+    const double lead = p[37];
+    const double min_obstacle = p[41];
     const double predicted_apex = r[0];
     const double thrust_stroke = r[1];
     const double apex_seen = r[2];
@@ -321,22 +324,22 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   hip_servo.kp: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:389:103 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:373:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:374:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:389:134 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:389:148 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:360:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:361:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:393:103 > creatures/kangaroo.leg:187:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:393:115 > creatures/kangaroo.leg:377:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:393:115 > creatures/kangaroo.leg:378:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:393:134 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:393:148 > creatures/kangaroo.leg:194:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:393:162 > creatures/kangaroo.leg:364:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:393:162 > creatures/kangaroo.leg:365:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -347,32 +350,34 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double leg_main_hip_z = s[15];
     const double speed = u[0];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
-    const double tail_kp = p[34];
-    const double tail_kv = p[35];
-    const double jump_k = p[44];
-    const double land_k = p[45];
-    const double land_b = p[46];
-    const double jump_lead = p[60];
-    const double jump_lead_slope = p[61];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
+    const double tail_kp = p[35];
+    const double tail_kv = p[36];
+    const double jump_k = p[45];
+    const double land_k = p[46];
+    const double land_b = p[47];
+    const double ankle_b = p[48];
+    const double jump_lead = p[63];
+    const double jump_lead_speed = p[64];
+    const double jump_lead_slope = p[65];
     const double takeoff = r[6];
     const double landing = r[7];
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double t1 = body_trunk_pitch_rate*kv;
     const double knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1;
     const double t2 = (takeoff > 0.0);
-    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(speed - 4.0)) : (pitch_lead))) + t1;
+    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) : (pitch_lead))) + t1;
     const double tail_motor_force = ((t2) ? (body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) : (0.0));
     const double t3 = (landing > 0.0);
     const double ankle_spring_k = ((t2) ? (jump_k) : (((t3) ? (land_k) : (ankle_k))));
-    const double ankle_spring_b = ((t3) ? (land_b) : (0.4));
+    const double ankle_spring_b = ((t3) ? (land_b) : (ankle_b));
     out[0] = hip_kp;
     out[1] = hip_kv;
     out[2] = hip_servo_setpoint;
@@ -425,22 +430,22 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   hip_servo.kp: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:390:95 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:373:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:374:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:390:126 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:390:140 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:360:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:361:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:394:95 > creatures/kangaroo.leg:187:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:394:107 > creatures/kangaroo.leg:377:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:394:107 > creatures/kangaroo.leg:378:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:394:126 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:394:140 > creatures/kangaroo.leg:194:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:394:154 > creatures/kangaroo.leg:364:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:394:154 > creatures/kangaroo.leg:365:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -451,32 +456,34 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double leg_main_hip_z = s[15];
     const double speed = u[0];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
-    const double tail_kp = p[34];
-    const double tail_kv = p[35];
-    const double jump_k = p[44];
-    const double land_k = p[45];
-    const double land_b = p[46];
-    const double jump_lead = p[60];
-    const double jump_lead_slope = p[61];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
+    const double tail_kp = p[35];
+    const double tail_kv = p[36];
+    const double jump_k = p[45];
+    const double land_k = p[46];
+    const double land_b = p[47];
+    const double ankle_b = p[48];
+    const double jump_lead = p[63];
+    const double jump_lead_speed = p[64];
+    const double jump_lead_slope = p[65];
     const double takeoff = r[6];
     const double landing = r[7];
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double t1 = body_trunk_pitch_rate*kv;
     const double knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1;
     const double t2 = (takeoff > 0.0);
-    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(speed - 4.0)) : (pitch_lead))) + t1;
+    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) : (pitch_lead))) + t1;
     const double tail_motor_force = ((t2) ? (body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) : (0.0));
     const double t3 = (landing > 0.0);
     const double ankle_spring_k = ((t2) ? (jump_k) : (((t3) ? (land_k) : (ankle_k))));
-    const double ankle_spring_b = ((t3) ? (land_b) : (0.4));
+    const double ankle_spring_b = ((t3) ? (land_b) : (ankle_b));
     out[0] = hip_kp;
     out[1] = hip_kv;
     out[2] = hip_servo_setpoint;
@@ -498,9 +505,9 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: hop_predicted, predicted_apex, thrust_stroke). */
-/*   record hop_predicted: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:366:5 */
-/*   record predicted_apex: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:344:3 */
+/*   record hop_predicted: creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:370:5 */
+/*   record predicted_apex: creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_ankle_spring_force = s[0];
@@ -511,11 +518,11 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double terrain_ahead_height = s[21];
     const double clearance = u[6];
     const double jump_height = u[7];
-    const double hang = p[41];
-    const double min_jump = p[42];
-    const double max_jump = p[43];
-    const double jump_min_stroke = p[49];
-    const double jump_max_stroke = p[50];
+    const double hang = p[42];
+    const double min_jump = p[43];
+    const double max_jump = p[44];
+    const double jump_min_stroke = p[51];
+    const double jump_max_stroke = p[52];
     const double apex_seen = r[2];
     const double apex_trim = r[3];
     const double desired_now = r[4];
@@ -549,24 +556,24 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: ankle_spring.rest, ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:345:3 */
-/*   ankle_spring.rest: creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:368:5 */
-/*   hip_servo.kp: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:198:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:391:124 > creatures/kangaroo.leg:186:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:373:5 */
-/*   tail_motor.force: creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:374:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:391:155 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:391:169 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:360:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:361:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:345:3 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:372:5 */
+/*   hip_servo.kp: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:199:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:395:124 > creatures/kangaroo.leg:187:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:395:136 > creatures/kangaroo.leg:377:5 */
+/*   tail_motor.force: creatures/kangaroo.leg:395:136 > creatures/kangaroo.leg:378:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:395:155 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:395:169 > creatures/kangaroo.leg:194:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:395:183 > creatures/kangaroo.leg:364:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:395:183 > creatures/kangaroo.leg:365:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -584,33 +591,35 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double height = u[1];
     const double tail_k = u[2];
     const double stance_guess = p[3];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double stroke = p[16];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double k_height = p[19];
-    const double min_stroke = p[22];
-    const double max_stroke = p[23];
-    const double pitch_lead = p[24];
-    const double tail_down = p[29];
-    const double tail_b = p[30];
-    const double tail_kp = p[34];
-    const double tail_kv = p[35];
-    const double lead = p[36];
-    const double hop_flight = p[37];
-    const double approach_band = p[38];
-    const double approach_raise = p[39];
-    const double jump_k = p[44];
-    const double land_k = p[45];
-    const double land_b = p[46];
-    const double land_gain = p[47];
-    const double jump_lead = p[60];
-    const double jump_lead_slope = p[61];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double stroke = p[17];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double k_height = p[20];
+    const double min_stroke = p[23];
+    const double max_stroke = p[24];
+    const double pitch_lead = p[25];
+    const double tail_down = p[30];
+    const double tail_b = p[31];
+    const double tail_kp = p[35];
+    const double tail_kv = p[36];
+    const double lead = p[37];
+    const double hop_flight = p[38];
+    const double approach_band = p[39];
+    const double approach_raise = p[40];
+    const double jump_k = p[45];
+    const double land_k = p[46];
+    const double land_b = p[47];
+    const double ankle_b = p[48];
+    const double land_gain = p[49];
+    const double jump_lead = p[63];
+    const double jump_lead_speed = p[64];
+    const double jump_lead_slope = p[65];
     const double thrust_stroke = r[1];
     const double apex_trim = r[3];
     const double takeoff = r[6];
@@ -629,10 +638,10 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double hip_servo_setpoint = -body_trunk_pitch + leg_asin(leg_min(1.0, leg_max(-1.0, -7.692307692307692*leg_pow(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z, -0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + atan2(-leg_main_foot_x, -leg_main_foot_z);
     const double t9 = body_trunk_pitch_rate*kv;
     const double knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t9;
-    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(speed - 4.0)) : (pitch_lead))) + t9;
+    const double knee_motor_force_2 = kp*(body_trunk_pitch - ((t2) ? (jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) : (pitch_lead))) + t9;
     const double tail_motor_force = ((t2) ? (body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) : (0.0));
     const double ankle_spring_k = ((t2) ? (jump_k) : (((t8) ? (land_k) : (ankle_k))));
-    const double ankle_spring_b = ((t8) ? (land_b) : (0.4));
+    const double ankle_spring_b = ((t8) ? (land_b) : (ankle_b));
     out[0] = ankle_spring_rest;
     out[1] = ankle_spring_rest_2;
     out[2] = hip_kp;
@@ -687,20 +696,20 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b. */
-/*   ankle_spring.rest: creatures/kangaroo.leg:392:120 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:207:5 */
-/*   hip_servo.kv: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:208:5 */
-/*   hip_servo.setpoint: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:209:5 */
-/*   knee_servo.kp: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:210:5 */
-/*   knee_servo.kv: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:211:5 */
-/*   knee_motor.force: creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:212:5 */
-/*   tail_spring.k: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:196:5 */
-/*   tail_spring.b: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:197:5 */
-/*   tail_spring.rest: creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:198:5 */
-/*   neck_servo.setpoint: creatures/kangaroo.leg:392:192 > creatures/kangaroo.leg:189:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:392:206 > creatures/kangaroo.leg:193:5 */
-/*   ankle_spring.k: creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:360:5 */
-/*   ankle_spring.b: creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:361:5 */
+/*   ankle_spring.rest: creatures/kangaroo.leg:396:120 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:208:5 */
+/*   hip_servo.kv: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:209:5 */
+/*   hip_servo.setpoint: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:210:5 */
+/*   knee_servo.kp: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:211:5 */
+/*   knee_servo.kv: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:212:5 */
+/*   knee_motor.force: creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:213:5 */
+/*   tail_spring.k: creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:197:5 */
+/*   tail_spring.b: creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:198:5 */
+/*   tail_spring.rest: creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:199:5 */
+/*   neck_servo.setpoint: creatures/kangaroo.leg:396:192 > creatures/kangaroo.leg:190:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:396:206 > creatures/kangaroo.leg:194:5 */
+/*   ankle_spring.k: creatures/kangaroo.leg:396:220 > creatures/kangaroo.leg:364:5 */
+/*   ankle_spring.b: creatures/kangaroo.leg:396:220 > creatures/kangaroo.leg:365:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[2];
@@ -711,20 +720,21 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double leg_main_hip_z = s[15];
     const double time = s[23];
     const double tail_k = u[2];
-    const double kp = p[8];
-    const double kv = p[9];
-    const double hip_kp = p[10];
-    const double hip_kv = p[11];
-    const double ankle_k = p[14];
-    const double ankle_rest = p[15];
-    const double start_rest = p[17];
-    const double ramp = p[18];
-    const double pitch_lead = p[24];
-    const double tail_up = p[28];
-    const double tail_b = p[30];
-    const double jump_k = p[44];
-    const double land_k = p[45];
-    const double land_b = p[46];
+    const double kp = p[9];
+    const double kv = p[10];
+    const double hip_kp = p[11];
+    const double hip_kv = p[12];
+    const double ankle_k = p[15];
+    const double ankle_rest = p[16];
+    const double start_rest = p[18];
+    const double ramp = p[19];
+    const double pitch_lead = p[25];
+    const double tail_up = p[29];
+    const double tail_b = p[31];
+    const double jump_k = p[45];
+    const double land_k = p[46];
+    const double land_b = p[47];
+    const double ankle_b = p[48];
     const double takeoff = r[6];
     const double landing = r[7];
     const double ankle_spring_rest = leg_min(ankle_rest, ramp*time + start_rest);
@@ -732,7 +742,7 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead);
     const double t1 = (landing > 0.0);
     const double ankle_spring_k = (((takeoff > 0.0)) ? (jump_k) : (((t1) ? (land_k) : (ankle_k))));
-    const double ankle_spring_b = ((t1) ? (land_b) : (0.4));
+    const double ankle_spring_b = ((t1) ? (land_b) : (ankle_b));
     out[0] = ankle_spring_rest;
     out[1] = hip_kp;
     out[2] = hip_kv;

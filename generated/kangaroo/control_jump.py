@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "jump"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "f9c121da87007241"
+FINGERPRINT = "10b421e2b2d6607f"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.ankle_spring.force', 'act.ankle_spring.k', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'com.vx', 'com.vz', 'com.x', 'com.z', 'coord.ankle.rate', 'coord.ankle.value', 'coord.tail_base.value', 'leg.main.flight_time', 'leg.main.foot_x', 'leg.main.foot_z', 'leg.main.hip_x', 'leg.main.hip_z', 'leg.main.stance_time', 'leg.main.touching', 'terrain.ahead_depth', 'terrain.ahead_distance', 'terrain.ahead_given', 'terrain.ahead_height', 'terrain.height', 'time')
@@ -55,6 +55,7 @@ PARAMS = {
     "speed_ff": 0.13,
     "max_trim": 1.0,
     "accel": 2.0,
+    "first_stride": 0.5,
     "kp": 145.0,
     "kv": 10.0,
     "hip_kp": 400.0,
@@ -94,12 +95,14 @@ PARAMS = {
     "jump_k": 200.0,
     "land_k": 115.0,
     "land_b": 2.0,
+    "ankle_b": 0.4,
     "land_gain": 0.3,
     "jump_unload": 0.2617993877991494,
     "jump_min_stroke": -0.3490658503988659,
     "jump_max_stroke": 0.6108652381980153,
     "jump_tuck": 0.36,
     "jump_past": 0.1,
+    "animator_clear": 0.5,
     "leg_kp": 0.5,
     "leg_kv": 0.05,
     "jump_toe_x": -0.2,
@@ -108,6 +111,7 @@ PARAMS = {
     "jump_tail_on": 1.0,
     "head_look": 0.3490658503988659,
     "jump_lead": 0.17453292519943295,
+    "jump_lead_speed": 4.0,
     "jump_lead_slope": -0.05235987755982989,
 }
 RECORDS = ('predicted_apex', 'thrust_stroke', 'apex_seen', 'apex_trim', 'desired_now', 'speed_trim', 'takeoff', 'landing', 'jump_flight', 'jumps', 'clear_x', 'hop_predicted')
@@ -125,7 +129,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:388:5
+        event  creatures/kangaroo.leg:392:5
     """
     leg_main_touching = s[17]
     return (leg_main_touching < 0.5)
@@ -135,7 +139,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:389:5
+        event  creatures/kangaroo.leg:393:5
     """
     leg_main_touching = s[17]
     return (leg_main_touching > 0.5)
@@ -145,7 +149,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:390:5
+        event  creatures/kangaroo.leg:394:5
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate < 0.0)
@@ -155,7 +159,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:391:5
+        event  creatures/kangaroo.leg:395:5
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate > 0.0)
@@ -165,13 +169,13 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload + select(takeoff > 0, jump_unload, 0 deg) or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:392:5
+        event  creatures/kangaroo.leg:396:5
     """
     coord_ankle_value = s[9]
     leg_main_touching = s[17]
-    ankle_rest = p[15]
-    unload = p[27]
-    jump_unload = p[48]
+    ankle_rest = p[16]
+    unload = p[28]
+    jump_unload = p[50]
     takeoff = r[6]
     return (coord_ankle_value > ankle_rest + unload + ((jump_unload) if (takeoff > 0.0) else (0.0))) or (leg_main_touching < 0.5)
 
@@ -180,13 +184,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: jump_flight, jumps, clear_x, desired_now, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record jump_flight  creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:355:5
-        record jumps        creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:356:5
-        record clear_x      creatures/kangaroo.leg:388:42 > creatures/kangaroo.leg:357:5
-        record desired_now  creatures/kangaroo.leg:388:81 > creatures/kangaroo.leg:229:5
-        record speed_trim   creatures/kangaroo.leg:388:108 > creatures/kangaroo.leg:234:5
-        record apex_seen    creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:359:3
-        record apex_trim    creatures/kangaroo.leg:388:149 > stdlib/raibert.leg:360:3
+        record jump_flight  creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:359:5
+        record jumps        creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:360:5
+        record clear_x      creatures/kangaroo.leg:392:42 > creatures/kangaroo.leg:361:5
+        record desired_now  creatures/kangaroo.leg:392:81 > creatures/kangaroo.leg:230:5
+        record speed_trim   creatures/kangaroo.leg:392:108 > creatures/kangaroo.leg:235:5
+        record apex_seen    creatures/kangaroo.leg:392:149 > stdlib/raibert.leg:359:3
+        record apex_trim    creatures/kangaroo.leg:392:149 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -202,9 +206,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[4]
     max_trim = p[6]
     accel = p[7]
-    k_apex = p[20]
-    apex_limit = p[21]
-    jump_past = p[52]
+    first_stride = p[8]
+    k_apex = p[21]
+    apex_limit = p[22]
+    jump_past = p[54]
+    animator_clear = p[55]
     predicted_apex = r[0]
     thrust_stroke = r[1]
     apex_trim = r[3]
@@ -216,11 +222,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     hop_predicted = r[11]
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
     new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
-    t1 = accel*((minimum(0.5, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (0.5))
+    t1 = accel*((minimum(first_stride, leg_main_flight_time + leg_main_stance_time)) if (leg_main_flight_time > 0.0) else (first_stride))
     new_desired_now = desired_now + minimum(t1, maximum(-t1, -desired_now + speed))
     new_speed_trim = minimum(max_trim, maximum(-max_trim, k_trim*(-com_vx + desired_now) + speed_trim))
     new_jumps = jumps + takeoff
-    new_clear_x = jump_past + ((com_x + terrain_ahead_depth + terrain_ahead_distance) if (terrain_ahead_given > 0.0) else (com_x + 0.5))
+    new_clear_x = jump_past + ((com_x + terrain_ahead_depth + terrain_ahead_distance) if (terrain_ahead_given > 0.0) else (animator_clear + com_x))
     return [
         predicted_apex,
         thrust_stroke,
@@ -241,23 +247,23 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, knee_servo.kp, knee_servo.kv, knee_motor.force, hip_servo.setpoint, knee_servo.setpoint, tail_spring.k, tail_spring.b, tail_spring.rest, tail_spring.k, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:388:58 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:245:5
-        hip_servo.kv         creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:246:5
-        knee_servo.kp        creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:247:5
-        knee_servo.kv        creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:248:5
-        knee_motor.force     creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:249:5
-        hip_servo.setpoint   creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
-        knee_servo.setpoint  creatures/kangaroo.leg:388:189 > creatures/kangaroo.leg:252:5 > creatures/kangaroo.leg:260:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
-        tail_spring.k        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:379:5 > creatures/kangaroo.leg:198:5
-        tail_spring.k        creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:380:5
-        tail_motor.force     creatures/kangaroo.leg:388:545 > creatures/kangaroo.leg:381:5
-        neck_servo.setpoint  creatures/kangaroo.leg:388:558 > creatures/kangaroo.leg:384:5
-        ankle_spring.k       creatures/kangaroo.leg:388:571 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:360:5
-        ankle_spring.b       creatures/kangaroo.leg:388:585 > creatures/kangaroo.leg:361:5
+        ankle_spring.rest    creatures/kangaroo.leg:392:58 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:246:5
+        hip_servo.kv         creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:247:5
+        knee_servo.kp        creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:248:5
+        knee_servo.kv        creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:249:5
+        knee_motor.force     creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:250:5
+        hip_servo.setpoint   creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:35:3
+        knee_servo.setpoint  creatures/kangaroo.leg:392:189 > creatures/kangaroo.leg:253:5 > creatures/kangaroo.leg:261:5 > stdlib/raibert.leg:378:3 > stdlib/raibert.leg:36:3
+        tail_spring.k        creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:383:5 > creatures/kangaroo.leg:199:5
+        tail_spring.k        creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:384:5
+        tail_motor.force     creatures/kangaroo.leg:392:545 > creatures/kangaroo.leg:385:5
+        neck_servo.setpoint  creatures/kangaroo.leg:392:558 > creatures/kangaroo.leg:388:5
+        ankle_spring.k       creatures/kangaroo.leg:392:571 > creatures/kangaroo.leg:194:5
+        ankle_spring.k       creatures/kangaroo.leg:392:585 > creatures/kangaroo.leg:364:5
+        ankle_spring.b       creatures/kangaroo.leg:392:585 > creatures/kangaroo.leg:365:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -280,32 +286,33 @@ def action_FLIGHT_0(s, u, p, r, tis):
     max_correction = p[2]
     stance_guess = p[3]
     speed_ff = p[5]
-    swing_kp = p[12]
-    swing_kv = p[13]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    reach = p[25]
-    tuck = p[26]
-    tail_up = p[28]
-    tail_b = p[30]
-    tail_stop = p[31]
-    tail_low = p[32]
-    tail_high = p[33]
-    tail_kp = p[34]
-    tail_kv = p[35]
-    jump_k = p[44]
-    land_k = p[45]
-    land_b = p[46]
-    jump_tuck = p[51]
-    leg_kp = p[53]
-    leg_kv = p[54]
-    jump_toe_x = p[55]
-    tail_jump = p[56]
-    jump_tail_k = p[57]
-    jump_tail_on = p[58]
-    head_look = p[59]
+    swing_kp = p[13]
+    swing_kv = p[14]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    start_rest = p[18]
+    ramp = p[19]
+    reach = p[26]
+    tuck = p[27]
+    tail_up = p[29]
+    tail_b = p[31]
+    tail_stop = p[32]
+    tail_low = p[33]
+    tail_high = p[34]
+    tail_kp = p[35]
+    tail_kv = p[36]
+    jump_k = p[45]
+    land_k = p[46]
+    land_b = p[47]
+    ankle_b = p[48]
+    jump_tuck = p[53]
+    leg_kp = p[56]
+    leg_kv = p[57]
+    jump_toe_x = p[58]
+    tail_jump = p[59]
+    jump_tail_k = p[60]
+    jump_tail_on = p[61]
+    head_look = p[62]
     desired_now = r[4]
     speed_trim = r[5]
     takeoff = r[6]
@@ -336,7 +343,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     neck_servo_setpoint = -body_trunk_pitch + ((head_look) if t1 and (com_vz < 0.0) else (0.0))
     t16 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if (takeoff > 0.0) else (((land_k) if t16 else (ankle_k))))
-    ankle_spring_b = ((land_b) if t16 else (0.4))
+    ankle_spring_b = ((land_b) if t16 else (ankle_b))
     return [
         ankle_spring_rest,
         swing_kp,
@@ -362,8 +369,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: takeoff, landing).
 
     From the .leg file:
-        record takeoff  creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:350:5
-        record landing  creatures/kangaroo.leg:389:43 > creatures/kangaroo.leg:351:5
+        record takeoff  creatures/kangaroo.leg:393:43 > creatures/kangaroo.leg:354:5
+        record landing  creatures/kangaroo.leg:393:43 > creatures/kangaroo.leg:355:5
     """
     com_vx = s[4]
     com_x = s[6]
@@ -375,8 +382,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     time = s[23]
     jump_at = u[4]
     jump_time = u[5]
-    lead = p[36]
-    min_obstacle = p[40]
+    lead = p[37]
+    min_obstacle = p[41]
     predicted_apex = r[0]
     thrust_stroke = r[1]
     apex_seen = r[2]
@@ -416,22 +423,22 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:389:52 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:389:86 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:389:103 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:373:5
-        tail_motor.force     creatures/kangaroo.leg:389:115 > creatures/kangaroo.leg:374:5
-        neck_servo.setpoint  creatures/kangaroo.leg:389:134 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:389:148 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:360:5
-        ankle_spring.b       creatures/kangaroo.leg:389:162 > creatures/kangaroo.leg:361:5
+        hip_servo.kp         creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:393:52 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:393:86 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:393:103 > creatures/kangaroo.leg:187:5
+        knee_motor.force     creatures/kangaroo.leg:393:115 > creatures/kangaroo.leg:377:5
+        tail_motor.force     creatures/kangaroo.leg:393:115 > creatures/kangaroo.leg:378:5
+        neck_servo.setpoint  creatures/kangaroo.leg:393:134 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:393:148 > creatures/kangaroo.leg:194:5
+        ankle_spring.k       creatures/kangaroo.leg:393:162 > creatures/kangaroo.leg:364:5
+        ankle_spring.b       creatures/kangaroo.leg:393:162 > creatures/kangaroo.leg:365:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -441,32 +448,34 @@ def action_LOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     speed = u[0]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_kp = p[34]
-    tail_kv = p[35]
-    jump_k = p[44]
-    land_k = p[45]
-    land_b = p[46]
-    jump_lead = p[60]
-    jump_lead_slope = p[61]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_kp = p[35]
+    tail_kv = p[36]
+    jump_k = p[45]
+    land_k = p[46]
+    land_b = p[47]
+    ankle_b = p[48]
+    jump_lead = p[63]
+    jump_lead_speed = p[64]
+    jump_lead_slope = p[65]
     takeoff = r[6]
     landing = r[7]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t1 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1
     t2 = (takeoff > 0.0)
-    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(speed - 4.0)) if t2 else (pitch_lead))) + t1
+    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) if t2 else (pitch_lead))) + t1
     tail_motor_force = ((body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) if t2 else (0.0))
     t3 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if t2 else (((land_k) if t3 else (ankle_k))))
-    ankle_spring_b = ((land_b) if t3 else (0.4))
+    ankle_spring_b = ((land_b) if t3 else (ankle_b))
     return [
         hip_kp,
         hip_kv,
@@ -521,22 +530,22 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        hip_servo.kp         creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:390:44 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:390:78 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:390:95 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:373:5
-        tail_motor.force     creatures/kangaroo.leg:390:107 > creatures/kangaroo.leg:374:5
-        neck_servo.setpoint  creatures/kangaroo.leg:390:126 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:390:140 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:360:5
-        ankle_spring.b       creatures/kangaroo.leg:390:154 > creatures/kangaroo.leg:361:5
+        hip_servo.kp         creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:394:44 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:394:78 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:394:95 > creatures/kangaroo.leg:187:5
+        knee_motor.force     creatures/kangaroo.leg:394:107 > creatures/kangaroo.leg:377:5
+        tail_motor.force     creatures/kangaroo.leg:394:107 > creatures/kangaroo.leg:378:5
+        neck_servo.setpoint  creatures/kangaroo.leg:394:126 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:394:140 > creatures/kangaroo.leg:194:5
+        ankle_spring.k       creatures/kangaroo.leg:394:154 > creatures/kangaroo.leg:364:5
+        ankle_spring.b       creatures/kangaroo.leg:394:154 > creatures/kangaroo.leg:365:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -546,32 +555,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     speed = u[0]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_kp = p[34]
-    tail_kv = p[35]
-    jump_k = p[44]
-    land_k = p[45]
-    land_b = p[46]
-    jump_lead = p[60]
-    jump_lead_slope = p[61]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_kp = p[35]
+    tail_kv = p[36]
+    jump_k = p[45]
+    land_k = p[46]
+    land_b = p[47]
+    ankle_b = p[48]
+    jump_lead = p[63]
+    jump_lead_speed = p[64]
+    jump_lead_slope = p[65]
     takeoff = r[6]
     landing = r[7]
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t1 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t1
     t2 = (takeoff > 0.0)
-    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(speed - 4.0)) if t2 else (pitch_lead))) + t1
+    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) if t2 else (pitch_lead))) + t1
     tail_motor_force = ((body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) if t2 else (0.0))
     t3 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if t2 else (((land_k) if t3 else (ankle_k))))
-    ankle_spring_b = ((land_b) if t3 else (0.4))
+    ankle_spring_b = ((land_b) if t3 else (ankle_b))
     return [
         hip_kp,
         hip_kv,
@@ -596,9 +607,9 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: hop_predicted, predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record hop_predicted   creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:366:5
-        record predicted_apex  creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:343:3
-        record thrust_stroke   creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:344:3
+        record hop_predicted   creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:370:5
+        record predicted_apex  creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:344:3
     """
     act_ankle_spring_force = s[0]
     act_ankle_spring_k = s[1]
@@ -608,11 +619,11 @@ def entry_THRUST_0(s, u, p, r, tis):
     terrain_ahead_height = s[21]
     clearance = u[6]
     jump_height = u[7]
-    hang = p[41]
-    min_jump = p[42]
-    max_jump = p[43]
-    jump_min_stroke = p[49]
-    jump_max_stroke = p[50]
+    hang = p[42]
+    min_jump = p[43]
+    max_jump = p[44]
+    jump_min_stroke = p[51]
+    jump_max_stroke = p[52]
     apex_seen = r[2]
     apex_trim = r[3]
     desired_now = r[4]
@@ -649,24 +660,24 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: ankle_spring.rest, ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, tail_motor.force, knee_motor.force, tail_motor.force, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:367:5 > stdlib/raibert.leg:345:3
-        ankle_spring.rest    creatures/kangaroo.leg:391:44 > creatures/kangaroo.leg:368:5
-        hip_servo.kp         creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:391:73 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:391:107 > creatures/kangaroo.leg:198:5
-        tail_motor.force     creatures/kangaroo.leg:391:124 > creatures/kangaroo.leg:186:5
-        knee_motor.force     creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:373:5
-        tail_motor.force     creatures/kangaroo.leg:391:136 > creatures/kangaroo.leg:374:5
-        neck_servo.setpoint  creatures/kangaroo.leg:391:155 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:391:169 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:360:5
-        ankle_spring.b       creatures/kangaroo.leg:391:183 > creatures/kangaroo.leg:361:5
+        ankle_spring.rest    creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:371:5 > stdlib/raibert.leg:345:3
+        ankle_spring.rest    creatures/kangaroo.leg:395:44 > creatures/kangaroo.leg:372:5
+        hip_servo.kp         creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:395:73 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:395:107 > creatures/kangaroo.leg:199:5
+        tail_motor.force     creatures/kangaroo.leg:395:124 > creatures/kangaroo.leg:187:5
+        knee_motor.force     creatures/kangaroo.leg:395:136 > creatures/kangaroo.leg:377:5
+        tail_motor.force     creatures/kangaroo.leg:395:136 > creatures/kangaroo.leg:378:5
+        neck_servo.setpoint  creatures/kangaroo.leg:395:155 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:395:169 > creatures/kangaroo.leg:194:5
+        ankle_spring.k       creatures/kangaroo.leg:395:183 > creatures/kangaroo.leg:364:5
+        ankle_spring.b       creatures/kangaroo.leg:395:183 > creatures/kangaroo.leg:365:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -683,33 +694,35 @@ def action_THRUST_0(s, u, p, r, tis):
     height = u[1]
     tail_k = u[2]
     stance_guess = p[3]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    stroke = p[16]
-    start_rest = p[17]
-    ramp = p[18]
-    k_height = p[19]
-    min_stroke = p[22]
-    max_stroke = p[23]
-    pitch_lead = p[24]
-    tail_down = p[29]
-    tail_b = p[30]
-    tail_kp = p[34]
-    tail_kv = p[35]
-    lead = p[36]
-    hop_flight = p[37]
-    approach_band = p[38]
-    approach_raise = p[39]
-    jump_k = p[44]
-    land_k = p[45]
-    land_b = p[46]
-    land_gain = p[47]
-    jump_lead = p[60]
-    jump_lead_slope = p[61]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    stroke = p[17]
+    start_rest = p[18]
+    ramp = p[19]
+    k_height = p[20]
+    min_stroke = p[23]
+    max_stroke = p[24]
+    pitch_lead = p[25]
+    tail_down = p[30]
+    tail_b = p[31]
+    tail_kp = p[35]
+    tail_kv = p[36]
+    lead = p[37]
+    hop_flight = p[38]
+    approach_band = p[39]
+    approach_raise = p[40]
+    jump_k = p[45]
+    land_k = p[46]
+    land_b = p[47]
+    ankle_b = p[48]
+    land_gain = p[49]
+    jump_lead = p[63]
+    jump_lead_speed = p[64]
+    jump_lead_slope = p[65]
     thrust_stroke = r[1]
     apex_trim = r[3]
     takeoff = r[6]
@@ -728,10 +741,10 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_servo_setpoint = -body_trunk_pitch + math.asin(minimum(1.0, maximum(-1.0, -7.692307692307692*(leg_main_foot_x*leg_main_foot_x + leg_main_foot_z*leg_main_foot_z)**(-0.5)*(-leg_main_foot_x*(-leg_main_foot_z + leg_main_hip_z) + leg_main_foot_z*(-leg_main_foot_x + leg_main_hip_x))))) + math.atan2(-leg_main_foot_x, -leg_main_foot_z)
     t9 = body_trunk_pitch_rate*kv
     knee_motor_force = kp*(body_trunk_pitch - pitch_lead) + t9
-    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(speed - 4.0)) if t2 else (pitch_lead))) + t9
+    knee_motor_force_2 = kp*(body_trunk_pitch - ((jump_lead + jump_lead_slope*(-jump_lead_speed + speed)) if t2 else (pitch_lead))) + t9
     tail_motor_force = ((body_trunk_pitch*tail_kp + body_trunk_pitch_rate*tail_kv) if t2 else (0.0))
     ankle_spring_k = ((jump_k) if t2 else (((land_k) if t8 else (ankle_k))))
-    ankle_spring_b = ((land_b) if t8 else (0.4))
+    ankle_spring_b = ((land_b) if t8 else (ankle_b))
     return [
         ankle_spring_rest,
         ankle_spring_rest_2,
@@ -788,20 +801,20 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: ankle_spring.rest, hip_servo.kp, hip_servo.kv, hip_servo.setpoint, knee_servo.kp, knee_servo.kv, knee_motor.force, tail_spring.k, tail_spring.b, tail_spring.rest, neck_servo.setpoint, ankle_spring.k, ankle_spring.k, ankle_spring.b.
 
     From the .leg file:
-        ankle_spring.rest    creatures/kangaroo.leg:392:120 > stdlib/raibert.leg:196:3
-        hip_servo.kp         creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:207:5
-        hip_servo.kv         creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:208:5
-        hip_servo.setpoint   creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:209:5
-        knee_servo.kp        creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:210:5
-        knee_servo.kv        creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:211:5
-        knee_motor.force     creatures/kangaroo.leg:392:143 > creatures/kangaroo.leg:212:5
-        tail_spring.k        creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:196:5
-        tail_spring.b        creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:197:5
-        tail_spring.rest     creatures/kangaroo.leg:392:177 > creatures/kangaroo.leg:198:5
-        neck_servo.setpoint  creatures/kangaroo.leg:392:192 > creatures/kangaroo.leg:189:5
-        ankle_spring.k       creatures/kangaroo.leg:392:206 > creatures/kangaroo.leg:193:5
-        ankle_spring.k       creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:360:5
-        ankle_spring.b       creatures/kangaroo.leg:392:220 > creatures/kangaroo.leg:361:5
+        ankle_spring.rest    creatures/kangaroo.leg:396:120 > stdlib/raibert.leg:196:3
+        hip_servo.kp         creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:208:5
+        hip_servo.kv         creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:209:5
+        hip_servo.setpoint   creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:210:5
+        knee_servo.kp        creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:211:5
+        knee_servo.kv        creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:212:5
+        knee_motor.force     creatures/kangaroo.leg:396:143 > creatures/kangaroo.leg:213:5
+        tail_spring.k        creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:197:5
+        tail_spring.b        creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:198:5
+        tail_spring.rest     creatures/kangaroo.leg:396:177 > creatures/kangaroo.leg:199:5
+        neck_servo.setpoint  creatures/kangaroo.leg:396:192 > creatures/kangaroo.leg:190:5
+        ankle_spring.k       creatures/kangaroo.leg:396:206 > creatures/kangaroo.leg:194:5
+        ankle_spring.k       creatures/kangaroo.leg:396:220 > creatures/kangaroo.leg:364:5
+        ankle_spring.b       creatures/kangaroo.leg:396:220 > creatures/kangaroo.leg:365:5
     """
     body_trunk_pitch = s[2]
     body_trunk_pitch_rate = s[3]
@@ -811,20 +824,21 @@ def action_UNLOADING_0(s, u, p, r, tis):
     leg_main_hip_z = s[15]
     time = s[23]
     tail_k = u[2]
-    kp = p[8]
-    kv = p[9]
-    hip_kp = p[10]
-    hip_kv = p[11]
-    ankle_k = p[14]
-    ankle_rest = p[15]
-    start_rest = p[17]
-    ramp = p[18]
-    pitch_lead = p[24]
-    tail_up = p[28]
-    tail_b = p[30]
-    jump_k = p[44]
-    land_k = p[45]
-    land_b = p[46]
+    kp = p[9]
+    kv = p[10]
+    hip_kp = p[11]
+    hip_kv = p[12]
+    ankle_k = p[15]
+    ankle_rest = p[16]
+    start_rest = p[18]
+    ramp = p[19]
+    pitch_lead = p[25]
+    tail_up = p[29]
+    tail_b = p[31]
+    jump_k = p[45]
+    land_k = p[46]
+    land_b = p[47]
+    ankle_b = p[48]
     takeoff = r[6]
     landing = r[7]
     ankle_spring_rest = minimum(ankle_rest, ramp*time + start_rest)
@@ -832,7 +846,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
     knee_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead)
     t1 = (landing > 0.0)
     ankle_spring_k = ((jump_k) if (takeoff > 0.0) else (((land_k) if t1 else (ankle_k))))
-    ankle_spring_b = ((land_b) if t1 else (0.4))
+    ankle_spring_b = ((land_b) if t1 else (ankle_b))
     return [
         ankle_spring_rest,
         hip_kp,

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "d11d5ae91fb2f25c";
+const char legdsl_control_fingerprint[] = "200c8206eb99f7dd";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:338:5 */
+/*   event: creatures/quadruped.leg:340:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -67,7 +67,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:354:5 */
+/*   event: creatures/quadruped.leg:356:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[17];
@@ -77,7 +77,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:365:5 */
+/*   event: creatures/quadruped.leg:367:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
@@ -87,33 +87,33 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:368:5 */
+/*   event: creatures/quadruped.leg:370:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[16];
     const double leg_fr_rate = s[22];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:372:5 */
+/*   event: creatures/quadruped.leg:374:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[15];
     const double leg_fl_touching = s[17];
     const double leg_fr_length = s[21];
     const double leg_fr_touching = s[23];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[16];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:338:5 */
+/*   event: creatures/quadruped.leg:340:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -123,7 +123,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:354:5 */
+/*   event: creatures/quadruped.leg:356:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[29];
@@ -133,7 +133,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:365:5 */
+/*   event: creatures/quadruped.leg:367:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
@@ -143,46 +143,46 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:368:5 */
+/*   event: creatures/quadruped.leg:370:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[28];
     const double leg_rr_rate = s[34];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:372:5 */
+/*   event: creatures/quadruped.leg:374:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[27];
     const double leg_rl_touching = s[29];
     const double leg_rr_length = s[33];
     const double leg_rr_touching = s[35];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[16];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:340:7 */
-/*   record ramped_speed: creatures/quadruped.leg:347:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:347:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:351:7 */
+/*   record steps: creatures/quadruped.leg:342:7 */
+/*   record ramped_speed: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:353:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -197,8 +197,9 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -242,7 +243,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -277,46 +278,46 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:342:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:342:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:343:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:343:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:344:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:344:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:345:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:345:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:344:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:344:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:345:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:345:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:346:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:346:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:347:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:347:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -340,19 +341,19 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
-    const double lift_slew = p[41];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
+    const double lift_slew = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -428,21 +429,21 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:355:7 */
-/*   record pitch_mean: creatures/quadruped.leg:356:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:357:7 */
-/*   record pitch_trim: creatures/quadruped.leg:358:7 */
-/*   record stride_speed: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_t1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:434:3 */
-/*   record stride_t0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:435:3 */
-/*   record stride_x0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:436:3 */
-/*   record stride_y0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:437:3 */
-/*   record flight_apex: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:357:7 */
+/*   record pitch_mean: creatures/quadruped.leg:358:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:359:7 */
+/*   record pitch_trim: creatures/quadruped.leg:360:7 */
+/*   record stride_speed: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -455,12 +456,13 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double leg_fr_hip_x = s[18];
     const double time = s[39];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
-    const double k_pitch_i = p[37];
-    const double trim_most = p[38];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
+    const double k_pitch_i = p[39];
+    const double trim_most = p[40];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -491,8 +493,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(stroke_max, leg_max(stroke_min, k_height*t1 + stroke + stroke_trim));
     const double t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double new_stride_speed = ((((t2) ? ((stride_t1 > 0.0)) : ((stride_t0 > 0.0)))) ? (leg_div(((com_x - ((t2) ? (stride_x1) : (stride_x0)))*leg_cos(body_trunk_yaw) + (com_y - ((t2) ? (stride_y1) : (stride_y0)))*leg_sin(body_trunk_yaw)), leg_max(0.001, time - ((t2) ? (stride_t1) : (stride_t0))))) : (ramped_speed));
     const double new_stride_t1 = ((t2) ? (time) : (stride_t1));
@@ -535,48 +537,48 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -605,25 +607,25 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -779,34 +781,34 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -835,25 +837,25 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -995,36 +997,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1053,28 +1055,28 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double k_pitch_thrust = p[39];
-    const double idle_delay = p[40];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
+    const double k_pitch_thrust = p[41];
+    const double idle_delay = p[42];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1221,36 +1223,36 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1268,14 +1270,14 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];
@@ -1329,20 +1331,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:340:7 */
-/*   record ramped_speed: creatures/quadruped.leg:347:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:347:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:349:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:351:7 */
+/*   record steps: creatures/quadruped.leg:342:7 */
+/*   record ramped_speed: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:353:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1357,8 +1359,9 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -1402,7 +1405,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1437,46 +1440,46 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:342:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:342:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:343:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:343:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:344:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:344:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:345:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:345:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:344:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:344:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:345:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:345:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:346:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:346:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:347:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:347:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1500,19 +1503,19 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
-    const double lift_slew = p[41];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
+    const double lift_slew = p[43];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -1588,21 +1591,21 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:355:7 */
-/*   record pitch_mean: creatures/quadruped.leg:356:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:357:7 */
-/*   record pitch_trim: creatures/quadruped.leg:358:7 */
-/*   record stride_speed: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_t1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y1: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:434:3 */
-/*   record stride_t0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:435:3 */
-/*   record stride_x0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:436:3 */
-/*   record stride_y0: creatures/quadruped.leg:359:7 > stdlib/raibert.leg:437:3 */
-/*   record flight_apex: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:360:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:357:7 */
+/*   record pitch_mean: creatures/quadruped.leg:358:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:359:7 */
+/*   record pitch_trim: creatures/quadruped.leg:360:7 */
+/*   record stride_speed: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1615,12 +1618,13 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double leg_rr_hip_x = s[30];
     const double time = s[39];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
-    const double k_pitch_i = p[37];
-    const double trim_most = p[38];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
+    const double k_pitch_i = p[39];
+    const double trim_most = p[40];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1651,8 +1655,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(stroke_max, leg_max(stroke_min, k_height*t1 + stroke + stroke_trim));
     const double t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double new_stride_speed = ((((t2) ? ((stride_t1 > 0.0)) : ((stride_t0 > 0.0)))) ? (leg_div(((com_x - ((t2) ? (stride_x1) : (stride_x0)))*leg_cos(body_trunk_yaw) + (com_y - ((t2) ? (stride_y1) : (stride_y0)))*leg_sin(body_trunk_yaw)), leg_max(0.001, time - ((t2) ? (stride_t1) : (stride_t0))))) : (ramped_speed));
     const double new_stride_t1 = ((t2) ? (time) : (stride_t1));
@@ -1695,48 +1699,48 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1765,25 +1769,25 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1939,34 +1943,34 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1995,25 +1999,25 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2155,36 +2159,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2213,28 +2217,28 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double k_stride_speed = p[31];
-    const double stride_most = p[32];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double k_pitch_thrust = p[39];
-    const double idle_delay = p[40];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double k_stride_speed = p[33];
+    const double stride_most = p[34];
+    const double kv_rate = p[35];
+    const double omega_f = p[36];
+    const double omega_r = p[37];
+    const double k_center = p[38];
+    const double k_pitch_thrust = p[41];
+    const double idle_delay = p[42];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2381,36 +2385,36 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2428,14 +2432,14 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double ramped_speed = r[11];

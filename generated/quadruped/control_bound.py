@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d11d5ae91fb2f25c"
+FINGERPRINT = "200c8206eb99f7dd"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -49,6 +49,7 @@ PARAMS = {
     "trim_band": 0.3,
     "k_side_trim": 0.3,
     "k_aim_rate": 1.0,
+    "aim_rate_most": 1.0,
     "stance_guess": 0.15,
     "kp": 300.0,
     "kv": 30.0,
@@ -67,6 +68,7 @@ PARAMS = {
     "k_height": 0.00204,
     "k_height_trim": 0.03,
     "stroke_max": 0.0714,
+    "stroke_min": -0.02,
     "stand": -0.0382,
     "short": -0.14,
     "accel": 1.14,
@@ -107,7 +109,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:338:5
+        event  creatures/quadruped.leg:340:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -118,7 +120,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:354:5
+        event  creatures/quadruped.leg:356:5
     """
     leg_fl_touching = s[17]
     leg_fr_touching = s[23]
@@ -129,7 +131,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:365:5
+        event  creatures/quadruped.leg:367:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
@@ -140,11 +142,11 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:368:5
+        event  creatures/quadruped.leg:370:5
     """
     leg_fl_rate = s[16]
     leg_fr_rate = s[22]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
 
@@ -152,14 +154,14 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:372:5
+        event  creatures/quadruped.leg:374:5
     """
     leg_fl_length = s[15]
     leg_fl_touching = s[17]
     leg_fr_length = s[21]
     leg_fr_touching = s[23]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[16]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)
 
@@ -168,7 +170,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:338:5
+        event  creatures/quadruped.leg:340:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -179,7 +181,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:354:5
+        event  creatures/quadruped.leg:356:5
     """
     leg_rl_touching = s[29]
     leg_rr_touching = s[35]
@@ -190,7 +192,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:365:5
+        event  creatures/quadruped.leg:367:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
@@ -201,11 +203,11 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:368:5
+        event  creatures/quadruped.leg:370:5
     """
     leg_rl_rate = s[28]
     leg_rr_rate = s[34]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
 
@@ -213,14 +215,14 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:372:5
+        event  creatures/quadruped.leg:374:5
     """
     leg_rl_length = s[27]
     leg_rl_touching = s[29]
     leg_rr_length = s[33]
     leg_rr_touching = s[35]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[16]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
@@ -229,20 +231,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:340:7
-        record ramped_speed  creatures/quadruped.leg:347:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:347:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:348:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:348:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:349:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:349:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:349:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:350:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:350:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:350:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:350:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:350:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:351:7
+        record steps         creatures/quadruped.leg:342:7
+        record ramped_speed  creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:353:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -256,8 +258,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -301,7 +304,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -339,46 +342,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.rest       creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:342:7
-        leg_fr_spring.k          creatures/quadruped.leg:342:7
-        leg_rl_spring.k          creatures/quadruped.leg:343:7
-        leg_rr_spring.k          creatures/quadruped.leg:343:7
-        leg_fl_spring.b          creatures/quadruped.leg:344:7
-        leg_fr_spring.b          creatures/quadruped.leg:344:7
-        leg_rl_spring.b          creatures/quadruped.leg:345:7
-        leg_rr_spring.b          creatures/quadruped.leg:345:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5
-        leg_rr_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:344:7
+        leg_fr_spring.k          creatures/quadruped.leg:344:7
+        leg_rl_spring.k          creatures/quadruped.leg:345:7
+        leg_rr_spring.k          creatures/quadruped.leg:345:7
+        leg_fl_spring.b          creatures/quadruped.leg:346:7
+        leg_fr_spring.b          creatures/quadruped.leg:346:7
+        leg_rl_spring.b          creatures/quadruped.leg:347:7
+        leg_rr_spring.b          creatures/quadruped.leg:347:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
+        leg_rr_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -401,19 +404,19 @@ def action_FLIGHT_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
-    lift_slew = p[41]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
+    lift_slew = p[43]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -492,21 +495,21 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:355:7
-        record pitch_mean      creatures/quadruped.leg:356:7
-        record pitch_last_td   creatures/quadruped.leg:357:7
-        record pitch_trim      creatures/quadruped.leg:358:7
-        record stride_speed    creatures/quadruped.leg:359:7 > stdlib/raibert.leg:429:3
-        record stride_t1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:432:3
-        record stride_x1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:433:3
-        record stride_y1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:434:3
-        record stride_t0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:435:3
-        record stride_x0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:436:3
-        record stride_y0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:437:3
-        record flight_apex     creatures/quadruped.leg:360:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:360:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:360:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:360:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:357:7
+        record pitch_mean      creatures/quadruped.leg:358:7
+        record pitch_last_td   creatures/quadruped.leg:359:7
+        record pitch_trim      creatures/quadruped.leg:360:7
+        record stride_speed    creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -518,12 +521,13 @@ def entry_LOADING_0(s, u, p, r, tis):
     leg_fr_hip_x = s[18]
     time = s[39]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
-    k_pitch_i = p[37]
-    trim_most = p[38]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
+    k_pitch_i = p[39]
+    trim_most = p[40]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -554,8 +558,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(stroke_min, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/maximum(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
     new_stride_t1 = ((time) if t2 else (stride_t1))
@@ -601,48 +605,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5
-        leg_rr_spring.rest       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
+        leg_rr_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -670,25 +674,25 @@ def action_LOADING_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -846,34 +850,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
-        leg_rr_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
+        leg_rr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -901,25 +905,25 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1063,36 +1067,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5
-        leg_rr_spring.rest       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
+        leg_rr_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1120,28 +1124,28 @@ def action_THRUST_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    k_pitch_thrust = p[39]
-    idle_delay = p[40]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
+    k_pitch_thrust = p[41]
+    idle_delay = p[42]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1290,36 +1294,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5
-        leg_rr_spring.rest       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
+        leg_rr_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1336,14 +1340,14 @@ def action_UNLOADING_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]
@@ -1400,20 +1404,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:340:7
-        record ramped_speed  creatures/quadruped.leg:347:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:347:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:348:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:348:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:349:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:349:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:349:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:350:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:350:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:350:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:350:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:350:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:351:7
+        record steps         creatures/quadruped.leg:342:7
+        record ramped_speed  creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:353:7
     """
     body_trunk_yaw = s[4]
     com_x = s[9]
@@ -1427,8 +1431,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -1472,7 +1477,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1510,46 +1515,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:341:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.k          creatures/quadruped.leg:342:7
-        leg_rr_spring.k          creatures/quadruped.leg:342:7
-        leg_fl_spring.k          creatures/quadruped.leg:343:7
-        leg_fr_spring.k          creatures/quadruped.leg:343:7
-        leg_rl_spring.b          creatures/quadruped.leg:344:7
-        leg_rr_spring.b          creatures/quadruped.leg:344:7
-        leg_fl_spring.b          creatures/quadruped.leg:345:7
-        leg_fr_spring.b          creatures/quadruped.leg:345:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:346:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:346:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:346:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5
-        leg_fr_spring.rest       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:277:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:353:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:352:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:353:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.k          creatures/quadruped.leg:344:7
+        leg_rr_spring.k          creatures/quadruped.leg:344:7
+        leg_fl_spring.k          creatures/quadruped.leg:345:7
+        leg_fr_spring.k          creatures/quadruped.leg:345:7
+        leg_rl_spring.b          creatures/quadruped.leg:346:7
+        leg_rr_spring.b          creatures/quadruped.leg:346:7
+        leg_fl_spring.b          creatures/quadruped.leg:347:7
+        leg_fr_spring.b          creatures/quadruped.leg:347:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
+        leg_fr_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1572,19 +1577,19 @@ def action_FLIGHT_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
-    lift_slew = p[41]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
+    lift_slew = p[43]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -1663,21 +1668,21 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:355:7
-        record pitch_mean      creatures/quadruped.leg:356:7
-        record pitch_last_td   creatures/quadruped.leg:357:7
-        record pitch_trim      creatures/quadruped.leg:358:7
-        record stride_speed    creatures/quadruped.leg:359:7 > stdlib/raibert.leg:429:3
-        record stride_t1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:432:3
-        record stride_x1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:433:3
-        record stride_y1       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:434:3
-        record stride_t0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:435:3
-        record stride_x0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:436:3
-        record stride_y0       creatures/quadruped.leg:359:7 > stdlib/raibert.leg:437:3
-        record flight_apex     creatures/quadruped.leg:360:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:360:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:360:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:360:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:357:7
+        record pitch_mean      creatures/quadruped.leg:358:7
+        record pitch_last_td   creatures/quadruped.leg:359:7
+        record pitch_trim      creatures/quadruped.leg:360:7
+        record stride_speed    creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -1689,12 +1694,13 @@ def entry_LOADING_1(s, u, p, r, tis):
     leg_rr_hip_x = s[30]
     time = s[39]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
-    k_pitch_i = p[37]
-    trim_most = p[38]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
+    k_pitch_i = p[39]
+    trim_most = p[40]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1725,8 +1731,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(stroke_min, k_height*t1 + stroke + stroke_trim))
     t2 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     new_stride_speed = ((((com_x - ((stride_x1) if t2 else (stride_x0)))*math.cos(body_trunk_yaw) + (com_y - ((stride_y1) if t2 else (stride_y0)))*math.sin(body_trunk_yaw))/maximum(0.001, time - ((stride_t1) if t2 else (stride_t0)))) if (((stride_t1 > 0.0)) if t2 else ((stride_t0 > 0.0))) else (ramped_speed))
     new_stride_t1 = ((time) if t2 else (stride_t1))
@@ -1772,48 +1778,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:362:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:362:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:363:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5
-        leg_fr_spring.rest       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:277:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:364:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
+        leg_fr_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1841,25 +1847,25 @@ def action_LOADING_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2017,34 +2023,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
-        leg_fr_spring.rest       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:277:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:367:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
+        leg_fr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2072,25 +2078,25 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2234,36 +2240,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:369:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:370:7 > creatures/quadruped.leg:330:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5
-        leg_fr_spring.rest       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:277:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:371:7 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:371:7 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
+        leg_fr_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2291,28 +2297,28 @@ def action_THRUST_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    k_stride_speed = p[31]
-    stride_most = p[32]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    k_pitch_thrust = p[39]
-    idle_delay = p[40]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    k_stride_speed = p[33]
+    stride_most = p[34]
+    kv_rate = p[35]
+    omega_f = p[36]
+    omega_r = p[37]
+    k_center = p[38]
+    k_pitch_thrust = p[41]
+    idle_delay = p[42]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2461,36 +2467,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:373:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:373:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:373:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:373:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5
-        leg_fr_spring.rest       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:277:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:373:50 > creatures/quadruped.leg:278:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:373:50 > creatures/quadruped.leg:279:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
+        leg_fr_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2507,14 +2513,14 @@ def action_UNLOADING_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
     stance = r[1]
     speed_trim = r[7]
     ramped_speed = r[11]

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "f12f62d6a252441e";
+const char legdsl_control_fingerprint[] = "c619fb5fb3f4aba0";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -62,7 +62,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:469:5 */
+/*   event: creatures/quadruped.leg:471:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -72,7 +72,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:485:5 */
+/*   event: creatures/quadruped.leg:487:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -82,7 +82,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:495:5 */
+/*   event: creatures/quadruped.leg:497:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
@@ -92,33 +92,33 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:498:5 */
+/*   event: creatures/quadruped.leg:500:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
     const double leg_fr_rate = s[24];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:502:5 */
+/*   event: creatures/quadruped.leg:504:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[16];
     const double leg_fl_touching = s[18];
     const double leg_fr_length = s[23];
     const double leg_fr_touching = s[25];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[14];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:469:5 */
+/*   event: creatures/quadruped.leg:471:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[32];
@@ -128,7 +128,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:485:5 */
+/*   event: creatures/quadruped.leg:487:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[32];
@@ -138,7 +138,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:495:5 */
+/*   event: creatures/quadruped.leg:497:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[31];
@@ -148,46 +148,46 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:498:5 */
+/*   event: creatures/quadruped.leg:500:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[31];
     const double leg_rr_rate = s[38];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:502:5 */
+/*   event: creatures/quadruped.leg:504:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[30];
     const double leg_rl_touching = s[32];
     const double leg_rr_length = s[37];
     const double leg_rr_touching = s[39];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[14];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:471:7 */
-/*   record ramped_speed: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:482:7 */
+/*   record steps: creatures/quadruped.leg:473:7 */
+/*   record ramped_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:484:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -204,12 +204,13 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_trim = p[53];
-    const double fast_trim_band = p[54];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_trim = p[55];
+    const double fast_trim_band = p[56];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -248,7 +249,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
     const double new_ramped_at = leg_max(0.001, time);
     const double t10 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -276,46 +277,46 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:473:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:473:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:474:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:474:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:475:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:475:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:476:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:476:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:475:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:475:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:476:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:476:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:477:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:477:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:478:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:478:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -348,29 +349,29 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
-    const double lift_slew = p[39];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
+    const double lift_slew = p[41];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -459,14 +460,14 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:486:7 */
-/*   record pitch_mean: creatures/quadruped.leg:487:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:488:7 */
-/*   record pitch_trim: creatures/quadruped.leg:489:7 */
-/*   record flight_apex: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:488:7 */
+/*   record pitch_mean: creatures/quadruped.leg:489:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:490:7 */
+/*   record pitch_trim: creatures/quadruped.leg:491:7 */
+/*   record flight_apex: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -474,16 +475,17 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double com_z = s[11];
     const double time = s[44];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
-    const double k_pitch_i = p[35];
-    const double trim_most = p[36];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_height = p[55];
-    const double fast_stroke_max = p[56];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
+    const double k_pitch_i = p[37];
+    const double trim_most = p[38];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_height = p[57];
+    const double fast_stroke_max = p[58];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -510,8 +512,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double t1 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t2 = fast_stroke_max*t1 + stroke_max;
     const double t3 = fast_height*t1 - flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(t2, leg_max(-0.02, k_height*t3 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke + stroke_min, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(t2, leg_max(stroke_min, k_height*t3 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -539,48 +541,48 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -618,38 +620,38 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double stance_lead = p[43];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double stance_lead = p[45];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -799,34 +801,34 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -862,37 +864,37 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1025,36 +1027,36 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1092,42 +1094,42 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double k_pitch_thrust = p[37];
-    const double idle_delay = p[38];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double stance_lead = p[43];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_pitch_thrust = p[57];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double k_pitch_thrust = p[39];
+    const double idle_delay = p[40];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double stance_lead = p[45];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_pitch_thrust = p[59];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1267,36 +1269,36 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1321,24 +1323,24 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];
@@ -1398,20 +1400,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:471:7 */
-/*   record ramped_speed: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:482:7 */
+/*   record steps: creatures/quadruped.leg:473:7 */
+/*   record ramped_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:484:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1428,12 +1430,13 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_trim = p[53];
-    const double fast_trim_band = p[54];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_trim = p[55];
+    const double fast_trim_band = p[56];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -1472,7 +1475,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
     const double new_ramped_at = leg_max(0.001, time);
     const double t10 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1500,46 +1503,46 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:473:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:473:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:474:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:474:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:475:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:475:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:476:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:476:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:475:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:475:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:476:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:476:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:477:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:477:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:478:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:478:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1572,29 +1575,29 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
-    const double lift_slew = p[39];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
+    const double lift_slew = p[41];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -1683,14 +1686,14 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:486:7 */
-/*   record pitch_mean: creatures/quadruped.leg:487:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:488:7 */
-/*   record pitch_trim: creatures/quadruped.leg:489:7 */
-/*   record flight_apex: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:488:7 */
+/*   record pitch_mean: creatures/quadruped.leg:489:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:490:7 */
+/*   record pitch_trim: creatures/quadruped.leg:491:7 */
+/*   record flight_apex: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1698,16 +1701,17 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double com_z = s[11];
     const double time = s[44];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
-    const double k_pitch_i = p[35];
-    const double trim_most = p[36];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_height = p[55];
-    const double fast_stroke_max = p[56];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
+    const double k_pitch_i = p[37];
+    const double trim_most = p[38];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_height = p[57];
+    const double fast_stroke_max = p[58];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1734,8 +1738,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double t1 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t2 = fast_stroke_max*t1 + stroke_max;
     const double t3 = fast_height*t1 - flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke - 0.02, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(t2, leg_max(-0.02, k_height*t3 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + t2, leg_max(-stroke + stroke_min, k_height_trim*t3 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(t2, leg_max(stroke_min, k_height*t3 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -1763,48 +1767,48 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1842,38 +1846,38 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double stance_lead = p[43];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double stance_lead = p[45];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2023,34 +2027,34 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2086,37 +2090,37 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2249,36 +2253,36 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2316,42 +2320,42 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double kv_rate = p[31];
-    const double omega_f = p[32];
-    const double omega_r = p[33];
-    const double k_center = p[34];
-    const double k_pitch_thrust = p[37];
-    const double idle_delay = p[38];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double stance_lead = p[43];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_omega_f = p[49];
-    const double fast_omega_r = p[50];
-    const double fast_kv_rate = p[51];
-    const double fast_k_center = p[52];
-    const double fast_pitch_thrust = p[57];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double kv_rate = p[33];
+    const double omega_f = p[34];
+    const double omega_r = p[35];
+    const double k_center = p[36];
+    const double k_pitch_thrust = p[39];
+    const double idle_delay = p[40];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double stance_lead = p[45];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_omega_f = p[51];
+    const double fast_omega_r = p[52];
+    const double fast_kv_rate = p[53];
+    const double fast_k_center = p[54];
+    const double fast_pitch_thrust = p[59];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2491,36 +2495,36 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2545,24 +2549,24 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double stagger = p[40];
-    const double lead_front = p[41];
-    const double lead_rear = p[42];
-    const double fast_from = p[44];
-    const double fast_span = p[45];
-    const double fast_k_speed = p[46];
-    const double fast_stance_f = p[47];
-    const double fast_stance_r = p[48];
-    const double fast_window = p[58];
-    const double fast_lag = p[59];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double stagger = p[42];
+    const double lead_front = p[43];
+    const double lead_rear = p[44];
+    const double fast_from = p[46];
+    const double fast_span = p[47];
+    const double fast_k_speed = p[48];
+    const double fast_stance_f = p[49];
+    const double fast_stance_r = p[50];
+    const double fast_window = p[60];
+    const double fast_lag = p[61];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];

@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "f12f62d6a252441e"
+FINGERPRINT = "c619fb5fb3f4aba0"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
@@ -49,6 +49,7 @@ PARAMS = {
     "trim_band": 0.3,
     "k_side_trim": 0.3,
     "k_aim_rate": 1.0,
+    "aim_rate_most": 1.0,
     "stance_guess": 0.15,
     "kp": 300.0,
     "kv": 30.0,
@@ -67,6 +68,7 @@ PARAMS = {
     "k_height": 0.00313,
     "k_height_trim": 0.03,
     "stroke_max": 0.0425,
+    "stroke_min": -0.02,
     "stand": -0.0305,
     "short": -0.14,
     "accel": 1.05,
@@ -125,7 +127,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:469:5
+        event  creatures/quadruped.leg:471:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[25]
@@ -136,7 +138,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:485:5
+        event  creatures/quadruped.leg:487:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[25]
@@ -147,7 +149,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:495:5
+        event  creatures/quadruped.leg:497:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[24]
@@ -158,11 +160,11 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:498:5
+        event  creatures/quadruped.leg:500:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[24]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
 
@@ -170,14 +172,14 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:502:5
+        event  creatures/quadruped.leg:504:5
     """
     leg_fl_length = s[16]
     leg_fl_touching = s[18]
     leg_fr_length = s[23]
     leg_fr_touching = s[25]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[14]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_fr_length > full + stand + thrust_stroke)
 
@@ -186,7 +188,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:469:5
+        event  creatures/quadruped.leg:471:5
     """
     leg_rl_touching = s[32]
     leg_rr_touching = s[39]
@@ -197,7 +199,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:485:5
+        event  creatures/quadruped.leg:487:5
     """
     leg_rl_touching = s[32]
     leg_rr_touching = s[39]
@@ -208,7 +210,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:495:5
+        event  creatures/quadruped.leg:497:5
     """
     leg_rl_rate = s[31]
     leg_rr_rate = s[38]
@@ -219,11 +221,11 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:498:5
+        event  creatures/quadruped.leg:500:5
     """
     leg_rl_rate = s[31]
     leg_rr_rate = s[38]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
 
@@ -231,14 +233,14 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:502:5
+        event  creatures/quadruped.leg:504:5
     """
     leg_rl_length = s[30]
     leg_rl_touching = s[32]
     leg_rr_length = s[37]
     leg_rr_touching = s[39]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[14]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
@@ -247,20 +249,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:471:7
-        record ramped_speed  creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:482:7
+        record steps         creatures/quadruped.leg:473:7
+        record ramped_speed  creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:484:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -276,12 +278,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_trim = p[53]
-    fast_trim_band = p[54]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_trim = p[55]
+    fast_trim_band = p[56]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -320,7 +323,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
     new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -351,46 +354,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fl_spring.k          creatures/quadruped.leg:473:7
-        leg_fr_spring.k          creatures/quadruped.leg:473:7
-        leg_rl_spring.k          creatures/quadruped.leg:474:7
-        leg_rr_spring.k          creatures/quadruped.leg:474:7
-        leg_fl_spring.b          creatures/quadruped.leg:475:7
-        leg_fr_spring.b          creatures/quadruped.leg:475:7
-        leg_rl_spring.b          creatures/quadruped.leg:476:7
-        leg_rr_spring.b          creatures/quadruped.leg:476:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fl_spring.k          creatures/quadruped.leg:475:7
+        leg_fr_spring.k          creatures/quadruped.leg:475:7
+        leg_rl_spring.k          creatures/quadruped.leg:476:7
+        leg_rr_spring.k          creatures/quadruped.leg:476:7
+        leg_fl_spring.b          creatures/quadruped.leg:477:7
+        leg_fr_spring.b          creatures/quadruped.leg:477:7
+        leg_rl_spring.b          creatures/quadruped.leg:478:7
+        leg_rr_spring.b          creatures/quadruped.leg:478:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -422,29 +425,29 @@ def action_FLIGHT_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
-    lift_slew = p[39]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_window = p[58]
-    fast_lag = p[59]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
+    lift_slew = p[41]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -536,30 +539,31 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:486:7
-        record pitch_mean      creatures/quadruped.leg:487:7
-        record pitch_last_td   creatures/quadruped.leg:488:7
-        record pitch_trim      creatures/quadruped.leg:489:7
-        record flight_apex     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:488:7
+        record pitch_mean      creatures/quadruped.leg:489:7
+        record pitch_last_td   creatures/quadruped.leg:490:7
+        record pitch_trim      creatures/quadruped.leg:491:7
+        record flight_apex     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
     time = s[44]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
-    k_pitch_i = p[35]
-    trim_most = p[36]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_height = p[55]
-    fast_stroke_max = p[56]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
+    k_pitch_i = p[37]
+    trim_most = p[38]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_height = p[57]
+    fast_stroke_max = p[58]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -586,8 +590,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     t1 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t2 = fast_stroke_max*t1 + stroke_max
     t3 = fast_height*t1 - flight_apex + height
-    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(t2, maximum(-0.02, k_height*t3 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke + stroke_min, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(t2, maximum(stroke_min, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -618,48 +622,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -696,38 +700,38 @@ def action_LOADING_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    stance_lead = p[43]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    stance_lead = p[45]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -879,34 +883,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -941,37 +945,37 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1106,36 +1110,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1172,42 +1176,42 @@ def action_THRUST_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    k_pitch_thrust = p[37]
-    idle_delay = p[38]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    stance_lead = p[43]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_pitch_thrust = p[57]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    k_pitch_thrust = p[39]
+    idle_delay = p[40]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    stance_lead = p[45]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_pitch_thrust = p[59]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1349,36 +1353,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1402,24 +1406,24 @@ def action_UNLOADING_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_window = p[58]
-    fast_lag = p[59]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_window = p[60]
+    fast_lag = p[61]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]
@@ -1482,20 +1486,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:471:7
-        record ramped_speed  creatures/quadruped.leg:478:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:478:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:479:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:480:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:480:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:481:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:481:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:481:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:482:7
+        record steps         creatures/quadruped.leg:473:7
+        record ramped_speed  creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:484:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1511,12 +1515,13 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_trim = p[53]
-    fast_trim_band = p[54]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_trim = p[55]
+    fast_trim_band = p[56]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -1555,7 +1560,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
     new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1586,46 +1591,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:472:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rl_spring.k          creatures/quadruped.leg:473:7
-        leg_rr_spring.k          creatures/quadruped.leg:473:7
-        leg_fl_spring.k          creatures/quadruped.leg:474:7
-        leg_fr_spring.k          creatures/quadruped.leg:474:7
-        leg_rl_spring.b          creatures/quadruped.leg:475:7
-        leg_rr_spring.b          creatures/quadruped.leg:475:7
-        leg_fl_spring.b          creatures/quadruped.leg:476:7
-        leg_fr_spring.b          creatures/quadruped.leg:476:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:477:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:477:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:477:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:484:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:483:7 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:484:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rl_spring.k          creatures/quadruped.leg:475:7
+        leg_rr_spring.k          creatures/quadruped.leg:475:7
+        leg_fl_spring.k          creatures/quadruped.leg:476:7
+        leg_fr_spring.k          creatures/quadruped.leg:476:7
+        leg_rl_spring.b          creatures/quadruped.leg:477:7
+        leg_rr_spring.b          creatures/quadruped.leg:477:7
+        leg_fl_spring.b          creatures/quadruped.leg:478:7
+        leg_fr_spring.b          creatures/quadruped.leg:478:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1657,29 +1662,29 @@ def action_FLIGHT_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
-    lift_slew = p[39]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_window = p[58]
-    fast_lag = p[59]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
+    lift_slew = p[41]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -1771,30 +1776,31 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:486:7
-        record pitch_mean      creatures/quadruped.leg:487:7
-        record pitch_last_td   creatures/quadruped.leg:488:7
-        record pitch_trim      creatures/quadruped.leg:489:7
-        record flight_apex     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:490:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:490:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:490:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:488:7
+        record pitch_mean      creatures/quadruped.leg:489:7
+        record pitch_last_td   creatures/quadruped.leg:490:7
+        record pitch_trim      creatures/quadruped.leg:491:7
+        record flight_apex     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
     time = s[44]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
-    k_pitch_i = p[35]
-    trim_most = p[36]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_height = p[55]
-    fast_stroke_max = p[56]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
+    k_pitch_i = p[37]
+    trim_most = p[38]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_height = p[57]
+    fast_stroke_max = p[58]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1821,8 +1827,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     t1 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t2 = fast_stroke_max*t1 + stroke_max
     t3 = fast_height*t1 - flight_apex + height
-    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke - 0.02, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(t2, maximum(-0.02, k_height*t3 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + t2, maximum(-stroke + stroke_min, k_height_trim*t3 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(t2, maximum(stroke_min, k_height*t3 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -1853,48 +1859,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:491:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:493:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:494:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:494:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1931,38 +1937,38 @@ def action_LOADING_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    stance_lead = p[43]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    stance_lead = p[45]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2114,34 +2120,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:497:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:497:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2176,37 +2182,37 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2341,36 +2347,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:500:7 > creatures/quadruped.leg:464:5 > creatures/quadruped.leg:271:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:501:7 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:501:7 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2407,42 +2413,42 @@ def action_THRUST_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    kv_rate = p[31]
-    omega_f = p[32]
-    omega_r = p[33]
-    k_center = p[34]
-    k_pitch_thrust = p[37]
-    idle_delay = p[38]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    stance_lead = p[43]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_omega_f = p[49]
-    fast_omega_r = p[50]
-    fast_kv_rate = p[51]
-    fast_k_center = p[52]
-    fast_pitch_thrust = p[57]
-    fast_window = p[58]
-    fast_lag = p[59]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    kv_rate = p[33]
+    omega_f = p[34]
+    omega_r = p[35]
+    k_center = p[36]
+    k_pitch_thrust = p[39]
+    idle_delay = p[40]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    stance_lead = p[45]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_omega_f = p[51]
+    fast_omega_r = p[52]
+    fast_kv_rate = p[53]
+    fast_k_center = p[54]
+    fast_pitch_thrust = p[59]
+    fast_window = p[60]
+    fast_lag = p[61]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2584,36 +2590,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:503:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:503:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:503:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:503:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:427:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:503:50 > creatures/quadruped.leg:428:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:503:50 > creatures/quadruped.leg:429:5 > creatures/quadruped.leg:460:5 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2637,24 +2643,24 @@ def action_UNLOADING_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    stagger = p[40]
-    lead_front = p[41]
-    lead_rear = p[42]
-    fast_from = p[44]
-    fast_span = p[45]
-    fast_k_speed = p[46]
-    fast_stance_f = p[47]
-    fast_stance_r = p[48]
-    fast_window = p[58]
-    fast_lag = p[59]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    stagger = p[42]
+    lead_front = p[43]
+    lead_rear = p[44]
+    fast_from = p[46]
+    fast_span = p[47]
+    fast_k_speed = p[48]
+    fast_stance_f = p[49]
+    fast_stance_r = p[50]
+    fast_window = p[60]
+    fast_lag = p[61]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "d4b363fc1e83f7e3";
+const char legdsl_control_fingerprint[] = "72fd0bc2afe83aaf";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -61,7 +61,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:200:5 */
+/*   event: creatures/quadruped.leg:202:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -71,7 +71,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:216:5 */
+/*   event: creatures/quadruped.leg:218:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[21];
@@ -81,7 +81,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:223:5 */
+/*   event: creatures/quadruped.leg:225:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
@@ -91,33 +91,33 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:226:5 */
+/*   event: creatures/quadruped.leg:228:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[20];
     const double leg_rl_rate = s[32];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_rl_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:230:5 */
+/*   event: creatures/quadruped.leg:232:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[19];
     const double leg_fl_touching = s[21];
     const double leg_rl_length = s[31];
     const double leg_rl_touching = s[33];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fl_touching < 0.5)) && ((leg_rl_touching < 0.5)))) || ((0.5*leg_fl_length + 0.5*leg_rl_length > full + stand + thrust_stroke)));
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:200:5 */
+/*   event: creatures/quadruped.leg:202:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -127,7 +127,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:216:5 */
+/*   event: creatures/quadruped.leg:218:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[27];
@@ -137,7 +137,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:223:5 */
+/*   event: creatures/quadruped.leg:225:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
@@ -147,46 +147,46 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:226:5 */
+/*   event: creatures/quadruped.leg:228:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[26];
     const double leg_rr_rate = s[38];
-    const double settle = p[28];
+    const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fr_rate + 0.5*leg_rr_rate > 0.0)));
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:230:5 */
+/*   event: creatures/quadruped.leg:232:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_length = s[25];
     const double leg_fr_touching = s[27];
     const double leg_rr_length = s[37];
     const double leg_rr_touching = s[39];
-    const double stand = p[23];
-    const double full = p[27];
+    const double stand = p[25];
+    const double full = p[29];
     const double thrust_stroke = r[6];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((((leg_fr_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:202:7 */
-/*   record ramped_speed: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3 */
-/*   record speed_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3 */
-/*   record lifted: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3 */
-/*   record lifted_x: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3 */
-/*   record lifted_y: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3 */
-/*   record stance: creatures/quadruped.leg:213:7 */
+/*   record steps: creatures/quadruped.leg:204:7 */
+/*   record ramped_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:215:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -203,10 +203,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
-    const double decel = p[31];
-    const double k_start = p[32];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
+    const double decel = p[33];
+    const double k_start = p[34];
     const double steps = r[0];
     const double landed = r[2];
     const double flight_apex = r[3];
@@ -241,7 +242,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -266,48 +267,48 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:205:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:205:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:207:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:207:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   place fl (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:206:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:206:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:207:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:207:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:208:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:208:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:209:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:209:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
+/*   place fl (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -329,18 +330,18 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
     const double steps = r[0];
     const double stance = r[1];
     const double side_trim = r[8];
@@ -413,21 +414,22 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:217:7 */
-/*   record flight_apex: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:219:7 */
+/*   record flight_apex: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
     const double com_z = s[11];
     const double time = s[43];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
     const double steps = r[0];
     const double stance = r[1];
     const double flight_apex = r[3];
@@ -447,8 +449,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(stroke_max, leg_max(stroke_min, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -473,50 +475,50 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -541,18 +543,18 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
@@ -669,36 +671,36 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -723,17 +725,17 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double short_ = p[26];
     const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
@@ -836,38 +838,38 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -892,18 +894,18 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double thrust_stroke = r[6];
     const double aim_rate = r[16];
     const double leg_fl_spring_rest = stand + thrust_stroke;
@@ -1010,46 +1012,46 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fl_y_value = s[12];
     const double coord_hip_rl_y_value = s[14];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rl_y_value;
     out[0] = stand;
     out[1] = stand;
@@ -1088,20 +1090,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
 }
 
 /* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:202:7 */
-/*   record ramped_speed: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5 */
-/*   record ahead_then: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5 */
-/*   record ahead_at: creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5 */
-/*   record step_speed: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3 */
-/*   record speed_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3 */
-/*   record lifted: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3 */
-/*   record lifted_x: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3 */
-/*   record lifted_y: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3 */
-/*   record stance: creatures/quadruped.leg:213:7 */
+/*   record steps: creatures/quadruped.leg:204:7 */
+/*   record ramped_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5 */
+/*   record ahead_then: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5 */
+/*   record ahead_at: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5 */
+/*   record step_speed: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:215:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1118,10 +1120,11 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double trim_band = p[2];
     const double k_side_trim = p[3];
     const double k_aim_rate = p[4];
-    const double stance_guess = p[5];
-    const double accel = p[25];
-    const double decel = p[31];
-    const double k_start = p[32];
+    const double aim_rate_most = p[5];
+    const double stance_guess = p[6];
+    const double accel = p[27];
+    const double decel = p[33];
+    const double k_start = p[34];
     const double steps = r[0];
     const double landed = r[2];
     const double flight_apex = r[3];
@@ -1156,7 +1159,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(1.0, leg_max(-1.0, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1181,48 +1184,48 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y). */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:204:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:205:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:205:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:206:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:207:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:207:7 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5 */
-/*   place fr (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:206:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:206:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:207:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:207:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:208:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:208:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:209:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:209:7 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
+/*   place fr (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1244,18 +1247,18 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double heading = u[1];
     const double turn_rate = u[2];
     const double k_speed = p[0];
-    const double k_turn = p[10];
-    const double yaw_lead = p[11];
-    const double turn_most = p[12];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
-    const double slew = p[26];
-    const double leg_b = p[29];
-    const double leg_k = p[30];
+    const double k_turn = p[11];
+    const double yaw_lead = p[12];
+    const double turn_most = p[13];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
+    const double slew = p[28];
+    const double leg_b = p[31];
+    const double leg_k = p[32];
     const double steps = r[0];
     const double stance = r[1];
     const double side_trim = r[8];
@@ -1328,21 +1331,22 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:217:7 */
-/*   record flight_apex: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:219:7 */
+/*   record flight_apex: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
     const double com_z = s[11];
     const double time = s[43];
     const double height = u[3];
-    const double stroke = p[19];
-    const double k_height = p[20];
-    const double k_height_trim = p[21];
-    const double stroke_max = p[22];
+    const double stroke = p[20];
+    const double k_height = p[21];
+    const double k_height_trim = p[22];
+    const double stroke_max = p[23];
+    const double stroke_min = p[24];
     const double steps = r[0];
     const double stance = r[1];
     const double flight_apex = r[3];
@@ -1362,8 +1366,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double ahead_at = r[18];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
-    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke - 0.02, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
-    const double new_thrust_stroke = leg_min(stroke_max, leg_max(-0.02, k_height*t1 + stroke + stroke_trim));
+    const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
+    const double new_thrust_stroke = leg_min(stroke_max, leg_max(stroke_min, k_height*t1 + stroke + stroke_trim));
     out[0] = steps;
     out[1] = stance;
     out[2] = time;
@@ -1388,50 +1392,50 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1456,18 +1460,18 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
@@ -1584,36 +1588,36 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1638,17 +1642,17 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double short_ = p[26];
     const double aim_rate = r[16];
     const double t1 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t1;
@@ -1751,38 +1755,38 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1807,18 +1811,18 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double time = s[43];
     const double heading = u[1];
     const double turn_rate = u[2];
-    const double kp = p[6];
-    const double kv = p[7];
-    const double kp_roll = p[8];
-    const double kv_roll = p[9];
-    const double kp_yaw = p[13];
-    const double kv_yaw = p[14];
-    const double k_path = p[15];
-    const double turn_limit = p[16];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double kp = p[7];
+    const double kv = p[8];
+    const double kp_roll = p[9];
+    const double kv_roll = p[10];
+    const double kp_yaw = p[14];
+    const double kv_yaw = p[15];
+    const double k_path = p[16];
+    const double turn_limit = p[17];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double thrust_stroke = r[6];
     const double aim_rate = r[16];
     const double leg_fr_spring_rest = stand + thrust_stroke;
@@ -1925,46 +1929,46 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fr_y_value = s[13];
     const double coord_hip_rr_y_value = s[15];
-    const double swing_kp = p[17];
-    const double swing_kv = p[18];
-    const double stand = p[23];
-    const double short_ = p[24];
+    const double swing_kp = p[18];
+    const double swing_kv = p[19];
+    const double stand = p[25];
+    const double short_ = p[26];
     const double hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rr_y_value;
     out[0] = stand;
     out[1] = stand;

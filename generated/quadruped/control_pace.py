@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "pace"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d4b363fc1e83f7e3"
+FINGERPRINT = "72fd0bc2afe83aaf"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -49,6 +49,7 @@ PARAMS = {
     "trim_band": 0.3,
     "k_side_trim": 0.808,
     "k_aim_rate": 0.515,
+    "aim_rate_most": 1.0,
     "stance_guess": 0.15,
     "kp": 931.0,
     "kv": 67.2,
@@ -67,6 +68,7 @@ PARAMS = {
     "k_height": 0.176,
     "k_height_trim": 0.0766,
     "stroke_max": 0.0776,
+    "stroke_min": -0.02,
     "stand": -0.0571,
     "short": -0.14,
     "accel": 1.24,
@@ -98,7 +100,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:200:5
+        event  creatures/quadruped.leg:202:5
     """
     leg_fl_touching = s[21]
     leg_rl_touching = s[33]
@@ -109,7 +111,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:216:5
+        event  creatures/quadruped.leg:218:5
     """
     leg_fl_touching = s[21]
     leg_rl_touching = s[33]
@@ -120,7 +122,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:223:5
+        event  creatures/quadruped.leg:225:5
     """
     leg_fl_rate = s[20]
     leg_rl_rate = s[32]
@@ -131,11 +133,11 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:226:5
+        event  creatures/quadruped.leg:228:5
     """
     leg_fl_rate = s[20]
     leg_rl_rate = s[32]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_rl_rate > 0.0)
 
 
@@ -143,14 +145,14 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:230:5
+        event  creatures/quadruped.leg:232:5
     """
     leg_fl_length = s[19]
     leg_fl_touching = s[21]
     leg_rl_length = s[31]
     leg_rl_touching = s[33]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[6]
     return (leg_fl_touching < 0.5) and (leg_rl_touching < 0.5) or (0.5*leg_fl_length + 0.5*leg_rl_length > full + stand + thrust_stroke)
 
@@ -159,7 +161,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:200:5
+        event  creatures/quadruped.leg:202:5
     """
     leg_fr_touching = s[27]
     leg_rr_touching = s[39]
@@ -170,7 +172,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:216:5
+        event  creatures/quadruped.leg:218:5
     """
     leg_fr_touching = s[27]
     leg_rr_touching = s[39]
@@ -181,7 +183,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:223:5
+        event  creatures/quadruped.leg:225:5
     """
     leg_fr_rate = s[26]
     leg_rr_rate = s[38]
@@ -192,11 +194,11 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:226:5
+        event  creatures/quadruped.leg:228:5
     """
     leg_fr_rate = s[26]
     leg_rr_rate = s[38]
-    settle = p[28]
+    settle = p[30]
     return (tis > settle) and (0.5*leg_fr_rate + 0.5*leg_rr_rate > 0.0)
 
 
@@ -204,14 +206,14 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:230:5
+        event  creatures/quadruped.leg:232:5
     """
     leg_fr_length = s[25]
     leg_fr_touching = s[27]
     leg_rr_length = s[37]
     leg_rr_touching = s[39]
-    stand = p[23]
-    full = p[27]
+    stand = p[25]
+    full = p[29]
     thrust_stroke = r[6]
     return (leg_fr_touching < 0.5) and (leg_rr_touching < 0.5) or (0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)
 
@@ -220,20 +222,20 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:202:7
-        record ramped_speed  creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3
-        record speed_trim    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3
-        record lifted        creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3
-        record lifted_x      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3
-        record lifted_y      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3
-        record stance        creatures/quadruped.leg:213:7
+        record steps         creatures/quadruped.leg:204:7
+        record ramped_speed  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:215:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -249,10 +251,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
-    decel = p[31]
-    k_start = p[32]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
+    decel = p[33]
+    k_start = p[34]
     steps = r[0]
     landed = r[2]
     flight_apex = r[3]
@@ -287,7 +290,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -315,48 +318,48 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:204:7
-        leg_rl_spring.k          creatures/quadruped.leg:204:7
-        leg_fr_spring.k          creatures/quadruped.leg:205:7
-        leg_rr_spring.k          creatures/quadruped.leg:205:7
-        leg_fl_spring.b          creatures/quadruped.leg:206:7
-        leg_rl_spring.b          creatures/quadruped.leg:206:7
-        leg_fr_spring.b          creatures/quadruped.leg:207:7
-        leg_rr_spring.b          creatures/quadruped.leg:207:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
-        leg_fr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        place fl (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:206:7
+        leg_rl_spring.k          creatures/quadruped.leg:206:7
+        leg_fr_spring.k          creatures/quadruped.leg:207:7
+        leg_rr_spring.k          creatures/quadruped.leg:207:7
+        leg_fl_spring.b          creatures/quadruped.leg:208:7
+        leg_rl_spring.b          creatures/quadruped.leg:208:7
+        leg_fr_spring.b          creatures/quadruped.leg:209:7
+        leg_rr_spring.b          creatures/quadruped.leg:209:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
+        leg_fr_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
+        leg_rr_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
+        place fl (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -377,18 +380,18 @@ def action_FLIGHT_0(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
     steps = r[0]
     stance = r[1]
     side_trim = r[8]
@@ -464,20 +467,21 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:217:7
-        record flight_apex     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:219:7
+        record flight_apex     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
     time = s[43]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
     steps = r[0]
     stance = r[1]
     flight_apex = r[3]
@@ -497,8 +501,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(stroke_min, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -526,50 +530,50 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
+        leg_rr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -593,18 +597,18 @@ def action_LOADING_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -723,36 +727,36 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
+        leg_rr_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -776,17 +780,17 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    short = p[26]
     aim_rate = r[16]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
@@ -891,38 +895,38 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
+        leg_rr_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -946,18 +950,18 @@ def action_THRUST_0(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     thrust_stroke = r[6]
     aim_rate = r[16]
     leg_fl_spring_rest = stand + thrust_stroke
@@ -1066,45 +1070,45 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
-        leg_fr_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
-        leg_rr_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
+        leg_fl_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
+        leg_fr_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
+        leg_rr_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
     """
     coord_hip_fl_y_value = s[12]
     coord_hip_rl_y_value = s[14]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     hip_fr_pitch_setpoint = -0.5*coord_hip_fl_y_value - 0.5*coord_hip_rl_y_value
     return [
         stand,
@@ -1146,20 +1150,20 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:202:7
-        record ramped_speed  creatures/quadruped.leg:209:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:209:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:210:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:135:5
-        record ahead_then    creatures/quadruped.leg:211:7 > creatures/quadruped.leg:138:5
-        record ahead_at      creatures/quadruped.leg:211:7 > creatures/quadruped.leg:139:5
-        record step_speed    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:454:3
-        record speed_trim    creatures/quadruped.leg:212:7 > stdlib/raibert.leg:455:3
-        record lifted        creatures/quadruped.leg:212:7 > stdlib/raibert.leg:456:3
-        record lifted_x      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:457:3
-        record lifted_y      creatures/quadruped.leg:212:7 > stdlib/raibert.leg:458:3
-        record stance        creatures/quadruped.leg:213:7
+        record steps         creatures/quadruped.leg:204:7
+        record ramped_speed  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5
+        record ahead_then    creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5
+        record ahead_at      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5
+        record step_speed    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:215:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1175,10 +1179,11 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     trim_band = p[2]
     k_side_trim = p[3]
     k_aim_rate = p[4]
-    stance_guess = p[5]
-    accel = p[25]
-    decel = p[31]
-    k_start = p[32]
+    aim_rate_most = p[5]
+    stance_guess = p[6]
+    accel = p[27]
+    decel = p[33]
+    k_start = p[34]
     steps = r[0]
     landed = r[2]
     flight_apex = r[3]
@@ -1213,7 +1218,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(1.0, maximum(-1.0, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
         new_steps,
         new_stance,
@@ -1241,48 +1246,48 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:203:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.k          creatures/quadruped.leg:204:7
-        leg_rr_spring.k          creatures/quadruped.leg:204:7
-        leg_fl_spring.k          creatures/quadruped.leg:205:7
-        leg_rl_spring.k          creatures/quadruped.leg:205:7
-        leg_fr_spring.b          creatures/quadruped.leg:206:7
-        leg_rr_spring.b          creatures/quadruped.leg:206:7
-        leg_fl_spring.b          creatures/quadruped.leg:207:7
-        leg_rl_spring.b          creatures/quadruped.leg:207:7
-        hip_fr_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:208:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:208:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:208:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:215:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:215:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:215:7 > creatures/quadruped.leg:124:5
-        place fr (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:214:7 > creatures/quadruped.leg:142:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fr_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.k          creatures/quadruped.leg:206:7
+        leg_rr_spring.k          creatures/quadruped.leg:206:7
+        leg_fl_spring.k          creatures/quadruped.leg:207:7
+        leg_rl_spring.k          creatures/quadruped.leg:207:7
+        leg_fr_spring.b          creatures/quadruped.leg:208:7
+        leg_rr_spring.b          creatures/quadruped.leg:208:7
+        leg_fl_spring.b          creatures/quadruped.leg:209:7
+        leg_rl_spring.b          creatures/quadruped.leg:209:7
+        hip_fr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
+        leg_rl_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
+        place fr (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1303,18 +1308,18 @@ def action_FLIGHT_1(s, u, p, r, tis):
     heading = u[1]
     turn_rate = u[2]
     k_speed = p[0]
-    k_turn = p[10]
-    yaw_lead = p[11]
-    turn_most = p[12]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
-    slew = p[26]
-    leg_b = p[29]
-    leg_k = p[30]
+    k_turn = p[11]
+    yaw_lead = p[12]
+    turn_most = p[13]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
+    slew = p[28]
+    leg_b = p[31]
+    leg_k = p[32]
     steps = r[0]
     stance = r[1]
     side_trim = r[8]
@@ -1390,20 +1395,21 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:217:7
-        record flight_apex     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:218:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:218:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:218:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:219:7
+        record flight_apex     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
     time = s[43]
     height = u[3]
-    stroke = p[19]
-    k_height = p[20]
-    k_height_trim = p[21]
-    stroke_max = p[22]
+    stroke = p[20]
+    k_height = p[21]
+    k_height_trim = p[22]
+    stroke_max = p[23]
+    stroke_min = p[24]
     steps = r[0]
     stance = r[1]
     flight_apex = r[3]
@@ -1423,8 +1429,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     ahead_at = r[18]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
-    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke - 0.02, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
-    new_thrust_stroke = minimum(stroke_max, maximum(-0.02, k_height*t1 + stroke + stroke_trim))
+    new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
+    new_thrust_stroke = minimum(stroke_max, maximum(stroke_min, k_height*t1 + stroke + stroke_trim))
     return [
         steps,
         stance,
@@ -1452,50 +1458,50 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:219:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:220:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:220:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:169:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:221:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
+        leg_rl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1519,18 +1525,18 @@ def action_LOADING_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
@@ -1649,36 +1655,36 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        hip_fr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:225:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:225:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:225:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
+        leg_rl_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1702,17 +1708,17 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    short = p[26]
     aim_rate = r[16]
     t1 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t1
@@ -1817,38 +1823,38 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:128:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
+        leg_rl_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1872,18 +1878,18 @@ def action_THRUST_1(s, u, p, r, tis):
     time = s[43]
     heading = u[1]
     turn_rate = u[2]
-    kp = p[6]
-    kv = p[7]
-    kp_roll = p[8]
-    kv_roll = p[9]
-    kp_yaw = p[13]
-    kv_yaw = p[14]
-    k_path = p[15]
-    turn_limit = p[16]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    kp = p[7]
+    kv = p[8]
+    kp_roll = p[9]
+    kv_roll = p[10]
+    kp_yaw = p[14]
+    kv_yaw = p[15]
+    k_path = p[16]
+    turn_limit = p[17]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     thrust_stroke = r[6]
     aim_rate = r[16]
     leg_fr_spring_rest = stand + thrust_stroke
@@ -1992,45 +1998,45 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:231:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:231:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:231:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:231:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
-        leg_rl_spring.rest       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:121:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:231:50 > creatures/quadruped.leg:122:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:231:50 > creatures/quadruped.leg:123:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:231:50 > creatures/quadruped.leg:124:5
+        leg_fr_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
+        leg_rl_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
     """
     coord_hip_fr_y_value = s[13]
     coord_hip_rr_y_value = s[15]
-    swing_kp = p[17]
-    swing_kv = p[18]
-    stand = p[23]
-    short = p[24]
+    swing_kp = p[18]
+    swing_kv = p[19]
+    stand = p[25]
+    short = p[26]
     hip_fl_pitch_setpoint = -0.5*coord_hip_fr_y_value - 0.5*coord_hip_rr_y_value
     return [
         stand,
