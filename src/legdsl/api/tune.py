@@ -249,13 +249,7 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
             line, col, end, new = _value_edit(item, values[item.name.name])
-            inherited = isinstance(decl, ast.ControllerDecl) and decl is not own
-            if (
-                inherited
-                and own is not None
-                and own.items
-                and own.items[0].span.line > own.span.line
-            ):
+            if isinstance(decl, ast.ControllerDecl) and decl is not own and own is not None:
                 # declared by the controller it extends: overridden in the tuned one, so the
                 # other controller keeps its value
                 overrides.append(f"param {item.name.name} = {new}")
@@ -266,7 +260,8 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
     edits += _uses_moved(tree, lines, source, out)
-    if overrides and own is not None:
+    opened = overrides and own is not None and not _first_item_on_own_line(own)
+    if overrides and own is not None and not opened:
         first = own.items[0].span
         indent = lines[first.line - 1][: first.col - 1]
         lines[first.line - 1 : first.line - 1] = [indent + o for o in overrides]
@@ -279,8 +274,29 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
             gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
             rest = " " * max(1, gap) + rest.lstrip()
         lines[line - 1] = row[: col - 1] + new + rest
+    if opened and own is not None:  # after the edits: the brace's column is before them all
+        lines = _open_body(lines, own, overrides)
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def _first_item_on_own_line(own: ast.ControllerDecl) -> bool:
+    return bool(own.items) and own.items[0].span.line > own.span.line
+
+
+def _open_body(lines: list[str], own: ast.ControllerDecl, overrides: list[str]) -> list[str]:
+    """``lines`` with ``overrides`` on lines of their own just after the ``{`` of ``own``'s
+    body: an empty body (``{`` then ``}``) or one written on the controller's line has no
+    item line to put them before."""
+    line = own.span.line - 1
+    while "{" not in lines[line][own.span.col - 1 if line == own.span.line - 1 else 0 :]:
+        line += 1
+    row = lines[line]
+    brace = row.index("{", own.span.col - 1 if line == own.span.line - 1 else 0)
+    indent = row[: len(row) - len(row.lstrip())] + "  "
+    rest = row[brace + 1 :].strip()
+    body = [indent + o for o in overrides] + ([indent + rest] if rest else [])
+    return lines[:line] + [row[: brace + 1]] + body + lines[line + 1 :]
 
 
 def _uses_moved(
