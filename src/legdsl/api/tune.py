@@ -373,9 +373,28 @@ def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     assert isinstance(node, ast.EQuantity)
     _, _, unit = node.text.partition(" ")
     factor = parse_unit(unit.replace(" ", ""))[0] if unit else 1.0  # SI per written unit
-    new = f"{si / factor:.6g}" + (f" {unit}" if unit else "")
+    new = _exact_text(si, factor) + (f" {unit}" if unit else "")
     span = item.value.span  # the whole value, a leading '-' too
     return span.line, span.col, span.end_col, new
+
+
+def _exact_text(si: float, factor: float) -> str:
+    """The shortest number that, read back as the parser does (``float(text) * factor``), is
+    ``si`` exactly: rounded (to 6 digits, say), the tuned file ran another gait than the tune's
+    best, and a fall where the tune measured none is no rare thing for a legged gait."""
+    written = si / factor
+    near, below, above = [written], written, written
+    for _ in range(4):  # where written * factor misses si by an ulp, a neighbour hits it
+        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
+        near += [below, above]
+    texts = [_shortest(x) for x in near if x * factor == si]
+    return min(texts, key=len) if texts else _shortest(written)  # else the nearest
+
+
+def _shortest(x: float) -> str:
+    """The shortest text that reads back as ``x`` (510, not 510.0)."""
+    text = repr(x)
+    return text[:-2] if text.endswith(".0") else text
 
 
 def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | None = None) -> Path:
