@@ -111,6 +111,9 @@ def cmd_tune(args: argparse.Namespace) -> int:
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
             "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
     journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
+    if journal.set_aside:  # the user may have meant to go on from it: say why not
+        print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
+              "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
     result = tune(
         base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
         dask=args.dask, journal=journal,
