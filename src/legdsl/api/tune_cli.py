@@ -96,6 +96,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
             f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
             "own values with it); choose another --out"
         )
+    made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
@@ -114,10 +115,17 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if journal.set_aside:  # the user may have meant to go on from it: say why not
         print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
               "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
-    result = tune(
-        base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-        dask=args.dask, journal=journal,
-    )  # fmt: skip
+    try:
+        result = tune(
+            base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+            dask=args.dask, journal=journal,
+        )  # fmt: skip
+    except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+        if made and not any(out.iterdir()):
+            out.rmdir()
+        print("legdsl: tune: stopped before the file's own values were measured: nothing "
+              f"written to {out}", file=sys.stderr)  # fmt: skip
+        raise
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
