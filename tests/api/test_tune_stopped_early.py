@@ -53,3 +53,23 @@ def test_an_out_that_was_there_is_kept(
           "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2", "--jobs", "1",
           "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
     assert out.is_dir()
+
+
+def test_a_tune_stopped_after_one_generation_says_one_generation(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Stopped in its second generation it said "the best of 1 generations so far"."""
+    row = {"speed": 1.0, "outcome": "ok", "running_speed": 0.9, "simulated": 1.0}
+    result = {
+        "start": {"values": {"k_speed": 0.08}, "objective": 0.2, "runs": [row]},
+        "best": {"values": {"k_speed": 0.1}, "objective": 0.1, "runs": [row]},
+        "history": [{"generation": 1, "best": 0.1, "mean": 0.15, "runs": 2}],
+        "ended": "interrupted",
+    }
+    monkeypatch.setattr(tune_cli, "tune", lambda *args, **kwargs: result)
+    out = tmp_path / "tuned"
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 130
+    assert "tune.png, the best of 1 generation so far\n" in capsys.readouterr().out

@@ -134,7 +134,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
     print(report(result, units))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     done = len(result["history"])
-    kept = "" if result["ended"] == "finished" else f", the best of {done} generations so far"
+    generations = "1 generation" if done == 1 else f"{done} generations"
+    kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
     print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}{kept}")
     if result["ended"] == "interrupted":
         raise KeyboardInterrupt  # the command's status, now that its results are written
