@@ -1,4 +1,4 @@
-"""legdsl tune stopped before the file's own values were measured: says nothing was written."""
+"""legdsl tune stopped early (nothing written, or one generation), and an --out that is a file."""
 
 from __future__ import annotations
 
@@ -73,3 +73,17 @@ def test_a_tune_stopped_after_one_generation_says_one_generation(
                  "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
     assert code == 130
     assert "tune.png, the best of 1 generation so far\n" in capsys.readouterr().out
+
+
+def test_an_out_that_is_a_file_is_refused_saying_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out naming a file said "File exists (...); check the path and its permissions"."""
+    out = tmp_path / "tuned"
+    out.write_text("mine\n")
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert f"--out {out}: that is a file; give a folder" in capsys.readouterr().err
+    assert out.read_text() == "mine\n"

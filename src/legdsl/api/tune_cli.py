@@ -96,6 +96,9 @@ def cmd_tune(args: argparse.Namespace) -> int:
             f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
             "own values with it); choose another --out"
         )
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {args.out}: that is a file; give a folder for the tuned file, "
+                         "tune.json and tune.png")  # fmt: skip
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
