@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from legdsl.api.tune import write_tuned
 from legdsl.check.source import check_model
 
@@ -41,3 +43,15 @@ def test_a_value_kept_is_written_as_short_as_before(tmp_path: Path) -> None:
     text = out.read_text()
     assert "param stand = -52 deg" in text and "param kp = 510 N*m/rad" in text
     assert "param balance = 2.4\n" in text
+
+
+def test_a_parameter_of_a_used_file_is_refused_naming_that_file_plainly() -> None:
+    """The refusal named 'tests/good/outside/../../../creatures/biped.leg'."""
+    from legdsl.api.tune import declared_in
+    from legdsl.lang.errors import UsageError
+
+    with pytest.raises(UsageError) as refused:
+        declared_in(KNEE, check_model(KNEE).controller("run"), ["k_trim"])
+    assert f"'k_trim' is declared in {ROOT / 'creatures' / 'biped.leg'}, not in {KNEE}" in str(
+        refused.value
+    )

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -324,8 +325,9 @@ def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> d
     for c in controller.params:
         if c.name in names:
             if c.span.file != str(source):
+                used = os.path.normpath(c.span.file)  # without its "outside/../.."
                 raise UsageError(
-                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
+                    f"'{c.name}' is declared in {used}, not in {source}: tune a "
                     f"parameter of the file itself (or declare {c.name} in {source})"
                 )
             spans[c.name] = c.span
