@@ -166,6 +166,12 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
                 f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
                 "tune its parameters (commanded speeds are --speeds)"
             )
+        if "=" in text and name not in params:  # the list: only those the tuned file can change
+            own = [n for n, c in params.items() if c.span.file == str(source)]
+            raise UsageError(
+                f"--param {name}: not a parameter of the controller ({', '.join(own) or 'none'}: those "
+                f"declared in {source}, which the tuned file can change)"
+            )
         axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
         if any(b.name == axis.name for b in bounds):
             raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
