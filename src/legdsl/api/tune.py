@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -249,13 +250,7 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
             line, col, end, new = _value_edit(item, values[item.name.name])
-            inherited = isinstance(decl, ast.ControllerDecl) and decl is not own
-            if (
-                inherited
-                and own is not None
-                and own.items
-                and own.items[0].span.line > own.span.line
-            ):
+            if isinstance(decl, ast.ControllerDecl) and decl is not own and own is not None:
                 # declared by the controller it extends: overridden in the tuned one, so the
                 # other controller keeps its value
                 overrides.append(f"param {item.name.name} = {new}")
@@ -266,7 +261,8 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
     lines = text.split("\n")
     edits += _uses_moved(tree, lines, source, out)
-    if overrides and own is not None:
+    opened = overrides and own is not None and not _first_item_on_own_line(own)
+    if overrides and own is not None and not opened:
         first = own.items[0].span
         indent = lines[first.line - 1][: first.col - 1]
         lines[first.line - 1 : first.line - 1] = [indent + o for o in overrides]
@@ -279,8 +275,29 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
             gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
             rest = " " * max(1, gap) + rest.lstrip()
         lines[line - 1] = row[: col - 1] + new + rest
+    if opened and own is not None:  # after the edits: the brace's column is before them all
+        lines = _open_body(lines, own, overrides)
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def _first_item_on_own_line(own: ast.ControllerDecl) -> bool:
+    return bool(own.items) and own.items[0].span.line > own.span.line
+
+
+def _open_body(lines: list[str], own: ast.ControllerDecl, overrides: list[str]) -> list[str]:
+    """``lines`` with ``overrides`` on lines of their own just after the ``{`` of ``own``'s
+    body: an empty body (``{`` then ``}``) or one written on the controller's line has no
+    item line to put them before."""
+    line = own.span.line - 1
+    while "{" not in lines[line][own.span.col - 1 if line == own.span.line - 1 else 0 :]:
+        line += 1
+    row = lines[line]
+    brace = row.index("{", own.span.col - 1 if line == own.span.line - 1 else 0)
+    indent = row[: len(row) - len(row.lstrip())] + "  "
+    rest = row[brace + 1 :].strip()
+    body = [indent + o for o in overrides] + ([indent + rest] if rest else [])
+    return lines[:line] + [row[: brace + 1]] + body + lines[line + 1 :]
 
 
 def _uses_moved(
@@ -308,8 +325,9 @@ def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> d
     for c in controller.params:
         if c.name in names:
             if c.span.file != str(source):
+                used = os.path.normpath(c.span.file)  # without its "outside/../.."
                 raise UsageError(
-                    f"'{c.name}' is declared in {c.span.file}, not in {source}: tune a "
+                    f"'{c.name}' is declared in {used}, not in {source}: tune a "
                     f"parameter of the file itself (or declare {c.name} in {source})"
                 )
             spans[c.name] = c.span
@@ -357,9 +375,28 @@ def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:
     assert isinstance(node, ast.EQuantity)
     _, _, unit = node.text.partition(" ")
     factor = parse_unit(unit.replace(" ", ""))[0] if unit else 1.0  # SI per written unit
-    new = f"{si / factor:.6g}" + (f" {unit}" if unit else "")
+    new = _exact_text(si, factor) + (f" {unit}" if unit else "")
     span = item.value.span  # the whole value, a leading '-' too
     return span.line, span.col, span.end_col, new
+
+
+def _exact_text(si: float, factor: float) -> str:
+    """The shortest number that, read back as the parser does (``float(text) * factor``), is
+    ``si`` exactly: rounded (to 6 digits, say), the tuned file ran another gait than the tune's
+    best, and a fall where the tune measured none is no rare thing for a legged gait."""
+    written = si / factor
+    near, below, above = [written], written, written
+    for _ in range(4):  # where written * factor misses si by an ulp, a neighbour hits it
+        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
+        near += [below, above]
+    texts = [_shortest(x) for x in near if x * factor == si]
+    return min(texts, key=len) if texts else _shortest(written)  # else the nearest
+
+
+def _shortest(x: float) -> str:
+    """The shortest text that reads back as ``x`` (510, not 510.0)."""
+    text = repr(x)
+    return text[:-2] if text.endswith(".0") else text
 
 
 def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | None = None) -> Path:

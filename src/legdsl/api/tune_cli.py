@@ -96,6 +96,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
             f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
             "own values with it); choose another --out"
         )
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {args.out}: that is a file; give a folder for the tuned file, "
+                         "tune.json and tune.png")  # fmt: skip
+    made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
@@ -111,10 +115,20 @@ def cmd_tune(args: argparse.Namespace) -> int:
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
             "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
     journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
-    result = tune(
-        base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-        dask=args.dask, journal=journal,
-    )  # fmt: skip
+    if journal.set_aside:  # the user may have meant to go on from it: say why not
+        print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
+              "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
+    try:
+        result = tune(
+            base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+            dask=args.dask, journal=journal,
+        )  # fmt: skip
+    except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+        if made and not any(out.iterdir()):
+            out.rmdir()
+        print("legdsl: tune: stopped before the file's own values were measured: nothing "
+              f"written to {out}", file=sys.stderr)  # fmt: skip
+        raise
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
@@ -123,7 +137,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
     print(report(result, units))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     done = len(result["history"])
-    kept = "" if result["ended"] == "finished" else f", the best of {done} generations so far"
+    generations = "1 generation" if done == 1 else f"{done} generations"
+    kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
     print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}{kept}")
     if result["ended"] == "interrupted":
         raise KeyboardInterrupt  # the command's status, now that its results are written
@@ -150,6 +165,12 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
             raise UsageError(
                 f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
                 "tune its parameters (commanded speeds are --speeds)"
+            )
+        if "=" in text and name not in params:  # the list: only those the tuned file can change
+            own = [n for n, c in params.items() if c.span.file == str(source)]
+            raise UsageError(
+                f"--param {name}: not a parameter of the controller ({', '.join(own) or 'none'}: those "
+                f"declared in {source}, which the tuned file can change)"
             )
         axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
         if any(b.name == axis.name for b in bounds):

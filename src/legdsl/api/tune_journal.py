@@ -20,6 +20,15 @@ from typing import Any
 from legdsl.files import write_atomic
 
 JOURNAL = ".tune-journal.json"
+# the plan's parts as the command gives them, to say which differ from a journal's
+PLAN_WORDS = {
+    "creature": "creature (the .leg file changed)",
+    "controller": "controller (or its file changed)",
+    "bounds": "--param bounds",
+    "objective": "--speeds, --time, --from or objective weights",
+    "popsize": "--popsize",
+    "seed": "--seed",
+}
 
 
 @dataclass
@@ -28,6 +37,8 @@ class Journal:
     plan: dict[str, Any]
     start: list[Any] | None = None  # the runs of the file's own values, one per speed
     generations: list[dict[str, Any]] = field(default_factory=list)  # xs, scores, best_runs
+    # why a journal found in OUT is not gone on from (another tune's, a damaged one), or None
+    set_aside: str | None = None
 
     @classmethod
     def open(cls, out: Path, plan: dict[str, Any]) -> Journal:
@@ -35,15 +46,21 @@ class Journal:
         or another tune's is no reason to refuse: the tune starts afresh and replaces it)."""
         plan = json.loads(json.dumps(plan))  # as it reads back: lists, not tuples
         journal = cls(out / JOURNAL, plan)
+        if not journal.path.exists():
+            return journal
         try:
             data = json.loads(journal.path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, ValueError):
+            data = None
+        if isinstance(data, dict) and isinstance(data.get("plan"), dict) and data["plan"] != plan:
+            other = [PLAN_WORDS.get(k, k) for k in plan if data["plan"].get(k) != plan[k]]
+            journal.set_aside = f"it is of a tune with other {', '.join(other) or 'settings'}"
             return journal
-        if not isinstance(data, dict) or data.get("plan") != plan:
-            return journal
-        start, generations = data.get("start"), data.get("generations")
+        start, generations = (data or {}).get("start"), (data or {}).get("generations")
         if _runs(start) and isinstance(generations, list) and all(map(_generation, generations)):
             journal.start, journal.generations = start, generations
+        else:
+            journal.set_aside = "it is damaged"
         return journal
 
     def add(self, xs: list[list[float]], scores: list[float], best_runs: list[Any]) -> None:

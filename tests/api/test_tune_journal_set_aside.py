@@ -1,0 +1,60 @@
+"""A stopped tune's journal that the command run again cannot go on from is said to be set aside."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from legdsl.api.tune_journal import JOURNAL, Journal
+from legdsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+PLAN = {"creature": "c1", "controller": "k1", "bounds": [[0, 1]], "objective": {"speeds": [1.5]},
+        "popsize": 8, "seed": 1}  # fmt: skip
+RUN = {"outcome": "ok", "simulated": 1.0}
+
+
+def stopped(out: Path, plan: dict[str, object]) -> None:
+    """A journal as a tune stopped after its first generation leaves it."""
+    journal = Journal(out / JOURNAL, plan, start=[RUN])
+    journal.add([[0.5]], [0.1], [RUN])
+
+
+def test_a_journal_of_the_same_tune_is_gone_on_from_unsaid(tmp_path: Path) -> None:
+    stopped(tmp_path, PLAN)
+    journal = Journal.open(tmp_path, PLAN)
+    assert journal.set_aside is None and len(journal.generations) == 1
+
+
+def test_a_journal_of_another_tune_says_which_option_differs(tmp_path: Path) -> None:
+    """Run again with another --popsize (or --param bounds in other words), the tune started
+    afresh without a word, where the user meant it to go on."""
+    stopped(tmp_path, PLAN)
+    journal = Journal.open(tmp_path, {**PLAN, "popsize": 6, "seed": 2})
+    assert journal.generations == [] and journal.start is None
+    assert journal.set_aside == "it is of a tune with other --popsize, --seed"
+
+
+def test_a_damaged_journal_is_said_to_be(tmp_path: Path) -> None:
+    (tmp_path / JOURNAL).write_text('{"plan": ')
+    assert Journal.open(tmp_path, PLAN).set_aside == "it is damaged"
+    assert Journal.open(tmp_path / "none", PLAN).set_aside is None  # no journal: nothing to say
+
+
+def test_the_command_notes_the_journal_it_sets_aside(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "tuned"
+    out.mkdir()
+    (out / JOURNAL).write_text(json.dumps({"plan": {**PLAN}, "start": [RUN], "generations": []}))
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--generations", "1", "--popsize", "2", "--jobs", "1", "--out", str(out),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    err = capsys.readouterr().err
+    assert f"legdsl: note: not going on from {out / JOURNAL}: it is of a tune with other " in err
+    assert "--param bounds" in err and "this tune starts afresh and replaces it" in err
+    assert not (out / JOURNAL).exists()  # finished: removed

@@ -1,0 +1,89 @@
+"""legdsl tune stopped early (nothing written, or one generation), and an --out that is a file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import legdsl.api.tune_cli as tune_cli
+from legdsl.cli import main
+from legdsl.sim.run_loop import Interrupted
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize(("stop", "status"), [(KeyboardInterrupt, 130), (Interrupted, 143)])
+def test_a_tune_stopped_before_its_start_leaves_no_empty_out(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    stop: type[BaseException],
+    status: int,
+) -> None:
+    """Ctrl-C during the start's runs said only "legdsl: interrupted" and left --out made and
+    empty: the user could not tell whether anything was kept."""
+
+    def stopped(*args: Any, **kwargs: Any) -> None:
+        raise stop("SIGTERM") if stop is Interrupted else stop()
+
+    monkeypatch.setattr(tune_cli, "tune", stopped)
+    out = tmp_path / "tuned"
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == status
+    assert f"stopped before the file's own values were measured: nothing written to {out}" in (
+        capsys.readouterr().err
+    )
+    assert not out.exists()
+
+
+def test_an_out_that_was_there_is_kept(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def stopped(*args: Any, **kwargs: Any) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tune_cli, "tune", stopped)
+    out = tmp_path / "tuned"
+    out.mkdir()
+    main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop", "--param",
+          "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2", "--jobs", "1",
+          "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert out.is_dir()
+
+
+def test_a_tune_stopped_after_one_generation_says_one_generation(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Stopped in its second generation it said "the best of 1 generations so far"."""
+    row = {"speed": 1.0, "outcome": "ok", "running_speed": 0.9, "simulated": 1.0}
+    result = {
+        "start": {"values": {"k_speed": 0.08}, "objective": 0.2, "runs": [row]},
+        "best": {"values": {"k_speed": 0.1}, "objective": 0.1, "runs": [row]},
+        "history": [{"generation": 1, "best": 0.1, "mean": 0.15, "runs": 2}],
+        "ended": "interrupted",
+    }
+    monkeypatch.setattr(tune_cli, "tune", lambda *args, **kwargs: result)
+    out = tmp_path / "tuned"
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 130
+    assert "tune.png, the best of 1 generation so far\n" in capsys.readouterr().out
+
+
+def test_an_out_that_is_a_file_is_refused_saying_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--out naming a file said "File exists (...); check the path and its permissions"."""
+    out = tmp_path / "tuned"
+    out.write_text("mine\n")
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 2
+    assert f"--out {out}: that is a file; give a folder" in capsys.readouterr().err
+    assert out.read_text() == "mine\n"
