@@ -390,14 +390,18 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(argv: Sequence[str] | None) -> int:
-    from legdsl.sim.run_loop import Interrupted
+    try:  # the parsers import their commands' modules: a Ctrl-C may come meanwhile
+        from legdsl.sim.run_loop import Interrupted
 
-    parser = _parser()
-    given = negative_values_joined(sys.argv[1:] if argv is None else argv, parser)
-    if mistake := file_read_as_option(given):
-        print(f"legdsl: {mistake}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    args = parser.parse_args(given)
+        parser = _parser()
+        given = negative_values_joined(sys.argv[1:] if argv is None else argv, parser)
+        if mistake := file_read_as_option(given):
+            print(f"legdsl: {mistake}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        args = parser.parse_args(given)
+    except KeyboardInterrupt:
+        print("legdsl: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first
             from legdsl.pipeline.options import check_output_file, not_an_input
