@@ -409,3 +409,19 @@ def test_a_partial_simulation_block_is_completed_with_the_scaled_defaults(
         asked, written = run_options(model, by), run_options(scaled)
         for key in ("dt", "control_dt", "record_rate"):
             assert getattr(written, key) == pytest.approx(getattr(asked, key), rel=1e-13), key
+
+
+def test_an_absolute_use_stays_absolute(tmp_path: Path) -> None:
+    """It came back relative ('../../..' up to the root and down again), which worked only
+    until the scaled file moved."""
+    good = CREATURES.parent / "tests" / "good"
+    (tmp_path / "actions.leg").write_text((good / "actions.leg").read_text())
+    text = (good / "hopper.leg").read_text()
+    assert 'use "actions.leg"' in text
+    source = tmp_path / "hopper.leg"
+    source.write_text(text.replace('use "actions.leg"', f'use "{tmp_path / "actions.leg"}"'))
+    out = tmp_path / "scaled" / "hopper_x2.leg"
+    out.parent.mkdir()
+    assert main(["scale", str(source), "--by", "2", "-o", str(out)]) == 0
+    assert f'use "{tmp_path / "actions.leg"}"' in out.read_text()
+    assert [m.name for m in check_file(out)] == ["hopper_x2"]

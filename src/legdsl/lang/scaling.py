@@ -126,9 +126,9 @@ def _beyond(value: float, dim: Dim, scale: float) -> str:
 def moved_use(use: ast.UseDecl, file: str | Path, out: Path) -> str | None:
     """The path of a ``use "path"`` of ``file`` as ``out``, written elsewhere, must say it to
     reach the same file (a path is relative to the file that says it); None where it stays
-    (the standard library's, named bare, or a folder of the same place)."""
-    if not (use.target.endswith(".leg") or "/" in use.target):
-        return None
+    (the standard library's, named bare, an absolute path, or a folder of the same place)."""
+    if not (use.target.endswith(".leg") or "/" in use.target) or Path(use.target).is_absolute():
+        return None  # an absolute path names the same file from anywhere
     moved = Path(os.path.relpath(Path(file).parent / use.target, out.parent)).as_posix()
     return moved if moved != use.target else None
 
