@@ -108,3 +108,21 @@ def test_a_wrong_min_stance_is_refused_saying_how_to_write_it(
     assert err.startswith(f"legdsl metrics: error: {said}") and "Traceback" not in err, err
     assert "write e.g. --min-stance" in err or "more than zero" in err
     assert not (tmp_path / "metrics.json").exists()
+
+
+def test_the_foot_speed_at_touchdown_leaves_the_scuffs_out_too(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It read the raw contacts, so a scuff's touchdown counted there alone."""
+    import legdsl.pipeline.measure as measure
+
+    seen: list[np.ndarray] = []
+
+    def touchdowns(run: Path, tr: Trajectory, *rest: object) -> None:
+        seen.append(tr.contact[SCUFF, 0].copy())
+
+    monkeypatch.setattr(measure, "touchdown_speed_row", touchdowns)
+    scuffed_run().save(tmp_path)
+    assert main(["metrics", str(tmp_path), "--min-stance", "20ms"]) == 0
+    assert main(["metrics", str(tmp_path)]) == 0
+    assert [s.tolist() for s in seen] == [[0, 0, 0], [1, 1, 1]]

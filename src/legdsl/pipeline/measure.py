@@ -13,6 +13,7 @@ from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
+from legdsl.analysis.strides import debounced
 from legdsl.analysis.table2 import MEASURE, virtual_legs
 from legdsl.check.source import check_model
 from legdsl.ir.model import Model
@@ -77,7 +78,8 @@ def measure_run(
         raise UsageError(str(e)) from None
     row = clearance_row(run, trajectory, metrics.flights, Path(generated))
     metrics.summaries = with_clearance(metrics.summaries, row)
-    speed = touchdown_speed_row(run, trajectory, t_from, t_to, Path(generated))
+    touched = debounced(trajectory, min_stance)  # a scuff is no touchdown here either
+    speed = touchdown_speed_row(run, touched, t_from, t_to, Path(generated))
     if speed is not None:  # before the friction rows
         keys = [s.key for s in metrics.summaries]
         at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
