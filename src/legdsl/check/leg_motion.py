@@ -24,7 +24,10 @@ from legdsl.lang.errors import Span
 
 _SLIDING = "a force along its joint, as a telescoping leg's"
 _ROTARY = "a torque, on a hinge such as a knee or ankle"
-_EXAMPLE = ' (docs/biped.md, "A biped with knees", shows one)'
+_EXAMPLE = (
+    " (docs/controllers.md lists the library's actions for one; docs/biped.md, \"A biped with "
+    'knees", uses them)'
+)
 
 
 def _in_lengths(args: list[Value]) -> list[Value]:
