@@ -204,6 +204,7 @@ def load_motion(
 ) -> Motion:
     """Read a run directory and resample it for drawing (see the module docstring)."""
     run = drawable(read_run(directory, source))
+    _enough_frames(run.trajectory.t, fps)
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 
@@ -255,6 +256,15 @@ def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> 
 
 
 # ---------------------------------------------------------------- resampling
+
+
+def _enough_frames(t: np.ndarray, fps: float) -> None:
+    """A frame rate that would keep one frame of a run that moves is a mistake (an --fps of
+    1e-3 wrote a one-keyframe animation of a 2 s run without a word)."""
+    span = float(t[-1] - t[0]) if len(t) > 1 else 0.0
+    if span > 0 and len(frame_times(t, fps)) < 2:
+        raise UsageError(f"{fps:g} frames per second gives one frame of this {span:.3g} s run; "
+                         f"give at least {1 / span:.3g} (two frames), e.g. --fps 60")  # fmt: skip
 
 
 def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
