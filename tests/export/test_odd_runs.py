@@ -123,7 +123,10 @@ def test_a_gif_plays_in_real_time(
         (["replay", "{run}", "--mujoco", "-o", "{out}.mp4", "--fps", "1e9"], "1 to 240 frames"),
         # one keyframe of the whole run, written without a word
         (["export-motion", "{run}", "-o", "{out}.bvh", "--fps", "1"], "gives one frame of this"),
-        (["animate", "{run}", "-o", "{out}.html", "--fps", "1e-3"], "give at least 5.06 (two frames)"),
+        (
+            ["animate", "{run}", "-o", "{out}.html", "--fps", "1e-3"],
+            "give at least 5.06 (two frames)",
+        ),
     ],
 )
 def test_frame_rates_no_video_can_show_are_refused(
