@@ -373,13 +373,9 @@ _DOMAIN = {
 
 def _reads(e: ir.Expr, builtin: str) -> bool:
     """Whether ``e`` reads the built-in value ``builtin``."""
-    if isinstance(e, ir.Named):
-        return e.kind == "builtin" and e.name == builtin
-    if isinstance(e, ir.Unary):
-        return _reads(e.operand, builtin)
-    if isinstance(e, ir.Binary):
-        return _reads(e.left, builtin) or _reads(e.right, builtin)
-    return isinstance(e, ir.Call) and any(_reads(a, builtin) for a in e.args)
+    return any(
+        isinstance(x, ir.Named) and x.kind == "builtin" and x.name == builtin for x in ir.leaves(e)
+    )
 
 
 def _finite(compute: Callable[[], float], op: str) -> float:

@@ -74,7 +74,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
         self.each_count += 1
         member = ir.Legs(each=f"{s.var.name}#{self.each_count}", of=group)
         body = self.stmts(s.body, {**local, s.var.name: member})
-        for inner in _flat(body):
+        for inner in ir.flat(body):
             if isinstance(inner, ir.Record | ir.Swap):
                 word = "record" if isinstance(inner, ir.Record) else "swap"
                 self.err(
@@ -325,16 +325,6 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 + did_you_mean(ident.name, self.scope.roles),
             )
         return None
-
-
-def _flat(body: list[ir.Stmt] | tuple[ir.Stmt, ...]) -> list[ir.Stmt]:
-    """Statements with inlined actions and nested ``each`` blocks opened."""
-    out: list[ir.Stmt] = []
-    for s in body:
-        out.append(s)
-        if isinstance(s, ir.Do | ir.Each):
-            out += _flat(s.body)
-    return out
 
 
 def _cannot_set(text: str) -> str:

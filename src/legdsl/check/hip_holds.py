@@ -62,24 +62,18 @@ def _hips_driven_from(
 
 
 def assigns(stmts: tuple[ir.Stmt, ...]) -> Iterator[ir.Assign]:
-    for s in stmts:
-        if isinstance(s, ir.Assign):
-            yield s
-        elif isinstance(s, ir.Do | ir.Each):
-            yield from assigns(s.body)
+    return (s for s in ir.flat(stmts) if isinstance(s, ir.Assign))
 
 
 def reads_orientation(e: object, name: str) -> bool:
-    if isinstance(e, ir.Read):
-        thing = e.thing
-        return isinstance(thing, ir.Part) and thing.name == name and e.member in _ORIENTATION
-    if isinstance(e, ir.Unary):
-        return reads_orientation(e.operand, name)
-    if isinstance(e, ir.Binary):
-        return reads_orientation(e.left, name) or reads_orientation(e.right, name)
-    if isinstance(e, ir.Call):
-        return any(reads_orientation(a, name) for a in e.args)
-    return False
+    """Whether ``e`` reads body ``name``'s orientation or its rate."""
+    return any(
+        isinstance(x, ir.Read)
+        and isinstance(x.thing, ir.Part)
+        and x.thing.name == name
+        and x.member in _ORIENTATION
+        for x in ir.leaves(e)
+    )
 
 
 def _joints_of(scope: Scope, actuator: ir.Part | ir.Alias) -> Iterator[tuple[str, str]]:

@@ -20,7 +20,7 @@ vocabulary that the checker resolves against and that lowering turns into sensor
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from legdsl.ir.paths import PathSpec
@@ -279,6 +279,33 @@ class Each:
 
 
 Stmt = Assign | Record | Swap | Place | Do | Each
+
+
+def flat(body: tuple[Stmt, ...] | list[Stmt]) -> list[Stmt]:
+    """Statements with inlined actions and nested ``each`` blocks opened (each block itself
+    before its statements)."""
+    out: list[Stmt] = []
+    for s in body:
+        out.append(s)
+        if isinstance(s, Do | Each):
+            out += flat(s.body)
+    return out
+
+
+def leaves(e: object) -> Iterator[object]:
+    """The leaves of an expression (numbers, names, reads, events), left to right; anything
+    not an operator or a call is its own leaf."""
+    if isinstance(e, Unary):
+        yield from leaves(e.operand)
+    elif isinstance(e, Binary):
+        yield from leaves(e.left)
+        yield from leaves(e.right)
+    elif isinstance(e, Call):
+        for a in e.args:
+            yield from leaves(a)
+    else:
+        yield e
+
 
 Binding = tuple[tuple[str, tuple[str, ...]], ...]  # role -> legs, sorted by role
 
