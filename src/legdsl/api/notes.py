@@ -69,15 +69,10 @@ NOT_GIVEN: Any = _NotGiven()
 def before_run(model: Model, plan: dict[str, Any], passive_asked: bool = False) -> None:
     """What ``legdsl run`` notes before a run (the session notes the rest as it prepares);
     ``passive_asked``: the caller wrote controller=None, so a passive run is not news."""
-    from legdsl.pipeline.options import check_run_options, fall_note
-    from legdsl.pipeline.scenes import too_late
+    from legdsl.pipeline.options import notes_before_run
 
-    options = plan["options"]
-    check_run_options(options)  # a mistake in them is told first, as legdsl run does
-    for note in too_late(plan["settings"], options.duration):
+    for note in notes_before_run(plan["settings"], plan["options"], model):
         warn(note)
-    if (falling := fall_note(options, model)) is not None:
-        warn(falling)
     names = [c.name for c in model.controllers]
     if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it
         warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "

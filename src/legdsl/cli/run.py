@@ -77,14 +77,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.options import (
         RUN_NUMERIC,
         check_output_dir,
-        check_run_options,
-        fall_note,
+        notes_before_run,
         os_error,
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import run_options
-    from legdsl.pipeline.scenes import switches_not_made, too_late
+    from legdsl.pipeline.scenes import switches_not_made
     from legdsl.pipeline.session import RunSession
     from legdsl.pipeline.settings import refuse_repeated
 
@@ -133,11 +132,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             )
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
-    check_run_options(options)
-    for note in too_late(settings, options.duration):
+    for note in notes_before_run(settings, options, session.model):
         print(f"legdsl: note: {note}", file=sys.stderr)
-    if (falling := fall_note(options, session.model)) is not None:
-        print(f"legdsl: note: {falling}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:
         print(f"legdsl: note: {cramped}", file=sys.stderr)

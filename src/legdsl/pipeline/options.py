@@ -157,6 +157,17 @@ def _why(e: OSError) -> str:
     return e.strerror or str(e)
 
 
+def notes_before_run(settings: list[str], options: RunOptions, model: Model) -> list[str]:
+    """What ``legdsl run`` (and the API, as warnings) notes before a run, once its options
+    are checked (a mistake in them is told first): changes set for after the run's end, and
+    a drop whose fall outlasts the run."""
+    from legdsl.pipeline.scenes import too_late
+
+    check_run_options(options)
+    falling = fall_note(options, model)
+    return [*too_late(settings, options.duration), *([falling] if falling else [])]
+
+
 def fall_note(options: RunOptions, model: Model) -> str | None:
     """The note of a ``--drop`` whose fall from rest alone outlasts the run (None: it does not,
     or there is no ground or no gravity to fall by)."""
