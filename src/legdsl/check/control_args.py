@@ -125,7 +125,7 @@ class ArgumentProbe(NameResolver):
         rotary = self.motions_read[names[0]]
         own = blame.given.type
         assert isinstance(own, tuple)  # blame() tries numbers with a dimension only
-        self.other_motion = True
+        self.flipped_motion = frozenset(a.name for a in self.scope.model.actuators)
         try:
             other = [
                 d
@@ -133,7 +133,7 @@ class ArgumentProbe(NameResolver):
                 if self.fits_with(args, blame.index, d, check, only_at=blame.used_at)
             ]
         finally:
-            self.other_motion = False
+            self.flipped_motion = frozenset()
         if not other or len(other) > 2 or set(other) == set(blame.fits):
             return blame  # the same, or the other motion spoils more than this argument
         other.sort(key=lambda d: d == ONE)

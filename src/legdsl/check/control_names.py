@@ -121,10 +121,10 @@ class NameResolver:
         self._reported_at_call: set[tuple[Span, str]] = set()
         self.each_count = 0  # names each `each` block, in the order they are checked
         self.error_spans: list[Span] = []  # where each mistake was found, before any move
-        # control_args: whether actuators read as rotary or sliding (True: read as the other)
-        self.other_motion = False
+        # control_args (all of them) and leg_motion (one leg's): actuators read as the other
+        # motion than they are (rotary as sliding, sliding as rotary)
+        self.flipped_motion: frozenset[str] = frozenset()
         self.motions_read: dict[str, bool] = {}  # actuator -> rotary, as read
-        self.flipped_motion: frozenset[str] = frozenset()  # leg_motion: these read as the other
         self.motion_told: set[Span] = set()
 
     # ------------------------------------------------------------ errors
@@ -338,8 +338,7 @@ class NameResolver:
             return None
         actuator = next(a for a in self.scope.model.actuators if a.name == self.part_of(thing).name)
         self.motions_read[actuator.name] = actuator.rotary
-        flipped = self.other_motion or actuator.name in self.flipped_motion
-        return actuator.kind, actuator.rotary != flipped
+        return actuator.kind, actuator.rotary != (actuator.name in self.flipped_motion)
 
     def members_of(self, thing: ir.Part | ir.Alias) -> dict[str, Dim] | None:
         part = self.part_of(thing)
