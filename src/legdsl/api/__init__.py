@@ -415,8 +415,9 @@ class Run:
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
         t_from = window_time("start", start)
-        picture = (".png", ".svg", ".pdf")  # as legdsl plot -o
-        out = None if path is None else an_output("plot()", path, picture, "a PNG, SVG or PDF")
+        from legdsl.pipeline.outputs import PICTURES  # as legdsl plot -o
+
+        out = None if path is None else an_output("plot()", path, PICTURES, "a PNG, SVG or PDF")
         directory = self._directory()
         out = out or directory / "figure6.png"
         with atomic_same_name(out) as drawn:  # no half PNG under its name

@@ -14,9 +14,7 @@ from pathlib import Path
 from legdsl.cli.common import read_window
 from legdsl.files import atomic_same_name
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.outputs import is_stream, messages_for, named_as
-
-PICTURES = (".png", ".svg", ".pdf")  # what matplotlib writes as the name says
+from legdsl.pipeline.outputs import PICTURES, is_stream, messages_for, named_as
 
 
 def cmd_plot(args: argparse.Namespace) -> int:

@@ -18,6 +18,8 @@ from typing import TextIO
 from legdsl.files import is_device, process_fd
 from legdsl.lang.errors import UsageError
 
+PICTURES = (".png", ".svg", ".pdf")  # what matplotlib writes as the name says
+
 
 def is_stream(path: str | Path) -> bool:
     """Whether ``path`` is ``-``, a device or a pipe, or a descriptor of this process."""
