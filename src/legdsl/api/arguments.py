@@ -58,36 +58,33 @@ def thread_count(threads: object) -> int | None:
 def window_time(name: str, value: object) -> float:
     """``start=``, ``end=``: seconds from the run's start (0 or more), or a text with its unit
     as ``--from`` takes it (``"3 s"``)."""
-    from legdsl.pipeline.options import read_seconds
-
-    if isinstance(value, str):
-        return read_seconds(f"{name}=", value, "nonnegative")
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float | np.integer | np.floating)
-        or not (math.isfinite(value) and value >= 0)
-    ):
-        raise UsageError(f"{name}= is seconds from the run's start, a number 0 or more (or a "
-                         f"text like '3 s'), not {value!r}")  # fmt: skip
-    return float(value)
+    return _seconds(name, value, "nonnegative", f"{name}= is seconds from the run's start, a "
+                    "number 0 or more (or a text like '3 s')")  # fmt: skip
 
 
 def min_stance_time(value: object) -> float | None:
     """``metrics()``'s ``min_stance=``: None, seconds more than zero, or a text with its unit
     as ``--min-stance`` takes it (``"20 ms"``)."""
-    from legdsl.pipeline.options import read_seconds
-
     if value is None:
         return None
+    return _seconds("min_stance", value, "positive", "metrics(): min_stance= is seconds, a "
+                    "number more than zero (or a text like '20 ms')")  # fmt: skip
+
+
+def _seconds(name: str, value: object, least: str, meaning: str) -> float:
+    """``value`` in seconds: a text with its unit (``read_seconds``), or a finite number, 0 or
+    more (``least="nonnegative"``) or more than 0 (``"positive"``); else ``meaning``."""
+    from legdsl.pipeline.options import read_seconds
+
     if isinstance(value, str):
-        return read_seconds("min_stance=", value)
+        return read_seconds(f"{name}=", value, least)
     if (
         isinstance(value, bool)
         or not isinstance(value, int | float | np.integer | np.floating)
-        or not (math.isfinite(value) and value > 0)
+        or not math.isfinite(value)
+        or not (value > 0 or (least == "nonnegative" and value == 0))
     ):
-        raise UsageError(f"metrics(): min_stance= is seconds, a number more than zero (or a "
-                         f"text like '20 ms'), not {value!r}")  # fmt: skip
+        raise UsageError(f"{meaning}, not {value!r}")
     return float(value)
 
 
