@@ -344,3 +344,30 @@ def test_the_tuned_file_elsewhere_still_finds_the_files_it_uses(tmp_path: Path) 
     assert 'use "../mine/parts/extra.leg" # mine' in out.read_text()
     tuned = {p.name: p.value for p in check_model(out).controller("hop").params}
     assert tuned["kp"] == pytest.approx(212.5)
+
+
+def test_the_elapsed_time_told_counts_the_start_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The progress line's elapsed seconds began after the file's own values were measured, so a
+    slow start (one run per speed, as long as a generation's) was missing from it."""
+    import time
+
+    import legdsl.api.tune as tuning
+
+    scored = []
+
+    def slow_start(rows, objective):  # type: ignore[no-untyped-def]
+        if not scored:
+            time.sleep(3.0)
+        scored.append(rows)
+        return score(rows, objective)
+
+    monkeypatch.setattr(tuning, "score", slow_start)
+    code = main(["tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
+                 "--speeds", "1", "--time", "0.3", "--from", "0.1", "--generations", "1",
+                 "--popsize", "2", "--jobs", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    told = re.search(r"generation 1/1: .*\((\d+) s, about", capsys.readouterr().out)
+    assert told is not None and int(told.group(1)) >= 3

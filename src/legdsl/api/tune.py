@@ -171,6 +171,7 @@ def tune(
     start = {b.name: b.start for b in bounds}
     begun: tuple[float, list[Any]] | None = None  # the file's own values: objective, runs
     ended = "finished"
+    tune_began = time.perf_counter()  # the elapsed time told counts the start's runs too
     try:
         with Workers(workers, dask) as pool:
             if journal is not None and journal.start is not None:
@@ -199,8 +200,9 @@ def tune(
                 assert best is not None
                 done, spent = len(history), time.perf_counter() - began
                 left = spent / (done - replayed) * (generations - done)
+                elapsed = time.perf_counter() - tune_began
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
-                    f"{best[0]:.4g} ({spent:.0f} s, about {left:.0f} s left)")  # fmt: skip
+                    f"{best[0]:.4g} ({elapsed:.0f} s, about {left:.0f} s left)")  # fmt: skip
             if len(history) < generations:  # else the report's few generations are unexplained
                 say(f"CMA-ES stopped after generation {len(history)} of {generations}: "
                     f"{why_stopped(es.stop())}")  # fmt: skip
