@@ -242,3 +242,17 @@ def test_generated_c_edited_by_hand_that_cannot_build_is_the_users_to_fix(
     assert said in err and err.rstrip().endswith(
         f"; run 'legdsl compile {CREATURES / 'hopper.leg'}' to write it again"
     )
+
+
+def test_the_api_is_warned_when_the_python_backend_runs_in_cs_place(
+    monkeypatch: pytest.MonkeyPatch, fresh: None
+) -> None:
+    """The API's caller, who has no stderr notice, was given the Python backend without a word
+    (a run tens of times slower)."""
+    import legdsl.api as api
+
+    monkeypatch.setenv("LEGDSL_CC", "/nonexistent/cc")
+    hopper = api.load(CREATURES / "hopper.leg", generated=GENERATED)
+    with pytest.warns(api.LegdslWarning, match="no such program.*: running on the Python backend"):
+        run = hopper.run(controller="hop", time=0.05)
+    assert run.status == "ok"

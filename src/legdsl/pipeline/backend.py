@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numbers
 import os
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -40,9 +40,18 @@ def make_simulation(
     backend: str | None,
     where: tuple[Path, Path, ast.SourceFile | None],
     log: Any = None,
+    note: Callable[[str], None] | None = None,
 ) -> Simulation:
     """A simulation on ``backend`` (None: ``chosen``); ``where`` is (the .leg file, generated/,
-    its syntax tree)."""
+    its syntax tree). Which backend runs, when not the one asked for, is told to ``log`` (a
+    file: ``legdsl run``'s stderr), else to ``note`` (the API's ``LegdslWarning``)."""
+
+    def tell(text: str) -> None:
+        if log is not None:
+            print(f"legdsl: {text}", file=log)
+        elif note is not None:
+            note(text)
+
     given, backend = backend, chosen(backend)
     if backend not in BACKENDS:
         named = f"--backend {backend}" if given else f"LEGDSL_BACKEND={backend}"
@@ -57,8 +66,7 @@ def make_simulation(
         first), else the Python backend with a one-line notice."""
         if backend == "c":
             raise UsageError(f"--backend c: {why}; {fix}or use --backend python") from None
-        if log is not None:
-            print(f"legdsl: {why}: running on the Python backend", file=log)
+        tell(f"{why}: running on the Python backend")
         return Simulation(model, dynamics, options, controller)
 
     missing = available()
@@ -67,21 +75,17 @@ def make_simulation(
     from legdsl.sim.c_mirrors import step_matches
 
     if not step_matches():  # the Python runtime was edited since step.c was brought in line
-        if log is not None:
-            print(
-                "legdsl: the C runtime mirrors an older Python runtime (see "
-                "legdsl/sim/c_mirrors.py): running on the Python backend",
-                file=log,
-            )
+        tell("the C runtime mirrors an older Python runtime (see legdsl/sim/c_mirrors.py): "
+             "running on the Python backend")  # fmt: skip
         return Simulation(model, dynamics, options, controller)
     source, generated, syntax = where
     # a library per controller (a switching run's: one per controller it switches between)
     names = list(getattr(controller, "modules", None) or [
         getattr(getattr(controller, "module", None), "CONTROLLER", None)
     ])  # fmt: skip
-    note = python_version_note()
-    if note is not None and log is not None:
-        print(f"legdsl: {note}", file=log)
+    version_note = python_version_note()
+    if version_note is not None:
+        tell(version_note)
     libraries = {}
     for name in names:
         folder = _fresh_sources(model, source, generated, log, syntax, name)

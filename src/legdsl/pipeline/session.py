@@ -235,7 +235,9 @@ class RunSession:
             s = sorted_settings
             machine = StateMachine(self.model, control, s.inputs, s.params, s.schedule, specs)
         where = (self.source, self.generated, self.syntax)
-        sim = make_simulation(self.model, self.dynamics, options, machine, backend, where, self.log)
+        sim = make_simulation(
+            self.model, self.dynamics, options, machine, backend, where, self.log, self.note
+        )
         self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")
