@@ -43,7 +43,7 @@ from legdsl.pipeline.scenes import parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
-from legdsl.sim.simulate import Simulation
+from legdsl.sim.simulate import Simulation, start_depth
 from legdsl.sim.stability import (
     TooStiff,
     inverse_inertia_diagonal,
@@ -249,13 +249,15 @@ class RunSession:
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is a mistake in the initial pose: the ground
-        spring would launch the body. Deeper than ``START_DEPTH`` is refused (exit 2), or than
+        spring would launch the body. Deeper than ``start_depth`` is refused (exit 2), or than
         half a paw pad's thickness: the pad's force grows without bound as a foot sinks
         through it, so a small creature's thin pad throws it up from less than 1 cm."""
         if self.model.ground is None:
             return
         normal = self.model.ground.normal
-        allowed = min(START_DEPTH, normal.thickness / 2) if isinstance(normal, Pad) else START_DEPTH
+        allowed = start_depth(sim.standing_height())
+        if isinstance(normal, Pad):
+            allowed = min(allowed, normal.thickness / 2)
         under = [(name, -h) for name, h in sim.contact_heights() if h < -allowed]
         if not under:
             return
@@ -375,10 +377,6 @@ def _file_sha256(path: Path) -> str | None:
         return hashlib.sha256(path.read_bytes()).hexdigest()
     except OSError:
         return None
-
-
-# How deep a contact may start under the ground (a resting foot sinks in a little).
-START_DEPTH = 0.01  # m
 
 
 @dataclass

@@ -51,6 +51,23 @@ class Controller(Protocol):
     def speed_command(self, t: float) -> float: ...
 
 
+# How deep a contact may start under the ground (a resting foot sinks in a little): 1 cm,
+# but at most 4% and at least 0.25% of the creature's standing height, so an insect is not
+# let sink its whole leg and a giant may rest in its own (scaled) footprint. Every creature
+# from 25 cm to 4 m tall gets exactly 1 cm.
+START_DEPTH = 0.01  # m
+START_DEPTH_MOST, START_DEPTH_LEAST = 0.04, 0.0025  # of the standing height
+
+
+def start_depth(standing_height: float) -> float:
+    """How deep (m) a contact may start under the ground, for a creature this tall (0: a
+    root welded to the world, of no standing height, gets 1 cm)."""
+    if standing_height <= 0:
+        return START_DEPTH
+    least, most = START_DEPTH_LEAST * standing_height, START_DEPTH_MOST * standing_height
+    return max(least, START_DEPTH) if most >= START_DEPTH else most
+
+
 class Simulation:
     def __init__(
         self,
@@ -310,6 +327,10 @@ class Simulation:
     def _root_pose(self) -> tuple[Vec, tuple[float, ...]]:
         pos, rot = self.dyn.body_poses(self.q)[0]
         return pos, rot
+
+    def standing_height(self) -> float:
+        """How far the root stands above its lowest foot at the start (``_standing_height``)."""
+        return self._standing_height()
 
     def _standing_height(self) -> float:
         """How far the root stands above its lowest foot at the start (its own height if
