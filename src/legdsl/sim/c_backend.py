@@ -409,10 +409,6 @@ class CSimulation(Simulation):
         """This state (a batch's copy's), the kinematics found for the last one forgotten."""
         self.q, self.v, self.t, self._kinematics = q, v, t, None
 
-    def standing_height(self) -> float:
-        """How far the root stands above its lowest foot (the fall rule's start height)."""
-        return self._standing_height()
-
     def fall_check(self, start_height: float) -> str | None:
         """``Simulation._check`` at the state now: None, or 'fell' (and the message); raises
         the divergence it finds."""

@@ -329,10 +329,6 @@ class Simulation:
         return pos, rot
 
     def standing_height(self) -> float:
-        """How far the root stands above its lowest foot at the start (``_standing_height``)."""
-        return self._standing_height()
-
-    def _standing_height(self) -> float:
         """How far the root stands above its lowest foot at the start (its own height if
         footless); 0, no fall limit, for a root welded to the world, which cannot fall."""
         if self.model.joints[0].kind == "fixed":
@@ -444,7 +440,7 @@ class Simulation:
             traj=empty_trajectory(self, min(capacity, rows)),
             control_every=control_every,
             check_every=steps_per_check(opts, control_every),
-            start_height=self._standing_height(),
+            start_height=self.standing_height(),
         )
 
     def diverged(self, err: BaseException) -> str:
