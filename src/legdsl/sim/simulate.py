@@ -68,6 +68,19 @@ def start_depth(standing_height: float) -> float:
     return max(least, START_DEPTH) if most >= START_DEPTH else most
 
 
+# A velocity past this is a divergence: 1000 m/s or rad/s for a creature 10 cm tall or taller;
+# a smaller one's joints turn faster, as 1/sqrt(its size) (Table 1), and so its limit grows
+# as sqrt(10 cm / standing height) (the kangaroo at 1/20 already swings at 173 rad/s).
+DIVERGENCE_SPEED, DIVERGENCE_HEIGHT = 1e3, 0.1
+
+
+def divergence_speed(standing_height: float) -> float:
+    """The fastest a coordinate may move (m/s or rad/s) for a creature this tall."""
+    if standing_height <= 0 or standing_height >= DIVERGENCE_HEIGHT:
+        return DIVERGENCE_SPEED
+    return DIVERGENCE_SPEED * math.sqrt(DIVERGENCE_HEIGHT / standing_height)
+
+
 class Simulation:
     def __init__(
         self,
@@ -346,7 +359,7 @@ class Simulation:
         if not all(math.isfinite(x) for x in self.v) or not all(math.isfinite(x) for x in self.q):
             raise Divergence("the state is no longer finite (NaN or infinity)")
         fastest = max((abs(x) for x in self.v), default=0.0)  # a welded creature has no v
-        if fastest > 1e3:
+        if fastest > divergence_speed(start_height):
             raise Divergence(f"a velocity reached {fastest:.3g} (m/s or rad/s)")
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))

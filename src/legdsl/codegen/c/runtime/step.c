@@ -688,7 +688,9 @@ static int check_fails(leg_sim *s) {
         double x = fabs(s->v[k]);
         if (k == 0 || x > fastest) fastest = x;
     }
-    if (fastest > 1e3) return 1;
+    double most = 1e3; /* divergence_speed */
+    if (s->start_height > 0 && s->start_height < 0.1) most = 1e3 * sqrt(0.1 / s->start_height);
+    if (fastest > most) return 1;
     double poses[NBP];
     const unsigned char root[2 * LEG_NB] = {1, 1}; /* its position and rotation: all _check reads */
     body_poses_some(s->q, root, poses, err);
