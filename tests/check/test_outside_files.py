@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from legdsl.check.source import check_file
+from legdsl.lang.errors import LegError
 
 OUTSIDE = Path(__file__).resolve().parents[1] / "good" / "outside"
 
@@ -17,3 +18,22 @@ OUTSIDE = Path(__file__).resolve().parents[1] / "good" / "outside"
 def test_checks_clean(name: str) -> None:
     models = check_file(OUTSIDE / name)
     assert models and all(m.controllers for m in models)
+
+
+def test_a_knee_action_given_a_telescoping_quadruped_is_told_at_the_leg(tmp_path: Path) -> None:
+    """level_feet_rotary (stdlib/raibert.leg, for knee legs in a quadruped's roles) given the
+    shipped quadruped's telescoping legs is told at the leg argument, as the other knee actions."""
+    shipped = OUTSIDE.parents[2] / "creatures" / "quadruped.leg"
+    text = shipped.read_text(encoding="utf-8") + (
+        "controller t2 {\n  path route\n  include quadruped_gains\n"
+        "  roles active = (fl, rr), idle = (fr, rl)\n  table {\n"
+        "    state A on liftoff(active): level_feet_rotary(active, -40 deg, 0.4 m, 0.4 m)\n"
+        "    state B on touchdown(active): relax(active, stand)\n  }\n}\n"
+    )
+    leg = tmp_path / "quadruped.leg"
+    leg.write_text(text, encoding="utf-8")
+    with pytest.raises(LegError) as err:
+        check_file(leg)
+    message = str(err.value)
+    assert "action 'level_feet_rotary' is written for a leg whose 'spring' is rotary" in message
+    assert "'leg_fl_spring', is sliding" in message
