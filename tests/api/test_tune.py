@@ -149,7 +149,7 @@ controller hold {
         (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
-        (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller \(k_speed,"),
+        (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller; did you mean .k_speed.\? \(it has k_speed,"),
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
         (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),
@@ -230,12 +230,14 @@ def test_a_backward_speed_scores_its_error_as_a_forward_one() -> None:
     assert score([row], backward) == pytest.approx(0.2)
 
 
-def test_a_parameter_of_another_file_is_refused_before_the_tune(
+def test_a_parameter_of_another_file_is_overridden_in_the_tuned_controller(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A gain from a shared part of a used file could not be written into the tuned file: that
-    was found only after the whole tune had run, and nothing was kept."""
-    (tmp_path / "gains.leg").write_text("shared gains {\n  param k_speed = 0.06 s\n}\n")
+    """A gain from a shared part of a used file was refused ("declared in gains.leg"), though
+    the controller may override it: the tuned file now declares it in the tuned controller,
+    in the used file's unit, and leaves the used file as it was."""
+    gains = "shared gains {\n  param k_speed = 60 ms\n}\n"
+    (tmp_path / "gains.leg").write_text(gains)
     text = HOPPER.read_text().replace("  param k_speed = 0.06 s       # eq. (3) gain\n", "")
     text = text.replace("controller hop {\n", "controller hop {\n  include gains\n")
     (tmp_path / "uses.leg").write_text('use "gains.leg"\n' + text)
@@ -243,9 +245,31 @@ def test_a_parameter_of_another_file_is_refused_before_the_tune(
                  "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
                  "--generations", "1", "--popsize", "2", "--jobs", "1", "--out",
                  str(tmp_path / "t"), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 0
+    assert "the tuned file overrides it in controller 'hop'" in capsys.readouterr().err
+    best = json.loads((tmp_path / "t" / "tune.json").read_text())["best"]["values"]["k_speed"]
+    tuned = (tmp_path / "t" / "uses.leg").read_text()
+    assert re.search(r"controller hop \{\n  param k_speed = [0-9.e-]+ ms\n  include gains", tuned)
+    assert (tmp_path / "gains.leg").read_text() == gains
+    k = {c.name: c.value for c in check_model(tmp_path / "t" / "uses.leg").controller("hop").params}
+    assert k["k_speed"] == best
+
+
+def test_a_controller_the_creature_lacks_is_named_with_what_it_has(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A creature without controllers (its file uses another's): tune said "'other' has "
+    and stopped there."""
+    (tmp_path / "uses.leg").write_text(
+        f'use "{HOPPER}"\n' + "creature other {\n  planar\n  gravity 9.81 m/s^2\n"
+        "  body b free { mass 1 kg  inertia 1 kg*m^2 }\n}\n"
+    )
+    code = main(["tune", str(tmp_path / "uses.leg"), "--controller", "hop", "--param",
+                 "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--out", str(tmp_path / "t"),
+                 "--generated", str(tmp_path / "generated")])  # fmt: skip
     assert code == 2
-    assert "'k_speed' is declared in" in capsys.readouterr().err
-    assert not (tmp_path / "t").exists()  # refused before anything ran
+    err = capsys.readouterr().err
+    assert "creature 'other' has no such controller (it has none)" in err, err
 
 
 def test_a_search_that_stops_early_says_why(

@@ -249,6 +249,10 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     declared: list[tuple[object, ast.ControllerItem | ast.SharedItem]] = [
         (decl, item) for decl in tree.controllers for item in decl.items
     ] + [(part, item) for part in tree.shared for item in part.items]
+    for name, span in spans.items():  # declared in another file: overridden here
+        if span.file != str(source):
+            overrides.append(f"param {name} = {_value_edit(_param_decl(span), values[name])[3]}")
+            found.add(name)
     for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
             line, col, end, new = _value_edit(item, values[item.name.name])
@@ -320,20 +324,32 @@ def _uses_moved(
 
 
 def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> dict[str, Any]:
-    """Where each named parameter is declared, or a ``UsageError`` for one declared in another
-    file (the tuned file is ``source`` with its own values changed: checked before a tune)."""
+    """Where each named parameter is declared. One declared in another file (a shared part
+    or a controller it uses) is overridden in the tuned controller, which must then be
+    declared in ``source`` itself, else a ``UsageError`` (checked before a tune)."""
     names = set(names)
     spans = {}
     for c in controller.params:
         if c.name in names:
-            if c.span.file != str(source):
+            if c.span.file != str(source) and controller.span.file != str(source):
                 used = os.path.normpath(c.span.file)  # without its "outside/../.."
                 raise UsageError(
-                    f"'{c.name}' is declared in {used}, not in {source}: tune a "
-                    f"parameter of the file itself (or declare {c.name} in {source})"
+                    f"'{c.name}' is declared in {used}, and controller '{controller.name}' "
+                    f"too, not in {source}: tune a controller of the file itself (one that "
+                    f"extends '{controller.name}' will do)"
                 )
             spans[c.name] = c.span
     return spans
+
+
+def used_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
+    """Of the parameters declared at ``spans`` (``declared_in``), those declared in another
+    file, with its path: the tuned file overrides them in the tuned controller."""
+    return {
+        name: os.path.normpath(span.file)
+        for name, span in spans.items()
+        if span.file != str(source)
+    }
 
 
 def shared_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
@@ -351,22 +367,24 @@ def shared_owners(source: Path, spans: dict[str, Any]) -> dict[str, str]:
 
 def written_unit(source: Path, controller: Controller, name: str) -> str | None:
     """The unit the file writes parameter ``name`` in ("cm" for ``param stroke = 1.5 cm``,
-    "" for a bare number), or None where it is not declared in ``source`` itself."""
+    "" for a bare number), or None where it is not declared (wherever it is declared)."""
     span = next((c.span for c in controller.params if c.name == name), None)
-    if span is None or span.file != str(source):
+    item = _param_decl(span) if span is not None else None
+    if item is None:
         return None
-    tree, _ = parse_file(source)
+    node = item.value
+    while isinstance(node, ast.EUnary) and node.op == "-":
+        node = node.operand
+    return written_unit_of(node.text).replace(" ", "") if isinstance(node, ast.EQuantity) else None
+
+
+def _param_decl(span: Any) -> Any:
+    """The parameter declaration named at ``span``, in whichever file it is (None if none)."""
+    tree, _ = parse_file(Path(span.file))
     items = [i for d in tree.controllers for i in d.items] + [
         i for part in tree.shared for i in part.items
     ]
-    for item in items:
-        if isinstance(item, ast.ParamDecl) and item.name.span == span:
-            node = item.value
-            while isinstance(node, ast.EUnary) and node.op == "-":
-                node = node.operand
-            if isinstance(node, ast.EQuantity):
-                return written_unit_of(node.text).replace(" ", "")
-    return None
+    return next((i for i in items if isinstance(i, ast.ParamDecl) and i.name.span == span), None)
 
 
 def _value_edit(item: ast.ParamDecl, si: float) -> tuple[int, int, int, str]:

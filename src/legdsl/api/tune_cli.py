@@ -22,15 +22,18 @@ from legdsl.api.tune import (
     report,
     shared_owners,
     tune,
+    used_owners,
     write_tuned,
     written_unit,
 )
 from legdsl.api.tune_journal import Journal
 from legdsl.check.source import check_model
+from legdsl.check.values import did_you_mean
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.pipeline.settings import require_controller
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -82,9 +85,7 @@ def add_tune_parser(sub: Any) -> Command:
 def cmd_tune(args: argparse.Namespace) -> int:
     source = Path(args.file)
     model = check_model(source, args.creature)
-    names = [c.name for c in model.controllers]
-    if args.controller not in names:
-        raise UsageError(f"--controller {args.controller}: '{model.name}' has {', '.join(names)}")
+    require_controller(model, args.controller)
     controller = model.controller(args.controller)
     params = {c.name: c for c in controller.params}
     bounds = _bounds(args, controller, source)
@@ -166,11 +167,10 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
                 f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
                 "tune its parameters (commanded speeds are --speeds)"
             )
-        if "=" in text and name not in params:  # the list: only those the tuned file can change
-            own = [n for n, c in params.items() if c.span.file == str(source)]
+        if "=" in text and name not in params:  # the list: those the tuned file can change
             raise UsageError(
-                f"--param {name}: not a parameter of the controller ({', '.join(own) or 'none'}: those "
-                f"declared in {source}, which the tuned file can change)"
+                f"--param {name}: not a parameter of the controller{did_you_mean(name, params)} "
+                f"(it has {', '.join(params)})"
             )
         axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
         if any(b.name == axis.name for b in bounds):
@@ -190,6 +190,9 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
     for name, part in shared_owners(source, spans).items():
         print(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
               f"changes it for every controller that includes '{part}'", file=sys.stderr)  # fmt: skip
+    for name, used in used_owners(source, spans).items():
+        print(f"legdsl: note: {name} is declared in {used}: the tuned file overrides it in "
+              f"controller '{controller.name}' and leaves {used} as it is", file=sys.stderr)  # fmt: skip
     return bounds
 
 
