@@ -20,14 +20,19 @@ def test_checks_clean(name: str) -> None:
     assert models and all(m.controllers for m in models)
 
 
-def test_a_knee_action_given_a_telescoping_quadruped_is_told_at_the_leg(tmp_path: Path) -> None:
+@pytest.mark.parametrize("rest", ["-40 deg", "stand"])
+def test_a_knee_action_given_a_telescoping_quadruped_is_told_at_the_leg(
+    tmp_path: Path, rest: str
+) -> None:
     """level_feet_rotary (stdlib/raibert.leg, for knee legs in a quadruped's roles) given the
-    shipped quadruped's telescoping legs is told at the leg argument, as the other knee actions."""
+    shipped quadruped's telescoping legs is told at the leg argument, as the other knee actions;
+    with the telescoping leg's own rest (a length, `stand`) too, which said only "sin() takes
+    an angle, not a length" inside the action."""
     shipped = OUTSIDE.parents[2] / "creatures" / "quadruped.leg"
     text = shipped.read_text(encoding="utf-8") + (
         "controller t2 {\n  path route\n  include quadruped_gains\n"
         "  roles active = (fl, rr), idle = (fr, rl)\n  table {\n"
-        "    state A on liftoff(active): level_feet_rotary(active, -40 deg, 0.4 m, 0.4 m)\n"
+        f"    state A on liftoff(active): level_feet_rotary(active, {rest}, 0.4 m, 0.4 m)\n"
         "    state B on touchdown(active): relax(active, stand)\n  }\n}\n"
     )
     leg = tmp_path / "quadruped.leg"

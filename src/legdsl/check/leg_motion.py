@@ -6,7 +6,8 @@ the leg, its rest a length); a leg whose spring is on a knee or ankle has a rota
 torque, its rest an angle), and the body then fails in dimensions deep inside the action.
 When no numeric argument is at fault (control_args), the body is checked again, silently,
 with the actuators one alias of a leg argument names read as the other motion (and, for
-a rotary one, the call's angles as lengths: a rest or stroke written for the knee); if that
+a rotary one, the call's angles as lengths: a rest or stroke written for the knee; for a
+sliding one, the action written for a rotary spring, one length at a time as an angle); if that
 removes the mistake, it is told at the leg argument: what the action assumes, what the
 leg has, and what to do.
 """
@@ -30,16 +31,29 @@ _EXAMPLE = (
 )
 
 
-def _in_lengths(args: list[Value]) -> list[Value]:
-    """The arguments as for a sliding spring: each angle a length (a rest of -40 deg, a
-    stroke of 0.1 rad, a gain in rad/m), the radians of any dimension turned to metres."""
-    out: list[Value] = []
-    for value in args:
-        if isinstance(value, ir.Expr) and isinstance(value.type, tuple) and value.type[3]:
-            kg, m, s, rad = value.type
-            value = retyped(value, (kg, m + rad, s, 0))
-        out.append(value)
-    return out
+def _retyped(args: list[Value], rotary: bool) -> list[list[Value]]:
+    """The call's arguments as the leg's motion would have them: for a rotary spring (the
+    action written for a sliding one) every angle a length at once (a rest of -40 deg, a
+    stroke of 0.1 rad, a gain in rad/m: the radians of any dimension turned to metres); for a
+    sliding spring (the action written for a rotary one) one length at a time an angle (the
+    rest, not the thigh's and shank's lengths beside it)."""
+    if rotary:
+        return [[_moved(v, 3, 1) for v in args]]
+    return [
+        [_moved(v, 1, 3) if k == i else v for k, v in enumerate(args)]
+        for i, value in enumerate(args)
+        if isinstance(value, ir.Expr) and isinstance(value.type, tuple) and value.type[1]
+    ]
+
+
+def _moved(value: Value, source: int, target: int) -> Value:
+    """``value`` with its radians turned to metres (``target`` 1) or its metres to radians
+    (``target`` 3); a value without the ``source`` one unchanged."""
+    if not (isinstance(value, ir.Expr) and isinstance(value.type, tuple) and value.type[source]):
+        return value
+    kg, m, s, rad = value.type
+    moved = m + rad  # the exponent both take together
+    return retyped(value, (kg, moved, s, 0) if target == 1 else (kg, 0, s, moved))
 
 
 class LegMotionProbe(ArgumentProbe):
@@ -78,20 +92,21 @@ class LegMotionProbe(ArgumentProbe):
         self.motions_read = {}
         self._trial(args, check, frozenset())
         read = dict(self.motions_read)
-        for lengths in (False, True):  # a spring alone before one with the angles as lengths
+        for retyped_too in (False, True):  # a spring alone before one with its rest retyped
             found: dict[frozenset[str], MotionBlame] = {}  # by the actuators read as the other
             for i, value in enumerate(args):
                 legs = self._legs_of(value)
                 for alias, target in self.scope.aliases[legs[0]].items() if legs else ():
-                    if target not in read or (lengths and not read[target]):
-                        continue  # not an actuator the action reads (or angles of a slider)
+                    if target not in read:
+                        continue  # not an actuator the action reads
                     flip = frozenset(self.scope.aliases[leg].get(alias, "") for leg in legs)
                     if flip in found:
                         continue  # the same leg given twice (a leg and a role): told at the first
-                    trial = _in_lengths(args) if lengths else args
-                    spans = self._trial(trial, check, flip)
-                    if used_at not in spans and len(spans) <= count:
-                        found[flip] = MotionBlame(i, alias, target, read[target])
+                    for trial in _retyped(args, read[target]) if retyped_too else [args]:
+                        spans = self._trial(trial, check, flip)
+                        if used_at not in spans and len(spans) <= count:
+                            found[flip] = MotionBlame(i, alias, target, read[target])
+                            break
             if found:
                 return next(iter(found.values())) if len(found) == 1 else None
         return None
