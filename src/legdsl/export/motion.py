@@ -25,6 +25,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from legdsl.export.stances import stance_note
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -69,6 +70,7 @@ class Motion:
     weight: float  # N: total mass times gravity, to scale force arrows
     status: str = "ok"
     message: str = ""
+    note: str = ""  # said when the frame rate misses the stances (stances.py)
     # each body's joint: its origin in the parent frame, and whether it has a slide
     joint_origins: np.ndarray | None = None  # (B, 3)
     joint_slides: tuple[bool, ...] = ()
@@ -218,6 +220,7 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
+    motion.note = stance_note(run.model, run.trajectory, fps)
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec
