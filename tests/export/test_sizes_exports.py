@@ -189,3 +189,18 @@ def test_the_mujoco_replays_camera_frames_a_5cm_hopper(tmp_path: Path) -> None:
     extent = float(np.ptp(data.xpos[1:], axis=0).max())
     assert 0.02 < extent < 0.08
     assert camera.distance < 10 * extent  # the shipped creatures' 4.5 (0.8 + 0.5) / 0.8
+
+
+def test_the_usd_floor_of_a_mite_is_mite_sized(mite: Scaled) -> None:
+    """The floor was the run's area plus a metre: a 2 m floor around a 4 mm run."""
+    pytest.importorskip("pxr", reason="needs usd-core: pip install 'legdsl[export]'")
+    from pxr import Usd, UsdGeom
+
+    out = mite.where / "mite.usda"
+    argv = ["export-motion", str(mite.run_dir), "-o", str(out), "--generated", str(mite.generated)]
+    assert main(argv) == 0
+    stage = Usd.Stage.Open(str(out))
+    floor = next(p for p in stage.Traverse() if p.GetName() == "floor")
+    points = np.array(UsdGeom.Mesh(floor).GetPointsAttr().Get())
+    # the run covers 4 mm; its area plus 10 mite sizes is about a centimetre each way
+    assert np.ptp(points[:, :2], axis=0).max() < 0.05

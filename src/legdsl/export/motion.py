@@ -463,11 +463,15 @@ def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> fl
     return h
 
 
-def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``."""
+def ground_area(motion: Motion, margin: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``
+    (a metre, or ten times a creature smaller than 10 cm: a mite's 4 mm run had a 2 m floor)."""
     points = np.concatenate(
         [motion.positions.reshape(-1, 3), motion.contact_positions.reshape(-1, 3)]
     )
+    if margin is None:
+        first = np.concatenate([motion.positions[0], motion.contact_positions[0]])
+        margin = min(1.0, 10.0 * float(np.ptp(first, axis=0).max())) if len(first) else 1.0
     return points[:, :2].min(axis=0) - margin, points[:, :2].max(axis=0) + margin
 
 
