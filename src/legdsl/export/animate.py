@@ -132,6 +132,8 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 
     out = Path(args.output) if args.output else run / "animation.html"
     size_bytes = write_player(motion, out, overlays)
+    if motion.note:
+        print(motion.note, file=sys.stderr)
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
         f"{motion.duration:.2f} s); open it in a web browser",
@@ -237,6 +239,8 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
         from legdsl.export.gltf import write_gltf
 
         size = write_gltf(motion, out, args.format, skin=args.skin)
+    if motion.note:
+        print(motion.note, file=sys.stderr)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "

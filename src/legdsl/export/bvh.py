@@ -17,6 +17,9 @@
   frame's angles are the solution nearest the frame before's (whole turns
   added), so that a channel never jumps by a turn between frames.
 * ``Frame Time`` is one over the frame rate (``--fps``).
+* Numbers: angles with six decimals (1e-6 degree); lengths with six decimals (1 um) for a
+  creature of 10 cm or more, and one more for each tenfold smaller (a 0.7 mm mite's are
+  written to 1e-9 m), so a small creature's motion is not rounded away.
 """
 
 from __future__ import annotations
@@ -33,6 +36,10 @@ from legdsl.files import write_atomic
 # legdsl z-up to BVH y-up: (x, y, z) -> (x, z, -y)
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 ROTATION_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
+ANGLE_DECIMALS = 6  # 1e-6 degree
+LENGTH_DECIMALS = 6  # 1 um, for creatures of FULL_PRECISION_SIZE and more
+FULL_PRECISION_SIZE = 0.1  # m
+END_SITE_LENGTH = 0.01  # m: a leaf body with no tip; at most a tenth of a smaller creature
 POSITION_CHANNELS = ("Xposition", "Yposition", "Zposition")
 
 
@@ -64,6 +71,22 @@ def nearest_euler(angles: tuple[float, float, float], previous: np.ndarray) -> n
     return best
 
 
+def skeleton_size(motion: Motion, offsets: np.ndarray) -> float:
+    """The creature's size in metres: its longest joint origin or link, or its extent at the
+    first frame, whichever is the most."""
+    tips = np.array([np.asarray(b.tip, dtype=float) for b in motion.bodies]).reshape(-1, 3)
+    lengths = np.concatenate([np.linalg.norm(offsets, axis=1), np.linalg.norm(tips, axis=1)])
+    extent = np.ptp(motion.positions[0], axis=0).max() if motion.frames else 0.0
+    return float(max(lengths.max(initial=0.0), extent))
+
+
+def length_decimals(size: float) -> int:
+    """Decimals of metres that keep 1e-6 of a creature of ``size`` (six from 10 cm up)."""
+    if not size > 0 or size >= FULL_PRECISION_SIZE:
+        return LENGTH_DECIMALS
+    return LENGTH_DECIMALS + math.ceil(math.log10(FULL_PRECISION_SIZE / size) - 1e-9)
+
+
 def bvh_text(motion: Motion) -> str:
     """The BVH file of ``motion`` (see the module docstring)."""
     translations, rotations = local_poses(motion)
@@ -79,11 +102,14 @@ def bvh_text(motion: Motion) -> str:
     for b, parent in enumerate(motion.parents):
         children[parent].append(b)
 
+    size = skeleton_size(motion, offsets)
+    decimals = length_decimals(size)
+    end_site_length = min(END_SITE_LENGTH, 0.1 * size) if size > 0 else END_SITE_LENGTH
     lines = ["HIERARCHY"]
     order: list[int] = []
 
-    def fmt(v: np.ndarray) -> str:
-        return " ".join(f"{float(x):.6f}" for x in v)
+    def fmt(v: np.ndarray, places: int = decimals) -> str:
+        return " ".join(f"{float(x):.{places}f}" for x in v)
 
     def joint(b: int, depth: int) -> None:
         pad = "  " * depth
@@ -101,7 +127,7 @@ def bvh_text(motion: Motion) -> str:
             joint(child, depth + 1)
         if not children[b]:
             tip = np.asarray(motion.bodies[b].tip, dtype=float)
-            end = Z_UP_TO_Y_UP @ (tip if np.any(tip) else np.array([0.0, 0.0, 0.01]))
+            end = Z_UP_TO_Y_UP @ (tip if np.any(tip) else np.array([0.0, 0.0, end_site_length]))
             lines.append(f"{pad}  End Site")
             lines.append(f"{pad}  {{")
             lines.append(f"{pad}    OFFSET {fmt(end)}")
@@ -115,16 +141,16 @@ def bvh_text(motion: Motion) -> str:
     lines.append(f"Frame Time: {1.0 / frame_rate(motion):.9f}")
     previous = np.zeros((nb, 3))  # each joint's angles at the frame before (the rest pose first)
     for f in range(motion.frames):
-        row: list[float] = []
+        row: list[str] = []
         for b in order:
             r = Z_UP_TO_Y_UP @ quaternion_to_matrix(rotations[f, b]) @ Z_UP_TO_Y_UP.T
             if motion.parents[b] < 0:
-                row.extend(Z_UP_TO_Y_UP @ translations[f, b])
+                row.append(fmt(Z_UP_TO_Y_UP @ translations[f, b]))
             elif slides[b]:
-                row.extend(Z_UP_TO_Y_UP @ (translations[f, b] - offsets[b]))
+                row.append(fmt(Z_UP_TO_Y_UP @ (translations[f, b] - offsets[b])))
             previous[b] = nearest_euler(euler_zxy(r), previous[b])
-            row.extend(previous[b])
-        lines.append(" ".join(f"{x:.6f}" for x in row))
+            row.append(fmt(previous[b], ANGLE_DECIMALS))
+        lines.append(" ".join(row))
     return "\n".join(lines) + "\n"
 
 

@@ -41,7 +41,10 @@ The mapping (every choice here is tested against MuJoCo itself in
   initial state and the controls that reproduce the declared rest lengths and
   set points.
 * No damping, armature or friction loss on the model's joints (the pads'
-  slides have theirs); ``RK4`` at the paper's 0.0004 s; gravity from the model.
+  slides have theirs); ``RK4`` at the creature's own step (its ``simulation`` block's ``dt``,
+  which ``legdsl scale`` writes as 0.4 ms sqrt(L)), else the paper's 0.0004 s; gravity from
+  the model. The contact spheres are 5 mm, or a fiftieth of the longest link of a creature
+  whose links are all shorter than 25 cm (a 0.7 mm mite's toe is not a 5 mm ball).
 """
 
 from __future__ import annotations
@@ -49,16 +52,24 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from legdsl import __version__
-from legdsl.export.mjcontact import FRICTION_IMPRATIO, contact_parameters
+from legdsl.export.mjcontact import FRICTION_IMPRATIO, FRICTION_RATE, contact_parameters
 from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model, Stop
 from legdsl.lang.errors import LegError
 
-TIMESTEP = 0.0004  # s, the paper's integration step
+TIMESTEP = 0.0004  # s, the paper's integration step, for a creature without its own dt
 CONTACT_RADIUS = 0.005  # m: the sphere touches the floor when the contact point is this high
+RADIUS_PER_LINK = 0.02  # a small creature's spheres: this times its longest link
+# kg m^2: MuJoCo refuses a fullinertia with a smaller eigenvalue ("inertia must have positive
+# eigenvalues"; measured with MuJoCo 3: 1e-14 loads, 3e-15 does not). MuJoCo has no units: in
+# SI a creature of a few millimetres (a 0.7 mm mite's bodies: 1e-17 kg m^2) is below it.
+MUJOCO_SMALLEST_INERTIA = 1e-14
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
 NO_SLIP_FRICTION = 10.0
 FLOOR_RGBA = "0.85 0.85 0.8 1"
@@ -66,7 +77,7 @@ FLOOR_RGBA = "0.85 0.85 0.8 1"
 # (impedance 0.99 to 0.999), so that a pad springing back after liftoff, which its body's
 # turning pushes sideways, stays within 0.1 degrees of level; it only turns the pad, whose
 # inertia is tiny, so it pushes nothing else.
-LEVEL_SOLREF = (5 * TIMESTEP, 1.0)
+LEVEL_STEPS = 5.0  # time constants of LEVEL_SOLREF, in time steps
 LEVEL_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
 # An anchor pad's friction for legdsl's no slip. legdsl's tangent spring holds however light
 # the load; MuJoCo's pad slips past mu N, so mu is large (its friction rows are hard and the
@@ -79,6 +90,22 @@ PAD_ROLLING_ARM = 1.0
 TERRAIN_EXTENT = 50.0  # m, half length of the box that draws a 'step' (it extends to +x)
 
 
+def mujoco_timestep(model: Model) -> float:
+    """The creature's own integration step, else the paper's: MuJoCo's explicit RK4 and the
+    pads' rates (mjpads.py, mjcontact.py) are set for it, and a small creature's (0.4 ms sqrt(L)
+    when ``legdsl scale`` wrote it) is shorter than its fastest spring's period asks."""
+    return model.simulation.dt or TIMESTEP
+
+
+def contact_radius(model: Model) -> float:
+    """The contact spheres' radius: 5 mm, at most a fiftieth of the longest link."""
+    links = [math.hypot(*j.origin) for j in model.joints] + [
+        math.hypot(*b.tip) for b in model.bodies
+    ]
+    longest = max(links, default=0.0)
+    return min(CONTACT_RADIUS, RADIUS_PER_LINK * longest) if longest > 0 else CONTACT_RADIUS
+
+
 def model_to_mjcf(model: Model, pads: bool = True) -> str:
     """The MJCF text of ``model``; the same model gives the same bytes.
 
@@ -86,8 +113,10 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
     tangential spring; without them (for comparing dynamics) the tree is exactly the model's.
     """
     _check_names(model)
-    anchors = anchor_pads(model, TIMESTEP, CONTACT_RADIUS) if pads else ()
+    timestep, radius = mujoco_timestep(model), contact_radius(model)
+    anchors = anchor_pads(model, timestep, radius) if pads else ()
     inertials = carrier_inertials(model, anchors)
+    _loadable_inertias(model, inertials)
     root = ET.Element("mujoco", model=model.name)
     root.append(
         ET.Comment(
@@ -104,17 +133,17 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
         root,
         "option",
         integrator="RK4",
-        timestep=num(TIMESTEP),
+        timestep=num(timestep),
         gravity=nums(model.gravity),
         cone="elliptic",
     )
     if anchors:  # hard friction: the pads stick (mjcontact.py)
         option.set("impratio", num(FRICTION_IMPRATIO))
-    _defaults(root, model)
+    _defaults(root, model, radius)
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", name="sun", pos="0 0 4", dir="0 0 -1", directional="true")
     taken = {c.name for c in model.contacts}
-    surfaces = _ground(world, model, taken)
+    surfaces = _ground(world, model, taken, radius)
 
     children: dict[str | None, list[Body]] = {}
     for b in model.bodies:
@@ -156,8 +185,8 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
     for b in children.get(None, []):
         emit(world, b)
 
-    _contact_pairs(root, model, surfaces, anchors)
-    _level_pads(root, anchors)
+    _contact_pairs(root, model, surfaces, anchors, timestep)
+    _level_pads(root, anchors, timestep)
     _actuators(root, model)
     key = ET.SubElement(ET.SubElement(root, "keyframe"), "key", name="initial")
     key.set("qpos", nums(qpos))
@@ -166,6 +195,21 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
     if model.actuators:
         key.set("ctrl", nums(_initial_ctrl(a.kind, dict(a.params)) for a in model.actuators))
     return to_text(root)
+
+
+def _loadable_inertias(model: Model, inertials: dict[str, Any]) -> None:
+    """A body whose inertia MuJoCo would refuse is an error here, saying why, rather than a
+    file MuJoCo cannot load."""
+    for body in model.bodies:
+        smallest = float(np.linalg.eigvalsh(np.asarray(inertials[body.name][2])).min())
+        if 0 < smallest < MUJOCO_SMALLEST_INERTIA:
+            raise LegError.at(
+                body.span,
+                f"body '{body.name}' has a principal inertia of {smallest:.3g} kg*m^2, and MuJoCo "
+                f"loads none below {MUJOCO_SMALLEST_INERTIA:g} (in SI units, which the MJCF "
+                "export writes); export the creature scaled up (legdsl scale FILE --by 100: "
+                "it moves the same, scaled by docs/scaling.md's rule)",
+            )
 
 
 def _check_names(model: Model) -> None:
@@ -182,7 +226,7 @@ def _check_names(model: Model) -> None:
                 )
 
 
-def _defaults(root: ET.Element, model: Model) -> None:
+def _defaults(root: ET.Element, model: Model, radius: float) -> None:
     d = ET.SubElement(root, "default")
     shape = ET.SubElement(d, "default", {"class": "shape"})
     # Drawing only: explicit inertials carry the mass, and shapes do not collide.
@@ -192,7 +236,7 @@ def _defaults(root: ET.Element, model: Model) -> None:
         contact,
         "geom",
         type="sphere",
-        size=num(CONTACT_RADIUS),
+        size=num(radius),
         mass="0",
         # they touch the ground through the explicit pairs in <contact> only
         contype="0",
@@ -202,7 +246,7 @@ def _defaults(root: ET.Element, model: Model) -> None:
         rgba="0.9 0.2 0.2 1",
         group="2",
     )
-    ET.SubElement(contact, "site", type="sphere", size=num(CONTACT_RADIUS), group="3")
+    ET.SubElement(contact, "site", type="sphere", size=num(radius), group="3")
 
 
 def _friction(model: Model) -> str:
@@ -232,7 +276,7 @@ def _anchor_pad(body: ET.Element, pad: AnchorPad) -> None:
     ET.SubElement(el, "geom", {"class": "contact"}, name=pad.contact)
 
 
-def _level_pads(root: ET.Element, pads: tuple[AnchorPad, ...]) -> None:
+def _level_pads(root: ET.Element, pads: tuple[AnchorPad, ...], timestep: float) -> None:
     """A planar creature's pads kept level: each pad's hinge plus its body's hinges (a fixed
     tendon) held at the initial pose's sum, so the pad keeps its initial world orientation."""
     level = [pad for pad in pads if pad.level is not None]
@@ -252,16 +296,21 @@ def _level_pads(root: ET.Element, pads: tuple[AnchorPad, ...]) -> None:
             name=pad.level,
             tendon1=pad.level,
             polycoef=nums((pad.turned, 0.0, 0.0, 0.0, 0.0)),
-            solref=nums(LEVEL_SOLREF),
+            solref=nums((LEVEL_STEPS * timestep, 1.0)),
             solimp=nums(LEVEL_SOLIMP),
         )
 
 
 def _contact_pairs(
-    root: ET.Element, model: Model, surfaces: list[str], pads: tuple[AnchorPad, ...]
+    root: ET.Element,
+    model: Model,
+    surfaces: list[str],
+    pads: tuple[AnchorPad, ...],
+    timestep: float,
 ) -> None:
-    """Each contact sphere against each ground surface, with the ground's law (mjcontact.py)."""
-    solver = contact_parameters(model, pads)
+    """Each contact sphere against each ground surface, with the ground's law (mjcontact.py);
+    the pads' friction rate is RK4's margin at the step (FRICTION_RATE at the paper's)."""
+    solver = contact_parameters(model, pads, FRICTION_RATE * (TIMESTEP / timestep))
     if not solver or not surfaces:
         return
     pairs = ET.SubElement(root, "contact")
@@ -289,13 +338,12 @@ def _contact_pairs(
             ET.SubElement(pairs, "pair", attrs)
 
 
-def _ground(world: ET.Element, model: Model, taken: set[str]) -> list[str]:
-    """The floor and the terrain, every surface CONTACT_RADIUS below legdsl's.
+def _ground(world: ET.Element, model: Model, taken: set[str], r: float) -> list[str]:
+    """The floor and the terrain, every surface ``r`` (the contact spheres') below legdsl's.
 
     A contact sphere then touches a surface exactly when its centre, the
     legdsl contact point, reaches legdsl's surface, in any orientation.
     """
-    r = CONTACT_RADIUS
     terrain = model.ground.terrain if model.ground is not None else ()
     slope = next((t for t in terrain if t.kind == "slope"), None)
     if slope is not None:  # the whole ground, tilted about y and rising towards +x

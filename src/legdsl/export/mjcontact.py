@@ -150,11 +150,14 @@ def _impedance(x: float, d0: float, dmax: float) -> float:
     return d0 + y * (dmax - d0)
 
 
-def contact_parameters(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, dict[str, str]]:
+def contact_parameters(
+    model: Model, pads: tuple[AnchorPad, ...] = (), friction_rate: float = FRICTION_RATE
+) -> dict[str, dict[str, str]]:
     """Per contact name: the MJCF contact-pair attributes solref, solreffriction and solimp.
 
     With anchor ``pads`` each contact sphere is on its pad's body, whose ``A0`` it takes,
-    and its friction is hard (``FRICTION_IMPRATIO``) so that the pad sticks.
+    and its friction is hard (``FRICTION_IMPRATIO``) so that the pad sticks, its sliding
+    stopped at ``friction_rate`` (2 / the time step: FRICTION_RATE at the paper's 0.4 ms).
     """
     ground = model.ground
     if ground is None:
@@ -178,9 +181,9 @@ def contact_parameters(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[s
             solref = (-normal.k * scale, -normal.b * scale)
             solimp = (d, d, 0.001, 0.5, 2.0)
         if c.name in carrier:
-            # a hard friction row brings the pad's sliding velocity to zero at FRICTION_RATE
-            # (its reference acceleration is -FRICTION_RATE v; direct solref divides by dmax)
-            friction = (-FRICTION_RATE * d, -FRICTION_RATE * d)
+            # a hard friction row brings the pad's sliding velocity to zero at friction_rate
+            # (its reference acceleration is -friction_rate v; direct solref divides by dmax)
+            friction = (-friction_rate * d, -friction_rate * d)
         else:
             # friction rows have no position error: only the tangent damper carries over
             # (their regulariser is the normal row's, MuJoCo's impratio being 1)

@@ -129,7 +129,10 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     mujoco.mj_forward(mj, data)
     camera = mujoco.MjvCamera()
     camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-    size = float(np.ptp(data.xpos[1:], axis=0).max()) + 0.5
+    extent = float(np.ptp(data.xpos[1:], axis=0).max())
+    # half a metre of margin; a creature under 25 cm gets 0.6 of its extent, as the shipped
+    # ones (0.8 m) have about (a 5 cm hopper was a speck in a 2.5 m view)
+    size = extent + (0.5 if extent >= 0.25 else 0.6 * extent)
     camera.distance = 4.5 * size
     camera.azimuth = 90.0 if model.planar else 120.0
     camera.elevation = -8.0 if model.planar else -20.0

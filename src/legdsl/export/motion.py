@@ -25,6 +25,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from legdsl.export.stances import stance_note
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -69,6 +70,7 @@ class Motion:
     weight: float  # N: total mass times gravity, to scale force arrows
     status: str = "ok"
     message: str = ""
+    note: str = ""  # said when the frame rate misses the stances (stances.py)
     # each body's joint: its origin in the parent frame, and whether it has a slide
     joint_origins: np.ndarray | None = None  # (B, 3)
     joint_slides: tuple[bool, ...] = ()
@@ -218,6 +220,7 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
+    motion.note = stance_note(run.model, run.trajectory, fps)
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec
@@ -460,11 +463,15 @@ def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> fl
     return h
 
 
-def ground_area(motion: Motion, margin: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``."""
+def ground_area(motion: Motion, margin: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``
+    (a metre, or ten times a creature smaller than 10 cm: a mite's 4 mm run had a 2 m floor)."""
     points = np.concatenate(
         [motion.positions.reshape(-1, 3), motion.contact_positions.reshape(-1, 3)]
     )
+    if margin is None:
+        first = np.concatenate([motion.positions[0], motion.contact_positions[0]])
+        margin = min(1.0, 10.0 * float(np.ptp(first, axis=0).max())) if len(first) else 1.0
     return points[:, :2].min(axis=0) - margin, points[:, :2].max(axis=0) + margin
 
 

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.export.motion import Motion, Snapshot, terrain_height
-from legdsl.export.player import camera_hints
+from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
 
 SKY = "#eef0f3"
@@ -138,7 +138,7 @@ class SideView(View):
         top = self._profile(x0 - 1, x1 + 1)
         bottom = z0 - 1
         self.ground.set_xy(np.vstack([top, [(x1 + 1, bottom), (x0 - 1, bottom)]]))
-        step = 0.25 if self.size < 1.5 else 1.0
+        step = grid_step(self.size)
         marks = np.arange(math.floor(x0 / step) * step, x1 + step, step)
         depth = 0.02 * self.height
         self.ticks.set_segments(
@@ -213,7 +213,7 @@ class _Camera:
         self.azimuth, self.elevation, self.distance = azimuth, elevation, distance
         self.focal = (height / 2) / math.tan(math.radians(FIELD_OF_VIEW / 2))
         self.cx, self.cy = width / 2, height / 2
-        self.near = 0.05
+        self.near = min(0.05, distance / 20)  # 5 cm would cut a mite, seen from 2 mm
 
     def aim(self, target: np.ndarray) -> None:
         c = math.cos(self.elevation)
@@ -334,7 +334,7 @@ class PerspectiveView(View):
             )
         ]
         self.ground.set_verts(self._flat(ground))
-        step = 0.25 if self.size < 1.5 else 1.0
+        step = grid_step(self.size)
         span = 2.0 * self.distance
         lines = []
         for k in (

@@ -58,10 +58,26 @@ def world_vertices(motion: Motion, frame: int = 0) -> np.ndarray:
     return np.concatenate(points)
 
 
+SMALLEST_SIZE = 1e-5  # m: a creature's size is never taken as less (a mesh of one point)
+
+
+def grid_step(size: float) -> float:
+    """The ground grid's spacing: 0.25 m for creatures from 15 cm to 1.5 m, 1 m up to 15 m,
+    else the power of ten at or below the size (a 7 cm pogo's 1 cm, a 0.7 mm mite's 0.1 mm,
+    a 24 m giant's 10 m), so a few cells always span the creature."""
+    if 0.15 <= size < 1.5:
+        return 0.25
+    if 1.5 <= size < 15.0:
+        return 1.0
+    return float(10.0 ** math.floor(math.log10(size)))
+
+
 def camera_hints(motion: Motion) -> dict[str, float]:
     """The creature's size, and a camera distance and look-at height that frame it."""
     points = world_vertices(motion)
-    size = float(max(np.ptp(points, axis=0).max(), 0.05))
+    # a 5 cm floor, now only for creatures under 15 cm, framed a 0.7 mm mite as a speck
+    extent = float(np.ptp(points, axis=0).max())
+    size = max(extent, SMALLEST_SIZE) if extent < 0.15 else max(extent, 0.05)
     return {
         "size": size,
         "distance": 0.9 * size / math.tan(math.radians(FIELD_OF_VIEW / 2)),
@@ -117,7 +133,7 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
         "ground": {
             "terrain": [{"kind": t.kind, **dict(t.params)} for t in motion.terrain],
             "extent": ground_extent(motion, hints["size"]),
-            "grid": 0.25 if hints["size"] < 1.5 else 1.0,
+            "grid": grid_step(hints["size"]),
         },
         "paths": [
             {

@@ -126,7 +126,8 @@ renderer.domElement.addEventListener("webglcontextrestored", () => {
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef0f3);
 scene.fog = new THREE.Fog(0xeef0f3, 1.5 * data.distance, 4.5 * data.distance);
-const camera = new THREE.PerspectiveCamera(35, 1, 0.05, 500);
+// near and far follow the creature's size: 5 cm would cut a 0.7 mm mite, 500 m hide a giant's ground
+const camera = new THREE.PerspectiveCamera(35, 1, Math.min(0.05, data.distance / 20), Math.max(500, 50 * data.distance));
 camera.up.set(0, 0, 1);
 
 scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8a80, 1.9));
@@ -136,7 +137,7 @@ sun.shadow.mapSize.set(1024, 1024);
 sun.shadow.bias = -0.0005; // no shadow acne on flat faces lit at a grazing angle
 sun.shadow.normalBias = 0.01 * data.size;
 const shadowBox = 1.5 * data.size;
-Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: 0.1, far: 20 * data.size + 10 });
+Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: Math.min(0.1, data.size), far: 20 * data.size + 10 });
 scene.add(sun, sun.target);
 
 // Ground and terrain. The ground's grid is a texture rather than lines: it is
@@ -318,6 +319,8 @@ const defaults = data.planar
   ? { azimuth: -Math.PI / 2, elevation: 0.08, distance: data.distance }
   : { azimuth: -Math.PI / 3, elevation: 0.33, distance: data.distance };
 const orbit = { ...defaults };
+// the wheel zooms from 0.2 m to 100 m, or further for a creature that small or that large
+const zoomRange = [Math.min(0.2, data.distance / 4), Math.max(100, 4 * data.distance)];
 const target = new THREE.Vector3();
 
 function placeCamera() {
@@ -346,7 +349,7 @@ renderer.domElement.addEventListener("pointermove", (e) => {
 renderer.domElement.addEventListener("pointerup", () => { drag = null; });
 renderer.domElement.addEventListener("wheel", (e) => {
   e.preventDefault();
-  orbit.distance = Math.min(100, Math.max(0.2, orbit.distance * Math.exp(e.deltaY * 0.001)));
+  orbit.distance = Math.min(zoomRange[1], Math.max(zoomRange[0], orbit.distance * Math.exp(e.deltaY * 0.001)));
   requestRender();
 }, { passive: false });
 renderer.domElement.addEventListener("dblclick", () => { Object.assign(orbit, defaults); requestRender(); });

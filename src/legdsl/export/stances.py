@@ -1,0 +1,82 @@
+"""How many keyframes the run's stances get at a frame rate.
+
+The exports resample a run at a fixed rate (60 per second unless ``--fps`` says otherwise),
+whatever the creature's size. A small creature's stances are short (a 0.7 mm mite's last
+5 ms, a 5 cm hopper's 49 ms) and would get no keyframe or a few: the motion is there, but
+the foot's time on the ground is missed. The exports then print a note naming the rate
+that gives the stances a few keyframes; the files themselves are as asked for.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from legdsl.ir.model import Model
+from legdsl.sim.trajectory import Trajectory
+
+FRAMES_PER_STANCE = 4  # enough to see the foot land, load, unload and lift off
+
+
+def stances(tr: Trajectory, column: int) -> list[float]:
+    """Durations (s) of one contact's whole stances: touchdown to liftoff, both recorded."""
+    on = np.asarray(tr.contact)[:, column] > 0.5
+    change = np.flatnonzero(np.diff(on.astype(int))) + 1
+    downs = [int(i) for i in change if on[i]]
+    ups = [int(i) for i in change if not on[i]]
+    durations = []
+    for down in downs:
+        up = next((u for u in ups if u > down), None)
+        if up is not None:
+            durations.append(float(tr.t[up] - tr.t[down]))
+    return durations
+
+
+def typical_stance(model: Model, tr: Trajectory) -> tuple[str, float] | None:
+    """The foot with the shortest median stance and that median (s), or None without a whole
+    stance. The legs' feet are looked at (all contacts if no leg is declared); the median,
+    because a foot that brushes the ground for one sample (a tail, a trotting toe's first
+    touch) is no stance to draw."""
+    names = [c.name for c in model.contacts]
+    feet = [leg.foot for leg in model.legs if leg.foot in names] or names
+    if len(tr) < 3 or not tr.contact.size:
+        return None
+    medians = []
+    for foot in dict.fromkeys(feet):
+        column = names.index(foot)
+        durations = stances(tr, column) if column < tr.contact.shape[1] else []
+        if durations:
+            medians.append((float(np.median(durations)), foot))
+    if not medians:
+        return None
+    duration, foot = min(medians)
+    return foot, duration
+
+
+def stance_note(model: Model, tr: Trajectory, fps: float) -> str:
+    """A note when ``fps`` gives a typical stance fewer than FRAMES_PER_STANCE keyframes (naming
+    the rate that gives it that many), or ''."""
+    stance = typical_stance(model, tr)
+    span = float(tr.t[-1] - tr.t[0]) if len(tr) > 1 else 0.0
+    if stance is None or stance[1] <= 0 or span <= 0:
+        return ""
+    foot, duration = stance
+    recorded = (len(tr) - 1) / span
+    used = min(fps, recorded)
+    if duration * used >= FRAMES_PER_STANCE:
+        return ""
+    needed = FRAMES_PER_STANCE / duration
+    step = 10.0 ** (math.floor(math.log10(needed)) - 1)  # rounded up to two digits
+    rate = float(f"{math.ceil(needed / step - 1e-9) * step:.2g}")
+    if rate >= recorded:
+        advice = (
+            f"the run's {recorded:.4g} samples per second give it the most (--fps {recorded:.4g}); "
+            "record it faster for more (legdsl run --record-rate)"
+        )
+    else:
+        advice = f"--fps {rate:g} gives it {FRAMES_PER_STANCE}"
+    return (
+        f"legdsl: note: {foot}'s stances ({duration * 1e3:.3g} ms, the median) span "
+        f"{duration * used:.2g} keyframes at {used:.4g} per second; {advice}"
+    )
