@@ -53,7 +53,7 @@ _SUFFIX_MAX = 16  # a longer "suffix" is no format's extension: the temporary na
 REFUSED_WRITES = {
     errno.ENOSPC: "the disk is full: free some space on it",
     errno.EDQUOT: "your disk quota is used up: remove some of your files on that disk",
-    errno.EFBIG: "the file is larger than that file system allows",
+    errno.EFBIG: "the file is larger than the file-size limit (ulimit -f) or that file system allows",
     errno.EIO: "the disk reported an input/output error: check the disk",
 }
 

@@ -20,7 +20,6 @@ from legdsl import __version__
 from legdsl.cli.common import (
     EXIT_INTERNAL,
     EXIT_INTERRUPTED,
-    EXIT_TERMINATED,
     EXIT_USER_ERROR,
     Command,
     file_read_as_option,
@@ -29,7 +28,16 @@ from legdsl.cli.common import (
     read_window,
 )
 from legdsl.cli.outputs import cmd_export, cmd_plot
-from legdsl.cli.process import TERM_UNWINDS, QuietWhenClosed, sigterm_unwinds
+from legdsl.cli.process import (
+    OUT_OF_MEMORY,
+    TERM_UNWINDS,
+    QuietWhenClosed,
+    cannot_import,
+    current_directory_exists,
+    exit_status,
+    sigterm_unwinds,
+    streams_that_cannot_fail,
+)
 from legdsl.cli.run import add_run_parser
 from legdsl.lang.errors import LegError, UsageError
 
@@ -377,16 +385,30 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    streams_that_cannot_fail()
+    if not current_directory_exists():
+        print(
+            "legdsl: the current directory was deleted while you were in it: "
+            "cd to one that exists and run again",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
     stdout = sys.stdout
     if stdout is None:  # started with standard output closed: print() writes nothing
         return _main(argv)
     quiet = QuietWhenClosed(stdout)
     sys.stdout = cast(TextIO, quiet)
     try:
-        return _main(argv)
+        try:
+            status = _main(argv)
+        finally:  # --help's SystemExit too
+            quiet.flush()  # here, not at exit, where a reader gone is exit status 120
+    except OSError as e:  # standard output refused what was left of it (> /dev/full)
+        print(f"legdsl: {os_refusal(e)}", file=sys.stderr)
+        return EXIT_USER_ERROR
     finally:
-        quiet.flush()  # here, not at exit, where a reader gone is exit status 120
         sys.stdout = stdout
+    return status
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -402,6 +424,12 @@ def _main(argv: Sequence[str] | None) -> int:
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except MemoryError:  # a memory limit (ulimit -v) too low to load numpy and the compiler
+        print(f"legdsl: {OUT_OF_MEMORY}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except ImportError as e:  # a Python without legdsl's dependencies, or too little memory
+        print(f"legdsl: {cannot_import(e)}", file=sys.stderr)
+        return EXIT_USER_ERROR
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first
             from legdsl.pipeline.options import check_output_file, not_an_input
@@ -424,9 +452,14 @@ def _main(argv: Sequence[str] | None) -> int:
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except Interrupted:
-        print("legdsl: terminated (SIGTERM)", file=sys.stderr)
-        return EXIT_TERMINATED
+    except Interrupted as e:
+        print(f"legdsl: terminated ({e.signal})", file=sys.stderr)
+        return exit_status(e.signal)
+    except MemoryError:
+        if args.debug:
+            traceback.print_exc()
+        print(f"legdsl: {OUT_OF_MEMORY}", file=sys.stderr)
+        return EXIT_USER_ERROR
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
             traceback.print_exc()

@@ -4,6 +4,7 @@ the argv mistakes argparse would misread."""
 from __future__ import annotations
 
 import argparse
+import errno
 import re
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -79,6 +80,12 @@ def os_refusal(e: OSError) -> str:
     what to free; anything else is a path or a permission."""
     from legdsl.files import REFUSED_WRITES, refused
 
+    if e.errno in (errno.EMFILE, errno.ENFILE):  # ulimit -n, not a path: the path is fine
+        return f"{e.strerror}: raise the limit of open files (ulimit -n) and run again"
+    if e.errno == errno.ENOMEM:
+        from legdsl.cli.process import OUT_OF_MEMORY
+
+        return OUT_OF_MEMORY
     if e.errno in REFUSED_WRITES:
         where = f"cannot write {e.filename}: " if e.filename else ""
         return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"

@@ -4,10 +4,49 @@ leaves early, and SIGTERM while it writes an output through a temporary file."""
 from __future__ import annotations
 
 import contextlib
+import io
 import os
 import signal
+import sys
 from collections.abc import Iterator
 from typing import Any, TextIO
+
+OUT_OF_MEMORY = (
+    "out of memory: raise the memory limit (ulimit -v) or ask for less "
+    "(a shorter --time, a lower --record-rate)"
+)
+
+
+def streams_that_cannot_fail() -> None:
+    """Standard error closed (``2>&-``): messages go nowhere, where print() would send them to
+    standard output (into an export written there). An encoding without é or °
+    (PYTHONIOENCODING=ascii): those characters written as escapes, not an error after the work."""
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - for the life of the process
+    for stream in (sys.stdout, sys.stderr):
+        if isinstance(stream, io.TextIOWrapper) and stream.errors == "strict":
+            stream.reconfigure(errors="backslashreplace")
+
+
+def cannot_import(e: ImportError) -> str:
+    """What to do when a library legdsl needs cannot be loaded: usually another Python than the
+    one legdsl was installed in; under ``ulimit -v``, too little memory to map it."""
+    said = str(e).strip().splitlines()[-1] if str(e).strip() else type(e).__name__
+    return (
+        f"cannot load {e.name or 'a library legdsl needs'} ({said}): install legdsl's "
+        "dependencies in this Python (pip install legdsl), or raise the memory limit "
+        "(ulimit -v) if one is set"
+    )
+
+
+def current_directory_exists() -> bool:
+    """False in a directory removed under the shell (``cd d; rm -rf ../d``), where every
+    relative path would fail later as a file "not found" in '.'."""
+    try:
+        os.getcwd()
+    except FileNotFoundError:
+        return False
+    return True
 
 
 class QuietWhenClosed:
@@ -25,6 +64,8 @@ class QuietWhenClosed:
                 return self._stream.write(text)
             except BrokenPipeError:
                 self._left()
+            except OSError as e:  # > /dev/full, a full disk: say which file it was
+                raise OSError(e.errno, e.strerror, "standard output") from None
         return len(text)
 
     def flush(self) -> None:
@@ -33,6 +74,8 @@ class QuietWhenClosed:
                 self._stream.flush()
             except BrokenPipeError:
                 self._left()
+            except OSError as e:
+                raise OSError(e.errno, e.strerror, "standard output") from None
 
     def _left(self) -> None:
         self.reader_left = True
@@ -53,19 +96,49 @@ class QuietWhenClosed:
 TERM_UNWINDS = ("animate", "export-motion", "replay", "plot", "sweep", "tune")
 
 
+# Signals that end a command as SIGTERM does, where Python's default would kill it on the
+# spot with nothing written: a closed terminal (SIGHUP), Ctrl-\\ (SIGQUIT) and the CPU-time
+# limit of ``ulimit -t`` (SIGXCPU, sent at the soft limit, before the hard one's SIGKILL).
+ENDING_SIGNALS = tuple(
+    getattr(signal, name)
+    for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
+    if hasattr(signal, name)
+)
+
+
+def exit_status(cause: str) -> int:
+    """128 plus the number of the signal named ``cause``, as shells report a signal's death;
+    130 (Ctrl-C) for any other cause."""
+    try:
+        return 128 + signal.Signals[cause].value
+    except KeyError:
+        return 130
+
+
+@contextlib.contextmanager
+def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
+    """``handler`` for each of ``signals`` meanwhile, but for one ignored when the process
+    started (``nohup``, a background job's SIGQUIT): that one stays ignored."""
+    previous: dict[int, Any] = {}
+    try:
+        for sig in signals:
+            if signal.getsignal(sig) is not signal.SIG_IGN or sig == signal.SIGINT:
+                previous[sig] = signal.signal(sig, handler)
+    except ValueError:  # not the main thread (main() called from a thread): leave them be
+        pass
+    try:
+        yield
+    finally:
+        for sig, before in previous.items():
+            signal.signal(sig, before)
+
+
 @contextlib.contextmanager
 def sigterm_unwinds() -> Iterator[None]:
     from legdsl.sim.run_loop import Interrupted
 
     def unwind(signum: int, frame: Any) -> None:
-        raise Interrupted("SIGTERM")
+        raise Interrupted(signal.Signals(signum).name)
 
-    try:
-        previous = signal.signal(signal.SIGTERM, unwind)
-    except ValueError:  # not the main thread (main() called from a thread): leave it be
+    with handled(ENDING_SIGNALS, unwind):
         yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)

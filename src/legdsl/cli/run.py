@@ -1,6 +1,6 @@
 """``legdsl run``: its options (numbers with units), and a run that ends well whatever happens.
 
-SIGTERM ends a run as Ctrl-C does, and a second Ctrl-C waits until the run directory is
+SIGTERM (and SIGHUP, SIGQUIT, SIGXCPU) ends a run as Ctrl-C does, and a second Ctrl-C waits until the run directory is
 whole: what was recorded is always written.
 """
 
@@ -23,6 +23,7 @@ from legdsl.cli.common import (
     Command,
     numeric,
 )
+from legdsl.cli.process import ENDING_SIGNALS, exit_status, handled
 from legdsl.lang.errors import UsageError
 
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
@@ -36,7 +37,7 @@ _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
 
 
 class _Interrupts:
-    """SIGINT and SIGTERM for the length of a run: the first one while simulating ends the
+    """SIGINT and the ending signals (SIGTERM, SIGHUP...) for the length of a run: the first one while simulating ends the
     simulation (the run loop turns Ctrl-C's ``KeyboardInterrupt`` and SIGTERM's
     ``Interrupted`` into the status ``interrupted``); any other, until the run directory is
     whole, is noted and not obeyed. One handler from start to end, so that a second Ctrl-C
@@ -55,7 +56,7 @@ class _Interrupts:
             self.stopped = True
             if signum == signal.SIGINT:
                 raise KeyboardInterrupt
-            raise Interrupted("SIGTERM")
+            raise Interrupted(signal.Signals(signum).name)
         self.late.append(signal.Signals(signum).name)
         print(
             f"legdsl: finishing {self.out}/ first; it takes a moment", file=sys.stderr, flush=True
@@ -63,12 +64,8 @@ class _Interrupts:
 
     @contextlib.contextmanager
     def installed(self) -> Iterator[_Interrupts]:
-        previous = {sig: signal.signal(sig, self) for sig in (signal.SIGINT, signal.SIGTERM)}
-        try:
+        with handled((signal.SIGINT, *ENDING_SIGNALS), self):
             yield self
-        finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -160,7 +157,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if result.status == "interrupted" or interrupts.late:
         print(f"legdsl: {result.message or 'interrupted'}; {out}/ is complete", file=sys.stderr)
         first = result.cause if result.status == "interrupted" else interrupts.late[0]
-        return EXIT_TERMINATED if "SIGTERM" in first else EXIT_INTERRUPTED
+        return exit_status(first)
     if result.status == "diverged":
         print(f"legdsl: {result.message}", file=sys.stderr)
         return EXIT_DIVERGED
@@ -181,7 +178,8 @@ def add_run_parser(sub: Any) -> Command:
         "with its actuators and ground contact, and write trajectory.npz, trajectory.csv and run.json "
         "into the output directory. Exit status: 0 ok, 2 a mistake in the input, "
         f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell, "
-        f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM); the run "
+        f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM, 128 + the "
+        "signal's number by SIGHUP, SIGQUIT or SIGXCPU); the run "
         "directory is written in every case, with what was recorded.",
         epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
     )

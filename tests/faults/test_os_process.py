@@ -1,0 +1,159 @@
+"""The process and its surroundings: signals other than Ctrl-C and SIGTERM (a closed terminal,
+the CPU-time limit), resource limits (``ulimit -n``, ``-f``, ``-v``), and odd standard
+streams. Each is really done to a ``legdsl`` in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = str(ROOT / "creatures" / "hopper.leg")
+ENV = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+
+
+def _long_run(generated: Path, out: Path) -> list[str]:
+    return [sys.executable, "-m", "legdsl", "run", HOPPER, "--controller", "hop",
+            "--time", "1e9", "--record-rate", "10Hz", "--backend", "python",
+            "--generated", str(generated), "--out", str(out)]  # fmt: skip
+
+
+def _limited(kind: int, soft: int) -> Callable[[], None]:
+    def limit() -> None:
+        hard = resource.getrlimit(kind)[1]
+        resource.setrlimit(kind, (soft, hard))
+
+    return limit
+
+
+def _ended_by(out: Path, cause: str) -> None:
+    run = json.loads((out / "run.json").read_text())
+    assert run["status"] == "interrupted" and run["cause"] == cause, run
+    assert (out / "trajectory.npz").is_file() and (out / "trajectory.csv").is_file()
+
+
+@pytest.mark.parametrize("sig", [signal.SIGHUP, signal.SIGQUIT])
+def test_a_closed_terminal_ends_a_run_with_what_it_recorded(
+    sig: signal.Signals, generated: Path, tmp_path: Path
+) -> None:
+    """SIGHUP (the terminal closed) or SIGQUIT (Ctrl-\\) killed the run on the spot: no run
+    directory at all."""
+    out = tmp_path / "run"
+    proc = subprocess.Popen(_long_run(generated, out), env=ENV, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)  # fmt: skip
+    deadline = time.monotonic() + 60
+    while proc.poll() is None and time.monotonic() < deadline:  # simulating after 1.5 s of CPU
+        time.sleep(0.1)
+        stat = Path(f"/proc/{proc.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        if int(stat[11]) / os.sysconf("SC_CLK_TCK") > 1.5:
+            break
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err and sig.name in err, err
+    _ended_by(out, sig.name)
+
+
+def test_a_run_ignoring_sighup_under_nohup_keeps_ignoring_it(
+    generated: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    argv = _long_run(generated, out)
+    argv[argv.index("1e9")] = "8"
+    proc = subprocess.Popen(argv, env=ENV, text=True, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE,
+                            preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))  # fmt: skip
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGHUP)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    assert json.loads((out / "run.json").read_text())["status"] == "ok"
+
+
+def test_the_cpu_time_limit_ends_a_run_with_what_it_recorded(
+    generated: Path, tmp_path: Path
+) -> None:
+    """``ulimit -S -t 2``: SIGXCPU killed the run ("CPU time limit exceeded"), nothing written."""
+    out = tmp_path / "run"
+    proc = subprocess.run(_long_run(generated, out), env=ENV, capture_output=True, text=True,
+                          timeout=60, preexec_fn=_limited(resource.RLIMIT_CPU, 2))  # fmt: skip
+    assert proc.returncode == 128 + signal.SIGXCPU, proc.stderr
+    assert "Traceback" not in proc.stderr and "SIGXCPU" in proc.stderr
+    _ended_by(out, "SIGXCPU")
+
+
+def _legdsl(*args: str, cwd: Path, env: dict[str, str] | None = None,
+            **kw: object) -> subprocess.CompletedProcess[str]:  # fmt: skip
+    if "stdout" not in kw and "stderr" not in kw:
+        kw["capture_output"] = True
+    return subprocess.run([sys.executable, "-m", "legdsl", *args], cwd=cwd, env=env or ENV,
+                          text=True, timeout=60, **kw)  # type: ignore[call-overload]  # fmt: skip
+
+
+def test_an_ascii_terminal_gets_escapes_not_an_internal_error(
+    generated: Path, tmp_path: Path
+) -> None:
+    """PYTHONIOENCODING=ascii and an output folder named 'é日本': exit 70 after the run was
+    written (UnicodeEncodeError printing its name)."""
+    (tmp_path / "é日本").mkdir()
+    env = dict(ENV, PYTHONIOENCODING="ascii")
+    proc = _legdsl("run", HOPPER, "--time", "0.1", "--generated", str(generated),
+                   "--out", "é日本/r", cwd=tmp_path, env=env)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "\\xe9\\u65e5\\u672c/r/" in proc.stdout
+    proc = _legdsl("plot", "é日本/r", "-o", "é日本/p.png", cwd=tmp_path, env=env)
+    assert proc.returncode == 0 and (tmp_path / "é日本" / "p.png").is_file(), proc.stderr
+
+
+def test_with_standard_error_closed_messages_stay_off_standard_output(tmp_path: Path) -> None:
+    """``2>&-``: print(file=sys.stderr) printed the error into standard output."""
+    proc = _legdsl("check", "missing.leg", cwd=tmp_path, stdout=subprocess.PIPE,
+                   preexec_fn=lambda: os.close(2))  # fmt: skip
+    assert proc.returncode == 2 and proc.stdout == "", proc.stdout
+
+
+def test_a_full_standard_output_is_named_as_such(tmp_path: Path) -> None:
+    """``legdsl show hopper.leg > /dev/full``: "No space left on device", of no file named."""
+    with open("/dev/full", "w") as full:
+        proc = _legdsl("show", HOPPER, cwd=tmp_path, stdout=full, stderr=subprocess.PIPE)  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.startswith("legdsl: cannot write standard output: No space left")
+    assert "Traceback" not in proc.stderr
+
+
+def test_too_few_file_descriptors_say_which_limit(tmp_path: Path) -> None:
+    """``ulimit -n 10``: "Too many open files; check the path and its permissions"."""
+    proc = _legdsl("compile", HOPPER, "--out", str(tmp_path / "g"), cwd=tmp_path,
+                   preexec_fn=_limited(resource.RLIMIT_NOFILE, 10))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.splitlines()[-1] == (
+        "legdsl: Too many open files: raise the limit of open files (ulimit -n) and run again"
+    )
+
+
+def test_the_file_size_limit_is_named(tmp_path: Path) -> None:
+    """``ulimit -f 1``: a message of the file system only; no half-written export either."""
+    proc = _legdsl("export", HOPPER, "--format", "mjcf", "-o", "x.xml", cwd=tmp_path,
+                   preexec_fn=_limited(resource.RLIMIT_FSIZE, 1024))  # fmt: skip
+    assert proc.returncode == 2 and "(ulimit -f)" in proc.stderr, proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("limit_mb", [160, 180])
+def test_too_little_memory_is_one_line(tmp_path: Path, limit_mb: int) -> None:
+    """``ulimit -v 163840``: a MemoryError traceback of numpy's import. (Much less memory and
+    numpy's own library aborts the process as it loads, out of reach of Python.)"""
+    proc = _legdsl("show", HOPPER, cwd=tmp_path,
+                   preexec_fn=_limited(resource.RLIMIT_AS, limit_mb * 2**20))  # fmt: skip
+    assert "Traceback" not in proc.stderr and proc.returncode in (0, 2), proc.stderr
+    if proc.returncode == 2:
+        assert "out of memory" in proc.stderr and "ulimit -v" in proc.stderr
