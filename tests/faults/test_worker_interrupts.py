@@ -47,9 +47,10 @@ def _stop(proc: subprocess.Popen[str], sig: int, whole_group: bool) -> str:
 
 @pytest.mark.parametrize(
     ("sig", "whole_group", "code", "ended"),
-    [(signal.SIGINT, True, 130, "interrupted"), (signal.SIGTERM, False, 143, "terminated")],
-    ids=["ctrl-c", "sigterm"],
-)
+    [(signal.SIGINT, True, 130, "interrupted"), (signal.SIGTERM, False, 143, "terminated"),
+     (signal.SIGHUP, False, 129, "terminated")],
+    ids=["ctrl-c", "sigterm", "sighup"],
+)  # fmt: skip
 def test_a_stopped_tune_writes_the_best_so_far(
     generated: Path, tmp_path: Path, sig: int, whole_group: bool, code: int, ended: str
 ) -> None:
@@ -67,6 +68,11 @@ def test_a_stopped_tune_writes_the_best_so_far(
     assert "Traceback" not in output and "internal error" not in output, output
     result = json.loads((out / "tune.json").read_text())
     assert result["ended"] == ended
+    if sig != signal.SIGINT:  # a closed terminal was told as a SIGTERM
+        assert (
+            f"terminated ({signal.Signals(sig).name})" in output
+            and result["signal"] == signal.Signals(sig).name
+        )
     assert 2 <= len(result["history"]) < 1000
     assert result["best"]["objective"] <= result["start"]["objective"]
     assert f"the best of {len(result['history'])} generations so far" in output

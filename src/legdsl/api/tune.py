@@ -170,7 +170,7 @@ def tune(
             record(before["xs"], before["scores"], before["best_runs"])
     start = {b.name: b.start for b in bounds}
     begun: tuple[float, list[Any]] | None = None  # the file's own values: objective, runs
-    ended = "finished"
+    ended, signal_name = "finished", None
     tune_began = time.perf_counter()  # the elapsed time told counts the start's runs too
     try:
         with Workers(workers, dask) as pool:
@@ -209,7 +209,7 @@ def tune(
     except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
         if begun is None:  # not even the file's own values measured: nothing to keep
             raise
-        ended = STOPPED_BY[type(stop)]
+        ended, signal_name = STOPPED_BY[type(stop)], getattr(stop, "signal", None)
         say(f"{ended} in generation {len(history) + 1} of {generations}: the best so far is kept")
     start_score, start_rows = begun
     if best is None or start_score <= best[0]:  # nothing found beats the file's own values
@@ -219,6 +219,7 @@ def tune(
         "best": {"values": best[1], "objective": best[0], "runs": best[2]},
         "history": history,
         "ended": ended,
+        **({"signal": signal_name} if signal_name else {}),  # the one that terminated it
     }
 
 

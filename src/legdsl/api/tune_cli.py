@@ -144,7 +144,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if result["ended"] == "interrupted":
         raise KeyboardInterrupt  # the command's status, now that its results are written
     if result["ended"] == "terminated":
-        raise Interrupted("SIGTERM")
+        raise Interrupted(result.get("signal", "SIGTERM"))
     return 0
 
 

@@ -8,6 +8,7 @@ readable reference the C is checked against, bit for bit.
 
 from __future__ import annotations
 
+import errno
 import numbers
 import os
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -102,12 +103,25 @@ def make_simulation(
                 raise _build_failed(model, where, folder, name, e) from None
             return python_instead(
                 f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})",
-                "free space there, set LEGDSL_CACHE to another directory, ",
+                _cache_fix(e),
             )
         if log is not None and not library.built.cached:
             print(f"legdsl: built {library.built.path} in {library.built.seconds:.2f} s", file=log)
         libraries[name] = library
     return CSimulation(model, dynamics, options, controller, libraries)
+
+
+def _cache_fix(e: OSError) -> str:
+    """What to do about a cache the C library cannot be built or loaded in."""
+    if e.errno in (errno.ENOSPC, errno.EDQUOT):
+        return "free space there, set LEGDSL_CACHE to another directory, "
+    folder = cache_dir()
+    in_way = next((p for p in (folder, *folder.parents) if p.exists() and not p.is_dir()), None)
+    if in_way is not None:  # a file where a directory should be
+        return f"move {in_way} (a file, not a directory) away, set LEGDSL_CACHE to a directory, "
+    if e.errno in (errno.EMFILE, errno.ENFILE):
+        return "raise the limit of open files (ulimit -n), "
+    return "set LEGDSL_CACHE to a directory you can write and run programs from, "
 
 
 def _build_failed(
