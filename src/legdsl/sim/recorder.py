@@ -45,12 +45,34 @@ def sample_bytes(model: Model) -> int:
 
 
 def recording_budget() -> int | None:
-    """The most memory a run's recording may take: half the machine's (None where the system
-    does not say). Past it the system would kill the run, with nothing written."""
+    """The most memory a run's recording may take: half the machine's, and under a limit of
+    the process's address space (``ulimit -v``) half of what is left of it (None where the
+    system says neither). Past it the system would kill the run, or Python fail to grow the
+    recording, with nothing written."""
     try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
+        budget: int | None = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
     except (AttributeError, ValueError, OSError):
+        budget = None
+    left = _address_space_left()
+    if left is not None:
+        budget = left // 2 if budget is None else min(budget, left // 2)
+    return budget
+
+
+def _address_space_left() -> int | None:
+    """Bytes of address space the process may still take under ``ulimit -v`` (None: no
+    limit, or a system that does not say how much it has taken)."""
+    try:
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if limit == resource.RLIM_INFINITY:
+            return None
+        with open("/proc/self/statm", encoding="ascii") as statm:  # its first field: pages
+            taken = int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (ImportError, OSError, ValueError, IndexError):
         return None
+    return max(0, limit - taken)
 
 
 def record_row(sim: Any, traj: Trajectory, row: int) -> None:

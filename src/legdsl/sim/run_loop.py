@@ -92,16 +92,20 @@ INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
 
 def grow_recording(loop: RunLoop) -> None:
     """Double the recording (to the run's samples at most), unless it would take more than
-    ``recording_budget``: then the run stops, keeping what it recorded, where the system would
-    have killed it later with nothing written (``--time 1e9`` runs until stopped)."""
+    ``recording_budget`` or the system refuses the memory: then the run stops, keeping what it
+    recorded, where the system would have killed it later with nothing written (``--time
+    1e9`` runs until stopped)."""
     rows = min(loop.capacity, 2 * len(loop.traj))
     budget = recording_budget()
+    size = f"{budget / 2**30:.3g} GiB; " if budget is not None else ""
+    full = f"its recording filling half of the memory the run may take ({size}a lower "
+    full += "--record-rate runs longer)"
     if budget is not None and rows * loop.traj.row_bytes() > budget:
-        raise Interrupted(
-            f"its recording filling half of this machine's memory ({budget / 2**30:.1f} GiB; "
-            "a lower --record-rate runs longer)"
-        )
-    loop.traj = loop.traj.grown(rows)
+        raise Interrupted(full)
+    try:
+        loop.traj = loop.traj.grown(rows)
+    except MemoryError:  # the system refused even that: what was recorded is kept
+        raise Interrupted(full) from None
 
 
 @dataclass

@@ -18,13 +18,14 @@ import csv
 import io
 import json
 import math
+import os
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 import numpy as np
 
-from legdsl.files import write_atomic
+from legdsl.files import atomic_path, write_atomic
 from legdsl.lang.errors import UsageError
 
 ARRAYS = (
@@ -117,7 +118,13 @@ class Trajectory:
         }
         arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
         write_atomic(directory / "trajectory.npz", _npz_bytes(arrays))
-        write_atomic(directory / "trajectory.csv", self.csv_text().encode())
+        with (
+            atomic_path(directory / "trajectory.csv") as tmp,
+            open(tmp, "w", encoding="utf-8", newline="") as f,
+        ):
+            self.write_csv(f)  # a row at a time: the whole text of a long run may not fit
+            f.flush()
+            os.fsync(f.fileno())
 
     @classmethod
     def load(cls, directory: Path) -> Trajectory:
@@ -240,8 +247,8 @@ class Trajectory:
         """The controller state's name ('' before the controller or without one)."""
         return self.state_names[index] if 0 <= index < len(self.state_names) else ""
 
-    def csv_text(self) -> str:
-        """One row per sample; column names carry their units."""
+    def write_csv(self, out: TextIO) -> None:
+        """One row per sample into ``out``; column names carry their units."""
         cols: list[tuple[str, np.ndarray]] = [("t [s]", self.t)]
         for i, name in enumerate(self.q_names):
             cols.append((f"q.{name}", self.q[:, i]))
@@ -270,12 +277,10 @@ class Trajectory:
         for i, name in enumerate(self.actuator_names):  # last: the columns before keep their place
             cols.append((f"{name}.work_positive [J]", self.work_positive[:, i]))
             cols.append((f"{name}.work_negative [J]", self.work_negative[:, i]))
-        buf = io.StringIO()
-        writer = csv.writer(buf, lineterminator="\n")
+        writer = csv.writer(out, lineterminator="\n")
         writer.writerow([c[0] for c in cols])
         for row in range(len(self)):
             writer.writerow([_fmt(c[1][row]) for c in cols])
-        return buf.getvalue()
 
 
 def _refuse_incomplete(directory: Path, again: str) -> None:
