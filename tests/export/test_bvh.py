@@ -131,3 +131,29 @@ def test_cli_writes_bvh(tmp_path: Path) -> None:
     args = ["export-motion", str(run), "--format", "bvh", "-o", str(out)]
     assert main([*args, "--generated", str(generated_dir())]) == 0
     assert out.read_text().startswith("HIERARCHY\nROOT trunk")
+
+
+@pytest.mark.parametrize("fmt", ["bvh", "gltf"])
+def test_an_export_into_a_pipe_says_the_size_it_wrote(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fmt: str
+) -> None:
+    """``-o /dev/stdout | cat`` said "wrote /dev/stdout (0 B: ...)": the size of the pipe."""
+    import os
+    import threading
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
+    reader.start()
+    args = ["export-motion", str(run), "--format", fmt, "-o", str(pipe)]
+    code = main([*args, "--generated", str(generated_dir())])
+    if code != 0:  # unblock the reader before failing
+        with open(pipe, "wb"):
+            pass
+    reader.join(timeout=30)
+    assert code == 0
+    said = "".join(capsys.readouterr())
+    assert f"wrote {pipe} (" in said and f"wrote {pipe} (0 B" not in said, said
+    assert got and len(got[0]) > 1000

@@ -155,6 +155,7 @@ def bvh_text(motion: Motion) -> str:
 
 
 def write_bvh(motion: Motion, path: Path) -> int:
-    """Write ``path``; returns its size."""
-    write_atomic(path, bvh_text(motion))
-    return path.stat().st_size
+    """Write ``path``; returns its size (the bytes written: a pipe's size says nothing)."""
+    data = bvh_text(motion).encode("utf-8")
+    write_atomic(path, data)
+    return len(data)

@@ -320,8 +320,9 @@ def write_gltf(motion: Motion, path: Path, fmt: str = "glb", skin: bool = False)
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
     gltf = build_gltf(motion, skin)
     if fmt == "glb":
-        write_atomic(path, b"".join(gltf.save_to_bytes()))
+        data = b"".join(gltf.save_to_bytes())
     else:
         gltf.convert_buffers(_pygltflib().BufferFormat.DATAURI)
-        write_atomic(path, gltf.gltf_to_json())
-    return path.stat().st_size
+        data = gltf.gltf_to_json().encode("utf-8")
+    write_atomic(path, data)
+    return len(data)  # the bytes written: a pipe's size says nothing
