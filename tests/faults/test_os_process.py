@@ -140,6 +140,24 @@ def test_too_few_file_descriptors_say_which_limit(tmp_path: Path) -> None:
     )
 
 
+@pytest.mark.parametrize("files", [8, 10])
+def test_too_few_file_descriptors_for_the_c_compiler_say_which_limit(
+    generated: Path, tmp_path: Path, files: int
+) -> None:
+    """The C backend under ``ulimit -n 10``: "cannot run /usr/bin/cc (Too many open files)",
+    as if the compiler were at fault; under ``ulimit -n 8``: "no C compiler found"."""
+    env = dict(ENV, LEGDSL_CACHE=str(tmp_path / "cache"))
+    proc = _legdsl("run", HOPPER, "--controller", "hop", "--time", "0.05", "--backend", "c",
+                   "--generated", str(generated), "--out", str(tmp_path / "r"), cwd=tmp_path,
+                   env=env, preexec_fn=_limited(resource.RLIMIT_NOFILE, files))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert (
+        "Too many open files" in proc.stderr
+        and "raise the limit of open files (ulimit -n)" in proc.stderr
+    )
+    assert "no C compiler found" not in proc.stderr and "Traceback" not in proc.stderr
+
+
 def test_the_file_size_limit_is_named(tmp_path: Path) -> None:
     """``ulimit -f 1``: a message of the file system only; no half-written export either."""
     proc = _legdsl("export", HOPPER, "--format", "mjcf", "-o", "x.xml", cwd=tmp_path,

@@ -39,6 +39,7 @@ file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import os
 import shutil
@@ -135,7 +136,11 @@ def _compiler(wanted: str | None) -> Compiler | None:
             out = subprocess.run(
                 [path, "--version"], capture_output=True, text=True, timeout=30, check=True
             ).stdout
-        except (OSError, subprocess.SubprocessError):
+        except OSError as e:
+            if e.errno in (errno.EMFILE, errno.ENFILE):  # the process's limit, not the compiler
+                raise
+            continue
+        except subprocess.SubprocessError:
             continue
         return Compiler(path, out.splitlines()[0] if out else "")
     return None
@@ -311,7 +316,8 @@ def _start(command: list[str], compiler: Compiler) -> subprocess.Popen[str]:
     try:
         return subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
     except OSError as e:  # removed or made unrunnable since it was found
-        raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e})") from e
+        limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
+        raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
 
 
 def _is_elf(path: Path) -> bool:
