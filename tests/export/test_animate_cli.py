@@ -98,6 +98,7 @@ def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
         (["animate", "{run}", "--video", "x.gif", "--size", "big"], "WIDTHxHEIGHT"),
         (["animate", "{run}", "--video", "x.webm"], ".mp4 or a .gif"),
         (["animate", "{run}", "--fps", "0"], "--fps must be positive"),
+        (["animate", "{run}", "--video", "x.gif", "--slow-motion", "-2"], "--slow-motion must be"),
         (["animate", "{run}", "-o", "{tmp}/x.gif"], "HTML player; render a video with --video"),
         (["animate", "{run}", "-o", "{tmp}/x.png"], "writes the HTML player; name it"),
         (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),

@@ -119,6 +119,28 @@ def test_export_motion_names_the_rate_that_gives_a_mites_stances_keyframes(
     assert stances.any()
 
 
+def test_a_video_of_the_mite_in_slow_motion_gives_its_stances_frames(
+    mite: Scaled, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A video plays in real time at 30 fps: the mite's 0.05 s run was a frame or two, its
+    5 ms stances none, and no note said so. --slow-motion F renders F times the frames."""
+    pytest.importorskip("PIL", reason="needs Pillow: pip install 'legdsl[export]'")
+    gif = mite.where / "mite.gif"
+    argv = ["animate", str(mite.run_dir), "--video", str(gif), "--size", "160x90",
+            "--generated", str(mite.generated)]  # fmt: skip
+    capsys.readouterr()
+    assert main(argv) == 0
+    said = "".join(capsys.readouterr())
+    assert "frames of the video at 30 fps; --slow-motion " in said, said
+    slow = float(said.split("--slow-motion ")[1].split()[0])
+    assert 10 < slow < 100  # the mite's stances last about 5 ms: 4 frames need 20 or so
+    assert main([*argv, "--slow-motion", str(slow)]) == 0
+    said = "".join(capsys.readouterr())
+    assert "note" not in said and f"{slow:g} times slower" in said, said
+    frames = int(said.split(" frames at 30 fps")[0].rsplit("(", 1)[1].rsplit(", ", 1)[1])
+    assert frames >= slow * 30 * 0.05 - 1  # F times the real-time frames of the run
+
+
 def test_the_player_frames_the_mite_and_grids_its_ground(mite: Scaled) -> None:
     """A 5 cm floor on the creature's size framed the 0.7 mm mite as a speck on a 25 cm grid."""
     from legdsl.export.player import camera_hints, grid_step, player_data

@@ -76,7 +76,7 @@ def video_fps(value: float | None, default: float, gif: bool = False) -> float:
     return fps
 
 
-def _load(args: argparse.Namespace, fps: float) -> Any:
+def _load(args: argparse.Namespace, fps: float, video: tuple[float, float] | None = None) -> Any:
     from legdsl.export.motion import load_motion
 
     return load_motion(
@@ -84,6 +84,7 @@ def _load(args: argparse.Namespace, fps: float) -> Any:
         fps=fps,
         generated=Path(args.generated),
         source=Path(args.source) if args.source else None,
+        video=video,
     )
 
 
@@ -116,16 +117,23 @@ def _cmd_animate(args: argparse.Namespace) -> int:
             better = video.with_suffix(".mp4") if video.suffix else f"{video}.mp4"
             raise UsageError(f"--video {video}: write an .mp4 or a .gif (e.g. {better})")
         fps = video_fps(args.fps, 30.0, video.suffix.lower() == ".gif")
-        motion = _load(args, max(fps, 60.0))
-        result = render_video(motion, video, fps, size, overlays, progress=stderr_progress())
+        slow = args.slow_motion if args.slow_motion is not None else 1.0
+        _positive(slow, "--slow-motion")
+        motion = _load(args, max(fps * slow, 60.0), video=(fps, slow))
+        if motion.note:
+            print(motion.note, file=sys.stderr)
+        result = render_video(
+            motion, video, fps, size, overlays, progress=stderr_progress(), slow=slow
+        )
+        slowed = f", {slow:g} times slower" if slow != 1.0 else ""
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} frames at "
-            f"{fps:g} fps, {motion.duration:.2f} s of motion) in {result.seconds:.1f} s",
+            f"{fps:g} fps, {motion.duration:.2f} s of motion{slowed}) in {result.seconds:.1f} s",
             file=messages_for(args.output, args.video),
         )
         if not args.output:
             return 0
-        motion = _load(args, 60.0) if fps != 60.0 else motion
+        motion = _load(args, 60.0)  # the player's own rate, and its own note
     else:
         motion = _load(args, args.fps or 60.0)
     from legdsl.export.player import write_player
@@ -173,6 +181,13 @@ def add_animate_parser(sub: Any) -> Command:
         metavar="N",
         help="frames per second: stored in the player (default 60; it interpolates between "
         "them) or rendered into the video (default 30)",
+    )
+    a.add_argument(
+        "--slow-motion",
+        type=float,
+        metavar="F",
+        help="render the video F times slower than real time (default 1; a small creature's "
+        "hops may need 10 or more: a note says so)",
     )
     a.add_argument(
         "--size",

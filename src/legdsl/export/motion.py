@@ -203,8 +203,10 @@ def load_motion(
     generated: Path = Path("generated"),
     source: Path | None = None,
     kinematics: Kinematics | None = None,
+    video: tuple[float, float] | None = None,
 ) -> Motion:
-    """Read a run directory and resample it for drawing (see the module docstring)."""
+    """Read a run directory and resample it for drawing (see the module docstring); ``video``
+    is (frames per second, slow motion) when it is drawn for a video (its note then says so)."""
     run = drawable(read_run(directory, source))
     _enough_frames(run.trajectory.t, fps)
     if kinematics is None:
@@ -220,7 +222,7 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
-    motion.note = stance_note(run.model, run.trajectory, fps)
+    motion.note = stance_note(run.model, run.trajectory, *(video or (fps,)))
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec

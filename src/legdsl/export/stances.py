@@ -54,21 +54,31 @@ def typical_stance(model: Model, tr: Trajectory) -> tuple[str, float] | None:
     return foot, duration
 
 
-def stance_note(model: Model, tr: Trajectory, fps: float) -> str:
+def _rounded_up(x: float) -> float:
+    """``x`` rounded up to two significant digits (732.5 -> 740, 24.4 -> 25)."""
+    step = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return float(f"{math.ceil(x / step - 1e-9) * step:.2g}")
+
+
+def stance_note(model: Model, tr: Trajectory, fps: float, slow: float | None = None) -> str:
     """A note when ``fps`` gives a typical stance fewer than FRAMES_PER_STANCE keyframes (naming
-    the rate that gives it that many), or ''."""
+    the rate that gives it that many), or ''. For a video (``slow``: its --slow-motion), the
+    frames per simulated second are ``fps * slow``, and the note names the slow motion."""
     stance = typical_stance(model, tr)
     span = float(tr.t[-1] - tr.t[0]) if len(tr) > 1 else 0.0
     if stance is None or stance[1] <= 0 or span <= 0:
         return ""
     foot, duration = stance
     recorded = (len(tr) - 1) / span
-    used = min(fps, recorded)
+    used = min(fps, recorded) if slow is None else fps * slow  # frames per simulated second
     if duration * used >= FRAMES_PER_STANCE:
         return ""
     needed = FRAMES_PER_STANCE / duration
-    step = 10.0 ** (math.floor(math.log10(needed)) - 1)  # rounded up to two digits
-    rate = float(f"{math.ceil(needed / step - 1e-9) * step:.2g}")
+    said = f"legdsl: note: {foot}'s stances ({duration * 1e3:.3g} ms, the median) span "
+    if slow is not None:  # a video interpolates between samples: slower is always possible
+        advice = f"--slow-motion {_rounded_up(needed / fps):g} gives it {FRAMES_PER_STANCE}"
+        return f"{said}{duration * used:.2g} frames of the video at {fps:g} fps; {advice}"
+    rate = _rounded_up(needed)
     if rate >= recorded:
         advice = (
             f"the run's {recorded:.4g} samples per second give it the most (--fps {recorded:.4g}); "
@@ -76,7 +86,4 @@ def stance_note(model: Model, tr: Trajectory, fps: float) -> str:
         )
     else:
         advice = f"--fps {rate:g} gives it {FRAMES_PER_STANCE}"
-    return (
-        f"legdsl: note: {foot}'s stances ({duration * 1e3:.3g} ms, the median) span "
-        f"{duration * used:.2g} keyframes at {used:.4g} per second; {advice}"
-    )
+    return f"{said}{duration * used:.2g} keyframes at {used:.4g} per second; {advice}"

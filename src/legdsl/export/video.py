@@ -61,8 +61,10 @@ def render_video(
     size: tuple[int, int] = (960, 540),
     overlays: tuple[str, ...] = OVERLAYS,
     progress: Callable[[float, float], None] | None = None,
+    slow: float = 1.0,
 ) -> VideoResult:
-    """Render ``motion`` to ``path`` (.mp4 or .gif); returns the frame count and timing."""
+    """Render ``motion`` to ``path`` (.mp4 or .gif), ``slow`` times slower than real time;
+    returns the frame count and timing."""
     suffix = path.suffix.lower()
     if suffix not in (".mp4", ".gif"):
         raise UsageError(f"{path}: a video is written as .mp4 or .gif")
@@ -84,7 +86,7 @@ def render_video(
     )
     if motion.planar:
         ax.set_aspect("auto")
-    times = every_frame(motion.duration, fps)
+    times = every_frame(motion.duration, fps * slow)  # simulated times, shown 1/fps each
     frames = (_frame(fig, view, motion.at(float(t))) for t in times)
 
     def report(i: int) -> None:
