@@ -1,12 +1,15 @@
 """The ``legdsl`` command lines of README.md and docs/*.md stay true: each is read by the
 command line's own parser and by the same functions the commands read their values with
 (units, ``--set``, ``--switch``, ``--path``, ``--grid``...), against the creature it names,
-without running anything; and every repository file a command names exists.
+without running anything; every repository file a command (or a ``python docs/scripts/...``
+line) names exists; and the ``legdsl ...`` spans of the prose name real options.
 
-Command lines are taken from indented and fenced code blocks (``\\`` continuations joined,
-``#`` comments dropped, ``&&`` chains split) and from the first column of README's command
-table. A synopsis's placeholders are made concrete by ``SYNOPSIS`` below; a file that an
-earlier step of the page writes is checked as the file it comes from (``WRITTEN_BY_THE_DOC``).
+Command lines are taken from indented and shell-fenced code blocks (``\\`` continuations
+joined, ``#`` comments dropped, ``&&`` chains split; each block starts at the repository
+root, a ``cd`` in it moves on) and from the first column of the tables of commands. A
+synopsis's placeholders are made concrete by ``SYNOPSIS``; a file that an earlier step of the
+page writes is checked as the file it is made from (``WRITTEN_BY_THE_DOC``); a line that
+cannot be made concrete goes in ``NOT_CHECKED`` with the reason.
 """
 
 from __future__ import annotations
@@ -133,8 +136,12 @@ def _commands(line: str) -> list[list[str]]:
     lexer.whitespace_split = True
     try:
         tokens = list(lexer)
-    except ValueError:  # no shell line (an unbalanced quote in prose or .leg text)
-        return []
+    except ValueError:  # an unbalanced quote: no shell line, unless it names legdsl
+        return (
+            [["legdsl", "<unbalanced quote>", line]]
+            if re.search(r"(^|&&|;|\|)\s*legdsl ", line)
+            else []
+        )
     found: list[list[str]] = []
     command: list[str] = []
     for token in [*tokens, ";"]:
@@ -265,9 +272,17 @@ def _check_replay(args: argparse.Namespace) -> None:
 
 
 def _check_models(args: argparse.Namespace) -> None:
-    for given in getattr(args, "files", None) or [args.file]:  # a pattern as the shell expands it
+    for given in (
+        args.files if "files" in args else [args.file]
+    ):  # a pattern as the shell expands it
         for file in sorted(ROOT.glob(given)) if "*" in given else [given]:
             _model(str(file), getattr(args, "creature", None))
+
+
+def _check_compile(args: argparse.Namespace) -> None:
+    if args.all == bool(args.files):
+        raise UsageError("legdsl compile: give .leg files or --all (not both)")
+    _check_models(args)
 
 
 CHECKS = {
@@ -283,7 +298,7 @@ CHECKS = {
     "check": _check_models,
     "show": _check_models,
     "export": _check_models,
-    "compile": lambda args: args.all or _check_models(args),
+    "compile": _check_compile,
 }
 
 
@@ -339,3 +354,32 @@ def test_the_pages_show_commands_and_the_lists_are_used() -> None:
     assert [f for f in WRITTEN_BY_THE_DOC if f not in files] == []
     commands = _parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
     assert set(CHECKS) == set(commands)
+
+
+def _prose_commands() -> list[tuple[str, str]]:
+    """The ``legdsl SUBCOMMAND ...`` spans of the pages' prose (often only a part of a
+    command: ``legdsl run --scale L``), with their page."""
+    found = []
+    for path in DOCS:
+        text = re.sub(r"^```.*?^```", "", path.read_text(encoding="utf-8"), flags=re.S | re.M)
+        page = path.relative_to(ROOT).as_posix()
+        found += [(page, span) for span in re.findall(r"`(legdsl [a-z][^`]*)`", text)]
+    return found
+
+
+def test_prose_names_only_commands_and_options_that_exist() -> None:
+    commands = _parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    spans = _prose_commands()
+    assert len(spans) >= 100
+    wrong = []
+    for page, span in spans:
+        name, *rest = span.split()[1:]
+        if name not in commands:
+            wrong.append(f"{page}: `{span}`: no command {name}")
+            continue
+        known = commands[name]._option_string_actions
+        for token in rest:
+            option = token.partition("=")[0]
+            if re.fullmatch(r"--?[a-z][\w-]*", option) and option not in known:
+                wrong.append(f"{page}: `{span}`: legdsl {name} has no option {option}")
+    assert wrong == []
