@@ -31,7 +31,7 @@ from legdsl.api.tune_cli import _check_search, _speed_input, _speeds
 from legdsl.check.source import check_model
 from legdsl.cli import _parser
 from legdsl.cli.common import file_read_as_option, negative_values_joined, numeric, read_window
-from legdsl.export.animate import motion_format, parse_overlays, parse_size, video_fps
+from legdsl.export.animate import frame_rate, motion_format, parse_overlays, parse_size, video_fps
 from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.options import RUN_NUMERIC, read_seconds
@@ -261,14 +261,14 @@ def _check_animate(args: argparse.Namespace) -> None:
     parse_overlays(args.overlays)
     if args.video:
         parse_size(args.size or "960x540")
-        video_fps(args.fps, 30.0, args.video.endswith(".gif"))
+        video_fps(frame_rate(args.fps), 30.0, args.video.endswith(".gif"))
 
 
 def _check_replay(args: argparse.Namespace) -> None:
     if not args.mujoco:
         raise UsageError("replay: say where: --mujoco")
     parse_size(args.size or "960x540")
-    video_fps(args.fps, 30.0)
+    video_fps(frame_rate(args.fps), 30.0)
 
 
 def _check_models(args: argparse.Namespace) -> None:

@@ -78,6 +78,8 @@ def test_animate_a_video(run_dir: Path, tmp_path: Path, capsys) -> None:
     )
     assert gif.is_file() and gif.read_bytes()[:6] == b"GIF89a"
     assert "frames at 10 fps" in capsys.readouterr().out
+    assert main(["animate", str(run_dir), "--video", str(gif), "--fps", "12Hz", *gen()]) == 0
+    assert "frames at 12 fps" in capsys.readouterr().out  # a rate with its unit
     assert not (run_dir / "animation.html").exists()  # a video alone unless -o is given
 
 
@@ -97,11 +99,13 @@ def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
         (["animate", "{run}", "--overlays", "force"], "unknown force"),
         (["animate", "{run}", "--video", "x.gif", "--size", "big"], "WIDTHxHEIGHT"),
         (["animate", "{run}", "--video", "x.webm"], ".mp4 or a .gif"),
-        (["animate", "{run}", "--fps", "0"], "--fps must be positive"),
+        (["animate", "{run}", "--fps", "0"], "--fps must be more than zero"),
         (["animate", "{run}", "--video", "x.gif", "--slow-motion", "-2"], "--slow-motion must be"),
+        (["animate", "{run}", "--fps", "30kg"], "--fps is a frequency"),
+        (["export-motion", "{run}", "--fps", "2m"], "--fps is a frequency"),
         (["animate", "{run}", "-o", "{tmp}/x.gif"], "HTML player; render a video with --video"),
         (["animate", "{run}", "-o", "{tmp}/x.png"], "writes the HTML player; name it"),
-        (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),
+        (["export-motion", "{run}", "--fps", "-1"], "--fps must be more than zero"),
     ],
 )
 def test_mistakes_are_reported_with_status_2(

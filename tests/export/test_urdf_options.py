@@ -57,3 +57,20 @@ def test_cli_urdf_options(tmp_path: Path) -> None:
     assert main(["export", str(CREATURES / "quadruped.leg"), "--format", "mjcf",
                  "-o", str(tmp_path / "q.xml"), "--base", "free"]) == 2  # fmt: skip
     assert main([*args, "--link-mass", "-1"]) == 2
+    in_kg = out.read_text()  # the 1e-6 (kg) export above; -1 was refused
+    assert main([*args, "--base", "free", "--link-mass", "0.001g"]) == 0  # a mass with its unit
+    assert out.read_text() == in_kg and '<mass value="1e-06" />' in in_kg
+
+
+def test_the_link_mass_is_a_mass(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--link-mass took a bare float only ("0.001g" was "invalid float value")."""
+    args = [
+        "export",
+        str(CREATURES / "quadruped.leg"),
+        "--format",
+        "urdf",
+        "-o",
+        str(tmp_path / "q.urdf"),
+    ]
+    assert main([*args, "--link-mass", "1mm"]) == 2
+    assert "--link-mass is a mass" in capsys.readouterr().err

@@ -361,11 +361,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     e.add_argument(
         "--link-mass",
-        type=float,
-        default=0.0,
-        metavar="KG",
-        help="URDF: give the intermediate links of composite joints this mass (e.g. 1e-6), for "
-        "loaders that refuse moving massless links (MuJoCo's); default 0",
+        metavar="MASS",
+        help="URDF: give the intermediate links of composite joints this mass (e.g. 0.001g; a bare "
+        "number is kg), for loaders that refuse moving massless links (MuJoCo's); default 0",
     )
     e.add_argument(
         "--anchor-pads",

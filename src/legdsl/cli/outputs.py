@@ -62,7 +62,13 @@ def cmd_plot(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.export.formats import FORMATS, default_path, export_text, write_atomic
-    from legdsl.pipeline.options import check_output_file, not_an_input, os_error
+    from legdsl.pipeline.options import (
+        Numeric,
+        check_output_file,
+        not_an_input,
+        os_error,
+        read_numeric,
+    )
 
     if args.output not in (None, "-"):
         check_output_file(args.output, "-o")
@@ -72,13 +78,16 @@ def cmd_export(args: argparse.Namespace) -> int:
         named = {"urdf": (suffix, ".xml"), "mjcf": (suffix, ".mjcf")}.get(args.format, (suffix,))
         named_as(args.output, "-o", named, f"{args.format.upper()} ({suffix})")
     model = check_model(args.file, args.creature)
-    if args.format != "urdf" and (args.base != "world" or args.link_mass):
+    if args.format != "urdf" and (args.base != "world" or args.link_mass is not None):
         raise UsageError("--base and --link-mass are URDF options (--format urdf)")
     if args.format != "mjcf" and args.anchor_pads is not None:
         raise UsageError("--anchor-pads and --no-anchor-pads are MJCF options (--format mjcf)")
-    if not args.link_mass >= 0:
-        raise UsageError(f"--link-mass {args.link_mass:g}: a mass in kg, 0 or more")
-    text = export_text(model, args.format, args.base, args.link_mass, args.anchor_pads is not False)
+    link_mass = 0.0
+    if args.link_mass is not None:  # a mass with its unit (1mg); a bare number is kg
+        link_mass = read_numeric(
+            "--link-mass", args.link_mass, Numeric("mass", "kg", "nonnegative")
+        )
+    text = export_text(model, args.format, args.base, link_mass, args.anchor_pads is not False)
     if args.output == "-":
         sys.stdout.write(text)
         return 0

@@ -58,6 +58,18 @@ def _positive(value: float | None, flag: str) -> None:
         raise UsageError(f"{flag} must be positive and finite, not {value:g}")
 
 
+def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
+    """``--fps 30`` or ``--fps 30Hz``: frames per second, a frequency with its unit checked."""
+    if text is None or isinstance(text, float):
+        _positive(text, flag)
+        return text
+    from legdsl.pipeline.options import Numeric, read_numeric
+
+    value = read_numeric(flag, text, Numeric("frequency", "Hz"))
+    _positive(value, flag)
+    return value
+
+
 VIDEO_FPS = 1.0, 240.0  # a video's frames per second: slower is a slide show, faster no player
 GIF_FPS = 50.0  # a GIF's frames are shown 20 ms at least (browsers slow shorter ones down)
 
@@ -105,7 +117,7 @@ def _player_name(output: str | None) -> None:
 def _cmd_animate(args: argparse.Namespace) -> int:
     _player_name(args.output)
     overlays = parse_overlays(args.overlays)
-    _positive(args.fps, "--fps")
+    args.fps = frame_rate(args.fps)
     run = Path(args.run)
     if args.video:
         from legdsl.export.video import render_video, stderr_progress
@@ -177,7 +189,6 @@ def add_animate_parser(sub: Any) -> Command:
     )
     a.add_argument(
         "--fps",
-        type=float,
         metavar="N",
         help="frames per second: stored in the player (default 60; it interpolates between "
         "them) or rendered into the video (default 30)",
@@ -234,7 +245,7 @@ def motion_format(given: str | None, output: str | None) -> str:
 
 
 def _cmd_export_motion(args: argparse.Namespace) -> int:
-    _positive(args.fps, "--fps")
+    args.fps = frame_rate(args.fps)
     args.format = motion_format(args.format, args.output)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
     named = (".usd", ".usda") if args.format == "usda" else (f".{args.format}",)
@@ -294,7 +305,7 @@ def add_export_motion_parser(sub: Any) -> Command:
         "instead of a mesh on each link node",
     )
     e.add_argument(
-        "--fps", type=float, default=60.0, metavar="N", help="keyframes per second (default 60)"
+        "--fps", default=60.0, metavar="N", help="keyframes per second, or 60Hz (default 60)"
     )
     e.add_argument(
         "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
@@ -316,7 +327,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 
     if not args.mujoco:
         raise UsageError("replay: say where: --mujoco (the only player for now)")
-    _positive(args.fps, "--fps")
+    args.fps = frame_rate(args.fps)
     source = Path(args.source) if args.source else None
     run = Path(args.run)
     if args.output is None and mjreplay.has_display():
@@ -350,7 +361,7 @@ def add_replay_parser(sub: Any) -> Command:
     r.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
     r.add_argument("--mujoco", action="store_true", help="play it in MuJoCo")
     r.add_argument("-o", "--output", metavar="FILE.mp4", help="render to this mp4 instead")
-    r.add_argument("--fps", type=float, default=None, metavar="N", help="frames per second")
+    r.add_argument("--fps", default=None, metavar="N", help="frames per second, or 30Hz")
     r.add_argument("--size", metavar="WxH", help="mp4 size in pixels (default 960x540)")
     r.add_argument(
         "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
