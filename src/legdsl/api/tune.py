@@ -335,9 +335,9 @@ def declared_in(source: Path, controller: Controller, names: Iterable[str]) -> d
             if c.span.file != str(source) and controller.span.file != str(source):
                 used = os.path.normpath(c.span.file)  # without its "outside/../.."
                 raise UsageError(
-                    f"'{c.name}' is declared in {used}, and controller '{controller.name}' "
-                    f"too, not in {source}: tune a controller of the file itself (one that "
-                    f"extends '{controller.name}' will do)"
+                    f"controller '{controller.name}' and its '{c.name}' are declared in {used}, "
+                    f"not in {source}: tune a controller of {source} (one that extends "
+                    f"'{controller.name}' will do)"
                 )
             spans[c.name] = c.span
     return spans
