@@ -15,7 +15,7 @@ from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
-from legdsl.ir.model import setting_kind
+from legdsl.ir.model import Actuator, Leg, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
@@ -250,6 +250,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
             if goal is not None:
                 goals.append(goal)
         servos: list[ir.Part | ir.Alias] = []
+        moved: dict[tuple[str, str], str] = {}  # (leg, coordinate) -> the servo that moves it
         for path in s.servos:
             servo = self.path(path, local)
             if servo is None or isinstance(servo, Opaque):
@@ -268,6 +269,11 @@ class Elaborator(ExprChecker, LegMotionProbe):
             if isinstance(legs, ir.Legs) and not self.servo_moves_foot(legs, servo, path):
                 ok = False
                 continue
+            if isinstance(legs, ir.Legs) and not self.servo_moves_new_coordinate(
+                legs, servo, path, moved
+            ):
+                ok = False
+                continue
             servos.append(servo)
         if len(s.servos) != len(s.goals):
             self.err(
@@ -280,13 +286,13 @@ class Elaborator(ExprChecker, LegMotionProbe):
         axes_given = tuple(name.name for name, _ in s.goals)
         return ir.Place(legs, axes_given, tuple(goals), tuple(servos), s.span)
 
-    def servo_moves_foot(
-        self, legs: ir.Legs, servo: ir.Part | ir.Alias, path: tuple[ast.Ident, ...]
-    ) -> bool:
-        """A servo of ``place`` turns one of the leg's own joints: the solve moves only those
-        (one above the hip moves the hip point too, one elsewhere not the foot at all)."""
+    def _servos_per_leg(
+        self, legs: ir.Legs, servo: ir.Part | ir.Alias
+    ) -> list[tuple[Leg, Actuator]]:
+        """Each leg a place's leg or role stands for, with the actuator the servo is there."""
         root = legs.root()
         names = [root.leg] if root.leg else list(self.scope.roles.get(root.role or "", ()))
+        found = []
         for name in names:
             if isinstance(servo, ir.Alias):
                 actuator_name = self.scope.aliases[name].get(servo.alias)
@@ -296,8 +302,47 @@ class Elaborator(ExprChecker, LegMotionProbe):
             actuator = next(
                 (a for a in self.scope.model.actuators if a.name == actuator_name), None
             )
-            if leg is None or actuator is None:
-                continue
+            if leg is not None and actuator is not None:
+                found.append((leg, actuator))
+        return found
+
+    def servo_moves_new_coordinate(
+        self,
+        legs: ir.Legs,
+        servo: ir.Part | ir.Alias,
+        path: tuple[ast.Ident, ...],
+        moved: dict[tuple[str, str], str],
+    ) -> bool:
+        """Each servo of a ``place`` moves a coordinate no other of its servos moves: two on
+        one coordinate (a 3D leg whose `roll_servo` alias names its pitch servo) would leave
+        a goal with nothing to reach it, and the solve would quietly miss it."""
+        text = ".".join(i.name for i in path)
+        for leg, actuator in self._servos_per_leg(legs, servo):
+            before = moved.get((leg.name, actuator.dof))
+            moved[(leg.name, actuator.dof)] = text
+            if before is not None:
+                fix = (
+                    f"make the alias '{servo.alias}' of leg '{leg.name}' name a servo on "
+                    "another of the leg's coordinates"
+                    if isinstance(servo, ir.Alias)
+                    else "name a servo on another of the leg's coordinates"
+                )
+                self.err(
+                    path[-1].span,
+                    f"'place' moves the foot of leg '{leg.name}' with '{text}' (servo "
+                    f"'{actuator.name}', on coordinate '{actuator.dof}'), which '{before}' "
+                    f"already moves: each goal needs a servo on its own coordinate; {fix}",
+                )
+                return False
+        return True
+
+    def servo_moves_foot(
+        self, legs: ir.Legs, servo: ir.Part | ir.Alias, path: tuple[ast.Ident, ...]
+    ) -> bool:
+        """A servo of ``place`` turns one of the leg's own joints: the solve moves only those
+        (one above the hip moves the hip point too, one elsewhere not the foot at all)."""
+        for leg, actuator in self._servos_per_leg(legs, servo):
+            name = leg.name
             joint = next(d.joint for d in self.scope.model.dofs if d.name == actuator.dof)
             if joint not in leg.joints:
                 fix = (

@@ -6,7 +6,9 @@ body's orientation (``servo_pitch(leg, body, ...)``: the torque from ``body.pitc
 eq. (4) only for that body: given another (the leg's own thigh), the torque turns the
 trunk while reading a body it cannot hold, and no run of it can be right. So a call whose
 statements set a hip actuator from the orientation of a body given as an argument is told
-at that argument, with the body the hip holds.
+at that argument, with the body the hip holds. Likewise a body whose yaw turns a ``place``'s
+goals (``place_foot_3d(leg, body, ...)``) must be the root, whose yaw the goals' heading
+frame is.
 """
 
 from __future__ import annotations
@@ -42,6 +44,17 @@ def misaimed_bodies(
                 f"body '{held}'; did you mean '{held}'?",
             )
             break
+        else:
+            root = next((j.child for j in model.joints if j.parent is None), None)
+            if root is None or value.name in _welded(model, root):
+                continue
+            if _places_from(body, value.name):
+                yield (
+                    arg.span,
+                    f"action '{s.action.name}' places a foot from the yaw of "
+                    f"'{value.name}', but 'place' offsets the foot from its hip in the heading "
+                    f"frame, turned by the yaw of the root body '{root}'; did you mean '{root}'?",
+                )
 
 
 def _hips_driven_from(
@@ -61,17 +74,24 @@ def _hips_driven_from(
                 yield leg, held
 
 
+def _places_from(stmts: tuple[ir.Stmt, ...], name: str) -> bool:
+    """Whether a ``place`` among ``stmts`` puts a foot from ``name``'s yaw (its goals turned
+    by it into the heading frame, which is the root's)."""
+    places = (s for s in ir.flat(stmts) if isinstance(s, ir.Place))
+    return any(reads_orientation(g, name, {"yaw", "yaw_rate"}) for p in places for g in p.goals)
+
+
 def assigns(stmts: tuple[ir.Stmt, ...]) -> Iterator[ir.Assign]:
     return (s for s in ir.flat(stmts) if isinstance(s, ir.Assign))
 
 
-def reads_orientation(e: object, name: str) -> bool:
+def reads_orientation(e: object, name: str, members: set[str] = _ORIENTATION) -> bool:
     """Whether ``e`` reads body ``name``'s orientation or its rate."""
     return any(
         isinstance(x, ir.Read)
         and isinstance(x.thing, ir.Part)
         and x.thing.name == name
-        and x.member in _ORIENTATION
+        and x.member in members
         for x in ir.leaves(e)
     )
 

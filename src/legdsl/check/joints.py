@@ -229,10 +229,16 @@ class JointChecker(CreaturePart):
             elif isinstance(prop.value, ast.Assigns):
                 for item in prop.value.items:
                     if item.target.name not in coords:
+                        n = item.target.name
+                        hint = (  # a 3D root's velocity names, vx..., on a planar joint
+                            f"; a velocity is named by its coordinate: write '{key} {n[1:]} = ...'"
+                            if rate and n[:1] == "v" and n[1:] in coords
+                            else did_you_mean(n, coords)
+                        )
                         self.err(
                             item.target.span,
-                            f"'{item.target.name}' is not a coordinate of this joint; "
-                            f"it has {', '.join(coords)}{did_you_mean(item.target.name, coords)}",
+                            f"'{n}' is not a coordinate of this joint; "
+                            f"it has {', '.join(coords)}{hint}",
                         )
                         continue
                     i = coords.index(item.target.name)
@@ -265,9 +271,16 @@ class JointChecker(CreaturePart):
             for item in prop.value.items:
                 n = item.target.name
                 if n not in table:
+                    other = "velocity" if key == "initial" else "initial"
                     self.err(
                         item.target.span,
-                        f"'{n}' is not a coordinate of a 3D free root; use {', '.join(table)}{did_you_mean(n, table)}",
+                        f"'{n}' is not a coordinate of a 3D free root; use {', '.join(table)}"
+                        + (
+                            f"; '{n}' is {'a velocity' if n in vel else 'a position or angle'}: "
+                            f"write it as '{other} {n} = ...'"
+                            if n in vel or n in {**pos, **ang}
+                            else did_you_mean(n, table)
+                        ),
                     )
                     continue
                 kind = (
