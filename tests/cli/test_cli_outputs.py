@@ -115,3 +115,11 @@ def test_a_plot_to_stdout_is_exactly_the_picture(run_dir: Path, tmp_path: Path) 
     content, err = _to_stdout(["plot", str(run_dir), "-o", "/dev/stdout"], tmp_path)
     assert content.startswith(b"\x89PNG\r\n") and b"wrote" not in content
     assert "wrote /dev/stdout" in err and f"wrote {run_dir / 'footfall.png'}" in err
+
+
+def test_run_takes_o_for_its_output_directory(tmp_path: Path) -> None:
+    """Every other command writes to -o; `legdsl run F -o DIR` was "unrecognized arguments"."""
+    out = tmp_path / "r"
+    argv = ["run", HOPPER, "--controller", "hop", "--time", "0.05", "-o", str(out)]
+    assert main([*argv, "--generated", str(generated_dir())]) == 0
+    assert (out / "run.json").is_file() and (out / "trajectory.npz").is_file()

@@ -233,7 +233,7 @@ def add_run_parser(sub: Any) -> Command:
         metavar="T",
         help="simulated time, a number of seconds or with its unit: 2s, 1min (default 5)",
     )
-    r.add_argument("--out", metavar="DIR", help="output directory (default runs/CREATURE)")
+    r.add_argument("-o", "--out", metavar="DIR", help="output directory (default runs/CREATURE)")
     r.add_argument(
         "--integrator",
         choices=("euler", "rk4"),
