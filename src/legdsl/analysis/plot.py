@@ -1,8 +1,8 @@
 """``legdsl plot DIR``: a run drawn like Figure 6 of the paper.
 
-Four panels against time: body height, body pitch, forward speed with its
-command, and the joint angles of a leg; every stance phase of that leg is
-bracketed by vertical dashed lines, as in the paper.
+Four panels against time: body height, body pitch (and roll, in 3D), forward speed with its
+command (and sideways speed, in 3D), and the joint angles of a leg; every stance phase of
+that leg is bracketed by vertical dashed lines, as in the paper.
 """
 
 from __future__ import annotations
@@ -87,16 +87,24 @@ def plot_run(
 
     height.plot(t, tr.com[window, 2], color="k")
     height.set_ylabel("body height (m)")
-    pitch.plot(t, np.degrees(tr.root_rpy[window, 1]), color="k")
+    pitch.plot(t, np.degrees(tr.root_rpy[window, 1]), color="k", label="pitch")
     pitch.set_ylabel("body pitch (deg)")
 
     heading = tr.root_rpy[window, 2]
-    forward = tr.com_vel[window, 0] * np.cos(heading) + tr.com_vel[window, 1] * np.sin(heading)
+    vx, vy = tr.com_vel[window, 0], tr.com_vel[window, 1]
+    forward = vx * np.cos(heading) + vy * np.sin(heading)
     speed.plot(t, forward, color="k", label="forward speed")
+    if not tr.planar:  # a 3D run also tips and slides sideways: roll and sideways speed too
+        pitch.plot(t, np.degrees(tr.root_rpy[window, 0]), color="k", linestyle=":", label="roll")
+        pitch.legend(loc="lower right", fontsize=8)
+        pitch.set_ylabel("body pitch, roll (deg)")
+        sideways = -vx * np.sin(heading) + vy * np.cos(heading)
+        speed.plot(t, sideways, color="k", linestyle=":", label="sideways speed")
     if np.isfinite(tr.speed_command[window]).any():
         speed.plot(t, tr.speed_command[window], color="0.5", linestyle="--", label="command")
+    if not tr.planar or np.isfinite(tr.speed_command[window]).any():
         speed.legend(loc="lower right", fontsize=8)
-    speed.set_ylabel("forward speed (m/s)")
+    speed.set_ylabel("forward speed (m/s)" if tr.planar else "speed (m/s)")
 
     names = [n for n in angles if n in tr.q_names]
     for k, name in enumerate(names):
