@@ -99,13 +99,13 @@ def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
         (["animate", "{run}", "--overlays", "force"], "unknown force"),
         (["animate", "{run}", "--video", "x.gif", "--size", "big"], "WIDTHxHEIGHT"),
         (["animate", "{run}", "--video", "x.webm"], ".mp4 or a .gif"),
-        (["animate", "{run}", "--fps", "0"], "--fps must be more than zero"),
+        (["animate", "{run}", "--fps", "0"], "--fps must be positive"),
         (["animate", "{run}", "--video", "x.gif", "--slow-motion", "-2"], "--slow-motion must be"),
         (["animate", "{run}", "--fps", "30kg"], "--fps is a frequency"),
         (["export-motion", "{run}", "--fps", "2m"], "--fps is a frequency"),
         (["animate", "{run}", "-o", "{tmp}/x.gif"], "HTML player; render a video with --video"),
         (["animate", "{run}", "-o", "{tmp}/x.png"], "writes the HTML player; name it"),
-        (["export-motion", "{run}", "--fps", "-1"], "--fps must be more than zero"),
+        (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),
     ],
 )
 def test_mistakes_are_reported_with_status_2(

@@ -128,15 +128,15 @@ def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(
         raise KeyboardInterrupt
 
     monkeypatch.setattr(batch_module, "STEP_BUDGET", 1000)
-    opts = RunOptions(duration=20.0)
+    opts = RunOptions(duration=200.0)  # the 8 copies take seconds: the first report stops them
     batch = Batch(roo, 8, "hop", options=opts, vary={"speed": (np.linspace(2, 4, 8), "m/s")})
     copies = batch.run(threads=1, progress=ctrl_c)
     assert copies.interrupted == "SIGINT (Ctrl-C)" and copies.rerun == 0
     assert "interrupted" in set(copies.status) and copies.wall_time < 2.0
-    for k in [k for k in range(8) if 0 < copies.sim_time[k] < 20.0]:  # stopped on the way
+    for k in [k for k in range(8) if 0 < copies.sim_time[k] < 200.0]:  # stopped on the way
         result = copies.result(k)
         assert result.status == "interrupted" and result.cause == "SIGINT (Ctrl-C)"
-        assert f"at t = {copies.sim_time[k]:.4f} s of 20 s" in result.message
+        assert f"at t = {copies.sim_time[k]:.4f} s of 200 s" in result.message
         whole = roo.run("hop", batch.texts(k), options=opts, backend="c").result.trajectory
         kept = result.trajectory
         assert 0 < len(kept) < len(whole)

@@ -356,7 +356,10 @@ def test_a_cache_that_cannot_take_the_library_falls_back_to_python(
     assert "running on the Python backend" in said
     assert main([*argv, "--backend", "c"]) == 2
     said = capsys.readouterr().err
-    assert "set LEGDSL_CACHE to another directory, or use --backend python" in said
+    assert (
+        f"move {tmp_path / 'file'} (a file, not a directory) away, set LEGDSL_CACHE to a " in said
+    )
+    assert "or use --backend python" in said and "free space" not in said  # not a full disk
     assert "Traceback" not in said
 
 

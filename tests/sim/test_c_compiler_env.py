@@ -256,19 +256,3 @@ def test_the_api_is_warned_when_the_python_backend_runs_in_cs_place(
     with pytest.warns(api.LegdslWarning, match="no such program.*: running on the Python backend"):
         run = hopper.run(controller="hop", time=0.05)
     assert run.status == "ok"
-
-
-def test_a_file_where_the_cache_should_be_is_named_not_a_full_disk(
-    tmp_path: Path,
-    monkeypatch: pytest.MonkeyPatch,
-    capsys: pytest.CaptureFixture[str],
-    fresh: None,
-) -> None:
-    """XDG_CACHE_HOME naming a file: the C library could not be built ("Not a directory"), and
-    the advice was to free space there."""
-    in_way = tmp_path / "f"
-    in_way.write_text("")
-    monkeypatch.setenv("LEGDSL_CACHE", str(in_way / "legdsl"))
-    assert main(_run(tmp_path, "c")) == 2
-    err = capsys.readouterr().err
-    assert f"move {in_way} (a file, not a directory) away" in err and "free space" not in err, err

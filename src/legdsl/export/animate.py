@@ -61,11 +61,14 @@ def _positive(value: float | None, flag: str) -> None:
 def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
     """``--fps 30`` or ``--fps 30Hz``: frames per second, a frequency with its unit checked."""
     if text is None or isinstance(text, float):
-        _positive(text, flag)
-        return text
-    from legdsl.pipeline.options import Numeric, read_numeric
+        value = text
+    else:
+        try:  # a bare number (inf and nan too, told as such below): frames per second
+            value = float(text)
+        except ValueError:
+            from legdsl.pipeline.options import Numeric, read_numeric
 
-    value = read_numeric(flag, text, Numeric("frequency", "Hz"))
+            value = read_numeric(flag, text, Numeric("frequency", "Hz"))
     _positive(value, flag)
     return value
 
