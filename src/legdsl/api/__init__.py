@@ -19,7 +19,7 @@ import html
 import math
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,13 +33,12 @@ from legdsl.api.arguments import (
     an_output,
     metrics_groups,
     min_stance_time,
-    seconds,
     setting_text,
     thread_count,
     window_time,
-    with_units,
 )
 from legdsl.api.notes import LegdslWarning
+from legdsl.api.run_options import run_options
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
@@ -49,7 +48,6 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
-from legdsl.sim.run_loop import RunOptions, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
@@ -236,24 +234,12 @@ class Creature:
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
             if time is None and plan.duration is not None:
                 time = plan.duration
-        options = with_units(options)
-        step = options.get("dt")
-        if "control_dt" not in options and isinstance(step, int | float):  # never below it
-            options["control_dt"] = default_control_dt(step)
-        known = [f.name for f in fields(RunOptions) if f.name != "duration"]
-        arguments = ["controller", "set", "time", "path", "switch", "scene"]  # a typo of one
-        for key in options:  # else RunOptions' own TypeError, which names no way out
-            if key not in known:
-                where = " (the backend is $LEGDSL_BACKEND's: c or python)" * (key == "backend")
-                raise UsageError(f"run(): no option '{key}'{where}; the options are "
-                                 f"{', '.join(known)}"
-                                 f"{did_you_mean(key, [*arguments, *known])}")  # fmt: skip
-        run_options = RunOptions(duration=seconds(5.0 if time is None else time), **options)
+        options_read = run_options(self.model, time, options)
         return {
             "controller": controller,
             "settings": settings,
             "paths": [path] if path is not None else [],
-            "options": run_options,
+            "options": options_read,
             "switches": switches,
         }
 
