@@ -31,6 +31,7 @@ from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
     a_path,
     an_output,
+    check_vary,
     metrics_groups,
     min_stance_time,
     setting_text,
@@ -196,6 +197,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
+        check_vary(set, vary or {})
         self._before(plan, asked)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
@@ -271,6 +273,11 @@ class Copies:
 
     def __getitem__(self, k: int) -> Run:
         return self._creature._wrap(self.copies.run(k))
+
+    def __repr__(self) -> str:
+        counts = {s: int((self.status == s).sum()) for s in dict.fromkeys(self.status.tolist())}
+        how = ", ".join(f"{s} {k}" for s, k in counts.items())
+        return f"<legdsl copies of '{self._creature.name}': {len(self)} ({how})>"
 
 
 class Run:

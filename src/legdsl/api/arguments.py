@@ -136,3 +136,20 @@ def metrics_groups(groups: object) -> tuple[str, ...]:
         if all(isinstance(g, str) and "=" in g for g in groups):
             return groups
     raise UsageError(f"metrics(): groups= is {GROUP_FORMS}, not {groups!r}")
+
+
+def check_vary(set_: Mapping[str, Any] | None, vary: Mapping[str, Any]) -> None:
+    """``run_copies``' ``vary=`` against ``set=``: a name in both would have its ``set=`` value
+    overridden unseen (a change during the run, ``NAME@T``, is ``set=``'s alone); True/False or
+    complex values are not numbers of a unit (numpy would read them as 1/0, or drop a part)."""
+    fixed = {str(name).partition("@")[0].strip() for name in (set_ or {}) if "@" not in str(name)}
+    for name, given in vary.items():
+        if name in fixed:
+            raise UsageError(f"run_copies(): {name} is in both set= and vary=, and each copy's "
+                             f"vary= value would override set='s: give it in one of them")  # fmt: skip
+        if isinstance(given, tuple) and len(given) == 2:
+            kind = np.asarray(given[0]).dtype.kind
+            if kind in "bc":
+                what = "True/False" if kind == "b" else "complex numbers"
+                raise UsageError(f"vary {name}: its values are {what}, not numbers of "
+                                 f"{given[1]!r}; give real numbers")  # fmt: skip
