@@ -88,14 +88,19 @@ def _seconds(name: str, value: object, least: str, meaning: str) -> float:
     return float(value)
 
 
-def setting_text(name: str, value: str | float) -> str:
-    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
+def setting_text(name: str, value: object) -> str:
+    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form); a ``Quantity`` (a
+    controller's default, as ``load`` gives it) goes with its SI unit, every digit kept."""
+    from legdsl.api import Quantity
+
+    if isinstance(value, Quantity):
+        value = f"{value.value!r}{value.unit}"
     if not isinstance(name, str) or not (
         isinstance(value, str | int | float | np.integer | np.floating)
         and not isinstance(value, bool)
     ):
         raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
-                         f"{{'speed': '2 m/s'}}, not {value!r}")  # fmt: skip
+                         f"{{'speed': '2 m/s'}} (or a Quantity), not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
