@@ -7,12 +7,17 @@ from __future__ import annotations
 from dataclasses import fields
 from typing import Any
 
+import numpy as np
+
 from legdsl.api.arguments import seconds, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.options import RUN_NUMERIC
 from legdsl.sim.run_loop import RunOptions
 
+RUN_EXAMPLES = {"dt": "0.4 ms", "control_dt": "2 ms", "record_rate": "200 Hz",
+                "fall_height": "5 cm", "fall_tilt": "60 deg", "drop": "2 cm"}  # fmt: skip
 ARGUMENTS = ["controller", "set", "time", "path", "switch", "scene"]  # a typo of one is named
 
 
@@ -29,6 +34,12 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
             raise UsageError(f"run(): no option '{key}'{where}; the options are "
                              f"{', '.join(known)}"
                              f"{did_you_mean(key, [*ARGUMENTS, *known])}")  # fmt: skip
+    for key, value in options.items():  # numpy's numbers as floats: run.json is written of them
+        if key in RUN_NUMERIC and value is not None and not isinstance(value, str):
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                raise UsageError(f"run(): {key}= is a number in SI units, or a text with its "
+                                 f"unit (e.g. {key}='{RUN_EXAMPLES[key]}'), not {value!r}")  # fmt: skip
+            options[key] = float(value)
     for key in ("dt", "control_dt", "record_rate"):  # None is the file's (or the runner's)
         options.setdefault(key, None)
     duration = seconds(5.0 if time is None else time)
