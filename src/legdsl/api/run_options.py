@@ -26,6 +26,11 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
     values filling in ``dt``, ``control_dt`` and ``record_rate`` not given, as ``legdsl run``."""
     from legdsl.pipeline.scaled import run_options as with_file_defaults
 
+    tilt = options.get("fall_tilt")
+    if isinstance(tilt, str) and _bare_number(tilt):  # --fall-tilt's is degrees, Python's radians
+        raise UsageError(f"run(): fall_tilt={tilt!r} has no unit, and a bare number is degrees "
+                         f"on the command line but radians in Python: write fall_tilt='{tilt.strip()}"
+                         f" deg', or the number {tilt.strip()} for radians")  # fmt: skip
     options = with_units(options)
     known = [f.name for f in fields(RunOptions) if f.name != "duration"]
     for key in options:  # else RunOptions' own TypeError, which names no way out
@@ -44,3 +49,11 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
         options.setdefault(key, None)
     duration = seconds(5.0 if time is None else time)
     return with_file_defaults(model, None, duration=duration, **options)
+
+
+def _bare_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
