@@ -19,7 +19,7 @@ import html
 import math
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -31,15 +31,15 @@ from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
     a_path,
     an_output,
+    check_vary,
     metrics_groups,
     min_stance_time,
-    seconds,
     setting_text,
     thread_count,
     window_time,
-    with_units,
 )
 from legdsl.api.notes import LegdslWarning
+from legdsl.api.run_options import run_options
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
@@ -49,7 +49,6 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
-from legdsl.sim.run_loop import RunOptions, default_control_dt
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
@@ -198,6 +197,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
+        check_vary(set, vary or {})
         self._before(plan, asked)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
@@ -236,24 +236,12 @@ class Creature:
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
             if time is None and plan.duration is not None:
                 time = plan.duration
-        options = with_units(options)
-        step = options.get("dt")
-        if "control_dt" not in options and isinstance(step, int | float):  # never below it
-            options["control_dt"] = default_control_dt(step)
-        known = [f.name for f in fields(RunOptions) if f.name != "duration"]
-        arguments = ["controller", "set", "time", "path", "switch", "scene"]  # a typo of one
-        for key in options:  # else RunOptions' own TypeError, which names no way out
-            if key not in known:
-                where = " (the backend is $LEGDSL_BACKEND's: c or python)" * (key == "backend")
-                raise UsageError(f"run(): no option '{key}'{where}; the options are "
-                                 f"{', '.join(known)}"
-                                 f"{did_you_mean(key, [*arguments, *known])}")  # fmt: skip
-        run_options = RunOptions(duration=seconds(5.0 if time is None else time), **options)
+        options_read = run_options(self.model, time, options)
         return {
             "controller": controller,
             "settings": settings,
             "paths": [path] if path is not None else [],
-            "options": run_options,
+            "options": options_read,
             "switches": switches,
         }
 
@@ -285,6 +273,11 @@ class Copies:
 
     def __getitem__(self, k: int) -> Run:
         return self._creature._wrap(self.copies.run(k))
+
+    def __repr__(self) -> str:
+        counts = {s: int((self.status == s).sum()) for s in dict.fromkeys(self.status.tolist())}
+        how = ", ".join(f"{s} {k}" for s, k in counts.items())
+        return f"<legdsl copies of '{self._creature.name}': {len(self)} ({how})>"
 
 
 class Run:

@@ -88,14 +88,19 @@ def _seconds(name: str, value: object, least: str, meaning: str) -> float:
     return float(value)
 
 
-def setting_text(name: str, value: str | float) -> str:
-    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form)."""
+def setting_text(name: str, value: object) -> str:
+    """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form); a ``Quantity`` (a
+    controller's default, as ``load`` gives it) goes with its SI unit, every digit kept."""
+    from legdsl.api import Quantity
+
+    if isinstance(value, Quantity):
+        value = f"{value.value!r}{value.unit}"
     if not isinstance(name, str) or not (
         isinstance(value, str | int | float | np.integer | np.floating)
         and not isinstance(value, bool)
     ):
         raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
-                         f"{{'speed': '2 m/s'}}, not {value!r}")  # fmt: skip
+                         f"{{'speed': '2 m/s'}} (or a Quantity), not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
@@ -136,3 +141,20 @@ def metrics_groups(groups: object) -> tuple[str, ...]:
         if all(isinstance(g, str) and "=" in g for g in groups):
             return groups
     raise UsageError(f"metrics(): groups= is {GROUP_FORMS}, not {groups!r}")
+
+
+def check_vary(set_: Mapping[str, Any] | None, vary: Mapping[str, Any]) -> None:
+    """``run_copies``' ``vary=`` against ``set=``: a name in both would have its ``set=`` value
+    overridden unseen (a change during the run, ``NAME@T``, is ``set=``'s alone); True/False or
+    complex values are not numbers of a unit (numpy would read them as 1/0, or drop a part)."""
+    fixed = {str(name).partition("@")[0].strip() for name in (set_ or {}) if "@" not in str(name)}
+    for name, given in vary.items():
+        if name in fixed:
+            raise UsageError(f"run_copies(): {name} is in both set= and vary=, and each copy's "
+                             f"vary= value would override set='s: give it in one of them")  # fmt: skip
+        if isinstance(given, tuple) and len(given) == 2:
+            kind = np.asarray(given[0]).dtype.kind
+            if kind in "bc":
+                what = "True/False" if kind == "b" else "complex numbers"
+                raise UsageError(f"vary {name}: its values are {what}, not numbers of "
+                                 f"{given[1]!r}; give real numbers")  # fmt: skip

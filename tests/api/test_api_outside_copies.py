@@ -1,0 +1,45 @@
+"""``run_copies`` misused from a notebook: a name both in ``set=`` and ``vary=`` (vary's
+values used to win unseen), True/False or complex values (read as 1/0, or cut to their real
+part), and the batch's repr (it said only ``<legdsl.api.Copies object at 0x...>``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+import legdsl
+from legdsl.lang.errors import UsageError
+
+POGO = ROOT / "tests" / "good" / "outside" / "insect_pogo.leg"
+
+
+@pytest.fixture(scope="module")
+def pogo(generated: Path) -> legdsl.api.Creature:
+    return legdsl.load(POGO, generated=generated)
+
+
+def test_a_name_in_both_set_and_vary_is_refused(pogo) -> None:
+    with pytest.raises(UsageError, match=r"speed is in both set= and vary="):
+        pogo.run_copies(2, "hop", set={"speed": "0.1 m/s"}, vary={"speed": ([0.2, 0.3], "m/s")},
+                        time=0.02)  # fmt: skip
+
+
+def test_a_change_during_the_run_goes_with_vary(pogo) -> None:
+    copies = pogo.run_copies(2, "hop", set={"speed@10ms": "0.1 m/s"},
+                             vary={"speed": ([0.2, 0.3], "m/s")}, time=0.02)  # fmt: skip
+    assert copies[1].info["inputs"]["speed"] == pytest.approx(0.3)
+
+
+@pytest.mark.parametrize(("values", "what"), [([True, False], "True/False"),
+                                              (np.array([1j, 2]), "complex")])  # fmt: skip
+def test_booleans_and_complex_values_are_refused(pogo, values, what) -> None:
+    with pytest.raises(UsageError, match=what):
+        pogo.run_copies(2, "hop", vary={"speed": (values, "m/s")}, time=0.02)
+
+
+def test_copies_say_what_they_are(pogo) -> None:
+    copies = pogo.run_copies(2, "hop", vary={"speed": ([0.2, 0.3], "m/s")}, time=0.02)
+    assert repr(copies) == "<legdsl copies of 'insect_pogo': 2 (ok 2)>"
