@@ -95,8 +95,14 @@ OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
     ({"fall_height": "0.3 kg"}, r"--fall-height is a length .*, but 0.3kg is a mass"),
     ({"fall_tilt": "30 m"}, r"--fall-tilt is an angle .*, but 30m is a length"),
     ({"fall_tilt": 60}, r"60 rad\) is past upside down .* write fall_tilt='60 deg'"),
-    ({"fall_tilt": True}, r"--fall-tilt True: must be a number of radians"),
-    ({"dt": True}, r"--dt True: must be a finite number more than zero"),
+    (
+        {"fall_tilt": True},
+        r"fall_tilt= is a number in SI units, or a text with its unit \(e.g. fall_tilt=.60 deg.\), not True",
+    ),
+    (
+        {"dt": True},
+        r"dt= is a number in SI units, or a text with its unit \(e.g. dt=.0.4 ms.\), not True",
+    ),
     ({"switch": {1: "hop"}}, r"switch= maps times to controllers"),
     ({"controler": "hop"}, r"no option 'controler'.*did you mean 'controller'\?"),
     ({"sett": {"speed": "1 m/s"}}, r"did you mean 'set'\?"),

@@ -3,6 +3,7 @@ averaged rows (``Summary``) and all of them together (``GaitMetrics``), as text 
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -19,6 +20,13 @@ FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a
 
 class MetricsError(ValueError):
     """A request the run cannot answer: an unknown leg, group or coordinate, an empty window."""
+
+
+class UnknownMetric(MetricsError, KeyError):
+    """A metric the run's summary has no row for (a KeyError too, as a lookup's)."""
+
+    def __str__(self) -> str:  # the sentence, not KeyError's quoted repr of it
+        return str(self.args[0])
 
 
 @dataclass(frozen=True)
@@ -105,7 +113,10 @@ class GaitMetrics:
         for s in self.summaries:
             if s.key == key:
                 return s
-        raise KeyError(key)
+        keys = [s.key for s in self.summaries]
+        close = difflib.get_close_matches(key, keys, n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
+        raise UnknownMetric(f"no metric '{key}'{hint} (the run has {', '.join(keys)})")
 
     def value(self, key: str) -> float:
         return self.summary(key).value

@@ -55,6 +55,12 @@ def stance_units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[Unit]
                 f"group {name!r} has the name of a leg: give it a name of its own (--group "
                 f"{name}_group={','.join(members)})"
             )
+        twice = sorted({m for m in members if list(members).count(m) > 1})
+        if twice:  # its stances would count that foot twice, as two feet landing together
+            raise MetricsError(
+                f"group {name!r} names {', '.join(twice)} twice: give each leg once "
+                f"(--group {name}={','.join(dict.fromkeys(members))})"
+            )
         idx = tuple(legs.index(m) for m in members)
         units.append(Unit(name, "group", sum((foot_contacts(tr, i) for i in idx), ()), idx))
     return units

@@ -51,7 +51,8 @@ WINDOW = Numeric("time", "s", "nonnegative")  # --from and --to
 
 def read_numeric(flag: str, text: str, spec: Numeric) -> float:
     """``--dt 0.4ms`` -> 0.0004 (SI); a mistake raises ``UsageError`` naming the flag."""
-    where = f"{flag} {text}"
+    sep = "" if flag.endswith("=") else " "  # the API's start=, --from's space
+    where = f"{flag}{sep}{text}"
     given = parse_given(text, where)
     want = KINDS[spec.kind][0]
     if given.dim is None:
@@ -61,7 +62,7 @@ def read_numeric(flag: str, text: str, spec: Numeric) -> float:
     else:
         raise UsageError(
             f"{where}: {flag} is {a_kind(want)}, but {given.text} is {a_kind(given.dim)}; "
-            f"write e.g. {flag} {given.number}{spec.bare}"
+            f"write e.g. {flag}{sep}{given.number}{spec.bare}"
         )
     if spec.least == "positive" and not value > 0:
         raise UsageError(f"{where}: {flag} must be more than zero")
