@@ -375,3 +375,23 @@ def test_a_worker_killed_by_the_system_is_said_so_not_a_bug() -> None:
     killed = r"killed \(SIGKILL: out of memory\?\).*fewer --jobs"
     with pytest.raises(UsageError, match=killed), Workers(2) as pool:
         list(pool.as_completed(_killed_by_the_system, [0, 1, 2]))
+
+
+def test_a_sweep_records_the_step_its_runs_take_from_the_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Runs from Python took 0.4 ms whatever the file's simulation block said, until they took
+    its step as legdsl run does: a sweep begun before would have mixed both in one table. The
+    plan records the file's step, so such a sweep (its plan without it) is not resumed."""
+    pogo = Path(__file__).resolve().parents[1] / "good" / "outside" / "insect_pogo.leg"
+    out = tmp_path / "s"
+    argv = ["sweep", str(pogo), "--controller", "hop", "--grid", "speed=0.1", "--time", "0.1",
+            "--from", "0.05", "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "g")]  # fmt: skip
+    assert main(argv) == 0
+    plan = json.loads((out / "sweep.json").read_text())
+    assert plan["simulation"]["dt"] == pytest.approx(1e-4)
+    del plan["simulation"]  # as a sweep of an older legdsl wrote it
+    (out / "sweep.json").write_text(json.dumps(plan))
+    capsys.readouterr()
+    assert main(argv) == 2
+    assert "holds another sweep" in capsys.readouterr().err

@@ -8,6 +8,7 @@ import json
 import os
 import sys
 from collections.abc import Callable
+from dataclasses import asdict
 from pathlib import Path
 from typing import IO, Any
 
@@ -138,11 +139,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             "from": args.t_from, "set": args.set, "runs": combos,
             # what the file says, so that rows of an edited file are not mixed with the new
             "creature_digest": creature_fingerprint(model),
-            "controller_digest": controller_fingerprint(model, controller)}  # fmt: skip
+            "controller_digest": controller_fingerprint(model, controller),
+            # the step the runs take from the file (a sweep before legdsl read it from the
+            # API took 0.4 ms: its rows are not mixed with these)
+            "simulation": asdict(model.simulation)}  # fmt: skip
     plan_file = out / "sweep.json"
     before_plan = _plan_in(plan_file) if plan_file.is_file() else plan
     if before_plan != plan:
-        digests = ("creature_digest", "controller_digest")
+        digests = ("creature_digest", "controller_digest", "simulation")
         edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
             isinstance(before_plan, dict)
             and all(k in before_plan for k in digests)
