@@ -10,7 +10,7 @@ from __future__ import annotations
 from legdsl.check.control_args import retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
 from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
-from legdsl.check.group_torque import whole_torque_per_member
+from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
@@ -192,11 +192,15 @@ class Elaborator(ExprChecker, LegMotionProbe):
 
     def misaimed(self, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]) -> None:
         """A body argument that a hip the call drives cannot hold (hip_holds), or a group
-        role given to a one-leg torque (group_torque), told once."""
+        role given to a one-leg torque or spring energy (group_torque), told once."""
         if s.span.file != self.scope.user_file:
             return
         call = (s, given, body)
-        told = [*misaimed_bodies(self.scope, *call), *whole_torque_per_member(self.scope, *call)]
+        told = [
+            *misaimed_bodies(self.scope, *call),
+            *whole_torque_per_member(self.scope, *call),
+            *one_spring_per_group(self.scope, *call),
+        ]
         for span, message in told:
             if (span, message) not in self._reported_at_call:
                 self._reported_at_call.add((span, message))

@@ -7,6 +7,13 @@ the pair's hips apply eq. (4)'s whole torque, so the trunk feels it once per mem
 gains silently multiplied). The virtual-leg actions share it (``each`` member applies a
 part); a library statement that sets a ``force`` through the group itself is told at the
 argument that gave the group.
+
+Likewise an action that predicts the apex from a spring's strain energy (``hop_apex``,
+``hop_height``) given a group reads the members' mean force and stiffness: it counts one
+spring's energy where the group's springs store it once per member, and the stroke it sizes
+for one leg goes to each (a pair of legs asked for 0.85 m rose to 1.02 m). The virtual-leg
+actions count ``feet_down`` springs; a library record that reads a group's spring force and
+stiffness but not its ``feet_down`` is told at the argument.
 """
 
 from __future__ import annotations
@@ -56,3 +63,53 @@ def whole_torque_per_member(
             f"{{ {s.action.name}(m, ...) }}' with the gains divided by "
             f"'max({role}.feet_down, 1)' (as servo_posture_virtual does)",
         )
+
+
+def one_spring_per_group(
+    scope: Scope, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]
+) -> Iterator[tuple[Span, str]]:
+    """Each group-role argument of ``s`` whose spring energy a library record counts once,
+    as if the group were one leg: where, and what to say."""
+    for arg, value in zip(s.args, given, strict=True):
+        if not isinstance(value, ir.Legs) or value.each is not None or value.role is None:
+            continue
+        legs = scope.roles.get(value.role, ())
+        if len(legs) < 2:
+            continue
+        spring = next(
+            (
+                alias
+                for r in ir.flat(body)
+                if isinstance(r, ir.Record) and r.span.file != scope.user_file
+                for alias in _energy_without_count(r.value, value)
+            ),
+            None,
+        )
+        if spring is None:
+            continue
+        role, n = value.role, len(legs)
+        yield (
+            arg.span,
+            f"action '{s.action.name}' is for one leg, but '{role}' is a group of {n} legs "
+            f"({', '.join(legs)}): it predicts the apex from the energy of one leg's "
+            f"'{spring}', where the {n} members' store {n} times it, and gives each the "
+            f"stroke sized for one leg, so the hop overshoots; for a virtual leg use "
+            f"'hop_height_virtual' (on entering thrust) or 'hop_height_apex' (at touchdown; "
+            f"'hop_height_apex_rotary' for a knee's spring)",
+        )
+
+
+def _energy_without_count(e: ir.Expr, group: ir.Legs) -> Iterator[str]:
+    """The alias whose force and stiffness ``e`` reads through ``group`` (a strain energy),
+    if it does not also read how many of the group's feet are down."""
+    reads = [x for x in ir.leaves(e) if isinstance(x, ir.Read)]
+    if any(x.thing == group and x.member == "feet_down" for x in reads):
+        return
+    through = {
+        (x.thing.alias, x.member)
+        for x in reads
+        if isinstance(x.thing, ir.Alias) and x.thing.legs == group
+    }
+    for alias in sorted({a for a, m in through if m == "force"}):
+        if (alias, "k") in through:
+            yield alias
