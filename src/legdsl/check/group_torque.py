@@ -33,12 +33,7 @@ def whole_torque_per_member(
     """Each group-role argument of ``s`` through which a library statement sets a torque
     from a body's orientation: where, and what to say."""
     bodies = {v.name for v in given if isinstance(v, ir.Part) and v.kind == "body"}
-    for arg, value in zip(s.args, given, strict=True):
-        if not isinstance(value, ir.Legs) or value.each is not None or value.role is None:
-            continue
-        legs = scope.roles.get(value.role, ())
-        if len(legs) < 2:
-            continue
+    for arg, value, legs in _group_arguments(scope, s, given):
         torque = next(
             (
                 a
@@ -70,12 +65,7 @@ def one_spring_per_group(
 ) -> Iterator[tuple[Span, str]]:
     """Each group-role argument of ``s`` whose spring energy a library record counts once,
     as if the group were one leg: where, and what to say."""
-    for arg, value in zip(s.args, given, strict=True):
-        if not isinstance(value, ir.Legs) or value.each is not None or value.role is None:
-            continue
-        legs = scope.roles.get(value.role, ())
-        if len(legs) < 2:
-            continue
+    for arg, value, legs in _group_arguments(scope, s, given):
         spring = next(
             (
                 alias
@@ -113,3 +103,14 @@ def _energy_without_count(e: ir.Expr, group: ir.Legs) -> Iterator[str]:
     for alias in sorted({a for a, m in through if m == "force"}):
         if (alias, "k") in through:
             yield alias
+
+
+def _group_arguments(
+    scope: Scope, s: ast.InvokeStmt, given: list[Value]
+) -> Iterator[tuple[ast.Expr, ir.Legs, tuple[str, ...]]]:
+    """The arguments of ``s`` that give a group role of two legs or more, with its legs."""
+    for arg, value in zip(s.args, given, strict=True):
+        if isinstance(value, ir.Legs) and value.each is None and value.role is not None:
+            legs = tuple(scope.roles.get(value.role, ()))
+            if len(legs) >= 2:
+                yield arg, value, legs
