@@ -40,6 +40,7 @@ from legdsl.api.arguments import (
 )
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.run_options import run_options
+from legdsl.api.series_units import series_unit
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
@@ -349,6 +350,12 @@ class Run:
         if name not in samples:
             raise KeyError(f"no series '{name}'{did_you_mean(name, samples)}")
         return samples[name]
+
+    def unit(self, name: str) -> str:
+        """The SI unit of series ``name``: 'rad' for a hinge's ``q.``, 'm/s' for ``com_vel.x``,
+        '' for a pure number (a quaternion's component, ``contact.``, ``state``)."""
+        self[name]  # a name that is no series: its KeyError, with the nearest name
+        return series_unit(self.model, name) or ""
 
     def __len__(self) -> int:
         return len(self.trajectory)
