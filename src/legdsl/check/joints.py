@@ -227,7 +227,10 @@ class JointChecker(CreaturePart):
                 )
                 values[0] = v if v is not None else 0.0
             elif isinstance(prop.value, ast.Assigns):
+                seen: set[str] = set()
                 for item in prop.value.items:
+                    if self.given_twice(item, key, seen):
+                        continue
                     if item.target.name not in coords:
                         n = item.target.name
                         hint = (  # a 3D root's velocity names, vx..., on a planar joint
@@ -254,6 +257,18 @@ class JointChecker(CreaturePart):
                 )
         return init, rates
 
+    def given_twice(self, item: ast.Assign, key: str, seen: set[str]) -> bool:
+        """A coordinate named twice in one 'initial' or 'velocity': the second would win unseen."""
+        name = item.target.name
+        if name in seen:
+            self.err(
+                item.target.span,
+                f"'{name}' is given twice in '{key}'; give each coordinate once",
+            )
+            return True
+        seen.add(name)
+        return False
+
     def free3d_initial(self, props: dict[str, ast.Prop]) -> tuple[list[float], list[float]]:
         pos = {"x": 0.0, "y": 0.0, "z": 0.0}
         ang = {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}
@@ -268,8 +283,11 @@ class JointChecker(CreaturePart):
                     f"a 3D free root takes '{key} NAME = value, ...' with names from {', '.join(table)}",
                 )
                 continue
+            seen_root: set[str] = set()
             for item in prop.value.items:
                 n = item.target.name
+                if self.given_twice(item, key, seen_root):
+                    continue
                 if n not in table:
                     other = "velocity" if key == "initial" else "initial"
                     self.err(

@@ -7,6 +7,7 @@ from legdsl.check.scope import CreaturePart
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Actuator, Body, Contact, Joint, Leg
 from legdsl.lang import ast
+from legdsl.lang.errors import Span
 
 LEG_PROPS = ("joints", "foot", "alias")
 
@@ -38,6 +39,7 @@ class LegChecker(CreaturePart):
         aliases: list[tuple[str, str]] = []
         alias_at: dict[str, ast.Ident] = {}  # each alias's target, where it is written
         seen: set[str] = set()
+        joints_at: Span | None = None
         for p in decl.props:
             key = p.key.name
             if key not in LEG_PROPS:
@@ -52,6 +54,7 @@ class LegChecker(CreaturePart):
                 continue
             seen.add(key)
             if key == "joints":
+                joints_at = p.value.span
                 values = (
                     p.value.values
                     if isinstance(p.value, ast.Many)
@@ -108,6 +111,14 @@ class LegChecker(CreaturePart):
                             f"unknown name '{target.name}'; an alias names an actuator, joint, coordinate, contact or body{did_you_mean(target.name, referable)}",
                         )
                         continue
+                    if item.target.name in alias_at:
+                        self.err(
+                            item.target.span,
+                            f"alias '{item.target.name}' is given twice for leg "
+                            f"'{decl.name.name}' (first for '{alias_at[item.target.name].name}'); "
+                            f"give each alias one target",
+                        )
+                        continue
                     aliases.append((item.target.name, target.name))
                     alias_at[item.target.name] = target
         if "joints" not in seen:
@@ -135,6 +146,14 @@ class LegChecker(CreaturePart):
             )
         if leg_joints[0] in chain:
             own = chain[: chain.index(leg_joints[0]) + 1]  # from the foot up to the hip
+            # The listed joints are the whole chain, hip first: the highest one listed on it.
+            top = max(chain.index(j) for j in leg_joints if j in chain)
+            if leg_joints != chain[top::-1] and joints_at is not None:
+                self.err(
+                    joints_at,
+                    f"the joints of leg '{decl.name.name}' are not the chain from its hip down "
+                    f"to its foot '{foot}', in order: write 'joints {', '.join(chain[top::-1])}'",
+                )
             self._own_aliases(decl.name.name, own, aliases, alias_at, joints, actuators)
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
 

@@ -68,7 +68,8 @@ class CreaturePart(ValueChecker):
             self.err(
                 ident.span,
                 f"the name '{ident.name}' is already used by the {prior[0]} at {prior[1]}"
-                f"{prior[1].within}; "
+                # the prior's instance, unless it is this one (the error names it once)
+                f"{prior[1].within if prior[1].within != ident.span.within else ''}; "
                 "names in a creature must be unique",
             )
             return False
