@@ -120,6 +120,7 @@ class JointChecker(CreaturePart):
             )
         limits = self.limits(props.get("limits"), coord_names, motions)
         stop = self.stop(props.get("stop"), props.get("limits"), limits, motions)
+        self.initial_within_limits(props.get("initial"), coord_names, motions, initial, limits)
         dofs = tuple(
             Dof(
                 name=c,
@@ -256,6 +257,29 @@ class JointChecker(CreaturePart):
                     f"'{key} {coords[0]} = ...' naming each of {', '.join(coords)}",
                 )
         return init, rates
+
+    def initial_within_limits(
+        self,
+        prop: ast.Prop | None,
+        coords: list[str],
+        motions: list[str],
+        initial: list[float],
+        limits: list[tuple[float, float] | None],
+    ) -> None:
+        """A joint written to start outside its own range is a slip (a sign, a unit)."""
+        if prop is None or not len(coords) == len(motions) == len(initial) == len(limits):
+            return  # a 3D free root (7 numbers for 6 motions) has no limits
+        for c, m, q, lim in zip(coords, motions, initial, limits, strict=True):
+            if lim is None or lim[0] - 1e-12 <= q <= lim[1] + 1e-12:
+                continue
+            show = (
+                (lambda v: f"{math.degrees(v):g} deg") if m == "hinge" else (lambda v: f"{v:g} m")
+            )
+            self.err(
+                prop.value.span,
+                f"the initial {c}, {show(q)}, is outside its limits {show(lim[0])} to "
+                f"{show(lim[1])}; start it within them or widen the limits",
+            )
 
     def given_twice(self, item: ast.Assign, key: str, seen: set[str]) -> bool:
         """A coordinate named twice in one 'initial' or 'velocity': the second would win unseen."""
