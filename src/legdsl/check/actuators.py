@@ -19,6 +19,19 @@ ACTUATOR_ARGS = {
 class ActuatorChecker(CreaturePart):
     """Checks actuator and contact declarations."""
 
+    def _not_a_coordinate_hint(self, coord: str, dofs: dict[str, Dof]) -> str:
+        """How to name the coordinate meant: a gimbal's or ball's own, or none for the root's."""
+        own = [d.name for d in dofs.values() if d.joint == coord]
+        if len(own) > 1:
+            return f"; joint '{coord}' has the coordinates {', '.join(own)}: put it on one of them"
+        root = {"x", "z", "pitch"} if self.planar else {"x", "y", "z", "roll", "pitch", "yaw"}
+        if coord in root:
+            return (
+                f"; '{coord}' is the free root's, which no actuator drives: put it on a joint "
+                "and let the legs push the body"
+            )
+        return did_you_mean(coord, dofs)
+
     def actuator(self, decl: ast.ActuatorDecl, dofs: dict[str, Dof]) -> Actuator | None:
         self.declare(decl.name, "actuator")
         kind = decl.kind.name
@@ -39,7 +52,7 @@ class ActuatorChecker(CreaturePart):
             self.err(
                 decl.coordinate.span,
                 f"actuator '{decl.name.name}' is on '{decl.coordinate.name}', which is not a "
-                f"joint coordinate{did_you_mean(decl.coordinate.name, dofs)}",
+                f"joint coordinate{self._not_a_coordinate_hint(coord, dofs)}",
             )
             return None
         rotary = dof.motion == "hinge"
