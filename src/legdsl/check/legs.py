@@ -146,13 +146,16 @@ class LegChecker(CreaturePart):
             )
         if leg_joints[0] in chain:
             own = chain[: chain.index(leg_joints[0]) + 1]  # from the foot up to the hip
-            # The listed joints are the whole chain, hip first: the highest one listed on it.
+            # The listed joints are the whole chain, hip first: the highest one listed on it
+            # (a weld, which moves nothing, may be listed or left out).
             top = max(chain.index(j) for j in leg_joints if j in chain)
-            if leg_joints != chain[top::-1] and joints_at is not None:
+            moving = {j.name for j in joints if j.kind != "weld"}
+            whole = [j for j in chain[top::-1] if j in moving]
+            if [j for j in leg_joints if j in moving or j not in chain] != whole and joints_at:
                 self.err(
                     joints_at,
                     f"the joints of leg '{decl.name.name}' are not the chain from its hip down "
-                    f"to its foot '{foot}', in order: write 'joints {', '.join(chain[top::-1])}'",
+                    f"to its foot '{foot}', in order: write 'joints {', '.join(whole)}'",
                 )
             self._own_aliases(decl.name.name, own, aliases, alias_at, joints, actuators)
         return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
