@@ -27,6 +27,7 @@ import numpy as np
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.analysis.series_units import series_unit
 from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
     a_path,
@@ -40,7 +41,6 @@ from legdsl.api.arguments import (
 )
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.run_options import run_options
-from legdsl.api.series_units import series_unit
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone

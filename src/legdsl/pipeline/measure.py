@@ -13,6 +13,7 @@ from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
+from legdsl.analysis.series_units import series_unit
 from legdsl.analysis.strides import debounced
 from legdsl.analysis.table2 import MEASURE, virtual_legs
 from legdsl.check.source import check_model
@@ -150,15 +151,14 @@ def _slides(run: Path, joint: str) -> bool:
     if run_source(run, info) is None:
         return False
     _, model = recorded_model(run, info)
-    motion = {d.name: d.motion for d in model.dofs}
-    if model.joints and model.joints[0].is_free_3d:
-        motion |= dict.fromkeys(("x", "y", "z"), "slide")
-    if joint in model.q_names and joint not in motion:
+    unit = series_unit(model, f"q.{joint}")
+    if unit == "":  # of the coordinates, only a quaternion's component is a pure number
+        named = [n for n in model.q_names if series_unit(model, f"q.{n}")]
         raise UsageError(
             f"--joint {joint}: a component of the root's orientation quaternion, not an angle "
-            f"or a length; give a joint's coordinate ({', '.join(motion)})"
+            f"or a length; give a joint's coordinate ({', '.join(named)})"
         )
-    return motion.get(joint) == "slide"
+    return unit == "m"
 
 
 def run_model(run: Path, why: str) -> Model:

@@ -1,4 +1,5 @@
-"""The unit of each series a run records (``Run.unit``): what a plot's axis says.
+"""The unit of each series a run records: what a plot's axis says (``Run.unit``), and
+whether a coordinate's magnitude is a length (``legdsl metrics --joint``).
 
 Every series is in SI units; which one a coordinate's is depends on its joint (a hinge's in
 rad, a slide's in m), which the run's arrays do not say, so it is read from the creature.
