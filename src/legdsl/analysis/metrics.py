@@ -103,6 +103,8 @@ def compute_metrics(
 
     ``min_stance`` (s): a contact shorter than this is no touchdown (default None: every
     contact is one, and ``GaitMetrics.scuff_note`` names those that look like scuffs).
+    ``edge`` (s): left out at each end of a stance for the interior friction row (the paper's
+    10 ms; a creature of size L scaled dynamically has its stances, and so this, √L as long).
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -117,6 +119,8 @@ def compute_metrics(
         raise MetricsError(f"the window ends ({t_to:g} s) before it starts ({t_from:g} s)")
     if min_stance is not None and not (math.isfinite(min_stance) and min_stance > 0):
         raise MetricsError(f"--min-stance {min_stance!r}: give a time more than zero, e.g. 20ms")
+    if not (math.isfinite(edge) and edge >= 0):
+        raise MetricsError(f"--friction-edge {edge!r}: give a time of 0 s or more, e.g. 10ms")
     units = stance_units(tr, dict(groups or {}))
     scuffs = scuff_note(tr, units, t_from, t_to) if min_stance is None else ""
     tr = debounced(tr, min_stance)

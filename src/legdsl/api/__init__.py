@@ -33,6 +33,7 @@ from legdsl.api.arguments import (
     a_path,
     an_output,
     check_vary,
+    friction_edge_time,
     metrics_groups,
     min_stance_time,
     setting_text,
@@ -377,18 +378,22 @@ class Run:
         leg: str | None = None,
         groups: Mapping[str, Sequence[str]] | Sequence[str] = (),
         min_stance: float | str | None = None,
+        friction_edge: float | str = "10 ms",
     ) -> GaitMetrics:
         """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``);
         ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together;
-        ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise)."""
+        ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise);
+        ``friction_edge`` as ``--friction-edge``."""
         t_from = window_time("start", start)
         t_to = None if end is None else window_time("end", end)
         groups, shortest = metrics_groups(groups), min_stance_time(min_stance)
+        edge = friction_edge_time(friction_edge)
         if leg is not None and not isinstance(leg, str):
             raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
         try:
             return compute_metrics(self.trajectory, t_from=t_from, t_to=t_to, leg=leg,
-                                   groups=parse_groups(groups), min_stance=shortest)  # fmt: skip
+                                   groups=parse_groups(groups), min_stance=shortest,
+                                   edge=edge)  # fmt: skip
         except MetricsError as e:
             raise UsageError(str(e)) from None
 

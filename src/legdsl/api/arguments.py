@@ -71,6 +71,13 @@ def min_stance_time(value: object) -> float | None:
                     "number more than zero (or a text like '20 ms')")  # fmt: skip
 
 
+def friction_edge_time(value: object) -> float:
+    """``metrics()``'s ``friction_edge=``: seconds, 0 or more, or a text with its unit as
+    ``--friction-edge`` takes it (``"10 ms"``)."""
+    return _seconds("friction_edge", value, "nonnegative", "metrics(): friction_edge= is "
+                    "seconds, a number 0 or more (or a text like '10 ms')")  # fmt: skip
+
+
 def _seconds(name: str, value: object, least: str, meaning: str) -> float:
     """``value`` in seconds: a text with its unit (``read_seconds``), or a finite number, 0 or
     more (``least="nonnegative"``) or more than 0 (``"positive"``); else ``meaning``."""

@@ -96,12 +96,13 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         min_stance = (
             None if args.min_stance is None else read_seconds("--min-stance", args.min_stance)
         )
+        edge = read_seconds("--friction-edge", args.friction_edge, "nonnegative")
         if args.table2 is not None and args.table2 not in TABLE2:
             known = ", ".join(repr(k) for k in TABLE2)
             raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
         metrics, reports = measure_run(
             args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
-            args.generated, args.table2, min_stance,
+            args.generated, args.table2, min_stance, edge,
         )  # fmt: skip
     except UsageError as e:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
@@ -268,6 +269,13 @@ def _parser() -> argparse.ArgumentParser:
         metavar="TIME",
         help="a contact shorter than this (e.g. 20ms) is no touchdown: it starts no stride and "
         "is no stance (default: every contact counts; a note names those that look like scuffs)",
+    )
+    m.add_argument(
+        "--friction-edge",
+        default="10ms",
+        metavar="TIME",
+        help="left out at each end of a stance for the interior friction row (default 10ms, "
+        "the paper's; a creature scaled by L: 10ms times the square root of L)",
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
     m.add_argument("--generated", default="generated", metavar="DIR",

@@ -11,7 +11,7 @@ from legdsl.analysis.pairs import PAIR_NAMES, group_hint
 from legdsl.analysis.path_report import PATH_FROM, path_report
 from legdsl.analysis.plot import run_paths, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
-from legdsl.analysis.results import GaitMetrics, MetricsError, write_json
+from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
 from legdsl.analysis.series_units import series_unit
 from legdsl.analysis.strides import debounced
@@ -36,6 +36,7 @@ def measure_run(
     generated: str | Path = "generated",
     table2: str | None = None,
     min_stance: float | None = None,
+    friction_edge: float = FRICTION_EDGE,
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
     lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
@@ -48,7 +49,8 @@ def measure_run(
     from the creature's hips (``legdsl.analysis.table2.virtual_legs``) and, without ``leg``,
     strides start at its reference pair's touchdowns. A request the run cannot answer (no or a
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``. ``min_stance``
-    (s) is ``compute_metrics``'s: a shorter contact is no touchdown.
+    (s) is ``compute_metrics``'s: a shorter contact is no touchdown; ``friction_edge`` (s) its
+    ``edge``, left out at each end of a stance for the interior friction row.
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
@@ -74,6 +76,7 @@ def measure_run(
             against=against,
             joint_slides=joint is not None and _slides(run, joint),
             min_stance=min_stance,
+            edge=friction_edge,
         )
     except MetricsError as e:
         raise UsageError(str(e)) from None
