@@ -33,6 +33,7 @@ import shutil
 import signal
 import stat
 import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -172,6 +173,35 @@ def is_device(path: Path) -> bool:
     return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
+# The standard streams this process was started without (``>&-``), each given /dev/null by
+# ``keep_standard_descriptors``: closed, the first file opened takes its number, and
+# ``-o /dev/stdout`` wrote over that file (a font of matplotlib's, in ``legdsl plot``).
+CLOSED_AT_START: set[int] = set()
+
+
+def keep_standard_descriptors() -> None:
+    """Give each closed standard descriptor (0, 1, 2) /dev/null, and remember which."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+            CLOSED_AT_START.add(fd)
+
+
+def closed_stream(path: str | Path) -> str | None:
+    """``path``'s standard stream if it names one this process was started without."""
+    fd = process_fd(Path(path))
+    return (
+        ("standard input", "standard output", "standard error")[fd]
+        if (fd in CLOSED_AT_START and fd is not None)
+        else None
+    )
+
+
 # a descriptor of this process by its name: /dev/stdout -> /proc/self/fd/1, /dev/fd/2
 _FD_NAME = re.compile(r"^/(?:proc/(?P<pid>self|thread-self|\d+)/fd|dev/fd)/(?P<fd>\d+)$")
 
@@ -241,8 +271,12 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
     nothing leaves ``path`` as it was."""
     path = Path(path)
     if is_device(path) or process_fd(path) is not None:
-        with _in_place(path) as same:
-            yield same
+        # drawn into a file first: a picture's writer may seek, which a pipe cannot
+        with tempfile.TemporaryDirectory(prefix="legdsl-") as scratch:
+            drawn = Path(scratch) / path.name
+            yield drawn
+            if drawn.exists():
+                write_atomic(path, drawn.read_bytes())
         return
     target = _replaced(path)
     target.parent.mkdir(parents=True, exist_ok=True)

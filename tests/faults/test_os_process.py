@@ -130,6 +130,17 @@ def test_a_full_standard_output_is_named_as_such(tmp_path: Path) -> None:
     assert "Traceback" not in proc.stderr
 
 
+@pytest.mark.parametrize("words", [("run", "--help"), ("--version",)])
+def test_help_and_version_into_a_full_standard_output_fail(
+    tmp_path: Path, words: tuple[str, ...]
+) -> None:
+    """``legdsl run --help > /dev/full`` exited 0: argparse swallows the write's error."""
+    with open("/dev/full", "w") as full:
+        proc = _legdsl(*words, cwd=tmp_path, stdout=full, stderr=subprocess.PIPE)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.startswith("legdsl: cannot write standard output: No space left")
+
+
 def test_too_few_file_descriptors_say_which_limit(tmp_path: Path) -> None:
     """``ulimit -n 10``: "Too many open files; check the path and its permissions"."""
     proc = _legdsl("compile", HOPPER, "--out", str(tmp_path / "g"), cwd=tmp_path,

@@ -20,7 +20,11 @@ OUT_OF_MEMORY = (
 def streams_that_cannot_fail() -> None:
     """Standard error closed (``2>&-``): messages go nowhere, where print() would send them to
     standard output (into an export written there). An encoding without é or °
-    (PYTHONIOENCODING=ascii): those characters written as escapes, not an error after the work."""
+    (PYTHONIOENCODING=ascii): those characters written as escapes, not an error after the work.
+    A closed descriptor (``>&-``) gets /dev/null, so that no file opened later takes its number."""
+    from legdsl.files import keep_standard_descriptors
+
+    keep_standard_descriptors()
     if sys.stderr is None:
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - for the life of the process
     for stream in (sys.stdout, sys.stderr):
@@ -57,6 +61,8 @@ class QuietWhenClosed:
     def __init__(self, stream: TextIO) -> None:
         self._stream = stream
         self.reader_left = False
+        # the first write refused, kept: argparse's --help swallows the OSError it gets
+        self.refused: OSError | None = None
 
     def write(self, text: str) -> int:
         if not self.reader_left:
@@ -65,7 +71,7 @@ class QuietWhenClosed:
             except BrokenPipeError:
                 self._left()
             except OSError as e:  # > /dev/full, a full disk: say which file it was
-                raise OSError(e.errno, e.strerror, "standard output") from None
+                raise self._refusal(e) from None
         return len(text)
 
     def flush(self) -> None:
@@ -75,7 +81,13 @@ class QuietWhenClosed:
             except BrokenPipeError:
                 self._left()
             except OSError as e:
-                raise OSError(e.errno, e.strerror, "standard output") from None
+                raise self._refusal(e) from None
+        if self.refused is not None:
+            raise self.refused
+
+    def _refusal(self, e: OSError) -> OSError:
+        self.refused = self.refused or OSError(e.errno, e.strerror, "standard output")
+        return self.refused
 
     def _left(self) -> None:
         self.reader_left = True

@@ -17,7 +17,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from legdsl.files import free_bytes
+from legdsl.files import closed_stream, free_bytes
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
@@ -232,6 +232,9 @@ def space_note(path: Path, flag: str, options: RunOptions, model: Model) -> str 
 def check_output_file(path: str | Path, flag: str) -> Path:
     """A file we may write: not a directory, its folder a writable directory (or makeable)."""
     path = Path(path)
+    if stream := closed_stream(path):
+        raise UsageError(f"{flag} {path}: this command was started with {stream} closed (>&-), "
+                         "so nothing can be written there; give a file, or leave it open")  # fmt: skip
     if path.is_dir():
         raise UsageError(f"{flag} {path}: this is a directory; give a file name")
     parent = path.parent

@@ -1,0 +1,63 @@
+"""Outputs named by a standard stream (``-o /dev/stdout``): into a pipe a picture is whole,
+and with the stream closed at start (``>&-``) nothing is written anywhere. Closed, the first
+file the command opened took the stream's number, and ``legdsl plot -o /dev/stdout`` wrote
+its PNG over one of matplotlib's fonts. Each is really done to a ``legdsl`` subprocess."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+ENV = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+
+
+def _legdsl(*args: str, cwd: Path, **kw: object) -> subprocess.CompletedProcess[bytes]:
+    return subprocess.run([sys.executable, "-m", "legdsl", *args], cwd=cwd, env=ENV,
+                          timeout=120, **kw)  # type: ignore[call-overload]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def run(generated: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("closed") / "run"
+    proc = _legdsl("run", str(ROOT / "creatures" / "hopper.leg"), "--time", "0.2",
+                   "--generated", str(generated), "--out", str(out), cwd=out.parent,
+                   capture_output=True)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    return out
+
+
+def test_a_closed_descriptor_gets_dev_null_so_no_file_takes_its_number(tmp_path: Path) -> None:
+    code = ("import os, sys; from legdsl.cli.process import streams_that_cannot_fail; "
+            "streams_that_cannot_fail(); print(os.readlink('/proc/self/fd/1'), file=sys.stderr)")  # fmt: skip
+    proc = subprocess.run([sys.executable, "-c", code], env=ENV, capture_output=False,
+                          stderr=subprocess.PIPE, text=True, timeout=60, cwd=tmp_path,
+                          preexec_fn=lambda: os.close(1))  # fmt: skip
+    assert proc.returncode == 0 and proc.stderr.strip() == "/dev/null", proc.stderr
+
+
+@pytest.mark.parametrize(
+    "words",
+    [("plot", "-o", "/dev/stdout"), ("export-motion", "--format", "bvh", "-o", "/dev/stdout")],
+)
+def test_an_output_to_a_closed_standard_output_is_refused(
+    run: Path, tmp_path: Path, words: tuple[str, ...]
+) -> None:
+    before = {p: p.read_bytes() for p in run.iterdir()}
+    proc = _legdsl(words[0], str(run), *words[1:], cwd=tmp_path, stderr=subprocess.PIPE,
+                   text=True, preexec_fn=lambda: os.close(1))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "started with standard output closed (>&-)" in proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert {p: p.read_bytes() for p in run.iterdir()} == before
+
+
+def test_a_picture_into_a_pipe_is_whole(run: Path, tmp_path: Path) -> None:
+    """``legdsl plot RUN -o /dev/stdout | cat``: "[Errno None] None" (the PNG writer seeks)."""
+    proc = _legdsl("plot", str(run), "-o", "/dev/stdout", cwd=tmp_path, capture_output=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith(b"\x89PNG\r\n\x1a\n") and proc.stdout.endswith(b"IEND\xaeB`\x82")
