@@ -89,9 +89,9 @@ def os_refusal(e: OSError) -> str:
     if e.errno in REFUSED_WRITES:
         where = f"cannot write {e.filename}: " if e.filename else ""
         return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"
-    if e.errno == errno.EBADF and e.filename:  # /dev/stdout of a command started with >&-
-        return (f"cannot write {e.filename}: it names a stream this command was started with "
-                "closed (>&-); give a file, or leave the stream open")  # fmt: skip
+    if e.errno == errno.EBADF and e.filename:  # -o /dev/stdin, a stream opened only to read
+        return (f"cannot write {e.filename}: the stream it names is not open for writing; "
+                "give a file")  # fmt: skip
     where = f" ({e.filename})" if e.filename else ""
     return f"{e.strerror or e}{where}; check the path and its permissions"
 
