@@ -65,10 +65,12 @@ def test_a_picture_into_a_pipe_is_whole(run: Path, tmp_path: Path) -> None:
 
 def test_an_output_to_a_stream_open_only_to_read_says_so(run: Path, tmp_path: Path) -> None:
     """``-o /dev/stdin < file``: "Bad file descriptor (/dev/stdin); check the path"."""
-    with open(run / "run.json", "rb") as read_only:
+    (tmp_path / "notes.txt").write_text("mine\n")
+    with open(tmp_path / "notes.txt", "rb") as read_only:
         proc = _legdsl("export-motion", str(run), "--format", "bvh", "-o", "/dev/stdin",
                        cwd=tmp_path, stdin=read_only, capture_output=True, text=True)  # fmt: skip
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.strip() == (
         "legdsl: cannot write /dev/stdin: the stream it names is not open for writing; give a file"
     )
+    assert (tmp_path / "notes.txt").read_text() == "mine\n"
