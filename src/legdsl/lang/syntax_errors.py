@@ -427,6 +427,16 @@ def _missing_comma(text: str, token: Token) -> tuple[str, int, str] | None:
     return found.group(1), token.start_pos - len(line) + found.start(1), before_name.strip()
 
 
+# 'mirror' at a line's end: the parser takes the next line's first word as its plane
+_MIRROR_THEN_LINE = re.compile(r"\bmirror[ \t]*\n\s*(\w+)[ \t]*$")
+
+
+def _planeless_mirror(text: str, token: Token) -> tuple[int, str] | None:
+    """'mirror' with no plane before a line such as 'ground {': (its offset, the word read)."""
+    found = _MIRROR_THEN_LINE.search(mask(text)[: token.start_pos or 0])
+    return (found.start(), found.group(1)) if found and token.type == "LBRACE" else None
+
+
 def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     """The user's syntax error as a ``LegError``: where, and in the friendliest words we have."""
     at_end = isinstance(err, UnexpectedEOF) or (
@@ -462,7 +472,13 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         and isinstance(err, UnexpectedToken)
         else None
     )
-    if slip is not None:
+    mirror = _planeless_mirror(text, err.token) if isinstance(err, UnexpectedToken) else None
+    if mirror is not None:
+        span = offset_span(file, text, mirror[0], len("mirror"))
+        message = (f"'mirror' needs its plane on its line: 'mirror sagittal' (y to -y, left to "
+                   f"right) or 'mirror frontal' (x to -x, front to back); the next line's "
+                   f"'{mirror[1]}' was read as the plane")  # fmt: skip
+    elif slip is not None:
         message = slip
     elif not_a_number is not None:
         word, start = not_a_number
