@@ -287,13 +287,15 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("files", nargs="*", metavar="FILE", help=".leg files to compile")
     k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
     k.add_argument(
+        "-o",
         "--out",
         "--generated",
         dest="out",
         default="generated",
         metavar="DIR",
-        help="where to write NAME/ (default: generated); --generated is the same option, "
-        "named as in run, animate and the other commands that read the modules",
+        help="the directory to write NAME/ under (default: generated); -o and --generated are "
+        "the same option, --generated named as in run, animate and the other commands that "
+        "read the modules",
     )
     _COMMANDS["compile"] = _cmd_compile
 
