@@ -56,6 +56,7 @@ def _render(e: LegError) -> str:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.check.source import check_file
 
     failed = False
@@ -73,14 +74,20 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 else ""
             )
             print(f"{path}: creature '{m.name}' is well-formed ({m.nv} DOF{ctl})")
+            for note in leg_contact_notes(m):
+                print(f"legdsl: note: {note}", file=sys.stderr)
     return EXIT_USER_ERROR if failed else 0
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
+    from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.check.source import check_model
     from legdsl.ir.describe import describe_model
 
-    print(describe_model(check_model(args.file, args.creature)), end="")
+    model = check_model(args.file, args.creature)
+    print(describe_model(model), end="")
+    for note in leg_contact_notes(model):
+        print(f"legdsl: note: {note}", file=sys.stderr)
     return 0
 
 
