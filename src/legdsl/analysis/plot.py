@@ -158,7 +158,8 @@ def switch_times(run: Path) -> list[tuple[float, str]]:
 
 def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
     """The footfall diagram of a run (PNG): each foot's stance as a bar over time, one row
-    per leg (per contact for a creature without legs), the first leg at the top; each
+    per leg (per contact for a creature without legs), the first leg at the top, then a row
+    for each other contact that touched (``footfall_bars``); each
     controller change is a vertical line labelled with the controller it starts."""
     import matplotlib
 
@@ -194,9 +195,14 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
 
 
 def footfall_bars(tr: Trajectory) -> list[tuple[str, list[tuple[float, float]]]]:
-    """Each leg's (each contact's, for a creature without legs) stances as (start, end) times."""
+    """Each leg's (each contact's, for a creature without legs) stances as (start, end) times,
+    then those of each other contact that touched in the run (a heel beside a leg's toe, a
+    tail), under its own name: a leg's stance is its foot's only."""
     if tr.leg_names:
         rows = [(name, tr.leg_feet[i]) for i, name in enumerate(tr.leg_names)]
+        feet = set(tr.leg_feet)
+        rows += [(name, c) for c, name in enumerate(tr.contact_names)
+                 if c not in feet and bool(np.any(tr.contact[:, c] != 0))]  # fmt: skip
     else:
         rows = list(zip(tr.contact_names, range(len(tr.contact_names)), strict=True))
     return [

@@ -56,6 +56,7 @@ def _render(e: LegError) -> str:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.check.source import check_file
 
     failed = False
@@ -73,14 +74,20 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 else ""
             )
             print(f"{path}: creature '{m.name}' is well-formed ({m.nv} DOF{ctl})")
+            for note in leg_contact_notes(m):
+                print(f"legdsl: note: {note}", file=sys.stderr)
     return EXIT_USER_ERROR if failed else 0
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
+    from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.check.source import check_model
     from legdsl.ir.describe import describe_model
 
-    print(describe_model(check_model(args.file, args.creature)), end="")
+    model = check_model(args.file, args.creature)
+    print(describe_model(model), end="")
+    for note in leg_contact_notes(model):
+        print(f"legdsl: note: {note}", file=sys.stderr)
     return 0
 
 
@@ -295,13 +302,15 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("files", nargs="*", metavar="FILE", help=".leg files to compile")
     k.add_argument("--all", action="store_true", help="compile every creatures/*.leg")
     k.add_argument(
+        "-o",
         "--out",
         "--generated",
         dest="out",
         default="generated",
         metavar="DIR",
-        help="where to write NAME/ (default: generated); --generated is the same option, "
-        "named as in run, animate and the other commands that read the modules",
+        help="the directory to write NAME/ under (default: generated); -o and --generated are "
+        "the same option, --generated named as in run, animate and the other commands that "
+        "read the modules",
     )
     _COMMANDS["compile"] = _cmd_compile
 

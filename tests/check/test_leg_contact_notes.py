@@ -1,0 +1,46 @@
+"""A leg whose foot's body carries another contact (a heel beside the toe): `legdsl check`
+and `legdsl show` say that the leg's events and stances see its foot alone (a heel strike
+before the toe lands is no touchdown of the leg); a leg with one contact gets no note."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from legdsl.cli import main
+
+FLAT = """
+creature flat {
+  planar
+  gravity 9.81 m/s^2
+  body trunk free { mass 10 kg  inertia 0.1 kg*m^2  initial z = 0.6 m }
+  body shank on trunk via prismatic leg { length 0.5 m  mass 0.5 kg  inertia 0.01 kg*m^2 }
+  body foot on shank via revolute ankle at tip {
+    direction (1, 0)  length 0.1 m  mass 0.2 kg  inertia 0.001 kg*m^2
+  }
+  contact toe on foot at tip
+  contact heel on foot at (-0.05 m, 0 m)
+  leg main { joints leg, ankle  foot toe }
+  ground { normal spring(k = 1e4 N/m, b = 100 N*s/m)  tangent spring(k = 1e4 N/m, b = 100 N*s/m) }
+}
+"""
+
+
+@pytest.mark.parametrize("command", ["check", "show"])
+def test_a_heel_beside_the_foot_is_noted(
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    src = tmp_path / "flat.leg"
+    src.write_text(FLAT, encoding="utf-8")
+    assert main([command, str(src)]) == 0
+    err = capsys.readouterr().err
+    assert "note: flat: leg 'main' has its foot 'toe' on 'foot' beside the contact(s) 'heel'" in err
+    assert "touchdown(main), liftoff(main)" in err
+
+
+def test_one_contact_a_leg_is_not_noted(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    src = tmp_path / "flat.leg"
+    src.write_text(FLAT.replace("  contact heel on foot at (-0.05 m, 0 m)\n", ""), encoding="utf-8")
+    assert main(["check", str(src)]) == 0
+    assert "note" not in capsys.readouterr().err
