@@ -60,3 +60,29 @@ def test_the_steepest_slope_and_the_step_down_the_message_gives_are_accepted(
     assert main(["check", str(_hopper_with(tmp_path, "terrain slope(angle = 79.9 deg)"))]) == 0
     down = "terrain box(x0 = -100 m, x1 = 2 m, height = 10 cm)"
     assert main(["check", str(_hopper_with(tmp_path, down))]) == 0
+
+
+@pytest.mark.parametrize(
+    ("terrain", "points_at", "says"),
+    [
+        (
+            "terrain slope(angle = 5 deg)\n    terrain step(x = 1 m, height = 5 cm)",
+            "step(",
+            "(the slope is on line 47); keep the slope alone",
+        ),
+        (
+            "terrain box(x0 = 2 m, x1 = 150 cm, height = 5 cm)",
+            "150 cm",
+            "x1 = 1.5 m is not beyond x0 = 2 m; swap them",
+        ),
+    ],
+)
+def test_a_slope_beside_terrain_and_a_reversed_box_are_pointed_at(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], terrain: str, points_at: str, says: str
+) -> None:
+    path = _hopper_with(tmp_path, terrain)
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert says in err
+    line, caret = err.splitlines()[1:3]
+    assert caret.index("^") == line.index(points_at), err

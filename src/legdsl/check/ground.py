@@ -101,9 +101,13 @@ class GroundChecker(CreaturePart):
             else:
                 torsion = sd
         if any(t.kind == "slope" for t in terrain) and len(terrain) > 1:
+            slope = next(t for t in terrain if t.kind == "slope")
+            other = next(t for t in terrain if t is not slope)  # the line to remove
             self.err(
-                block.name.span,
-                "a slope is the whole ground: it cannot be combined with other terrain",
+                other.span,
+                f"a slope is the whole ground: it cannot be combined with other terrain "
+                f"(the slope is on line {slope.span.line}); keep the slope alone, or remove it "
+                "for steps and boxes on level ground",
             )
         for key in ("normal", "tangent"):
             if key not in seen:
@@ -191,9 +195,14 @@ class GroundChecker(CreaturePart):
             )
             return None
         if call.func.name == "box":
-            if args["x1"] <= args["x0"] or args.get("y1", 1.0) <= args.get("y0", 0.0):
-                self.err(call.span, "a box needs x0 < x1 (and y0 < y1)")
-                return None
+            for lo, hi in (("x0", "x1"), ("y0", "y1")):
+                if lo in args and hi in args and args[hi] <= args[lo]:
+                    self.err(
+                        _arg_span(call, hi),
+                        f"a box needs {lo} < {hi}: {hi} = {args[hi]:g} m is not beyond "
+                        f"{lo} = {args[lo]:g} m; swap them, or give the box some extent",
+                    )
+                    return None
             args.setdefault("y0", -1e3)
             args.setdefault("y1", 1e3)
         return Terrain(call.func.name, tuple(sorted(args.items())), call.span)
