@@ -51,9 +51,7 @@ class View:
         hints = camera_hints(motion)
         self.size = hints["size"]
         self.tilt = slope_tangent(motion)
-        # Above the slope's plane, which the camera follows: a climb would leave a fixed frame.
-        above = motion.com[:, 2] - self.tilt * motion.com[:, 0]
-        self.look_height = float(0.8 * np.median(above)) if self.tilt else hints["lookHeight"]
+        self.look_height = hints["lookHeight"]  # above the slope's plane, which the camera follows
         self.distance = hints["distance"]
         self.weight = motion.weight
         self.text = ax.text(
