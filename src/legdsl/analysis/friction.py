@@ -1,5 +1,5 @@
 """The friction coefficient each contact needed to stay put: ``|F_t| / F_n`` over its
-complete stances, with and without the first and last instants of each stance, and over the
+complete stances (normal and tangential to the ground: on a slope, to its tilted surface), with and without the first and last instants of each stance, and over the
 first instants alone (a touchdown's: where ground speed matching matters)."""
 
 from __future__ import annotations
@@ -14,18 +14,26 @@ from legdsl.analysis.strides import EPS_T, in_window, runs
 from legdsl.sim.trajectory import Trajectory
 
 MIN_NORMAL_FRACTION = 0.01  # of body weight: below this the friction ratio is not computed
+LEVEL = (0.0, 0.0, 1.0)  # the ground's unit normal but on a slope
 
 
 def contact_friction(
-    tr: Trajectory, c: int, lo: float, hi: float, edge: float, min_normal_fraction: float
+    tr: Trajectory,
+    c: int,
+    lo: float,
+    hi: float,
+    edge: float,
+    min_normal_fraction: float,
+    normal: tuple[float, float, float] = LEVEL,
 ) -> Friction:
-    """|F_t| / F_n over the complete stances of contact ``c``. Samples whose normal force is
-    below ``min_normal_fraction`` of body weight (or not pushing at all) are skipped: at the
-    first and last instants of contact the ratio of two near-zero forces is noise."""
+    """|F_t| / F_n over the complete stances of contact ``c``, along and across the ground
+    whose unit ``normal`` is given. Samples whose normal force is below
+    ``min_normal_fraction`` of body weight (or not pushing at all) are skipped: at the first
+    and last instants of contact the ratio of two near-zero forces is noise."""
     floor = min_normal_fraction * tr.total_mass * tr.gravity
     floor = floor if floor > 0 else 1e-9
-    fn = tr.force[:, c, 2]
-    ratio = np.hypot(tr.force[:, c, 0], tr.force[:, c, 1]) / np.where(fn > floor, fn, np.inf)
+    fn, tangent = _split(tr.force[:, c, :], normal)
+    ratio = tangent / np.where(fn > floor, fn, np.inf)
     usable = fn > floor
     a, b = runs(tr.contact[:, c] != 0)
     keep = in_window(tr.t, a, b, lo, hi)
@@ -50,6 +58,16 @@ def contact_friction(
         edge=edge,
         peak_first=_nanmax(first_peaks),
     )
+
+
+def _split(force: np.ndarray, normal: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """The forces' components along the ground's normal and their size across it: on level
+    ground, exactly the world z and the horizontal magnitude."""
+    if normal == LEVEL:
+        return force[:, 2], np.hypot(force[:, 0], force[:, 1])
+    n = np.asarray(normal, dtype=float)
+    along = force @ n
+    return along, np.linalg.norm(force - along[:, None] * n, axis=1)
 
 
 def _masked_max(x: np.ndarray, mask: np.ndarray) -> float:

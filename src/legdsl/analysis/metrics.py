@@ -42,7 +42,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from legdsl.analysis.energy import energy_rows
-from legdsl.analysis.friction import MIN_NORMAL_FRACTION, contact_friction
+from legdsl.analysis.friction import LEVEL, MIN_NORMAL_FRACTION, contact_friction
 from legdsl.analysis.pairs import pair_rows
 from legdsl.analysis.results import (
     FRICTION_EDGE,
@@ -95,6 +95,7 @@ def compute_metrics(
     min_normal_fraction: float = MIN_NORMAL_FRACTION,
     joint_slides: bool = False,
     min_stance: float | None = None,
+    ground_normal: tuple[float, float, float] = LEVEL,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
@@ -105,6 +106,8 @@ def compute_metrics(
     contact is one, and ``GaitMetrics.scuff_note`` names those that look like scuffs).
     ``edge`` (s): left out at each end of a stance for the interior friction row (the paper's
     10 ms; a creature of size L scaled dynamically has its stances, and so this, √L as long).
+    ``ground_normal``: the ground's unit normal, which the friction needed is measured
+    against (a slope's; the trajectory does not say it).
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -140,7 +143,7 @@ def compute_metrics(
         float(sum(1 for f in flights if f.stride == k)) for k in range(len(starts))
     ]
     friction = [
-        contact_friction(tr, c, t_from, t_to, edge, min_normal_fraction)
+        contact_friction(tr, c, t_from, t_to, edge, min_normal_fraction, ground_normal)
         for c in range(len(tr.contact_names))
     ]
     options = {

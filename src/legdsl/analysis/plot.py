@@ -87,6 +87,11 @@ def plot_run(
 
     height.plot(t, tr.com[window, 2], color="k")
     height.set_ylabel("body height (m)")
+    ground = ground_under_com(run, tr)
+    if ground is not None:  # heights are world z: on terrain, the ground they stand over too
+        height.plot(t, ground[window], color="0.5", linewidth=1.0, label="ground under com")
+        height.legend(loc="lower right", fontsize=8)
+        height.set_ylabel("height, world z (m)")
     pitch.plot(t, np.degrees(tr.root_rpy[window, 1]), color="k", label="pitch")
     pitch.set_ylabel("body pitch (deg)")
 
@@ -232,6 +237,26 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
         return ()
     joints = model.legs[0].joints
     return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")
+
+
+def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
+    """The terrain's height under the centre of mass at every sample, or None for a flat
+    floor (or when the run's creature cannot be read back: the panel is then the body alone)."""
+    from legdsl.analysis.recorded import recorded_model, run_source
+    from legdsl.lang.errors import LegError
+    from legdsl.sim.contact import GroundContact
+
+    try:
+        info = load_run_info(run)
+        if run_source(run, info) is None:
+            return None
+        _, model = recorded_model(run, info)
+    except (LegError, UsageError):
+        return None
+    if model.ground is None or not model.ground.terrain:
+        return None
+    surface = GroundContact(model.ground, (), model.planar)
+    return np.array([surface.height(float(x), float(y)) for x, y in tr.com[:, :2]])
 
 
 def run_paths(run: Path) -> list[PathSpec]:

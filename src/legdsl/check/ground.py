@@ -9,6 +9,7 @@ from legdsl.check.scope import CreaturePart
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Ground, Pad, SpringDamper, Terrain
 from legdsl.lang import ast
+from legdsl.lang.errors import Span
 
 GROUND_PROPS = ("normal", "tangent", "torsion", "friction", "terrain")
 
@@ -100,9 +101,13 @@ class GroundChecker(CreaturePart):
             else:
                 torsion = sd
         if any(t.kind == "slope" for t in terrain) and len(terrain) > 1:
+            slope = next(t for t in terrain if t.kind == "slope")
+            other = next(t for t in terrain if t is not slope)  # the line to remove
             self.err(
-                block.name.span,
-                "a slope is the whole ground: it cannot be combined with other terrain",
+                other.span,
+                f"a slope is the whole ground: it cannot be combined with other terrain "
+                f"(the slope is on line {slope.span.line}); keep the slope alone, or remove it "
+                "for steps and boxes on level ground",
             )
         for key in ("normal", "tangent"):
             if key not in seen:
@@ -183,12 +188,21 @@ class GroundChecker(CreaturePart):
         if args is None:
             return None
         if call.func.name == "slope" and not abs(args["angle"]) < math.radians(80):
-            self.err(call.span, "a slope's angle must be between -80 deg and 80 deg")
+            self.err(
+                _arg_span(call, "angle"),
+                "a slope's angle must be strictly between -80 deg and 80 deg (79.9 deg is "
+                "allowed, 80 deg is not)",
+            )
             return None
         if call.func.name == "box":
-            if args["x1"] <= args["x0"] or args.get("y1", 1.0) <= args.get("y0", 0.0):
-                self.err(call.span, "a box needs x0 < x1 (and y0 < y1)")
-                return None
+            for lo, hi in (("x0", "x1"), ("y0", "y1")):
+                if lo in args and hi in args and args[hi] <= args[lo]:
+                    self.err(
+                        _arg_span(call, hi),
+                        f"a box needs {lo} < {hi}: {hi} = {args[hi]:g} m is not beyond "
+                        f"{lo} = {args[lo]:g} m; swap them, or give the box some extent",
+                    )
+                    return None
             args.setdefault("y0", -1e3)
             args.setdefault("y1", 1e3)
         return Terrain(call.func.name, tuple(sorted(args.items())), call.span)
@@ -215,9 +229,26 @@ class GroundChecker(CreaturePart):
             self.err(call.span, f"{call.func.name}() needs {', '.join(missing)}")
             return None
         if out.get("height", 1.0) <= 0:
-            self.err(call.span, "a terrain height must be positive")
+            self.err(_arg_span(call, "height"), _NOT_POSITIVE_HEIGHT[call.func.name])
             return None
         return out
+
+
+def _arg_span(call: ast.Call, name: str) -> Span:
+    """Where the argument ``name`` of ``call`` is written (the call's span without it)."""
+    return next(
+        (a.value.span for a in call.args if a.keyword and a.keyword.name == name), call.span
+    )
+
+
+# The floor is at 0 and a feature only raises it: how to write the ground a user had in mind.
+_NOT_POSITIVE_HEIGHT = {
+    "step": "a step's height must be positive (it raises the floor from x on); for a step "
+    "down at x = X, raise the floor before it instead: box(x0 = ..., x1 = X, height = H), "
+    "and start the creature on it",
+    "box": "a box's height must be positive (a feature only raises the floor, which is at 0); "
+    "for a pit, raise the floor on both sides with two boxes",
+}
 
 
 # What each ground property is, and how it is written.

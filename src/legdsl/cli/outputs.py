@@ -88,6 +88,14 @@ def cmd_export(args: argparse.Namespace) -> int:
             "--link-mass", args.link_mass, Numeric("mass", "kg", "nonnegative")
         )
     text = export_text(model, args.format, args.base, link_mass, args.anchor_pads is not False)
+    terrain = model.ground.terrain if model.ground else ()
+    if args.format == "urdf" and terrain:  # URDF has no ground: say what is not in the file
+        kinds = ", ".join(sorted({t.kind for t in terrain}))
+        print(
+            f"legdsl: note: URDF describes no ground, so the terrain of {args.file} ({kinds}) "
+            "is not in it; --format mjcf writes the ground and its terrain",
+            file=sys.stderr,
+        )
     if args.output == "-":
         sys.stdout.write(text)
         return 0

@@ -50,7 +50,8 @@ class View:
         self.overlays = overlays
         hints = camera_hints(motion)
         self.size = hints["size"]
-        self.look_height = hints["lookHeight"]
+        self.tilt = slope_tangent(motion)
+        self.look_height = hints["lookHeight"]  # above the slope's plane, which the camera follows
         self.distance = hints["distance"]
         self.weight = motion.weight
         self.text = ax.text(
@@ -58,6 +59,11 @@ class View:
             family="DejaVu Sans", zorder=100,
             bbox={"boxstyle": "round,pad=0.4", "fc": "white", "ec": "#cccccc", "alpha": 0.85},
         )  # fmt: skip
+
+    def plane_z(self, x: Any) -> Any:
+        """The height of the slope's plane at ``x`` (0 without a slope: steps and boxes are
+        drawn as blocks on the floor)."""
+        return self.tilt * x
 
     def caption(self, snap: Snapshot) -> str:
         m = self.motion
@@ -132,7 +138,7 @@ class SideView(View):
         super().update(snap)
         cx = float(snap.com[0])
         x0, x1 = cx - self.width / 2, cx + self.width / 2
-        z0 = self.look_height - self.height / 2
+        z0 = self.look_height + self.plane_z(cx) - self.height / 2
         self.ax.set_xlim(x0, x1)
         self.ax.set_ylim(z0, z0 + self.height)
         top = self._profile(x0 - 1, x1 + 1)
@@ -215,11 +221,20 @@ class _Camera:
         self.cx, self.cy = width / 2, height / 2
         self.near = min(0.05, distance / 20)  # 5 cm would cut a mite, seen from 2 mm
 
-    def aim(self, target: np.ndarray) -> None:
+    def aim(self, target: np.ndarray, tilt: float = 0.0) -> None:
+        """Look at ``target``; on a slope of ``tilt`` (tan of its angle) the eye is tilted with
+        the ground, so that it sees the slope as it sees level ground (not from under it)."""
         c = math.cos(self.elevation)
         offset = self.distance * np.array(
             [c * math.cos(self.azimuth), c * math.sin(self.azimuth), math.sin(self.elevation)]
         )
+        if tilt:
+            a = math.atan(tilt)
+            x, z = offset[0], offset[2]
+            offset[0], offset[2] = (
+                x * math.cos(a) - z * math.sin(a),
+                x * math.sin(a) + z * math.cos(a),
+            )
         self.eye = target + offset
         forward = -offset / np.linalg.norm(offset)
         right = np.cross(forward, [0.0, 0.0, 1.0])
@@ -317,18 +332,18 @@ class PerspectiveView(View):
     def update(self, snap: Snapshot) -> None:
         super().update(snap)
         cam = self.camera
-        target = np.array([snap.com[0], snap.com[1], self.look_height])
-        cam.aim(target)
+        cx, cy = float(snap.com[0]), float(snap.com[1])
+        target = np.array([cx, cy, self.look_height + self.plane_z(cx)])
+        cam.aim(target, self.tilt)
         m = self.motion
         reach = 4.0 * self.distance
-        cx, cy = float(target[0]), float(target[1])
         ground = [
             np.array(
                 [
-                    (cx - reach, cy - reach, 0),
-                    (cx + reach, cy - reach, 0),
-                    (cx + reach, cy + reach, 0),
-                    (cx - reach, cy + reach, 0),
+                    (cx - reach, cy - reach, self.plane_z(cx - reach)),
+                    (cx + reach, cy - reach, self.plane_z(cx + reach)),
+                    (cx + reach, cy + reach, self.plane_z(cx + reach)),
+                    (cx - reach, cy + reach, self.plane_z(cx - reach)),
                 ],
                 dtype=float,
             )
@@ -340,11 +355,13 @@ class PerspectiveView(View):
         for k in (
             np.arange(math.floor((cx - span) / step), math.ceil((cx + span) / step) + 1) * step
         ):
-            lines.append((np.array([k, cy - span, 0.0]), np.array([k, cy + span, 0.0])))
+            z = self.plane_z(k)
+            lines.append((np.array([k, cy - span, z]), np.array([k, cy + span, z])))
         for k in (
             np.arange(math.floor((cy - span) / step), math.ceil((cy + span) / step) + 1) * step
         ):
-            lines.append((np.array([cx - span, k, 0.0]), np.array([cx + span, k, 0.0])))
+            ends = (self.plane_z(cx - span), self.plane_z(cx + span))
+            lines.append((np.array([cx - span, k, ends[0]]), np.array([cx + span, k, ends[1]])))
         self.grid.set_segments(self._segments(lines))
 
         # Terrain blocks and the creature, sorted back to front together.
@@ -436,6 +453,12 @@ def _arrow_segments(a: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.n
     head = 0.25 * length
     back = b - head * u
     return [(a, b), (b, back + 0.4 * head * side), (b, back - 0.4 * head * side)]
+
+
+def slope_tangent(motion: Motion) -> float:
+    """tan(angle) of the run's slope, 0 without one."""
+    slope = next((t for t in motion.terrain if t.kind == "slope"), None)
+    return math.tan(slope.get("angle")) if slope is not None else 0.0
 
 
 def _terrain_boxes(m: Motion, cx: float, cy: float, reach: float) -> list[list[np.ndarray]]:

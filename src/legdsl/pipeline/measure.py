@@ -20,7 +20,7 @@ from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import clearance_row, with_clearance
-from legdsl.pipeline.terrain_rows import terrain_rows
+from legdsl.pipeline.terrain_rows import ground_normal, terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
@@ -77,6 +77,7 @@ def measure_run(
             joint_slides=joint is not None and _slides(run, joint),
             min_stance=min_stance,
             edge=friction_edge,
+            ground_normal=ground_normal(run),
         )
     except MetricsError as e:
         raise UsageError(str(e)) from None

@@ -15,9 +15,28 @@ from pathlib import Path
 import numpy as np
 
 from legdsl.analysis.clearance import terrain_contacts
+from legdsl.analysis.friction import LEVEL
+from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import Summary
+from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.apex import load_kinematics
-from legdsl.sim.trajectory import Trajectory
+from legdsl.sim.contact import GroundContact
+from legdsl.sim.trajectory import Trajectory, load_run_info
+
+
+def ground_normal(run: Path) -> tuple[float, float, float]:
+    """The unit normal of the run's ground, which the friction needed is measured against:
+    a slope's, else (and when the creature's file is not found from here) level."""
+    try:
+        info = load_run_info(run)
+        if run_source(run, info) is None:
+            return LEVEL
+        _, model = recorded_model(run, info)
+    except (LegError, UsageError):
+        return LEVEL
+    if model.ground is None:
+        return LEVEL
+    return GroundContact(model.ground, (), model.planar).surface(0.0, 0.0)[1]
 
 
 def terrain_rows(

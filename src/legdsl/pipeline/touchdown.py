@@ -2,7 +2,8 @@
 
 Ground speed matching (raibert's ``place_two_link_matched``, ``place_foot_matched``) swings the
 foot back late in flight so that it lands moving with the ground; how well it does is the
-horizontal speed of each leg's foot contact relative to the ground just before its
+speed of each leg's foot contact along the ground (horizontal on flat ground and on the tops of
+steps and boxes, along the tilted surface on a slope) just before its
 touchdown, at the last recorded sample of the flight (so within one record interval of it:
 5.2 ms at the default 200 Hz, one integration step with ``--record-rate 0 Hz``). The contact
 velocities are recomputed with the creature's generated dynamics module, as the apex
@@ -13,6 +14,7 @@ scaled creature (speeds by L^(1/2)).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +24,7 @@ from legdsl.analysis.rows import stat
 from legdsl.analysis.strides import runs
 from legdsl.pipeline.apex import load_kinematics
 from legdsl.pipeline.scaled import v_factors
+from legdsl.sim.contact import GroundContact
 from legdsl.sim.trajectory import Trajectory
 
 KEY = "touchdown_foot_speed"
@@ -37,6 +40,12 @@ def touchdown_speed_row(
         return None
     model, dyn, q_f, scale = found
     v_f = v_factors(model, scale)
+    # Every surface is level but a slope's, whose normal is the same everywhere.
+    normal = (
+        GroundContact(model.ground, (), model.planar).surface(0.0, 0.0)[1]
+        if model.ground
+        else (0.0, 0.0, 1.0)
+    )
     hi = float(tr.t[-1]) if t_to is None else t_to
     values = []
     for c in list(tr.leg_feet) or list(range(len(tr.contact_names))):
@@ -46,6 +55,13 @@ def touchdown_speed_row(
                 continue
             q = [float(x) for x in tr.q[k - 1] / q_f]
             v = [float(x) for x in tr.v[k - 1] / v_f]
-            vx, vy, _ = dyn.contact_velocities(q, v)[c]
-            values.append(math.sqrt(scale) * float(np.hypot(vx, vy)))
+            velocity = dyn.contact_velocities(q, v)[c]
+            values.append(math.sqrt(scale) * speed_along(velocity, normal))
     return stat(KEY, LABEL, values)
+
+
+def speed_along(velocity: Sequence[float], normal: Sequence[float]) -> float:
+    """The speed of ``velocity`` along the surface whose unit normal is ``normal``: its part
+    tangent to it (on level ground, the horizontal speed)."""
+    v, n = np.asarray(velocity, dtype=float), np.asarray(normal, dtype=float)
+    return float(np.linalg.norm(v - np.dot(v, n) * n))

@@ -78,10 +78,13 @@ def camera_hints(motion: Motion) -> dict[str, float]:
     # a 5 cm floor, now only for creatures under 15 cm, framed a 0.7 mm mite as a speck
     extent = float(np.ptp(points, axis=0).max())
     size = max(extent, SMALLEST_SIZE) if extent < 0.15 else max(extent, 0.05)
+    tilted = next((t for t in motion.terrain if t.kind == "slope"), None)
+    slope = math.tan(tilted.get("angle")) if tilted is not None else 0.0
     return {
         "size": size,
         "distance": 0.9 * size / math.tan(math.radians(FIELD_OF_VIEW / 2)),
-        "lookHeight": float(0.8 * np.median(motion.com[:, 2])),
+        # above a slope's plane, which the camera follows (above z = 0 it left a climb's frame)
+        "lookHeight": float(0.8 * np.median(motion.com[:, 2] - slope * motion.com[:, 0])),
     }
 
 

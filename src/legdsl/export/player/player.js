@@ -40,6 +40,12 @@ const bodyMeshes2d = data.bodies.map((b) => ({
   indices: new Uint32Array(bytes(b.mesh.indices)),
   color: b.color,
 }));
+// The height of a slope's plane at x (0 without one: steps and boxes stand on the floor).
+function slopeZ(x) {
+  const s = data.ground.terrain.find((k) => k.kind === "slope");
+  return s ? x * Math.tan(s.angle) : 0;
+}
+
 function draw2d(t, note) {
   if (!flat.canvas) {
     flat.canvas = document.createElement("canvas");
@@ -56,7 +62,7 @@ function draw2d(t, note) {
   let f = 0;
   while (f + 1 < nFrames && times[f + 1] <= t) f++;
   const scale = h / (2.4 * data.size);
-  const cx = com[3 * f], cz = data.lookHeight;
+  const cx = com[3 * f], cz = data.lookHeight + slopeZ(cx);
   const X = (x) => w / 2 + (x - cx) * scale, Z = (z) => h / 2 - (z - cz) * scale;
   g.fillStyle = "#eef0f3"; g.fillRect(0, 0, w, h);
   const slope2d = data.ground.terrain.find((k) => k.kind === "slope");
@@ -173,8 +179,10 @@ const terrainMaterial = new THREE.MeshStandardMaterial({ color: 0xc2c2bc, roughn
 const ground = new THREE.Group();
 const slope = data.ground.terrain.find((t) => t.kind === "slope");
 {
-  const plane = new THREE.Mesh(new THREE.PlaneGeometry(gx1 - gx0, gy1 - gy0), groundMaterial);
-  plane.position.set((gx0 + gx1) / 2, (gy0 + gy1) / 2, 0);
+  // Tilted about the origin, the plane's length along the slope covers 1/cos of it in x.
+  const along = slope ? 1 / Math.cos(slope.angle) : 1;
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry((gx1 - gx0) * along, gy1 - gy0), groundMaterial);
+  plane.position.set(((gx0 + gx1) / 2) * along, (gy0 + gy1) / 2, 0);
   plane.receiveShadow = true;
   ground.add(plane);
   if (slope) ground.rotation.y = -slope.angle;
@@ -313,7 +321,8 @@ scene.add(trail, comMarker);
 
 // ------------------------------------------------------------------ camera
 // The camera orbits a target that follows the mass centre horizontally, at
-// a fixed height: hops and drops show as motion on the screen.
+// a fixed height above the ground's plane (a slope's): hops and drops show as
+// motion on the screen, and a climb stays in the picture.
 const lookHeight = data.lookHeight;
 const defaults = data.planar
   ? { azimuth: -Math.PI / 2, elevation: 0.08, distance: data.distance }
@@ -389,7 +398,7 @@ function draw() {
     links[b].quaternion.slerpQuaternions(qa, qb, a);
   }
   const cx = mix(com, f * 3, g * 3, a, 0), cy = mix(com, f * 3, g * 3, a, 1), cz = mix(com, f * 3, g * 3, a, 2);
-  target.set(cx, data.planar ? 0 : cy, lookHeight);
+  target.set(cx, data.planar ? 0 : cy, lookHeight + slopeZ(cx));
   placeCamera();
 
   for (let c = 0; c < nContacts; c++) {
