@@ -60,3 +60,19 @@ def test_compute_metrics_takes_the_ground_normal(tmp_path: Path) -> None:
     metrics = compute_metrics(tr, ground_normal=(-math.sin(a), 0.0, math.cos(a)))
     row = next(s for s in metrics.summaries if s.key == "friction_toe")
     assert row.value == pytest.approx(math.tan(math.radians(20)))
+
+
+def test_the_api_measures_against_the_slope_as_legdsl_metrics(tmp_path: Path) -> None:
+    """``run.metrics()`` measured the world's z and horizontal where ``legdsl metrics`` took
+    the slope's surface."""
+    import legdsl
+
+    text = CREATURES.joinpath("hopper.leg").read_text()
+    source = tmp_path / "hopper.leg"
+    source.write_text(text.replace("    friction none\n  }",
+                                   "    friction none\n    terrain slope(angle = 10 deg)\n  }", 1))  # fmt: skip
+    run = legdsl.load(source, generated=tmp_path / "g").run(controller="hop", time=1.5)
+    measured, _ = measure_run(run.save(tmp_path / "run"), generated=tmp_path / "g")
+    along_slope = run.metrics().value("friction_toe")
+    assert along_slope == measured.value("friction_toe")
+    assert along_slope != compute_metrics(run.trajectory).value("friction_toe")  # world axes

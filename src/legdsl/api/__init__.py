@@ -51,6 +51,7 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
+from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
@@ -392,8 +393,8 @@ class Run:
             raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
         try:
             return compute_metrics(self.trajectory, t_from=t_from, t_to=t_to, leg=leg,
-                                   groups=parse_groups(groups), min_stance=shortest,
-                                   edge=edge)  # fmt: skip
+                                   groups=parse_groups(groups), min_stance=shortest, edge=edge,
+                                   ground_normal=model_ground_normal(self.model))  # fmt: skip
         except MetricsError as e:
             raise UsageError(str(e)) from None
 

@@ -18,6 +18,7 @@ from legdsl.analysis.clearance import terrain_contacts
 from legdsl.analysis.friction import LEVEL
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import Summary
+from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.apex import load_kinematics
 from legdsl.sim.contact import GroundContact
@@ -34,6 +35,11 @@ def ground_normal(run: Path) -> tuple[float, float, float]:
         _, model = recorded_model(run, info)
     except (LegError, UsageError):
         return LEVEL
+    return model_ground_normal(model)
+
+
+def model_ground_normal(model: Model) -> tuple[float, float, float]:
+    """The unit normal of ``model``'s ground: a slope's, else level."""
     if model.ground is None:
         return LEVEL
     return GroundContact(model.ground, (), model.planar).surface(0.0, 0.0)[1]
