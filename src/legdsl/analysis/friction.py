@@ -1,6 +1,7 @@
 """The friction coefficient each contact needed to stay put: ``|F_t| / F_n`` over its
-complete stances (normal and tangential to the ground: on a slope, to its tilted surface), with and without the first and last instants of each stance, and over the
-first instants alone (a touchdown's: where ground speed matching matters)."""
+complete stances (normal and tangential to the ground: on a slope, to its tilted surface),
+with and without the first and last instants of each stance, and over the first instants
+alone (a touchdown's: where ground speed matching matters)."""
 
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from legdsl.figures import figure, figures
-from legdsl.ir.model import Model, Pad, Vec3
+from legdsl.ir.model import Model, Pad, Terrain, Vec3
 
 
 def _vec(v: Vec3, planar: bool) -> str:
@@ -125,7 +125,11 @@ def describe_model(model: Model) -> str:
     if model.ground is not None:
         gr = model.ground
         friction = "no slip" if gr.friction is None else f"friction {gr.friction:g}"
-        terrain = "; terrain " + ", ".join(t.kind for t in gr.terrain) if gr.terrain else ""
+        terrain = (
+            "; terrain " + ", ".join(_terrain(t, model.planar) for t in gr.terrain)
+            if gr.terrain
+            else ""
+        )
         normal = (
             f"paw pad of eq. (6) ({gr.normal.k:g} N, {gr.normal.thickness * 100:g} cm)"
             if isinstance(gr.normal, Pad)
@@ -145,3 +149,16 @@ def describe_model(model: Model) -> str:
             time = f" for {scene.duration:g} s" if scene.duration is not None else ""
             lines.append(f"  {scene.name}: {scene.controller}{changes}{time}")
     return "\n".join(lines) + "\n"
+
+
+_TERRAIN_ORDER = ("x", "x0", "x1", "y0", "y1", "height", "angle")  # as the docs write them
+
+
+def _terrain(t: Terrain, planar: bool) -> str:
+    """A terrain feature as read, in SI units: ``step(x = 2 m, height = 0.05 m)``; its angle
+    in degrees; a planar box without the y extent it is given inside."""
+    given = dict(t.params)
+    keys = [k for k in _TERRAIN_ORDER if k in given and not (planar and k in ("y0", "y1"))]
+    args = ", ".join(f"{k} = {math.degrees(given[k]):.4g} deg" if k == "angle"
+                     else f"{k} = {given[k]:.4g} m" for k in keys)  # fmt: skip
+    return f"{t.kind}({args})"
