@@ -53,3 +53,29 @@ def test_a_neck_may_level_the_head_from_the_heads_own_pitch(tmp_path: Path) -> N
         "    neck_motor.force = -10 N*m/rad * head.pitch - 0.3 N*m*s/rad * head.pitch_rate\n",
     )
     _check(tmp_path, text)
+
+
+SPINE = (
+    "  body rear on trunk via revolute spine at (-0.2 m, 0 m) { mass 1 kg  inertia 0.01 kg*m^2 }\n"
+)
+
+
+def _on_a_spine(servoed: str) -> str:
+    """The hopper's leg hung from a rear half on a spine hinge, the root being the front half."""
+    text = BAD.replace("  body thigh on trunk", SPINE + "  body thigh on rear")
+    return text.replace("servo_pitch(main, thigh", f"servo_pitch(main, {servoed}")
+
+
+def test_a_trunk_in_two_halves_is_held_by_the_hips_of_either(tmp_path: Path) -> None:
+    """A spine: the hip on the rear half turns the front half (the root) through the spine's
+    joint, so eq. (4) from the root's pitch is the shipped gaits' posture servo for a creature
+    whose rear legs hang from a rear half; it was told "cannot hold ... holds body 'rear'"."""
+    _check(tmp_path, _on_a_spine("trunk"))
+    _check(tmp_path, _on_a_spine("rear"))
+
+
+def test_a_body_below_the_hip_is_still_told_on_a_spine(tmp_path: Path) -> None:
+    with pytest.raises(LegError) as caught:
+        _check(tmp_path, _on_a_spine("shank"))
+    (d,) = caught.value.diagnostics
+    assert "the hip of leg 'main' holds body 'rear'; did you mean 'rear'?" in d.message

@@ -9,6 +9,11 @@ statements set a hip actuator from the orientation of a body given as an argumen
 at that argument, with the body the hip holds. Likewise a body whose yaw turns a ``place``'s
 goals (``place_foot_3d(leg, body, ...)``) must be the root, whose yaw the goals' heading
 frame is.
+
+A trunk in several bodies (a spine: the rear legs hang from a rear half hinged to the front
+half, the root) is held by every hip: a hip's torque reaches each body of the trunk through
+the joints between them, which belong to no leg. So a body that no leg's joints carry is
+held by any hip; only a body below a hip (a leg's thigh, shank, foot) cannot be.
 """
 
 from __future__ import annotations
@@ -34,8 +39,9 @@ def misaimed_bodies(
     for arg, value in zip(s.args, given, strict=True):
         if not (isinstance(value, ir.Part) and value.kind == "body"):
             continue
+        trunk = _trunk_bodies(model)
         for leg, held in _hips_driven_from(scope, body, value.name):
-            if value.name in _welded(model, held):
+            if value.name in _welded(model, held) or value.name in trunk:
                 continue
             yield (
                 arg.span,
@@ -120,6 +126,21 @@ def _legs(scope: Scope, legs: ir.Legs) -> tuple[str, ...]:
     if root.role is not None:  # every leg a role is bound to by its first binding
         return scope.roles.get(root.role, ())
     return ()
+
+
+def _trunk_bodies(model: Model) -> set[str]:
+    """The bodies no leg's joints carry: the root and those hung from it by joints of no leg
+    (a spine's rear half, a head, a tail), which every hip's torque reaches."""
+    first = {leg.joints[0] for leg in model.legs if leg.joints}
+    parent_joint = {b.name: (b.parent, b.joint) for b in model.bodies}
+    trunk = set()
+    for name in parent_joint:
+        body: str | None = name
+        while body is not None and parent_joint[body][1] not in first:
+            body = parent_joint[body][0]
+        if body is None:
+            trunk.add(name)
+    return trunk
 
 
 def _welded(model: Model, body: str) -> set[str]:

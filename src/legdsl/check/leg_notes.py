@@ -4,6 +4,11 @@ A leg has one foot contact. Another contact on the same body as the foot (a heel
 the toe of a flat foot) touches the ground and carries load, but the leg's events
 (`touchdown`, `liftoff`), its stances in the metrics and its row of the footfall diagram
 are its foot's alone: a heel strike before the toe lands is no touchdown of the leg.
+
+Legs that hang from different bodies (a trunk in two halves on a spine) have their hips
+listed by ``legdsl show`` in the root body's frame, whose origin is then the root half's,
+not the centre of mass the controllers' ``hip_x`` is measured from: a rear hip placed from
+the wrong origin looks right there. The note gives each hip from the centre of mass.
 """
 
 from __future__ import annotations
@@ -12,7 +17,48 @@ from legdsl.ir.model import Model
 
 
 def leg_contact_notes(model: Model) -> list[str]:
-    """One note per leg whose foot's body carries other contacts."""
+    """One note per leg whose foot's body carries other contacts, and one for legs hanging
+    from several bodies."""
+    return _foot_notes(model) + _hips_on_several_bodies(model)
+
+
+def _hips_on_several_bodies(model: Model) -> list[str]:
+    """Each hip from the centre of mass, at zero joint angles, when the legs hang from more
+    than one body (every body's frame then parallel to the root's)."""
+    joints = {j.name: j for j in model.joints}
+    hip_of = {leg.name: joints[leg.joints[0]] for leg in model.legs if leg.joints}
+    held = {name: hip.parent for name, hip in hip_of.items()}
+    total = sum(b.mass for b in model.bodies)
+    if model.planar or len(set(held.values())) < 2 or total <= 0:
+        return []
+    parent = {b.name: (b.parent, joints[b.joint].origin) for b in model.bodies}
+
+    def origin(body: str | None) -> tuple[float, ...]:  # in the root body's frame
+        point: tuple[float, ...] = (0.0, 0.0, 0.0)
+        while body is not None and parent[body][0] is not None:
+            up, at = parent[body]
+            point, body = tuple(p + a for p, a in zip(point, at, strict=True)), up
+        return point
+
+    mass_centre = [
+        sum(b.mass * (origin(b.name)[k] + b.com[k]) for b in model.bodies) / total for k in range(3)
+    ]
+    hips = []
+    for name, hip in hip_of.items():
+        x, y, _ = (
+            o + h - c for o, h, c in zip(origin(hip.parent), hip.origin, mass_centre, strict=True)
+        )
+        hips.append(f"{name} on '{hip.parent}' at ({x:.3f}, {y:.3f}) m")
+    x, y, z = mass_centre
+    return [
+        f"{model.name}: its legs hang from {len(set(held.values()))} bodies; at zero joint "
+        f"angles its centre of mass is at ({x:.3f}, {y:.3f}, {z:.3f}) m in the root body's "
+        f"frame (where legdsl show puts the hips), and the hips from it (x forward, y left, "
+        f"as hip_x and hip_y read them): {'; '.join(hips)}"
+    ]
+
+
+def _foot_notes(model: Model) -> list[str]:
     body_of = {c.name: c.body for c in model.contacts}
     notes = []
     for leg in model.legs:
