@@ -444,13 +444,26 @@ def test_friction_of_a_contact_that_never_pushes_is_not_a_number() -> None:
 
 
 def test_friction_edge_is_exactly_ten_samples_at_one_khz() -> None:
-    # tau = 10 is the first sample past the first 10 ms: it counts in the interior peak
-    assert compute_metrics(_friction_run(spike_at=10)).friction[0].peak_interior == pytest.approx(
+    # the support starts at tau = 1 (the brush at tau = 0 pushes below the floor): tau = 11 is
+    # the first sample past its first 10 ms and counts in the interior peak, tau = 10 not
+    assert compute_metrics(_friction_run(spike_at=11)).friction[0].peak_interior == pytest.approx(
         1.9
     )
-    assert compute_metrics(_friction_run(spike_at=9)).friction[0].peak_interior == pytest.approx(
+    assert compute_metrics(_friction_run(spike_at=10)).friction[0].peak_interior == pytest.approx(
         0.52
     )
+
+
+def test_the_edges_are_measured_from_the_support_not_the_contact() -> None:
+    """A contact outlasting its push: the flag on 12 ms after the force fell below 1% of the
+    weight (the quadruped's 11 ms). The last 10 ms of support were counted as interior."""
+    tr = _friction_run(spike_at=4)
+    tau = (np.arange(len(tr.t)) - 100) % 300
+    fading = (tau >= 86) & (tau < 100)
+    tr.force[fading, 0, :] *= 1e-6  # support ends at tau = 86: the flag stays on to tau = 99
+    tr.force[(tau == 80), 0, 0] *= 1.9 / 0.3  # a slip 6 ms before the support ends
+    (f,) = compute_metrics(tr).friction
+    assert f.peak_interior == pytest.approx(0.52)
 
 
 def test_recirculated_energy_leaves_out_the_spring_preload() -> None:
@@ -584,12 +597,12 @@ def test_cli_help_has_an_example(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_friction_needed_in_the_first_10_ms_of_stance() -> None:
-    # at 1 kHz the first 10 ms are tau = 0..9: the spike at tau = 4 is in them, the one at
-    # tau = 95 (the last 10 ms) is not; with the spike at tau = 20 the first 10 ms only see
-    # the smooth part, whose largest value there is at tau = 9
+    # at 1 kHz the first 10 ms of support are tau = 1..10 (the brush at tau = 0 is no
+    # push): the spike at tau = 4 is in them, the one at tau = 95 (the last 10 ms) is not;
+    # with the spike at tau = 20 they only see the smooth part, largest at tau = 10
     assert compute_metrics(_friction_run()).value("friction_first_toe") == pytest.approx(1.9)
     late = compute_metrics(_friction_run(spike_at=20))
-    assert late.value("friction_first_toe") == pytest.approx(0.3 + 0.22 * math.sin(math.pi * 0.09))
+    assert late.value("friction_first_toe") == pytest.approx(0.3 + 0.22 * math.sin(math.pi * 0.1))
     assert late.value("friction_toe") == pytest.approx(1.9)  # the whole stance still has it
 
 

@@ -30,7 +30,11 @@ def contact_friction(
     """|F_t| / F_n over the complete stances of contact ``c``, along and across the ground
     whose unit ``normal`` is given. Samples whose normal force is below
     ``min_normal_fraction`` of body weight (or not pushing at all) are skipped: at the first
-    and last instants of contact the ratio of two near-zero forces is noise."""
+    and last instants of contact the ratio of two near-zero forces is noise. The ``edge`` at
+    each end is measured from the support's ends, the first sample that pushes and the first
+    after the last that does: a foot's contact outlasts its push (the ground's damper lets go
+    while the spring is still compressed; the quadruped's by 11 ms), and the paper's "period
+    of up to 10 ms" is at the start and end of support."""
     floor = min_normal_fraction * tr.total_mass * tr.gravity
     floor = floor if floor > 0 else 1e-9
     fn, tangent = _split(tr.force[:, c, :], normal)
@@ -42,10 +46,16 @@ def contact_friction(
     for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
         t = tr.t[s:e]
         ok = usable[s:e]
-        away = (t - tr.t[s] >= edge - EPS_T) & (tr.t[e] - t > edge + EPS_T)
+        pushing = np.flatnonzero(ok)
+        if len(pushing):  # else every sample is skipped and each peak is n/a
+            on, off = tr.t[s + pushing[0]], tr.t[min(s + pushing[-1] + 1, len(tr.t) - 1)]
+            away = (t - on >= edge - EPS_T) & (off - t > edge + EPS_T)
+            first = t - on < edge - EPS_T
+        else:
+            away = first = ok
         peaks.append(_masked_max(ratio[s:e], ok))
         interior_peaks.append(_masked_max(ratio[s:e], ok & away))
-        first_peaks.append(_masked_max(ratio[s:e], ok & (t - tr.t[s] < edge - EPS_T)))
+        first_peaks.append(_masked_max(ratio[s:e], ok & first))
         used += int(ok.sum())
         skipped += int((~ok).sum())
     return Friction(
