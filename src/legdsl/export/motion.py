@@ -465,6 +465,12 @@ def terrain_height(terrain: tuple[Terrain, ...], x: float, y: float = 0.0) -> fl
     return h
 
 
+def slope_tangent(terrain: tuple[Terrain, ...]) -> float:
+    """tan(angle) of the terrain's slope, 0 without one: the plane a camera follows."""
+    slope = next((t for t in terrain if t.kind == "slope"), None)
+    return math.tan(slope.get("angle")) if slope is not None else 0.0
+
+
 def ground_area(motion: Motion, margin: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(x, y) corners of the ground to draw: every body and contact of the run, plus ``margin``
     (a metre, or ten times a creature smaller than 10 cm: a mite's 4 mm run had a 2 m floor)."""

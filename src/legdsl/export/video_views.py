@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot, terrain_height
+from legdsl.export.motion import Motion, Snapshot, slope_tangent, terrain_height
 from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
 
@@ -50,7 +50,7 @@ class View:
         self.overlays = overlays
         hints = camera_hints(motion)
         self.size = hints["size"]
-        self.tilt = slope_tangent(motion)
+        self.tilt = slope_tangent(motion.terrain)
         self.look_height = hints["lookHeight"]  # above the slope's plane, which the camera follows
         self.distance = hints["distance"]
         self.weight = motion.weight
@@ -453,12 +453,6 @@ def _arrow_segments(a: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.n
     head = 0.25 * length
     back = b - head * u
     return [(a, b), (b, back + 0.4 * head * side), (b, back - 0.4 * head * side)]
-
-
-def slope_tangent(motion: Motion) -> float:
-    """tan(angle) of the run's slope, 0 without one."""
-    slope = next((t for t in motion.terrain if t.kind == "slope"), None)
-    return math.tan(slope.get("angle")) if slope is not None else 0.0
 
 
 def _terrain_boxes(m: Motion, cx: float, cy: float, reach: float) -> list[list[np.ndarray]]:

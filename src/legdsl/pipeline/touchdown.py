@@ -24,7 +24,7 @@ from legdsl.analysis.rows import stat
 from legdsl.analysis.strides import runs
 from legdsl.pipeline.apex import load_kinematics
 from legdsl.pipeline.scaled import v_factors
-from legdsl.sim.contact import GroundContact
+from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.sim.trajectory import Trajectory
 
 KEY = "touchdown_foot_speed"
@@ -40,12 +40,7 @@ def touchdown_speed_row(
         return None
     model, dyn, q_f, scale = found
     v_f = v_factors(model, scale)
-    # Every surface is level but a slope's, whose normal is the same everywhere.
-    normal = (
-        GroundContact(model.ground, (), model.planar).surface(0.0, 0.0)[1]
-        if model.ground
-        else (0.0, 0.0, 1.0)
-    )
+    normal = model_ground_normal(model)  # level everywhere but on a slope, the same all over
     hi = float(tr.t[-1]) if t_to is None else t_to
     values = []
     for c in list(tr.leg_feet) or list(range(len(tr.contact_names))):

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.motion import Motion
+from legdsl.export.motion import Motion, slope_tangent
 from legdsl.export.shapes import body_mesh, hex_rgb
 from legdsl.files import write_atomic
 
@@ -78,8 +78,7 @@ def camera_hints(motion: Motion) -> dict[str, float]:
     # a 5 cm floor, now only for creatures under 15 cm, framed a 0.7 mm mite as a speck
     extent = float(np.ptp(points, axis=0).max())
     size = max(extent, SMALLEST_SIZE) if extent < 0.15 else max(extent, 0.05)
-    tilted = next((t for t in motion.terrain if t.kind == "slope"), None)
-    slope = math.tan(tilted.get("angle")) if tilted is not None else 0.0
+    slope = slope_tangent(motion.terrain)
     return {
         "size": size,
         "distance": 0.9 * size / math.tan(math.radians(FIELD_OF_VIEW / 2)),
