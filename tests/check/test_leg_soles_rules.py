@@ -1,6 +1,7 @@
 """A leg that stands on several contacts, ``foot sole, heel``: the first is its foot point,
 all are its soles. Each listed contact must exist, be listed once, be the sole of one leg
-and sit on the first one's body; each mistake is a file:line:col error that says the fix."""
+and sit on the first one's body; each mistake is a file:line:col error that says the fix.
+The leg's clock (what touchdown(leg) and liftoff(leg) read) follows all its soles."""
 
 from __future__ import annotations
 
@@ -93,3 +94,32 @@ def test_show_lists_the_soles(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     src.write_text(TWO_LEGS.replace("FEET", "toe, heel").replace("OTHER", "tip2"), "utf-8")
     assert main(["show", str(src)]) == 0
     assert "main: joints leg, ankle; foot toe, heel;" in capsys.readouterr().out
+
+
+def test_the_leg_clock_runs_from_the_first_sole_down_to_the_last_up(tmp_path: Path) -> None:
+    """touching, stance_time and flight_time of a leg on toe and heel: down at the heel strike,
+    up when the last sole leaves; a contact's own clock keeps its own times."""
+    from types import SimpleNamespace
+
+    from legdsl.sim.sensors import Sensors
+
+    src = tmp_path / "flat.leg"
+    src.write_text(TWO_LEGS.replace("FEET", "toe, heel").replace("OTHER", "tip2"), "utf-8")
+    model = RunSession.from_file(src, generated=tmp_path / "gen").model
+    sensors = Sensors(model)
+    names = [c.name for c in model.contacts]
+    sim = SimpleNamespace()
+    keys = ["leg.main.touching", "leg.main.stance_time", "leg.main.flight_time"]
+    # (t, contacts down): heel strike, toe down, heel up, toe up, heel strike again
+    for t, down in [(0.0, ()), (0.1, ("heel",)), (0.12, ("heel", "toe")), (0.2, ("toe",)),
+                    (0.3, ()), (0.6, ("heel",))]:  # fmt: skip
+        sensors.observe(t, [n in down for n in names])
+        if t == 0.2:
+            assert sensors.read(sim, keys)["leg.main.touching"] == 1.0
+    assert sensors.leg_clocks["main"].touchdown == 0.6
+    assert sensors.read(sim, keys) == {
+        "leg.main.touching": 1.0,
+        "leg.main.stance_time": pytest.approx(0.3 - 0.1),
+        "leg.main.flight_time": pytest.approx(0.6 - 0.3),
+    }
+    assert sensors.clocks["toe"].stance == pytest.approx(0.3 - 0.12)
