@@ -48,8 +48,7 @@ def main() -> None:
         t_to = float(tr.t[-1]) if args.t_to is None else args.t_to
         w = (tr.t >= args.t_from) & (tr.t <= t_to)
         t = tr.t[w]
-        feet = [tr.leg_feet[i] for i in range(len(tr.leg_names))]
-        down = np.stack([tr.contact[w, c] != 0 for c in feet], axis=1)
+        down = np.stack([tr.leg_touching(i)[w] for i in range(len(tr.leg_names))], axis=1)
         bars, ax_pitch = axes[2 * k], axes[2 * k + 1]
         for a, width in _spans(t, down.sum(axis=1) >= 2):
             bars.axvspan(a, a + width, color="#f0d070", lw=0)

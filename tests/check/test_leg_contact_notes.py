@@ -1,6 +1,6 @@
-"""A leg whose foot's body carries another contact (a heel beside the toe): `legdsl check`
-and `legdsl show` say that the leg's events and stances see its foot alone (a heel strike
-before the toe lands is no touchdown of the leg); a leg with one contact gets no note."""
+"""A leg whose foot's body carries a contact it does not list (a heel beside the toe):
+`legdsl check` and `legdsl show` say that the leg's events and stances do not see it and how
+to list it; a leg that lists every contact of its foot, or has one, gets no note."""
 
 from __future__ import annotations
 
@@ -35,8 +35,18 @@ def test_a_heel_beside_the_foot_is_noted(
     src.write_text(FLAT, encoding="utf-8")
     assert main([command, str(src)]) == 0
     err = capsys.readouterr().err
-    assert "note: flat: leg 'main' has its foot 'toe' on 'foot' beside the contact(s) 'heel'" in err
+    assert "note: flat: leg 'main' stands on 'toe' on 'foot', beside the contact(s) 'heel'" in err
     assert "touchdown(main), liftoff(main)" in err
+    assert "list them: 'foot toe, heel'" in err
+
+
+def test_a_heel_listed_as_a_sole_is_not_noted(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    src = tmp_path / "flat.leg"
+    src.write_text(FLAT.replace("foot toe }", "foot toe, heel }"), encoding="utf-8")
+    assert main(["check", str(src)]) == 0
+    assert "note" not in capsys.readouterr().err
 
 
 def test_one_contact_a_leg_is_not_noted(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

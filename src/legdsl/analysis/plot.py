@@ -23,8 +23,9 @@ LINE_STYLES = ("-", "--", "-.", ":")
 
 
 def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
-    """(touchdown, liftoff) times of a leg's foot; an open stance ends at the last sample."""
-    touching = tr.contact[:, tr.leg_feet[leg]].astype(bool)
+    """(touchdown, liftoff) times of a leg (any of its soles down); an open stance ends at
+    the last sample."""
+    touching = tr.leg_touching(leg)
     phases = []
     start = None
     for i, now in enumerate(touching):
@@ -202,18 +203,20 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
 def footfall_bars(tr: Trajectory) -> list[tuple[str, list[tuple[float, float]]]]:
     """Each leg's (each contact's, for a creature without legs) stances as (start, end) times,
     then those of each other contact that touched in the run (a heel beside a leg's toe, a
-    tail), under its own name: a leg's stance is its foot's only."""
+    tail), under its own name: a leg's stance is while any of its soles touches."""
+    width = tr.contact.shape[1]
     if tr.leg_names:
-        rows = [(name, tr.leg_feet[i]) for i, name in enumerate(tr.leg_names)]
-        feet = set(tr.leg_feet)
-        rows += [(name, c) for c, name in enumerate(tr.contact_names)
+        rows = [(name, tr.soles_of(i)) for i, name in enumerate(tr.leg_names)]
+        feet = {c for _, soles in rows for c in soles}
+        rows += [(name, (c,)) for c, name in enumerate(tr.contact_names)
                  if c not in feet and bool(np.any(tr.contact[:, c] != 0))]  # fmt: skip
     else:
-        rows = list(zip(tr.contact_names, range(len(tr.contact_names)), strict=True))
+        rows = [(name, (c,)) for c, name in enumerate(tr.contact_names)]
     return [
-        (name, _runs_of(tr.t, tr.contact[:, c] != 0) if 0 <= c < tr.contact.shape[1] else [])
-        for name, c in rows
-    ]
+        (name, _runs_of(tr.t, np.any(tr.contact[:, list(cs)] != 0, axis=1))
+         if all(0 <= c < width for c in cs) else [])
+        for name, cs in rows
+    ]  # fmt: skip
 
 
 def _runs_of(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:

@@ -67,10 +67,11 @@ def stance_units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[Unit]
 
 
 def foot_contacts(tr: Trajectory, leg: int) -> tuple[int, ...]:
-    """The contact index of a leg's foot; none if the recording names no valid foot for it."""
+    """The contact indices of a leg's soles (its foot first): its stance is while any of
+    them touches; none if the recording names no valid foot for it."""
     feet = tr.leg_feet
     ok = leg < len(feet) and 0 <= feet[leg] < len(tr.contact_names)
-    return (feet[leg],) if ok else ()
+    return tr.soles_of(leg) if ok else ()
 
 
 def reference(tr: Trajectory, units: list[Unit], leg: str | None) -> tuple[str, tuple[int, ...]]:

@@ -1,9 +1,10 @@
 """Notes on a checked creature that are no errors but that a user would not guess.
 
-A leg has one foot contact. Another contact on the same body as the foot (a heel beside
-the toe of a flat foot) touches the ground and carries load, but the leg's events
-(`touchdown`, `liftoff`), its stances in the metrics and its row of the footfall diagram
-are its foot's alone: a heel strike before the toe lands is no touchdown of the leg.
+A leg stands on the contacts its ``foot`` lists (``foot sole, heel, toe``). Another contact
+on the same body (a heel beside the toe of a flat foot, left out of the list) touches the
+ground and carries load, but the leg's events (`touchdown`, `liftoff`), its stances in the
+metrics and its row of the footfall diagram do not see it: a heel strike before the toe
+lands is no touchdown of the leg.
 
 Legs that hang from different bodies (a trunk in two halves on a spine) have their hips
 listed by ``legdsl show`` in the root body's frame, whose origin is then the root half's,
@@ -17,8 +18,8 @@ from legdsl.ir.model import Model
 
 
 def leg_contact_notes(model: Model) -> list[str]:
-    """One note per leg whose foot's body carries other contacts, and one for legs hanging
-    from several bodies."""
+    """One note per leg whose foot's body carries contacts the leg does not list, and one for
+    legs hanging from several bodies."""
     return _foot_notes(model) + _hips_on_several_bodies(model)
 
 
@@ -63,14 +64,15 @@ def _foot_notes(model: Model) -> list[str]:
     notes = []
     for leg in model.legs:
         body = body_of.get(leg.foot)
-        others = [c.name for c in model.contacts if c.body == body and c.name != leg.foot]
+        others = [c.name for c in model.contacts if c.body == body and c.name not in leg.soles]
         if body is None or not others:
             continue
         named = ", ".join(f"'{n}'" for n in others)
         notes.append(
-            f"{model.name}: leg '{leg.name}' has its foot '{leg.foot}' on '{body}' beside "
-            f"the contact(s) {named}, which are not its foot: touchdown({leg.name}), "
-            f"liftoff({leg.name}), the leg's stances in legdsl metrics and its footfall row "
-            f"see '{leg.foot}' alone (the others get footfall rows of their own)"
+            f"{model.name}: leg '{leg.name}' stands on {', '.join(repr(s) for s in leg.soles)} "
+            f"on '{body}', beside the contact(s) {named} it does not list: touchdown({leg.name}), "
+            f"liftoff({leg.name}), its stances in legdsl metrics and its footfall row do not see "
+            f"them; to count them as the leg's, list them: 'foot "
+            f"{', '.join([*leg.soles, *others])}'"
         )
     return notes

@@ -3,7 +3,7 @@ the things a controller reaches through it."""
 
 from __future__ import annotations
 
-from legdsl.check.scope import CreaturePart
+from legdsl.check.scope import CreaturePart, Scope
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Actuator, Body, Contact, Joint, Leg
 from legdsl.lang import ast
@@ -14,6 +14,10 @@ LEG_PROPS = ("joints", "foot", "alias")
 
 class LegChecker(CreaturePart):
     """Checks leg declarations against the tree, contacts and actuators checked before them."""
+
+    def __init__(self, scope: Scope):
+        super().__init__(scope)
+        self._sole_of: dict[str, str] = {}  # each contact a leg stands on, and that leg
 
     def leg(
         self,
@@ -36,6 +40,7 @@ class LegChecker(CreaturePart):
         )
         leg_joints: list[str] = []
         foot = None
+        soles: list[str] = []
         aliases: list[tuple[str, str]] = []
         alias_at: dict[str, ast.Ident] = {}  # each alias's target, where it is written
         seen: set[str] = set()
@@ -74,26 +79,8 @@ class LegChecker(CreaturePart):
                     else:
                         leg_joints.append(ident.name)
             elif key == "foot":
-                ident = (
-                    self.name_of(p.value.value, "a leg's foot")
-                    if isinstance(p.value, ast.One)
-                    else None
-                )
-                if ident is None:
-                    if not isinstance(p.value, ast.One):
-                        self.err(p.value.span, "a leg has one foot contact: 'foot toe'")
-                elif (
-                    ident.name not in contact_by
-                    and self.names.get(ident.name, ("",))[0] == "contact"
-                ):
-                    pass  # declared, with its mistake reported there (on an unknown body, say)
-                elif ident.name not in contact_by:
-                    self.err(
-                        ident.span,
-                        f"unknown contact '{ident.name}'; declare it with 'contact {ident.name} on BODY at tip'{did_you_mean(ident.name, contact_by)}",
-                    )
-                else:
-                    foot = ident.name
+                soles = self._soles(decl.name.name, p.value, contact_by)
+                foot = soles[0] if soles else None
             else:
                 if not isinstance(p.value, ast.Assigns):
                     self.err(
@@ -158,7 +145,69 @@ class LegChecker(CreaturePart):
                     f"to its foot '{foot}', in order: write 'joints {', '.join(whole)}'",
                 )
             self._own_aliases(decl.name.name, own, aliases, alias_at, joints, actuators)
-        return Leg(decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span)
+        return Leg(
+            decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span, tuple(soles[1:])
+        )
+
+    def _soles(
+        self,
+        leg: str,
+        value: ast.One | ast.Range | ast.Many | ast.Assigns,
+        contact_by: dict[str, Contact],
+    ) -> list[str]:
+        """``foot sole, heel, toe``: the leg's foot point first, then the other contacts it stands
+        on, each declared, listed once, a sole of no other leg and on the first one's body."""
+        values = (
+            value.values
+            if isinstance(value, ast.Many)
+            else (value.value,)
+            if isinstance(value, ast.One)
+            else ()
+        )
+        if not values:
+            self.err(value.span, "a leg names its foot contact: 'foot toe' (or 'foot sole, heel')")
+            return []
+        soles: list[str] = []
+        for v in values:
+            ident = self.name_of(v, "a leg's foot")
+            if ident is None:
+                return []
+            name = ident.name
+            if name not in contact_by and self.names.get(name, ("",))[0] == "contact":
+                return []  # declared, with its mistake reported there (on an unknown body, say)
+            if name not in contact_by:
+                self.err(
+                    ident.span,
+                    f"unknown contact '{name}'; declare it with 'contact {name} on BODY at tip'{did_you_mean(name, contact_by)}",
+                )
+                return []
+            if name in soles:
+                self.err(
+                    ident.span,
+                    f"contact '{name}' is listed twice in the foot of leg '{leg}'; list it once",
+                )
+                return []
+            other = self._sole_of.get(name)
+            if other is not None:
+                self.err(
+                    ident.span,
+                    f"contact '{name}' is already a foot contact of leg '{other}'; a contact is "
+                    f"the sole of one leg: declare another contact for leg '{leg}'",
+                )
+                return []
+            first = contact_by[soles[0]] if soles else None
+            if first is not None and contact_by[name].body != first.body:
+                self.err(
+                    ident.span,
+                    f"contact '{name}' is on '{contact_by[name].body}', not on '{first.body}' "
+                    f"with the foot '{first.name}': the soles of a leg are on one foot body "
+                    f"(declare '{name}' on '{first.body}' or leave it out of the foot)",
+                )
+                return []
+            soles.append(name)
+        for name in soles:
+            self._sole_of[name] = leg
+        return soles
 
     def _own_aliases(
         self,

@@ -104,7 +104,7 @@ def describe_model(model: Model) -> str:
             )
             hip = f"; hip at {_vec(hips[leg.name], model.planar)}"
             lines.append(
-                f"  {leg.name}: joints {', '.join(leg.joints)}; foot {leg.foot}{hip}{alias}"
+                f"  {leg.name}: joints {', '.join(leg.joints)}; foot {', '.join(leg.soles)}{hip}{alias}"
             )
         lines += [] if model.planar else _same_hips(hips)  # a planar creature's legs overlap
     if model.contacts:

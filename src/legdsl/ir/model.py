@@ -29,7 +29,7 @@ Frames and conventions (also in docs/language.md):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from legdsl.ir.controller import Controller
@@ -246,9 +246,17 @@ class SimulationDefaults:
 class Leg:
     name: str
     joints: tuple[str, ...]  # from the hip outwards; the first joint's origin is the hip point
-    foot: str  # a contact
+    foot: str  # a contact: the leg's foot point (placed, measured for length and clearance)
     aliases: tuple[tuple[str, str], ...]  # leg-local names for actuators, joints, coordinates
     span: Span
+    # ``foot sole, heel, toe``: the contacts after the first; left out of a fingerprint when
+    # empty, so that a one-footed leg's generated modules stay as they were
+    more_soles: tuple[str, ...] = field(default=(), metadata={"omit_empty": True})
+
+    @property
+    def soles(self) -> tuple[str, ...]:
+        """Every contact the leg stands on: it touches the ground while any of them does."""
+        return (self.foot, *self.more_soles)
 
 
 @dataclass(frozen=True)

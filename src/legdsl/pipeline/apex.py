@@ -76,7 +76,10 @@ def clearance_row(
     model, dyn, q_f, scale = found
     names = tuple(c.name for c in model.contacts)
     ground = GroundContact(model.ground, names, model.planar) if model.ground else None
-    feet_of = list(tr.leg_feet) or list(range(len(names)))
+    # every sole of every leg: a leg's clearance is its lowest sole's
+    feet_of = [i for leg in range(len(tr.leg_feet)) for i in tr.soles_of(leg)] or list(
+        range(len(names))
+    )
     values = []
     for f in flights:
         inside = np.flatnonzero((tr.t >= f.t_start) & (tr.t <= f.t_end))

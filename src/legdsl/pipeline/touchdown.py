@@ -43,11 +43,16 @@ def touchdown_speed_row(
     normal = model_ground_normal(model)  # level everywhere but on a slope, the same all over
     hi = float(tr.t[-1]) if t_to is None else t_to
     values = []
-    for c in list(tr.leg_feet) or list(range(len(tr.contact_names))):
-        starts, _ = runs(tr.contact[:, c] != 0)
+    # each leg's touchdowns (the first of its soles to touch); a legless creature's contacts'
+    soles = [tr.soles_of(i) for i in range(len(tr.leg_feet))] or [
+        (c,) for c in range(len(tr.contact_names))
+    ]
+    for own in soles:
+        starts, _ = runs(np.any(tr.contact[:, list(own)] != 0, axis=1))
         for k in starts.tolist():
             if k == 0 or not t_from <= tr.t[k] <= hi:
                 continue
+            c = next(i for i in own if tr.contact[k, i])
             q = [float(x) for x in tr.q[k - 1] / q_f]
             v = [float(x) for x in tr.v[k - 1] / v_f]
             velocity = dyn.contact_velocities(q, v)[c]

@@ -175,6 +175,9 @@ class CSimulation(Simulation):
         self._array("leg_hip_moved", [hip.at is not None for hip in self._hips], np.int64)
         self._array("leg_hip_at", [hip.at or (0.0, 0.0, 0.0) for hip in self._hips])
         self._array("leg_foot", self._foot, np.int64)
+        # each leg's soles, a row of contact flags per leg (its clock: Sensors.leg_clocks)
+        soles = [[c.name in leg.soles for c in m.contacts] for leg in legs]
+        self._array("leg_soles", soles if legs else [], np.int64)
         mask = [[a.name in springs for a in acts] for springs in self._leg_springs]
         self._array("leg_spring", mask if legs else [], np.int64)
         self._sync_controller()
@@ -268,7 +271,9 @@ class CSimulation(Simulation):
         self._array("hist_t", [], size=len(self._schedule) + 1)
         self._array("hist_inputs", [], size=(len(self._schedule) + 1) * ni)
         c.speed_input = m.input_names.index("speed") if "speed" in m.input_names else -1
-        self._array("clocks", [], size=5 * nc)
+        self._array(
+            "clocks", [], size=5 * (nc + len(self.model.legs))
+        )  # the contacts', then the legs'
         # a tick enters at most one state, and Python drains them after every leg_run call
         ticks = min(STEP_BUDGET, loop.n_steps) // loop.control_every + 16
         self._array("ctl_event_t", [], size=ticks)
@@ -278,7 +283,7 @@ class CSimulation(Simulation):
             for key, targets in mod.SETTINGS.items()
         ]
         most = max([len(mod.RECORDS), *outputs])
-        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * nc
+        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * (nc + len(self.model.legs))
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
         self._setup_paths(m)
 
@@ -315,7 +320,8 @@ class CSimulation(Simulation):
         for k, tracker in enumerate(m.sensors.paths.values()):
             values = [tracker.values[name] for name in MEMBERS]
             keep["path_state"][12 * k : 12 * k + 12] = [tracker.progress, tracker._last_s, *values]
-        for i, clock in enumerate(m.sensors.clocks.values()):
+        clocks = [*m.sensors.clocks.values(), *m.sensors.leg_clocks.values()]
+        for i, clock in enumerate(clocks):
             keep["clocks"][5 * i : 5 * i + 5] = [float(clock.touching), clock.touchdown,
                                                  clock.liftoff, clock.stance, clock.flight]  # fmt: skip
 
@@ -333,7 +339,8 @@ class CSimulation(Simulation):
             tracker.progress, tracker._last_s = state[0], state[1]
             if tracker.geometry is not None:
                 tracker.values = dict(zip(MEMBERS, state[2:], strict=True))
-        for i, clock in enumerate(m.sensors.clocks.values()):
+        clocks = [*m.sensors.clocks.values(), *m.sensors.leg_clocks.values()]
+        for i, clock in enumerate(clocks):
             touching, clock.touchdown, clock.liftoff, clock.stance, clock.flight = keep["clocks"][
                 5 * i : 5 * i + 5
             ].tolist()

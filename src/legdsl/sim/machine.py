@@ -179,10 +179,14 @@ class StateMachine:
         self.events.append({"t": round(t, 9), "kind": "state", "state": self.state_names[state]})
 
     def feet(self) -> dict[str, Clock]:
-        """Each foot now, as the handover reads it: down or not, its last touchdown and liftoff."""
-        return {
-            n: Clock(c.touching, c.touchdown, c.liftoff) for n, c in self.sensors.clocks.items()
-        }
+        """Each foot now, as the handover reads it: down or not, its last touchdown and liftoff.
+        A leg's foot contact stands for the leg (``touchdown(leg)`` watches it): a leg with
+        several soles is down while any of them is, as its own clock says."""
+        clocks = dict(self.sensors.clocks)
+        for leg in self.model.legs:
+            if leg.more_soles:
+                clocks[leg.foot] = self.sensors.leg_clocks[leg.name]
+        return {n: Clock(c.touching, c.touchdown, c.liftoff) for n, c in clocks.items()}
 
     def _take_over(self, t: float, s: tuple[float, ...]) -> None:
         """Enter the (binding, state) that matches which feet are down now."""

@@ -30,6 +30,9 @@ def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
         contact_names=sim.contact_names,
         leg_names=tuple(leg.name for leg in m.legs),
         leg_feet=tuple(sim._foot),
+        leg_soles=tuple(tuple(sim.contact_names.index(c) for c in leg.soles) for leg in m.legs)
+        if any(leg.more_soles for leg in m.legs)
+        else (),
         state_names=sim.controller.state_names if sim.controller else (),
         actuator_names=tuple(s.name for s in sim.actuators.states),
         total_mass=m.total_mass,

@@ -38,6 +38,19 @@ class _LegClock:
     flight: float = math.nan
 
 
+def _tick(clock: _LegClock, t: float, now: bool) -> None:
+    """A touchdown or liftoff at ``t``, if ``now`` differs from what the clock knew."""
+    if now and not clock.touching:
+        if not math.isnan(clock.liftoff):
+            clock.flight = t - clock.liftoff
+        clock.touchdown = t
+    elif clock.touching and not now:
+        if not math.isnan(clock.touchdown):
+            clock.stance = t - clock.touchdown
+        clock.liftoff = t
+    clock.touching = now
+
+
 def euler_rates(
     rot: tuple[float, ...], omega: Vec
 ) -> tuple[float, float, float, float, float, float]:
@@ -69,6 +82,11 @@ class Sensors:
         self.legs = {leg.name: leg for leg in model.legs}
         self.leg_hip = {leg.name: model.leg_hip(leg) for leg in model.legs}
         self.clocks = {c.name: _LegClock() for c in model.contacts}
+        # a leg's own clock: it touches while any of its soles does (``foot sole, heel, toe``)
+        self.leg_clocks = {leg.name: _LegClock() for leg in model.legs}
+        self.leg_soles = {
+            leg.name: [self.contact_index[c] for c in leg.soles] for leg in model.legs
+        }
         self.paths: dict[str, PathTracker] = {}
 
     def follow(self, specs: Iterable[PathSpec]) -> None:
@@ -76,18 +94,14 @@ class Sensors:
         self.paths = {spec.name: PathTracker(spec) for spec in specs}
 
     def observe(self, t: float, touching: Iterable[bool]) -> None:
-        """Update stance and flight clocks from the contact flags (call every control tick)."""
-        for name, now in zip(self.clocks, touching, strict=True):
-            clock = self.clocks[name]
-            if now and not clock.touching:
-                if not math.isnan(clock.liftoff):
-                    clock.flight = t - clock.liftoff
-                clock.touchdown = t
-            elif clock.touching and not now:
-                if not math.isnan(clock.touchdown):
-                    clock.stance = t - clock.touchdown
-                clock.liftoff = t
-            clock.touching = now
+        """Update stance and flight clocks from the contact flags (call every control tick):
+        each contact's, then each leg's from its soles."""
+        flags = list(touching)
+        clocks = list(self.clocks.values())
+        for clock, now in zip(clocks, flags, strict=True):
+            _tick(clock, t, bool(now))
+        for name, clock in self.leg_clocks.items():
+            _tick(clock, t, any(bool(flags[i]) for i in self.leg_soles[name]))
 
     def read(self, sim: Any, keys: Iterable[str]) -> dict[str, float]:
         """The values of ``keys`` now; kinematics are computed once and shared between keys."""
@@ -200,7 +214,7 @@ class Sensors:
     def _leg(self, sim: Any, cache: dict[str, Any], name: str, member: str) -> float:
         leg = self.legs[name]
         foot = self.contact_index[leg.foot]
-        clock = self.clocks[leg.foot]
+        clock = self.leg_clocks[name]
         if member == "touching":
             return 1.0 if clock.touching else 0.0
         if member == "stance_time":

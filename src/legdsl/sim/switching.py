@@ -211,6 +211,7 @@ class SwitchingMachine:
         new.records = [float(records.get(n, 0.0)) for n in new.module.RECORDS]
         carried = {n: records[n] for n in new.module.RECORDS if n in records}
         new.sensors.clocks = old.sensors.clocks
+        new.sensors.leg_clocks = old.sensors.leg_clocks
         for path, tracker in old.sensors.paths.items():
             mine = next((p for p in new.paths if p.name == path), None)
             if mine is not None and mine == tracker.spec:

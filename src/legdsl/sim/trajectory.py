@@ -62,6 +62,9 @@ class Trajectory:
     contact_names: tuple[str, ...] = ()
     leg_names: tuple[str, ...] = ()
     leg_feet: tuple[int, ...] = ()  # for each leg, the index of its foot in contact_names
+    # for each leg, the indices of all its soles (its foot first); () when each leg has only
+    # its foot (a run directory written before legs had several soles reads so, too)
+    leg_soles: tuple[tuple[int, ...], ...] = ()
     state_names: tuple[str, ...] = ()
     actuator_names: tuple[str, ...] = ()
     total_mass: float = 0.0
@@ -71,6 +74,14 @@ class Trajectory:
 
     def __len__(self) -> int:
         return int(self.t.shape[0])
+
+    def soles_of(self, leg: int) -> tuple[int, ...]:
+        """The contacts leg ``leg`` stands on: its foot first."""
+        return self.leg_soles[leg] if self.leg_soles else (self.leg_feet[leg],)
+
+    def leg_touching(self, leg: int) -> np.ndarray:
+        """(N,) bool: whether the leg touches the ground, i.e. any of its soles does."""
+        return np.asarray(self.contact[:, list(self.soles_of(leg))].any(axis=1), dtype=bool)
 
     def row_bytes(self) -> int:
         """The memory one sample takes (a row of every array)."""
@@ -116,6 +127,8 @@ class Trajectory:
             "gravity": self.gravity,
             "planar": self.planar,
         }
+        if any(len(soles) > 1 for soles in self.leg_soles):  # else each leg's foot alone
+            meta["leg_soles"] = [list(soles) for soles in self.leg_soles]
         arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
         write_atomic(directory / "trajectory.npz", _npz_bytes(arrays))
         with (
@@ -163,6 +176,15 @@ class Trajectory:
                 isinstance(i, int) and 0 <= i < len(meta["contact_names"]) for i in feet
             ):
                 raise TypeError("leg_feet is not a list of contact indices")
+            soles = meta.get("leg_soles", [])
+            if not isinstance(soles, list) or not all(
+                isinstance(row, list)
+                and row
+                and all(isinstance(i, int) and 0 <= i < len(meta["contact_names"]) for i in row)
+                for row in soles
+            ):
+                raise TypeError("leg_soles is not a list of contact indices per leg")
+            meta["leg_soles"] = tuple(tuple(row) for row in soles)
             for key in ("total_mass", "gravity"):
                 value = meta.get(key, 0.0)
                 if isinstance(value, bool) or not isinstance(value, int | float):
@@ -234,7 +256,10 @@ class Trajectory:
             raise UsageError(f"{path}: contact or force does not match its contact names{again}")
         legs = len(self.leg_names)
         if not (self.leg_length.shape[1] == self.leg_spring_energy.shape[1] == legs
-                == len(self.leg_feet)):  # fmt: skip
+                == len(self.leg_feet)) or (self.leg_soles and (
+                len(self.leg_soles) != legs
+                or any(row[0] != f for row, f in zip(self.leg_soles, self.leg_feet, strict=True))
+            )):  # fmt: skip
             raise UsageError(f"{path}: the leg arrays do not match its leg names{again}")
         if not (self.work_positive.shape[1] == self.work_negative.shape[1]
                 == len(self.actuator_names)):  # fmt: skip

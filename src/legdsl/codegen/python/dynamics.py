@@ -76,7 +76,11 @@ def function_body(function: Function) -> str:
 def _clean(obj: Any) -> Any:
     """A dataclass tree as plain data, without source spans (so comments and layout don't count)."""
     if is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: _clean(getattr(obj, f.name)) for f in fields(obj) if f.name != "span"}
+        return {
+            f.name: _clean(getattr(obj, f.name))
+            for f in fields(obj)
+            if f.name != "span" and (getattr(obj, f.name) or not f.metadata.get("omit_empty"))
+        }
     if isinstance(obj, tuple | list):
         return [_clean(x) for x in obj]
     return obj

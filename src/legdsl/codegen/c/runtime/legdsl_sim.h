@@ -32,7 +32,7 @@
     X(int64_t, n_events) X(int64_t, event_cap) X(double *, event_t) X(int64_t *, event_kind) \
     X(int64_t *, event_contact) \
     X(int64_t, n_legs) X(int64_t *, leg_hip) X(int64_t *, leg_hip_moved) X(double *, leg_hip_at) \
-    X(int64_t *, leg_foot) X(int64_t *, leg_spring) \
+    X(int64_t *, leg_foot) X(int64_t *, leg_soles) X(int64_t *, leg_spring) \
     X(int64_t, state_index) X(int64_t, state_offset) X(double, speed_command) \
     X(double *, rec_t) X(double *, rec_q) X(double *, rec_v) X(int8_t *, rec_contact) \
     X(double *, rec_force) X(double *, rec_com) X(double *, rec_com_vel) \

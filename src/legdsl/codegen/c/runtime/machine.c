@@ -181,7 +181,8 @@ static void hip_point(sense_cache *kc, leg_sim *s, int leg, double *h, double *v
 
 double leg_sense_leg(leg_sim *s, int leg, int member, int *err) {
     int foot = (int)s->leg_foot[leg];
-    const double *clock = s->clocks + 5 * foot; /* touching, touchdown, liftoff, stance, flight */
+    /* the leg's own clock, after the contacts': touching, touchdown, liftoff, stance, flight */
+    const double *clock = s->clocks + 5 * (NC + leg);
     if (member == 0) return clock[0] != 0.0 ? 1.0 : 0.0;
     if (member == 1) return clock[3];
     if (member == 2) return clock[4];
@@ -463,7 +464,8 @@ int64_t leg_control_tick(leg_sim *s) {
     int64_t ni = c->n_inputs, nr = c->n_records;
     double *sens = s->ctl_work, *out = sens + c->n_sensors + 1;
     double *saved = out + (nr > c->max_settings ? nr : c->max_settings) + 1;
-    double *acts = saved + nr + ni + 5 * NC;
+    int64_t n_clocks = NC + s->n_legs; /* the contacts' clocks, then the legs' */
+    double *acts = saved + nr + ni + 5 * n_clocks;
     int64_t na = s->n_act;
     /* what this tick may change, to undo it if Python must take the tick */
     int64_t started = s->ctl_started, state = s->ctl_state, binding = s->ctl_binding;
@@ -471,7 +473,7 @@ int64_t leg_control_tick(leg_sim *s) {
     double entered_at = s->ctl_entered_at;
     memcpy(saved, s->ctl_records, sizeof(double) * nr);
     memcpy(saved + nr, s->ctl_inputs, sizeof(double) * ni);
-    memcpy(saved + nr + ni, s->clocks, sizeof(double) * 5 * NC);
+    memcpy(saved + nr + ni, s->clocks, sizeof(double) * 5 * n_clocks);
     memcpy(acts, s->act_gain, sizeof(double) * na);
     memcpy(acts + na, s->act_damping, sizeof(double) * na);
     memcpy(acts + 2 * na, s->act_target, sizeof(double) * na);
@@ -490,9 +492,15 @@ int64_t leg_control_tick(leg_sim *s) {
         memcpy(s->hist_inputs + s->n_hist * ni, s->ctl_inputs, sizeof(double) * ni);
         s->n_hist++;
     }
-    for (int i = 0; i < NC; i++) { /* Sensors.observe */
+    for (int64_t i = 0; i < n_clocks; i++) { /* Sensors.observe: each contact, then each leg */
         double *clock = s->clocks + 5 * i;
-        int now = s->has_ground && s->touching[i];
+        int now = 0;
+        if (i < NC) {
+            now = s->has_ground && s->touching[i];
+        } else { /* a leg touches while any of its soles does */
+            for (int k = 0; k < NC; k++)
+                now |= s->leg_soles[(i - NC) * NC + k] && s->has_ground && s->touching[k];
+        }
         if (now && clock[0] == 0.0) {
             if (!isnan(clock[2])) clock[4] = t - clock[2];
             clock[1] = t;
@@ -557,7 +565,7 @@ python: /* undo the tick: Python's state machine takes it from the same state */
     s->sched_pos = sched_pos; s->n_hist = n_hist; s->n_ctl_events = n_events;
     memcpy(s->ctl_records, saved, sizeof(double) * nr);
     memcpy(s->ctl_inputs, saved + nr, sizeof(double) * ni);
-    memcpy(s->clocks, saved + nr + ni, sizeof(double) * 5 * NC);
+    memcpy(s->clocks, saved + nr + ni, sizeof(double) * 5 * n_clocks);
     memcpy(s->act_gain, acts, sizeof(double) * na);
     memcpy(s->act_damping, acts + na, sizeof(double) * na);
     memcpy(s->act_target, acts + 2 * na, sizeof(double) * na);
