@@ -67,3 +67,14 @@ def test_the_soles_are_saved_and_an_old_run_still_reads(tmp_path: Path) -> None:
     old = Trajectory.load(tmp_path / "old")
     assert old.leg_soles == () and old.soles_of(0) == (0,)
     assert _r(footfall_bars(old)[0][1]) == [(0.3, 0.6), (0.9, 1.2), (1.5, 1.8)]
+
+
+def test_the_keyframe_note_reads_a_leg_s_stance_from_heel_strike_to_toe_off() -> None:
+    """The exports' note on keyframes per stance took the foot contact's (the toe's) stance."""
+    from legdsl.export.stances import typical_stance
+
+    model = type("M", (), {"contacts": ()})()  # the trajectory names the legs and soles
+    both = typical_stance(model, _heel_first(((0, 1),)))  # type: ignore[arg-type]
+    toe = typical_stance(model, _heel_first(((0,),)))  # type: ignore[arg-type]
+    assert both is not None and both[0] == "leg main" and abs(both[1] - 0.4) < 1e-9
+    assert toe is not None and toe[0] == "leg main" and abs(toe[1] - 0.3) < 1e-9

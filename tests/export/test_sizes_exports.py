@@ -110,7 +110,7 @@ def test_export_motion_names_the_rate_that_gives_a_mites_stances_keyframes(
     capsys.readouterr()
     assert main(argv) == 0
     note = capsys.readouterr().err
-    assert "note: toe's stances" in note and "at 60 per second" in note
+    assert "note: leg main's stances" in note and "at 60 per second" in note
     rate = float(note.split("--fps ")[1].split()[0])
     stances = mite.trajectory.contact[:, 0] > 0.5
     assert 100 < rate < 8000  # the mite's stances last about 5 ms

@@ -19,9 +19,10 @@ from legdsl.sim.trajectory import Trajectory
 FRAMES_PER_STANCE = 4  # enough to see the foot land, load, unload and lift off
 
 
-def stances(tr: Trajectory, column: int) -> list[float]:
-    """Durations (s) of one contact's whole stances: touchdown to liftoff, both recorded."""
-    on = np.asarray(tr.contact)[:, column] > 0.5
+def stances(tr: Trajectory, on: np.ndarray) -> list[float]:
+    """Durations (s) of the whole stances of ``on`` (a contact's or a leg's flags over the
+    samples): touchdown to liftoff, both recorded."""
+    on = np.asarray(on) > 0.5
     change = np.flatnonzero(np.diff(on.astype(int))) + 1
     downs = [int(i) for i in change if on[i]]
     ups = [int(i) for i in change if not on[i]]
@@ -34,24 +35,22 @@ def stances(tr: Trajectory, column: int) -> list[float]:
 
 
 def typical_stance(model: Model, tr: Trajectory) -> tuple[str, float] | None:
-    """The foot with the shortest median stance and that median (s), or None without a whole
-    stance. The legs' feet are looked at (all contacts if no leg is declared); the median,
-    because a foot that brushes the ground for one sample (a tail, a trotting toe's first
-    touch) is no stance to draw."""
-    names = [c.name for c in model.contacts]
-    feet = [leg.foot for leg in model.legs if leg.foot in names] or names
+    """The leg (``leg NAME``; each contact, for a creature without legs) with the shortest
+    median stance and that median (s), or None without a whole stance. A leg stands while any of its soles
+    touches (``foot sole, heel, toe``); the median, because a foot that brushes the ground for
+    one sample (a tail, a trotting toe's first touch) is no stance to draw."""
     if len(tr) < 3 or not tr.contact.size:
         return None
-    medians = []
-    for foot in dict.fromkeys(feet):
-        column = names.index(foot)
-        durations = stances(tr, column) if column < tr.contact.shape[1] else []
-        if durations:
-            medians.append((float(np.median(durations)), foot))
+    if tr.leg_names:
+        flags = [(f"leg {name}", tr.leg_touching(i)) for i, name in enumerate(tr.leg_names)]
+    else:
+        flags = [(c.name, tr.contact[:, k]) for k, c in enumerate(model.contacts)
+                 if k < tr.contact.shape[1]]  # fmt: skip
+    medians = [(float(np.median(d)), name) for name, on in flags if (d := stances(tr, on))]
     if not medians:
         return None
-    duration, foot = min(medians)
-    return foot, duration
+    duration, name = min(medians)
+    return name, duration
 
 
 def _rounded_up(x: float) -> float:
