@@ -75,13 +75,17 @@ class Objective:
 def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
     """The objective of one candidate from its runs (one per commanded speed)."""
     total = 0.0
+    # a command of 0 (in place) has no size of its own: its drift is taken relative to the
+    # slowest other command, so drifting at that speed costs as much as standing at it
+    moving = [abs(s) for s in objective.speeds if s]
+    in_place = min(moving) if moving else 1.0
     for row, speed in zip(rows, objective.speeds, strict=True):
         if row["outcome"] != "ok":
             total += 2.0 + (objective.duration - float(row["simulated"])) / objective.duration
             continue
         measured = float(row["running_speed"])
         # relative to the command's size: a backward command (< 0) is no negative error
-        term = abs(measured - speed) / abs(speed) if math.isfinite(measured) else 2.0
+        term = abs(measured - speed) / (abs(speed) or in_place) if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
             term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
         cot = float(row.get("cost_of_transport", math.nan))
