@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.api.tune import Objective, score, write_tuned
+from legdsl.api.tune import Bound, Objective, report, score, write_tuned
 from legdsl.check.source import check_model
 from legdsl.cli import main
 
@@ -406,3 +406,20 @@ def test_the_elapsed_time_told_counts_the_start_runs(
     assert code == 0
     told = re.search(r"generation 1/1: .*\((\d+) s, about", capsys.readouterr().out)
     assert told is not None and int(told.group(1)) >= 3
+
+
+def test_a_tuned_value_at_its_bound_is_said_to_be_there() -> None:
+    """The knee quadruped's leg_k came out at 299.97 of --param leg_k=100:300 and the report
+    showed it as any other value: a search held back by its bounds went unnoticed."""
+    result = {
+        "start": {"values": {"leg_k": 152.7, "kp": 436.3, "kv": 35.9}, "objective": 1.0,
+                  "runs": []},
+        "best": {"values": {"leg_k": 299.97, "kp": 400.0, "kv": 10.05}, "objective": 0.01,
+                 "runs": []},
+    }  # fmt: skip
+    bounds = [Bound("leg_k", 100.0, 300.0, 152.7), Bound("kp", 200.0, 900.0, 436.3),
+              Bound("kv", 10.0, 80.0, 35.9)]  # fmt: skip
+    lines = report(result, {"leg_k": "N*m/rad"}, bounds).splitlines()
+    assert lines[1].endswith("N*m/rad  (at its upper bound: widen it to search past it)")
+    assert "bound" not in lines[2]
+    assert lines[3].endswith("(at its lower bound: widen it to search past it)")

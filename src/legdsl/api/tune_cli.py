@@ -135,7 +135,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
     if result["ended"] == "finished":
         journal.remove()
-    print(report(result, units))
+    print(report(result, units, bounds))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"
