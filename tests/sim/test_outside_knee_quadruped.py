@@ -2,7 +2,7 @@
 shipped quadruped's trunk on four legs of a gimbal hip, a thigh, a knee whose rotary spring is
 the leg spring and a shank, trotting with the shipped trot's table in knee angles through the
 standard library's level_feet_rotary and hop_height_apex_rotary (docs/quadruped.md, "A
-quadruped with knees"). It runs the same on both backends and trots at 1 m/s."""
+quadruped with knees"). It runs the same on both backends and trots at 1 and 1.5 m/s."""
 
 from __future__ import annotations
 
@@ -26,16 +26,22 @@ pytestmark = pytest.mark.skipif(
 )
 
 
-def test_the_knee_quadruped_trots_the_same_on_both_backends(tmp_path: Path) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One compile for the runs of the tests below (each compile of the C step takes seconds)."""
+    return tmp_path_factory.mktemp("generated")
+
+
+def test_the_knee_quadruped_trots_the_same_on_both_backends(generated: Path) -> None:
+    sess = RunSession.from_file(LEG, generated=generated)
     opts = RunOptions(duration=2.0)
     python = sess.run("trot", ["speed=1m/s"], options=opts, backend="python").result
     c = sess.run("trot", ["speed=1m/s"], options=opts, backend="c").result
     assert python.status == "ok", python.message
     assert_same(python, c)
     tr = python.trajectory
-    assert tr.root_pos[:, 2].min() > 0.5  # hops between 0.53 and 0.69 m
-    assert np.abs(tr.root_rpy[:, :2]).max() < np.radians(6)  # within 3.1 deg in these 2 s
+    assert tr.root_pos[:, 2].min() > 0.5  # the trunk between 0.66 and 0.76 m from 0.5 s
+    assert np.abs(tr.root_rpy[:, :2]).max() < np.radians(6)  # within 3.7 deg in these 2 s
     down = tr.contact.astype(bool)
     # a trot: each diagonal pair lands together, the two pairs in turn
     after = tr.t > 0.3
@@ -44,14 +50,18 @@ def test_the_knee_quadruped_trots_the_same_on_both_backends(tmp_path: Path) -> N
     assert not (down[after, 0] & down[after, 1]).any()  # fl and fr never down together
 
 
-def test_the_knee_quadruped_holds_1_m_s_for_10_s(tmp_path: Path) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path)
-    run = sess.run("trot", ["speed=1m/s"], options=RunOptions(duration=10.0), backend="c").result
+@pytest.mark.parametrize("speed", [1.0, 1.5])
+def test_the_knee_quadruped_holds_its_speed_for_10_s(generated: Path, speed: float) -> None:
+    """Within 5% over 3 to 10 s (docs/quadruped.md); it fell at 1.5 m/s before its gains
+    were tuned at 0 to 2 m/s."""
+    sess = RunSession.from_file(LEG, generated=generated)
+    opts = RunOptions(duration=10.0)
+    run = sess.run("trot", [f"speed={speed}m/s"], options=opts, backend="c").result
     assert run.status == "ok", run.message
     tr = run.trajectory
     later = tr.t >= 3.0
     mean = (tr.com[later][-1, 0] - tr.com[later][0, 0]) / (tr.t[later][-1] - tr.t[later][0])
-    assert 0.9 < mean < 1.1  # 1.00 m/s over 3 to 10 s (docs/quadruped.md)
+    assert mean == pytest.approx(speed, rel=0.05)
 
 
 def test_level_feet_rotary_reads_the_rest_angle_not_the_knees(tmp_path: Path) -> None:

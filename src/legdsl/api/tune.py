@@ -75,13 +75,17 @@ class Objective:
 def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
     """The objective of one candidate from its runs (one per commanded speed)."""
     total = 0.0
+    # a command of 0 (in place) has no size of its own: its drift is taken relative to the
+    # slowest other command, so drifting at that speed costs as much as standing at it
+    moving = [abs(s) for s in objective.speeds if s]
+    in_place = min(moving) if moving else 1.0
     for row, speed in zip(rows, objective.speeds, strict=True):
         if row["outcome"] != "ok":
             total += 2.0 + (objective.duration - float(row["simulated"])) / objective.duration
             continue
         measured = float(row["running_speed"])
         # relative to the command's size: a backward command (< 0) is no negative error
-        term = abs(measured - speed) / abs(speed) if math.isfinite(measured) else 2.0
+        term = abs(measured - speed) / (abs(speed) or in_place) if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
             term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
         cot = float(row.get("cost_of_transport", math.nan))
@@ -443,11 +447,13 @@ def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | No
     return out
 
 
-def report(result: dict[str, Any], units: dict[str, str]) -> str:
+def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound] = ()) -> str:
     lines = ["parameter        start         tuned"]
+    edges = {b.name: b for b in bounds}
     for name, value in result["best"]["values"].items():
         start = result["start"]["values"][name]
-        lines.append(f"{name:<12} {start:>10.4g}    {value:>10.4g} {units.get(name, '')}")
+        line = f"{name:<12} {start:>10.4g}    {value:>10.4g} {units.get(name, '')}"
+        lines.append(line + _at_bound(value, edges.get(name)))
     lines.append(
         f"objective    {result['start']['objective']:>10.4g}    {result['best']['objective']:>10.4g}"
     )
@@ -458,6 +464,15 @@ def report(result: dict[str, Any], units: dict[str, str]) -> str:
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
         lines.append(f"  at {before['speed']:<6.4g}    {_energy(before):<20} {_energy(after)}")
     return "\n".join(lines)
+
+
+def _at_bound(value: float, bound: Bound | None) -> str:
+    """A value the search left within 1% of a bound may be better past it: say so."""
+    if bound is None or bound.high <= bound.low:
+        return ""
+    near = 0.01 * (bound.high - bound.low)
+    side = "upper" if value >= bound.high - near else "lower" if value <= bound.low + near else ""
+    return f"  (at its {side} bound: widen it to search past it)" if side else ""
 
 
 def _energy(row: dict[str, Any]) -> str:

@@ -135,7 +135,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
     if result["ended"] == "finished":
         journal.remove()
-    print(report(result, units))
+    print(report(result, units, bounds))
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"
@@ -244,8 +244,8 @@ def _check_search(args: argparse.Namespace) -> None:
 
 
 def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
-    """``--speeds V,V,...`` in m/s: each a commanded speed, not zero (the speed error is
-    relative to it); a negative one commands running backwards."""
+    """``--speeds V,V,...`` in m/s: each a commanded speed (the speed error is relative to
+    it; a 0's, in place, to the slowest other); a negative one commands running backwards."""
     try:
         speeds = parse_axis("grid", f"speed={text}", {"speed": dim}).values
     except UsageError as e:  # it names --grid, the option it was written for
@@ -253,9 +253,10 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
         if "write NAME" in why:
             why = "write the speeds as V,V,... (m/s, or each with its unit: 2m/s,3m/s)"
         raise UsageError(f"--speeds {text}: {why}") from None
-    if 0.0 in speeds:
+    if not any(speeds):
         raise UsageError(
-            f"--speeds {text}: a speed of 0 has no relative speed error to tune against; "
-            "give speeds other than 0 (m/s)"
+            f"--speeds {text}: a speed of 0 has no relative speed error to tune against on its "
+            "own (its drift is taken relative to the slowest other speed); add a speed other "
+            "than 0 (m/s)"
         )
     return speeds
