@@ -191,6 +191,9 @@ class Job:
     start: float
     generated: str
     keep: str | None  # the run's directory, if kept
+    # virtual legs to measure with (``NAME=LEG,LEG``), the first starting the strides: a gait's
+    # pairs (``legdsl tune --table2 "quadruped trot"``), as ``legdsl metrics --table2`` finds them
+    groups: tuple[str, ...] = ()
 
 
 _CREATURES: dict[tuple[str, str | None, str], Any] = {}  # per process
@@ -255,7 +258,9 @@ def _row(job: Job, run: Any) -> dict[str, Any]:
     values: dict[str, float] = {}
     row["by_label"] = {}  # every metric by its Table 2 label, for tuning (not in the table)
     try:
-        metrics = run.metrics(start=min(job.start, end))
+        first = job.groups[0].partition("=")[0] if job.groups else None
+        pairs = {"leg": first, "groups": list(job.groups)} if first else {}
+        metrics = run.metrics(start=min(job.start, end), **pairs)
         values = {s.key: s.value for s in metrics.summaries}
         # by label, and by key for the Table 2 rows measured under another name
         row["by_label"] = {s.key: s.value for s in metrics.summaries} | {

@@ -7,7 +7,11 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
 
 * the relative speed error ``|running speed - command| / command`` (from ``--from`` on),
 * plus ``--table2-weight`` times the mean relative distance of the run's metrics to the
-  rows of ``--table2 ROW`` (the paper's animation column, where the run measured them),
+  rows of ``--table2 ROW`` (the paper's animation column, where the run measured them); for
+  a gait of pairs (a trot, a pace, a bound) the runs are measured on its pairs, found from
+  the hips as ``legdsl metrics --table2`` finds them, and the share of the pairs' stances
+  whose members land more than 10 ms apart is added too (a trot that holds its speed with
+  the diagonal feet landing apart is no trot),
 * plus ``--energy-weight`` times the run's cost of transport: its positive actuator work per
   metre divided by its weight ``m g`` (``legdsl.analysis.energy``), the energy per metre
   made dimensionless like the other terms,
@@ -87,12 +91,22 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
         # relative to the command's size: a backward command (< 0) is no negative error
         term = abs(measured - speed) / (abs(speed) or in_place) if math.isfinite(measured) else 2.0
         if objective.table2 is not None:
-            term += objective.table2_weight * table2_distance(row["by_label"], objective.table2)
+            apart = pairs_apart(row["by_label"])
+            term += objective.table2_weight * (
+                table2_distance(row["by_label"], objective.table2) + apart
+            )
         cot = float(row.get("cost_of_transport", math.nan))
         if objective.energy_weight and math.isfinite(cot):  # no distance: the speed term says
             term += objective.energy_weight * cot
         total += term
     return total / len(objective.speeds)
+
+
+def pairs_apart(by_key: dict[str, float]) -> float:
+    """The mean share of the pairs' stances whose members land more than 10 ms apart (the
+    ``unison_PAIR`` rows; 0 without pairs)."""
+    shares = [v for k, v in by_key.items() if k.startswith("unison_") and math.isfinite(v)]
+    return 1.0 - sum(shares) / len(shares) if shares else 0.0
 
 
 def table2_distance(by_label: dict[str, float], row: str) -> float:

@@ -12,6 +12,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.tune import (
     Bound,
@@ -103,9 +104,11 @@ def cmd_tune(args: argparse.Namespace) -> int:
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     units = units_of({b.name: params[b.name].dim for b in bounds})
+    pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
                values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
-               generated=args.generated, keep=None)  # fmt: skip
+               generated=args.generated, keep=None,
+               groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
     from legdsl.api import load
 
     load(source, args.creature, args.generated).session.control(args.controller)  # compile once
