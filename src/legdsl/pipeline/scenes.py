@@ -7,11 +7,14 @@ import contextlib
 from collections.abc import Sequence
 from typing import Any
 
+from legdsl.analysis.path_report import Followed
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
+from legdsl.ir.paths import PathSpec
 from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
+from legdsl.pipeline.scaled import scale_path
 from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
 from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 
@@ -177,3 +180,32 @@ def switches_not_made(run: Any) -> list[str]:
             "--time to see it"
         )
     return lines
+
+
+def followed_paths(machine: Any, end: float, scale: float | None = None) -> list[Followed]:
+    """The paths given to a run's controllers (``path NAME`` left without one is none), each
+    with the spans of the run in which a controller followed it: None for one followed from
+    start to ``end``. A switched run's later controller may follow another shape under the
+    same name, or none; consecutive segments with one path share its tracker, as in the run.
+    A run of the creature scaled by ``scale`` (never switched) has its paths as the file's."""
+    if not isinstance(machine, SwitchingMachine):
+        given = [p for p in machine.paths if p.shape != "none"]
+        back = [p if scale is None else scale_path(p, 1 / scale) for p in given]
+        return [(p, None) for p in back]
+    machines = [m for _, m in machine.finished] + [machine.current]
+    specs: list[PathSpec] = []
+    spans: list[list[tuple[float, float]]] = []
+    for seg, m in zip(machine.segment_info(end), machines, strict=True):
+        for spec in (p for p in m.paths if p.shape != "none"):
+            if spec not in specs:
+                specs.append(spec)
+                spans.append([])
+            mine = spans[specs.index(spec)]
+            if mine and same_time(mine[-1][1], seg["from"]):  # its tracker carried on
+                mine[-1] = (mine[-1][0], seg["to"])
+            else:
+                mine.append((seg["from"], seg["to"]))
+    return [
+        (spec, None if len(s) == 1 and s[0][0] == 0 and same_time(s[0][1], end) else s)
+        for spec, s in zip(specs, spans, strict=True)
+    ]
