@@ -130,7 +130,12 @@ def cmd_run(args: argparse.Namespace) -> int:
             )
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
-    for note in notes_before_run(settings, options, session.model):
+    sources = {}
+    if args.scene is not None:  # a note names the scene's lines as written
+        from legdsl.pipeline.scenes import scene_sources
+
+        sources = scene_sources(scene)
+    for note in notes_before_run(settings, options, session.model, sources):
         print(f"legdsl: note: {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:

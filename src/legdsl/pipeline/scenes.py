@@ -4,7 +4,7 @@ line's added to them (``scene_plan``), and the notes on commands after the run's
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from legdsl.analysis.path_report import Followed
@@ -43,19 +43,23 @@ def parse_switch(text: str, model: Model) -> Switch:
     return Switch(given.value, name)
 
 
-def too_late(settings: Sequence[str], duration: float) -> list[str]:
+def too_late(
+    settings: Sequence[str], duration: float, sources: Mapping[str, str] | None = None
+) -> list[str]:
     """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
     run's end: notes for the user, since they will not happen (a switch that never took over
-    is told after the run, which knows whether it waited for a liftoff)."""
+    is told after the run, which knows whether it waited for a liftoff). ``sources`` names
+    a scene's lines as written (``scene_sources``), not as the ``--set`` they stand for."""
     notes = []
+    sources = sources or {}
     for text in (text for text in settings if "@" in text):
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
             given = parse_given(text.rpartition("@")[2], text)
             check_dimension(text, "", given, _TIME, "@{}")
             if given.value > duration:
                 notes.append(
-                    f"--set {text} comes after the run's end ({duration:g} s) and has no "
-                    "effect; give a longer --time to see it"
+                    f"{sources.get(text, f'--set {text}')} comes after the run's end "
+                    f"({duration:g} s) and has no effect; give a longer --time to see it"
                 )
     return notes
 
@@ -69,6 +73,18 @@ def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
     ]
     switches = [f"{w.t!r}s={w.controller}" for w in scene.switches]
     return sets, switches
+
+
+def scene_sources(scene: Scene) -> dict[str, str]:
+    """Each ``at T set`` line of ``scene`` by the ``--set`` text it stands for, as a note
+    names it: its place in the file and its words (``demo.leg:30:3: 'at 11 s set speed' of
+    scene demo``)."""
+    sets, _ = scene_texts(scene)
+    return {
+        text: f"{v.span}: 'at {v.at:g} s set {v.name}' of scene {scene.name}"
+        for text, v in zip(sets, scene.values, strict=True)
+        if v.at is not None
+    }
 
 
 def find_scene(model: Model, name: str) -> Scene:
