@@ -39,3 +39,12 @@ def test_notes_name_the_scenes_lines_after_the_end_where_they_are_written(
     assert f"biped.leg:{line}:" in err and "'at 8 s set speed' of scene run_gallop_run" in err
     assert "--set speed=1.5m/s@8.0s" not in err  # the text it stands for, never written
     assert "--set speed=1m/s@9s comes after the run's end" in err  # the command line's own
+
+
+def test_a_switch_beside_a_gait_table_says_what_to_do_instead(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["run", str(BIPED), "--scene", "by_speed", "--switch", "1s=run", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "chooses its controllers by its gait table; leave out --switch" in err

@@ -151,7 +151,11 @@ def scene_plan(
     if not scene.bands:
         return scene.controller, texts, changes + list(switches)
     if switches:
-        raise UsageError(f"--switch: scene {scene.name} chooses its controllers by its gait table")
+        raise UsageError(
+            f"--switch: scene {scene.name} chooses its controllers by its gait table; leave out "
+            "--switch (a --set of the table's input at a time changes gait), or run without "
+            "--scene, giving --controller and --switch"
+        )
     names = list(dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)]))
     given = sort_settings(texts, model, names[0], names[1:])
     by = scene.band_input
