@@ -137,6 +137,15 @@ class _SceneChecker:
             return None
         start = first[0].name.name if first else None
         by = tables[0].input.name if tables else ""
+        for v in values if bands else []:  # the table chooses by the command all share
+            owner, _, key = v.name.partition(".")
+            if key == by and owner in self.controllers:
+                diag.error(
+                    v.span,
+                    f"'gait by {by}' chooses by the command of {by}; give it with "
+                    f"'set {by} = ...' (one controller's own {by} would run outside its band)",
+                )
+                return None
         if bands:
             start = self._gaits(tables[0], bands, start, used, values)
             if start is None:
