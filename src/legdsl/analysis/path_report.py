@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -18,27 +18,39 @@ if TYPE_CHECKING:
 
 PATH_FROM = 3.0  # s: the report's window starts here by default (after the start-up)
 
+# A path and the spans of the run (from, to) its controllers followed it in: None when the
+# whole run did (a run that changed to a controller following another path, or none, has spans)
+Followed = tuple["PathSpec", "list[tuple[float, float]] | None"]
+
 
 def path_report(
-    tr: Trajectory, spec: PathSpec, t_from: float = PATH_FROM, t_to: float | None = None
+    tr: Trajectory,
+    spec: PathSpec,
+    t_from: float = PATH_FROM,
+    t_to: float | None = None,
+    track_from: float = -math.inf,
+    track_to: float = math.inf,
 ) -> dict[str, Any]:
     """How well the centre of mass followed a path, from ``t_from``.
 
     The lateral deviation is the signed distance of the centre of mass from the
     path (positive to the left); its RMS, largest magnitude and mean are taken
     over the samples in the window. The progress is tracked from the run's
-    first sample (so laps count from the start); the speed along the path is
+    first sample (so laps count from the start; from ``track_from`` to ``track_to`` for a
+    path a controller took over with, as its tracker did); the speed along the path is
     the progress made in the window over its duration.
     """
     from legdsl.sim.path_tracking import PathGeometry, track
 
+    tracked = (tr.t >= track_from - EPS_T) & (tr.t <= track_to + EPS_T)
+    times = tr.t[tracked]
     lateral, progress = track(
-        spec, [float(x) for x in tr.com[:, 0]], [float(y) for y in tr.com[:, 1]]
+        spec, [float(x) for x in tr.com[tracked, 0]], [float(y) for y in tr.com[tracked, 1]]
     )
     lat = np.asarray(lateral)
     prog = np.asarray(progress)
     end = tr.t[-1] if t_to is None else t_to
-    window = (tr.t >= t_from - EPS_T) & (tr.t <= end + EPS_T)
+    window = (times >= t_from - EPS_T) & (times <= end + EPS_T)
     geometry = PathGeometry(spec)
     length = geometry.length
     out: dict[str, Any] = {
@@ -51,9 +63,11 @@ def path_report(
         "progress": float(prog[-1] - prog[0]) if len(prog) else math.nan,
         "laps": float((prog[-1] - prog[0]) / length) if len(prog) and length > 0 else math.nan,
     }
+    if math.isfinite(track_from):  # followed from a controller's takeover, not the run's start
+        out["followed_from"] = float(track_from)
     if window.sum() >= 2:
         w = lat[window]
-        t = tr.t[window]
+        t = times[window]
         out |= {
             "lateral_rms": float(np.sqrt(np.mean(w**2))),
             "lateral_max": float(np.max(np.abs(w))),
@@ -65,6 +79,28 @@ def path_report(
     return jsonable(out)
 
 
+def followed_reports(
+    tr: Trajectory, followed: Sequence[Followed], t_from: float | None, t_to: float | None
+) -> list[tuple[PathSpec, dict[str, Any]]]:
+    """The reports of every path a run followed: one over the run (from ``t_from``, else from
+    ``PATH_FROM``) for a path followed throughout, else one per span it was followed in
+    (from ``PATH_FROM`` after the controller took over, or ``t_from`` within the span), its
+    progress from the takeover: a path a later controller no longer follows is not measured
+    against what the creature did after, nor one it took over with against what it did before."""
+    reports = []
+    for spec, spans in followed:
+        if spans is None:
+            start = PATH_FROM if t_from is None else t_from
+            reports.append((spec, path_report(tr, spec, start, t_to)))
+            continue
+        for start, end in spans:
+            lo = min(start + PATH_FROM, end) if t_from is None else max(t_from, start)
+            hi = end if t_to is None else min(t_to, end)
+            if lo <= hi:  # a span outside the asked window has nothing to say
+                reports.append((spec, path_report(tr, spec, lo, hi, start, end)))
+    return reports
+
+
 def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
     """The report as (label, value) rows for ``legdsl run``'s summary and ``legdsl metrics``."""
 
@@ -73,6 +109,8 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
         return "n/a" if v is None else f"{figure(v)}{unit}"
 
     window = f"from {report['from']:g} s"
+    if "followed_from" in report:  # a span of a run that changed controllers
+        window += f" to {report['to']:g} s"
     covered = "laps of" if report.get("closed", True) else "of its"  # open: the fraction covered
     return [
         ("path", str(report["path"])),

@@ -275,6 +275,18 @@ def run_paths(run: Path) -> list[PathSpec]:
         raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
 
 
+def run_followed(run: Path) -> list[tuple[PathSpec, list[tuple[float, float]] | None]]:
+    """The paths a run followed with the spans of the run it followed each in (run.json's
+    ``followed``: a run that changed to a controller with another path), None for the whole."""
+    paths = run_paths(run)
+    entries = load_run_info(run).get("paths") or [] if paths else []
+    try:
+        spans = [[(float(a), float(b)) for a, b in e.get("followed") or []] for e in entries]
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
+    return [(p, s or None) for p, s in zip(paths, spans, strict=True)]
+
+
 def path_title(name: str, report: dict[str, Any]) -> str:
     """The top view's title for a path (``path_report``): an open path's share, a closed
     one's laps."""
@@ -282,8 +294,9 @@ def path_title(name: str, report: dict[str, Any]) -> str:
     covered = "laps" if closed else f"of its {figure(report['length'])} m"
     return (
         f"{name}: lateral deviation {figure(report['lateral_rms'])} m RMS, "
-        f"{figure(report['lateral_max'])} m max (from {report['from']:g} s), "
-        f"{report['laps']:.2f} {covered}"
+        f"{figure(report['lateral_max'])} m max (from {report['from']:g} s"
+        + (f" to {report['to']:g} s), " if "followed_from" in report else "), ")
+        + f"{report['laps']:.2f} {covered}"
     )
 
 
@@ -294,7 +307,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from legdsl.analysis.path_report import PATH_FROM, path_report
+    from legdsl.analysis.path_report import followed_reports
     from legdsl.sim.path_tracking import PathGeometry
 
     tr = Trajectory.load(run)
@@ -302,14 +315,17 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     window = (tr.t >= t_from) & (tr.t <= end)
     fig, ax = plt.subplots(figsize=(7, 7))
     titles = []
-    for spec in run_paths(run):
+    followed = run_followed(run)
+    for k, (spec, spans) in enumerate(followed):
         geo = PathGeometry(spec)
         s = np.linspace(0.0, geo.length, 400 if spec.shape == "circle" else 2000)
         pts = np.array([geo.at(float(v))[:2] for v in s])
         if spec.shape != "circle" and geo.closed:
             pts = np.vstack([pts, pts[:1]])
-        ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, label=f"path {spec.name}")
-        report = path_report(tr, spec, max(t_from, PATH_FROM), t_to)
+        when = ", ".join(f"{a:g} to {b:g} s" for a, b in spans or [])  # a switched run's
+        ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, linestyle=("-", "--", ":")[k % 3],
+                label=f"path {spec.name}" + (f" ({when})" if when else ""))  # fmt: skip
+    for spec, report in followed_reports(tr, followed, t_from if t_from > 0 else None, t_to):
         if report["lateral_rms"] is not None:
             titles.append(path_title(spec.name, report))
     ax.plot(tr.com[window, 0], tr.com[window, 1], color="k", linewidth=1, label="centre of mass")

@@ -137,6 +137,15 @@ class _SceneChecker:
             return None
         start = first[0].name.name if first else None
         by = tables[0].input.name if tables else ""
+        for v in values if bands else []:  # the table chooses by the command all share
+            owner, _, key = v.name.partition(".")
+            if key == by and owner in self.controllers:
+                diag.error(
+                    v.span,
+                    f"'gait by {by}' chooses by the command of {by}; give it with "
+                    f"'set {by} = ...' (one controller's own {by} would run outside its band)",
+                )
+                return None
         if bands:
             start = self._gaits(tables[0], bands, start, used, values)
             if start is None:
@@ -271,6 +280,16 @@ class _SceneChecker:
                 return None
         name = ".".join(i.name for i in item.target)
         where = item.target[0].span
+        path = next((c.name for c in used for p in c.paths if p.name == item.target[0].name), None)
+        if path is not None:  # a path is the controller's, or the command line's
+            diag.error(
+                where,
+                f"'{item.target[0].name}' is a path of controller {path}; a scene does not give "
+                f"paths: write it in the controller ('path {item.target[0].name} = circle(...)', "
+                f"in a controller that extends {path}), or run with --path "
+                f"{item.target[0].name}=...",
+            )
+            return None
         if len(item.target) == 2 and item.target[0].name in self.controllers:
             return self._own_value(item, name, at, used)
         if len(item.target) > 1:

@@ -110,17 +110,18 @@ def cmd_run(args: argparse.Namespace) -> int:
         from legdsl.pipeline.scenes import find_scene, scene_plan
 
         scene = find_scene(session.model, args.scene)
-        if controller is not None and (controller != scene.controller or scene.starts_by_band):
-            raise UsageError(
-                f"--scene {scene.name} starts with controller {scene.controller}; "
-                "leave out --controller (or change the scene)"
-            )
         if args.scale is not None:  # the scene as the scaled file has it, for the scaled creature
             from legdsl.pipeline.scaled import check_scale, scale_scene
 
             check_scale(args.scale)
             scene = scale_scene(scene, session.model, args.scale)
         controller, settings, switches = scene_plan(scene, session.model, settings, switches)
+        if args.controller not in (None, controller):  # a gait table's start is its first band's
+            chosen = " (its gait table's band for the first command)" if scene.bands else ""
+            raise UsageError(
+                f"--scene {scene.name} starts with controller {controller}{chosen}; "
+                "leave out --controller (or change the scene)"
+            )
         if args.scale is not None and switches:
             raise UsageError(
                 f"--scene {scene.name} switches controllers, which --scale does not support: "
@@ -129,7 +130,12 @@ def cmd_run(args: argparse.Namespace) -> int:
             )
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
-    for note in notes_before_run(settings, options, session.model):
+    sources = {}
+    if args.scene is not None:  # a note names the scene's lines as written
+        from legdsl.pipeline.scenes import scene_sources
+
+        sources = scene_sources(scene)
+    for note in notes_before_run(settings, options, session.model, sources):
         print(f"legdsl: note: {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:

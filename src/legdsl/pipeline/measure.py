@@ -8,8 +8,8 @@ from typing import Any
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.pairs import PAIR_NAMES, group_hint
-from legdsl.analysis.path_report import PATH_FROM, path_report
-from legdsl.analysis.plot import run_paths, samples_in_window
+from legdsl.analysis.path_report import followed_reports
+from legdsl.analysis.plot import run_followed, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
@@ -94,8 +94,8 @@ def measure_run(
         write_json(metrics, run / "metrics.json")
     except OSError as e:
         raise UsageError(f"cannot write {run / 'metrics.json'}: {e.strerror or e}") from None
-    start = t_from if t_from > 0 else PATH_FROM
-    reports = [path_report(trajectory, spec, start, t_to) for spec in run_paths(run)]
+    followed = run_followed(run)
+    reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to)]
     return metrics, reports
 
 

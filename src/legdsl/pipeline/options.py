@@ -158,15 +158,17 @@ def _why(e: OSError) -> str:
     return e.strerror or str(e)
 
 
-def notes_before_run(settings: list[str], options: RunOptions, model: Model) -> list[str]:
+def notes_before_run(
+    settings: list[str], options: RunOptions, model: Model, sources: dict[str, str] | None = None
+) -> list[str]:
     """What ``legdsl run`` (and the API, as warnings) notes before a run, once its options
-    are checked (a mistake in them is told first): changes set for after the run's end, and
-    a drop whose fall outlasts the run."""
+    are checked (a mistake in them is told first): changes set for after the run's end (a
+    scene's named by its line, ``sources``), and a drop whose fall outlasts the run."""
     from legdsl.pipeline.scenes import too_late
 
     check_run_options(options)
     falling = fall_note(options, model)
-    return [*too_late(settings, options.duration), *([falling] if falling else [])]
+    return [*too_late(settings, options.duration, sources), *([falling] if falling else [])]
 
 
 def fall_note(options: RunOptions, model: Model) -> str | None:

@@ -4,14 +4,17 @@ line's added to them (``scene_plan``), and the notes on commands after the run's
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
+from legdsl.analysis.path_report import Followed
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
+from legdsl.ir.paths import PathSpec
 from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
+from legdsl.pipeline.scaled import scale_path
 from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
 from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 
@@ -40,19 +43,23 @@ def parse_switch(text: str, model: Model) -> Switch:
     return Switch(given.value, name)
 
 
-def too_late(settings: Sequence[str], duration: float) -> list[str]:
+def too_late(
+    settings: Sequence[str], duration: float, sources: Mapping[str, str] | None = None
+) -> list[str]:
     """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
     run's end: notes for the user, since they will not happen (a switch that never took over
-    is told after the run, which knows whether it waited for a liftoff)."""
+    is told after the run, which knows whether it waited for a liftoff). ``sources`` names
+    a scene's lines as written (``scene_sources``), not as the ``--set`` they stand for."""
     notes = []
+    sources = sources or {}
     for text in (text for text in settings if "@" in text):
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
             given = parse_given(text.rpartition("@")[2], text)
             check_dimension(text, "", given, _TIME, "@{}")
             if given.value > duration:
                 notes.append(
-                    f"--set {text} comes after the run's end ({duration:g} s) and has no "
-                    "effect; give a longer --time to see it"
+                    f"{sources.get(text, f'--set {text}')} comes after the run's end "
+                    f"({duration:g} s) and has no effect; give a longer --time to see it"
                 )
     return notes
 
@@ -66,6 +73,18 @@ def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
     ]
     switches = [f"{w.t!r}s={w.controller}" for w in scene.switches]
     return sets, switches
+
+
+def scene_sources(scene: Scene) -> dict[str, str]:
+    """Each ``at T set`` line of ``scene`` by the ``--set`` text it stands for, as a note
+    names it: its place in the file and its words (``demo.leg:30:3: 'at 11 s set speed' of
+    scene demo``)."""
+    sets, _ = scene_texts(scene)
+    return {
+        text: f"{v.span}: 'at {v.at:g} s set {v.name}' of scene {scene.name}"
+        for text, v in zip(sets, scene.values, strict=True)
+        if v.at is not None
+    }
 
 
 def find_scene(model: Model, name: str) -> Scene:
@@ -132,7 +151,11 @@ def scene_plan(
     if not scene.bands:
         return scene.controller, texts, changes + list(switches)
     if switches:
-        raise UsageError(f"--switch: scene {scene.name} chooses its controllers by its gait table")
+        raise UsageError(
+            f"--switch: scene {scene.name} chooses its controllers by its gait table; leave out "
+            "--switch (a --set of the table's input at a time changes gait), or run without "
+            "--scene, giving --controller and --switch"
+        )
     names = list(dict.fromkeys([scene.controller, *(b.controller for b in scene.bands)]))
     given = sort_settings(texts, model, names[0], names[1:])
     by = scene.band_input
@@ -177,3 +200,32 @@ def switches_not_made(run: Any) -> list[str]:
             "--time to see it"
         )
     return lines
+
+
+def followed_paths(machine: Any, end: float, scale: float | None = None) -> list[Followed]:
+    """The paths given to a run's controllers (``path NAME`` left without one is none), each
+    with the spans of the run in which a controller followed it: None for one followed from
+    start to ``end``. A switched run's later controller may follow another shape under the
+    same name, or none; consecutive segments with one path share its tracker, as in the run.
+    A run of the creature scaled by ``scale`` (never switched) has its paths as the file's."""
+    if not isinstance(machine, SwitchingMachine):
+        given = [p for p in machine.paths if p.shape != "none"]
+        back = [p if scale is None else scale_path(p, 1 / scale) for p in given]
+        return [(p, None) for p in back]
+    machines = [m for _, m in machine.finished] + [machine.current]
+    specs: list[PathSpec] = []
+    spans: list[list[tuple[float, float]]] = []
+    for seg, m in zip(machine.segment_info(end), machines, strict=True):
+        for spec in (p for p in m.paths if p.shape != "none"):
+            if spec not in specs:
+                specs.append(spec)
+                spans.append([])
+            mine = spans[specs.index(spec)]
+            if mine and same_time(mine[-1][1], seg["from"]):  # its tracker carried on
+                mine[-1] = (mine[-1][0], seg["to"])
+            else:
+                mine.append((seg["from"], seg["to"]))
+    return [
+        (spec, None if len(s) == 1 and s[0][0] == 0 and same_time(s[0][1], end) else s)
+        for spec, s in zip(specs, spans, strict=True)
+    ]

@@ -39,7 +39,7 @@ from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.scenes import parse_switch, same_time
+from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
@@ -403,13 +403,11 @@ class Plan:
         if self.scale is not None:
             result = scaled.scale_result(result, self.model, self.scale)
         reports = []
-        if machine is not None:
-            from legdsl.analysis.path_report import path_report
+        if machine is not None and len(result.trajectory):
+            from legdsl.analysis.path_report import followed_reports
 
-            given = [p for p in machine.paths if p.shape != "none"]
-            if self.scale is not None:  # measured as the scaled creature's
-                given = [scaled.scale_path(p, 1 / self.scale) for p in given]
-            reports = [path_report(result.trajectory, p) for p in given if len(result.trajectory)]
+            followed = followed_paths(machine, result.sim_time, self.scale)
+            reports = [r for _, r in followed_reports(result.trajectory, followed, None, None)]
         return Run(self.model, self.controller, self.options, settings or self.settings,
                    machine, result, reports, self.scale)  # fmt: skip
 
@@ -442,10 +440,10 @@ class Run:
             first = m.first if isinstance(m, SwitchingMachine) else m  # the run's start
             extra["inputs"] = first.initial_inputs
             extra["params"] = dict(zip(first.param_names, first.params, strict=True))
-            given = [p for p in m.paths if p.shape != "none"]
-            if self.scale is not None:  # the scaled creature's, as the trajectory is
-                given = [scaled.scale_path(p, 1 / self.scale) for p in given]
-            extra["paths"] = [p.as_json() for p in given]
+            extra["paths"] = [
+                p.as_json() | ({"followed": [list(s) for s in spans]} if spans else {})
+                for p, spans in followed_paths(m, self.result.sim_time, self.scale)
+            ]
             extra["path_reports"] = self.path_reports
             if isinstance(m, SwitchingMachine):
                 extra["switches"] = [{"t": w.t, "controller": w.controller} for w in m.switches]
