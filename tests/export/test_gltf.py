@@ -86,8 +86,8 @@ def test_the_animation_replays_the_run(exported) -> None:
     doc, blob = read_glb(path)
     (animation,) = doc["animations"]
     nodes = doc["nodes"]
-    # the links, the creature's top node, and a "ground" node over the ground's meshes
-    assert len(nodes) == len(motion.bodies) + 2 + len(_ground(motion))
+    # the links, the creature's top node, a "ground" node over the ground's meshes, the contacts
+    assert len(nodes) == len(motion.bodies) + 2 + len(_ground(motion)) + len(motion.contact_names)
     inputs = {s["input"] for s in animation["samplers"]}
     assert len(inputs) == 1
     times = accessor(doc, blob, inputs.pop())

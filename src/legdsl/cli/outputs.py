@@ -61,7 +61,13 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
 def cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
-    from legdsl.export.formats import FORMATS, default_path, export_text, write_atomic
+    from legdsl.export.formats import (
+        FORMATS,
+        default_path,
+        export_notes,
+        export_text,
+        write_atomic,
+    )
     from legdsl.pipeline.options import (
         Numeric,
         check_output_file,
@@ -88,14 +94,8 @@ def cmd_export(args: argparse.Namespace) -> int:
             "--link-mass", args.link_mass, Numeric("mass", "kg", "nonnegative")
         )
     text = export_text(model, args.format, args.base, link_mass, args.anchor_pads is not False)
-    terrain = model.ground.terrain if model.ground else ()
-    if args.format == "urdf" and terrain:  # URDF has no ground: say what is not in the file
-        kinds = ", ".join(sorted({t.kind for t in terrain}))
-        print(
-            f"legdsl: note: URDF describes no ground, so the terrain of {args.file} ({kinds}) "
-            "is not in it; --format mjcf writes the ground and its terrain",
-            file=sys.stderr,
-        )
+    for note in export_notes(model, args.format, args.file, args.anchor_pads is not False):
+        print(f"legdsl: note: {note}", file=sys.stderr)  # what the file leaves out
     if args.output == "-":
         sys.stdout.write(text)
         return 0

@@ -16,7 +16,7 @@ from legdsl.export.urdf import model_to_urdf
 from legdsl.files import write_atomic
 from legdsl.ir.model import Model
 
-__all__ = ["FORMATS", "default_path", "export_text", "write_atomic"]
+__all__ = ["FORMATS", "default_path", "export_notes", "export_text", "write_atomic"]
 
 FORMATS: dict[str, tuple[Callable[[Model], str], str]] = {
     "mjcf": (model_to_mjcf, ".xml"),
@@ -39,3 +39,29 @@ def export_text(
 def default_path(model: Model, fmt: str) -> Path:
     """``NAME.xml`` for MJCF, ``NAME.urdf`` for URDF, in the current directory."""
     return Path(model.name + FORMATS[fmt][1])
+
+
+def export_notes(model: Model, fmt: str, source: str, pads: bool = True) -> list[str]:
+    """What of ``model``'s ground the ``fmt`` file leaves out, one note each (said, not
+    silently dropped): URDF has no ground, MuJoCo no torsion spring at a contact."""
+    ground = model.ground
+    if ground is None:
+        return []
+    notes = []
+    if fmt == "urdf" and ground.terrain:
+        kinds = ", ".join(sorted({t.kind for t in ground.terrain}))
+        notes.append(
+            f"URDF describes no ground, so the terrain of {source} ({kinds}) "
+            "is not in it; --format mjcf writes the ground and its terrain"
+        )
+    if fmt == "mjcf" and ground.torsion is not None:
+        notes.append(
+            f"MuJoCo has no torsion spring at a contact: the ground's torsion spring of {source} "
+            "is not in the MJCF (a foot on one contact point turns about the ground's normal freely)"
+        )
+    if fmt == "mjcf" and not pads:
+        notes.append(
+            "--no-anchor-pads: the ground's tangent spring is not in the MJCF, only its damper "
+            "(as friction's solreffriction); leave the option out to keep it"
+        )
+    return notes

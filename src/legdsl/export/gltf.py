@@ -203,6 +203,7 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         gltf.nodes.append(node)
         parent = motion.parents[b]
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
+    _contact_nodes(gltf, lib, motion, own_name)
 
     if skin:
         _skin(gltf, lib, blob, motion, colors, materials, own_name(f"{motion.creature}_skin"))
@@ -253,6 +254,23 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
     gltf.buffers.append(lib.Buffer(byteLength=len(blob.data)))
     gltf.set_binary_blob(bytes(blob.data))
     return gltf
+
+
+def _contact_nodes(gltf: Any, lib: Any, motion: Motion, own_name: Any) -> None:
+    """A node per contact point (a sole, a toe), child of its link at the point, with no
+    mesh: what an animator pins a foot to. ``extras.legdsl_contact`` marks it."""
+    if motion.contact_points is None:
+        return
+    for name, b, point in zip(
+        motion.contact_names, motion.contact_bodies, motion.contact_points, strict=True
+    ):
+        node = lib.Node(
+            name=own_name(name),
+            translation=[float(x) for x in point],
+            extras={"legdsl_contact": True},
+        )
+        gltf.nodes.append(node)
+        gltf.nodes[b + 1].children.append(len(gltf.nodes) - 1)
 
 
 def _skin(

@@ -57,10 +57,15 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
-from legdsl.export.mjcontact import FRICTION_IMPRATIO, FRICTION_RATE, contact_parameters
+from legdsl.export.mjcontact import (
+    FRICTION_IMPRATIO,
+    FRICTION_RATE,
+    contact_parameters,
+    stop_parameters,
+)
 from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
-from legdsl.ir.model import Body, Joint, Model, Stop
+from legdsl.ir.model import Body, Joint, Model
 from legdsl.lang.errors import LegError
 
 TIMESTEP = 0.0004  # s, the paper's integration step, for a creature without its own dt
@@ -150,6 +155,7 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
         children.setdefault(b.parent, []).append(b)
     joints = {j.child: j for j in model.joints}
     on_pad = {pad.contact: pad for pad in anchors}
+    stops = stop_parameters(model, anchors)
     qpos: list[float] = []  # the keyframe, in MuJoCo's order of joints
     qvel: list[float] = []
 
@@ -158,7 +164,7 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
         qpos.extend(model.q0[joint.q_start : joint.q_start + joint.nq])
         qvel.extend(model.v0[joint.v_start : joint.v_start + joint.nv])
         el = ET.SubElement(parent, "body", name=body.name, pos=nums(joint.origin))
-        _joint(el, joint, {st.dof: st for st in model.stops})
+        _joint(el, joint, stops)
         mass, com, i = inertials[body.name]
         ET.SubElement(
             el,
@@ -403,7 +409,7 @@ def _ground(world: ET.Element, model: Model, taken: set[str], r: float) -> list[
     return names
 
 
-def _joint(body: ET.Element, joint: Joint, stops: dict[str, Stop] | None = None) -> None:
+def _joint(body: ET.Element, joint: Joint, stops: dict[str, dict[str, str]]) -> None:
     if joint.is_free_3d:
         ET.SubElement(body, "freejoint", name="root")
         return
@@ -411,9 +417,8 @@ def _joint(body: ET.Element, joint: Joint, stops: dict[str, Stop] | None = None)
         el = ET.SubElement(body, "joint", name=d.name, type=d.motion, axis=nums(d.axis))
         if d.limits is not None:
             el.set("range", nums(d.limits))
-        stop = (stops or {}).get(d.name)
-        if stop is not None:  # the stop's spring-damper: MuJoCo's direct (negative) solref
-            el.set("solreflimit", nums((-stop.k, -stop.b)))
+        for key, value in stops.get(d.name, {}).items():  # the stop's spring-damper
+            el.set(key, value)
 
 
 def _shape(body: ET.Element, b: Body) -> None:

@@ -58,6 +58,40 @@ FRICTION_RATE = 5000.0
 def invweight0(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, tuple[float, float]]:
     """MuJoCo's ``body_invweight0`` (translational, rotational) of each body of ``model``,
     and of each anchor pad's body when the export has ``pads`` (``mjpads.py``)."""
+    inverse, jacobians = _inverse_mass(model, pads)
+    return {
+        name: (
+            float(np.trace(jv @ inverse @ jv.T)) / 3.0,
+            float(np.trace(jw @ inverse @ jw.T)) / 3.0,
+        )
+        for name, (jv, jw) in jacobians.items()
+    }
+
+
+def stop_parameters(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, dict[str, str]]:
+    """Per stopped coordinate: the MJCF joint attributes solreflimit and solimplimit that make
+    MuJoCo's limit row the stop's spring-damper in N*m/rad (N/m), as the contacts' normal row
+    is made the ground's spring: a direct solref is an acceleration's, so it is scaled by the
+    row's ``A0``, MuJoCo's ``dof_invweight0`` (the inverse mass matrix's diagonal at zero)."""
+    if not model.stops:
+        return {}
+    inverse, _ = _inverse_mass(model, pads)
+    d = IMPEDANCE
+    out = {}
+    for stop in model.stops:
+        scale = (1.0 - d) * float(inverse[stop.v_index, stop.v_index])
+        out[stop.dof] = {
+            "solreflimit": nums((-stop.k * scale, -stop.b * scale)),
+            "solimplimit": nums((d, d, 0.001, 0.5, 2.0)),
+        }
+    return out
+
+
+def _inverse_mass(
+    model: Model, pads: tuple[AnchorPad, ...]
+) -> tuple[np.ndarray, dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """MuJoCo's mass matrix at zero coordinates (the pads' slides after the model's
+    velocities), inverted, and each body's (and pad's) Jacobians there."""
     origin: dict[str, np.ndarray] = {}
     chains: dict[str, list[tuple[str, np.ndarray, np.ndarray, int]]] = {}
     for body, joint in zip(model.bodies, model.joints, strict=True):
@@ -116,13 +150,7 @@ def invweight0(model: Model, pads: tuple[AnchorPad, ...] = ()) -> dict[str, tupl
         # Singular at zero coordinates (a ball joint about x, y, x is in gimbal lock there,
         # though it starts elsewhere): MuJoCo's weights are the pseudo-inverse's then.
         inverse = np.linalg.pinv(mass)
-    return {
-        name: (
-            float(np.trace(jv @ inverse @ jv.T)) / 3.0,
-            float(np.trace(jw @ inverse @ jw.T)) / 3.0,
-        )
-        for name, (jv, jw) in jacobians.items()
-    }
+    return inverse, jacobians
 
 
 # The paw pad (eq. 6) through solimp's impedance curve, which MuJoCo lets rise with the

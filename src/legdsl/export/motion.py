@@ -74,6 +74,11 @@ class Motion:
     # each body's joint: its origin in the parent frame, and whether it has a slide
     joint_origins: np.ndarray | None = None  # (B, 3)
     joint_slides: tuple[bool, ...] = ()
+    # each contact's body (index into bodies) and its point in that body's frame, and per
+    # frame whether it touches the ground (F, C): the animation files carry them as locators
+    contact_bodies: tuple[int, ...] = ()
+    contact_points: np.ndarray | None = None  # (C, 3)
+    touching: np.ndarray | None = None  # (F, C) bool
     # the paths the run followed, each as points (N, 3) on the ground (closed ones end at the start)
     paths: tuple[np.ndarray, ...] = ()
     path_names: tuple[str, ...] = ()
@@ -410,6 +415,9 @@ def motion_from(
         joint_slides=tuple(
             any(d.motion == "slide" for d in joints[b.name].dofs) for b in model.bodies
         ),
+        contact_bodies=tuple(names.index(c.body) for c in model.contacts),
+        contact_points=np.array([c.point for c in model.contacts], dtype=float).reshape(-1, 3),
+        touching=tr.contact[index].reshape(len(at), nc).astype(bool),
     )
 
 

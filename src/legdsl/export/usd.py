@@ -95,12 +95,33 @@ def build_stage(motion: Motion, path: Path) -> Any:
             orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(f))
         shape = f"{path_b}/{free_name('shape', children_of(path_b, paths))}"
         _mesh(stage, shape, body_mesh(body), (body.color or "#9a9a9a").lower())
+    _contact_prims(stage, motion, paths)
 
     ground = f"{top}/{free_name('ground', children_of(top, paths))}"
     UsdGeom.Xform.Define(stage, ground)
     for name, mesh, color in ground_meshes(motion.terrain, *ground_area(motion)):
         _mesh(stage, f"{ground}/{prim_name(name)}", mesh, color)
     return stage
+
+
+def _contact_prims(stage: Any, motion: Motion, paths: list[str]) -> None:
+    """An ``Xform`` per contact point under its link, at the point, with a time-sampled
+    ``legdsl:touching`` (whether it touches the ground at each frame): a foot's soles, for
+    pinning a foot while it stands."""
+    Gf, Sdf, Usd, UsdGeom, _ = _pxr()
+    if motion.contact_points is None or motion.touching is None:
+        return
+    for c, (name, b) in enumerate(zip(motion.contact_names, motion.contact_bodies, strict=True)):
+        parent = paths[b]
+        taken = {p.GetName() for p in stage.GetPrimAtPath(parent).GetChildren()}
+        xform = UsdGeom.Xform.Define(stage, f"{parent}/{free_name(prim_name(name), taken)}")
+        translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
+        translate.Set(Gf.Vec3d(*(float(v) for v in motion.contact_points[c])))
+        touching = xform.GetPrim().CreateAttribute(
+            "legdsl:touching", Sdf.ValueTypeNames.Bool, custom=True
+        )
+        for f in range(motion.frames):
+            touching.Set(bool(motion.touching[f, c]), Usd.TimeCode(f))
 
 
 def children_of(parent: str, paths: list[str]) -> set[str]:
