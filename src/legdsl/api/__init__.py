@@ -233,10 +233,10 @@ class Creature:
         if scene is not None:
             from legdsl.pipeline.scenes import find_scene, scene_plan
 
-            plan = find_scene(self.model, scene)
-            if controller is not None and (controller != plan.controller or plan.starts_by_band):
-                raise UsageError(f"run(): scene {scene} starts with {plan.controller}")
+            plan, given = find_scene(self.model, scene), controller
             controller, settings, switches = scene_plan(plan, self.model, settings, switches)
+            if given is not None and given != controller:  # a gait table's: its first band's
+                raise UsageError(f"run(): scene {scene} starts with {controller}")
             if time is None and plan.duration is not None:
                 time = plan.duration
         options_read = run_options(self.model, time, options)

@@ -1,0 +1,31 @@
+"""``Creature.run(scene=..., controller=...)`` takes the controller a scene starts with, as
+``legdsl run --scene ... --controller`` does: for a scene with a gait table, the one its band
+for the first command chooses (the API refused even that), and refuses another by name."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES
+
+import legdsl
+from legdsl.lang.errors import UsageError
+
+
+@pytest.fixture(scope="module")
+def biped(generated: Path) -> legdsl.api.Creature:
+    return legdsl.load(CREATURES / "biped.leg", generated=generated)
+
+
+def test_the_controller_a_gait_table_starts_with_is_taken(biped: legdsl.api.Creature) -> None:
+    # by_speed: gallop to 1.6 m/s, run from 1.4 m/s; it starts at 1.5 m/s, in the gallop's band
+    run = biped.run(scene="by_speed", controller="gallop", time=0.05)
+    assert run.status == "ok"
+
+
+def test_another_controller_is_refused_naming_the_one_it_starts_with(
+    biped: legdsl.api.Creature,
+) -> None:
+    with pytest.raises(UsageError, match="scene by_speed starts with gallop"):
+        biped.run(scene="by_speed", controller="run", time=0.05)
