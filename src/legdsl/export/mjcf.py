@@ -417,6 +417,8 @@ def _joint(body: ET.Element, joint: Joint, stops: dict[str, dict[str, str]]) -> 
         el = ET.SubElement(body, "joint", name=d.name, type=d.motion, axis=nums(d.axis))
         if d.limits is not None:
             el.set("range", nums(d.limits))
+            if d.name not in stops:  # legdsl's limits alone are no force: nor are MuJoCo's
+                el.set("limited", "false")
         for key, value in stops.get(d.name, {}).items():  # the stop's spring-damper
             el.set(key, value)
 
