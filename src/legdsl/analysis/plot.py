@@ -245,18 +245,11 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
 def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
     """The terrain's height under the centre of mass at every sample, or None for a flat
     floor (or when the run's creature cannot be read back: the panel is then the body alone)."""
-    from legdsl.analysis.recorded import recorded_model, run_source
-    from legdsl.lang.errors import LegError
+    from legdsl.analysis.recorded import model_if_readable
     from legdsl.sim.contact import GroundContact
 
-    try:
-        info = load_run_info(run)
-        if run_source(run, info) is None:
-            return None
-        _, model = recorded_model(run, info)
-    except (LegError, UsageError):
-        return None
-    if model.ground is None or not model.ground.terrain:
+    model = model_if_readable(run)
+    if model is None or model.ground is None or not model.ground.terrain:
         return None
     surface = GroundContact(model.ground, (), model.planar)
     return np.array([surface.height(float(x), float(y)) for x, y in tr.com[:, :2]])

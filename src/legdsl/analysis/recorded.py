@@ -50,3 +50,18 @@ def recorded_model(
             f"{directory})"
         )
     return source, model
+
+
+def model_if_readable(run: Path) -> Model | None:
+    """The run's creature read back from its .leg file, or None when the run does not say it
+    or the file is not found or no longer reads (a figure then does without it)."""
+    from legdsl.lang.errors import LegError
+    from legdsl.sim.trajectory import load_run_info
+
+    try:
+        info = load_run_info(run)
+        if run_source(run, info) is None:
+            return None
+        return recorded_model(run, info)[1]
+    except (LegError, UsageError):
+        return None

@@ -16,26 +16,19 @@ import numpy as np
 
 from legdsl.analysis.clearance import terrain_contacts
 from legdsl.analysis.friction import LEVEL
-from legdsl.analysis.recorded import recorded_model, run_source
+from legdsl.analysis.recorded import model_if_readable
 from legdsl.analysis.results import Summary
 from legdsl.ir.model import Model
-from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.apex import load_kinematics
 from legdsl.sim.contact import GroundContact
-from legdsl.sim.trajectory import Trajectory, load_run_info
+from legdsl.sim.trajectory import Trajectory
 
 
 def ground_normal(run: Path) -> tuple[float, float, float]:
     """The unit normal of the run's ground, which the friction needed is measured against:
     a slope's, else (and when the creature's file is not found from here) level."""
-    try:
-        info = load_run_info(run)
-        if run_source(run, info) is None:
-            return LEVEL
-        _, model = recorded_model(run, info)
-    except (LegError, UsageError):
-        return LEVEL
-    return model_ground_normal(model)
+    model = model_if_readable(run)
+    return LEVEL if model is None else model_ground_normal(model)
 
 
 def model_ground_normal(model: Model) -> tuple[float, float, float]:
