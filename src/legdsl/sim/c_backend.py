@@ -271,9 +271,8 @@ class CSimulation(Simulation):
         self._array("hist_t", [], size=len(self._schedule) + 1)
         self._array("hist_inputs", [], size=(len(self._schedule) + 1) * ni)
         c.speed_input = m.input_names.index("speed") if "speed" in m.input_names else -1
-        self._array(
-            "clocks", [], size=5 * (nc + len(self.model.legs))
-        )  # the contacts', then the legs'
+        clocks = 5 * (nc + len(self.model.legs))  # the contacts' clocks, then the legs'
+        self._array("clocks", [], size=clocks)
         # a tick enters at most one state, and Python drains them after every leg_run call
         ticks = min(STEP_BUDGET, loop.n_steps) // loop.control_every + 16
         self._array("ctl_event_t", [], size=ticks)
@@ -283,7 +282,7 @@ class CSimulation(Simulation):
             for key, targets in mod.SETTINGS.items()
         ]
         most = max([len(mod.RECORDS), *outputs])
-        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + 5 * (nc + len(self.model.legs))
+        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + clocks
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
         self._setup_paths(m)
 
