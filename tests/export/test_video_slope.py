@@ -94,3 +94,41 @@ def test_the_side_view_follows_a_planar_creature_up_the_slope(
         assert z0 < snap.com[2] < z1  # the creature is in the frame, 20 m up
     finally:
         plt.close(fig)
+
+
+def test_the_footprints_lie_on_the_slope_where_the_feet_stood(on_slope: Motion) -> None:
+    """Each footprint is drawn as a disc in the slope's plane, centred on the ground under the
+    touchdown point (before, a level disc at the touchdown point's height: on a slope one side
+    stood out of the ground and the other sank into it)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from legdsl.export.motion import Footprint
+    from legdsl.export.video_views import PerspectiveView
+
+    # touchdowns a little into and above the ground, as the contact springs leave them
+    x0, x1 = float(on_slope.com[-1, 0]) + 0.3, float(on_slope.com[-1, 0]) - 0.3
+    prints = (
+        Footprint(0.0, 0, (x0, 0.12, x0 * math.tan(ANGLE) - 0.004)),
+        Footprint(0.0, 1, (x1, -0.12, x1 * math.tan(ANGLE) + 0.002)),
+    )
+    moved = dataclasses.replace(on_slope, footprints=prints)
+    fig = plt.figure(figsize=(3.2, 1.8), dpi=100)
+    try:
+        view = PerspectiveView(moved, fig.add_axes((0, 0, 1, 1)), ("footprints",), 320, 180)
+        drawn: list[np.ndarray] = []
+        flat = view._flat
+        view._flat = lambda polygons: (drawn.extend(polygons), flat(polygons))[1]  # type: ignore[method-assign]
+        view.update(moved.at(float(moved.times[-1])))
+        discs = [p for p in drawn if len(p) >= 12]  # the ground is 4 corners, shadows 3
+        assert len(discs) == len(prints) and len(view.prints.get_paths()) == len(prints)
+        radius = 0.06 * view.size
+        for disc, fp in zip(discs, prints, strict=True):
+            assert np.abs(disc[:, 2] - disc[:, 0] * math.tan(ANGLE)).max() < 1e-9
+            centre = disc.mean(axis=0)
+            assert np.allclose(centre[:2], [fp.position[0], fp.position[1]], atol=1e-9)
+            assert np.allclose(np.linalg.norm(disc - centre, axis=1), radius, atol=1e-9)
+    finally:
+        plt.close(fig)

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot, slope_tangent, terrain_height
+from legdsl.export.motion import Footprint, Motion, Snapshot, slope_tangent, terrain_height
 from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
 
@@ -409,16 +409,7 @@ class PerspectiveView(View):
             else []
         )
         radius = 0.06 * self.size
-        circle = np.column_stack(
-            [
-                np.cos(np.linspace(0, 2 * np.pi, 16)),
-                np.sin(np.linspace(0, 2 * np.pi, 16)),
-                np.zeros(16),
-            ]
-        )
-        self.prints.set_verts(
-            self._flat([np.array(fp.position) + radius * circle for fp in prints])
-        )
+        self.prints.set_verts(self._flat([footprint_disc(m, fp, radius) for fp in prints]))
         self.prints.set_facecolor(
             [FOOTPRINT_COLORS[fp.contact % len(FOOTPRINT_COLORS)] for fp in prints]
         )
@@ -439,6 +430,18 @@ class PerspectiveView(View):
                 if np.linalg.norm(f) * per_newton > 1e-3 * self.size:
                     arrows += _arrow_segments(p, p + f * per_newton)
         self.forces.set_segments(self._segments(arrows))
+
+
+def footprint_disc(m: Motion, fp: Footprint, radius: float, n: int = 16) -> np.ndarray:
+    """A footprint as an (n, 3) polygon lying on the ground where the foot stood: centred on
+    the ground under the touchdown point, on a slope in its tilted plane (drawn level, a disc
+    stood out of the slope on one side and sank into it on the other)."""
+    x, y = fp.position[0], fp.position[1]
+    a = math.atan(slope_tangent(m.terrain))
+    turn = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    along = np.array([math.cos(a), 0.0, math.sin(a)])  # the ground's x direction, up the slope
+    rim = radius * (np.cos(turn)[:, None] * along + np.sin(turn)[:, None] * [0.0, 1.0, 0.0])
+    return np.array([x, y, terrain_height(m.terrain, x, y)]) + rim
 
 
 def _arrow_segments(a: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
