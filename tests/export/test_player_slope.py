@@ -65,3 +65,48 @@ def test_the_player_keeps_a_creature_up_the_slope_in_the_picture(
     x, y, z = (float(v) for v in up_the_slope.com[-1])
     px, py = browser.evaluate(f"legdsl.project({x}, {y}, {z})")
     assert 0 <= px <= WIDTH and 0 <= py <= HEIGHT, (px, py)
+
+
+STEEP = math.radians(60)
+
+
+@pytest.mark.parametrize(
+    "view",
+    [
+        {},  # the default view
+        {"elevation": -0.2, "azimuth": 0.0},  # dragged as low as it goes, looking down the slope
+        {"elevation": -0.2, "azimuth": math.pi / 2},
+        {"elevation": 0.0, "azimuth": -math.pi / 3, "distance": 30.0},  # zoomed out
+        {"elevation": 1.5, "azimuth": math.pi},  # from above, uphill
+    ],
+)
+def test_the_orbit_camera_stays_above_a_steep_slope(
+    browser: Chromium, up_the_slope: Motion, tmp_path: Path, view: dict[str, float]
+) -> None:
+    """On a 60 deg slope the level orbit put the default eye under the ground; the orbit is now
+    tilted with the slope and kept at least a tenth of the creature's size above its plane."""
+
+    def reseated(points: np.ndarray) -> np.ndarray:  # from the 45 deg slope onto the steep one
+        lift = (math.tan(STEEP) - math.tan(ANGLE)) * points[..., 0]
+        return points + np.stack([0 * lift, 0 * lift, lift], axis=-1)
+
+    steep = dataclasses.replace(
+        up_the_slope,
+        terrain=(dataclasses.replace(up_the_slope.terrain[0], params=(("angle", STEEP),)),),
+        positions=reseated(up_the_slope.positions),
+        com=reseated(up_the_slope.com),
+        contact_positions=reseated(up_the_slope.contact_positions),
+    )
+    page = tmp_path / "animation.html"
+    write_player(steep, page)
+    browser.open(page.as_uri())
+    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    if view:
+        browser.evaluate(f"legdsl.setView({{{', '.join(f'{k}: {v!r}' for k, v in view.items())}}})")
+    size = camera_hints(steep)["size"]
+    for t in (0.0, steep.duration):
+        browser.evaluate(f"legdsl.setTime({t})")
+        x, _, z = browser.evaluate("legdsl.cameraPosition()")
+        above = (z - x * math.tan(STEEP)) * math.cos(STEEP)  # distance from the plane
+        assert above >= 0.1 * size - 1e-6, (view, t, above)
+    assert browser.errors() == []

@@ -86,6 +86,9 @@ class Motion:
     # signed lateral error (F,), positive when the mass centre is left of the path
     path_nearest: tuple[np.ndarray, ...] = ()
     path_lateral: tuple[np.ndarray, ...] = ()
+    # for each path, the spans (from, to) s of ``times`` a controller followed it in (run.json's
+    # ``followed``: a run that changed controllers), None when the whole run followed it
+    path_spans: tuple[tuple[tuple[float, float], ...] | None, ...] = ()
 
     @property
     def duration(self) -> float:
@@ -236,6 +239,11 @@ def load_motion(
         followed = [PathSpec.from_json(p) for p in specs]
         motion.paths = tuple(path_points(p, motion.terrain) for p in followed)
         motion.path_names = tuple(p.name for p in followed)
+        t0 = float(run.trajectory.t[0])
+        motion.path_spans = tuple(
+            tuple((float(a) - t0, float(b) - t0) for a, b in p["followed"]) if p.get("followed")
+            else None for p in specs
+        )  # fmt: skip
         nearest, lateral = [], []
         for spec in followed:
             geometry = PathGeometry(spec)

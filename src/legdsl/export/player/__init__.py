@@ -143,6 +143,8 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
                 "points": _b64(points),
                 "nearest": _b64(motion.path_nearest[k]) if motion.path_nearest else None,
                 "lateral": _b64(motion.path_lateral[k]) if motion.path_lateral else None,
+                # when it was followed: [[from, to], ...] s, or None for the whole run
+                "followed": _spans(motion, k),
             }
             for k, (name, points) in enumerate(zip(motion.path_names, motion.paths, strict=True))
         ],
@@ -150,6 +152,12 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
         "overlays": [o for o in overlays if o in OVERLAYS],
         **hints,
     }
+
+
+def _spans(motion: Motion, k: int) -> list[list[float]] | None:
+    """The spans path ``k`` was followed in, as JSON; None when the whole run followed it."""
+    spans = motion.path_spans[k] if motion.path_spans else None
+    return None if spans is None else [list(s) for s in spans]
 
 
 def _inline_safe(text: str, what: str) -> str:

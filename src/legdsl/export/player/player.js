@@ -46,6 +46,17 @@ function slopeZ(x) {
   return s ? x * Math.tan(s.angle) : 0;
 }
 
+// The ground's height under (x, y), as legdsl.sim.contact models it (motion.terrain_height).
+function groundHeight(x, y) {
+  let z = 0;
+  for (const k of data.ground.terrain) {
+    if (k.kind === "slope") return x * Math.tan(k.angle);
+    if (k.kind === "step" && x >= k.x) z = Math.max(z, k.height);
+    if (k.kind === "box" && x >= k.x0 && x <= k.x1 && y >= k.y0 && y <= k.y1) z = Math.max(z, k.height);
+  }
+  return z;
+}
+
 function draw2d(t, note) {
   if (!flat.canvas) {
     flat.canvas = document.createElement("canvas");
@@ -210,6 +221,12 @@ for (const t of data.ground.terrain) {
 // the ground never hides them; the creature does when it is in front).
 const pathMaterial = new THREE.MeshBasicMaterial({ color: 0x1f6fd0, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2 });
 const pathWidth = 0.04 * data.size;
+// A run that changed to a controller following another path followed each over its own spans:
+// at any time the path being followed is drawn as above, the others faded (where the creature
+// came from and goes next stays in view, but one path is followed), with no lateral error.
+const fadedPathMaterial = new THREE.MeshBasicMaterial({ color: 0x1f6fd0, side: THREE.DoubleSide, transparent: true, opacity: 0.25, depthWrite: false, polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2 });
+const followedAt = (p, t) => !p.followed || p.followed.some(([a, b]) => t >= a - 1e-9 && t <= b + 1e-9);
+const ribbons = [];
 for (const p of data.paths || []) {
   const pts = f32(p.points);
   const n = pts.length / 3;
@@ -235,7 +252,9 @@ for (const p of data.paths || []) {
   ribbon.name = `path ${p.name}`;
   ribbon.renderOrder = 5;
   ribbon.frustumCulled = false;
+  ribbon.userData.path = p;
   scene.add(ribbon);
+  ribbons.push(ribbon);
 }
 // The lateral error: a segment on the ground from under the mass centre to the nearest path
 // point, and its value in the panel.
@@ -246,7 +265,7 @@ const lateralTraces = (data.paths || []).filter((p) => p.nearest).map((p) => {
   line.renderOrder = 6;
   line.frustumCulled = false;
   scene.add(line);
-  return { name: p.name, nearest: f32(p.nearest), lateral: f32(p.lateral), line };
+  return { name: p.name, path: p, nearest: f32(p.nearest), lateral: f32(p.lateral), line };
 });
 
 // The creature.
@@ -303,7 +322,10 @@ const footprintColors = [0x1f5fbf, 0x2a9d4b, 0xb8860b, 0x8e44ad, 0x16a085, 0xc03
 const footprintGeometry = new THREE.CircleGeometry(0.06 * data.size, 24);
 const footprints = data.footprints.map(([t, c, x, y, z]) => {
   const mesh = new THREE.Mesh(footprintGeometry, new THREE.MeshBasicMaterial({ color: footprintColors[c % footprintColors.length], transparent: true, opacity: 0.75, depthWrite: false }));
-  mesh.position.set(x, y, z + 0.002);
+  // on the ground where the foot stood (a touchdown point is a little in or above it), in its
+  // plane, lifted off it along its normal
+  const up = slope ? [-Math.sin(slope.angle), Math.cos(slope.angle)] : [0, 1];
+  mesh.position.set(x + 0.002 * up[0], y, groundHeight(x, y) + 0.002 * up[1]);
   if (slope) mesh.rotation.y = -slope.angle;
   mesh.userData.t = t;
   scene.add(mesh);
@@ -332,12 +354,24 @@ const orbit = { ...defaults };
 const zoomRange = [Math.min(0.2, data.distance / 4), Math.max(100, 4 * data.distance)];
 const target = new THREE.Vector3();
 
+// The orbit's elevation is measured from the ground's plane: on a slope the orbit is tilted
+// with it (as the video's camera), so the default view sees the slope as it sees level ground.
+// Whatever the drag, the eye stays at least a tenth of the creature's size above that plane
+// (a level orbit looked from under a steep slope, and a drag to -0.2 rad went under level
+// ground): the elevation is raised to the least that keeps it there.
+const tilt = slope ? slope.angle : 0;
+function lowestElevation(distance) {
+  const above = lookHeight * Math.cos(tilt); // the target's distance from the plane
+  return Math.asin(Math.min(1, Math.max(-1, (0.1 * data.size - above) / distance)));
+}
 function placeCamera() {
-  const c = Math.cos(orbit.elevation);
+  const e = Math.max(orbit.elevation, lowestElevation(orbit.distance));
+  const c = Math.cos(e);
+  const x = orbit.distance * c * Math.cos(orbit.azimuth), z = orbit.distance * Math.sin(e);
   camera.position.set(
-    target.x + orbit.distance * c * Math.cos(orbit.azimuth),
+    target.x + x * Math.cos(tilt) - z * Math.sin(tilt),
     target.y + orbit.distance * c * Math.sin(orbit.azimuth),
-    target.z + orbit.distance * Math.sin(orbit.elevation),
+    target.z + x * Math.sin(tilt) + z * Math.cos(tilt),
   );
   camera.lookAt(target);
   sun.position.set(target.x + 4 * data.size, target.y - 3 * data.size, target.z + 8 * data.size);
@@ -414,7 +448,11 @@ function draw() {
     }
   }
   for (const mesh of footprints) mesh.visible = overlays.footprints.on && mesh.userData.t <= time + 1e-9;
+  for (const ribbon of ribbons) {
+    ribbon.material = followedAt(ribbon.userData.path, time) ? pathMaterial : fadedPathMaterial;
+  }
   for (const trace of lateralTraces) {
+    trace.line.visible = followedAt(trace.path, time);
     const n = trace.nearest, at = trace.line.geometry.attributes.position;
     at.setXYZ(0, cx, cy, n[3 * f + 2] + 0.004);
     at.setXYZ(1, n[3 * f], n[3 * f + 1], n[3 * f + 2] + 0.004);
@@ -457,7 +495,12 @@ function updateHud(f) {
     lines.push(`<div>speed: ${fmt(speed[f])} m/s &middot; command: ${command}</div>`);
   }
   for (const trace of lateralTraces) {
-    lines.push(`<div>path ${escapeHtml(trace.name)}: lateral error <span class="lateral">${fmt(trace.lateral[f])}</span> m</div>`);
+    const name = `path ${escapeHtml(trace.name)}`;
+    if (followedAt(trace.path, time)) lines.push(`<div>${name}: lateral error <span class="lateral">${fmt(trace.lateral[f])}</span> m</div>`);
+    else {
+      const when = trace.path.followed.map(([a, b]) => `${fmt(a)} to ${fmt(b)} s`).join(", ");
+      lines.push(`<div class="dim">${name}: not followed now (${when})</div>`);
+    }
   }
   hud.innerHTML = lines.join("");
   clock.textContent = `${time.toFixed(2)} / ${duration.toFixed(2)} s`;
@@ -564,6 +607,9 @@ const api = {
   scene, // for poking at from a browser console
   redraw: () => draw(),
   getView: () => ({ ...orbit }),
+  cameraPosition: () => camera.position.toArray(),
+  // Each path's name and whether it is drawn as followed (not faded) at the current time.
+  pathsShown: () => ribbons.map((r) => [r.userData.path.name, r.material === pathMaterial]),
   isFlat: () => flat.on,
   // For tests: lose the WebGL context (and get it back) as a failing GPU would.
   loseContext() { api.lost = renderer.getContext().getExtension("WEBGL_lose_context"); api.lost.loseContext(); },
